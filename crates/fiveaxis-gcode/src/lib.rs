@@ -1,0 +1,196 @@
+//! The G-code front end: bytes of one program line in, one [`Block`] of
+//! [`Word`]s out.
+//!
+//! It knows nothing of machines, modes or controls: it only reads the FANUC
+//! tape format (ISO 6983 words with FANUC's conventions) and reports what it
+//! cannot read as a [`SyntaxError`] with the exact columns. It never panics,
+//! whatever the bytes, and it does not allocate once the block's word buffer
+//! has grown to the longest block seen.
+//!
+//! What it reads:
+//!
+//! * `%` tape marks (a line holding only `%`), `O` program numbers, `N`
+//!   sequence numbers;
+//! * `( … )` comments, `;` as end of block (the rest of the line is ignored);
+//! * `/` block delete at the start of a block (reported, not acted upon);
+//! * spaces and tabs anywhere between and inside words (`G 1 X 1 0 . 5`);
+//! * numbers with or without a decimal point, signs, decimal G and M codes
+//!   (`G43.4`, `G54.1`). Whether a number had a decimal point is kept: the
+//!   controller needs it for FANUC's least-input-increment rule.
+//!
+//! What it refuses with a clear [`SyntaxErrorKind`]: custom macro syntax
+//! (`#`, `[`, `]`, `IF`, `WHILE`, `GOTO`, …), letters without a number,
+//! malformed numbers, unclosed comments, bytes that are not G-code.
+
+mod lexer;
+
+pub use lexer::parse_line;
+
+/// Columns of a piece of text inside its line: 1-based, `end` exclusive,
+/// counted in bytes.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Span {
+    /// First column (1-based).
+    pub start: u32,
+    /// One past the last column.
+    pub end: u32,
+}
+
+/// A G or M code number split at its decimal point: `G43.4` is
+/// `Code { major: 43, minor: 4 }`, `G1` and `G01` are `Code { major: 1, minor: 0 }`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct Code {
+    /// Digits before the decimal point.
+    pub major: u16,
+    /// The one digit after the decimal point, 0 when there is none.
+    pub minor: u8,
+}
+
+impl Code {
+    /// A code from its two parts, for matching: `Code::new(43, 4)`.
+    pub const fn new(major: u16, minor: u8) -> Self {
+        Self { major, minor }
+    }
+}
+
+impl std::fmt::Display for Code {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        if self.minor == 0 {
+            write!(f, "{}", self.major)
+        } else {
+            write!(f, "{}.{}", self.major, self.minor)
+        }
+    }
+}
+
+/// One address word: a letter and its number.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Word {
+    /// The address letter, upper case (`b'A'..=b'Z'`).
+    pub letter: u8,
+    /// The number as written, sign included (`X-1.5` is -1.5, `X100` is 100).
+    pub value: f64,
+    /// Whether the number was written with a decimal point (`X100.` yes,
+    /// `X100` no).
+    pub decimal_point: bool,
+    /// The code form of the number when it has at most one digit after the
+    /// decimal point and no sign (`G43.4`, `M98`); `None` otherwise.
+    pub code: Option<Code>,
+    /// Where the word stands in its line.
+    pub span: Span,
+}
+
+/// One block (one line) of a program.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Block {
+    /// 1-based line number in the program.
+    pub line: u32,
+    /// The block starts with `/` (block delete). The caller decides whether
+    /// to skip it.
+    pub block_delete: bool,
+    /// The line is a `%` tape mark.
+    pub tape_mark: bool,
+    /// The words in the order written, comments and the sequence number
+    /// (`N`) left out.
+    pub words: Vec<Word>,
+    /// The `N` sequence number, if any.
+    pub sequence: Option<u32>,
+}
+
+impl Block {
+    /// Empties the block so that it can be reused for the next line
+    /// without giving back its word buffer.
+    pub fn clear(&mut self) {
+        self.line = 0;
+        self.block_delete = false;
+        self.tape_mark = false;
+        self.words.clear();
+        self.sequence = None;
+    }
+
+    /// The first word with this letter.
+    pub fn word(&self, letter: u8) -> Option<&Word> {
+        self.words.iter().find(|w| w.letter == letter)
+    }
+
+    /// Whether the block holds no words (blank line, comment only, `%`).
+    pub fn is_empty(&self) -> bool {
+        self.words.is_empty()
+    }
+}
+
+/// What kind of text the front end could not read.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
+pub enum SyntaxErrorKind {
+    /// An address letter with no number after it (`X`, `G`).
+    #[error("address `{0}` has no value")]
+    MissingValue(char),
+    /// A number that cannot be read (`X1.2.3`, `X--1`, `G1e5`).
+    #[error("malformed number")]
+    BadNumber,
+    /// A number with more digits than the control accepts.
+    #[error("too many digits")]
+    TooManyDigits,
+    /// A byte that is neither an address, a digit nor G-code punctuation.
+    #[error("unexpected character `{0}`")]
+    UnexpectedChar(char),
+    /// `(` without its `)` on the same line.
+    #[error("comment is not closed")]
+    UnclosedComment,
+    /// Custom macro syntax: `#` variables, `[ ]` expressions, `IF`,
+    /// `WHILE`, `GOTO`, `DO`, `END` and functions.
+    #[error("custom macro syntax is not supported")]
+    Macro,
+    /// A word with several letters that is not G-code (Siemens `TRAORI`,
+    /// LinuxCNC `o100 sub`, …).
+    #[error("unknown word `{0}`")]
+    UnknownWord(UnknownWord),
+}
+
+/// Up to the first 12 bytes of an unrecognised word, for the message.
+#[derive(Clone, Copy, PartialEq, Eq)]
+pub struct UnknownWord {
+    bytes: [u8; 12],
+    len: u8,
+}
+
+impl UnknownWord {
+    /// Keeps the first 12 bytes of `text` (ASCII expected; other bytes are
+    /// shown as `?`).
+    pub fn new(text: &[u8]) -> Self {
+        let mut bytes = [0u8; 12];
+        let len = text.len().min(12);
+        for (dst, &src) in bytes.iter_mut().zip(&text[..len]) {
+            *dst = if src.is_ascii_graphic() { src } else { b'?' };
+        }
+        Self { bytes, len: len as u8 }
+    }
+
+    /// The kept text.
+    pub fn as_str(&self) -> &str {
+        std::str::from_utf8(&self.bytes[..usize::from(self.len)]).unwrap_or("?")
+    }
+}
+
+impl std::fmt::Display for UnknownWord {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.as_str())
+    }
+}
+
+impl std::fmt::Debug for UnknownWord {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{:?}", self.as_str())
+    }
+}
+
+/// Text the front end could not read, with where it stands.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("{kind}")]
+pub struct SyntaxError {
+    /// What is wrong.
+    pub kind: SyntaxErrorKind,
+    /// Where, in the line.
+    pub span: Span,
+}

@@ -1,0 +1,59 @@
+//! Forward kinematics (`machine-model.md` §3), the one source of the tool
+//! tip and tool direction that the kernel reports.
+
+use nalgebra::{Isometry3, Rotation3, Translation3, Unit};
+
+use crate::{Joints, Machine, Side, Vec3};
+
+/// Where the tool is: tip and direction (tip → spindle, unit) in one frame.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Pose {
+    /// Tool tip, mm.
+    pub tip: Vec3,
+    /// Unit tool direction, tip towards spindle.
+    pub dir: Vec3,
+}
+
+/// Rotation by `degrees` about `axis`, right-hand rule.
+pub fn rotation(axis: &Unit<Vec3>, degrees: f64) -> Rotation3<f64> {
+    Rotation3::from_axis_angle(axis, degrees.to_radians())
+}
+
+/// The rigid map of a rotation by `degrees` about the line through `center`
+/// along `axis`: `p ↦ center + R·(p − center)`.
+fn rotation_about(axis: &Unit<Vec3>, center: &Vec3, degrees: f64) -> Isometry3<f64> {
+    let r = rotation(axis, degrees);
+    let t = center - r * center;
+    Isometry3::from_parts(Translation3::from(t), r.into())
+}
+
+impl Machine {
+    /// The map of the outermost body of one side's chain, bed outwards
+    /// `[k1, k2]` giving `M1 ∘ M2`. Head maps act on coordinates relative to
+    /// the spindle gauge point; table maps on machine coordinates.
+    pub fn chain(&self, side: Side, joints: &Joints) -> Isometry3<f64> {
+        let mut map = Isometry3::identity();
+        for (k, axis) in self.rotary.iter().enumerate() {
+            if axis.on == side {
+                let angle = joints[self.rotary_index(k)];
+                map *= rotation_about(&axis.axis, &axis.center, angle);
+            }
+        }
+        map
+    }
+
+    /// Forward kinematics: the tool tip and direction in the table frame
+    /// for these machine positions and tool length `tool_length` (the
+    /// active H value, 0 without length compensation).
+    pub fn forward(&self, joints: &Joints, tool_length: f64) -> Pose {
+        let head = self.chain(Side::Head, joints);
+        let table = self.chain(Side::Table, joints);
+        let t0 = self.tool_direction.into_inner();
+        let gauge = Vec3::new(joints[0], joints[1], joints[2]);
+        let tip_machine = gauge + head.transform_point(&(-tool_length * t0).into()).coords;
+        let dir_machine = head.rotation * t0;
+        let tip = table.inverse_transform_point(&tip_machine.into()).coords;
+        let dir = table.rotation.inverse_transform_vector(&dir_machine);
+        Pose { tip, dir }
+    }
+}

@@ -1,0 +1,199 @@
+//! The machine model: an immutable description of a 3-, 4- or 5-axis
+//! machine (its axes, rotary geometry, soft limits and control parameters),
+//! the operator's offset data, and forward kinematics.
+//!
+//! The conventions are those of the project's machine-model contract
+//! (`machine-model.md`): millimetres and degrees, ISO 841 relative motion,
+//! rotary axes listed from the bed outwards, tool direction from the tip
+//! towards the spindle. Nothing here does I/O: files are parsed from
+//! strings that the caller has read.
+
+mod builtin;
+mod file;
+mod kinematics;
+mod offsets;
+
+pub use builtin::{builtin, builtin_names, DEFAULT_MACHINE};
+pub use file::FileError;
+pub use kinematics::{rotation, Pose};
+pub use offsets::{Offsets, SetupErrorSet, ToolOffset};
+
+use nalgebra::{Unit, Vector3};
+
+/// A 3-vector of `f64`: points in mm, directions unitless.
+pub type Vec3 = Vector3<f64>;
+
+/// Most axes a machine can have: X, Y, Z, up to three parallel linear axes
+/// (U, V, W) and two rotary axes.
+pub const MAX_AXES: usize = 8;
+
+/// Positions of every machine axis, in the machine file's order (linear
+/// axes first, then rotary axes bed outwards). Entries past
+/// [`Machine::axis_count`] are 0.
+pub type Joints = [f64; MAX_AXES];
+
+/// Which part of the machine a rotary axis turns.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Side {
+    /// It turns the spindle.
+    Head,
+    /// It turns the workpiece.
+    Table,
+}
+
+/// FANUC's machine type (parameter 19680), derived from the rotary axes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MachineType {
+    /// No rotary axis (19680 = 0).
+    None,
+    /// Every rotary axis turns the spindle: tool rotation type (2).
+    Head,
+    /// Every rotary axis turns the table: table rotation type (12).
+    Table,
+    /// One head and one table axis: mixed type (21).
+    Mixed,
+}
+
+/// The control family whose behaviour and alarm numbers the kernel follows.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Control {
+    /// FANUC Series 30i (the default).
+    #[default]
+    Fanuc30i,
+    /// FANUC Series 16/18 (P/S alarms).
+    Fanuc16,
+    /// Mitsubishi M700/M800.
+    Mitsubishi,
+    /// Mazak (Matrix / Smooth, EIA/ISO programs).
+    Mazak,
+}
+
+/// A linear axis: a name and its soft limits in machine coordinates.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LinearAxis {
+    /// Address letter, `X`, `Y`, `Z` (or `U`, `V`, `W`).
+    pub name: char,
+    /// Lower soft limit, mm.
+    pub min: f64,
+    /// Upper soft limit, mm.
+    pub max: f64,
+}
+
+/// A rotary axis at the all-zero machine position.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RotaryAxis {
+    /// Address letter, `A`, `B` or `C`.
+    pub name: char,
+    /// What the axis turns.
+    pub on: Side,
+    /// Direction of the rotation line: a positive angle turns the carried
+    /// part by the right-hand rule about it.
+    pub axis: Unit<Vec3>,
+    /// A point on the rotation line: machine frame for table axes, relative
+    /// to the spindle gauge point for head axes.
+    pub center: Vec3,
+    /// Soft limits in degrees; `None` on a rollover axis or an axis
+    /// without limits.
+    pub limits: Option<(f64, f64)>,
+    /// Endless axis: positions shown modulo 360, absolute commands take the
+    /// shorter way (FANUC 1008#0 ROA with 1260 = 360).
+    pub rollover: bool,
+}
+
+/// Programming frame of TCPC (FANUC 19696#5 WKP).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum ProgrammingFrame {
+    /// WKP = 0: the workpiece frame frozen onto the table at TCPC start.
+    #[default]
+    Table,
+    /// WKP = 1: the workpiece coordinate system that does not turn.
+    Workpiece,
+}
+
+/// Control parameters. Every field has the control's default.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Parameters {
+    /// TCPC programming frame (FANUC 19696#5 WKP).
+    pub programming_frame: ProgrammingFrame,
+    /// The control has the TCPC option (Mitsubishi: P940 without it).
+    pub tcpc_option: bool,
+    /// Machine position of reference position 1 (G28; FANUC No.1240).
+    pub reference_1: Joints,
+    /// Machine position of reference position 2 (G30; FANUC No.1241).
+    pub reference_2: Joints,
+    /// Calculator-type decimal-point input (FANUC 3401#0 DPI): a value
+    /// without a decimal point is in mm / inch / degree rather than in
+    /// least input increments.
+    pub decimal_point_input: bool,
+    /// Least input increment in mm (IS-B: 0.001); inch programs use a
+    /// tenth of it in inches.
+    pub least_input_increment: f64,
+}
+
+impl Default for Parameters {
+    fn default() -> Self {
+        Self {
+            programming_frame: ProgrammingFrame::Table,
+            tcpc_option: true,
+            reference_1: [0.0; MAX_AXES],
+            reference_2: [0.0; MAX_AXES],
+            decimal_point_input: false,
+            least_input_increment: 0.001,
+        }
+    }
+}
+
+/// An immutable machine description.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Machine {
+    /// Shown in reports.
+    pub name: String,
+    /// Control family.
+    pub control: Control,
+    /// Tool direction (tip → spindle) with every rotary axis at 0.
+    pub tool_direction: Unit<Vec3>,
+    /// Linear axes, X, Y, Z first.
+    pub linear: Vec<LinearAxis>,
+    /// Rotary axes, bed outwards (0, 1 or 2).
+    pub rotary: Vec<RotaryAxis>,
+    /// Control parameters.
+    pub params: Parameters,
+}
+
+impl Machine {
+    /// Number of axes (linear + rotary), the length of the meaningful part
+    /// of a [`Joints`].
+    pub fn axis_count(&self) -> usize {
+        self.linear.len() + self.rotary.len()
+    }
+
+    /// Index in [`Joints`] of the axis with this address letter.
+    pub fn axis_index(&self, name: char) -> Option<usize> {
+        self.linear
+            .iter()
+            .position(|a| a.name == name)
+            .or_else(|| self.rotary.iter().position(|a| a.name == name).map(|i| i + self.linear.len()))
+    }
+
+    /// Index in [`Joints`] of rotary axis `k` (0-based, bed outwards).
+    pub fn rotary_index(&self, k: usize) -> usize {
+        self.linear.len() + k
+    }
+
+    /// Axis names in [`Joints`] order.
+    pub fn axis_names(&self) -> impl Iterator<Item = char> + '_ {
+        self.linear.iter().map(|a| a.name).chain(self.rotary.iter().map(|a| a.name))
+    }
+
+    /// FANUC machine type, from the sides of the rotary axes.
+    pub fn machine_type(&self) -> MachineType {
+        let heads = self.rotary.iter().filter(|r| r.on == Side::Head).count();
+        let tables = self.rotary.len() - heads;
+        match (heads, tables) {
+            (0, 0) => MachineType::None,
+            (_, 0) => MachineType::Head,
+            (0, _) => MachineType::Table,
+            _ => MachineType::Mixed,
+        }
+    }
+}
