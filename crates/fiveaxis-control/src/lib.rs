@@ -1,1 +1,27 @@
-//! controller
+//! The controller of the fiveaxis kernel: modal state, offsets, the
+//! functions of the G and M codes, alarms, and the segments a program moves
+//! through.
+//!
+//! Data flows one way: a [`Runner`] reads lines from a [`Source`], the
+//! front end (`fiveaxis-gcode`) turns each into a block, the [`Controller`]
+//! turns blocks into [`Segment`]s or an [`Alarm`], and the caller samples
+//! segments into [`Row`]s. Nothing here does I/O of its own: sources are
+//! handed in by the caller.
+
+mod alarm;
+mod controller;
+mod dialect;
+mod modal;
+mod runner;
+mod segment;
+mod words;
+
+pub use alarm::{Alarm, AlarmCode, Condition};
+pub use controller::{
+    shortest_turn, Controller, Flow, ARC_RADIUS_TOLERANCE, MAX_TOOL_OFFSET, POSITION_TOLERANCE,
+    REFERENCE_CHECK_TOLERANCE,
+};
+pub use dialect::Dialect;
+pub use modal::{Distance, FeedMode, LengthMode, Modal, MotionMode, Plane, Units, WorkSelect};
+pub use runner::{RunError, RunOptions, Runner, SliceSource, Source, ReaderSource};
+pub use segment::{Arc, Motion, Path, Row, Segment, MAX_STEPS};

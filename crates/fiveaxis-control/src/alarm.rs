@@ -1,0 +1,205 @@
+//! Alarms as plain data: what stopped the program, under the number the
+//! control shows.
+//!
+//! The kernel names each stopping condition once ([`Condition`]); each
+//! control family maps it to its own alarm number. Where a control's manual
+//! gives no number, the kernel uses a stable code of its own, prefixed `FX`
+//! (documented in `docs/alarms.md`), never an invented control number.
+
+use fiveaxis_gcode::Span;
+use fiveaxis_machine::Control;
+
+/// An alarm number as the control displays it: `PS0010`, `PS047`, `P33`,
+/// `1815`, or the kernel's own `FX0101`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct AlarmCode {
+    prefix: &'static str,
+    number: u16,
+    width: u8,
+}
+
+impl AlarmCode {
+    const fn new(prefix: &'static str, number: u16, width: u8) -> Self {
+        Self { prefix, number, width }
+    }
+
+    fn fanuc(control: Control, number: u16) -> Self {
+        match control {
+            Control::Fanuc16 => Self::new("PS", number, 3),
+            _ => Self::new("PS", number, 4),
+        }
+    }
+
+    /// The kernel's own code for a condition no manual numbers.
+    const fn kernel(number: u16) -> Self {
+        Self::new("FX", number, 4)
+    }
+}
+
+impl std::fmt::Display for AlarmCode {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{}{:0width$}", self.prefix, self.number, width = usize::from(self.width))
+    }
+}
+
+/// Why the control stopped. One variant per condition; the number each
+/// control shows for it comes from [`Condition::code`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[non_exhaustive]
+pub enum Condition {
+    /// An address with no number after it.
+    NoDataAfterAddress,
+    /// A number that cannot be read.
+    BadNumber,
+    /// A number with too many digits.
+    TooManyDigits,
+    /// A character or word that is not an address of this control.
+    ImproperAddress,
+    /// A `(` comment without its `)`.
+    UnclosedComment,
+    /// Custom macro syntax, which the kernel does not read.
+    CustomMacro,
+    /// A G code the control does not have.
+    ImproperGCode,
+    /// An M code that is not a function of the kernel.
+    UnsupportedMCode,
+    /// A word that has no meaning in its block.
+    WordNotUsed,
+    /// A decimal point where only integers are allowed.
+    DecimalPointNotAllowed,
+    /// A value out of the range the address accepts.
+    ValueOutOfRange,
+    /// Feed zero or no feed for a cutting move.
+    FeedZero,
+    /// Feed per revolution while the spindle is stopped.
+    NoSpindleForFeedPerRev,
+    /// Arc whose end point is not on the circle (FANUC No.3410).
+    ArcRadiusTolerance,
+    /// Arc with neither R nor I, J, K.
+    ArcCenterMissing,
+    /// Arc that names an axis outside the selected plane's axes.
+    ArcAxisNotInPlane,
+    /// H or D number beyond the offset memory.
+    IllegalOffsetNumber,
+    /// G10 with a P out of range.
+    IllegalG10P,
+    /// G10 with an L that is not a data-setting format.
+    IllegalG10L,
+    /// M98 without P.
+    SubprogramNumberMissing,
+    /// The called program or sequence number is not in the file.
+    ProgramNotFound,
+    /// Subprograms nested deeper than the control allows.
+    NestingTooDeep,
+    /// Move beyond the + soft limit.
+    OvertravelPlus,
+    /// Move beyond the − soft limit.
+    OvertravelMinus,
+    /// G27 found the axis away from its reference position.
+    ReferenceReturnCheck,
+    /// G30 with a reference position the machine does not define.
+    ReferencePositionUndefined,
+    /// Two G codes in one block that cannot go together.
+    GCodeConflict,
+    /// Several words of the same address in one block.
+    DuplicateAddress,
+}
+
+impl Condition {
+    /// The alarm number that `control` shows for this condition.
+    pub fn code(self, control: Control) -> AlarmCode {
+        use Condition as C;
+        let fanuc = matches!(control, Control::Fanuc30i | Control::Fanuc16);
+        let mitsubishi = control == Control::Mitsubishi;
+        // FANUC 30i / 16 numbers (the same numbers; 16 shows three digits).
+        let fanuc_number = match self {
+            C::TooManyDigits => Some(3),
+            C::NoDataAfterAddress => Some(5),
+            C::BadNumber | C::DecimalPointNotAllowed => Some(7),
+            C::ImproperAddress | C::DuplicateAddress => Some(9),
+            C::ImproperGCode | C::GCodeConflict => Some(10),
+            C::FeedZero => Some(11),
+            C::ArcRadiusTolerance => Some(20),
+            C::ArcAxisNotInPlane => Some(21),
+            C::ArcCenterMissing => Some(22),
+            C::IllegalOffsetNumber => Some(30),
+            C::IllegalG10P => Some(31),
+            C::SubprogramNumberMissing => Some(76),
+            C::NestingTooDeep => Some(77),
+            C::ProgramNotFound => Some(78),
+            C::ReferenceReturnCheck => Some(92),
+            C::OvertravelPlus => return if fanuc { AlarmCode::new("OT", 500, 4) } else { AlarmCode::kernel(500) },
+            C::OvertravelMinus => return if fanuc { AlarmCode::new("OT", 501, 4) } else { AlarmCode::kernel(501) },
+            _ => None,
+        };
+        // Mitsubishi program errors.
+        let mitsubishi_number = match self {
+            C::ImproperAddress | C::DuplicateAddress => Some(32),
+            C::NoDataAfterAddress | C::BadNumber | C::DecimalPointNotAllowed => Some(33),
+            C::ImproperGCode | C::GCodeConflict => Some(34),
+            C::ValueOutOfRange | C::TooManyDigits | C::IllegalOffsetNumber | C::IllegalG10P => Some(35),
+            C::FeedZero => Some(62),
+            C::ArcRadiusTolerance => Some(70),
+            C::ArcCenterMissing => Some(71),
+            C::NestingTooDeep => Some(230),
+            C::ProgramNotFound | C::SubprogramNumberMissing => Some(232),
+            _ => None,
+        };
+        match (fanuc, mitsubishi, fanuc_number, mitsubishi_number) {
+            (true, _, Some(n), _) => AlarmCode::fanuc(control, n),
+            (_, true, _, Some(n)) => AlarmCode::new("P", n, 1),
+            _ => AlarmCode::kernel(self.kernel_number()),
+        }
+    }
+
+    /// The kernel's own number, used where the control's manual gives none.
+    fn kernel_number(self) -> u16 {
+        use Condition as C;
+        match self {
+            C::NoDataAfterAddress => 1,
+            C::BadNumber => 2,
+            C::TooManyDigits => 3,
+            C::ImproperAddress => 4,
+            C::UnclosedComment => 5,
+            C::CustomMacro => 6,
+            C::ImproperGCode => 10,
+            C::UnsupportedMCode => 11,
+            C::WordNotUsed => 12,
+            C::DecimalPointNotAllowed => 13,
+            C::ValueOutOfRange => 14,
+            C::GCodeConflict => 15,
+            C::DuplicateAddress => 16,
+            C::FeedZero => 20,
+            C::NoSpindleForFeedPerRev => 21,
+            C::ArcRadiusTolerance => 30,
+            C::ArcCenterMissing => 31,
+            C::ArcAxisNotInPlane => 32,
+            C::IllegalOffsetNumber => 40,
+            C::IllegalG10P => 41,
+            C::IllegalG10L => 42,
+            C::SubprogramNumberMissing => 50,
+            C::ProgramNotFound => 51,
+            C::NestingTooDeep => 52,
+            C::ReferenceReturnCheck => 60,
+            C::ReferencePositionUndefined => 61,
+            C::OvertravelPlus => 500,
+            C::OvertravelMinus => 501,
+        }
+    }
+}
+
+/// An alarm: the program stops at `line`.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[error("ALARM {code} line {line}: {message}")]
+pub struct Alarm {
+    /// What stopped it.
+    pub condition: Condition,
+    /// The number the control shows.
+    pub code: AlarmCode,
+    /// 1-based line of the failing block.
+    pub line: u32,
+    /// The offending text in that line, when one word is at fault.
+    pub span: Option<Span>,
+    /// What is wrong, in words.
+    pub message: String,
+}

@@ -1,0 +1,1083 @@
+//! The controller: the only place whose state changes block by block.
+//!
+//! [`Controller::execute`] takes one block and yields the segments it moves
+//! through, or the alarm it stops with, and tells the runner what to do
+//! next ([`Flow`]). Functions follow the FANUC Series 30i/16 operator's
+//! manuals; where a control family differs, [`crate::dialect`] says how.
+
+use fiveaxis_gcode::{Block, Code, Span, Word};
+use fiveaxis_machine::{Control, Joints, Machine, Offsets, Side, Vec3, MAX_AXES};
+
+use crate::alarm::{Alarm, Condition};
+use crate::dialect::Dialect;
+use crate::modal::{Distance, FeedMode, LengthMode, Modal, MotionMode, Plane, Units, WorkSelect};
+use crate::segment::{Arc, Motion, Path, Segment};
+use crate::words::Words;
+
+/// Millimetres in an inch.
+const MM_PER_INCH: f64 = 25.4;
+/// Distance under which two points count as the same (full circles, G27).
+pub const POSITION_TOLERANCE: f64 = 1e-6;
+/// Largest difference between the start and end radius of an arc (FANUC
+/// No.3410), mm.
+pub const ARC_RADIUS_TOLERANCE: f64 = 0.02;
+/// How far from its reference position G27 accepts an axis (the in-position
+/// width), mm or degrees.
+pub const REFERENCE_CHECK_TOLERANCE: f64 = 0.001;
+
+/// What the runner does after a block.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Flow {
+    /// Go on with the next block.
+    Next,
+    /// The program ended (M02, M30).
+    End,
+    /// M98: call program `program` `repeats` times.
+    Call {
+        /// Program number (the `O` number).
+        program: u32,
+        /// How many times.
+        repeats: u32,
+    },
+    /// M99: return to the caller, at sequence number `sequence` if given.
+    Return {
+        /// `M99 P…`: the sequence number to return to.
+        sequence: Option<u32>,
+    },
+}
+
+/// Controller state besides the modal groups.
+#[derive(Clone, Debug)]
+struct State {
+    modal: Modal,
+    /// Current machine position (rollover axes unwrapped).
+    joints: Joints,
+    /// Active H number (0: none).
+    h: u32,
+    /// Active D number.
+    d: u32,
+    /// Last F word, in internal units (mm/min, mm/rev or 1/min).
+    feed: f64,
+    /// Spindle speed, rev/min.
+    spindle_speed: f64,
+    /// Spindle turning (M03/M04).
+    spindle_on: bool,
+    /// Selected tool (T).
+    tool: u32,
+    /// G92 shift of the linear axes.
+    shift: Vec3,
+    /// G92 shift of each axis beyond X, Y, Z (by joint index).
+    axis_shift: Joints,
+}
+
+/// The controller of one run.
+#[derive(Debug)]
+pub struct Controller<'m> {
+    machine: &'m Machine,
+    offsets: Offsets,
+    dialect: Dialect,
+    state: State,
+    words: Words,
+}
+
+/// Where the control point goes, for each axis: programmed value if the
+/// block names the axis.
+type Targets = [Option<f64>; MAX_AXES];
+
+impl<'m> Controller<'m> {
+    /// A controller switched on: every axis at reference position 1, no
+    /// compensation, power-on modal codes.
+    pub fn new(machine: &'m Machine, offsets: Offsets) -> Self {
+        Self {
+            machine,
+            offsets,
+            dialect: Dialect::of(machine.control),
+            state: State {
+                modal: Modal::power_on(),
+                joints: machine.params.reference_1,
+                h: 0,
+                d: 0,
+                feed: 0.0,
+                spindle_speed: 0.0,
+                spindle_on: false,
+                tool: 0,
+                shift: Vec3::zeros(),
+                axis_shift: [0.0; MAX_AXES],
+            },
+            words: Words::new(machine.control),
+        }
+    }
+
+    /// The machine this controller drives.
+    pub fn machine(&self) -> &'m Machine {
+        self.machine
+    }
+
+    /// Current machine position.
+    pub fn joints(&self) -> Joints {
+        self.state.joints
+    }
+
+    /// Current modal state.
+    pub fn modal(&self) -> Modal {
+        self.state.modal
+    }
+
+    /// Offset memory as it stands (G10 changes it).
+    pub fn offsets(&self) -> &Offsets {
+        &self.offsets
+    }
+
+    /// The control family.
+    pub fn control(&self) -> Control {
+        self.machine.control
+    }
+
+    /// An alarm for the current block.
+    fn alarm(&self, condition: Condition, span: Option<Span>, message: String) -> Alarm {
+        self.words.alarm(condition, span, message)
+    }
+
+    /// Executes one block: pushes its segments onto `out` (cleared first)
+    /// and says what comes next. On an alarm, `out` is left empty and the
+    /// state is as before the block, except for offset data written by G10
+    /// before the failing part.
+    pub fn execute(&mut self, block: &Block, out: &mut Vec<Segment>) -> Result<Flow, Alarm> {
+        out.clear();
+        self.words.load(block, self.machine)?;
+        let saved = self.state.clone();
+        let result = self.execute_loaded(out);
+        if result.is_err() {
+            self.state = saved;
+            out.clear();
+        }
+        result
+    }
+
+    fn execute_loaded(&mut self, out: &mut Vec<Segment>) -> Result<Flow, Alarm> {
+        // A program-number line is a label.
+        self.words.take(b'O');
+        let codes = self.classify_g_codes()?;
+        self.apply_modal(&codes)?;
+        self.apply_values()?;
+        // Where the program stands, in the (possibly new) work coordinate
+        // system, under the length offset in force before this block.
+        let from = self.programmed(&self.state.joints);
+        let flow = self.m_codes()?;
+        let length_changed = self.apply_length(&codes)?;
+        match codes.one_shot {
+            Some((code, span)) => self.one_shot(code, span, &from, out)?,
+            None => self.motion(&from, length_changed, out)?,
+        }
+        self.words.check_all_used()?;
+        for seg in out.iter() {
+            self.check_limits(seg)?;
+        }
+        if let Some(last) = out.last() {
+            self.state.joints = last.end;
+        }
+        Ok(flow)
+    }
+
+    // ----- G codes --------------------------------------------------------
+
+    fn classify_g_codes(&self) -> Result<GCodes, Alarm> {
+        let mut codes = GCodes::default();
+        for &(code, span) in &self.words.g[..self.words.g_len] {
+            let kind = match (code.major, code.minor) {
+                (0..=3, 0) => GKind::Motion,
+                (17..=19, 0) => GKind::Plane,
+                (90 | 91, 0) => GKind::Distance,
+                (93..=95, 0) => GKind::Feed,
+                (20 | 21, 0) => GKind::Units,
+                (43 | 44 | 49, 0) | (43, 1) => GKind::Length,
+                (54..=59, 0) | (54, 1) => GKind::Work,
+                (4 | 10 | 27 | 28 | 30 | 53 | 92, 0) => GKind::OneShot,
+                (40, 0) => GKind::CutterCancel,
+                _ => {
+                    return Err(self.alarm(
+                        Condition::ImproperGCode,
+                        Some(span),
+                        format!("G{code} is not a G code of this control"),
+                    ));
+                }
+            };
+            match kind {
+                GKind::OneShot => {
+                    if let Some((other, _)) = codes.one_shot {
+                        return Err(self.alarm(
+                            Condition::GCodeConflict,
+                            Some(span),
+                            format!("G{code} and G{other} cannot be in the same block"),
+                        ));
+                    }
+                    codes.one_shot = Some((code, span));
+                }
+                GKind::Motion => codes.motion = Some((code, span)),
+                GKind::Plane => codes.plane = Some(code),
+                GKind::Distance => codes.distance = Some(code),
+                GKind::Feed => codes.feed = Some(code),
+                GKind::Units => codes.units = Some(code),
+                GKind::Length => codes.length = Some((code, span)),
+                GKind::Work => codes.work = Some((code, span)),
+                GKind::CutterCancel => {}
+            }
+        }
+        if let (Some((motion, span)), Some((one, _))) = (codes.motion, codes.one_shot)
+            && one.major != 4
+            && one.major != 10
+            && one.major != 92
+        {
+            return Err(self.alarm(
+                Condition::GCodeConflict,
+                Some(span),
+                format!("G{motion} and G{one} cannot be in the same block"),
+            ));
+        }
+        Ok(codes)
+    }
+
+    fn apply_modal(&mut self, codes: &GCodes) -> Result<(), Alarm> {
+        let modal = &mut self.state.modal;
+        if let Some((code, _)) = codes.motion {
+            modal.motion = match code.major {
+                0 => MotionMode::Rapid,
+                1 => MotionMode::Linear,
+                2 => MotionMode::Cw,
+                _ => MotionMode::Ccw,
+            };
+        }
+        if let Some(code) = codes.plane {
+            modal.plane = match code.major {
+                17 => Plane::Xy,
+                18 => Plane::Zx,
+                _ => Plane::Yz,
+            };
+        }
+        if let Some(code) = codes.distance {
+            modal.distance = if code.major == 90 { Distance::Absolute } else { Distance::Incremental };
+        }
+        if let Some(code) = codes.feed {
+            modal.feed_mode = match code.major {
+                93 => FeedMode::InverseTime,
+                94 => FeedMode::PerMinute,
+                _ => FeedMode::PerRevolution,
+            };
+        }
+        if let Some(code) = codes.units {
+            modal.units = if code.major == 20 { Units::Inch } else { Units::Metric };
+        }
+        if let Some((code, span)) = codes.work {
+            self.state.modal.work = self.work_select(code, span)?;
+        }
+        Ok(())
+    }
+
+    fn work_select(&mut self, code: Code, span: Span) -> Result<WorkSelect, Alarm> {
+        let extended = code.minor == 1 || (code.major == 54 && self.words.has(b'P'));
+        if !extended {
+            return Ok(WorkSelect::Standard((code.major - 54) as u8));
+        }
+        let p = match self.words.take(b'P') {
+            Some(word) => self.words.integer(&word, fiveaxis_machine::MAX_EXTENDED_WORK)?,
+            // G54.1 without P selects P1 (as Mitsubishi documents).
+            None => 1,
+        };
+        if p == 0 {
+            return Err(self.alarm(Condition::IllegalOffsetNumber, Some(span), "G54.1 P0 does not exist".into()));
+        }
+        Ok(WorkSelect::Extended(p as u8))
+    }
+
+    /// F, S, T, D words: modal values.
+    fn apply_values(&mut self) -> Result<(), Alarm> {
+        if let Some(word) = self.words.take(b'F') {
+            if word.value < 0.0 {
+                return Err(self.alarm(Condition::ValueOutOfRange, Some(word.span), "F must not be negative".into()));
+            }
+            let scale = match (self.state.modal.feed_mode, self.state.modal.units) {
+                (FeedMode::InverseTime, _) | (_, Units::Metric) => 1.0,
+                (_, Units::Inch) => MM_PER_INCH,
+            };
+            self.state.feed = word.value * scale;
+        }
+        if let Some(word) = self.words.take(b'S') {
+            self.state.spindle_speed = f64::from(self.words.integer(&word, 999_999)?);
+        }
+        if let Some(word) = self.words.take(b'T') {
+            self.state.tool = self.words.integer(&word, 99_999_999)?;
+        }
+        if let Some(word) = self.words.take(b'D') {
+            self.state.d = self.offset_number(&word)?;
+        }
+        Ok(())
+    }
+
+    fn offset_number(&self, word: &Word) -> Result<u32, Alarm> {
+        let n = self.words.integer(word, u32::MAX)?;
+        if n > MAX_TOOL_OFFSET {
+            return Err(self.alarm(
+                Condition::IllegalOffsetNumber,
+                Some(word.span),
+                format!("offset number {} is beyond the offset memory", n),
+            ));
+        }
+        Ok(n)
+    }
+
+    /// Group 08 and H: returns whether the length offset vector may have
+    /// changed in this block.
+    fn apply_length(&mut self, codes: &GCodes) -> Result<bool, Alarm> {
+        let before = (self.state.modal.length, self.state.h);
+        if let Some((code, _)) = codes.length {
+            self.state.modal.length = match (code.major, code.minor) {
+                (43, 1) => LengthMode::ToolAxis,
+                (43, _) => LengthMode::Plus,
+                (44, _) => LengthMode::Minus,
+                _ => LengthMode::Off,
+            };
+            if self.state.modal.length == LengthMode::Off {
+                self.state.h = 0;
+            }
+        }
+        if let Some(word) = self.words.peek(b'H') {
+            if self.state.modal.length == LengthMode::Off && codes.length.is_none() {
+                return Ok(before != (self.state.modal.length, self.state.h));
+            }
+            self.words.take(b'H');
+            self.state.h = self.offset_number(&word)?;
+        }
+        Ok(before != (self.state.modal.length, self.state.h))
+    }
+
+    // ----- M codes --------------------------------------------------------
+
+    fn m_codes(&mut self) -> Result<Flow, Alarm> {
+        let mut flow = Flow::Next;
+        if self.words.m_len > self.dialect.max_m_codes {
+            let span = self.words.m[self.dialect.max_m_codes].1;
+            return Err(self.alarm(
+                Condition::GCodeConflict,
+                Some(span),
+                format!("more than {} M codes in one block", self.dialect.max_m_codes),
+            ));
+        }
+        for i in 0..self.words.m_len {
+            let (code, span) = self.words.m[i];
+            match (code.major, code.minor) {
+                // Program stop and optional stop: the run goes on.
+                (0 | 1, 0) => {}
+                (2 | 30, 0) => flow = Flow::End,
+                (3 | 4, 0) => self.state.spindle_on = true,
+                (5, 0) => self.state.spindle_on = false,
+                // Tool change, coolant, spindle orientation: no axis motion
+                // in this model.
+                (6..=9 | 19, 0) => {}
+                (98, 0) => flow = self.call()?,
+                (99, 0) => {
+                    let sequence = match self.words.take(b'P') {
+                        Some(word) => Some(self.words.integer(&word, 99_999)?),
+                        None => None,
+                    };
+                    flow = Flow::Return { sequence };
+                }
+                _ => {
+                    return Err(self.alarm(
+                        Condition::UnsupportedMCode,
+                        Some(span),
+                        format!("M{code} is not a function of this kernel"),
+                    ));
+                }
+            }
+        }
+        Ok(flow)
+    }
+
+    /// M98 P… L…: FANUC also reads P as four digits of repetitions then
+    /// four digits of program number when it has more than four digits.
+    fn call(&mut self) -> Result<Flow, Alarm> {
+        let Some(p) = self.words.take(b'P') else {
+            return Err(self.alarm(
+                Condition::SubprogramNumberMissing,
+                None,
+                "M98 needs P, the number of the program to call".into(),
+            ));
+        };
+        let p = self.words.integer(&p, 99_999_999)?;
+        let (mut repeats, program) = if p > 9999 { (p / 10_000, p % 10_000) } else { (1, p) };
+        if let Some(l) = self.words.take(b'L') {
+            repeats = self.words.integer(&l, 9999)?;
+        }
+        Ok(Flow::Call { program, repeats })
+    }
+
+    // ----- values ---------------------------------------------------------
+
+    /// A length word in mm: FANUC's decimal-point rule (a value without a
+    /// decimal point counts in least input increments unless calculator
+    /// input, 3401#0 DPI, is set), then G20 inches to mm.
+    fn length(&self, word: &Word) -> f64 {
+        let params = &self.machine.params;
+        let inch = self.state.modal.units == Units::Inch;
+        let value = if word.decimal_point || params.decimal_point_input {
+            word.value
+        } else if inch {
+            word.value * params.least_input_increment / 10.0
+        } else {
+            word.value * params.least_input_increment
+        };
+        if inch { value * MM_PER_INCH } else { value }
+    }
+
+    /// An angle word in degrees (decimal-point rule, no unit change).
+    fn angle(&self, word: &Word) -> f64 {
+        let params = &self.machine.params;
+        if word.decimal_point || params.decimal_point_input {
+            word.value
+        } else {
+            word.value * params.least_input_increment
+        }
+    }
+
+    /// The value of an axis word, in mm or degrees.
+    fn axis_value(&self, axis: usize, word: &Word) -> f64 {
+        if axis < self.machine.linear.len() { self.length(word) } else { self.angle(word) }
+    }
+
+    /// Axis words of the block, by joint index, marked used.
+    fn axis_words(&mut self) -> Targets {
+        let mut targets = [None; MAX_AXES];
+        for (i, name) in self.machine.axis_names().enumerate() {
+            if let Some(word) = self.words.take(name as u8) {
+                targets[i] = Some(self.axis_value(i, &word));
+            }
+        }
+        targets
+    }
+
+    // ----- frames ---------------------------------------------------------
+
+    /// The active work offset W plus G92 and external shifts.
+    fn work(&self) -> Vec3 {
+        let base = match self.state.modal.work {
+            WorkSelect::Standard(i) => self.offsets.work[usize::from(i)],
+            WorkSelect::Extended(p) => self.offsets.extended_work[usize::from(p) - 1],
+        };
+        base + self.offsets.external + self.state.shift
+    }
+
+    /// The active H value (geometry + wear), mm.
+    fn tool_length(&self) -> f64 {
+        if self.state.modal.length == LengthMode::Off || self.state.h == 0 {
+            return 0.0;
+        }
+        let tool = self.offsets.tool(self.state.h);
+        tool.length + tool.length_wear
+    }
+
+    /// The length offset vector at machine position `joints`: what is added
+    /// to W + P to get the machine position of X, Y, Z.
+    fn length_vector(&self, joints: &Joints) -> Vec3 {
+        let l = self.tool_length();
+        let t0 = self.machine.tool_direction.into_inner();
+        match self.state.modal.length {
+            LengthMode::Off => Vec3::zeros(),
+            LengthMode::Plus => l * t0,
+            LengthMode::Minus => -l * t0,
+            LengthMode::ToolAxis => {
+                let head = self.machine.chain(Side::Head, joints);
+                -head.transform_point(&(-l * t0).into()).coords
+            }
+        }
+    }
+
+    /// Tool length for forward kinematics of the reported tip.
+    fn reported_length(&self) -> f64 {
+        self.tool_length()
+    }
+
+    /// Programmed position of every axis at machine position `joints`.
+    fn programmed(&self, joints: &Joints) -> Joints {
+        let mut p = *joints;
+        let lin = Vec3::new(joints[0], joints[1], joints[2]) - self.work() - self.length_vector(joints);
+        p[..3].copy_from_slice(lin.as_slice());
+        for (i, value) in p.iter_mut().enumerate().skip(3).take(self.machine.axis_count() - 3) {
+            *value -= self.state.axis_shift[i];
+        }
+        p
+    }
+
+    /// Machine position for programmed position `p` (rotary axes already
+    /// machine angles in `p` beyond the shift).
+    fn machine_position(&self, p: &Joints) -> Joints {
+        let mut joints = *p;
+        for (i, value) in joints.iter_mut().enumerate().skip(3).take(self.machine.axis_count() - 3) {
+            *value += self.state.axis_shift[i];
+        }
+        let lin = Vec3::new(p[0], p[1], p[2]) + self.work() + self.length_vector(&joints);
+        joints[..3].copy_from_slice(lin.as_slice());
+        joints
+    }
+
+    /// The programmed end point of a block from its axis words, absolute or
+    /// incremental; rollover axes take the shorter way in absolute.
+    fn end_point(&self, from: &Joints, targets: &Targets) -> Joints {
+        let mut end = *from;
+        let incremental = self.state.modal.distance == Distance::Incremental;
+        for (i, target) in targets.iter().enumerate().take(self.machine.axis_count()) {
+            let Some(value) = *target else { continue };
+            end[i] = if incremental {
+                from[i] + value
+            } else if self.is_rollover(i) {
+                from[i] + shortest_turn(from[i], value)
+            } else {
+                value
+            };
+        }
+        end
+    }
+
+    fn is_rollover(&self, index: usize) -> bool {
+        index >= self.machine.linear.len() && self.machine.rotary[index - self.machine.linear.len()].rollover
+    }
+
+    // ----- motion ---------------------------------------------------------
+
+    fn segment(&self, motion: Motion, start: Joints, end: Joints, path: Path) -> Segment {
+        Segment {
+            line: self.words.line,
+            motion,
+            feed: None,
+            start,
+            end,
+            path,
+            tool_length: self.reported_length(),
+            work: self.work(),
+        }
+    }
+
+    /// The feed at the tool tip for a cutting move whose tip travels
+    /// `length` mm, mm/min.
+    fn cutting_feed(&self, length: f64) -> Result<f64, Alarm> {
+        let f = self.state.feed;
+        if f <= 0.0 {
+            let span = self.words.peek(b'F').map(|w| w.span);
+            return Err(self.alarm(Condition::FeedZero, span, "cutting feed is zero: program F".into()));
+        }
+        match self.state.modal.feed_mode {
+            FeedMode::PerMinute => Ok(f),
+            FeedMode::PerRevolution => {
+                if !self.state.spindle_on || self.state.spindle_speed <= 0.0 {
+                    return Err(self.alarm(
+                        Condition::NoSpindleForFeedPerRev,
+                        None,
+                        "feed per revolution (G95) with the spindle stopped".into(),
+                    ));
+                }
+                Ok(f * self.state.spindle_speed)
+            }
+            FeedMode::InverseTime => {
+                if !self.words.has(b'F') {
+                    return Err(self.alarm(
+                        Condition::FeedZero,
+                        None,
+                        "inverse time feed (G93) needs F in every cutting block".into(),
+                    ));
+                }
+                Ok(f * length)
+            }
+        }
+    }
+
+    /// Motion in the current mode: the block's axis words, or only a
+    /// change of the length offset (axes not named move by the change of
+    /// the offset vector alone).
+    fn motion(&mut self, from: &Joints, length_changed: bool, out: &mut Vec<Segment>) -> Result<(), Alarm> {
+        let targets = self.axis_words();
+        let has_axes = targets.iter().any(Option::is_some);
+        let mode = self.state.modal.motion;
+        let is_arc = matches!(mode, MotionMode::Cw | MotionMode::Ccw);
+        let arc_words = is_arc && (self.words.has(b'R') || self.center_words_present());
+        if !has_axes && !arc_words && !length_changed {
+            return Ok(());
+        }
+        let start = self.state.joints;
+        let end_p = self.end_point(from, &targets);
+        let end = self.machine_position(&end_p);
+        if is_arc && (has_axes || arc_words) {
+            return self.arc(mode, start, from, &end_p, end, out);
+        }
+        let motion = if mode == MotionMode::Rapid { Motion::Rapid } else { Motion::Linear };
+        self.push_line(motion, start, end, out)
+    }
+
+    /// A straight move in joint space (rapid or linear at the modal feed).
+    fn push_line(&self, motion: Motion, start: Joints, end: Joints, out: &mut Vec<Segment>) -> Result<(), Alarm> {
+        let mut seg = self.segment(motion, start, end, Path::Joint);
+        if !seg.moves() {
+            return Ok(());
+        }
+        if motion == Motion::Linear {
+            let length = (seg.row(self.machine, 1.0).tip - seg.row(self.machine, 0.0).tip).norm();
+            seg.feed = Some(self.cutting_feed(length)?);
+        }
+        out.push(seg);
+        Ok(())
+    }
+
+    /// Whether the block has a centre word of the selected plane.
+    fn center_words_present(&self) -> bool {
+        let [p, q, _] = self.state.modal.plane.axes();
+        self.words.has(CENTER_LETTERS[p]) || self.words.has(CENTER_LETTERS[q])
+    }
+
+    /// G02 / G03: circle in the selected plane, helical on the normal axis,
+    /// other axes linear.
+    fn arc(
+        &mut self,
+        mode: MotionMode,
+        start: Joints,
+        from: &Joints,
+        end_p: &Joints,
+        end: Joints,
+        out: &mut Vec<Segment>,
+    ) -> Result<(), Alarm> {
+        let [p, q, _] = self.state.modal.plane.axes();
+        let ccw = mode == MotionMode::Ccw;
+        let (sp, sq) = (from[p], from[q]);
+        let (ep, eq) = (end_p[p], end_p[q]);
+        let center = if let Some(r_word) = self.words.take(b'R') {
+            for letter in CENTER_LETTERS {
+                if let Some(word) = self.words.peek(letter) {
+                    return Err(self.alarm(
+                        Condition::GCodeConflict,
+                        Some(word.span),
+                        "an arc takes either R or I, J, K, not both".into(),
+                    ));
+                }
+            }
+            let r = self.length(&r_word);
+            match self.center_from_radius((sp, sq), (ep, eq), r, ccw, r_word.span)? {
+                Some(c) => c,
+                // R with the end point on the start point: no arc.
+                None => return self.push_line(Motion::Linear, start, end, out),
+            }
+        } else {
+            let i = self.words.take(CENTER_LETTERS[p]).map_or(0.0, |w| self.length(&w));
+            let j = self.words.take(CENTER_LETTERS[q]).map_or(0.0, |w| self.length(&w));
+            if i == 0.0 && j == 0.0 {
+                return Err(self.alarm(
+                    Condition::ArcCenterMissing,
+                    None,
+                    "arc needs R or the centre words of the selected plane".into(),
+                ));
+            }
+            (sp + i, sq + j)
+        };
+        let r0 = (sp - center.0).hypot(sq - center.1);
+        let r1 = (ep - center.0).hypot(eq - center.1);
+        if (r1 - r0).abs() > ARC_RADIUS_TOLERANCE {
+            return Err(self.alarm(
+                Condition::ArcRadiusTolerance,
+                None,
+                format!("end point is not on the arc: start radius {r0}, end radius {r1}"),
+            ));
+        }
+        let theta0 = (sq - center.1).atan2(sp - center.0);
+        let theta1 = (eq - center.1).atan2(ep - center.0);
+        let sweep = arc_sweep(theta0, theta1, ccw, r0);
+        // The centre in machine coordinates, and its drift when the offset
+        // vector changes over the block.
+        let offset0 = self.length_vector(&start) + self.work();
+        let offset1 = self.length_vector(&end) + self.work();
+        let arc = Arc {
+            axes: [p, q],
+            center: [center.0 + offset0[p], center.1 + offset0[q]],
+            r0,
+            r1,
+            theta0,
+            sweep,
+            drift: [offset1[p] - offset0[p], offset1[q] - offset0[q]],
+        };
+        let motion = if ccw { Motion::Ccw } else { Motion::Cw };
+        let mut seg = self.segment(motion, start, end, Path::Arc(arc));
+        let helix = end_p[3 - p - q] - from[3 - p - q];
+        seg.feed = Some(self.cutting_feed(arc.length().hypot(helix))?);
+        out.push(seg);
+        Ok(())
+    }
+
+    /// The centre of an R arc: of the two circles through both points, the
+    /// one whose arc is at most 180° for R > 0, more for R < 0.
+    fn center_from_radius(
+        &self,
+        (sp, sq): (f64, f64),
+        (ep, eq): (f64, f64),
+        r: f64,
+        ccw: bool,
+        span: Span,
+    ) -> Result<Option<(f64, f64)>, Alarm> {
+        let (dp, dq) = (ep - sp, eq - sq);
+        let chord = dp.hypot(dq);
+        if chord <= POSITION_TOLERANCE {
+            return Ok(None);
+        }
+        let half = chord / 2.0;
+        if r.abs() < half - ARC_RADIUS_TOLERANCE {
+            return Err(self.alarm(
+                Condition::ArcRadiusTolerance,
+                Some(span),
+                format!("radius {} is shorter than half the chord {half}", r.abs()),
+            ));
+        }
+        let h = (r * r - half * half).max(0.0).sqrt();
+        // Unit normal to the left of the chord.
+        let (np, nq) = (-dq / chord, dp / chord);
+        let side = if ccw == (r > 0.0) { 1.0 } else { -1.0 };
+        Ok(Some((sp + dp / 2.0 + side * h * np, sq + dq / 2.0 + side * h * nq)))
+    }
+
+    // ----- group 00 -------------------------------------------------------
+
+    fn one_shot(&mut self, code: Code, span: Span, from: &Joints, out: &mut Vec<Segment>) -> Result<(), Alarm> {
+        match code.major {
+            4 => self.dwell(span),
+            10 => self.data_setting(span),
+            27 => self.reference_check(from, out),
+            28 => self.reference_return(from, 1, out),
+            30 => {
+                let n = match self.words.take(b'P') {
+                    Some(word) => self.words.integer(&word, 4)?,
+                    None => 2,
+                };
+                self.reference_return(from, n, out)
+            }
+            53 => self.machine_coordinates(out),
+            _ => self.set_coordinate_system(from),
+        }
+    }
+
+    /// G04: dwell, P in ms or X in s. No axis moves.
+    fn dwell(&mut self, span: Span) -> Result<(), Alarm> {
+        let p = self.words.take(b'P');
+        let x = self.words.peek(b'X');
+        if let Some(word) = p {
+            self.words.integer(&word, 99_999_999)?;
+        } else if let Some(word) = x {
+            self.words.take(b'X');
+            if word.value < 0.0 {
+                return Err(self.alarm(Condition::ValueOutOfRange, Some(word.span), "dwell time is negative".into()));
+            }
+        } else {
+            return Err(self.alarm(Condition::NoDataAfterAddress, Some(span), "G04 needs P (ms) or X (s)".into()));
+        }
+        Ok(())
+    }
+
+    /// G10: programmable data input of work offsets (L2, L20) and tool
+    /// offsets (L10 to L13).
+    fn data_setting(&mut self, span: Span) -> Result<(), Alarm> {
+        let Some(l) = self.words.take(b'L') else {
+            return Err(self.alarm(Condition::IllegalG10L, Some(span), "G10 needs L".into()));
+        };
+        let l_value = self.words.integer(&l, 99)?;
+        let Some(p) = self.words.take(b'P') else {
+            return Err(self.alarm(Condition::IllegalG10P, Some(span), "G10 needs P".into()));
+        };
+        let incremental = self.state.modal.distance == Distance::Incremental;
+        match l_value {
+            2 | 20 => {
+                let n = self.words.integer(&p, 9999)?;
+                let max = if l_value == 2 { 6 } else { fiveaxis_machine::MAX_EXTENDED_WORK };
+                if (l_value == 20 && n == 0) || n > max {
+                    return Err(self.alarm(
+                        Condition::IllegalG10P,
+                        Some(p.span),
+                        format!("G10 L{l_value} P{n}: no such work offset"),
+                    ));
+                }
+                let mut value = match (l_value, n) {
+                    (2, 0) => self.offsets.external,
+                    (2, n) => self.offsets.work[n as usize - 1],
+                    (_, n) => self.offsets.extended_work[n as usize - 1],
+                };
+                for (axis, letter) in [b'X', b'Y', b'Z'].into_iter().enumerate() {
+                    if let Some(word) = self.words.take(letter) {
+                        let v = self.length(&word);
+                        value[axis] = if incremental { value[axis] + v } else { v };
+                    }
+                }
+                match (l_value, n) {
+                    (2, 0) => self.offsets.external = value,
+                    (2, n) => self.offsets.work[n as usize - 1] = value,
+                    (_, n) => self.offsets.extended_work[n as usize - 1] = value,
+                }
+                Ok(())
+            }
+            10..=13 => {
+                let n = self.words.integer(&p, 9999)?;
+                if n == 0 || n > MAX_TOOL_OFFSET {
+                    return Err(self.alarm(
+                        Condition::IllegalG10P,
+                        Some(p.span),
+                        format!("G10 L{l_value} P{n}: no such tool offset"),
+                    ));
+                }
+                let Some(r) = self.words.take(b'R') else {
+                    return Err(self.alarm(Condition::NoDataAfterAddress, Some(span), "G10 L10-L13 needs R".into()));
+                };
+                let v = self.length(&r);
+                let tool = self.offsets.tools.entry(n).or_default();
+                let field = match l_value {
+                    10 => &mut tool.length,
+                    11 => &mut tool.length_wear,
+                    12 => &mut tool.radius,
+                    _ => &mut tool.radius_wear,
+                };
+                *field = if incremental { *field + v } else { v };
+                Ok(())
+            }
+            _ => Err(self.alarm(
+                Condition::IllegalG10L,
+                Some(l.span),
+                format!("G10 L{l_value} is not a data-setting format of this control"),
+            )),
+        }
+    }
+
+    /// G27: positions the named axes, then checks that they stand at
+    /// reference position 1.
+    fn reference_check(&mut self, from: &Joints, out: &mut Vec<Segment>) -> Result<(), Alarm> {
+        let targets = self.axis_words();
+        let end_p = self.end_point(from, &targets);
+        let end = self.machine_position(&end_p);
+        let reference = self.machine.params.reference_1;
+        for (i, name) in self.machine.axis_names().enumerate() {
+            if targets[i].is_some() && (end[i] - reference[i]).abs() > REFERENCE_CHECK_TOLERANCE {
+                let span = self.words.peek(name as u8).map(|w| w.span);
+                return Err(self.alarm(
+                    Condition::ReferenceReturnCheck,
+                    span,
+                    format!(
+                        "G27: axis {name} reaches {} but reference position 1 is at {}",
+                        end[i], reference[i]
+                    ),
+                ));
+            }
+        }
+        self.push_line(Motion::Rapid, self.state.joints, end, out)
+    }
+
+    /// G28 / G30: through the intermediate point to reference position `n`,
+    /// named axes only. One segment: the intermediate point at s = 0.5.
+    fn reference_return(&mut self, from: &Joints, n: u32, out: &mut Vec<Segment>) -> Result<(), Alarm> {
+        let reference = match n {
+            1 => self.machine.params.reference_1,
+            2 => self.machine.params.reference_2,
+            _ => {
+                let span = self.words.peek(b'P').map(|w| w.span);
+                return Err(self.alarm(
+                    Condition::ReferencePositionUndefined,
+                    span,
+                    format!("reference position {n} is not defined for this machine"),
+                ));
+            }
+        };
+        let targets = self.axis_words();
+        let mid_p = self.end_point(from, &targets);
+        let mid = self.machine_position(&mid_p);
+        let start = self.state.joints;
+        let mut mid_joints = start;
+        let mut end = start;
+        for (i, target) in targets.iter().enumerate() {
+            if target.is_some() {
+                mid_joints[i] = mid[i];
+                end[i] = reference[i];
+            }
+        }
+        if self.is_any_rollover_named(&targets) {
+            for (i, target) in targets.iter().enumerate() {
+                if target.is_some() && self.is_rollover(i) {
+                    end[i] = mid_joints[i] + shortest_turn(mid_joints[i], reference[i]);
+                }
+            }
+        }
+        let seg = self.segment(Motion::Rapid, start, end, Path::Via(mid_joints));
+        if seg.moves() {
+            // The leg to the intermediate point is checked like any move.
+            self.check_limits(&self.segment(Motion::Rapid, start, mid_joints, Path::Joint))?;
+            out.push(seg);
+        }
+        Ok(())
+    }
+
+    fn is_any_rollover_named(&self, targets: &Targets) -> bool {
+        targets.iter().enumerate().any(|(i, t)| t.is_some() && i < self.machine.axis_count() && self.is_rollover(i))
+    }
+
+    /// G53: positioning in machine coordinates, offsets not applied.
+    fn machine_coordinates(&mut self, out: &mut Vec<Segment>) -> Result<(), Alarm> {
+        let mut end = self.state.joints;
+        for (i, name) in self.machine.axis_names().enumerate() {
+            if let Some(word) = self.words.take(name as u8) {
+                let value = self.axis_value(i, &word);
+                end[i] = if self.is_rollover(i) { end[i] + shortest_turn(end[i], value) } else { value };
+            }
+        }
+        self.push_line(Motion::Rapid, self.state.joints, end, out)
+    }
+
+    /// G92: the current position gets the named coordinates (all work
+    /// coordinate systems shift).
+    fn set_coordinate_system(&mut self, from: &Joints) -> Result<(), Alarm> {
+        for (i, name) in self.machine.axis_names().enumerate() {
+            if let Some(word) = self.words.take(name as u8) {
+                let value = self.axis_value(i, &word);
+                if i < 3 {
+                    self.state.shift[i] += from[i] - value;
+                } else {
+                    self.state.axis_shift[i] += from[i] - value;
+                }
+            }
+        }
+        Ok(())
+    }
+
+    // ----- soft limits ----------------------------------------------------
+
+    /// Alarms before a move that would leave the soft limits anywhere along
+    /// it (end points, and the extremes of an arc).
+    fn check_limits(&self, seg: &Segment) -> Result<(), Alarm> {
+        let machine = self.machine;
+        let mut lo = seg.end;
+        let mut hi = seg.end;
+        for i in 0..machine.axis_count() {
+            lo[i] = lo[i].min(seg.start[i]);
+            hi[i] = hi[i].max(seg.start[i]);
+        }
+        match &seg.path {
+            Path::Arc(arc) => {
+                for (k, &axis) in arc.axes.iter().enumerate() {
+                    let (a, b) = arc_extent(arc, k);
+                    lo[axis] = lo[axis].min(a);
+                    hi[axis] = hi[axis].max(b);
+                }
+            }
+            Path::Via(mid) => {
+                for i in 0..machine.axis_count() {
+                    lo[i] = lo[i].min(mid[i]);
+                    hi[i] = hi[i].max(mid[i]);
+                }
+            }
+            Path::Joint => {}
+        }
+        let limits = machine
+            .linear
+            .iter()
+            .map(|a| Some((a.min, a.max)))
+            .chain(machine.rotary.iter().map(|r| if r.rollover { None } else { r.limits }));
+        for (i, (limit, name)) in limits.zip(machine.axis_names()).enumerate() {
+            let Some((min, max)) = limit else { continue };
+            let span = self.words.peek(name as u8).map(|w| w.span);
+            if hi[i] > max + LIMIT_TOLERANCE {
+                return Err(self.alarm(
+                    Condition::OvertravelPlus,
+                    span,
+                    format!("{name}+ over-travel: {name} would reach {} beyond the soft limit {max}", hi[i]),
+                ));
+            }
+            if lo[i] < min - LIMIT_TOLERANCE {
+                return Err(self.alarm(
+                    Condition::OvertravelMinus,
+                    span,
+                    format!("{name}- over-travel: {name} would reach {} beyond the soft limit {min}", lo[i]),
+                ));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Highest H and D number (the offset memory's size).
+pub const MAX_TOOL_OFFSET: u32 = 999;
+
+/// How far past a soft limit rounding may carry a position, mm or degrees.
+const LIMIT_TOLERANCE: f64 = 1e-9;
+
+/// Centre-offset letters by axis: I for X, J for Y, K for Z.
+const CENTER_LETTERS: [u8; 3] = [b'I', b'J', b'K'];
+
+/// The signed rotation in (−180°, 180°] that takes angle `from` to the
+/// same position as `to` modulo 360.
+pub fn shortest_turn(from: f64, to: f64) -> f64 {
+    let mut d = (to - from).rem_euclid(360.0);
+    if d > 180.0 {
+        d -= 360.0;
+    }
+    d
+}
+
+/// Signed sweep from `theta0` to `theta1` in the arc's direction; a full
+/// circle when the two meet.
+fn arc_sweep(theta0: f64, theta1: f64, ccw: bool, radius: f64) -> f64 {
+    let tau = std::f64::consts::TAU;
+    let mut d = (theta1 - theta0).rem_euclid(tau);
+    if !ccw {
+        d = (theta0 - theta1).rem_euclid(tau);
+    }
+    // End point on the start point (within the position tolerance along
+    // the circle): a full circle.
+    if d * radius <= POSITION_TOLERANCE || (tau - d) * radius <= POSITION_TOLERANCE {
+        d = tau;
+    }
+    if ccw { d } else { -d }
+}
+
+/// The range an arc covers along its `k`-th plane axis (0 or 1).
+fn arc_extent(arc: &Arc, k: usize) -> (f64, f64) {
+    let point = |theta: f64, s: f64| {
+        let r = arc.r0 + (arc.r1 - arc.r0) * s;
+        let (c, d) = (arc.center[k], arc.drift[k] * s);
+        c + d + r * if k == 0 { theta.cos() } else { theta.sin() }
+    };
+    let mut lo = point(arc.theta0, 0.0).min(point(arc.theta0 + arc.sweep, 1.0));
+    let mut hi = point(arc.theta0, 0.0).max(point(arc.theta0 + arc.sweep, 1.0));
+    // Quadrant angles inside the sweep are the extremes.
+    let (a, b) = if arc.sweep >= 0.0 { (arc.theta0, arc.theta0 + arc.sweep) } else { (arc.theta0 + arc.sweep, arc.theta0) };
+    let quarter = std::f64::consts::FRAC_PI_2;
+    let mut q = (a / quarter).ceil() * quarter;
+    while q <= b {
+        let s = ((q - arc.theta0) / arc.sweep).clamp(0.0, 1.0);
+        let v = point(q, s);
+        lo = lo.min(v);
+        hi = hi.max(v);
+        q += quarter;
+    }
+    (lo, hi)
+}
+
+#[derive(Clone, Copy, Debug)]
+enum GKind {
+    Motion,
+    Plane,
+    Distance,
+    Feed,
+    Units,
+    Length,
+    Work,
+    OneShot,
+    CutterCancel,
+}
+
+/// The G codes of one block, by group; the last of a group wins.
+#[derive(Clone, Copy, Debug, Default)]
+struct GCodes {
+    motion: Option<(Code, Span)>,
+    plane: Option<Code>,
+    distance: Option<Code>,
+    feed: Option<Code>,
+    units: Option<Code>,
+    length: Option<(Code, Span)>,
+    work: Option<(Code, Span)>,
+    one_shot: Option<(Code, Span)>,
+}

@@ -1,0 +1,131 @@
+//! One typed value per modal group (FANUC group numbers in the docs).
+
+/// Group 01: interpolation.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MotionMode {
+    /// G00 positioning.
+    Rapid,
+    /// G01 linear interpolation.
+    Linear,
+    /// G02 circular interpolation clockwise.
+    Cw,
+    /// G03 circular interpolation counter-clockwise.
+    Ccw,
+}
+
+/// Group 02: plane selection, with its axes as indices of X, Y, Z.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Plane {
+    /// G17: X-Y, normal Z.
+    Xy,
+    /// G18: Z-X, normal Y.
+    Zx,
+    /// G19: Y-Z, normal X.
+    Yz,
+}
+
+impl Plane {
+    /// First axis, second axis and normal, as indices 0 = X, 1 = Y, 2 = Z,
+    /// ordered so that first × second = normal.
+    pub fn axes(self) -> [usize; 3] {
+        match self {
+            Plane::Xy => [0, 1, 2],
+            Plane::Zx => [2, 0, 1],
+            Plane::Yz => [1, 2, 0],
+        }
+    }
+}
+
+/// Group 03: absolute or incremental.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Distance {
+    /// G90.
+    Absolute,
+    /// G91.
+    Incremental,
+}
+
+/// Group 05: feed meaning.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FeedMode {
+    /// G93: F is the inverse of the block time, 1/min.
+    InverseTime,
+    /// G94: F in mm/min (inch/min).
+    PerMinute,
+    /// G95: F in mm (inch) per spindle revolution.
+    PerRevolution,
+}
+
+/// Group 06: input unit.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Units {
+    /// G20: inch.
+    Inch,
+    /// G21: millimetre.
+    Metric,
+}
+
+/// Group 08: tool length compensation.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LengthMode {
+    /// G49: off.
+    Off,
+    /// G43: +H along the reference tool direction.
+    Plus,
+    /// G44 (FANUC, Mazak): −H along the reference tool direction.
+    Minus,
+    /// G43.1: H along the actual tool axis, recomputed at block ends.
+    ToolAxis,
+}
+
+/// Group 14: the selected work coordinate system.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum WorkSelect {
+    /// G54 … G59 (0 … 5).
+    Standard(u8),
+    /// G54.1 P1 … P48.
+    Extended(u8),
+}
+
+impl std::fmt::Display for WorkSelect {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            WorkSelect::Standard(i) => write!(f, "G{}", 54 + u32::from(*i)),
+            WorkSelect::Extended(p) => write!(f, "G54.1 P{p}"),
+        }
+    }
+}
+
+/// The modal state of the control.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Modal {
+    /// Group 01.
+    pub motion: MotionMode,
+    /// Group 02.
+    pub plane: Plane,
+    /// Group 03.
+    pub distance: Distance,
+    /// Group 05.
+    pub feed_mode: FeedMode,
+    /// Group 06.
+    pub units: Units,
+    /// Group 08.
+    pub length: LengthMode,
+    /// Group 14.
+    pub work: WorkSelect,
+}
+
+impl Modal {
+    /// FANUC power-on state: G00 G17 G90 G94 G21 G49 G54 (G40 group 07).
+    pub fn power_on() -> Self {
+        Self {
+            motion: MotionMode::Rapid,
+            plane: Plane::Xy,
+            distance: Distance::Absolute,
+            feed_mode: FeedMode::PerMinute,
+            units: Units::Metric,
+            length: LengthMode::Off,
+            work: WorkSelect::Standard(0),
+        }
+    }
+}

@@ -1,0 +1,178 @@
+//! The words of one block, sorted by address, with a record of which ones
+//! the block's functions used: a word that no function uses stops the
+//! program instead of being silently ignored.
+
+use fiveaxis_gcode::{Block, Code, Span, Word};
+use fiveaxis_machine::{Control, Machine};
+
+use crate::alarm::{Alarm, Condition};
+
+/// Most G codes in one block.
+pub const MAX_G_CODES: usize = 16;
+/// Most M codes in one block the kernel reads (the control's own limit is
+/// checked separately).
+pub const MAX_M_CODES: usize = 8;
+
+/// A block's words, by address letter.
+#[derive(Debug)]
+pub struct Words {
+    by_letter: [Option<Word>; 26],
+    used: u32,
+    /// G codes in the order written.
+    pub g: [(Code, Span); MAX_G_CODES],
+    /// How many of `g` are set.
+    pub g_len: usize,
+    /// M codes in the order written.
+    pub m: [(Code, Span); MAX_M_CODES],
+    /// How many of `m` are set.
+    pub m_len: usize,
+    /// 1-based line of the block.
+    pub line: u32,
+    control: Control,
+}
+
+fn index(letter: u8) -> usize {
+    usize::from(letter.wrapping_sub(b'A')).min(25)
+}
+
+impl Words {
+    /// An empty set for `control`.
+    pub fn new(control: Control) -> Self {
+        let blank = (Code::new(0, 0), Span::default());
+        Self {
+            by_letter: [None; 26],
+            used: 0,
+            g: [blank; MAX_G_CODES],
+            g_len: 0,
+            m: [blank; MAX_M_CODES],
+            m_len: 0,
+            line: 0,
+            control,
+        }
+    }
+
+    /// An alarm for this block.
+    pub fn alarm(&self, condition: Condition, span: Option<Span>, message: String) -> Alarm {
+        Alarm { condition, code: condition.code(self.control), line: self.line, span, message }
+    }
+
+    /// Sorts `block`'s words. Alarms on an address the machine does not
+    /// have, a repeated address, and a G or M code that is not a code.
+    pub fn load(&mut self, block: &Block, machine: &Machine) -> Result<(), Alarm> {
+        self.by_letter = [None; 26];
+        self.used = 0;
+        self.g_len = 0;
+        self.m_len = 0;
+        self.line = block.line;
+        for word in &block.words {
+            let letter = word.letter;
+            match letter {
+                b'G' | b'M' => self.push_code(word)?,
+                _ => {
+                    if !is_address(letter, machine) {
+                        return Err(self.alarm(
+                            Condition::ImproperAddress,
+                            Some(word.span),
+                            format!("address {} is not used by this control or machine", char::from(letter)),
+                        ));
+                    }
+                    let slot = &mut self.by_letter[index(letter)];
+                    if slot.is_some() {
+                        return Err(self.alarm(
+                            Condition::DuplicateAddress,
+                            Some(word.span),
+                            format!("address {} appears twice in the block", char::from(letter)),
+                        ));
+                    }
+                    *slot = Some(*word);
+                }
+            }
+        }
+        Ok(())
+    }
+
+    fn push_code(&mut self, word: &Word) -> Result<(), Alarm> {
+        let letter = char::from(word.letter);
+        let Some(code) = word.code else {
+            let condition = if letter == 'G' { Condition::ImproperGCode } else { Condition::UnsupportedMCode };
+            return Err(self.alarm(condition, Some(word.span), format!("{letter}{} is not a valid code", word.value)));
+        };
+        let (list, len, max) = if letter == 'G' {
+            (&mut self.g[..], &mut self.g_len, MAX_G_CODES)
+        } else {
+            (&mut self.m[..], &mut self.m_len, MAX_M_CODES)
+        };
+        if *len >= max {
+            return Err(self.alarm(
+                Condition::GCodeConflict,
+                Some(word.span),
+                format!("too many {letter} codes in one block"),
+            ));
+        }
+        list[*len] = (code, word.span);
+        *len += 1;
+        Ok(())
+    }
+
+    /// The word with this letter, marking it used.
+    pub fn take(&mut self, letter: u8) -> Option<Word> {
+        let word = self.by_letter[index(letter)];
+        if word.is_some() {
+            self.used |= 1 << index(letter);
+        }
+        word
+    }
+
+    /// The word with this letter, without marking it used.
+    pub fn peek(&self, letter: u8) -> Option<Word> {
+        self.by_letter[index(letter)]
+    }
+
+    /// Whether a word with this letter is present.
+    pub fn has(&self, letter: u8) -> bool {
+        self.by_letter[index(letter)].is_some()
+    }
+
+    /// Alarms on the first word that no function of the block used.
+    pub fn check_all_used(&self) -> Result<(), Alarm> {
+        for (i, word) in self.by_letter.iter().enumerate() {
+            if let Some(word) = word
+                && self.used & (1 << i) == 0
+            {
+                return Err(self.alarm(
+                    Condition::WordNotUsed,
+                    Some(word.span),
+                    format!("address {} has no meaning in this block", char::from(word.letter)),
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// A word's value as a non-negative integer (H, D, P, L, T, S numbers):
+    /// alarms on a decimal point, a sign or a value beyond `max`.
+    pub fn integer(&self, word: &Word, max: u32) -> Result<u32, Alarm> {
+        let letter = char::from(word.letter);
+        if word.decimal_point {
+            return Err(self.alarm(
+                Condition::DecimalPointNotAllowed,
+                Some(word.span),
+                format!("address {letter} takes an integer without a decimal point"),
+            ));
+        }
+        if !(0.0..=f64::from(max)).contains(&word.value) {
+            return Err(self.alarm(
+                Condition::ValueOutOfRange,
+                Some(word.span),
+                format!("{letter}{} is out of range 0 to {max}", word.value),
+            ));
+        }
+        Ok(word.value as u32)
+    }
+}
+
+/// Whether `letter` is an address of the kernel on this machine.
+fn is_address(letter: u8, machine: &Machine) -> bool {
+    matches!(letter, b'F' | b'S' | b'T' | b'H' | b'D' | b'I' | b'J' | b'K' | b'R' | b'P' | b'L' | b'Q' | b'O')
+        || machine.axis_index(char::from(letter)).is_some()
+}
