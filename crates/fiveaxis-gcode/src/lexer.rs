@@ -1,8 +1,526 @@
-use crate::{Block, SyntaxError};
+//! The hand-written byte scanner behind [`parse_line`].
+//!
+//! The line is walked once, left to right, with a position into its bytes.
+//! Every byte is read through `get`, so no input can index out of bounds, and
+//! the only buffers are small arrays on the stack: the sole heap activity is
+//! pushing into the block's reused word vector.
+
+use crate::{Block, Code, Span, SyntaxError, SyntaxErrorKind, UnknownWord, Word};
+
+/// The most digits a number may have. The zeros written in front of the
+/// integer part do not count (`X007` has one digit, `G01` one); every other
+/// digit does, zeros after the decimal point included (`X0.001` has three).
+pub const MAX_DIGITS: usize = 15;
+
+/// Ends the block: the rest of the line is ignored.
+const END_OF_BLOCK: u8 = b';';
+/// Line terminators a caller may leave at the end of the line.
+const LINE_TERMINATORS: [u8; 2] = [b'\r', b'\n'];
+/// Bytes that may stand anywhere between and inside words.
+const BLANKS: [u8; 2] = [b' ', b'\t'];
+/// Opens a comment (FANUC "control out").
+const COMMENT_OPEN: u8 = b'(';
+/// Closes a comment (FANUC "control in").
+const COMMENT_CLOSE: u8 = b')';
+/// The tape mark, alone on its line.
+const TAPE_MARK: u8 = b'%';
+/// Block delete, as the first byte of a block.
+const BLOCK_DELETE: u8 = b'/';
+/// The lowest and highest optional block skip numbers (`/1` … `/9`).
+const SKIP_LEVELS: std::ops::RangeInclusive<u8> = b'1'..=b'9';
+/// The address of the sequence number.
+const SEQUENCE_LETTER: u8 = b'N';
+const DECIMAL_POINT: u8 = b'.';
+const PLUS: u8 = b'+';
+const MINUS: u8 = b'-';
+/// A lower-case `e` written right after the digits of a number is taken for
+/// a floating-point exponent (`G1e5`), which G-code does not have.
+const EXPONENT: u8 = b'e';
+/// Besides letters and digits, identifiers of other dialects may hold `_`.
+const IDENTIFIER_PUNCTUATION: u8 = b'_';
+/// Custom macro punctuation: `#` variables and `[ ]` expressions.
+const MACRO_CHARS: [u8; 3] = [b'#', b'[', b']'];
+/// The words of FANUC custom macro B that are made of letters only.
+const MACRO_KEYWORDS: [&[u8]; 29] = [
+    b"IF", b"WHILE", b"GOTO", b"DO", b"END", b"THEN", b"EQ", b"NE", b"GT", b"LT", b"GE", b"LE",
+    b"AND", b"OR", b"XOR", b"SIN", b"COS", b"TAN", b"ATAN", b"SQRT", b"ABS", b"ROUND", b"FIX",
+    b"FUP", b"BIN", b"BCD", b"POPEN", b"PCLOS", b"DPRNT",
+];
+/// Room for the text handed to `str::parse`: a sign, the digits, a leading
+/// `0` when no integer digit is left, and the decimal point.
+const NUMBER_TEXT_LEN: usize = MAX_DIGITS + 3;
+/// The longest UTF-8 encoding of one character.
+const MAX_UTF8_LEN: usize = 4;
 
 /// Reads one line of a program into `block` (cleared first).
-pub fn parse_line(_text: &[u8], line: u32, block: &mut Block) -> Result<(), SyntaxError> {
+///
+/// `text` is the line without its line feed (a trailing `\r` or `\n` is
+/// removed anyway); `line` is its 1-based number, stored in
+/// [`Block::line`]. The rules are those of the crate documentation.
+///
+/// On error the block is left empty apart from its line number, so that a
+/// half-read block cannot be executed by mistake, and the error is the first
+/// one in the line.
+///
+/// # Errors
+///
+/// A [`SyntaxError`] with the columns of the first text that cannot be read.
+pub fn parse_line(text: &[u8], line: u32, block: &mut Block) -> Result<(), SyntaxError> {
     block.clear();
     block.line = line;
+    let text = block_text(text);
+    read_block(text, block).map_err(|error| {
+        block.clear();
+        block.line = line;
+        macro_line_error(text, error)
+    })
+}
+
+/// The part of the line that makes the block: up to the first `;`, without
+/// trailing line terminators.
+fn block_text(text: &[u8]) -> &[u8] {
+    let mut block = text.split(|&b| b == END_OF_BLOCK).next().unwrap_or(text);
+    while let [rest @ .., last] = block {
+        if !LINE_TERMINATORS.contains(last) {
+            break;
+        }
+        block = rest;
+    }
+    block
+}
+
+/// Reads the block: tape mark or block delete first, then words and
+/// comments up to the end.
+fn read_block(text: &[u8], block: &mut Block) -> Result<(), SyntaxError> {
+    let mut pos = skip_blanks(text, 0);
+    match text.get(pos) {
+        Some(&TAPE_MARK) => {
+            block.tape_mark = true;
+            return Ok(());
+        }
+        Some(&BLOCK_DELETE) => {
+            block.block_delete = true;
+            pos = skip_block_delete(text, pos);
+        }
+        _ => {}
+    }
+    loop {
+        pos = skip_blanks(text, pos);
+        let Some(&byte) = text.get(pos) else {
+            return Ok(());
+        };
+        pos = if byte == COMMENT_OPEN {
+            skip_comment(text, pos)?
+        } else if byte.is_ascii_alphabetic() {
+            read_word(text, pos, block)?
+        } else {
+            return Err(stray(text, pos));
+        };
+    }
+}
+
+/// Steps over `/` and its optional skip number `1` … `9`; `pos` is at `/`.
+fn skip_block_delete(text: &[u8], pos: usize) -> usize {
+    let after_slash = pos + 1;
+    let next = skip_blanks(text, after_slash);
+    match text.get(next) {
+        Some(level) if SKIP_LEVELS.contains(level) => next + 1,
+        _ => after_slash,
+    }
+}
+
+/// Steps over the comment that opens at `pos`.
+fn skip_comment(text: &[u8], pos: usize) -> Result<usize, SyntaxError> {
+    comment_end(text, pos)
+        .ok_or_else(|| SyntaxError::new(SyntaxErrorKind::UnclosedComment, span(pos, text.len())))
+}
+
+/// The position after the `)` that closes the comment opened at `pos`.
+/// A `(` inside a comment is plain text: the first `)` closes it.
+fn comment_end(text: &[u8], pos: usize) -> Option<usize> {
+    let body = pos + 1;
+    let close = text.get(body..)?.iter().position(|&b| b == COMMENT_CLOSE)?;
+    Some(body + close + 1)
+}
+
+/// Reads the word whose letter is at `start` and returns where it ends.
+fn read_word(text: &[u8], start: usize, block: &mut Block) -> Result<usize, SyntaxError> {
+    let letter = text.get(start).map_or(b'?', u8::to_ascii_uppercase);
+    let value_start = start + 1;
+    let next = skip_blanks(text, value_start);
+    if text.get(next).is_some_and(u8::is_ascii_alphabetic) {
+        return Err(multi_letter_word(text, start));
+    }
+    let end = number_end(text, value_start);
+    if end == value_start {
+        return Err(no_value(text, start, letter, next));
+    }
+    let span = span(start, end);
+    let number = Number::read(text.get(value_start..end).unwrap_or_default())
+        .map_err(|kind| SyntaxError::new(kind, span))?;
+    if letter == SEQUENCE_LETTER {
+        set_sequence(block, &number, span)?;
+    } else {
+        block.words.push(Word {
+            letter,
+            value: number.value,
+            decimal_point: number.decimal_point,
+            code: number.code(),
+            span,
+        });
+    }
+    Ok(end)
+}
+
+/// Stores the `N` number of the block.
+fn set_sequence(block: &mut Block, number: &Number, span: Span) -> Result<(), SyntaxError> {
+    let sequence = number
+        .sequence()
+        .ok_or(SyntaxError::new(SyntaxErrorKind::BadNumber, span))?;
+    if block.sequence.is_some() {
+        return Err(SyntaxError::new(SyntaxErrorKind::DuplicateSequence, span));
+    }
+    block.sequence = Some(sequence);
     Ok(())
 }
+
+/// The error for a letter at `start` with no number after it; `next` is the
+/// first non-blank position after the letter.
+fn no_value(text: &[u8], start: usize, letter: u8, next: usize) -> SyntaxError {
+    match text.get(next) {
+        None | Some(&COMMENT_OPEN) => SyntaxError::new(
+            SyntaxErrorKind::MissingValue(char::from(letter)),
+            span(start, start + 1),
+        ),
+        Some(_) => stray(text, next),
+    }
+}
+
+/// The error for a word of several letters starting at `start`: a custom
+/// macro keyword, or a word of another dialect.
+///
+/// The name is made of runs of letters. Blanks end it, except after a run
+/// of a single letter, so that spaced-out letters stay together (`G O T O`
+/// is `GOTO`, `X Y1` is `XY1`) while `TRAORI X1` names `TRAORI` only. The
+/// identifier then goes on with the letters, digits and `_` written right
+/// after its last letter (`CYCLE800`).
+fn multi_letter_word(text: &[u8], start: usize) -> SyntaxError {
+    let mut name = NameBuffer::default();
+    let mut letters = 0;
+    let mut pos = start;
+    loop {
+        let run_start = pos;
+        while let Some(&letter) = text.get(pos).filter(|b| b.is_ascii_alphabetic()) {
+            name.push(letter);
+            pos += 1;
+        }
+        letters += pos - run_start;
+        let next = skip_blanks(text, pos);
+        if pos - run_start != 1 || !text.get(next).is_some_and(u8::is_ascii_alphabetic) {
+            break;
+        }
+        pos = next;
+    }
+    let letters_end = pos;
+    if letters == name.len && is_macro_keyword(name.as_bytes()) {
+        return SyntaxError::new(SyntaxErrorKind::Macro, span(start, letters_end));
+    }
+    let mut end = letters_end;
+    while let Some(&byte) = text.get(end).filter(|&&b| is_identifier(b)) {
+        name.push(byte);
+        end += 1;
+    }
+    SyntaxError::new(
+        SyntaxErrorKind::UnknownWord(UnknownWord::new(name.as_bytes())),
+        span(start, end),
+    )
+}
+
+/// The error for a byte that cannot start anything at `pos`.
+fn stray(text: &[u8], pos: usize) -> SyntaxError {
+    if text.get(pos).is_some_and(|b| MACRO_CHARS.contains(b)) {
+        return SyntaxError::new(SyntaxErrorKind::Macro, span(pos, pos + 1));
+    }
+    let (character, len) = decode_char(text, pos);
+    SyntaxError::new(
+        SyntaxErrorKind::UnexpectedChar(character),
+        span(pos, pos + len),
+    )
+}
+
+/// In a line written in custom macro syntax (one with `#`, `[` or `]`
+/// outside comments), any error is the macro syntax's fault: it is reported
+/// as [`SyntaxErrorKind::Macro`] at the first of these characters. A macro
+/// keyword found first keeps its own span.
+fn macro_line_error(text: &[u8], error: SyntaxError) -> SyntaxError {
+    if error.kind == SyntaxErrorKind::Macro {
+        return error;
+    }
+    match first_macro_char(text) {
+        Some(pos) => SyntaxError::new(SyntaxErrorKind::Macro, span(pos, pos + 1)),
+        None => error,
+    }
+}
+
+/// The first `#`, `[` or `]` outside comments, looked for up to an unclosed
+/// comment.
+fn first_macro_char(text: &[u8]) -> Option<usize> {
+    let mut pos = 0;
+    while let Some(&byte) = text.get(pos) {
+        if byte == COMMENT_OPEN {
+            pos = comment_end(text, pos)?;
+        } else if MACRO_CHARS.contains(&byte) {
+            return Some(pos);
+        } else {
+            pos += 1;
+        }
+    }
+    None
+}
+
+/// The position after the last byte of the number that starts at `start`:
+/// digits, points and signs, blanks between them, and an exponent `e`
+/// written right after a digit or point (so that it is refused whole).
+/// Equal to `start` when no number is written there.
+fn number_end(text: &[u8], start: usize) -> usize {
+    let mut end = start;
+    let mut after_digit = false;
+    for (pos, &byte) in text.iter().enumerate().skip(start) {
+        if is_blank(byte) {
+            after_digit = false;
+            continue;
+        }
+        let exponent = byte == EXPONENT && after_digit;
+        if !(is_number_byte(byte) || exponent) {
+            break;
+        }
+        after_digit = byte.is_ascii_digit() || byte == DECIMAL_POINT;
+        end = pos + 1;
+    }
+    end
+}
+
+/// A number read from its text.
+#[derive(Clone, Copy, Debug)]
+struct Number {
+    value: f64,
+    /// A `+` or `-` was written.
+    signed: bool,
+    decimal_point: bool,
+    /// The integer part, saturated (only compared with small limits).
+    integer: u64,
+    fraction_digits: usize,
+    /// The first digit after the decimal point, 0 when there is none.
+    first_fraction_digit: u8,
+}
+
+impl Number {
+    /// Reads `[+|-] digits [. digits]` with blanks anywhere and at least one
+    /// digit.
+    fn read(text: &[u8]) -> Result<Self, SyntaxErrorKind> {
+        let mut reader = NumberReader::default();
+        for &byte in text.iter().filter(|&&b| !is_blank(b)) {
+            match byte {
+                PLUS | MINUS => reader.sign(byte)?,
+                DECIMAL_POINT => reader.point()?,
+                b'0'..=b'9' => reader.digit(byte),
+                _ => return Err(SyntaxErrorKind::BadNumber),
+            }
+        }
+        reader.finish()
+    }
+
+    /// The G or M code form: no sign, at most one digit after the point and
+    /// an integer part that fits `u16`.
+    fn code(&self) -> Option<Code> {
+        if self.signed || self.fraction_digits > 1 {
+            return None;
+        }
+        let major = u16::try_from(self.integer).ok()?;
+        Some(Code::new(major, self.first_fraction_digit))
+    }
+
+    /// The sequence number form: an unsigned integer that fits `u32`.
+    fn sequence(&self) -> Option<u32> {
+        if self.signed || self.decimal_point {
+            return None;
+        }
+        u32::try_from(self.integer).ok()
+    }
+}
+
+/// The state of [`Number::read`]: the text for `str::parse` and what was
+/// seen so far.
+#[derive(Debug, Default)]
+struct NumberReader {
+    text: [u8; NUMBER_TEXT_LEN],
+    len: usize,
+    signed: bool,
+    decimal_point: bool,
+    any_digit: bool,
+    /// Integer digits counted, leading zeros left out.
+    integer_digits: usize,
+    fraction_digits: usize,
+    integer: u64,
+    first_fraction_digit: u8,
+    too_many_digits: bool,
+}
+
+impl NumberReader {
+    fn push(&mut self, byte: u8) {
+        if let Some(slot) = self.text.get_mut(self.len) {
+            *slot = byte;
+            self.len += 1;
+        }
+    }
+
+    /// A sign is only valid before everything else.
+    fn sign(&mut self, sign: u8) -> Result<(), SyntaxErrorKind> {
+        if self.signed || self.any_digit || self.decimal_point {
+            return Err(SyntaxErrorKind::BadNumber);
+        }
+        self.signed = true;
+        if sign == MINUS {
+            self.push(MINUS);
+        }
+        Ok(())
+    }
+
+    fn point(&mut self) -> Result<(), SyntaxErrorKind> {
+        if self.decimal_point {
+            return Err(SyntaxErrorKind::BadNumber);
+        }
+        self.decimal_point = true;
+        if self.integer_digits == 0 {
+            self.push(b'0');
+        }
+        self.push(DECIMAL_POINT);
+        Ok(())
+    }
+
+    /// Takes one ASCII digit. Too many digits are only noted, so that a
+    /// malformed number is still reported as such.
+    fn digit(&mut self, digit: u8) {
+        self.any_digit = true;
+        let value = digit - b'0';
+        if self.decimal_point {
+            if self.fraction_digits == 0 {
+                self.first_fraction_digit = value;
+            }
+            self.fraction_digits += 1;
+        } else if value == 0 && self.integer_digits == 0 {
+            return;
+        } else {
+            self.integer_digits += 1;
+            self.integer = self
+                .integer
+                .saturating_mul(10)
+                .saturating_add(u64::from(value));
+        }
+        if self.integer_digits + self.fraction_digits > MAX_DIGITS {
+            self.too_many_digits = true;
+        } else {
+            self.push(digit);
+        }
+    }
+
+    fn finish(mut self) -> Result<Number, SyntaxErrorKind> {
+        if !self.any_digit {
+            return Err(SyntaxErrorKind::BadNumber);
+        }
+        if self.too_many_digits {
+            return Err(SyntaxErrorKind::TooManyDigits);
+        }
+        if self.integer_digits == 0 && !self.decimal_point {
+            self.push(b'0');
+        }
+        let value = self
+            .text
+            .get(..self.len)
+            .and_then(|text| std::str::from_utf8(text).ok())
+            .and_then(|text| text.parse::<f64>().ok())
+            .ok_or(SyntaxErrorKind::BadNumber)?;
+        Ok(Number {
+            value,
+            signed: self.signed,
+            decimal_point: self.decimal_point,
+            integer: self.integer,
+            fraction_digits: self.fraction_digits,
+            first_fraction_digit: self.first_fraction_digit,
+        })
+    }
+}
+
+/// The upper-case text of an unknown word, cut at [`UnknownWord::CAPACITY`].
+#[derive(Debug, Default)]
+struct NameBuffer {
+    bytes: [u8; UnknownWord::CAPACITY],
+    len: usize,
+}
+
+impl NameBuffer {
+    fn push(&mut self, byte: u8) {
+        if let Some(slot) = self.bytes.get_mut(self.len) {
+            *slot = byte.to_ascii_uppercase();
+            self.len += 1;
+        }
+    }
+
+    fn as_bytes(&self) -> &[u8] {
+        self.bytes.get(..self.len).unwrap_or_default()
+    }
+}
+
+fn is_macro_keyword(name: &[u8]) -> bool {
+    MACRO_KEYWORDS.contains(&name)
+}
+
+fn is_blank(byte: u8) -> bool {
+    BLANKS.contains(&byte)
+}
+
+fn is_number_byte(byte: u8) -> bool {
+    byte.is_ascii_digit() || matches!(byte, DECIMAL_POINT | PLUS | MINUS)
+}
+
+fn is_identifier(byte: u8) -> bool {
+    byte.is_ascii_alphanumeric() || byte == IDENTIFIER_PUNCTUATION
+}
+
+fn skip_blanks(text: &[u8], mut pos: usize) -> usize {
+    while text.get(pos).is_some_and(|&b| is_blank(b)) {
+        pos += 1;
+    }
+    pos
+}
+
+/// The character at `pos` and its length in bytes; an invalid UTF-8 byte is
+/// `U+FFFD` one byte long.
+fn decode_char(text: &[u8], pos: usize) -> (char, usize) {
+    let rest = text.get(pos..).unwrap_or_default();
+    let head = rest.get(..MAX_UTF8_LEN).unwrap_or(rest);
+    let valid = match std::str::from_utf8(head) {
+        Ok(valid) => valid,
+        Err(error) => head
+            .get(..error.valid_up_to())
+            .and_then(|bytes| std::str::from_utf8(bytes).ok())
+            .unwrap_or_default(),
+    };
+    valid
+        .chars()
+        .next()
+        .map_or((char::REPLACEMENT_CHARACTER, 1), |c| (c, c.len_utf8()))
+}
+
+/// The span of bytes `start..end` (0-based, end exclusive) in columns.
+fn span(start: usize, end: usize) -> Span {
+    Span::new(column(start), column(end))
+}
+
+/// The 1-based column of the byte at 0-based `index`, saturated.
+fn column(index: usize) -> u32 {
+    u32::try_from(index).unwrap_or(u32::MAX).saturating_add(1)
+}
+
+#[cfg(test)]
+mod tests;

@@ -21,10 +21,44 @@
 //! What it refuses with a clear [`SyntaxErrorKind`]: custom macro syntax
 //! (`#`, `[`, `]`, `IF`, `WHILE`, `GOTO`, …), letters without a number,
 //! malformed numbers, unclosed comments, bytes that are not G-code.
+//!
+//! # Reading rules in detail
+//!
+//! * One line is one block. The first `;` ends it wherever it stands, inside
+//!   a comment too (so `(A;B)` is an unclosed comment); trailing `\r` and
+//!   `\n` are removed.
+//! * A line whose first non-blank byte is `%` is a tape mark; the rest of the
+//!   line is ignored.
+//! * `/` as the first non-blank byte is block delete, optionally followed by
+//!   a skip number `1` … `9` that is read and dropped (`/0` and `/12` leave a
+//!   stray digit). A `/` anywhere else is an unexpected character.
+//! * Comments run from `(` to the first `)`; a `(` inside is plain text. A
+//!   comment ends the word before it: `X1(C)0` is `X1` then a stray `0`.
+//! * Letters are case-insensitive; blanks (space, tab) may stand anywhere in
+//!   a word, so `G 1` is `G1` and `X1 .5` is `X1.5`.
+//! * Numbers are `[+|-] digits [. digits]` with at least one digit and at
+//!   most [`MAX_DIGITS`] digits, not counting zeros in front of the integer
+//!   part. A lower-case `e` written right after a digit or point is an
+//!   exponent and refused (`G1e5`); an upper-case `E` is always the `E`
+//!   address (`G1E5` is `G1 E5`).
+//! * `N` sets [`Block::sequence`] (an unsigned integer that fits `u32`; a
+//!   second `N` in the block is an error); `O` is an ordinary word.
+//! * A letter followed by another letter (blanks between them ignored) starts
+//!   a word of several letters. It is custom macro syntax when its letters
+//!   are a macro keyword (`IF`, `WHILE`, `GOTO`, `DO`, `END`, functions, …)
+//!   and an [`UnknownWord`] otherwise (`TRAORI`, `CYCLE800`, the `SUB` of
+//!   `o100 sub`). Blanks end such a word, except after a lone letter:
+//!   `G O T O` is `GOTO`, `X Y1` is `XY1`, `TRAORI X1` is `TRAORI`.
+//! * A line holding `#`, `[` or `]` outside comments is custom macro syntax:
+//!   whatever error is found first in it is reported as
+//!   [`SyntaxErrorKind::Macro`] at the first of these characters (or at a
+//!   keyword met before it).
+//! * Columns are 1-based byte columns, end exclusive; the first error of the
+//!   line is reported and the block is then left empty.
 
 mod lexer;
 
-pub use lexer::parse_line;
+pub use lexer::{MAX_DIGITS, parse_line};
 
 /// Columns of a piece of text inside its line: 1-based, `end` exclusive,
 /// counted in bytes.
@@ -34,6 +68,13 @@ pub struct Span {
     pub start: u32,
     /// One past the last column.
     pub end: u32,
+}
+
+impl Span {
+    /// A span from its two columns: `Span::new(4, 9)`.
+    pub const fn new(start: u32, end: u32) -> Self {
+        Self { start, end }
+    }
 }
 
 /// A G or M code number split at its decimal point: `G43.4` is
@@ -146,25 +187,34 @@ pub enum SyntaxErrorKind {
     /// LinuxCNC `o100 sub`, …).
     #[error("unknown word `{0}`")]
     UnknownWord(UnknownWord),
+    /// A second `N` sequence number in the same block.
+    #[error("more than one sequence number in the block")]
+    DuplicateSequence,
 }
 
 /// Up to the first 12 bytes of an unrecognised word, for the message.
 #[derive(Clone, Copy, PartialEq, Eq)]
 pub struct UnknownWord {
-    bytes: [u8; 12],
+    bytes: [u8; Self::CAPACITY],
     len: u8,
 }
 
 impl UnknownWord {
+    /// How many bytes of the word are kept.
+    pub const CAPACITY: usize = 12;
+
     /// Keeps the first 12 bytes of `text` (ASCII expected; other bytes are
     /// shown as `?`).
     pub fn new(text: &[u8]) -> Self {
-        let mut bytes = [0u8; 12];
-        let len = text.len().min(12);
+        let mut bytes = [0u8; Self::CAPACITY];
+        let len = text.len().min(Self::CAPACITY);
         for (dst, &src) in bytes.iter_mut().zip(&text[..len]) {
             *dst = if src.is_ascii_graphic() { src } else { b'?' };
         }
-        Self { bytes, len: len as u8 }
+        Self {
+            bytes,
+            len: len as u8,
+        }
     }
 
     /// The kept text.
@@ -193,4 +243,11 @@ pub struct SyntaxError {
     pub kind: SyntaxErrorKind,
     /// Where, in the line.
     pub span: Span,
+}
+
+impl SyntaxError {
+    /// An error of `kind` at `span`.
+    pub const fn new(kind: SyntaxErrorKind, span: Span) -> Self {
+        Self { kind, span }
+    }
 }
