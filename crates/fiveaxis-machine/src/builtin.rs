@@ -1,16 +1,193 @@
-//! The built-in machine library.
+//! The built-in machine library: one machine of each type, so that the
+//! program runs with no machine file. Each is kept as machine-file text and
+//! read with [`Machine::from_toml`], so the library also exercises the
+//! file format.
 
 use crate::Machine;
 
 /// Name of the machine used when none is given.
 pub const DEFAULT_MACHINE: &str = "trunnion-ac";
 
+/// Linear axes shared by every built-in machine. Reference position 1 is
+/// machine zero, inside every limit.
+macro_rules! linear_axes {
+    () => {
+        r#"
+[[linear]]
+name = "X"
+min = -500.0
+max = 500.0
+
+[[linear]]
+name = "Y"
+min = -400.0
+max = 400.0
+
+[[linear]]
+name = "Z"
+min = -300.0
+max = 500.0
+"#
+    };
+}
+
+const TRUNNION_AC: &str = concat!(
+    r#"
+name = "A/C trunnion table (A tilts the table, C turns on it)"
+type = "table"
+control = "fanuc30i"
+"#,
+    linear_axes!(),
+    r#"
+[[rotary]]
+name = "A"
+on = "table"
+axis = [-1, 0, 0]
+center = [0, 0, -100]
+min = -120.0
+max = 30.0
+
+[[rotary]]
+name = "C"
+on = "table"
+axis = [0, 0, -1]
+center = [0, 0, 0]
+rollover = true
+"#
+);
+
+const TRUNNION_BC: &str = concat!(
+    r#"
+name = "B/C trunnion table (B tilts the table, C turns on it)"
+type = "table"
+control = "fanuc30i"
+"#,
+    linear_axes!(),
+    r#"
+[[rotary]]
+name = "B"
+on = "table"
+axis = [0, -1, 0]
+center = [0, 0, -100]
+min = -120.0
+max = 120.0
+
+[[rotary]]
+name = "C"
+on = "table"
+axis = [0, 0, -1]
+center = [0, 0, 0]
+rollover = true
+"#
+);
+
+const HEAD_TABLE_BC: &str = concat!(
+    r#"
+name = "Swivel head B with rotary table C"
+type = "mixed"
+control = "fanuc30i"
+"#,
+    linear_axes!(),
+    r#"
+[[rotary]]
+name = "B"
+on = "head"
+axis = [0, 1, 0]
+center = [0, 0, 150]
+min = -110.0
+max = 110.0
+
+[[rotary]]
+name = "C"
+on = "table"
+axis = [0, 0, -1]
+center = [0, 0, 0]
+rollover = true
+"#
+);
+
+const HEAD_HEAD_CA: &str = concat!(
+    r#"
+name = "Fork head C/A (C on the carriage carries A)"
+type = "head"
+control = "fanuc30i"
+"#,
+    linear_axes!(),
+    r#"
+[[rotary]]
+name = "C"
+on = "head"
+axis = [0, 0, 1]
+center = [0, 0, 150]
+min = -360.0
+max = 360.0
+
+[[rotary]]
+name = "A"
+on = "head"
+axis = [1, 0, 0]
+center = [0, 0, 150]
+min = -110.0
+max = 110.0
+"#
+);
+
+const MILL_3AXIS: &str = concat!(
+    r#"
+name = "Three-axis vertical mill"
+type = "none"
+control = "fanuc30i"
+"#,
+    linear_axes!()
+);
+
+/// The library: name and machine-file text.
+const LIBRARY: [(&str, &str); 5] = [
+    ("trunnion-ac", TRUNNION_AC),
+    ("trunnion-bc", TRUNNION_BC),
+    ("head-table-bc", HEAD_TABLE_BC),
+    ("head-head-ca", HEAD_HEAD_CA),
+    ("mill-3axis", MILL_3AXIS),
+];
+
 /// Names of the built-in machines.
 pub fn builtin_names() -> &'static [&'static str] {
-    &[]
+    const NAMES: [&str; LIBRARY.len()] = {
+        let mut names = [""; LIBRARY.len()];
+        let mut i = 0;
+        while i < LIBRARY.len() {
+            names[i] = LIBRARY[i].0;
+            i += 1;
+        }
+        names
+    };
+    &NAMES
+}
+
+/// The machine-file text of a built-in machine, by name.
+pub fn builtin_source(name: &str) -> Option<&'static str> {
+    LIBRARY
+        .iter()
+        .find(|(n, _)| *n == name)
+        .map(|(_, text)| *text)
 }
 
 /// A built-in machine by name.
-pub fn builtin(_name: &str) -> Option<Machine> {
-    None
+pub fn builtin(name: &str) -> Option<Machine> {
+    builtin_source(name).and_then(|text| Machine::from_toml(text).ok())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_builtin_reads() {
+        for name in builtin_names() {
+            let text = builtin_source(name).expect("listed");
+            if let Err(e) = Machine::from_toml(text) {
+                panic!("{name}: {e}");
+            }
+        }
+    }
 }

@@ -13,10 +13,10 @@ mod file;
 mod kinematics;
 mod offsets;
 
-pub use builtin::{builtin, builtin_names, DEFAULT_MACHINE};
+pub use builtin::{DEFAULT_MACHINE, builtin, builtin_names, builtin_source};
 pub use file::FileError;
-pub use kinematics::{rotation, Pose};
-pub use offsets::{Offsets, SetupErrorSet, ToolOffset};
+pub use kinematics::{Pose, rotation};
+pub use offsets::{MAX_EXTENDED_WORK, MAX_TOOL_OFFSET, Offsets, SetupErrorSet, ToolOffset};
 
 use nalgebra::{Unit, Vector3};
 
@@ -77,6 +77,19 @@ pub struct LinearAxis {
     pub min: f64,
     /// Upper soft limit, mm.
     pub max: f64,
+}
+
+impl LinearAxis {
+    /// The principal axis this one moves along: `X` for `U`, `Y` for `V`,
+    /// `Z` for `W`, and the axis itself for `X`, `Y`, `Z`.
+    pub fn parallel_to(&self) -> char {
+        match self.name {
+            'U' => 'X',
+            'V' => 'Y',
+            'W' => 'Z',
+            other => other,
+        }
+    }
 }
 
 /// A rotary axis at the all-zero machine position.
@@ -169,10 +182,12 @@ impl Machine {
 
     /// Index in [`Joints`] of the axis with this address letter.
     pub fn axis_index(&self, name: char) -> Option<usize> {
-        self.linear
-            .iter()
-            .position(|a| a.name == name)
-            .or_else(|| self.rotary.iter().position(|a| a.name == name).map(|i| i + self.linear.len()))
+        self.linear.iter().position(|a| a.name == name).or_else(|| {
+            self.rotary
+                .iter()
+                .position(|a| a.name == name)
+                .map(|i| i + self.linear.len())
+        })
     }
 
     /// Index in [`Joints`] of rotary axis `k` (0-based, bed outwards).
@@ -182,7 +197,10 @@ impl Machine {
 
     /// Axis names in [`Joints`] order.
     pub fn axis_names(&self) -> impl Iterator<Item = char> + '_ {
-        self.linear.iter().map(|a| a.name).chain(self.rotary.iter().map(|a| a.name))
+        self.linear
+            .iter()
+            .map(|a| a.name)
+            .chain(self.rotary.iter().map(|a| a.name))
     }
 
     /// FANUC machine type, from the sides of the rotary axes.

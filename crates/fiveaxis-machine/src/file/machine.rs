@@ -1,0 +1,433 @@
+//! Reading a machine file (`machine-model.md` §4).
+
+use std::collections::BTreeMap;
+
+use nalgebra::Unit;
+use serde::Deserialize;
+use toml::Spanned;
+
+use super::{FileError, Source, in_file_order};
+use crate::{
+    Control, Joints, LinearAxis, MAX_AXES, Machine, MachineType, Parameters, ProgrammingFrame,
+    RotaryAxis, Side, Vec3,
+};
+
+/// The linear axes that must come first, in this order.
+const PRINCIPAL: [char; 3] = ['X', 'Y', 'Z'];
+/// Optional linear axes parallel to X, Y, Z.
+const PARALLEL: [char; 3] = ['U', 'V', 'W'];
+/// Rotary axis names.
+const ROTARY_NAMES: [char; 3] = ['A', 'B', 'C'];
+/// Most rotary axes a machine may have.
+const MAX_ROTARY: usize = 2;
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawMachine {
+    name: String,
+    #[serde(rename = "type")]
+    kind: Spanned<RawType>,
+    #[serde(default)]
+    control: RawControl,
+    tool_direction: Option<Spanned<Vec<f64>>>,
+    linear: Spanned<Vec<Spanned<RawLinear>>>,
+    #[serde(default)]
+    rotary: Vec<Spanned<RawRotary>>,
+    #[serde(default)]
+    parameters: RawParameters,
+}
+
+#[derive(Clone, Copy, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "lowercase")]
+enum RawType {
+    Head,
+    Table,
+    Mixed,
+    None,
+}
+
+#[derive(Clone, Copy, Default, Deserialize)]
+#[serde(rename_all = "lowercase")]
+enum RawControl {
+    #[default]
+    Fanuc30i,
+    Fanuc16,
+    Mitsubishi,
+    Mazak,
+}
+
+#[derive(Clone, Copy, Deserialize)]
+#[serde(rename_all = "lowercase")]
+enum RawSide {
+    Head,
+    Table,
+}
+
+#[derive(Clone, Copy, Default, Deserialize)]
+#[serde(rename_all = "lowercase")]
+enum RawFrame {
+    #[default]
+    Table,
+    Workpiece,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawLinear {
+    name: Spanned<String>,
+    min: Spanned<f64>,
+    max: Spanned<f64>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawRotary {
+    name: Spanned<String>,
+    on: RawSide,
+    axis: Spanned<Vec<f64>>,
+    center: Spanned<Vec<f64>>,
+    min: Option<Spanned<f64>>,
+    max: Option<Spanned<f64>>,
+    #[serde(default)]
+    rollover: bool,
+}
+
+/// Axis name → position, as written in a reference position table.
+type RawPositions = BTreeMap<Spanned<String>, Spanned<f64>>;
+
+#[derive(Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawParameters {
+    #[serde(default)]
+    programming_frame: RawFrame,
+    tcpc_option: Option<bool>,
+    #[serde(default)]
+    reference_1: RawPositions,
+    #[serde(default)]
+    reference_2: RawPositions,
+    decimal_point_input: Option<bool>,
+    least_input_increment: Option<Spanned<f64>>,
+}
+
+impl Machine {
+    /// Reads a machine file (`machine-model.md` §4).
+    ///
+    /// # Errors
+    ///
+    /// A [`FileError`] with the line, column and key of the first problem:
+    /// bad TOML, an unknown or missing key, a value of the wrong type, or
+    /// a value that breaks a rule of the format (axis names and order,
+    /// limits, directions, `type` against the rotary axes…).
+    pub fn from_toml(text: &str) -> Result<Machine, FileError> {
+        let src = Source::new(text);
+        let raw: RawMachine = src.deserialize()?;
+        let linear = linear_axes(&src, &raw.linear)?;
+        let rotary = rotary_axes(&src, &raw.rotary, linear.len())?;
+        let tool_direction = match &raw.tool_direction {
+            Some(t) => unit_vector(&src, t, "tool_direction")?,
+            None => Vec3::z_axis(),
+        };
+        let mut machine = Machine {
+            name: raw.name,
+            control: raw.control.into(),
+            tool_direction,
+            linear,
+            rotary,
+            params: Parameters::default(),
+        };
+        check_type(&src, &raw.kind, machine.machine_type())?;
+        machine.params = parameters(&src, &raw.parameters, &machine)?;
+        Ok(machine)
+    }
+}
+
+impl From<RawControl> for Control {
+    fn from(raw: RawControl) -> Self {
+        match raw {
+            RawControl::Fanuc30i => Control::Fanuc30i,
+            RawControl::Fanuc16 => Control::Fanuc16,
+            RawControl::Mitsubishi => Control::Mitsubishi,
+            RawControl::Mazak => Control::Mazak,
+        }
+    }
+}
+
+impl From<RawSide> for Side {
+    fn from(raw: RawSide) -> Self {
+        match raw {
+            RawSide::Head => Side::Head,
+            RawSide::Table => Side::Table,
+        }
+    }
+}
+
+impl From<RawFrame> for ProgrammingFrame {
+    fn from(raw: RawFrame) -> Self {
+        match raw {
+            RawFrame::Table => ProgrammingFrame::Table,
+            RawFrame::Workpiece => ProgrammingFrame::Workpiece,
+        }
+    }
+}
+
+/// The one-letter axis name written in `name`, if it is one of `allowed`.
+fn axis_letter(name: &Spanned<String>, allowed: &[char]) -> Option<char> {
+    let mut chars = name.get_ref().chars();
+    match (chars.next(), chars.next()) {
+        (Some(c), None) if allowed.contains(&c) => Some(c),
+        _ => None,
+    }
+}
+
+fn linear_axes(
+    src: &Source<'_>,
+    raw: &Spanned<Vec<Spanned<RawLinear>>>,
+) -> Result<Vec<LinearAxis>, FileError> {
+    let mut axes: Vec<LinearAxis> = Vec::with_capacity(raw.get_ref().len());
+    for item in raw.get_ref() {
+        let name = linear_name(src, &item.get_ref().name, &axes)?;
+        let (min, max) = limits(src, &item.get_ref().min, &item.get_ref().max)?;
+        axes.push(LinearAxis { name, min, max });
+    }
+    if axes.len() < PRINCIPAL.len() {
+        let at = raw.get_ref().last().map_or(raw.span(), Spanned::span);
+        let missing = PRINCIPAL[axes.len()];
+        return Err(src.error(
+            at,
+            Some("linear"),
+            format!("linear axis {missing} is missing: X, Y and Z are required"),
+        ));
+    }
+    Ok(axes)
+}
+
+/// Checks the name of the next linear axis after `before`.
+fn linear_name(
+    src: &Source<'_>,
+    name: &Spanned<String>,
+    before: &[LinearAxis],
+) -> Result<char, FileError> {
+    let index = before.len();
+    if let Some(&expected) = PRINCIPAL.get(index) {
+        return match axis_letter(name, &[expected]) {
+            Some(c) => Ok(c),
+            None => Err(src.at(
+                name,
+                "name",
+                format!(
+                    "linear axis {} must be {expected}: X, Y, Z come first, in that order",
+                    index + 1
+                ),
+            )),
+        };
+    }
+    let Some(c) = axis_letter(name, &PARALLEL) else {
+        return Err(src.at(
+            name,
+            "name",
+            "a linear axis after X, Y, Z must be U, V or W",
+        ));
+    };
+    if before.iter().any(|a| a.name == c) {
+        return Err(src.at(name, "name", format!("linear axis {c} is given twice")));
+    }
+    Ok(c)
+}
+
+/// Finite `min` < `max`.
+fn limits(
+    src: &Source<'_>,
+    min: &Spanned<f64>,
+    max: &Spanned<f64>,
+) -> Result<(f64, f64), FileError> {
+    let lo = src.finite(min, "min")?;
+    let hi = src.finite(max, "max")?;
+    if lo < hi {
+        Ok((lo, hi))
+    } else {
+        Err(src.at(
+            max,
+            "max",
+            format!("`max` ({hi:?}) must be greater than `min` ({lo:?})"),
+        ))
+    }
+}
+
+fn rotary_axes(
+    src: &Source<'_>,
+    raw: &[Spanned<RawRotary>],
+    linear: usize,
+) -> Result<Vec<RotaryAxis>, FileError> {
+    let mut axes: Vec<RotaryAxis> = Vec::with_capacity(raw.len());
+    for item in raw {
+        if axes.len() == MAX_ROTARY {
+            return Err(src.error(
+                item.span(),
+                Some("rotary"),
+                format!("at most {MAX_ROTARY} rotary axes"),
+            ));
+        }
+        if linear + axes.len() == MAX_AXES {
+            return Err(src.error(
+                item.span(),
+                Some("rotary"),
+                format!("at most {MAX_AXES} axes in all"),
+            ));
+        }
+        axes.push(rotary_axis(src, item, &axes)?);
+    }
+    Ok(axes)
+}
+
+fn rotary_axis(
+    src: &Source<'_>,
+    item: &Spanned<RawRotary>,
+    before: &[RotaryAxis],
+) -> Result<RotaryAxis, FileError> {
+    let raw = item.get_ref();
+    let Some(name) = axis_letter(&raw.name, &ROTARY_NAMES) else {
+        return Err(src.at(&raw.name, "name", "a rotary axis must be named A, B or C"));
+    };
+    if before.iter().any(|a| a.name == name) {
+        return Err(src.at(
+            &raw.name,
+            "name",
+            format!("rotary axis {name} is given twice"),
+        ));
+    }
+    let rollover = raw.rollover;
+    Ok(RotaryAxis {
+        name,
+        on: raw.on.into(),
+        axis: unit_vector(src, &raw.axis, "axis")?,
+        center: src.vec3(&raw.center, "center")?,
+        limits: rotary_limits(src, item, rollover)?,
+        rollover,
+    })
+}
+
+/// Soft limits of a rotary axis: none on a rollover axis, both or neither
+/// on any other.
+fn rotary_limits(
+    src: &Source<'_>,
+    item: &Spanned<RawRotary>,
+    rollover: bool,
+) -> Result<Option<(f64, f64)>, FileError> {
+    let raw = item.get_ref();
+    match (&raw.min, &raw.max) {
+        (None, None) => Ok(None),
+        (Some(given), _) | (_, Some(given)) if rollover => {
+            let key = if raw.min.is_some() { "min" } else { "max" };
+            Err(src.at(given, key, "a rollover axis has no soft limits: remove `min` and `max` or set `rollover = false`"))
+        }
+        (Some(min), Some(max)) => limits(src, min, max).map(Some),
+        (Some(_), None) => Err(src.error(
+            item.span(),
+            Some("max"),
+            "missing field `max`: give both `min` and `max`, or neither for an unlimited axis",
+        )),
+        (None, Some(_)) => Err(src.error(
+            item.span(),
+            Some("min"),
+            "missing field `min`: give both `min` and `max`, or neither for an unlimited axis",
+        )),
+    }
+}
+
+/// A non-zero 3-vector, normalised. A vector that is already of unit
+/// length to within rounding is kept exactly as written, so that a file
+/// written by [`Machine::to_toml`] reads back to the same bits.
+fn unit_vector(
+    src: &Source<'_>,
+    value: &Spanned<Vec<f64>>,
+    key: &str,
+) -> Result<Unit<Vec3>, FileError> {
+    let v = src.vec3(value, key)?;
+    let norm = v.norm();
+    if !(norm.is_finite() && norm > 0.0) {
+        return Err(src.at(value, key, format!("`{key}` must be a non-zero direction")));
+    }
+    if (norm - 1.0).abs() <= 4.0 * f64::EPSILON {
+        Ok(Unit::new_unchecked(v))
+    } else {
+        Ok(Unit::new_unchecked(v / norm))
+    }
+}
+
+fn check_type(
+    src: &Source<'_>,
+    kind: &Spanned<RawType>,
+    actual: MachineType,
+) -> Result<(), FileError> {
+    let expected = match kind.get_ref() {
+        RawType::Head => MachineType::Head,
+        RawType::Table => MachineType::Table,
+        RawType::Mixed => MachineType::Mixed,
+        RawType::None => MachineType::None,
+    };
+    if expected == actual {
+        return Ok(());
+    }
+    let found = match actual {
+        MachineType::None => "there are no rotary axes (type \"none\")",
+        MachineType::Head => "every rotary axis is on the head (type \"head\")",
+        MachineType::Table => "every rotary axis is on the table (type \"table\")",
+        MachineType::Mixed => {
+            "one rotary axis is on the head and one on the table (type \"mixed\")"
+        }
+    };
+    Err(src.at(
+        kind,
+        "type",
+        format!("`type` does not match the rotary axes: {found}"),
+    ))
+}
+
+fn parameters(
+    src: &Source<'_>,
+    raw: &RawParameters,
+    machine: &Machine,
+) -> Result<Parameters, FileError> {
+    let defaults = Parameters::default();
+    Ok(Parameters {
+        programming_frame: raw.programming_frame.into(),
+        tcpc_option: raw.tcpc_option.unwrap_or(defaults.tcpc_option),
+        reference_1: positions(src, &raw.reference_1, machine)?,
+        reference_2: positions(src, &raw.reference_2, machine)?,
+        decimal_point_input: raw
+            .decimal_point_input
+            .unwrap_or(defaults.decimal_point_input),
+        least_input_increment: match &raw.least_input_increment {
+            Some(v) => increment(src, v)?,
+            None => defaults.least_input_increment,
+        },
+    })
+}
+
+/// A reference position: axes left out are 0.
+fn positions(src: &Source<'_>, raw: &RawPositions, machine: &Machine) -> Result<Joints, FileError> {
+    let mut joints = [0.0; MAX_AXES];
+    for (name, value) in in_file_order(raw) {
+        let index = axis_letter(name, &['X', 'Y', 'Z', 'U', 'V', 'W', 'A', 'B', 'C'])
+            .and_then(|c| machine.axis_index(c));
+        let Some(index) = index else {
+            return Err(src.at(
+                name,
+                name.get_ref(),
+                format!("the machine has no axis named `{}`", name.get_ref()),
+            ));
+        };
+        joints[index] = src.finite(value, name.get_ref())?;
+    }
+    Ok(joints)
+}
+
+fn increment(src: &Source<'_>, value: &Spanned<f64>) -> Result<f64, FileError> {
+    let key = "least_input_increment";
+    let v = src.finite(value, key)?;
+    if v > 0.0 {
+        Ok(v)
+    } else {
+        Err(src.at(value, key, format!("`{key}` must be greater than 0")))
+    }
+}

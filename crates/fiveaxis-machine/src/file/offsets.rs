@@ -1,0 +1,206 @@
+//! Reading an offsets file (`machine-model.md` §5).
+
+use std::collections::BTreeMap;
+
+use serde::Deserialize;
+use toml::Spanned;
+
+use super::{FileError, Source, in_file_order};
+use crate::offsets::{MAX_EXTENDED_WORK, MAX_TOOL_OFFSET};
+use crate::{Offsets, SetupErrorSet, ToolOffset, Vec3};
+
+/// Highest workpiece setup error data set number (G54.4 P0 … P7).
+const MAX_SETUP_ERROR: u32 = 7;
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawOffsets {
+    #[serde(default)]
+    tools: BTreeMap<Spanned<String>, RawTool>,
+    #[serde(default)]
+    work: BTreeMap<Spanned<String>, Spanned<Vec<f64>>>,
+    #[serde(default)]
+    setup_error: BTreeMap<Spanned<String>, RawSetupError>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawTool {
+    length: Option<Spanned<f64>>,
+    length_wear: Option<Spanned<f64>>,
+    radius: Option<Spanned<f64>>,
+    radius_wear: Option<Spanned<f64>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawSetupError {
+    x: Option<Spanned<f64>>,
+    y: Option<Spanned<f64>>,
+    z: Option<Spanned<f64>>,
+    a: Option<Spanned<f64>>,
+    b: Option<Spanned<f64>>,
+    c: Option<Spanned<f64>>,
+    #[serde(default)]
+    table: BTreeMap<Spanned<String>, Spanned<f64>>,
+}
+
+/// Which work offset a `[work]` key names.
+enum WorkSlot {
+    /// `G54` … `G59`: index 0 … 5.
+    Standard(usize),
+    /// `G54.1 P1` … `P48`: index 0 … 47.
+    Extended(usize),
+    /// `EXT`.
+    External,
+}
+
+impl Offsets {
+    /// Reads an offsets file (`machine-model.md` §5): `[tools]` by offset
+    /// number (`length`, `radius`, and the wear values `length_wear`,
+    /// `radius_wear`, each 0 when left out), `[work]` (`G54` … `G59`,
+    /// `"G54.1 P1"` … `"G54.1 P48"`, `EXT`) and `[setup_error.N]` data sets
+    /// (N = 0 … 7). Anything not given is 0.
+    ///
+    /// # Errors
+    ///
+    /// A [`FileError`] with the line, column and key of the first problem:
+    /// bad TOML, an unknown key, a value of the wrong type, an offset number
+    /// out of range.
+    pub fn from_toml(text: &str) -> Result<Offsets, FileError> {
+        let src = Source::new(text);
+        let raw: RawOffsets = src.deserialize()?;
+        let mut offsets = Offsets::default();
+        for (key, tool) in in_file_order(&raw.tools) {
+            let n = number(&src, key, 1, MAX_TOOL_OFFSET, "a tool offset number")?;
+            if offsets.tools.insert(n, tool_offset(&src, tool)?).is_some() {
+                return Err(src.at(
+                    key,
+                    key.get_ref(),
+                    format!("tool offset {n} is given twice"),
+                ));
+            }
+        }
+        for (key, value) in in_file_order(&raw.work) {
+            let v = src.vec3(value, key.get_ref())?;
+            match work_slot(&src, key)? {
+                WorkSlot::Standard(i) => offsets.work[i] = v,
+                WorkSlot::Extended(i) => offsets.extended_work[i] = v,
+                WorkSlot::External => offsets.external = v,
+            }
+        }
+        for (key, set) in in_file_order(&raw.setup_error) {
+            let n = number(
+                &src,
+                key,
+                0,
+                MAX_SETUP_ERROR,
+                "a setup error data set number",
+            )?;
+            if offsets
+                .setup_error
+                .insert(n, setup_error(&src, set)?)
+                .is_some()
+            {
+                return Err(src.at(
+                    key,
+                    key.get_ref(),
+                    format!("setup error data set {n} is given twice"),
+                ));
+            }
+        }
+        Ok(offsets)
+    }
+}
+
+/// A key that must be a decimal number in `lo ..= hi`.
+fn number(
+    src: &Source<'_>,
+    key: &Spanned<String>,
+    lo: u32,
+    hi: u32,
+    what: &str,
+) -> Result<u32, FileError> {
+    let text = key.get_ref();
+    let digits = !text.is_empty() && text.bytes().all(|b| b.is_ascii_digit());
+    let parsed = if digits && (text == "0" || !text.starts_with('0')) {
+        text.parse::<u32>().ok()
+    } else {
+        None
+    };
+    match parsed {
+        Some(n) if (lo..=hi).contains(&n) => Ok(n),
+        _ => Err(src.at(
+            key,
+            text,
+            format!("`{text}` is not {what} ({lo} to {hi}, no leading zeros)"),
+        )),
+    }
+}
+
+fn tool_offset(src: &Source<'_>, raw: &RawTool) -> Result<ToolOffset, FileError> {
+    Ok(ToolOffset {
+        length: src.finite_or_zero(raw.length.as_ref(), "length")?,
+        length_wear: src.finite_or_zero(raw.length_wear.as_ref(), "length_wear")?,
+        radius: src.finite_or_zero(raw.radius.as_ref(), "radius")?,
+        radius_wear: src.finite_or_zero(raw.radius_wear.as_ref(), "radius_wear")?,
+    })
+}
+
+fn work_slot(src: &Source<'_>, key: &Spanned<String>) -> Result<WorkSlot, FileError> {
+    let text = key.get_ref().as_str();
+    let slot = match text {
+        "EXT" => Some(WorkSlot::External),
+        _ => standard_slot(text).or_else(|| extended_slot(text)),
+    };
+    slot.ok_or_else(|| {
+        let msg = format!("`{text}` is not a work offset: use G54 … G59, \"G54.1 P1\" … \"G54.1 P{MAX_EXTENDED_WORK}\" or EXT");
+        src.at(key, text, msg)
+    })
+}
+
+fn standard_slot(text: &str) -> Option<WorkSlot> {
+    let digit = text.strip_prefix("G5")?;
+    let i = ["4", "5", "6", "7", "8", "9"]
+        .iter()
+        .position(|d| *d == digit)?;
+    Some(WorkSlot::Standard(i))
+}
+
+fn extended_slot(text: &str) -> Option<WorkSlot> {
+    let p = text.strip_prefix("G54.1 P")?;
+    if p.is_empty() || p.starts_with('0') || !p.bytes().all(|b| b.is_ascii_digit()) {
+        return None;
+    }
+    let n: u32 = p.parse().ok()?;
+    let index = usize::try_from(n).ok()?.checked_sub(1)?;
+    (n <= MAX_EXTENDED_WORK).then_some(WorkSlot::Extended(index))
+}
+
+fn setup_error(src: &Source<'_>, raw: &RawSetupError) -> Result<SetupErrorSet, FileError> {
+    let f = |v: &Option<Spanned<f64>>, key| src.finite_or_zero(v.as_ref(), key);
+    let origin = Vec3::new(f(&raw.x, "x")?, f(&raw.y, "y")?, f(&raw.z, "z")?);
+    let rotation = Vec3::new(f(&raw.a, "a")?, f(&raw.b, "b")?, f(&raw.c, "c")?);
+    let mut table = Vec::with_capacity(raw.table.len());
+    for (name, value) in in_file_order(&raw.table) {
+        let text = name.get_ref();
+        let axis = match text.as_str() {
+            "A" => 'A',
+            "B" => 'B',
+            "C" => 'C',
+            _ => {
+                return Err(src.at(
+                    name,
+                    text,
+                    format!("`{text}` is not a rotary axis name (A, B or C)"),
+                ));
+            }
+        };
+        table.push((axis, src.finite(value, text)?));
+    }
+    Ok(SetupErrorSet {
+        origin,
+        rotation,
+        table,
+    })
+}

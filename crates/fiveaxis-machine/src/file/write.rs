@@ -1,0 +1,222 @@
+//! Writing a machine file that a user can copy and edit.
+//!
+//! Numbers are written with Rust's shortest round-trip form (`{:?}`), so
+//! that [`Machine::from_toml`] reads the file back to an equal machine.
+
+use std::collections::BTreeSet;
+use std::fmt::Write as _;
+
+use crate::{
+    Control, Joints, LinearAxis, Machine, MachineType, ProgrammingFrame, RotaryAxis, Side, Vec3,
+};
+
+/// Column at which trailing comments start, when the line is short enough.
+const COMMENT_COLUMN: usize = 32;
+
+impl Machine {
+    /// This machine as a machine file (`machine-model.md` §4), with short
+    /// comments on each key. [`Machine::from_toml`] reads it back to an
+    /// equal machine.
+    pub fn to_toml(&self) -> String {
+        let mut w = Writer::default();
+        w.comment("fiveaxis machine file: millimetres and degrees, machine frame.");
+        w.key("name", &quote(&self.name), "shown in reports");
+        w.key(
+            "type",
+            &quote(type_name(self.machine_type())),
+            "\"head\", \"table\", \"mixed\" or \"none\": must match the rotary axes",
+        );
+        w.key(
+            "control",
+            &quote(control_name(self.control)),
+            "\"fanuc30i\", \"fanuc16\", \"mitsubishi\" or \"mazak\"",
+        );
+        w.key(
+            "tool_direction",
+            &vector(&self.tool_direction),
+            "tool axis from tip to spindle, every rotary at 0",
+        );
+        for axis in &self.linear {
+            write_linear(&mut w, axis);
+        }
+        for axis in &self.rotary {
+            write_rotary(&mut w, axis);
+        }
+        self.write_parameters(&mut w);
+        w.out
+    }
+
+    fn write_parameters(&self, w: &mut Writer) {
+        let p = &self.params;
+        w.blank();
+        w.table(
+            "[parameters]",
+            "control parameters; every key may be left out",
+        );
+        let frame = match p.programming_frame {
+            ProgrammingFrame::Table => "table",
+            ProgrammingFrame::Workpiece => "workpiece",
+        };
+        w.key(
+            "programming_frame",
+            &quote(frame),
+            "TCPC frame (WKP): \"table\" turns with the table, \"workpiece\" does not",
+        );
+        w.key(
+            "tcpc_option",
+            &p.tcpc_option.to_string(),
+            "the control has tool centre point control",
+        );
+        w.key(
+            "reference_1",
+            &self.positions(&p.reference_1),
+            "G28 position, machine coordinates; axes left out are 0",
+        );
+        w.key(
+            "reference_2",
+            &self.positions(&p.reference_2),
+            "G30 position",
+        );
+        w.key(
+            "decimal_point_input",
+            &p.decimal_point_input.to_string(),
+            "a number without a point is mm/degrees, not increments",
+        );
+        w.key(
+            "least_input_increment",
+            &number(p.least_input_increment),
+            "mm per unit of a number without a decimal point",
+        );
+    }
+
+    /// A reference position as an inline table over every axis.
+    fn positions(&self, joints: &Joints) -> String {
+        let items: Vec<String> = self
+            .axis_names()
+            .zip(joints)
+            .map(|(name, v)| format!("{name} = {}", number(*v)))
+            .collect();
+        format!("{{ {} }}", items.join(", "))
+    }
+}
+
+fn write_linear(w: &mut Writer, axis: &LinearAxis) {
+    w.blank();
+    w.table(
+        "[[linear]]",
+        "a linear axis: X, Y, Z first, then U, V or W (parallel to X, Y, Z)",
+    );
+    w.key("name", &quote(&axis.name.to_string()), "");
+    w.key("min", &number(axis.min), "lower soft limit, mm");
+    w.key("max", &number(axis.max), "upper soft limit, mm");
+}
+
+fn write_rotary(w: &mut Writer, axis: &RotaryAxis) {
+    w.blank();
+    w.table("[[rotary]]", "a rotary axis, listed from the bed outwards");
+    w.key("name", &quote(&axis.name.to_string()), "A, B or C");
+    let on = match axis.on {
+        Side::Head => "head",
+        Side::Table => "table",
+    };
+    w.key(
+        "on",
+        &quote(on),
+        "\"head\" turns the spindle, \"table\" the workpiece",
+    );
+    w.key(
+        "axis",
+        &vector(&axis.axis),
+        "rotation line direction; +angle turns the carried part right-handed",
+    );
+    w.key(
+        "center",
+        &vector(&axis.center),
+        "a point on the line (head: from the gauge point)",
+    );
+    if let Some((min, max)) = axis.limits {
+        w.key("min", &number(min), "lower soft limit, degrees");
+        w.key("max", &number(max), "upper soft limit, degrees");
+    } else if !axis.rollover {
+        w.comment("No min/max: this axis has no soft limits.");
+    }
+    w.key(
+        "rollover",
+        &axis.rollover.to_string(),
+        "endless axis shown modulo 360 (then no min/max)",
+    );
+}
+
+/// Builds the text; comments a key only the first time it appears in a
+/// kind of table, so repeated tables stay short.
+#[derive(Default)]
+struct Writer {
+    out: String,
+    table: &'static str,
+    commented: BTreeSet<(&'static str, &'static str)>,
+}
+
+impl Writer {
+    fn blank(&mut self) {
+        self.out.push('\n');
+    }
+
+    fn comment(&mut self, text: &str) {
+        let _ = writeln!(self.out, "# {text}");
+    }
+
+    fn table(&mut self, header: &'static str, comment: &str) {
+        let first = self.commented.insert((header, ""));
+        self.table = header;
+        self.line(header, if first { comment } else { "" });
+    }
+
+    fn key(&mut self, key: &'static str, value: &str, comment: &str) {
+        let first = self.commented.insert((self.table, key));
+        self.line(
+            &format!("{key} = {value}"),
+            if first { comment } else { "" },
+        );
+    }
+
+    fn line(&mut self, text: &str, comment: &str) {
+        if comment.is_empty() {
+            let _ = writeln!(self.out, "{text}");
+        } else {
+            let pad = COMMENT_COLUMN.saturating_sub(text.chars().count()).max(1);
+            let _ = writeln!(self.out, "{text}{:pad$}# {comment}", "");
+        }
+    }
+}
+
+/// A number that reads back to the same bits.
+fn number(v: f64) -> String {
+    format!("{v:?}")
+}
+
+fn vector(v: &Vec3) -> String {
+    format!("[{}, {}, {}]", number(v.x), number(v.y), number(v.z))
+}
+
+/// A TOML string, escaped as needed.
+fn quote(s: &str) -> String {
+    toml::Value::String(s.to_owned()).to_string()
+}
+
+fn type_name(t: MachineType) -> &'static str {
+    match t {
+        MachineType::None => "none",
+        MachineType::Head => "head",
+        MachineType::Table => "table",
+        MachineType::Mixed => "mixed",
+    }
+}
+
+fn control_name(c: Control) -> &'static str {
+    match c {
+        Control::Fanuc30i => "fanuc30i",
+        Control::Fanuc16 => "fanuc16",
+        Control::Mitsubishi => "mitsubishi",
+        Control::Mazak => "mazak",
+    }
+}

@@ -1,0 +1,232 @@
+//! Random machines built in code, for the property tests.
+
+#![allow(dead_code)]
+
+use fiveaxis_machine::{
+    Control, Joints, LinearAxis, MAX_AXES, Machine, Parameters, ProgrammingFrame, RotaryAxis, Side,
+    Vec3,
+};
+use nalgebra::Unit;
+use proptest::prelude::*;
+use proptest::sample::subsequence;
+use proptest::test_runner::{Config, RngSeed};
+
+/// A deterministic proptest configuration.
+pub fn config(cases: u32) -> Config {
+    Config {
+        cases,
+        rng_seed: RngSeed::Fixed(0x5A17_F1FE),
+        failure_persistence: None,
+        ..Config::default()
+    }
+}
+
+/// A unit direction: axis-aligned, at 45° between two axes, or arbitrary.
+pub fn direction() -> impl Strategy<Value = Unit<Vec3>> {
+    let sign = || prop_oneof![Just(1.0), Just(-1.0)];
+    let aligned = (0..3usize, sign()).prop_map(|(i, s)| {
+        let mut v = Vec3::zeros();
+        v[i] = s;
+        v
+    });
+    let diagonal = (0..3usize, sign(), sign()).prop_map(|(i, s, t)| {
+        let mut v = Vec3::zeros();
+        v[i] = s;
+        v[(i + 1) % 3] = t;
+        v
+    });
+    let any = (-1.0..1.0f64, -1.0..1.0f64, -1.0..1.0f64)
+        .prop_map(|(x, y, z)| Vec3::new(x, y, z))
+        .prop_filter("not too short", |v| v.norm() > 0.1);
+    prop_oneof![aligned, diagonal, any].prop_map(Unit::new_normalize)
+}
+
+/// A point within a few hundred millimetres of the origin.
+pub fn point(range: f64) -> impl Strategy<Value = Vec3> {
+    (-range..range, -range..range, -range..range).prop_map(|(x, y, z)| Vec3::new(x, y, z))
+}
+
+/// Limits `lo < hi` inside `[-range, range]`-ish.
+fn limits(range: f64) -> impl Strategy<Value = (f64, f64)> {
+    (-range..range, 0.001..range).prop_map(|(lo, span)| (lo, lo + span))
+}
+
+/// Rotary limits: some, none (unlimited) or rollover.
+fn rotary_limits() -> impl Strategy<Value = (Option<(f64, f64)>, bool)> {
+    prop_oneof![
+        limits(360.0).prop_map(|l| (Some(l), false)),
+        Just((None, false)),
+        Just((None, true)),
+    ]
+}
+
+fn rotary(name: char, on: Side) -> impl Strategy<Value = RotaryAxis> {
+    (direction(), point(300.0), rotary_limits()).prop_map(
+        move |(axis, center, (limits, rollover))| RotaryAxis {
+            name,
+            on,
+            axis,
+            center,
+            limits,
+            rollover,
+        },
+    )
+}
+
+/// X, Y, Z and then some of U, V, W in any order.
+fn linear_axes() -> impl Strategy<Value = Vec<LinearAxis>> {
+    let extra = subsequence(vec!['U', 'V', 'W'], 0..=3).prop_shuffle();
+    extra.prop_flat_map(|extra| {
+        let names: Vec<char> = ['X', 'Y', 'Z'].into_iter().chain(extra).collect();
+        let n = names.len();
+        proptest::collection::vec(limits(1000.0), n).prop_map(move |lims| {
+            names
+                .iter()
+                .zip(lims)
+                .map(|(&name, (min, max))| LinearAxis { name, min, max })
+                .collect()
+        })
+    })
+}
+
+/// Rotary axes on these sides (bed outwards), with distinct names.
+fn rotary_axes(sides: Vec<Side>) -> BoxedStrategy<Vec<RotaryAxis>> {
+    let n = sides.len();
+    subsequence(vec!['A', 'B', 'C'], n)
+        .prop_shuffle()
+        .prop_flat_map(move |names| {
+            let axes: Vec<_> = names
+                .iter()
+                .zip(&sides)
+                .map(|(&name, &on)| rotary(name, on))
+                .collect();
+            axes
+        })
+        .boxed()
+}
+
+fn control() -> impl Strategy<Value = Control> {
+    prop_oneof![
+        Just(Control::Fanuc30i),
+        Just(Control::Fanuc16),
+        Just(Control::Mitsubishi),
+        Just(Control::Mazak)
+    ]
+}
+
+fn reference(count: usize) -> impl Strategy<Value = Joints> {
+    proptest::collection::vec(-1000.0..1000.0f64, count).prop_map(|v| {
+        let mut j = [0.0; MAX_AXES];
+        j[..v.len()].copy_from_slice(&v);
+        j
+    })
+}
+
+fn parameters(count: usize) -> impl Strategy<Value = Parameters> {
+    let frame = prop_oneof![
+        Just(ProgrammingFrame::Table),
+        Just(ProgrammingFrame::Workpiece)
+    ];
+    (
+        frame,
+        any::<bool>(),
+        reference(count),
+        reference(count),
+        any::<bool>(),
+        1e-6..1.0f64,
+    )
+        .prop_map(
+            |(
+                programming_frame,
+                tcpc_option,
+                reference_1,
+                reference_2,
+                decimal_point_input,
+                least_input_increment,
+            )| {
+                Parameters {
+                    programming_frame,
+                    tcpc_option,
+                    reference_1,
+                    reference_2,
+                    decimal_point_input,
+                    least_input_increment,
+                }
+            },
+        )
+}
+
+/// A machine whose rotary axes sit on `sides`, bed outwards.
+pub fn machine_on(sides: Vec<Side>) -> impl Strategy<Value = Machine> {
+    let name = prop_oneof!["[ -~]{0,24}", "\\PC{0,12}"];
+    (
+        name,
+        control(),
+        direction(),
+        linear_axes(),
+        rotary_axes(sides),
+    )
+        .prop_flat_map(|(name, control, tool_direction, linear, rotary)| {
+            let count = linear.len() + rotary.len();
+            parameters(count).prop_map(move |params| Machine {
+                name: name.clone(),
+                control,
+                tool_direction,
+                linear: linear.clone(),
+                rotary: rotary.clone(),
+                params,
+            })
+        })
+}
+
+/// Every arrangement of 0, 1 or 2 rotary axes.
+pub fn sides() -> impl Strategy<Value = Vec<Side>> {
+    use Side::{Head, Table};
+    prop_oneof![
+        Just(vec![]),
+        Just(vec![Head]),
+        Just(vec![Table]),
+        Just(vec![Head, Head]),
+        Just(vec![Table, Table]),
+        Just(vec![Head, Table]),
+        Just(vec![Table, Head]),
+    ]
+}
+
+/// Any machine.
+pub fn machine() -> impl Strategy<Value = Machine> {
+    sides().prop_flat_map(machine_on)
+}
+
+/// Joints for `machine`: linear positions within ±500 mm, rotary angles
+/// within ±400°.
+pub fn joints_for(machine: &Machine) -> impl Strategy<Value = Joints> + use<> {
+    let linear = machine.linear.len();
+    let rotary = machine.rotary.len();
+    (
+        proptest::collection::vec(-500.0..500.0f64, linear),
+        proptest::collection::vec(-400.0..400.0f64, rotary),
+    )
+        .prop_map(|(l, r)| {
+            let mut j = [0.0; MAX_AXES];
+            for (slot, v) in j.iter_mut().zip(l.into_iter().chain(r)) {
+                *slot = v;
+            }
+            j
+        })
+}
+
+/// A machine with joints and a tool length.
+pub fn posed(
+    sides: impl Strategy<Value = Vec<Side>>,
+) -> impl Strategy<Value = (Machine, Joints, f64)> {
+    sides.prop_flat_map(machine_on).prop_flat_map(|m| {
+        let joints = joints_for(&m);
+        (Just(m), joints, 0.0..300.0f64)
+    })
+}
+
+/// Distance from `p` to the line through `c` along unit `a`.
+pub fn distance_to_line(p: &Vec3, c: &Vec3, a: &Vec3) -> f64 {
+    (p - c).cross(a).norm()
+}

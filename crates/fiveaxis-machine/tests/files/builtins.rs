@@ -1,0 +1,220 @@
+//! The built-in machines, and writing machines back as files.
+
+use fiveaxis_machine::{
+    DEFAULT_MACHINE, Machine, MachineType, Side, Vec3, builtin, builtin_names, builtin_source,
+};
+use proptest::prelude::*;
+
+use crate::common;
+
+fn machine(name: &str) -> Machine {
+    builtin(name).unwrap_or_else(|| panic!("no built-in machine {name}"))
+}
+
+#[test]
+fn library_lists_every_machine_and_the_default() {
+    let names = builtin_names();
+    assert_eq!(
+        names,
+        [
+            "trunnion-ac",
+            "trunnion-bc",
+            "head-table-bc",
+            "head-head-ca",
+            "mill-3axis"
+        ]
+    );
+    assert!(names.contains(&DEFAULT_MACHINE));
+    assert!(builtin("no-such-machine").is_none());
+    assert!(builtin_source("no-such-machine").is_none());
+}
+
+#[test]
+fn every_builtin_reads_with_a_name_and_fanuc_30i() {
+    for name in builtin_names() {
+        let m = machine(name);
+        assert!(m.name.len() > 10, "{name}: {:?}", m.name);
+        assert_eq!(m.control, fiveaxis_machine::Control::Fanuc30i);
+        assert_eq!(m.tool_direction.into_inner(), Vec3::z());
+        let limits: Vec<(char, f64, f64)> =
+            m.linear.iter().map(|a| (a.name, a.min, a.max)).collect();
+        assert_eq!(
+            limits,
+            [
+                ('X', -500.0, 500.0),
+                ('Y', -400.0, 400.0),
+                ('Z', -300.0, 500.0)
+            ]
+        );
+    }
+}
+
+#[test]
+fn reference_position_1_is_inside_every_limit() {
+    for name in builtin_names() {
+        let m = machine(name);
+        let r = &m.params.reference_1;
+        for (i, a) in m.linear.iter().enumerate() {
+            assert!(a.min <= r[i] && r[i] <= a.max, "{name} {}", a.name);
+        }
+        for (k, a) in m.rotary.iter().enumerate() {
+            if let Some((lo, hi)) = a.limits {
+                let v = r[m.rotary_index(k)];
+                assert!(lo <= v && v <= hi, "{name} {}", a.name);
+            }
+        }
+    }
+}
+
+/// (name, side, axis, center, limits) of each rotary axis.
+type Rotary = (char, Side, [f64; 3], [f64; 3], Option<(f64, f64)>);
+
+fn rotary(m: &Machine) -> Vec<Rotary> {
+    m.rotary
+        .iter()
+        .map(|a| {
+            (
+                a.name,
+                a.on,
+                a.axis.into_inner().into(),
+                a.center.into(),
+                a.limits,
+            )
+        })
+        .collect()
+}
+
+#[test]
+fn builtin_geometry() {
+    use Side::{Head, Table};
+    let cases: [(&str, MachineType, Vec<Rotary>); 5] = [
+        (
+            "trunnion-ac",
+            MachineType::Table,
+            vec![
+                (
+                    'A',
+                    Table,
+                    [-1.0, 0.0, 0.0],
+                    [0.0, 0.0, -100.0],
+                    Some((-120.0, 30.0)),
+                ),
+                ('C', Table, [0.0, 0.0, -1.0], [0.0; 3], None),
+            ],
+        ),
+        (
+            "trunnion-bc",
+            MachineType::Table,
+            vec![
+                (
+                    'B',
+                    Table,
+                    [0.0, -1.0, 0.0],
+                    [0.0, 0.0, -100.0],
+                    Some((-120.0, 120.0)),
+                ),
+                ('C', Table, [0.0, 0.0, -1.0], [0.0; 3], None),
+            ],
+        ),
+        (
+            "head-table-bc",
+            MachineType::Mixed,
+            vec![
+                (
+                    'B',
+                    Head,
+                    [0.0, 1.0, 0.0],
+                    [0.0, 0.0, 150.0],
+                    Some((-110.0, 110.0)),
+                ),
+                ('C', Table, [0.0, 0.0, -1.0], [0.0; 3], None),
+            ],
+        ),
+        (
+            "head-head-ca",
+            MachineType::Head,
+            vec![
+                (
+                    'C',
+                    Head,
+                    [0.0, 0.0, 1.0],
+                    [0.0, 0.0, 150.0],
+                    Some((-360.0, 360.0)),
+                ),
+                (
+                    'A',
+                    Head,
+                    [1.0, 0.0, 0.0],
+                    [0.0, 0.0, 150.0],
+                    Some((-110.0, 110.0)),
+                ),
+            ],
+        ),
+        ("mill-3axis", MachineType::None, vec![]),
+    ];
+    for (name, kind, axes) in cases {
+        let m = machine(name);
+        assert_eq!(m.machine_type(), kind, "{name}");
+        assert_eq!(rotary(&m), axes, "{name}");
+        let rollover: Vec<bool> = m.rotary.iter().map(|a| a.rollover).collect();
+        let expected: Vec<bool> = axes.iter().map(|a| a.4.is_none()).collect();
+        assert_eq!(rollover, expected, "{name}");
+    }
+}
+
+#[test]
+fn every_builtin_round_trips() {
+    for name in builtin_names() {
+        let m = machine(name);
+        let text = m.to_toml();
+        let back = Machine::from_toml(&text).unwrap_or_else(|e| panic!("{name}: {e}\n{text}"));
+        assert_eq!(back, m, "{name}");
+    }
+}
+
+#[test]
+fn written_file_explains_its_keys() {
+    let text = machine(DEFAULT_MACHINE).to_toml();
+    for key in [
+        "name",
+        "type",
+        "control",
+        "tool_direction",
+        "min",
+        "max",
+        "on",
+        "axis",
+        "center",
+        "rollover",
+    ] {
+        let line = text
+            .lines()
+            .find(|l| l.starts_with(&format!("{key} = ")))
+            .unwrap_or_else(|| panic!("no `{key}` in\n{text}"));
+        assert!(line.contains(" # "), "`{key}` has no comment: {line}");
+    }
+    assert!(text.contains("[parameters]"));
+    assert!(text.contains("reference_1 = { X = 0.0, Y = 0.0, Z = 0.0, A = 0.0, C = 0.0 }"));
+}
+
+#[test]
+fn unlimited_axis_round_trips() {
+    let mut m = machine("head-table-bc");
+    m.rotary[0].limits = None;
+    m.params.reference_2[4] = 12.5;
+    m.name = "quote \" backslash \\ tab\t new line\n 'single' é".to_owned();
+    let back = Machine::from_toml(&m.to_toml()).expect("reads back");
+    assert_eq!(back, m);
+}
+
+proptest! {
+    #![proptest_config(common::config(256))]
+
+    /// Any machine reads back from its own file unchanged.
+    #[test]
+    fn random_machines_round_trip(m in common::machine()) {
+        let text = m.to_toml();
+        let back = Machine::from_toml(&text);
+        prop_assert_eq!(back, Ok(m), "{}", text);
+    }
+}

@@ -1,0 +1,558 @@
+//! Machine files that must not read, and where their errors point.
+
+use fiveaxis_machine::{FileError, Machine};
+
+use super::assert_error;
+use super::machine_good::{TABLE_C, file};
+
+fn fail(text: &str) -> FileError {
+    match Machine::from_toml(text) {
+        Ok(m) => panic!("read as {m:?}:\n{text}"),
+        Err(e) => e,
+    }
+}
+
+/// A file with one rotary axis whose body (after `name` and `on`) is `body`.
+fn one_rotary(kind: &str, on: &str, body: &str) -> String {
+    file(
+        &format!("type = \"{kind}\"\n"),
+        &format!("[[rotary]]\nname = \"A\"\non = \"{on}\"\n{body}"),
+    )
+}
+
+#[test]
+fn syntax_error() {
+    let text = "name = \"m\"\ntype = none\n";
+    let e = fail(text);
+    assert_eq!((e.line, e.key.as_deref()), (2, None));
+    assert_eq!(e.column, 8);
+}
+
+#[test]
+fn unclosed_array() {
+    let text = file("type = \"none\"\ntool_direction = [0, 0, 1\n", "");
+    let e = fail(&text);
+    // An array may run over lines: the parser gives up at the next table.
+    assert_eq!((e.line, e.column, e.key.as_deref()), (5, 1, None));
+    assert!(
+        e.message.contains("missing comma between array elements"),
+        "{e:?}"
+    );
+}
+
+#[test]
+fn duplicate_key() {
+    let text = "name = \"m\"\ntype = \"none\"\nname = \"n\"\n";
+    let e = fail(text);
+    assert_eq!((e.line, e.column, e.key.as_deref()), (3, 1, Some("name")));
+}
+
+#[test]
+fn unknown_top_level_key() {
+    let text = file("type = \"none\"\nspindle = 1\n", "");
+    assert_error(
+        &fail(&text),
+        &text,
+        "spindle",
+        Some("spindle"),
+        "unknown field",
+    );
+}
+
+#[test]
+fn unknown_table() {
+    let text = file("type = \"none\"\n", "[spindle]\nspeed = 1\n");
+    assert_error(
+        &fail(&text),
+        &text,
+        "spindle",
+        Some("spindle"),
+        "unknown field",
+    );
+}
+
+#[test]
+fn unknown_key_in_linear() {
+    let text = file(
+        "type = \"none\"\n",
+        "[[linear]]\nname = \"U\"\nmin = 0\nmax = 1\nhome = 0\n",
+    );
+    assert_error(
+        &fail(&text),
+        &text,
+        "home",
+        Some("home"),
+        "unknown field `home`",
+    );
+}
+
+#[test]
+fn unknown_key_in_rotary() {
+    let text = one_rotary(
+        "table",
+        "table",
+        "axis = [1, 0, 0]\ncenter = [0, 0, 0]\nspeed = 10\n",
+    );
+    assert_error(
+        &fail(&text),
+        &text,
+        "speed",
+        Some("speed"),
+        "unknown field `speed`",
+    );
+}
+
+#[test]
+fn unknown_key_in_parameters() {
+    let text = file("type = \"none\"\n", "[parameters]\nwkp = 1\n");
+    assert_error(
+        &fail(&text),
+        &text,
+        "wkp",
+        Some("wkp"),
+        "unknown field `wkp`",
+    );
+}
+
+#[test]
+fn missing_name_points_at_the_file() {
+    let text = "type = \"none\"\n";
+    let e = fail(text);
+    assert_eq!((e.line, e.column, e.key.as_deref()), (1, 1, Some("name")));
+    assert!(e.message.contains("missing field `name`"));
+}
+
+#[test]
+fn missing_type() {
+    let e = fail(&file("", ""));
+    assert_eq!((e.line, e.column, e.key.as_deref()), (1, 1, Some("type")));
+}
+
+#[test]
+fn missing_linear_axes() {
+    let e = fail("name = \"m\"\ntype = \"none\"\n");
+    assert_eq!(e.key.as_deref(), Some("linear"));
+    assert!(e.message.contains("missing field `linear`"));
+}
+
+#[test]
+fn missing_limit_points_at_its_table() {
+    let text = file(
+        "type = \"none\"\n",
+        "[[linear]] # U\nname = \"U\"\nmin = 0\n",
+    );
+    assert_error(
+        &fail(&text),
+        &text,
+        "[[linear]] # U",
+        Some("max"),
+        "missing field `max`",
+    );
+}
+
+#[test]
+fn missing_rotary_axis_and_side() {
+    let text = one_rotary("table", "table", "center = [0, 0, 0]\n");
+    assert_error(
+        &fail(&text),
+        &text,
+        "[[rotary]]",
+        Some("axis"),
+        "missing field `axis`",
+    );
+    let text = file(
+        "type = \"table\"\n",
+        "[[rotary]]\nname = \"A\"\naxis = [1, 0, 0]\ncenter = [0, 0, 0]\n",
+    );
+    assert_error(
+        &fail(&text),
+        &text,
+        "[[rotary]]",
+        Some("on"),
+        "missing field `on`",
+    );
+}
+
+#[test]
+fn wrong_types_point_at_the_value() {
+    let text = file(
+        "type = \"none\"\n",
+        "[[linear]]\nname = \"U\"\nmin = \"low\"\nmax = 1\n",
+    );
+    assert_error(&fail(&text), &text, "\"low\"", Some("min"), "invalid type");
+    let text = file("type = \"none\"\ntool_direction = 1\n", "");
+    assert_error(
+        &fail(&text),
+        &text,
+        "tool_direction = ^1",
+        Some("tool_direction"),
+        "invalid type",
+    );
+    let text = file("type = \"none\"\ntool_direction = [0, \"z\", 1]\n", "");
+    assert_error(
+        &fail(&text),
+        &text,
+        "\"z\"",
+        Some("tool_direction"),
+        "invalid type",
+    );
+    let text = file("type = \"none\"\n", "[parameters]\ntcpc_option = 1\n");
+    assert_error(
+        &fail(&text),
+        &text,
+        "tcpc_option = ^1",
+        Some("tcpc_option"),
+        "invalid type",
+    );
+    let text = file(
+        "type = \"none\"\n",
+        "[parameters]\nreference_1 = { X = true }\n",
+    );
+    assert_error(&fail(&text), &text, "true", Some("X"), "invalid type");
+    let text = file("name = 7\n", "");
+    let e = fail(&text);
+    // `name` is given twice here: the duplicate is found first.
+    assert_eq!((e.line, e.key.as_deref()), (2, Some("name")));
+}
+
+#[test]
+fn unknown_words() {
+    let text = file("type = \"diagonal\"\n", "");
+    assert_error(
+        &fail(&text),
+        &text,
+        "\"diagonal\"",
+        Some("type"),
+        "unknown variant `diagonal`",
+    );
+    let text = file("type = \"none\"\ncontrol = \"heidenhain\"\n", "");
+    assert_error(
+        &fail(&text),
+        &text,
+        "\"heidenhain\"",
+        Some("control"),
+        "unknown variant",
+    );
+    let text = one_rotary("table", "bed", "axis = [1, 0, 0]\ncenter = [0, 0, 0]\n");
+    assert_error(
+        &fail(&text),
+        &text,
+        "\"bed\"",
+        Some("on"),
+        "unknown variant",
+    );
+    let text = file(
+        "type = \"none\"\n",
+        "[parameters]\nprogramming_frame = \"part\"\n",
+    );
+    assert_error(
+        &fail(&text),
+        &text,
+        "\"part\"",
+        Some("programming_frame"),
+        "unknown variant",
+    );
+}
+
+#[test]
+fn type_must_match_the_rotary_axes() {
+    let head = "[[rotary]]\nname = \"B\"\non = \"head\"\naxis = [0, 1, 0]\ncenter = [0, 0, 0]\n";
+    let cases = [
+        ("head", String::new()),
+        ("none", TABLE_C.to_owned()),
+        ("head", TABLE_C.to_owned()),
+        ("table", head.to_owned()),
+        ("mixed", TABLE_C.to_owned()),
+        ("mixed", head.to_owned()),
+        ("table", format!("{head}{TABLE_C}")),
+        ("head", format!("{head}{TABLE_C}")),
+    ];
+    for (word, rotary) in cases {
+        let text = file(&format!("type = \"{word}\"\n"), &rotary);
+        let needle = format!("type = ^\"{word}\"");
+        assert_error(
+            &fail(&text),
+            &text,
+            &needle,
+            Some("type"),
+            "does not match the rotary axes",
+        );
+    }
+}
+
+#[test]
+fn linear_axes_start_x_y_z() {
+    let text = "name = \"m\"\ntype = \"none\"\n[[linear]]\nname = \"Y\"\nmin = 0\nmax = 1\n";
+    assert_error(&fail(text), text, "\"Y\"", Some("name"), "must be X");
+    let text = "name = \"m\"\ntype = \"none\"\n[[linear]]\nname = \"X\"\nmin = 0\nmax = 1\n[[linear]]\nname = \"Z\"\nmin = 0\nmax = 1\n";
+    assert_error(&fail(text), text, "\"Z\"", Some("name"), "must be Y");
+    let text = "name = \"m\"\ntype = \"none\"\n[[linear]]\nname = \"x\"\nmin = 0\nmax = 1\n";
+    assert_error(&fail(text), text, "\"x\"", Some("name"), "must be X");
+}
+
+#[test]
+fn linear_axes_need_z() {
+    let text = "name = \"m\"\ntype = \"none\"\n[[linear]]\nname = \"X\"\nmin = 0\nmax = 1\n[[linear]] # Y\nname = \"Y\"\nmin = 0\nmax = 1\n";
+    assert_error(
+        &fail(text),
+        text,
+        "[[linear]] # Y",
+        Some("linear"),
+        "Z is missing",
+    );
+    let text = "name = \"m\"\ntype = \"none\"\nlinear = []\n";
+    assert_error(&fail(text), text, "[]", Some("linear"), "X is missing");
+}
+
+#[test]
+fn parallel_axes_are_u_v_w_once() {
+    let text = file(
+        "type = \"none\"\n",
+        "[[linear]]\nname = \"Q\"\nmin = 0\nmax = 1\n",
+    );
+    assert_error(&fail(&text), &text, "\"Q\"", Some("name"), "U, V or W");
+    let text = file(
+        "type = \"none\"\n",
+        "[[linear]]\nname = \"X\"\nmin = 0\nmax = 1\n",
+    );
+    assert_error(
+        &fail(&text),
+        &text,
+        "^\"X\"\nmin = 0",
+        Some("name"),
+        "U, V or W",
+    );
+    let text = file(
+        "type = \"none\"\n",
+        "[[linear]]\nname = \"V\"\nmin = 0\nmax = 1\n[[linear]]\nname = \"V\"\nmin = 0\nmax = 2\n",
+    );
+    assert_error(
+        &fail(&text),
+        &text,
+        "^\"V\"\nmin = 0\nmax = 2",
+        Some("name"),
+        "given twice",
+    );
+}
+
+#[test]
+fn linear_min_below_max() {
+    let text = file(
+        "type = \"none\"\n",
+        "[[linear]]\nname = \"U\"\nmin = 5\nmax = 5\n",
+    );
+    assert_error(
+        &fail(&text),
+        &text,
+        "max = ^5",
+        Some("max"),
+        "greater than `min`",
+    );
+    let text = file(
+        "type = \"none\"\n",
+        "[[linear]]\nname = \"U\"\nmin = 5\nmax = -5\n",
+    );
+    assert_error(
+        &fail(&text),
+        &text,
+        "max = ^-5",
+        Some("max"),
+        "greater than `min`",
+    );
+}
+
+#[test]
+fn numbers_are_finite() {
+    let text = file(
+        "type = \"none\"\n",
+        "[[linear]]\nname = \"U\"\nmin = nan\nmax = 5\n",
+    );
+    assert_error(&fail(&text), &text, "nan", Some("min"), "finite");
+    let text = file("type = \"none\"\ntool_direction = [0, 0, inf]\n", "");
+    assert_error(
+        &fail(&text),
+        &text,
+        "[0, 0, inf]",
+        Some("tool_direction"),
+        "finite",
+    );
+}
+
+#[test]
+fn rotary_names() {
+    let text = file(
+        "type = \"table\"\n",
+        "[[rotary]]\nname = \"D\"\non = \"table\"\naxis = [1, 0, 0]\ncenter = [0, 0, 0]\n",
+    );
+    assert_error(&fail(&text), &text, "\"D\"", Some("name"), "A, B or C");
+    let text = file(
+        "type = \"table\"\n",
+        &format!(
+            "{TABLE_C}[[rotary]]\nname = \"C\"\non = \"table\"\naxis = [1, 0, 0]\ncenter = [0, 0, 0]\n"
+        ),
+    );
+    assert_error(
+        &fail(&text),
+        &text,
+        "^\"C\"\non = \"table\"\naxis = [1",
+        Some("name"),
+        "given twice",
+    );
+}
+
+#[test]
+fn at_most_two_rotary_axes() {
+    let a = "[[rotary]]\nname = \"A\"\non = \"table\"\naxis = [1, 0, 0]\ncenter = [0, 0, 0]\n";
+    let b =
+        "[[rotary]] # third\nname = \"B\"\non = \"table\"\naxis = [0, 1, 0]\ncenter = [0, 0, 0]\n";
+    let text = file("type = \"table\"\n", &format!("{a}{TABLE_C}{b}"));
+    assert_error(
+        &fail(&text),
+        &text,
+        "[[rotary]] # third",
+        Some("rotary"),
+        "at most 2 rotary axes",
+    );
+}
+
+#[test]
+fn vectors_have_three_non_zero_numbers() {
+    let text = one_rotary("table", "table", "axis = [0, 0, 0]\ncenter = [0, 0, 0]\n");
+    assert_error(
+        &fail(&text),
+        &text,
+        "axis = ^[0, 0, 0]",
+        Some("axis"),
+        "non-zero",
+    );
+    let text = one_rotary("table", "table", "axis = [1, 0]\ncenter = [0, 0, 0]\n");
+    assert_error(
+        &fail(&text),
+        &text,
+        "[1, 0]",
+        Some("axis"),
+        "3 numbers, found 2",
+    );
+    let text = one_rotary(
+        "table",
+        "table",
+        "axis = [1, 0, 0]\ncenter = [0, 0, 0, 0]\n",
+    );
+    assert_error(
+        &fail(&text),
+        &text,
+        "[0, 0, 0, 0]",
+        Some("center"),
+        "3 numbers, found 4",
+    );
+    let text = file("type = \"none\"\ntool_direction = [0.0, 0.0, 0.0]\n", "");
+    assert_error(
+        &fail(&text),
+        &text,
+        "[0.0, 0.0, 0.0]",
+        Some("tool_direction"),
+        "non-zero",
+    );
+}
+
+#[test]
+fn rollover_axes_have_no_limits() {
+    let body = "axis = [1, 0, 0]\ncenter = [0, 0, 0]\nrollover = true\nmin = -10\nmax = 10\n";
+    let text = one_rotary("table", "table", body);
+    assert_error(&fail(&text), &text, "min = ^-10\n", Some("min"), "rollover");
+    let body = "axis = [1, 0, 0]\ncenter = [0, 0, 0]\nmax = 10\nrollover = true\n";
+    let text = one_rotary("table", "table", body);
+    assert_error(&fail(&text), &text, "max = ^10\n", Some("max"), "rollover");
+}
+
+#[test]
+fn rotary_limits_come_in_pairs() {
+    let text = one_rotary(
+        "table",
+        "table",
+        "axis = [1, 0, 0]\ncenter = [0, 0, 0]\nmin = -10\n",
+    );
+    assert_error(
+        &fail(&text),
+        &text,
+        "[[rotary]]",
+        Some("max"),
+        "missing field `max`",
+    );
+    let text = one_rotary(
+        "table",
+        "table",
+        "axis = [1, 0, 0]\ncenter = [0, 0, 0]\nmax = 10\n",
+    );
+    assert_error(
+        &fail(&text),
+        &text,
+        "[[rotary]]",
+        Some("min"),
+        "missing field `min`",
+    );
+    let text = one_rotary(
+        "table",
+        "table",
+        "axis = [1, 0, 0]\ncenter = [0, 0, 0]\nmin = 10\nmax = -10\n",
+    );
+    assert_error(
+        &fail(&text),
+        &text,
+        "max = ^-10",
+        Some("max"),
+        "greater than `min`",
+    );
+}
+
+#[test]
+fn reference_names_a_machine_axis() {
+    let text = file(
+        "type = \"table\"\n",
+        &format!("{TABLE_C}[parameters]\nreference_1 = {{ X = 1, A = 2 }}\n"),
+    );
+    assert_error(
+        &fail(&text),
+        &text,
+        "^A = 2",
+        Some("A"),
+        "no axis named `A`",
+    );
+    let text = file(
+        "type = \"none\"\n",
+        "[parameters]\nreference_2 = { Q = 2 }\n",
+    );
+    assert_error(&fail(&text), &text, "Q = 2", Some("Q"), "no axis named `Q`");
+    let text = file(
+        "type = \"none\"\n",
+        "[parameters]\nreference_2 = { U = 2 }\n",
+    );
+    assert_error(&fail(&text), &text, "U = 2", Some("U"), "no axis named `U`");
+}
+
+#[test]
+fn least_input_increment_is_positive() {
+    for bad in ["0", "-0.001", "0.0"] {
+        let text = file(
+            "type = \"none\"\n",
+            &format!("[parameters]\nleast_input_increment = {bad}\n"),
+        );
+        assert_error(
+            &fail(&text),
+            &text,
+            &format!("increment = ^{bad}"),
+            Some("least_input_increment"),
+            "greater than 0",
+        );
+    }
+}
+
+#[test]
+fn error_display_names_the_position() {
+    let text = file("type = \"none\"\nspindle = 1\n", "");
+    let shown = fail(&text).to_string();
+    assert!(
+        shown.starts_with("line 3, column 1: unknown field `spindle`"),
+        "{shown}"
+    );
+}
