@@ -77,8 +77,6 @@ pub enum Condition {
     ArcRadiusTolerance,
     /// Arc with neither R nor I, J, K.
     ArcCenterMissing,
-    /// Arc that names an axis outside the selected plane's axes.
-    ArcAxisNotInPlane,
     /// H or D number beyond the offset memory.
     IllegalOffsetNumber,
     /// G10 with a P out of range.
@@ -106,6 +104,72 @@ pub enum Condition {
 }
 
 impl Condition {
+    /// Every condition, in reference order.
+    pub const ALL: &'static [Condition] = &[
+        Condition::NoDataAfterAddress,
+        Condition::BadNumber,
+        Condition::TooManyDigits,
+        Condition::ImproperAddress,
+        Condition::UnclosedComment,
+        Condition::CustomMacro,
+        Condition::ImproperGCode,
+        Condition::UnsupportedMCode,
+        Condition::WordNotUsed,
+        Condition::DecimalPointNotAllowed,
+        Condition::ValueOutOfRange,
+        Condition::FeedZero,
+        Condition::NoSpindleForFeedPerRev,
+        Condition::ArcRadiusTolerance,
+        Condition::ArcCenterMissing,
+        Condition::IllegalOffsetNumber,
+        Condition::IllegalG10P,
+        Condition::IllegalG10L,
+        Condition::SubprogramNumberMissing,
+        Condition::ProgramNotFound,
+        Condition::NestingTooDeep,
+        Condition::OvertravelPlus,
+        Condition::OvertravelMinus,
+        Condition::ReferenceReturnCheck,
+        Condition::ReferencePositionUndefined,
+        Condition::GCodeConflict,
+        Condition::DuplicateAddress,
+    ];
+
+    /// One line saying when the condition arises.
+    pub fn describe(self) -> &'static str {
+        match self {
+            Condition::NoDataAfterAddress => "An address with no number after it",
+            Condition::BadNumber => "A number that cannot be read",
+            Condition::TooManyDigits => "A number with too many digits",
+            Condition::ImproperAddress => "A character or word that is not an address of this control",
+            Condition::UnclosedComment => "A `(` comment without its `)`",
+            Condition::CustomMacro => "Custom macro syntax, which the kernel does not read",
+            Condition::ImproperGCode => "A G code the control does not have",
+            Condition::UnsupportedMCode => "An M code that is not a function of the kernel",
+            Condition::WordNotUsed => "A word that has no meaning in its block",
+            Condition::DecimalPointNotAllowed => "A decimal point where only integers are allowed",
+            Condition::ValueOutOfRange => "A value out of the range the address accepts",
+            Condition::FeedZero => "Feed zero or no feed for a cutting move",
+            Condition::NoSpindleForFeedPerRev => "Feed per revolution while the spindle is stopped",
+            Condition::ArcRadiusTolerance => "Arc whose end point is not on the circle (FANUC No.3410)",
+            Condition::ArcCenterMissing => "Arc with neither R nor I, J, K",
+            Condition::IllegalOffsetNumber => "H or D number beyond the offset memory",
+            Condition::IllegalG10P => "G10 with a P out of range",
+            Condition::IllegalG10L => "G10 with an L that is not a data-setting format",
+            Condition::SubprogramNumberMissing => "M98 without P",
+            Condition::ProgramNotFound => "The called program or sequence number is not in the file",
+            Condition::NestingTooDeep => "Subprograms nested deeper than the control allows",
+            Condition::OvertravelPlus => "Move beyond the + soft limit",
+            Condition::OvertravelMinus => "Move beyond the − soft limit",
+            Condition::ReferenceReturnCheck => "G27 found the axis away from its reference position",
+            Condition::ReferencePositionUndefined => "G30 with a reference position the machine does not define",
+            Condition::GCodeConflict => "Two G codes in one block that cannot go together",
+            Condition::DuplicateAddress => "Several words of the same address in one block",
+        }
+    }
+}
+
+impl Condition {
     /// The alarm number that `control` shows for this condition.
     pub fn code(self, control: Control) -> AlarmCode {
         use Condition as C;
@@ -120,7 +184,6 @@ impl Condition {
             C::ImproperGCode | C::GCodeConflict => Some(10),
             C::FeedZero => Some(11),
             C::ArcRadiusTolerance => Some(20),
-            C::ArcAxisNotInPlane => Some(21),
             C::ArcCenterMissing => Some(22),
             C::IllegalOffsetNumber => Some(30),
             C::IllegalG10P => Some(31),
@@ -173,7 +236,6 @@ impl Condition {
             C::NoSpindleForFeedPerRev => 21,
             C::ArcRadiusTolerance => 30,
             C::ArcCenterMissing => 31,
-            C::ArcAxisNotInPlane => 32,
             C::IllegalOffsetNumber => 40,
             C::IllegalG10P => 41,
             C::IllegalG10L => 42,
@@ -202,4 +264,28 @@ pub struct Alarm {
     pub span: Option<Span>,
     /// What is wrong, in words.
     pub message: String,
+}
+
+/// The alarm reference (`docs/alarms.md`), rendered from the code so that
+/// the two cannot drift apart.
+pub fn alarm_reference() -> String {
+    let controls = [Control::Fanuc30i, Control::Fanuc16, Control::Mitsubishi, Control::Mazak];
+    let mut text = String::from(
+        "# Alarm reference\n\n\
+         Every condition that stops a program, with the number each control\n\
+         family shows for it. `FXnnnn` codes are the kernel's own, used where\n\
+         the control's manual gives no number. This file is generated from\n\
+         `crates/fiveaxis-control/src/alarm.rs`; a test keeps it in step\n\
+         (`FIVEAXIS_BLESS=1 cargo test -p fiveaxis-control alarm_reference` rewrites it).\n\n\
+         | condition | fanuc30i | fanuc16 | mitsubishi | mazak |\n\
+         |---|---|---|---|---|\n",
+    );
+    for condition in Condition::ALL {
+        text.push_str(&format!("| {} |", condition.describe()));
+        for control in controls {
+            text.push_str(&format!(" {} |", condition.code(control)));
+        }
+        text.push('\n');
+    }
+    text
 }

@@ -193,7 +193,10 @@ impl<'m> Controller<'m> {
                 (43 | 44 | 49, 0) | (43, 1) => GKind::Length,
                 (54..=59, 0) | (54, 1) => GKind::Work,
                 (4 | 10 | 27 | 28 | 30 | 53 | 92, 0) => GKind::OneShot,
-                (40, 0) => GKind::CutterCancel,
+                // Cancels of modes that cannot be active in this kernel
+                // (cutter compensation, polar coordinates, scaling,
+                // mirror image, rotation, canned cycles): nothing to do.
+                (40 | 15 | 50 | 69 | 80, 0) | (50, 1) => GKind::Cancel,
                 _ => {
                     return Err(self.alarm(
                         Condition::ImproperGCode,
@@ -220,7 +223,7 @@ impl<'m> Controller<'m> {
                 GKind::Units => codes.units = Some(code),
                 GKind::Length => codes.length = Some((code, span)),
                 GKind::Work => codes.work = Some((code, span)),
-                GKind::CutterCancel => {}
+                GKind::Cancel => {}
             }
         }
         if let (Some((motion, span)), Some((one, _))) = (codes.motion, codes.one_shot)
@@ -1066,7 +1069,7 @@ enum GKind {
     Length,
     Work,
     OneShot,
-    CutterCancel,
+    Cancel,
 }
 
 /// The G codes of one block, by group; the last of a group wins.

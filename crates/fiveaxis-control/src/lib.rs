@@ -16,7 +16,7 @@ mod runner;
 mod segment;
 mod words;
 
-pub use alarm::{Alarm, AlarmCode, Condition};
+pub use alarm::{alarm_reference, Alarm, AlarmCode, Condition};
 pub use controller::{
     shortest_turn, Controller, Flow, ARC_RADIUS_TOLERANCE, MAX_TOOL_OFFSET, POSITION_TOLERANCE,
     REFERENCE_CHECK_TOLERANCE,

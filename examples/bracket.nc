@@ -1,0 +1,38 @@
+%
+O1001 (BRACKET - 3+2 MACHINING ON THE A/C TRUNNION)
+(Runs on the built-in trunnion-ac with examples/offsets.toml)
+N10 G21 G17 G40 G49 G80 G90 G94
+N20 G91 G28 Z0.
+N30 G90 G54 T1 M6
+N40 S8000 M3
+(Top face: outline with corner arcs)
+N50 G0 X-45. Y-35. A0 C0
+N60 G43 H1 Z20.
+N70 G1 Z-2. F300.
+N80 X35. F1200.
+N90 G3 X45. Y-25. R10.
+N100 G1 Y25.
+N110 G3 X35. Y35. R10.
+N120 G1 X-35.
+N130 G3 X-45. Y25. R10.
+N140 G1 Y-35.
+N150 G0 Z20.
+(Circular pocket, helical entry)
+N160 X12. Y0
+N170 Z1.
+N180 G3 X12. Y0 Z-3. I-12. F600.
+N190 G3 I-12.
+N200 G0 Z20.
+(Tilted face: table turned C90, tilted A-30)
+N210 G0 C90. A-30.
+N220 G0 X-30. Y-20. Z40.
+N230 G1 Z25. F300.
+N240 X30. F1000.
+N250 Y-10.
+N260 X-30.
+N270 G0 Z60.
+N280 G91 G28 Z0.
+N290 G28 A0 C0
+N300 M5
+N310 M30
+%
