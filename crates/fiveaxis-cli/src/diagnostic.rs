@@ -5,7 +5,14 @@ use annotate_snippets::{AnnotationKind, Level, Renderer, Snippet};
 
 /// Renders `message` about `text`, line `line` of `path`, with the columns
 /// `span` (1-based, end exclusive) marked.
-pub fn render(path: &str, line: u32, text: &str, span: Option<(u32, u32)>, title: &str, label: &str) -> String {
+pub fn render(
+    path: &str,
+    line: u32,
+    text: &str,
+    span: Option<(u32, u32)>,
+    title: &str,
+    label: &str,
+) -> String {
     let len = text.len();
     let (start, end) = match span {
         Some((s, e)) => {

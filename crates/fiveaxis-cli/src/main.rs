@@ -10,8 +10,8 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
-use fiveaxis_control::{RunError, RunOptions, Runner, ReaderSource, Source};
-use fiveaxis_machine::{builtin, builtin_names, FileError, Machine, Offsets, DEFAULT_MACHINE};
+use fiveaxis_control::{ReaderSource, RunError, RunOptions, Runner, Source};
+use fiveaxis_machine::{DEFAULT_MACHINE, FileError, Machine, Offsets, builtin, builtin_names};
 
 use output::{Format, RowWriter};
 
@@ -23,7 +23,11 @@ const EXIT_ALARM: u8 = 1;
 const EXIT_INPUT: u8 = 2;
 
 #[derive(Debug, Parser)]
-#[command(name = "fiveaxis", version, about = "A 5-axis CNC kernel: G-code in, machine-axis motion out")]
+#[command(
+    name = "fiveaxis",
+    version,
+    about = "A 5-axis CNC kernel: G-code in, machine-axis motion out"
+)]
 struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -93,13 +97,26 @@ impl InputError {
     }
 
     fn file(path: &str, text: &str, error: &FileError) -> Self {
-        let line_text = text.lines().nth(error.line.saturating_sub(1) as usize).unwrap_or("");
+        let line_text = text
+            .lines()
+            .nth(error.line.saturating_sub(1) as usize)
+            .unwrap_or("");
         let column = error.column.max(1);
         let title = match &error.key {
-            Some(key) => format!("{path}:{}:{}: {} (key `{key}`)", error.line, error.column, error.message),
+            Some(key) => format!(
+                "{path}:{}:{}: {} (key `{key}`)",
+                error.line, error.column, error.message
+            ),
             None => format!("{path}:{}:{}: {}", error.line, error.column, error.message),
         };
-        let snippet = diagnostic::render(path, error.line, line_text, Some((column, column + 1)), &title, "here");
+        let snippet = diagnostic::render(
+            path,
+            error.line,
+            line_text,
+            Some((column, column + 1)),
+            &title,
+            "here",
+        );
         Self(format!("error: {title}\n{snippet}"))
     }
 }
@@ -109,7 +126,9 @@ fn main() -> ExitCode {
     let status = match cli.command {
         Command::Run(args) => run(&args),
         Command::Machines { action: None } => list_machines(),
-        Command::Machines { action: Some(MachinesAction::Show { name }) } => show_machine(&name),
+        Command::Machines {
+            action: Some(MachinesAction::Show { name }),
+        } => show_machine(&name),
     };
     match status {
         Ok(code) => ExitCode::from(code),
@@ -124,8 +143,13 @@ fn list_machines() -> Result<u8, InputError> {
     let mut out = io::stdout().lock();
     for &name in builtin_names() {
         let description = builtin(name).map(|m| m.name).unwrap_or_default();
-        let marker = if name == DEFAULT_MACHINE { " (default)" } else { "" };
-        writeln!(out, "{name:<16} {description}{marker}").map_err(|e| InputError::io("stdout", &e))?;
+        let marker = if name == DEFAULT_MACHINE {
+            " (default)"
+        } else {
+            ""
+        };
+        writeln!(out, "{name:<16} {description}{marker}")
+            .map_err(|e| InputError::io("stdout", &e))?;
     }
     Ok(EXIT_OK)
 }
@@ -155,7 +179,9 @@ fn load_machine(spec: &str) -> Result<Machine, InputError> {
 }
 
 fn load_offsets(path: Option<&Path>) -> Result<Offsets, InputError> {
-    let Some(path) = path else { return Ok(Offsets::default()) };
+    let Some(path) = path else {
+        return Ok(Offsets::default());
+    };
     let name = path.display().to_string();
     let text = std::fs::read_to_string(path).map_err(|e| InputError::io(&name, &e))?;
     Offsets::from_toml(&text).map_err(|e| InputError::file(&name, &text, &e))
@@ -167,8 +193,11 @@ fn load_offsets(path: Option<&Path>) -> Result<Offsets, InputError> {
 fn open_program(spec: &str) -> Result<File, InputError> {
     if spec == "-" {
         let mut spool = tempfile::tempfile().map_err(|e| InputError::io("temporary file", &e))?;
-        io::copy(&mut io::stdin().lock(), &mut spool).map_err(|e| InputError::io("standard input", &e))?;
-        spool.rewind().map_err(|e| InputError::io("temporary file", &e))?;
+        io::copy(&mut io::stdin().lock(), &mut spool)
+            .map_err(|e| InputError::io("standard input", &e))?;
+        spool
+            .rewind()
+            .map_err(|e| InputError::io("temporary file", &e))?;
         Ok(spool)
     } else {
         File::open(spec).map_err(|e| InputError::io(spec, &e))
@@ -179,9 +208,15 @@ fn run(args: &RunArgs) -> Result<u8, InputError> {
     let machine = load_machine(&args.machine)?;
     let offsets = load_offsets(args.offsets.as_deref())?;
     let file = open_program(&args.program)?;
-    let program_name = if args.program == "-" { "<stdin>" } else { args.program.as_str() };
+    let program_name = if args.program == "-" {
+        "<stdin>"
+    } else {
+        args.program.as_str()
+    };
     let source = ReaderSource::new(BufReader::with_capacity(1 << 16, file));
-    let options = RunOptions { block_delete: args.block_delete };
+    let options = RunOptions {
+        block_delete: args.block_delete,
+    };
     let runner = Runner::new(&machine, offsets, source, options);
     let writer = RowWriter::new(args.format, &machine);
 
@@ -193,15 +228,22 @@ fn run(args: &RunArgs) -> Result<u8, InputError> {
             finish(result, out.flush(), program_name, "standard output")
         }
         Some(path) => {
-            let dir = path.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(Path::new("."));
+            let dir = path
+                .parent()
+                .filter(|d| !d.as_os_str().is_empty())
+                .unwrap_or(Path::new("."));
             let name = path.display().to_string();
-            let temp = tempfile::NamedTempFile::new_in(dir).map_err(|e| InputError::io(&name, &e))?;
+            let temp =
+                tempfile::NamedTempFile::new_in(dir).map_err(|e| InputError::io(&name, &e))?;
             let mut out = BufWriter::with_capacity(1 << 16, temp);
             let result = stream(runner, &writer, args, &mut out);
             let flushed = out.flush();
             let status = finish(result, flushed, program_name, &name)?;
-            let temp = out.into_inner().map_err(|e| InputError::io(&name, e.error()))?;
-            temp.persist(path).map_err(|e| InputError::io(&name, &e.error))?;
+            let temp = out
+                .into_inner()
+                .map_err(|e| InputError::io(&name, e.error()))?;
+            temp.persist(path)
+                .map_err(|e| InputError::io(&name, &e.error))?;
             Ok(status)
         }
     }
@@ -236,15 +278,24 @@ fn stream<S: Source>(
         if let Some(step) = args.step {
             let n = segment.steps(machine, step, args.step_angle);
             for i in 1..n {
-                writer.row(out, &segment.row(machine, f64::from(i) / f64::from(n))).map_err(Stop::Write)?;
+                writer
+                    .row(out, &segment.row(machine, f64::from(i) / f64::from(n)))
+                    .map_err(Stop::Write)?;
             }
         }
-        writer.row(out, &segment.row(machine, 1.0)).map_err(Stop::Write)?;
+        writer
+            .row(out, &segment.row(machine, 1.0))
+            .map_err(Stop::Write)?;
     }
 }
 
 /// Reports how the run ended and gives its exit status.
-fn finish(result: Result<(), Stop>, flushed: io::Result<()>, program: &str, output: &str) -> Result<u8, InputError> {
+fn finish(
+    result: Result<(), Stop>,
+    flushed: io::Result<()>,
+    program: &str,
+    output: &str,
+) -> Result<u8, InputError> {
     match result {
         Ok(()) => {
             flushed.map_err(|e| write_error(output, &e))?;
@@ -254,10 +305,16 @@ fn finish(result: Result<(), Stop>, flushed: io::Result<()>, program: &str, outp
         Err(Stop::Alarm(error)) => match *error {
             RunError::Alarm { alarm, text } => {
                 flushed.map_err(|e| write_error(output, &e))?;
-                eprintln!("ALARM {} line {}: {}", alarm.code, alarm.line, alarm.message);
+                eprintln!(
+                    "ALARM {} line {}: {}",
+                    alarm.code, alarm.line, alarm.message
+                );
                 let span = alarm.span.map(|s| (s.start, s.end));
                 let title = format!("{} {}", alarm.code, alarm.message);
-                eprint!("{}", diagnostic::render(program, alarm.line, &text, span, &title, "here"));
+                eprint!(
+                    "{}",
+                    diagnostic::render(program, alarm.line, &text, span, &title, "here")
+                );
                 eprintln!();
                 Ok(EXIT_ALARM)
             }

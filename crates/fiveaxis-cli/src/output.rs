@@ -47,7 +47,12 @@ impl<'m> RowWriter<'m> {
             .map(|_| false)
             .chain(machine.rotary.iter().map(|r| r.rollover))
             .collect();
-        Self { format, machine, axes, rollover }
+        Self {
+            format,
+            machine,
+            axes,
+            rollover,
+        }
     }
 
     /// The header (CSV only).
@@ -69,7 +74,9 @@ impl<'m> RowWriter<'m> {
             .iter()
             .zip(&self.rollover)
             .map(|(&x, &roll)| if roll { modulo_360(x) } else { x });
-        let pose = [row.tip.x, row.tip.y, row.tip.z, row.dir.x, row.dir.y, row.dir.z];
+        let pose = [
+            row.tip.x, row.tip.y, row.tip.z, row.dir.x, row.dir.y, row.dir.z,
+        ];
         const POSE_KEYS: [&str; 6] = ["tip_x", "tip_y", "tip_z", "tool_i", "tool_j", "tool_k"];
         match self.format {
             Format::Csv => {

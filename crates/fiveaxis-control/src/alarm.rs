@@ -20,7 +20,11 @@ pub struct AlarmCode {
 
 impl AlarmCode {
     const fn new(prefix: &'static str, number: u16, width: u8) -> Self {
-        Self { prefix, number, width }
+        Self {
+            prefix,
+            number,
+            width,
+        }
     }
 
     fn fanuc(control: Control, number: u16) -> Self {
@@ -38,7 +42,13 @@ impl AlarmCode {
 
 impl std::fmt::Display for AlarmCode {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "{}{:0width$}", self.prefix, self.number, width = usize::from(self.width))
+        write!(
+            f,
+            "{}{:0width$}",
+            self.prefix,
+            self.number,
+            width = usize::from(self.width)
+        )
     }
 }
 
@@ -141,7 +151,9 @@ impl Condition {
             Condition::NoDataAfterAddress => "An address with no number after it",
             Condition::BadNumber => "A number that cannot be read",
             Condition::TooManyDigits => "A number with too many digits",
-            Condition::ImproperAddress => "A character or word that is not an address of this control",
+            Condition::ImproperAddress => {
+                "A character or word that is not an address of this control"
+            }
             Condition::UnclosedComment => "A `(` comment without its `)`",
             Condition::CustomMacro => "Custom macro syntax, which the kernel does not read",
             Condition::ImproperGCode => "A G code the control does not have",
@@ -151,18 +163,26 @@ impl Condition {
             Condition::ValueOutOfRange => "A value out of the range the address accepts",
             Condition::FeedZero => "Feed zero or no feed for a cutting move",
             Condition::NoSpindleForFeedPerRev => "Feed per revolution while the spindle is stopped",
-            Condition::ArcRadiusTolerance => "Arc whose end point is not on the circle (FANUC No.3410)",
+            Condition::ArcRadiusTolerance => {
+                "Arc whose end point is not on the circle (FANUC No.3410)"
+            }
             Condition::ArcCenterMissing => "Arc with neither R nor I, J, K",
             Condition::IllegalOffsetNumber => "H or D number beyond the offset memory",
             Condition::IllegalG10P => "G10 with a P out of range",
             Condition::IllegalG10L => "G10 with an L that is not a data-setting format",
             Condition::SubprogramNumberMissing => "M98 without P",
-            Condition::ProgramNotFound => "The called program or sequence number is not in the file",
+            Condition::ProgramNotFound => {
+                "The called program or sequence number is not in the file"
+            }
             Condition::NestingTooDeep => "Subprograms nested deeper than the control allows",
             Condition::OvertravelPlus => "Move beyond the + soft limit",
             Condition::OvertravelMinus => "Move beyond the − soft limit",
-            Condition::ReferenceReturnCheck => "G27 found the axis away from its reference position",
-            Condition::ReferencePositionUndefined => "G30 with a reference position the machine does not define",
+            Condition::ReferenceReturnCheck => {
+                "G27 found the axis away from its reference position"
+            }
+            Condition::ReferencePositionUndefined => {
+                "G30 with a reference position the machine does not define"
+            }
             Condition::GCodeConflict => "Two G codes in one block that cannot go together",
             Condition::DuplicateAddress => "Several words of the same address in one block",
         }
@@ -191,8 +211,20 @@ impl Condition {
             C::NestingTooDeep => Some(77),
             C::ProgramNotFound => Some(78),
             C::ReferenceReturnCheck => Some(92),
-            C::OvertravelPlus => return if fanuc { AlarmCode::new("OT", 500, 4) } else { AlarmCode::kernel(500) },
-            C::OvertravelMinus => return if fanuc { AlarmCode::new("OT", 501, 4) } else { AlarmCode::kernel(501) },
+            C::OvertravelPlus => {
+                return if fanuc {
+                    AlarmCode::new("OT", 500, 4)
+                } else {
+                    AlarmCode::kernel(500)
+                };
+            }
+            C::OvertravelMinus => {
+                return if fanuc {
+                    AlarmCode::new("OT", 501, 4)
+                } else {
+                    AlarmCode::kernel(501)
+                };
+            }
             _ => None,
         };
         // Mitsubishi program errors.
@@ -200,7 +232,9 @@ impl Condition {
             C::ImproperAddress | C::DuplicateAddress => Some(32),
             C::NoDataAfterAddress | C::BadNumber | C::DecimalPointNotAllowed => Some(33),
             C::ImproperGCode | C::GCodeConflict => Some(34),
-            C::ValueOutOfRange | C::TooManyDigits | C::IllegalOffsetNumber | C::IllegalG10P => Some(35),
+            C::ValueOutOfRange | C::TooManyDigits | C::IllegalOffsetNumber | C::IllegalG10P => {
+                Some(35)
+            }
             C::FeedZero => Some(62),
             C::ArcRadiusTolerance => Some(70),
             C::ArcCenterMissing => Some(71),
@@ -269,7 +303,12 @@ pub struct Alarm {
 /// The alarm reference (`docs/alarms.md`), rendered from the code so that
 /// the two cannot drift apart.
 pub fn alarm_reference() -> String {
-    let controls = [Control::Fanuc30i, Control::Fanuc16, Control::Mitsubishi, Control::Mazak];
+    let controls = [
+        Control::Fanuc30i,
+        Control::Fanuc16,
+        Control::Mitsubishi,
+        Control::Mazak,
+    ];
     let mut text = String::from(
         "# Alarm reference\n\n\
          Every condition that stops a program, with the number each control\n\

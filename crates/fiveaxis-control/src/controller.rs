@@ -6,7 +6,7 @@
 //! manuals; where a control family differs, [`crate::dialect`] says how.
 
 use fiveaxis_gcode::{Block, Code, Span, Word};
-use fiveaxis_machine::{Control, Joints, Machine, Offsets, Side, Vec3, MAX_AXES};
+use fiveaxis_machine::{Control, Joints, MAX_AXES, Machine, Offsets, Side, Vec3};
 
 use crate::alarm::{Alarm, Condition};
 use crate::dialect::Dialect;
@@ -258,7 +258,11 @@ impl<'m> Controller<'m> {
             };
         }
         if let Some(code) = codes.distance {
-            modal.distance = if code.major == 90 { Distance::Absolute } else { Distance::Incremental };
+            modal.distance = if code.major == 90 {
+                Distance::Absolute
+            } else {
+                Distance::Incremental
+            };
         }
         if let Some(code) = codes.feed {
             modal.feed_mode = match code.major {
@@ -268,7 +272,11 @@ impl<'m> Controller<'m> {
             };
         }
         if let Some(code) = codes.units {
-            modal.units = if code.major == 20 { Units::Inch } else { Units::Metric };
+            modal.units = if code.major == 20 {
+                Units::Inch
+            } else {
+                Units::Metric
+            };
         }
         if let Some((code, span)) = codes.work {
             self.state.modal.work = self.work_select(code, span)?;
@@ -282,12 +290,18 @@ impl<'m> Controller<'m> {
             return Ok(WorkSelect::Standard((code.major - 54) as u8));
         }
         let p = match self.words.take(b'P') {
-            Some(word) => self.words.integer(&word, fiveaxis_machine::MAX_EXTENDED_WORK)?,
+            Some(word) => self
+                .words
+                .integer(&word, fiveaxis_machine::MAX_EXTENDED_WORK)?,
             // G54.1 without P selects P1 (as Mitsubishi documents).
             None => 1,
         };
         if p == 0 {
-            return Err(self.alarm(Condition::IllegalOffsetNumber, Some(span), "G54.1 P0 does not exist".into()));
+            return Err(self.alarm(
+                Condition::IllegalOffsetNumber,
+                Some(span),
+                "G54.1 P0 does not exist".into(),
+            ));
         }
         Ok(WorkSelect::Extended(p as u8))
     }
@@ -296,7 +310,11 @@ impl<'m> Controller<'m> {
     fn apply_values(&mut self) -> Result<(), Alarm> {
         if let Some(word) = self.words.take(b'F') {
             if word.value < 0.0 {
-                return Err(self.alarm(Condition::ValueOutOfRange, Some(word.span), "F must not be negative".into()));
+                return Err(self.alarm(
+                    Condition::ValueOutOfRange,
+                    Some(word.span),
+                    "F must not be negative".into(),
+                ));
             }
             let scale = match (self.state.modal.feed_mode, self.state.modal.units) {
                 (FeedMode::InverseTime, _) | (_, Units::Metric) => 1.0,
@@ -362,7 +380,10 @@ impl<'m> Controller<'m> {
             return Err(self.alarm(
                 Condition::GCodeConflict,
                 Some(span),
-                format!("more than {} M codes in one block", self.dialect.max_m_codes),
+                format!(
+                    "more than {} M codes in one block",
+                    self.dialect.max_m_codes
+                ),
             ));
         }
         for i in 0..self.words.m_len {
@@ -407,7 +428,11 @@ impl<'m> Controller<'m> {
             ));
         };
         let p = self.words.integer(&p, 99_999_999)?;
-        let (mut repeats, program) = if p > 9999 { (p / 10_000, p % 10_000) } else { (1, p) };
+        let (mut repeats, program) = if p > 9999 {
+            (p / 10_000, p % 10_000)
+        } else {
+            (1, p)
+        };
         if let Some(l) = self.words.take(b'L') {
             repeats = self.words.integer(&l, 9999)?;
         }
@@ -444,7 +469,11 @@ impl<'m> Controller<'m> {
 
     /// The value of an axis word, in mm or degrees.
     fn axis_value(&self, axis: usize, word: &Word) -> f64 {
-        if axis < self.machine.linear.len() { self.length(word) } else { self.angle(word) }
+        if axis < self.machine.linear.len() {
+            self.length(word)
+        } else {
+            self.angle(word)
+        }
     }
 
     /// Axis words of the block, by joint index, marked used.
@@ -502,9 +531,15 @@ impl<'m> Controller<'m> {
     /// Programmed position of every axis at machine position `joints`.
     fn programmed(&self, joints: &Joints) -> Joints {
         let mut p = *joints;
-        let lin = Vec3::new(joints[0], joints[1], joints[2]) - self.work() - self.length_vector(joints);
+        let lin =
+            Vec3::new(joints[0], joints[1], joints[2]) - self.work() - self.length_vector(joints);
         p[..3].copy_from_slice(lin.as_slice());
-        for (i, value) in p.iter_mut().enumerate().skip(3).take(self.machine.axis_count() - 3) {
+        for (i, value) in p
+            .iter_mut()
+            .enumerate()
+            .skip(3)
+            .take(self.machine.axis_count() - 3)
+        {
             *value -= self.state.axis_shift[i];
         }
         p
@@ -514,7 +549,12 @@ impl<'m> Controller<'m> {
     /// machine angles in `p` beyond the shift).
     fn machine_position(&self, p: &Joints) -> Joints {
         let mut joints = *p;
-        for (i, value) in joints.iter_mut().enumerate().skip(3).take(self.machine.axis_count() - 3) {
+        for (i, value) in joints
+            .iter_mut()
+            .enumerate()
+            .skip(3)
+            .take(self.machine.axis_count() - 3)
+        {
             *value += self.state.axis_shift[i];
         }
         let lin = Vec3::new(p[0], p[1], p[2]) + self.work() + self.length_vector(&joints);
@@ -541,7 +581,8 @@ impl<'m> Controller<'m> {
     }
 
     fn is_rollover(&self, index: usize) -> bool {
-        index >= self.machine.linear.len() && self.machine.rotary[index - self.machine.linear.len()].rollover
+        index >= self.machine.linear.len()
+            && self.machine.rotary[index - self.machine.linear.len()].rollover
     }
 
     // ----- motion ---------------------------------------------------------
@@ -565,7 +606,11 @@ impl<'m> Controller<'m> {
         let f = self.state.feed;
         if f <= 0.0 {
             let span = self.words.peek(b'F').map(|w| w.span);
-            return Err(self.alarm(Condition::FeedZero, span, "cutting feed is zero: program F".into()));
+            return Err(self.alarm(
+                Condition::FeedZero,
+                span,
+                "cutting feed is zero: program F".into(),
+            ));
         }
         match self.state.modal.feed_mode {
             FeedMode::PerMinute => Ok(f),
@@ -595,7 +640,12 @@ impl<'m> Controller<'m> {
     /// Motion in the current mode: the block's axis words, or only a
     /// change of the length offset (axes not named move by the change of
     /// the offset vector alone).
-    fn motion(&mut self, from: &Joints, length_changed: bool, out: &mut Vec<Segment>) -> Result<(), Alarm> {
+    fn motion(
+        &mut self,
+        from: &Joints,
+        length_changed: bool,
+        out: &mut Vec<Segment>,
+    ) -> Result<(), Alarm> {
         let targets = self.axis_words();
         let has_axes = targets.iter().any(Option::is_some);
         let mode = self.state.modal.motion;
@@ -610,12 +660,22 @@ impl<'m> Controller<'m> {
         if is_arc && (has_axes || arc_words) {
             return self.arc(mode, start, from, &end_p, end, out);
         }
-        let motion = if mode == MotionMode::Rapid { Motion::Rapid } else { Motion::Linear };
+        let motion = if mode == MotionMode::Rapid {
+            Motion::Rapid
+        } else {
+            Motion::Linear
+        };
         self.push_line(motion, start, end, out)
     }
 
     /// A straight move in joint space (rapid or linear at the modal feed).
-    fn push_line(&self, motion: Motion, start: Joints, end: Joints, out: &mut Vec<Segment>) -> Result<(), Alarm> {
+    fn push_line(
+        &self,
+        motion: Motion,
+        start: Joints,
+        end: Joints,
+        out: &mut Vec<Segment>,
+    ) -> Result<(), Alarm> {
         let mut seg = self.segment(motion, start, end, Path::Joint);
         if !seg.moves() {
             return Ok(());
@@ -666,8 +726,14 @@ impl<'m> Controller<'m> {
                 None => return self.push_line(Motion::Linear, start, end, out),
             }
         } else {
-            let i = self.words.take(CENTER_LETTERS[p]).map_or(0.0, |w| self.length(&w));
-            let j = self.words.take(CENTER_LETTERS[q]).map_or(0.0, |w| self.length(&w));
+            let i = self
+                .words
+                .take(CENTER_LETTERS[p])
+                .map_or(0.0, |w| self.length(&w));
+            let j = self
+                .words
+                .take(CENTER_LETTERS[q])
+                .map_or(0.0, |w| self.length(&w));
             if i == 0.0 && j == 0.0 {
                 return Err(self.alarm(
                     Condition::ArcCenterMissing,
@@ -737,12 +803,21 @@ impl<'m> Controller<'m> {
         // Unit normal to the left of the chord.
         let (np, nq) = (-dq / chord, dp / chord);
         let side = if ccw == (r > 0.0) { 1.0 } else { -1.0 };
-        Ok(Some((sp + dp / 2.0 + side * h * np, sq + dq / 2.0 + side * h * nq)))
+        Ok(Some((
+            sp + dp / 2.0 + side * h * np,
+            sq + dq / 2.0 + side * h * nq,
+        )))
     }
 
     // ----- group 00 -------------------------------------------------------
 
-    fn one_shot(&mut self, code: Code, span: Span, from: &Joints, out: &mut Vec<Segment>) -> Result<(), Alarm> {
+    fn one_shot(
+        &mut self,
+        code: Code,
+        span: Span,
+        from: &Joints,
+        out: &mut Vec<Segment>,
+    ) -> Result<(), Alarm> {
         match code.major {
             4 => self.dwell(span),
             10 => self.data_setting(span),
@@ -769,10 +844,18 @@ impl<'m> Controller<'m> {
         } else if let Some(word) = x {
             self.words.take(b'X');
             if word.value < 0.0 {
-                return Err(self.alarm(Condition::ValueOutOfRange, Some(word.span), "dwell time is negative".into()));
+                return Err(self.alarm(
+                    Condition::ValueOutOfRange,
+                    Some(word.span),
+                    "dwell time is negative".into(),
+                ));
             }
         } else {
-            return Err(self.alarm(Condition::NoDataAfterAddress, Some(span), "G04 needs P (ms) or X (s)".into()));
+            return Err(self.alarm(
+                Condition::NoDataAfterAddress,
+                Some(span),
+                "G04 needs P (ms) or X (s)".into(),
+            ));
         }
         Ok(())
     }
@@ -791,7 +874,11 @@ impl<'m> Controller<'m> {
         match l_value {
             2 | 20 => {
                 let n = self.words.integer(&p, 9999)?;
-                let max = if l_value == 2 { 6 } else { fiveaxis_machine::MAX_EXTENDED_WORK };
+                let max = if l_value == 2 {
+                    6
+                } else {
+                    fiveaxis_machine::MAX_EXTENDED_WORK
+                };
                 if (l_value == 20 && n == 0) || n > max {
                     return Err(self.alarm(
                         Condition::IllegalG10P,
@@ -827,7 +914,11 @@ impl<'m> Controller<'m> {
                     ));
                 }
                 let Some(r) = self.words.take(b'R') else {
-                    return Err(self.alarm(Condition::NoDataAfterAddress, Some(span), "G10 L10-L13 needs R".into()));
+                    return Err(self.alarm(
+                        Condition::NoDataAfterAddress,
+                        Some(span),
+                        "G10 L10-L13 needs R".into(),
+                    ));
                 };
                 let v = self.length(&r);
                 let tool = self.offsets.tools.entry(n).or_default();
@@ -873,7 +964,12 @@ impl<'m> Controller<'m> {
 
     /// G28 / G30: through the intermediate point to reference position `n`,
     /// named axes only. One segment: the intermediate point at s = 0.5.
-    fn reference_return(&mut self, from: &Joints, n: u32, out: &mut Vec<Segment>) -> Result<(), Alarm> {
+    fn reference_return(
+        &mut self,
+        from: &Joints,
+        n: u32,
+        out: &mut Vec<Segment>,
+    ) -> Result<(), Alarm> {
         let reference = match n {
             1 => self.machine.params.reference_1,
             2 => self.machine.params.reference_2,
@@ -915,7 +1011,10 @@ impl<'m> Controller<'m> {
     }
 
     fn is_any_rollover_named(&self, targets: &Targets) -> bool {
-        targets.iter().enumerate().any(|(i, t)| t.is_some() && i < self.machine.axis_count() && self.is_rollover(i))
+        targets
+            .iter()
+            .enumerate()
+            .any(|(i, t)| t.is_some() && i < self.machine.axis_count() && self.is_rollover(i))
     }
 
     /// G53: positioning in machine coordinates, offsets not applied.
@@ -924,7 +1023,11 @@ impl<'m> Controller<'m> {
         for (i, name) in self.machine.axis_names().enumerate() {
             if let Some(word) = self.words.take(name as u8) {
                 let value = self.axis_value(i, &word);
-                end[i] = if self.is_rollover(i) { end[i] + shortest_turn(end[i], value) } else { value };
+                end[i] = if self.is_rollover(i) {
+                    end[i] + shortest_turn(end[i], value)
+                } else {
+                    value
+                };
             }
         }
         self.push_line(Motion::Rapid, self.state.joints, end, out)
@@ -974,11 +1077,12 @@ impl<'m> Controller<'m> {
             }
             Path::Joint => {}
         }
-        let limits = machine
-            .linear
-            .iter()
-            .map(|a| Some((a.min, a.max)))
-            .chain(machine.rotary.iter().map(|r| if r.rollover { None } else { r.limits }));
+        let limits = machine.linear.iter().map(|a| Some((a.min, a.max))).chain(
+            machine
+                .rotary
+                .iter()
+                .map(|r| if r.rollover { None } else { r.limits }),
+        );
         for (i, (limit, name)) in limits.zip(machine.axis_names()).enumerate() {
             let Some((min, max)) = limit else { continue };
             let span = self.words.peek(name as u8).map(|w| w.span);
@@ -986,14 +1090,20 @@ impl<'m> Controller<'m> {
                 return Err(self.alarm(
                     Condition::OvertravelPlus,
                     span,
-                    format!("{name}+ over-travel: {name} would reach {} beyond the soft limit {max}", hi[i]),
+                    format!(
+                        "{name}+ over-travel: {name} would reach {} beyond the soft limit {max}",
+                        hi[i]
+                    ),
                 ));
             }
             if lo[i] < min - LIMIT_TOLERANCE {
                 return Err(self.alarm(
                     Condition::OvertravelMinus,
                     span,
-                    format!("{name}- over-travel: {name} would reach {} beyond the soft limit {min}", lo[i]),
+                    format!(
+                        "{name}- over-travel: {name} would reach {} beyond the soft limit {min}",
+                        lo[i]
+                    ),
                 ));
             }
         }
@@ -1046,7 +1156,11 @@ fn arc_extent(arc: &Arc, k: usize) -> (f64, f64) {
     let mut lo = point(arc.theta0, 0.0).min(point(arc.theta0 + arc.sweep, 1.0));
     let mut hi = point(arc.theta0, 0.0).max(point(arc.theta0 + arc.sweep, 1.0));
     // Quadrant angles inside the sweep are the extremes.
-    let (a, b) = if arc.sweep >= 0.0 { (arc.theta0, arc.theta0 + arc.sweep) } else { (arc.theta0 + arc.sweep, arc.theta0) };
+    let (a, b) = if arc.sweep >= 0.0 {
+        (arc.theta0, arc.theta0 + arc.sweep)
+    } else {
+        (arc.theta0 + arc.sweep, arc.theta0)
+    };
     let quarter = std::f64::consts::FRAC_PI_2;
     let mut q = (a / quarter).ceil() * quarter;
     while q <= b {

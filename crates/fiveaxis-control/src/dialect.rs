@@ -16,9 +16,18 @@ impl Dialect {
     /// The table for `control`.
     pub fn of(control: Control) -> Self {
         match control {
-            Control::Fanuc30i => Self { max_nesting: 10, max_m_codes: 3 },
-            Control::Fanuc16 => Self { max_nesting: 4, max_m_codes: 3 },
-            Control::Mitsubishi | Control::Mazak => Self { max_nesting: 8, max_m_codes: 4 },
+            Control::Fanuc30i => Self {
+                max_nesting: 10,
+                max_m_codes: 3,
+            },
+            Control::Fanuc16 => Self {
+                max_nesting: 4,
+                max_m_codes: 3,
+            },
+            Control::Mitsubishi | Control::Mazak => Self {
+                max_nesting: 8,
+                max_m_codes: 4,
+            },
         }
     }
 }

@@ -16,12 +16,12 @@ mod runner;
 mod segment;
 mod words;
 
-pub use alarm::{alarm_reference, Alarm, AlarmCode, Condition};
+pub use alarm::{Alarm, AlarmCode, Condition, alarm_reference};
 pub use controller::{
-    shortest_turn, Controller, Flow, ARC_RADIUS_TOLERANCE, MAX_TOOL_OFFSET, POSITION_TOLERANCE,
-    REFERENCE_CHECK_TOLERANCE,
+    ARC_RADIUS_TOLERANCE, Controller, Flow, MAX_TOOL_OFFSET, POSITION_TOLERANCE,
+    REFERENCE_CHECK_TOLERANCE, shortest_turn,
 };
 pub use dialect::Dialect;
 pub use modal::{Distance, FeedMode, LengthMode, Modal, MotionMode, Plane, Units, WorkSelect};
-pub use runner::{RunError, RunOptions, Runner, SliceSource, Source, ReaderSource};
-pub use segment::{Arc, Motion, Path, Row, Segment, MAX_STEPS};
+pub use runner::{ReaderSource, RunError, RunOptions, Runner, SliceSource, Source};
+pub use segment::{Arc, MAX_STEPS, Motion, Path, Row, Segment};

@@ -8,7 +8,7 @@
 
 use std::io::{self, BufRead, Seek, SeekFrom};
 
-use fiveaxis_gcode::{parse_line, Block, SyntaxError, SyntaxErrorKind};
+use fiveaxis_gcode::{Block, SyntaxError, SyntaxErrorKind, parse_line};
 use fiveaxis_machine::{Machine, Offsets};
 
 use crate::alarm::{Alarm, Condition};
@@ -60,7 +60,9 @@ impl Source for SliceSource<'_> {
     }
 
     fn seek(&mut self, offset: u64) -> io::Result<()> {
-        self.pos = usize::try_from(offset).unwrap_or(usize::MAX).min(self.data.len());
+        self.pos = usize::try_from(offset)
+            .unwrap_or(usize::MAX)
+            .min(self.data.len());
         Ok(())
     }
 }
@@ -213,26 +215,41 @@ impl<'m, S: Source> Runner<'m, S> {
 
     /// Reads and executes one line.
     fn step(&mut self) -> Result<(), RunError> {
-        let here = Mark { offset: self.source.position(), line: self.next_line };
+        let here = Mark {
+            offset: self.source.position(),
+            line: self.next_line,
+        };
         if !self.source.read_line(&mut self.text)? {
             return self.end_of_program();
         }
         self.next_line += 1;
         let sequential = here.offset >= self.scanned.offset;
         if sequential {
-            self.scanned = Mark { offset: self.source.position(), line: self.next_line };
+            self.scanned = Mark {
+                offset: self.source.position(),
+                line: self.next_line,
+            };
         }
         if let Err(error) = parse_line(&self.text, here.line, &mut self.block) {
             return Err(self.syntax_alarm(here.line, error));
         }
-        let program = self.block.words.first().filter(|w| w.letter == b'O').map(|w| w.value as u32);
+        let program = self
+            .block
+            .words
+            .first()
+            .filter(|w| w.letter == b'O')
+            .map(|w| w.value as u32);
         if let Some(number) = program
             && sequential
         {
             self.labels.push((number, here));
         }
         if self.block.tape_mark {
-            return if self.at_program_start && self.stack.is_empty() { Ok(()) } else { self.end_of_program() };
+            return if self.at_program_start && self.stack.is_empty() {
+                Ok(())
+            } else {
+                self.end_of_program()
+            };
         }
         if program.is_some() {
             if !self.at_program_start {
@@ -280,7 +297,10 @@ impl<'m, S: Source> Runner<'m, S> {
                 format!("subprograms nested deeper than {} levels", self.max_nesting),
             ));
         }
-        let return_to = Mark { offset: self.source.position(), line: self.next_line };
+        let return_to = Mark {
+            offset: self.source.position(),
+            line: self.next_line,
+        };
         let Some(start) = self.find_program(program)? else {
             return Err(self.runner_alarm(
                 Condition::ProgramNotFound,
@@ -288,7 +308,11 @@ impl<'m, S: Source> Runner<'m, S> {
                 format!("program O{program} is not in this file"),
             ));
         };
-        self.stack.push(Frame { return_to, start, repeats_left: repeats - 1 });
+        self.stack.push(Frame {
+            return_to,
+            start,
+            repeats_left: repeats - 1,
+        });
         self.jump(start)
     }
 
@@ -337,7 +361,10 @@ impl<'m, S: Source> Runner<'m, S> {
         if let Some(&(_, mark)) = self.labels.iter().find(|(n, _)| *n == number) {
             return Ok(Some(mark));
         }
-        let resume = Mark { offset: self.source.position(), line: self.next_line };
+        let resume = Mark {
+            offset: self.source.position(),
+            line: self.next_line,
+        };
         self.source.seek(self.scanned.offset)?;
         let mut line = self.scanned.line;
         let mut found = None;
@@ -356,7 +383,10 @@ impl<'m, S: Source> Runner<'m, S> {
                 }
             }
         }
-        self.scanned = Mark { offset: self.source.position(), line };
+        self.scanned = Mark {
+            offset: self.source.position(),
+            line,
+        };
         self.source.seek(resume.offset)?;
         self.next_line = resume.line;
         Ok(found)
@@ -375,7 +405,9 @@ impl<'m, S: Source> Runner<'m, S> {
                 }
                 let mark = Mark { offset, line };
                 line += 1;
-                if parse_line(&self.text, mark.line, &mut self.block).is_ok() && self.block.sequence == Some(n) {
+                if parse_line(&self.text, mark.line, &mut self.block).is_ok()
+                    && self.block.sequence == Some(n)
+                {
                     return Ok(Some(mark));
                 }
             }
@@ -388,12 +420,21 @@ impl<'m, S: Source> Runner<'m, S> {
     }
 
     fn alarm_here(&self, alarm: Alarm) -> RunError {
-        RunError::Alarm { alarm, text: self.text() }
+        RunError::Alarm {
+            alarm,
+            text: self.text(),
+        }
     }
 
     fn runner_alarm(&self, condition: Condition, line: u32, message: String) -> RunError {
         let control = self.controller.control();
-        let alarm = Alarm { condition, code: condition.code(control), line, span: None, message };
+        let alarm = Alarm {
+            condition,
+            code: condition.code(control),
+            line,
+            span: None,
+            message,
+        };
         self.alarm_here(alarm)
     }
 
@@ -428,7 +469,14 @@ fn program_number(text: &[u8]) -> Option<u32> {
     for &b in rest {
         match b {
             b' ' | b'\t' => {}
-            b'0'..=b'9' => number = Some(number.unwrap_or(0).checked_mul(10)?.checked_add(u32::from(b - b'0'))?),
+            b'0'..=b'9' => {
+                number = Some(
+                    number
+                        .unwrap_or(0)
+                        .checked_mul(10)?
+                        .checked_add(u32::from(b - b'0'))?,
+                )
+            }
             _ => break,
         }
     }

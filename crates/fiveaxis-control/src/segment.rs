@@ -175,9 +175,15 @@ impl Segment {
             Path::Joint => (tip_end - tip_start).norm(),
         };
         let count = |span: f64, limit: f64| {
-            if limit > 0.0 && span.is_finite() { (span / limit).ceil().min(f64::from(MAX_STEPS)) } else { 1.0 }
+            if limit > 0.0 && span.is_finite() {
+                (span / limit).ceil().min(f64::from(MAX_STEPS))
+            } else {
+                1.0
+            }
         };
-        let mut n = count(chord, step).max(count(rotary_span, step_angle)).max(1.0) as u32;
+        let mut n = count(chord, step)
+            .max(count(rotary_span, step_angle))
+            .max(1.0) as u32;
         while n < MAX_STEPS && !self.steps_within(machine, n, step) {
             n = (n * 2).min(MAX_STEPS);
         }
@@ -188,7 +194,9 @@ impl Segment {
         let bound = step * (1.0 + STEP_SLACK);
         let mut previous = machine.forward(&self.start, self.tool_length).tip;
         (1..=n).all(|i| {
-            let tip = machine.forward(&self.eval(f64::from(i) / f64::from(n)), self.tool_length).tip;
+            let tip = machine
+                .forward(&self.eval(f64::from(i) / f64::from(n)), self.tool_length)
+                .tip;
             let ok = (tip - previous).norm() <= bound;
             previous = tip;
             ok

@@ -53,7 +53,13 @@ impl Words {
 
     /// An alarm for this block.
     pub fn alarm(&self, condition: Condition, span: Option<Span>, message: String) -> Alarm {
-        Alarm { condition, code: condition.code(self.control), line: self.line, span, message }
+        Alarm {
+            condition,
+            code: condition.code(self.control),
+            line: self.line,
+            span,
+            message,
+        }
     }
 
     /// Sorts `block`'s words. Alarms on an address the machine does not
@@ -73,7 +79,10 @@ impl Words {
                         return Err(self.alarm(
                             Condition::ImproperAddress,
                             Some(word.span),
-                            format!("address {} is not used by this control or machine", char::from(letter)),
+                            format!(
+                                "address {} is not used by this control or machine",
+                                char::from(letter)
+                            ),
                         ));
                     }
                     let slot = &mut self.by_letter[index(letter)];
@@ -94,8 +103,16 @@ impl Words {
     fn push_code(&mut self, word: &Word) -> Result<(), Alarm> {
         let letter = char::from(word.letter);
         let Some(code) = word.code else {
-            let condition = if letter == 'G' { Condition::ImproperGCode } else { Condition::UnsupportedMCode };
-            return Err(self.alarm(condition, Some(word.span), format!("{letter}{} is not a valid code", word.value)));
+            let condition = if letter == 'G' {
+                Condition::ImproperGCode
+            } else {
+                Condition::UnsupportedMCode
+            };
+            return Err(self.alarm(
+                condition,
+                Some(word.span),
+                format!("{letter}{} is not a valid code", word.value),
+            ));
         };
         let (list, len, max) = if letter == 'G' {
             (&mut self.g[..], &mut self.g_len, MAX_G_CODES)
@@ -142,7 +159,10 @@ impl Words {
                 return Err(self.alarm(
                     Condition::WordNotUsed,
                     Some(word.span),
-                    format!("address {} has no meaning in this block", char::from(word.letter)),
+                    format!(
+                        "address {} has no meaning in this block",
+                        char::from(word.letter)
+                    ),
                 ));
             }
         }
@@ -173,6 +193,8 @@ impl Words {
 
 /// Whether `letter` is an address of the kernel on this machine.
 fn is_address(letter: u8, machine: &Machine) -> bool {
-    matches!(letter, b'F' | b'S' | b'T' | b'H' | b'D' | b'I' | b'J' | b'K' | b'R' | b'P' | b'L' | b'Q' | b'O')
-        || machine.axis_index(char::from(letter)).is_some()
+    matches!(
+        letter,
+        b'F' | b'S' | b'T' | b'H' | b'D' | b'I' | b'J' | b'K' | b'R' | b'P' | b'L' | b'Q' | b'O'
+    ) || machine.axis_index(char::from(letter)).is_some()
 }

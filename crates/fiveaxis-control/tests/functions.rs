@@ -4,7 +4,7 @@
 //! arithmetic.
 
 use fiveaxis_control::{Alarm, Row, RunError, RunOptions, Runner, SliceSource};
-use fiveaxis_machine::{builtin, Control, Machine, Offsets, ToolOffset, Vec3};
+use fiveaxis_machine::{Control, Machine, Offsets, ToolOffset, Vec3, builtin};
 
 const EPS: f64 = 1e-9;
 
@@ -14,8 +14,22 @@ fn machine(name: &str) -> Machine {
 
 fn offsets() -> Offsets {
     let mut o = Offsets::default();
-    o.tools.insert(1, ToolOffset { length: 100.0, radius: 5.0, ..ToolOffset::default() });
-    o.tools.insert(2, ToolOffset { length: 50.0, length_wear: -0.5, ..ToolOffset::default() });
+    o.tools.insert(
+        1,
+        ToolOffset {
+            length: 100.0,
+            radius: 5.0,
+            ..ToolOffset::default()
+        },
+    );
+    o.tools.insert(
+        2,
+        ToolOffset {
+            length: 50.0,
+            length_wear: -0.5,
+            ..ToolOffset::default()
+        },
+    );
     o.work[1] = Vec3::new(100.0, 0.0, -50.0);
     o.extended_work[1] = Vec3::new(10.0, 20.0, 30.0);
     o
@@ -27,8 +41,19 @@ struct Run {
 }
 
 /// Runs `program`, sampling each segment at `samples` equal steps.
-fn run_sampled(program: &str, machine: &Machine, offsets: Offsets, options: RunOptions, samples: u32) -> Run {
-    let mut runner = Runner::new(machine, offsets, SliceSource::new(program.as_bytes()), options);
+fn run_sampled(
+    program: &str,
+    machine: &Machine,
+    offsets: Offsets,
+    options: RunOptions,
+    samples: u32,
+) -> Run {
+    let mut runner = Runner::new(
+        machine,
+        offsets,
+        SliceSource::new(program.as_bytes()),
+        options,
+    );
     let mut rows = Vec::new();
     loop {
         match runner.next_segment() {
@@ -38,7 +63,12 @@ fn run_sampled(program: &str, machine: &Machine, offsets: Offsets, options: RunO
                 }
             }
             Ok(None) => return Run { rows, alarm: None },
-            Err(RunError::Alarm { alarm, .. }) => return Run { rows, alarm: Some(alarm) },
+            Err(RunError::Alarm { alarm, .. }) => {
+                return Run {
+                    rows,
+                    alarm: Some(alarm),
+                };
+            }
             Err(RunError::Io(e)) => panic!("io error {e}"),
         }
     }
@@ -54,7 +84,18 @@ fn run(program: &str) -> Run {
 
 fn ends(run: &Run) -> Vec<[f64; 5]> {
     assert!(run.alarm.is_none(), "unexpected alarm {:?}", run.alarm);
-    run.rows.iter().map(|r| [r.joints[0], r.joints[1], r.joints[2], r.joints[3], r.joints[4]]).collect()
+    run.rows
+        .iter()
+        .map(|r| {
+            [
+                r.joints[0],
+                r.joints[1],
+                r.joints[2],
+                r.joints[3],
+                r.joints[4],
+            ]
+        })
+        .collect()
 }
 
 fn assert_close(a: &[f64], b: &[f64]) {
@@ -65,7 +106,10 @@ fn assert_close(a: &[f64], b: &[f64]) {
 }
 
 fn alarm_code(run: &Run) -> String {
-    run.alarm.as_ref().map(|a| a.code.to_string()).unwrap_or_else(|| "none".into())
+    run.alarm
+        .as_ref()
+        .map(|a| a.code.to_string())
+        .unwrap_or_else(|| "none".into())
 }
 
 #[test]
@@ -114,7 +158,9 @@ fn work_offsets_shift_machine_positions_and_tip_stays_in_part_frame() {
 
 #[test]
 fn g10_sets_work_and_tool_offsets() {
-    let r = run("G10 L2 P1 X5. Y6. Z7.\nG0 X0 Y0 Z0\nG91 G10 L2 P1 X1.\nG90 G0 X0\nG10 L20 P3 X-1.\nG54.1 P3 G0 X0\n");
+    let r = run(
+        "G10 L2 P1 X5. Y6. Z7.\nG0 X0 Y0 Z0\nG91 G10 L2 P1 X1.\nG90 G0 X0\nG10 L20 P3 X-1.\nG54.1 P3 G0 X0\n",
+    );
     let e = ends(&r);
     assert_close(&e[0], &[5.0, 6.0, 7.0, 0.0, 0.0]);
     assert_close(&e[1], &[6.0, 6.0, 7.0, 0.0, 0.0]);
@@ -148,7 +194,10 @@ fn length_compensation_along_tool_axis_puts_the_tip_on_the_programmed_point() {
     // Head-head C/A with a pivot 150 above the gauge point: forward
     // kinematics of the machine position must give the programmed tip.
     let m = machine("head-head-ca");
-    let r = run_on("G0 A30. C45.\nG43.1 H1 X10. Y20. Z30.\nX-5. A-20. C10.\n", &m);
+    let r = run_on(
+        "G0 A30. C45.\nG43.1 H1 X10. Y20. Z30.\nX-5. A-20. C10.\n",
+        &m,
+    );
     assert!(r.alarm.is_none(), "{:?}", r.alarm);
     assert_close(r.rows[1].tip.as_slice(), &[10.0, 20.0, 30.0]);
     assert_close(r.rows[2].tip.as_slice(), &[-5.0, 20.0, 30.0]);
@@ -162,13 +211,23 @@ fn length_compensation_along_tool_axis_puts_the_tip_on_the_programmed_point() {
 #[test]
 fn full_circle_with_center_words_turns_clockwise() {
     let m = machine("trunnion-ac");
-    let r = run_sampled("G0 X10. Y0\nG2 I-10. F100.\n", &m, offsets(), RunOptions::default(), 4);
+    let r = run_sampled(
+        "G0 X10. Y0\nG2 I-10. F100.\n",
+        &m,
+        offsets(),
+        RunOptions::default(),
+        4,
+    );
     assert!(r.alarm.is_none());
     let arc = &r.rows[4..];
     // Quarter steps clockwise from (10, 0): (0,-10), (-10,0), (0,10), (10,0).
     let expected = [[0.0, -10.0], [-10.0, 0.0], [0.0, 10.0], [10.0, 0.0]];
     for (row, xy) in arc.iter().zip(expected) {
-        assert!((row.tip.x - xy[0]).abs() < 1e-9 && (row.tip.y - xy[1]).abs() < 1e-9, "{:?}", row.tip);
+        assert!(
+            (row.tip.x - xy[0]).abs() < 1e-9 && (row.tip.y - xy[1]).abs() < 1e-9,
+            "{:?}",
+            row.tip
+        );
         assert_eq!(row.motion.name(), "cw");
         assert_eq!(row.feed, Some(100.0));
     }
@@ -178,38 +237,80 @@ fn full_circle_with_center_words_turns_clockwise() {
 fn radius_arcs_take_the_minor_or_major_arc_by_sign() {
     let m = machine("trunnion-ac");
     let half = 1.0 - std::f64::consts::FRAC_1_SQRT_2;
-    let r = run_sampled("G0 X0 Y0\nG2 X10. Y10. R10. F100.\n", &m, offsets(), RunOptions::default(), 2);
+    let r = run_sampled(
+        "G0 X0 Y0\nG2 X10. Y10. R10. F100.\n",
+        &m,
+        offsets(),
+        RunOptions::default(),
+        2,
+    );
     // Centre (10, 0); half way at 135 degrees.
-    assert_close(&[r.rows[0].tip.x, r.rows[0].tip.y], &[10.0 - 10.0 * (1.0 - half), 10.0 * (1.0 - half)]);
-    let r = run_sampled("G0 X0 Y0\nG2 X10. Y10. R-10. F100.\n", &m, offsets(), RunOptions::default(), 2);
+    assert_close(
+        &[r.rows[0].tip.x, r.rows[0].tip.y],
+        &[10.0 - 10.0 * (1.0 - half), 10.0 * (1.0 - half)],
+    );
+    let r = run_sampled(
+        "G0 X0 Y0\nG2 X10. Y10. R-10. F100.\n",
+        &m,
+        offsets(),
+        RunOptions::default(),
+        2,
+    );
     // Centre (0, 10); 270 degrees clockwise from -90: half way at 135.
-    let (x, y) = (10.0 * (135f64).to_radians().cos(), 10.0 + 10.0 * (135f64).to_radians().sin());
+    let (x, y) = (
+        10.0 * (135f64).to_radians().cos(),
+        10.0 + 10.0 * (135f64).to_radians().sin(),
+    );
     assert_close(&[r.rows[0].tip.x, r.rows[0].tip.y], &[x, y]);
 }
 
 #[test]
 fn helical_arc_and_zx_plane_direction() {
     let m = machine("trunnion-ac");
-    let r = run_sampled("G0 X10. Y0 Z0\nG3 X-10. Z-4. I-10. F100.\n", &m, offsets(), RunOptions::default(), 2);
+    let r = run_sampled(
+        "G0 X10. Y0 Z0\nG3 X-10. Z-4. I-10. F100.\n",
+        &m,
+        offsets(),
+        RunOptions::default(),
+        2,
+    );
     assert_close(r.rows[2].tip.as_slice(), &[0.0, 10.0, -2.0]);
     // G18: from X10 to Z10 about the origin, clockwise seen from +Y.
-    let r = run_sampled("G18 G0 X10. Z0\nG2 X0 Z10. I-10. F100.\n", &m, offsets(), RunOptions::default(), 2);
+    let r = run_sampled(
+        "G18 G0 X10. Z0\nG2 X0 Z10. I-10. F100.\n",
+        &m,
+        offsets(),
+        RunOptions::default(),
+        2,
+    );
     let h = 10.0 * std::f64::consts::FRAC_1_SQRT_2;
     assert_close(r.rows[2].tip.as_slice(), &[h, 0.0, h]);
 }
 
 #[test]
 fn arc_alarms() {
-    assert_eq!(alarm_code(&run("G0 X0 Y0\nG2 X10. Y0 I4. F100.\n")), "PS0020");
+    assert_eq!(
+        alarm_code(&run("G0 X0 Y0\nG2 X10. Y0 I4. F100.\n")),
+        "PS0020"
+    );
     assert_eq!(alarm_code(&run("G0 X0 Y0\nG2 X10. Y0 F100.\n")), "PS0022");
-    assert_eq!(alarm_code(&run("G0 X0 Y0\nG2 X10. Y0 R2. F100.\n")), "PS0020");
+    assert_eq!(
+        alarm_code(&run("G0 X0 Y0\nG2 X10. Y0 R2. F100.\n")),
+        "PS0020"
+    );
 }
 
 #[test]
 fn reference_returns_pass_the_intermediate_point() {
     let mut m = machine("trunnion-ac");
     m.params.reference_2 = [1.0, 2.0, 3.0, 0.0, 0.0, 0.0, 0.0, 0.0];
-    let r = run_sampled("G0 X50. Y40. Z30.\nG28 X10. Y10.\nG30 Z5.\n", &m, offsets(), RunOptions::default(), 2);
+    let r = run_sampled(
+        "G0 X50. Y40. Z30.\nG28 X10. Y10.\nG30 Z5.\n",
+        &m,
+        offsets(),
+        RunOptions::default(),
+        2,
+    );
     assert!(r.alarm.is_none(), "{:?}", r.alarm);
     // s = 0.5 is the intermediate point, s = 1 the reference position;
     // Z, not named, stays.
@@ -250,7 +351,8 @@ fn rollover_axis_takes_the_short_way() {
 
 #[test]
 fn subprograms_with_repeats_and_returns() {
-    let program = "O0001\nG0 X0\nM98 P1000 L3\nM98 P21000\nG0 Y1.\nM30\nO1000\nG91 X1.\nG90\nM99\n%\n";
+    let program =
+        "O0001\nG0 X0\nM98 P1000 L3\nM98 P21000\nG0 Y1.\nM30\nO1000\nG91 X1.\nG90\nM99\n%\n";
     let r = run(program);
     let e = ends(&r);
     // G0 X0 does not move; three calls, then two, each X+1.
@@ -268,7 +370,10 @@ fn subprogram_alarms() {
     assert_eq!(alarm_code(&run("M98 P1\nM30\nO1\nM98 P1\nM99\n")), "PS0077");
     let mut m = machine("trunnion-ac");
     m.control = Control::Fanuc16;
-    assert_eq!(alarm_code(&run_on("M98 P1\nM30\nO1\nM98 P1\nM99\n", &m)), "PS077");
+    assert_eq!(
+        alarm_code(&run_on("M98 P1\nM30\nO1\nM98 P1\nM99\n", &m)),
+        "PS077"
+    );
 }
 
 #[test]
@@ -283,7 +388,15 @@ fn return_to_a_sequence_number() {
 fn block_delete_switch() {
     let m = machine("trunnion-ac");
     let program = "G0 X1.\n/G0 X2.\n";
-    let off = run_sampled(program, &m, offsets(), RunOptions { block_delete: false }, 1);
+    let off = run_sampled(
+        program,
+        &m,
+        offsets(),
+        RunOptions {
+            block_delete: false,
+        },
+        1,
+    );
     let on = run_sampled(program, &m, offsets(), RunOptions { block_delete: true }, 1);
     assert_eq!(off.rows.len(), 2);
     assert_eq!(on.rows.len(), 1);
@@ -298,7 +411,10 @@ fn soft_limits_stop_before_the_move() {
     assert_eq!(alarm_code(&run("G0 Z-301.\n")), "OT0501");
     assert_eq!(alarm_code(&run("G0 A31.\n")), "OT0500");
     // Both end points inside, the arc bulges out past X 500.
-    assert_eq!(alarm_code(&run("G0 X490. Y-10.\nG3 Y10. R-15. F100.\n")), "OT0500");
+    assert_eq!(
+        alarm_code(&run("G0 X490. Y-10.\nG3 Y10. R-15. F100.\n")),
+        "OT0500"
+    );
     // The intermediate point of G28 is checked too.
     assert_eq!(alarm_code(&run("G28 X700.\n")), "OT0500");
 }
