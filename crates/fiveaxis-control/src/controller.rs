@@ -6,7 +6,7 @@
 //! manuals; where a control family differs, [`crate::dialect`] says how.
 
 use fiveaxis_gcode::{Block, Code, Span, Word};
-use fiveaxis_machine::{Control, Joints, MAX_AXES, Machine, Offsets, Side, Vec3};
+use fiveaxis_machine::{MAX_TOOL_OFFSET, Control, Joints, MAX_AXES, Machine, Offsets, Side, Vec3};
 
 use crate::alarm::{Alarm, Condition};
 use crate::dialect::Dialect;
@@ -1110,9 +1110,6 @@ impl<'m> Controller<'m> {
         Ok(())
     }
 }
-
-/// Highest H and D number (the offset memory's size).
-pub const MAX_TOOL_OFFSET: u32 = 999;
 
 /// How far past a soft limit rounding may carry a position, mm or degrees.
 const LIMIT_TOLERANCE: f64 = 1e-9;

@@ -18,7 +18,7 @@ mod words;
 
 pub use alarm::{Alarm, AlarmCode, Condition, alarm_reference};
 pub use controller::{
-    ARC_RADIUS_TOLERANCE, Controller, Flow, MAX_TOOL_OFFSET, POSITION_TOLERANCE,
+    ARC_RADIUS_TOLERANCE, Controller, Flow, POSITION_TOLERANCE,
     REFERENCE_CHECK_TOLERANCE, shortest_turn,
 };
 pub use dialect::Dialect;

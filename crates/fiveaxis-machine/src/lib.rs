@@ -10,11 +10,13 @@
 
 mod builtin;
 mod file;
+mod inverse;
 mod kinematics;
 mod offsets;
 
 pub use builtin::{DEFAULT_MACHINE, builtin, builtin_names, builtin_source};
 pub use file::FileError;
+pub use inverse::{Orientations, SINGULAR_TOLERANCE, principal, turn_angle};
 pub use kinematics::{Pose, rotation};
 pub use offsets::{MAX_EXTENDED_WORK, MAX_TOOL_OFFSET, Offsets, SetupErrorSet, ToolOffset};
 

@@ -1,0 +1,227 @@
+//! Inverse kinematics: the rotary angles that point the tool along a
+//! direction, and the linear axes that put the tip on a point.
+//!
+//! Two rotary axes make the orientation equation `R_H·t0 = R_T·v` a
+//! Paden–Kahan subproblem 2 (`R(ωa, θa)·R(ωb, θb)·p = q`), solved in closed
+//! form for any axis directions, nutating heads and tables included:
+//!
+//! * head-head `[h0, h1]`: `R(ω0, θ0)·R(ω1, θ1)·t0 = v`;
+//! * table-table `[t0, t1]`: `R(ω0, θ0)·R(ω1, θ1)·v = t0`;
+//! * mixed: `R(ωt, −θt)·R(ωh, θh)·t0 = v`.
+//!
+//! It has at most two solutions. When the direction lies on the line of the
+//! axis applied first (p ∥ ωb) or last (q ∥ ωa), that axis can take any
+//! angle: it holds the angle it has, and the other axis alone meets the
+//! direction (subproblem 1). The answer is exact: forward kinematics of it
+//! gives the commanded direction to rounding.
+
+use nalgebra::Unit;
+
+use crate::{Joints, Machine, Side, Vec3};
+
+/// Below this sine of the angle between a direction and a rotation line,
+/// the rotation line counts as through the direction and its angle is free
+/// (the singular point).
+pub const SINGULAR_TOLERANCE: f64 = 1e-12;
+
+/// How far a direction may miss the reachable set and still be met, as a
+/// squared length (rounding of the subproblem arithmetic).
+const REACH_TOLERANCE: f64 = 1e-12;
+
+/// Up to two pairs of rotary angles (degrees, in (−180, 180]) for the two
+/// rotary axes in machine-file order.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Orientations {
+    pairs: [[f64; 2]; 2],
+    len: usize,
+    /// Which axis (0 or 1, file order) was free at a singular direction and
+    /// kept its held angle.
+    pub free_axis: Option<usize>,
+}
+
+impl Orientations {
+    fn none() -> Self {
+        Self {
+            pairs: [[0.0; 2]; 2],
+            len: 0,
+            free_axis: None,
+        }
+    }
+
+    fn push(&mut self, pair: [f64; 2]) {
+        if self.len < 2 && !self.pairs[..self.len].contains(&pair) {
+            self.pairs[self.len] = pair;
+            self.len += 1;
+        }
+    }
+
+    /// The angle pairs found.
+    pub fn pairs(&self) -> &[[f64; 2]] {
+        &self.pairs[..self.len]
+    }
+
+    /// Whether the direction cannot be reached.
+    pub fn is_empty(&self) -> bool {
+        self.len == 0
+    }
+}
+
+/// Angle in degrees that turns `p` about `axis` onto `q` (subproblem 1),
+/// both projected onto the plane normal to `axis`; `None` when `p` lies on
+/// the axis (any angle does).
+pub fn turn_angle(axis: &Unit<Vec3>, p: &Vec3, q: &Vec3) -> Option<f64> {
+    let w = axis.into_inner();
+    let pp = p - w * w.dot(p);
+    let qp = q - w * w.dot(q);
+    if pp.norm() <= SINGULAR_TOLERANCE * p.norm().max(1.0) {
+        return None;
+    }
+    Some(w.dot(&pp.cross(&qp)).atan2(pp.dot(&qp)).to_degrees())
+}
+
+/// `degrees` reduced to (−180, 180].
+pub fn principal(degrees: f64) -> f64 {
+    let r = degrees.rem_euclid(360.0);
+    if r > 180.0 { r - 360.0 } else { r }
+}
+
+impl Machine {
+    /// The rotary angle pairs that point the tool along `dir` (a unit
+    /// vector in the table frame). `held` gives the angles a free axis
+    /// keeps at a singular direction. Machines with other than two rotary
+    /// axes have no pairs.
+    pub fn orientations(&self, dir: &Vec3, held: [f64; 2]) -> Orientations {
+        if self.rotary.len() != 2 {
+            return Orientations::none();
+        }
+        let t0 = self.tool_direction.into_inner();
+        // The machine as R(ωa, θa)·R(ωb, θb)·p = q: which file axis is a
+        // and b, and the sign of its angle (a table axis turns the part
+        // the other way relative to the tool).
+        let (file_index, sign, p, q) = match (self.rotary[0].on, self.rotary[1].on) {
+            (Side::Head, Side::Head) => ([0, 1], [1.0, 1.0], t0, *dir),
+            (Side::Table, Side::Table) => ([0, 1], [1.0, 1.0], *dir, t0),
+            (Side::Head, Side::Table) => ([1, 0], [-1.0, 1.0], t0, *dir),
+            (Side::Table, Side::Head) => ([0, 1], [-1.0, 1.0], t0, *dir),
+        };
+        let axes = [self.rotary[0].axis, self.rotary[1].axis];
+        let (wa, wb) = (axes[file_index[0]], axes[file_index[1]]);
+        let held_ab = [sign[0] * held[file_index[0]], sign[1] * held[file_index[1]]];
+        let mut out = Orientations::none();
+        let mut free = None;
+        for [a, b] in subproblem_2(&wa, &wb, &p, &q, held_ab, &mut free) {
+            let mut pair = [0.0; 2];
+            pair[file_index[0]] = principal(sign[0] * a);
+            pair[file_index[1]] = principal(sign[1] * b);
+            out.push(pair);
+        }
+        out.free_axis = free.map(|k| file_index[k]);
+        out
+    }
+
+    /// Machine position of the linear axes X, Y, Z that put the tool tip
+    /// of length `tool_length` on `tip` (table frame) with the rotary axes
+    /// at the angles in `joints`.
+    pub fn gauge_for_tip(&self, joints: &Joints, tip: &Vec3, tool_length: f64) -> Vec3 {
+        let table = self.chain(Side::Table, joints);
+        let head = self.chain(Side::Head, joints);
+        let tip_machine = table.transform_point(&(*tip).into()).coords;
+        let t0 = self.tool_direction.into_inner();
+        tip_machine - head.transform_point(&(-tool_length * t0).into()).coords
+    }
+}
+
+/// Solves `R(ωa, θa)·R(ωb, θb)·p = q` for unit `p`, `q`: up to two
+/// `[θa, θb]` in degrees. A free angle (p on ωb, or q on ωa) keeps its
+/// value from `held` and is reported in `free`.
+fn subproblem_2(
+    wa: &Unit<Vec3>,
+    wb: &Unit<Vec3>,
+    p: &Vec3,
+    q: &Vec3,
+    held: [f64; 2],
+    free: &mut Option<usize>,
+) -> Vec2Solutions {
+    let mut out = Vec2Solutions::default();
+    // q on ωa: θa is free; hold it and turn p about ωb onto R(ωa, −θa)·q.
+    if wa.cross(q).norm() <= SINGULAR_TOLERANCE {
+        *free = Some(0);
+        match turn_angle(wb, p, q) {
+            Some(b) if reaches(wb, p, q) => out.push([held[0], b]),
+            Some(_) => {}
+            // p on ωb as well: both free; reachable only if p is q.
+            None if (p - q).norm() <= REACH_TOLERANCE.sqrt() => out.push(held),
+            None => {}
+        }
+        return out;
+    }
+    // p on ωb: θb is free; hold it and turn p about ωa onto q.
+    if wb.cross(p).norm() <= SINGULAR_TOLERANCE {
+        *free = Some(1);
+        if let Some(a) = turn_angle(wa, p, q).filter(|_| reaches(wa, p, q)) {
+            out.push([a, held[1]]);
+        }
+        return out;
+    }
+    let (ua, ub) = (wa.into_inner(), wb.into_inner());
+    let d = ua.dot(&ub);
+    let cross = ua.cross(&ub);
+    let cross2 = cross.norm_squared();
+    if cross2 <= SINGULAR_TOLERANCE {
+        // Parallel lines: only the sum of the two turns matters. θa holds,
+        // θb makes up the rest.
+        *free = Some(0);
+        let s = d.signum();
+        if let Some(total) = turn_angle(wa, p, q).filter(|_| reaches(wa, p, q)) {
+            out.push([held[0], s * (total - held[0])]);
+        }
+        return out;
+    }
+    let (aq, bp) = (ua.dot(q), ub.dot(p));
+    let alpha = (aq - d * bp) / (1.0 - d * d);
+    let beta = (bp - d * aq) / (1.0 - d * d);
+    let gamma2 = (p.norm_squared() - alpha * alpha - beta * beta - 2.0 * alpha * beta * d) / cross2;
+    if gamma2 < -REACH_TOLERANCE {
+        return out;
+    }
+    let gamma = gamma2.max(0.0).sqrt();
+    for g in [gamma, -gamma] {
+        let c = alpha * ua + beta * ub + g * cross;
+        if let (Some(b), Some(a)) = (turn_angle(wb, p, &c), turn_angle(wa, &c, q)) {
+            out.push([a, b]);
+        }
+    }
+    out
+}
+
+/// Whether turning `p` about `axis` can reach `q` (same height along it).
+fn reaches(axis: &Unit<Vec3>, p: &Vec3, q: &Vec3) -> bool {
+    let w = axis.into_inner();
+    (w.dot(p) - w.dot(q)).abs() <= REACH_TOLERANCE.sqrt()
+        && (p.norm() - q.norm()).abs() <= REACH_TOLERANCE.sqrt()
+}
+
+/// At most two angle pairs, without allocation.
+#[derive(Clone, Copy, Debug, Default)]
+struct Vec2Solutions {
+    pairs: [[f64; 2]; 2],
+    len: usize,
+}
+
+impl Vec2Solutions {
+    fn push(&mut self, pair: [f64; 2]) {
+        if self.len < 2 {
+            self.pairs[self.len] = pair;
+            self.len += 1;
+        }
+    }
+}
+
+impl IntoIterator for Vec2Solutions {
+    type Item = [f64; 2];
+    type IntoIter = std::iter::Take<std::array::IntoIter<[f64; 2], 2>>;
+
+    fn into_iter(self) -> Self::IntoIter {
+        self.pairs.into_iter().take(self.len)
+    }
+}
