@@ -2,15 +2,17 @@
 //! the machine-axis motion the control would command.
 
 mod diagnostic;
+mod number;
 mod output;
 
 use std::fs::File;
-use std::io::{self, BufReader, BufWriter, Seek, Write};
+use std::io::{self, BufReader, Seek, Write};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
+use std::sync::mpsc;
 
 use clap::{Parser, Subcommand};
-use fiveaxis_control::{ReaderSource, RunError, RunOptions, Runner, Source};
+use fiveaxis_control::{Alarm, ReaderSource, RunError, RunOptions, Runner, Segment, Source};
 use fiveaxis_machine::{DEFAULT_MACHINE, FileError, Machine, Offsets, builtin, builtin_names};
 
 use output::{Format, RowWriter};
@@ -222,10 +224,8 @@ fn run(args: &RunArgs) -> Result<u8, InputError> {
 
     match &args.output {
         None => {
-            let stdout = io::stdout().lock();
-            let mut out = BufWriter::with_capacity(1 << 16, stdout);
-            let result = stream(runner, &writer, args, &mut out);
-            finish(result, out.flush(), program_name, "standard output")
+            let result = stream(runner, &writer, args, io::stdout());
+            finish(result, program_name, "standard output")
         }
         Some(path) => {
             let dir = path
@@ -235,13 +235,8 @@ fn run(args: &RunArgs) -> Result<u8, InputError> {
             let name = path.display().to_string();
             let temp =
                 tempfile::NamedTempFile::new_in(dir).map_err(|e| InputError::io(&name, &e))?;
-            let mut out = BufWriter::with_capacity(1 << 16, temp);
-            let result = stream(runner, &writer, args, &mut out);
-            let flushed = out.flush();
-            let status = finish(result, flushed, program_name, &name)?;
-            let temp = out
-                .into_inner()
-                .map_err(|e| InputError::io(&name, e.error()))?;
+            let file = temp.reopen().map_err(|e| InputError::io(&name, &e))?;
+            let status = finish(stream(runner, &writer, args, file), program_name, &name)?;
             temp.persist(path)
                 .map_err(|e| InputError::io(&name, &e.error))?;
             Ok(status)
@@ -255,56 +250,107 @@ enum Stop {
     Write(io::Error),
 }
 
-/// Runs the program, writing every row; returns how it stopped.
-fn stream<S: Source>(
+/// Segments handed from the controller thread to the writer thread at once.
+const BATCH: usize = 1024;
+/// Bytes of formatted rows gathered before one write.
+const WRITE_CHUNK: usize = 1 << 16;
+
+/// Runs the program and writes every row. The controller runs on this
+/// thread; sampling, forward kinematics and formatting run on a second one,
+/// fed with batches of segments whose buffers travel back for reuse.
+fn stream<S: Source, W: Write + Send>(
     mut runner: Runner<'_, S>,
     writer: &RowWriter<'_>,
     args: &RunArgs,
-    out: &mut impl Write,
+    out: W,
 ) -> Result<(), Stop> {
     let machine = runner.controller().machine();
-    writer.header(out).map_err(Stop::Write)?;
-    loop {
-        let segment = match runner.next_segment() {
-            Ok(Some(segment)) => segment,
-            Ok(None) => return Ok(()),
-            Err(error) => {
-                if let RunError::Alarm { alarm, .. } = &error {
-                    writer.alarm(out, alarm).map_err(Stop::Write)?;
+    std::thread::scope(|scope| {
+        let (full_tx, full_rx) = mpsc::sync_channel::<(Vec<Segment>, Option<Alarm>)>(4);
+        let (empty_tx, empty_rx) = mpsc::channel::<Vec<Segment>>();
+        let step = args.step;
+        let step_angle = args.step_angle;
+        let formatter = scope.spawn(move || -> io::Result<()> {
+            let mut out = out;
+            let mut text = Vec::with_capacity(2 * WRITE_CHUNK);
+            writer.header(&mut text);
+            for (mut batch, alarm) in full_rx {
+                for segment in &batch {
+                    if let Some(step) = step {
+                        let n = segment.steps(machine, step, step_angle);
+                        for i in 1..n {
+                            writer.row(
+                                &mut text,
+                                &segment.row(machine, f64::from(i) / f64::from(n)),
+                            );
+                        }
+                    }
+                    writer.row(&mut text, &segment.row(machine, 1.0));
+                    if text.len() >= WRITE_CHUNK {
+                        out.write_all(&text)?;
+                        text.clear();
+                    }
                 }
-                return Err(Stop::Alarm(Box::new(error)));
+                if let Some(alarm) = alarm {
+                    writer.alarm(&mut text, &alarm);
+                }
+                batch.clear();
+                // The producer may be gone already; then the buffer is dropped.
+                let _ = empty_tx.send(batch);
+            }
+            out.write_all(&text)?;
+            out.flush()
+        });
+
+        let mut batch = Vec::with_capacity(BATCH);
+        let outcome = loop {
+            match runner.next_segment() {
+                Ok(Some(segment)) => {
+                    batch.push(segment);
+                    if batch.len() == BATCH {
+                        let next = empty_rx
+                            .try_recv()
+                            .unwrap_or_else(|_| Vec::with_capacity(BATCH));
+                        if full_tx
+                            .send((std::mem::replace(&mut batch, next), None))
+                            .is_err()
+                        {
+                            break Ok(());
+                        }
+                    }
+                }
+                Ok(None) => {
+                    let _ = full_tx.send((batch, None));
+                    break Ok(());
+                }
+                Err(error) => {
+                    let alarm = match &error {
+                        RunError::Alarm { alarm, .. } => Some(alarm.clone()),
+                        RunError::Io(_) => None,
+                    };
+                    let _ = full_tx.send((batch, alarm));
+                    break Err(Stop::Alarm(Box::new(error)));
+                }
             }
         };
-        if let Some(step) = args.step {
-            let n = segment.steps(machine, step, args.step_angle);
-            for i in 1..n {
-                writer
-                    .row(out, &segment.row(machine, f64::from(i) / f64::from(n)))
-                    .map_err(Stop::Write)?;
-            }
-        }
-        writer
-            .row(out, &segment.row(machine, 1.0))
-            .map_err(Stop::Write)?;
-    }
+        drop(full_tx);
+        let written = formatter
+            .join()
+            .unwrap_or_else(|_| Err(io::Error::other("the writer thread panicked")));
+        written.map_err(Stop::Write)?;
+        outcome
+    })
 }
 
 /// Reports how the run ended and gives its exit status.
-fn finish(
-    result: Result<(), Stop>,
-    flushed: io::Result<()>,
-    program: &str,
-    output: &str,
-) -> Result<u8, InputError> {
+fn finish(result: Result<(), Stop>, program: &str, output: &str) -> Result<u8, InputError> {
     match result {
-        Ok(()) => {
-            flushed.map_err(|e| write_error(output, &e))?;
-            Ok(EXIT_OK)
-        }
+        Ok(()) => Ok(EXIT_OK),
+        // A reader that stopped reading (`| head`) is not an error.
+        Err(Stop::Write(e)) if e.kind() == io::ErrorKind::BrokenPipe => Ok(EXIT_OK),
         Err(Stop::Write(e)) => Err(write_error(output, &e)),
         Err(Stop::Alarm(error)) => match *error {
             RunError::Alarm { alarm, text } => {
-                flushed.map_err(|e| write_error(output, &e))?;
                 eprintln!(
                     "ALARM {} line {}: {}",
                     alarm.code, alarm.line, alarm.message

@@ -1,10 +1,10 @@
 //! Row writers for `fiveaxis run`: CSV and JSON Lines, exactly as the
 //! `run` contract fixes them.
 
-use std::io::{self, Write};
-
 use fiveaxis_control::{Alarm, Row};
 use fiveaxis_machine::Machine;
+
+use crate::number::{write_f64, write_u64};
 
 /// Output format.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
@@ -24,11 +24,6 @@ pub struct RowWriter<'m> {
     axes: Vec<String>,
     /// Which axes are shown modulo 360.
     rollover: Vec<bool>,
-}
-
-/// A number in its shortest round-trip form; negative zero is written 0.
-fn number(out: &mut impl Write, x: f64) -> io::Result<()> {
-    write!(out, "{}", x + 0.0)
 }
 
 /// A rollover axis position in [0, 360).
@@ -56,19 +51,19 @@ impl<'m> RowWriter<'m> {
     }
 
     /// The header (CSV only).
-    pub fn header(&self, out: &mut impl Write) -> io::Result<()> {
+    pub fn header(&self, out: &mut Vec<u8>) {
         if self.format == Format::Csv {
-            out.write_all(b"line,s,motion")?;
+            out.extend_from_slice(b"line,s,motion");
             for name in &self.axes {
-                write!(out, ",{name}")?;
+                out.push(b',');
+                out.extend_from_slice(name.as_bytes());
             }
-            out.write_all(b",tip_x,tip_y,tip_z,tool_i,tool_j,tool_k,feed\n")?;
+            out.extend_from_slice(b",tip_x,tip_y,tip_z,tool_i,tool_j,tool_k,feed\n");
         }
-        Ok(())
     }
 
-    /// One row.
-    pub fn row(&self, out: &mut impl Write, row: &Row) -> io::Result<()> {
+    /// Appends one row.
+    pub fn row(&self, out: &mut Vec<u8>, row: &Row) {
         let axis_count = self.machine.axis_count();
         let values = row.joints[..axis_count]
             .iter()
@@ -80,46 +75,54 @@ impl<'m> RowWriter<'m> {
         const POSE_KEYS: [&str; 6] = ["tip_x", "tip_y", "tip_z", "tool_i", "tool_j", "tool_k"];
         match self.format {
             Format::Csv => {
-                write!(out, "{},", row.line)?;
-                number(out, row.s)?;
-                write!(out, ",{}", row.motion.name())?;
+                write_u64(out, u64::from(row.line));
+                out.push(b',');
+                write_f64(out, row.s);
+                out.push(b',');
+                out.extend_from_slice(row.motion.name().as_bytes());
                 for x in values.chain(pose) {
-                    out.write_all(b",")?;
-                    number(out, x)?;
+                    out.push(b',');
+                    write_f64(out, x);
                 }
-                out.write_all(b",")?;
+                out.push(b',');
                 if let Some(f) = row.feed {
-                    number(out, f)?;
+                    write_f64(out, f);
                 }
-                out.write_all(b"\n")
+                out.push(b'\n');
             }
             Format::Jsonl => {
-                write!(out, "{{\"line\":{},\"s\":", row.line)?;
-                number(out, row.s)?;
-                write!(out, ",\"motion\":\"{}\"", row.motion.name())?;
+                out.extend_from_slice(b"{\"line\":");
+                write_u64(out, u64::from(row.line));
+                out.extend_from_slice(b",\"s\":");
+                write_f64(out, row.s);
+                out.extend_from_slice(b",\"motion\":\"");
+                out.extend_from_slice(row.motion.name().as_bytes());
+                out.push(b'"');
                 let keys = self.axes.iter().map(String::as_str).chain(POSE_KEYS);
                 for (key, x) in keys.zip(values.chain(pose)) {
-                    write!(out, ",\"{key}\":")?;
-                    number(out, x)?;
+                    out.extend_from_slice(b",\"");
+                    out.extend_from_slice(key.as_bytes());
+                    out.extend_from_slice(b"\":");
+                    write_f64(out, x);
                 }
-                out.write_all(b",\"feed\":")?;
+                out.extend_from_slice(b",\"feed\":");
                 match row.feed {
-                    Some(f) => number(out, f)?,
-                    None => out.write_all(b"null")?,
+                    Some(f) => write_f64(out, f),
+                    None => out.extend_from_slice(b"null"),
                 }
-                out.write_all(b"}\n")
+                out.extend_from_slice(b"}\n");
             }
         }
     }
 
     /// The closing alarm object (JSON Lines only).
-    pub fn alarm(&self, out: &mut impl Write, alarm: &Alarm) -> io::Result<()> {
+    pub fn alarm(&self, out: &mut Vec<u8>, alarm: &Alarm) {
         if self.format == Format::Jsonl {
             let object = serde_json::json!({
                 "alarm": { "code": alarm.code.to_string(), "line": alarm.line, "message": alarm.message }
             });
-            writeln!(out, "{object}")?;
+            out.extend_from_slice(object.to_string().as_bytes());
+            out.push(b'\n');
         }
-        Ok(())
     }
 }

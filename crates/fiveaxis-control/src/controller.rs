@@ -6,7 +6,7 @@
 //! manuals; where a control family differs, [`crate::dialect`] says how.
 
 use fiveaxis_gcode::{Block, Code, Span, Word};
-use fiveaxis_machine::{MAX_TOOL_OFFSET, Control, Joints, MAX_AXES, Machine, Offsets, Side, Vec3};
+use fiveaxis_machine::{Control, Joints, MAX_AXES, MAX_TOOL_OFFSET, Machine, Offsets, Side, Vec3};
 
 use crate::alarm::{Alarm, Condition};
 use crate::dialect::Dialect;
@@ -563,21 +563,42 @@ impl<'m> Controller<'m> {
     }
 
     /// The programmed end point of a block from its axis words, absolute or
-    /// incremental; rollover axes take the shorter way in absolute.
-    fn end_point(&self, from: &Joints, targets: &Targets) -> Joints {
+    /// incremental, and each axis's signed travel. Rollover axes end on
+    /// their target reduced to [0, 360) (so that positions stay exactly as
+    /// programmed) and travel the shorter way on absolute commands, the
+    /// increment itself on incremental ones.
+    fn end_point(&self, from: &Joints, targets: &Targets) -> (Joints, Joints) {
         let mut end = *from;
+        let mut travel = [0.0; MAX_AXES];
         let incremental = self.state.modal.distance == Distance::Incremental;
         for (i, target) in targets.iter().enumerate().take(self.machine.axis_count()) {
             let Some(value) = *target else { continue };
-            end[i] = if incremental {
-                from[i] + value
-            } else if self.is_rollover(i) {
-                from[i] + shortest_turn(from[i], value)
+            if self.is_rollover(i) {
+                end[i] = normalize_360(if incremental { from[i] + value } else { value });
+                travel[i] = if incremental {
+                    value
+                } else {
+                    shortest_turn(from[i], end[i])
+                };
             } else {
-                value
-            };
+                end[i] = if incremental { from[i] + value } else { value };
+                travel[i] = end[i] - from[i];
+            }
         }
-        end
+        (end, travel)
+    }
+
+    /// The start of a segment that ends at `end`: the current position,
+    /// with each rollover axis unwrapped so that it reaches `end` by its
+    /// `travel`.
+    fn rollover_start(&self, end: &Joints, travel: &Joints) -> Joints {
+        let mut start = self.state.joints;
+        for i in self.machine.linear.len()..self.machine.axis_count() {
+            if self.is_rollover(i) {
+                start[i] = end[i] - travel[i];
+            }
+        }
+        start
     }
 
     fn is_rollover(&self, index: usize) -> bool {
@@ -600,9 +621,9 @@ impl<'m> Controller<'m> {
         }
     }
 
-    /// The feed at the tool tip for a cutting move whose tip travels
-    /// `length` mm, mm/min.
-    fn cutting_feed(&self, length: f64) -> Result<f64, Alarm> {
+    /// The feed at the tool tip for a cutting move, mm/min; `length` gives
+    /// how far the tip travels (needed for inverse time feed only).
+    fn cutting_feed(&self, length: impl FnOnce() -> f64) -> Result<f64, Alarm> {
         let f = self.state.feed;
         if f <= 0.0 {
             let span = self.words.peek(b'F').map(|w| w.span);
@@ -632,7 +653,7 @@ impl<'m> Controller<'m> {
                         "inverse time feed (G93) needs F in every cutting block".into(),
                     ));
                 }
-                Ok(f * length)
+                Ok(f * length())
             }
         }
     }
@@ -654,9 +675,9 @@ impl<'m> Controller<'m> {
         if !has_axes && !arc_words && !length_changed {
             return Ok(());
         }
-        let start = self.state.joints;
-        let end_p = self.end_point(from, &targets);
+        let (end_p, travel) = self.end_point(from, &targets);
         let end = self.machine_position(&end_p);
+        let start = self.rollover_start(&end, &travel);
         if is_arc && (has_axes || arc_words) {
             return self.arc(mode, start, from, &end_p, end, out);
         }
@@ -681,7 +702,8 @@ impl<'m> Controller<'m> {
             return Ok(());
         }
         if motion == Motion::Linear {
-            let length = (seg.row(self.machine, 1.0).tip - seg.row(self.machine, 0.0).tip).norm();
+            let machine = self.machine;
+            let length = || (seg.row(machine, 1.0).tip - seg.row(machine, 0.0).tip).norm();
             seg.feed = Some(self.cutting_feed(length)?);
         }
         out.push(seg);
@@ -771,7 +793,7 @@ impl<'m> Controller<'m> {
         let motion = if ccw { Motion::Ccw } else { Motion::Cw };
         let mut seg = self.segment(motion, start, end, Path::Arc(arc));
         let helix = end_p[3 - p - q] - from[3 - p - q];
-        seg.feed = Some(self.cutting_feed(arc.length().hypot(helix))?);
+        seg.feed = Some(self.cutting_feed(|| arc.length().hypot(helix))?);
         out.push(seg);
         Ok(())
     }
@@ -943,7 +965,7 @@ impl<'m> Controller<'m> {
     /// reference position 1.
     fn reference_check(&mut self, from: &Joints, out: &mut Vec<Segment>) -> Result<(), Alarm> {
         let targets = self.axis_words();
-        let end_p = self.end_point(from, &targets);
+        let (end_p, travel) = self.end_point(from, &targets);
         let end = self.machine_position(&end_p);
         let reference = self.machine.params.reference_1;
         for (i, name) in self.machine.axis_names().enumerate() {
@@ -959,7 +981,7 @@ impl<'m> Controller<'m> {
                 ));
             }
         }
-        self.push_line(Motion::Rapid, self.state.joints, end, out)
+        self.push_line(Motion::Rapid, self.rollover_start(&end, &travel), end, out)
     }
 
     /// G28 / G30: through the intermediate point to reference position `n`,
@@ -983,21 +1005,22 @@ impl<'m> Controller<'m> {
             }
         };
         let targets = self.axis_words();
-        let mid_p = self.end_point(from, &targets);
+        let (mid_p, travel) = self.end_point(from, &targets);
         let mid = self.machine_position(&mid_p);
-        let start = self.state.joints;
+        let mut start = self.rollover_start(&mid, &travel);
         let mut mid_joints = start;
         let mut end = start;
         for (i, target) in targets.iter().enumerate() {
             if target.is_some() {
                 mid_joints[i] = mid[i];
                 end[i] = reference[i];
-            }
-        }
-        if self.is_any_rollover_named(&targets) {
-            for (i, target) in targets.iter().enumerate() {
-                if target.is_some() && self.is_rollover(i) {
-                    end[i] = mid_joints[i] + shortest_turn(mid_joints[i], reference[i]);
+                if self.is_rollover(i) {
+                    // Unwrap backwards from the reference: the last leg
+                    // takes the shorter way.
+                    end[i] = normalize_360(reference[i]);
+                    let last_leg = shortest_turn(mid[i], end[i]);
+                    mid_joints[i] = end[i] - last_leg;
+                    start[i] = mid_joints[i] - travel[i];
                 }
             }
         }
@@ -1010,27 +1033,26 @@ impl<'m> Controller<'m> {
         Ok(())
     }
 
-    fn is_any_rollover_named(&self, targets: &Targets) -> bool {
-        targets
-            .iter()
-            .enumerate()
-            .any(|(i, t)| t.is_some() && i < self.machine.axis_count() && self.is_rollover(i))
-    }
-
     /// G53: positioning in machine coordinates, offsets not applied.
     fn machine_coordinates(&mut self, out: &mut Vec<Segment>) -> Result<(), Alarm> {
         let mut end = self.state.joints;
+        let mut travel = [0.0; MAX_AXES];
         for (i, name) in self.machine.axis_names().enumerate() {
             if let Some(word) = self.words.take(name as u8) {
                 let value = self.axis_value(i, &word);
                 end[i] = if self.is_rollover(i) {
-                    end[i] + shortest_turn(end[i], value)
+                    normalize_360(value)
                 } else {
                     value
                 };
+                travel[i] = if self.is_rollover(i) {
+                    shortest_turn(self.state.joints[i], end[i])
+                } else {
+                    end[i] - self.state.joints[i]
+                };
             }
         }
-        self.push_line(Motion::Rapid, self.state.joints, end, out)
+        self.push_line(Motion::Rapid, self.rollover_start(&end, &travel), end, out)
     }
 
     /// G92: the current position gets the named coordinates (all work
@@ -1085,27 +1107,19 @@ impl<'m> Controller<'m> {
         );
         for (i, (limit, name)) in limits.zip(machine.axis_names()).enumerate() {
             let Some((min, max)) = limit else { continue };
+            let (condition, side, reach, bound) = if hi[i] > max + LIMIT_TOLERANCE {
+                (Condition::OvertravelPlus, '+', hi[i], max)
+            } else if lo[i] < min - LIMIT_TOLERANCE {
+                (Condition::OvertravelMinus, '-', lo[i], min)
+            } else {
+                continue;
+            };
             let span = self.words.peek(name as u8).map(|w| w.span);
-            if hi[i] > max + LIMIT_TOLERANCE {
-                return Err(self.alarm(
-                    Condition::OvertravelPlus,
-                    span,
-                    format!(
-                        "{name}+ over-travel: {name} would reach {} beyond the soft limit {max}",
-                        hi[i]
-                    ),
-                ));
-            }
-            if lo[i] < min - LIMIT_TOLERANCE {
-                return Err(self.alarm(
-                    Condition::OvertravelMinus,
-                    span,
-                    format!(
-                        "{name}- over-travel: {name} would reach {} beyond the soft limit {min}",
-                        lo[i]
-                    ),
-                ));
-            }
+            return Err(self.alarm(
+                condition,
+                span,
+                format!("{name}{side} over-travel: {name} would reach {reach} beyond the soft limit {bound}"),
+            ));
         }
         Ok(())
     }
@@ -1116,6 +1130,12 @@ const LIMIT_TOLERANCE: f64 = 1e-9;
 
 /// Centre-offset letters by axis: I for X, J for Y, K for Z.
 const CENTER_LETTERS: [u8; 3] = [b'I', b'J', b'K'];
+
+/// `x` reduced to [0, 360), exactly when it already is in range.
+pub fn normalize_360(x: f64) -> f64 {
+    let r = x.rem_euclid(360.0);
+    if r >= 360.0 { 0.0 } else { r }
+}
 
 /// The signed rotation in (−180°, 180°] that takes angle `from` to the
 /// same position as `to` modulo 360.

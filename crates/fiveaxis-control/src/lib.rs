@@ -18,8 +18,8 @@ mod words;
 
 pub use alarm::{Alarm, AlarmCode, Condition, alarm_reference};
 pub use controller::{
-    ARC_RADIUS_TOLERANCE, Controller, Flow, POSITION_TOLERANCE,
-    REFERENCE_CHECK_TOLERANCE, shortest_turn,
+    ARC_RADIUS_TOLERANCE, Controller, Flow, POSITION_TOLERANCE, REFERENCE_CHECK_TOLERANCE,
+    normalize_360, shortest_turn,
 };
 pub use dialect::Dialect;
 pub use modal::{Distance, FeedMode, LengthMode, Modal, MotionMode, Plane, Units, WorkSelect};

@@ -16,7 +16,10 @@ pub const MAX_M_CODES: usize = 8;
 /// A block's words, by address letter.
 #[derive(Debug)]
 pub struct Words {
+    /// Words by letter; only those whose bit is set in `present` belong to
+    /// the current block (the rest are left over, never read).
     by_letter: [Option<Word>; 26],
+    present: u32,
     used: u32,
     /// G codes in the order written.
     pub g: [(Code, Span); MAX_G_CODES],
@@ -41,6 +44,7 @@ impl Words {
         let blank = (Code::new(0, 0), Span::default());
         Self {
             by_letter: [None; 26],
+            present: 0,
             used: 0,
             g: [blank; MAX_G_CODES],
             g_len: 0,
@@ -65,7 +69,7 @@ impl Words {
     /// Sorts `block`'s words. Alarms on an address the machine does not
     /// have, a repeated address, and a G or M code that is not a code.
     pub fn load(&mut self, block: &Block, machine: &Machine) -> Result<(), Alarm> {
-        self.by_letter = [None; 26];
+        self.present = 0;
         self.used = 0;
         self.g_len = 0;
         self.m_len = 0;
@@ -85,15 +89,16 @@ impl Words {
                             ),
                         ));
                     }
-                    let slot = &mut self.by_letter[index(letter)];
-                    if slot.is_some() {
+                    let bit = 1 << index(letter);
+                    if self.present & bit != 0 {
                         return Err(self.alarm(
                             Condition::DuplicateAddress,
                             Some(word.span),
                             format!("address {} appears twice in the block", char::from(letter)),
                         ));
                     }
-                    *slot = Some(*word);
+                    self.present |= bit;
+                    self.by_letter[index(letter)] = Some(*word);
                 }
             }
         }
@@ -133,7 +138,7 @@ impl Words {
 
     /// The word with this letter, marking it used.
     pub fn take(&mut self, letter: u8) -> Option<Word> {
-        let word = self.by_letter[index(letter)];
+        let word = self.peek(letter);
         if word.is_some() {
             self.used |= 1 << index(letter);
         }
@@ -142,19 +147,26 @@ impl Words {
 
     /// The word with this letter, without marking it used.
     pub fn peek(&self, letter: u8) -> Option<Word> {
+        if self.present & (1 << index(letter)) == 0 {
+            return None;
+        }
         self.by_letter[index(letter)]
     }
 
     /// Whether a word with this letter is present.
     pub fn has(&self, letter: u8) -> bool {
-        self.by_letter[index(letter)].is_some()
+        self.present & (1 << index(letter)) != 0
     }
 
     /// Alarms on the first word that no function of the block used.
     pub fn check_all_used(&self) -> Result<(), Alarm> {
+        let unused = self.present & !self.used;
+        if unused == 0 {
+            return Ok(());
+        }
         for (i, word) in self.by_letter.iter().enumerate() {
             if let Some(word) = word
-                && self.used & (1 << i) == 0
+                && unused & (1 << i) != 0
             {
                 return Err(self.alarm(
                     Condition::WordNotUsed,

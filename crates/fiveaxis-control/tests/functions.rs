@@ -343,10 +343,23 @@ fn machine_coordinates_and_coordinate_system_setting() {
 
 #[test]
 fn rollover_axis_takes_the_short_way() {
-    let r = run("G0 C350.\nC10.\nG91 C-30.\nG90 C180.\n");
-    let e = ends(&r);
-    assert_close(&[e[0][4], e[1][4], e[2][4]], &[-10.0, 10.0, -20.0]);
-    assert!((e[3][4] - 180.0).abs() < EPS || (e[3][4] + 180.0).abs() < EPS);
+    let m = machine("trunnion-ac");
+    let program = "G0 C350.\nC10.\nG91 C-30.\nG90 C180.\nG91 C720.\n";
+    let r = run_sampled(program, &m, offsets(), RunOptions::default(), 2);
+    assert!(r.alarm.is_none());
+    let c: Vec<f64> = r.rows.iter().map(|row| row.joints[4]).collect();
+    // Block ends stay exactly as programmed, in [0, 360); half way shows
+    // the way taken: -10, +20, -30, then +160 (shorter than -200), then
+    // two whole turns (an increment is travelled as given).
+    assert_eq!(c[1], 350.0);
+    assert_eq!(c[3], 10.0);
+    assert_eq!(c[5], 340.0);
+    assert_eq!(c[7], 180.0);
+    assert_eq!(c[9], 180.0);
+    assert_close(
+        &[c[0], c[2], c[4], c[6], c[8]],
+        &[355.0, 0.0, 355.0, 260.0, -180.0],
+    );
 }
 
 #[test]

@@ -1,7 +1,7 @@
 //! Forward kinematics (`machine-model.md` §3), the one source of the tool
 //! tip and tool direction that the kernel reports.
 
-use nalgebra::{Isometry3, Rotation3, Translation3, Unit};
+use nalgebra::{IsometryMatrix3, Rotation3, Translation3, Unit};
 
 use crate::{Joints, Machine, Side, Vec3};
 
@@ -21,18 +21,18 @@ pub fn rotation(axis: &Unit<Vec3>, degrees: f64) -> Rotation3<f64> {
 
 /// The rigid map of a rotation by `degrees` about the line through `center`
 /// along `axis`: `p ↦ center + R·(p − center)`.
-fn rotation_about(axis: &Unit<Vec3>, center: &Vec3, degrees: f64) -> Isometry3<f64> {
+fn rotation_about(axis: &Unit<Vec3>, center: &Vec3, degrees: f64) -> IsometryMatrix3<f64> {
     let r = rotation(axis, degrees);
     let t = center - r * center;
-    Isometry3::from_parts(Translation3::from(t), r.into())
+    IsometryMatrix3::from_parts(Translation3::from(t), r)
 }
 
 impl Machine {
     /// The map of the outermost body of one side's chain, bed outwards
     /// `[k1, k2]` giving `M1 ∘ M2`. Head maps act on coordinates relative to
     /// the spindle gauge point; table maps on machine coordinates.
-    pub fn chain(&self, side: Side, joints: &Joints) -> Isometry3<f64> {
-        let mut map = Isometry3::identity();
+    pub fn chain(&self, side: Side, joints: &Joints) -> IsometryMatrix3<f64> {
+        let mut map = IsometryMatrix3::identity();
         for (k, axis) in self.rotary.iter().enumerate() {
             if axis.on == side {
                 let angle = joints[self.rotary_index(k)];
