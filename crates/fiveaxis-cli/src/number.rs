@@ -64,7 +64,7 @@ fn write_thousandths(out: &mut Vec<u8>, k: i64) {
     n /= 1000;
     if frac != 0 {
         let mut decimals = 3;
-        while frac % 10 == 0 {
+        while frac.is_multiple_of(10) {
             frac /= 10;
             decimals -= 1;
         }

@@ -1,9 +1,23 @@
 //! The hand-written byte scanner behind [`parse_line`].
 //!
 //! The line is walked once, left to right, with a position into its bytes.
-//! Every byte is read through `get`, so no input can index out of bounds, and
-//! the only buffers are small arrays on the stack: the sole heap activity is
-//! pushing into the block's reused word vector.
+//! Every byte is read through `get` or slice patterns, so no input can index
+//! out of bounds, and the only buffers are small arrays on the stack: the
+//! sole heap activity is pushing into the block's reused word vector.
+//!
+//! Words are read in one of two ways, with the same result:
+//!
+//! * the fast path, [`read_plain_number`], takes the common case of a letter
+//!   followed right away by `[+|-] digits [. digits]`, without blanks, that
+//!   ends where the general scanner would end it;
+//! * the general path, [`read_general_number`], takes everything else:
+//!   blanks inside the number, malformed numbers, too many digits, letters
+//!   without a number, words of several letters.
+//!
+//! Both build the number as an integer mantissa and a count of decimals and
+//! divide it by an exact power of ten ([`decimal_value`]): since a number
+//! has at most [`MAX_DIGITS`] digits, this is correctly rounded and so
+//! bit-identical to `str::parse::<f64>` on the same digits.
 
 use crate::{Block, Code, Span, SyntaxError, SyntaxErrorKind, UnknownWord, Word};
 
@@ -46,9 +60,19 @@ const MACRO_KEYWORDS: [&[u8]; 29] = [
     b"AND", b"OR", b"XOR", b"SIN", b"COS", b"TAN", b"ATAN", b"SQRT", b"ABS", b"ROUND", b"FIX",
     b"FUP", b"BIN", b"BCD", b"POPEN", b"PCLOS", b"DPRNT",
 ];
-/// Room for the text handed to `str::parse`: a sign, the digits, a leading
-/// `0` when no integer digit is left, and the decimal point.
-const NUMBER_TEXT_LEN: usize = MAX_DIGITS + 3;
+/// The powers of ten that `f64` holds exactly: 10^0 … 10^22.
+const EXACT_POWERS_OF_TEN: [f64; 23] = [
+    1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15, 1e16,
+    1e17, 1e18, 1e19, 1e20, 1e21, 1e22,
+];
+/// Every integer up to this one is exact in an `f64` (2^53).
+const MAX_EXACT_INTEGER: u64 = 1 << f64::MANTISSA_DIGITS;
+// A number of `MAX_DIGITS` digits must convert exactly in `decimal_value`:
+// its mantissa stays below 10^MAX_DIGITS and its decimals index the table.
+// Raising `MAX_DIGITS` past 15 needs another conversion (`str::parse`).
+const _: () = assert!(
+    MAX_DIGITS < EXACT_POWERS_OF_TEN.len() && 10_u64.pow(MAX_DIGITS as u32) <= MAX_EXACT_INTEGER
+);
 /// The longest UTF-8 encoding of one character.
 const MAX_UTF8_LEN: usize = 4;
 
@@ -146,18 +170,11 @@ fn comment_end(text: &[u8], pos: usize) -> Option<usize> {
 /// Reads the word whose letter is at `start` and returns where it ends.
 fn read_word(text: &[u8], start: usize, block: &mut Block) -> Result<usize, SyntaxError> {
     let letter = text.get(start).map_or(b'?', u8::to_ascii_uppercase);
-    let value_start = start + 1;
-    let next = skip_blanks(text, value_start);
-    if text.get(next).is_some_and(u8::is_ascii_alphabetic) {
-        return Err(multi_letter_word(text, start));
-    }
-    let end = number_end(text, value_start);
-    if end == value_start {
-        return Err(no_value(text, start, letter, next));
-    }
+    let (number, end) = match read_plain_number(text, start + 1) {
+        Some(plain) => plain,
+        None => read_general_number(text, start, letter)?,
+    };
     let span = span(start, end);
-    let number = Number::read(text.get(value_start..end).unwrap_or_default())
-        .map_err(|kind| SyntaxError::new(kind, span))?;
     if letter == SEQUENCE_LETTER {
         set_sequence(block, &number, span)?;
     } else {
@@ -170,6 +187,93 @@ fn read_word(text: &[u8], start: usize, block: &mut Block) -> Result<usize, Synt
         });
     }
     Ok(end)
+}
+
+/// The fast path of [`read_word`]: the number written right after the
+/// letter, from `start`, and where it ends, when it is plainly
+/// `[+|-] digits [. digits]` with no blank inside, at least one digit and at
+/// most [`MAX_DIGITS`] of them, and nothing after it that the general
+/// scanner would take as more of the number (a sign, a point, an exponent
+/// `e`, or any of them after blanks).
+///
+/// `None` sends the word to [`read_general_number`], which then gives the
+/// same result as before this fast path existed (or the error).
+fn read_plain_number(text: &[u8], start: usize) -> Option<(Number, usize)> {
+    let rest = text.get(start..)?;
+    let (sign, unsigned) = match rest {
+        [sign @ (PLUS | MINUS), tail @ ..] => (Some(*sign), tail),
+        _ => (None, rest),
+    };
+    let (integer_digits, after_integer) = split_digits(unsigned);
+    let (decimal_point, fraction_digits, after) = match after_integer {
+        [DECIMAL_POINT, tail @ ..] => {
+            let (fraction_digits, after) = split_digits(tail);
+            (true, fraction_digits, after)
+        }
+        _ => (false, &[][..], after_integer),
+    };
+    if (integer_digits.is_empty() && fraction_digits.is_empty()) || !ends_plain_number(after) {
+        return None;
+    }
+    let significant = without_leading_zeros(integer_digits);
+    if significant.len() + fraction_digits.len() > MAX_DIGITS {
+        return None;
+    }
+    let integer = append_digits(0, significant);
+    let magnitude = decimal_value(
+        append_digits(integer, fraction_digits),
+        fraction_digits.len(),
+    )?;
+    let number = Number {
+        value: if sign == Some(MINUS) {
+            -magnitude
+        } else {
+            magnitude
+        },
+        signed: sign.is_some(),
+        decimal_point,
+        integer,
+        fraction_digits: fraction_digits.len(),
+        first_fraction_digit: fraction_digits.first().map_or(0, |digit| digit - b'0'),
+    };
+    Some((number, text.len() - after.len()))
+}
+
+/// Whether the plain number followed by `after` ends there for
+/// [`number_end`] too: nothing follows, or something that is not part of a
+/// number, possibly after blanks. An `e` right after the number is an
+/// exponent; after blanks it is the `E` address.
+fn ends_plain_number(after: &[u8]) -> bool {
+    match after {
+        [] => true,
+        [EXPONENT, ..] => false,
+        [blank, ..] if is_blank(*blank) => after
+            .iter()
+            .find(|&&byte| !is_blank(byte))
+            .is_none_or(|&byte| !is_number_byte(byte)),
+        [byte, ..] => !is_number_byte(*byte),
+    }
+}
+
+/// The general path of [`read_word`], for the word whose letter is at
+/// `start`: blanks anywhere in the number, and every error.
+fn read_general_number(
+    text: &[u8],
+    start: usize,
+    letter: u8,
+) -> Result<(Number, usize), SyntaxError> {
+    let value_start = start + 1;
+    let next = skip_blanks(text, value_start);
+    if text.get(next).is_some_and(u8::is_ascii_alphabetic) {
+        return Err(multi_letter_word(text, start));
+    }
+    let end = number_end(text, value_start);
+    if end == value_start {
+        return Err(no_value(text, start, letter, next));
+    }
+    let number = Number::read(text.get(value_start..end).unwrap_or_default())
+        .map_err(|kind| SyntaxError::new(kind, span(start, end)))?;
+    Ok((number, end))
 }
 
 /// Stores the `N` number of the block.
@@ -349,40 +453,33 @@ impl Number {
     }
 }
 
-/// The state of [`Number::read`]: the text for `str::parse` and what was
-/// seen so far.
+/// The state of [`Number::read`]: what was seen so far.
 #[derive(Debug, Default)]
 struct NumberReader {
-    text: [u8; NUMBER_TEXT_LEN],
-    len: usize,
     signed: bool,
+    negative: bool,
     decimal_point: bool,
     any_digit: bool,
     /// Integer digits counted, leading zeros left out.
     integer_digits: usize,
     fraction_digits: usize,
+    /// The integer part, saturated (only compared with small limits).
     integer: u64,
+    /// All the digits as one integer, as long as there are at most
+    /// [`MAX_DIGITS`] of them.
+    mantissa: u64,
     first_fraction_digit: u8,
     too_many_digits: bool,
 }
 
 impl NumberReader {
-    fn push(&mut self, byte: u8) {
-        if let Some(slot) = self.text.get_mut(self.len) {
-            *slot = byte;
-            self.len += 1;
-        }
-    }
-
     /// A sign is only valid before everything else.
     fn sign(&mut self, sign: u8) -> Result<(), SyntaxErrorKind> {
         if self.signed || self.any_digit || self.decimal_point {
             return Err(SyntaxErrorKind::BadNumber);
         }
         self.signed = true;
-        if sign == MINUS {
-            self.push(MINUS);
-        }
+        self.negative = sign == MINUS;
         Ok(())
     }
 
@@ -391,10 +488,6 @@ impl NumberReader {
             return Err(SyntaxErrorKind::BadNumber);
         }
         self.decimal_point = true;
-        if self.integer_digits == 0 {
-            self.push(b'0');
-        }
-        self.push(DECIMAL_POINT);
         Ok(())
     }
 
@@ -420,28 +513,25 @@ impl NumberReader {
         if self.integer_digits + self.fraction_digits > MAX_DIGITS {
             self.too_many_digits = true;
         } else {
-            self.push(digit);
+            self.mantissa = self.mantissa * 10 + u64::from(value);
         }
     }
 
-    fn finish(mut self) -> Result<Number, SyntaxErrorKind> {
+    fn finish(&self) -> Result<Number, SyntaxErrorKind> {
         if !self.any_digit {
             return Err(SyntaxErrorKind::BadNumber);
         }
         if self.too_many_digits {
             return Err(SyntaxErrorKind::TooManyDigits);
         }
-        if self.integer_digits == 0 && !self.decimal_point {
-            self.push(b'0');
-        }
-        let value = self
-            .text
-            .get(..self.len)
-            .and_then(|text| std::str::from_utf8(text).ok())
-            .and_then(|text| text.parse::<f64>().ok())
-            .ok_or(SyntaxErrorKind::BadNumber)?;
+        let magnitude = decimal_value(self.mantissa, self.fraction_digits)
+            .ok_or(SyntaxErrorKind::TooManyDigits)?;
         Ok(Number {
-            value,
+            value: if self.negative {
+                -magnitude
+            } else {
+                magnitude
+            },
             signed: self.signed,
             decimal_point: self.decimal_point,
             integer: self.integer,
@@ -449,6 +539,47 @@ impl NumberReader {
             first_fraction_digit: self.first_fraction_digit,
         })
     }
+}
+
+/// `mantissa / 10^decimals`, correctly rounded, hence bit-identical to
+/// `str::parse::<f64>` on the same digits: both operands are exact (the
+/// mantissa is at most 2^53, the power of ten at most 10^22) and an IEEE
+/// division rounds its exact quotient correctly. `None` outside that
+/// range, which a number of at most [`MAX_DIGITS`] digits never reaches.
+fn decimal_value(mantissa: u64, decimals: usize) -> Option<f64> {
+    if mantissa > MAX_EXACT_INTEGER {
+        return None;
+    }
+    let power = EXACT_POWERS_OF_TEN.get(decimals)?;
+    // Exact: the mantissa is at most 2^53.
+    let mantissa = mantissa as f64;
+    Some(mantissa / power)
+}
+
+/// `value` with the ASCII `digits` written after it; the caller keeps the
+/// result below `u64::MAX` (at most [`MAX_DIGITS`] digits in all).
+fn append_digits(value: u64, digits: &[u8]) -> u64 {
+    digits
+        .iter()
+        .fold(value, |value, &digit| value * 10 + u64::from(digit - b'0'))
+}
+
+/// The leading ASCII digits of `bytes` and what follows them.
+fn split_digits(bytes: &[u8]) -> (&[u8], &[u8]) {
+    let len = bytes
+        .iter()
+        .position(|byte| !byte.is_ascii_digit())
+        .unwrap_or(bytes.len());
+    bytes.split_at(len)
+}
+
+/// `digits` without the zeros in front.
+fn without_leading_zeros(digits: &[u8]) -> &[u8] {
+    let zeros = digits
+        .iter()
+        .position(|&digit| digit != b'0')
+        .unwrap_or(digits.len());
+    digits.split_at(zeros).1
 }
 
 /// The upper-case text of an unknown word, cut at [`UnknownWord::CAPACITY`].
@@ -522,5 +653,7 @@ fn column(index: usize) -> u32 {
     u32::try_from(index).unwrap_or(u32::MAX).saturating_add(1)
 }
 
+#[cfg(test)]
+mod equivalence;
 #[cfg(test)]
 mod tests;
