@@ -164,7 +164,11 @@ impl<'m> Controller<'m> {
         // system, under the length offset in force before this block.
         let from = self.programmed(&self.state.joints);
         let flow = self.m_codes()?;
-        let length_changed = self.apply_length(&codes)?;
+        let change = self.apply_length(&codes)?;
+        // A cancel without movement (Mitsubishi G44): the axes stay, the
+        // programmed position takes the offset's place.
+        let from = if change == LengthChange::InPlace { self.programmed(&self.state.joints) } else { from };
+        let length_changed = change == LengthChange::Moves;
         match codes.one_shot {
             Some((code, span)) => self.one_shot(code, span, &from, out)?,
             None => self.motion(&from, length_changed, out)?,
@@ -348,12 +352,17 @@ impl<'m> Controller<'m> {
 
     /// Group 08 and H: returns whether the length offset vector may have
     /// changed in this block.
-    fn apply_length(&mut self, codes: &GCodes) -> Result<bool, Alarm> {
+    fn apply_length(&mut self, codes: &GCodes) -> Result<LengthChange, Alarm> {
         let before = (self.state.modal.length, self.state.h);
+        let mut in_place = false;
         if let Some((code, _)) = codes.length {
             self.state.modal.length = match (code.major, code.minor) {
                 (43, 1) => LengthMode::ToolAxis,
                 (43, _) => LengthMode::Plus,
+                (44, _) if self.dialect.g44_cancels => {
+                    in_place = true;
+                    LengthMode::Off
+                }
                 (44, _) => LengthMode::Minus,
                 _ => LengthMode::Off,
             };
@@ -361,14 +370,19 @@ impl<'m> Controller<'m> {
                 self.state.h = 0;
             }
         }
-        if let Some(word) = self.words.peek(b'H') {
-            if self.state.modal.length == LengthMode::Off && codes.length.is_none() {
-                return Ok(before != (self.state.modal.length, self.state.h));
-            }
+        if let Some(word) = self.words.peek(b'H')
+            && (self.state.modal.length != LengthMode::Off || codes.length.is_some())
+        {
             self.words.take(b'H');
             self.state.h = self.offset_number(&word)?;
         }
-        Ok(before != (self.state.modal.length, self.state.h))
+        Ok(if before == (self.state.modal.length, self.state.h) {
+            LengthChange::None
+        } else if in_place {
+            LengthChange::InPlace
+        } else {
+            LengthChange::Moves
+        })
     }
 
     // ----- M codes --------------------------------------------------------
@@ -1188,6 +1202,17 @@ fn arc_extent(arc: &Arc, k: usize) -> (f64, f64) {
         q += quarter;
     }
     (lo, hi)
+}
+
+/// What a block did to the length offset vector.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum LengthChange {
+    /// Nothing.
+    None,
+    /// Changed: axes the block does not name move by the change.
+    Moves,
+    /// Cancelled where it stands: no axis moves for it.
+    InPlace,
 }
 
 #[derive(Clone, Copy, Debug)]

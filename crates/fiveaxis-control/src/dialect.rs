@@ -10,24 +10,20 @@ pub struct Dialect {
     pub max_nesting: usize,
     /// Most M codes in one block (FANUC No.3404#7 M3B: 3).
     pub max_m_codes: usize,
+    /// G44 cancels tool length compensation (and TCPC) without moving
+    /// (Mitsubishi, seed 004) instead of compensating in the − direction.
+    pub g44_cancels: bool,
 }
 
 impl Dialect {
     /// The table for `control`.
     pub fn of(control: Control) -> Self {
+        let fanuc = |max_nesting| Self { max_nesting, max_m_codes: 3, g44_cancels: false };
         match control {
-            Control::Fanuc30i => Self {
-                max_nesting: 10,
-                max_m_codes: 3,
-            },
-            Control::Fanuc16 => Self {
-                max_nesting: 4,
-                max_m_codes: 3,
-            },
-            Control::Mitsubishi | Control::Mazak => Self {
-                max_nesting: 8,
-                max_m_codes: 4,
-            },
+            Control::Fanuc30i => fanuc(10),
+            Control::Fanuc16 => fanuc(4),
+            Control::Mitsubishi => Self { max_nesting: 8, max_m_codes: 4, g44_cancels: true },
+            Control::Mazak => Self { max_nesting: 8, max_m_codes: 4, g44_cancels: false },
         }
     }
 }

@@ -156,6 +156,10 @@ pub struct Runner<'m, S> {
     options: RunOptions,
     max_nesting: usize,
     text: Vec<u8>,
+    /// Line and block buffers for searches (program and sequence
+    /// numbers), so that the executing line stays intact for messages.
+    scan_text: Vec<u8>,
+    scan_block: Block,
     block: Block,
     queue: Vec<Segment>,
     queue_pos: usize,
@@ -180,6 +184,8 @@ impl<'m, S: Source> Runner<'m, S> {
             options,
             max_nesting: Dialect::of(machine.control).max_nesting,
             text: Vec::new(),
+            scan_text: Vec::new(),
+            scan_block: Block::default(),
             block: Block::default(),
             queue: Vec::new(),
             queue_pos: 0,
@@ -370,12 +376,12 @@ impl<'m, S: Source> Runner<'m, S> {
         let mut found = None;
         loop {
             let offset = self.source.position();
-            if !self.source.read_line(&mut self.text)? {
+            if !self.source.read_line(&mut self.scan_text)? {
                 break;
             }
             let mark = Mark { offset, line };
             line += 1;
-            if let Some(n) = program_number(&self.text) {
+            if let Some(n) = program_number(&self.scan_text) {
                 self.labels.push((n, mark));
                 if n == number {
                     found = Some(mark);
@@ -400,13 +406,13 @@ impl<'m, S: Source> Runner<'m, S> {
             let mut line = start.line;
             loop {
                 let offset = self.source.position();
-                if !self.source.read_line(&mut self.text)? {
+                if !self.source.read_line(&mut self.scan_text)? {
                     break;
                 }
                 let mark = Mark { offset, line };
                 line += 1;
-                if parse_line(&self.text, mark.line, &mut self.block).is_ok()
-                    && self.block.sequence == Some(n)
+                if parse_line(&self.scan_text, mark.line, &mut self.scan_block).is_ok()
+                    && self.scan_block.sequence == Some(n)
                 {
                     return Ok(Some(mark));
                 }

@@ -204,26 +204,20 @@ fn read_plain_number(text: &[u8], start: usize) -> Option<(Number, usize)> {
         [sign @ (PLUS | MINUS), tail @ ..] => (Some(*sign), tail),
         _ => (None, rest),
     };
-    let (integer_digits, after_integer) = split_digits(unsigned);
-    let (decimal_point, fraction_digits, after) = match after_integer {
+    // Each run of digits is read in one pass, value and count together.
+    let (integer, integer_digits, after_integer) = read_digits(0, skip_zeros(unsigned));
+    let (decimal_point, mantissa, fraction_digits, after) = match after_integer {
         [DECIMAL_POINT, tail @ ..] => {
-            let (fraction_digits, after) = split_digits(tail);
-            (true, fraction_digits, after)
+            let (mantissa, fraction_digits, after) = read_digits(integer, tail);
+            (true, mantissa, fraction_digits, after)
         }
-        _ => (false, &[][..], after_integer),
+        _ => (false, integer, 0, after_integer),
     };
-    if (integer_digits.is_empty() && fraction_digits.is_empty()) || !ends_plain_number(after) {
+    let any_digit = after_integer.len() < unsigned.len() || fraction_digits > 0;
+    if !any_digit || integer_digits + fraction_digits > MAX_DIGITS || !ends_plain_number(after) {
         return None;
     }
-    let significant = without_leading_zeros(integer_digits);
-    if significant.len() + fraction_digits.len() > MAX_DIGITS {
-        return None;
-    }
-    let integer = append_digits(0, significant);
-    let magnitude = decimal_value(
-        append_digits(integer, fraction_digits),
-        fraction_digits.len(),
-    )?;
+    let magnitude = decimal_value(mantissa, fraction_digits)?;
     let number = Number {
         value: if sign == Some(MINUS) {
             -magnitude
@@ -233,10 +227,34 @@ fn read_plain_number(text: &[u8], start: usize) -> Option<(Number, usize)> {
         signed: sign.is_some(),
         decimal_point,
         integer,
-        fraction_digits: fraction_digits.len(),
-        first_fraction_digit: fraction_digits.first().map_or(0, |digit| digit - b'0'),
+        fraction_digits,
+        first_fraction_digit: match after_integer {
+            [DECIMAL_POINT, digit @ b'0'..=b'9', ..] => digit - b'0',
+            _ => 0,
+        },
     };
     Some((number, text.len() - after.len()))
+}
+
+/// Reads the ASCII digits at the start of `bytes`, written after those of
+/// `value`: the new value, how many digits were read and what follows them.
+/// The value wraps past 19 digits; callers refuse more than [`MAX_DIGITS`].
+fn read_digits(mut value: u64, bytes: &[u8]) -> (u64, usize, &[u8]) {
+    let mut rest = bytes;
+    while let [digit @ b'0'..=b'9', tail @ ..] = rest {
+        value = value.wrapping_mul(10).wrapping_add(u64::from(digit - b'0'));
+        rest = tail;
+    }
+    (value, bytes.len() - rest.len(), rest)
+}
+
+/// `bytes` without the zeros in front.
+fn skip_zeros(bytes: &[u8]) -> &[u8] {
+    let mut rest = bytes;
+    while let [b'0', tail @ ..] = rest {
+        rest = tail;
+    }
+    rest
 }
 
 /// Whether the plain number followed by `after` ends there for
@@ -554,32 +572,6 @@ fn decimal_value(mantissa: u64, decimals: usize) -> Option<f64> {
     // Exact: the mantissa is at most 2^53.
     let mantissa = mantissa as f64;
     Some(mantissa / power)
-}
-
-/// `value` with the ASCII `digits` written after it; the caller keeps the
-/// result below `u64::MAX` (at most [`MAX_DIGITS`] digits in all).
-fn append_digits(value: u64, digits: &[u8]) -> u64 {
-    digits
-        .iter()
-        .fold(value, |value, &digit| value * 10 + u64::from(digit - b'0'))
-}
-
-/// The leading ASCII digits of `bytes` and what follows them.
-fn split_digits(bytes: &[u8]) -> (&[u8], &[u8]) {
-    let len = bytes
-        .iter()
-        .position(|byte| !byte.is_ascii_digit())
-        .unwrap_or(bytes.len());
-    bytes.split_at(len)
-}
-
-/// `digits` without the zeros in front.
-fn without_leading_zeros(digits: &[u8]) -> &[u8] {
-    let zeros = digits
-        .iter()
-        .position(|&digit| digit != b'0')
-        .unwrap_or(digits.len());
-    digits.split_at(zeros).1
 }
 
 /// The upper-case text of an unknown word, cut at [`UnknownWord::CAPACITY`].

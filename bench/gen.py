@@ -1,0 +1,60 @@
+#!/usr/bin/env python3
+"""Generates a seeded 5-axis benchmark program of straight feed moves.
+
+    gen.py BLOCKS OUTPUT [--seed N]
+
+The program is valid for both `fiveaxis run` (FANUC syntax, default machine
+`trunnion-ac`) and LinuxCNC's `rs274` (RS274/NGC):
+
+    G21 G90 G94 G17
+    G0 X0 Y0 Z0
+    F1000.
+    G1 X… Y… Z… A… C…     (BLOCKS lines)
+    M30
+
+Every value has a decimal point (FANUC reads numbers without one as least
+input increments) and stays inside the default machine's soft limits:
+X, Y in [-200, 200], Z in [-100, 100], A in [-100, 0], C in [0, 360).
+Only the Python standard library is used.
+"""
+
+import argparse
+import random
+import sys
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("blocks", type=int, help="number of G1 blocks")
+    parser.add_argument("output", help="program file to write")
+    parser.add_argument("--seed", type=int, default=5, help="random seed (default 5)")
+    args = parser.parse_args()
+    if args.blocks < 1:
+        parser.error("blocks must be at least 1")
+
+    rng = random.Random(args.seed)
+    uniform = rng.uniform
+    with open(args.output, "w", encoding="ascii", newline="\n") as out:
+        out.write("G21 G90 G94 G17\nG0 X0 Y0 Z0\nF1000.\n")
+        lines = []
+        for i in range(args.blocks):
+            lines.append(
+                "G1 X%.3f Y%.3f Z%.3f A%.3f C%.3f\n"
+                % (
+                    uniform(-200.0, 200.0),
+                    uniform(-200.0, 200.0),
+                    uniform(-100.0, 100.0),
+                    uniform(-100.0, 0.0),
+                    uniform(0.0, 359.999),
+                )
+            )
+            if len(lines) == 10000:
+                out.writelines(lines)
+                lines.clear()
+        out.writelines(lines)
+        out.write("M30\n")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

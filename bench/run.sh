@@ -1,0 +1,198 @@
+#!/usr/bin/env bash
+# End-to-end benchmark: `fiveaxis run` against LinuxCNC's stand-alone
+# RS274/NGC interpreter `rs274` on the same generated 5-axis program.
+#
+#   bench/run.sh
+#
+# Builds fiveaxis in release, installs rs274 (Debian: linuxcnc-uspace) and
+# hyperfine when missing, generates the programs into bench/out/ with
+# bench/gen.py (seeded), checks that both tools run every block, then
+# measures wall time (200,000 blocks) and peak resident memory (200,000
+# and 2,000,000 blocks). Writes bench/out/summary.md and prints it.
+#
+# Exits 2 when a tool is missing or does not run the whole program, and
+# 1 when fiveaxis is less than MIN_RATIO times as fast as
+# rs274 in blocks per second, or when its peak RSS on the 2M-block program
+# reaches MAX_RSS_MB (decimal megabytes). Both can be overridden from the
+# environment, e.g. `MIN_RATIO=2 bench/run.sh`; BENCH_NO_HYPERFINE=1 times
+# with best of 5 runs instead of hyperfine.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+MIN_RATIO=${MIN_RATIO:-20}
+MAX_RSS_MB=${MAX_RSS_MB:-50}
+SEED=${SEED:-5}
+SMALL=200000
+LARGE=2000000
+OUT=bench/out
+FIVEAXIS=target/release/fiveaxis
+
+log() { printf '== %s\n' "$*" >&2; }
+die() { printf 'bench: %s\n' "$*" >&2; exit 2; }
+
+apt_updated=0
+apt_install() {
+  if [ "$apt_updated" = 0 ]; then
+    apt-get update -qq
+    apt_updated=1
+  fi
+  DEBIAN_FRONTEND=noninteractive apt-get install -y -qq "$@" >/dev/null
+}
+
+# --- tools -----------------------------------------------------------------
+log "building fiveaxis (release)"
+cargo build --release -p fiveaxis-cli --locked
+
+if ! command -v rs274 >/dev/null 2>&1; then
+  log "installing rs274 (linuxcnc-uspace)"
+  apt_install linuxcnc-uspace
+fi
+command -v rs274 >/dev/null 2>&1 || die "rs274 is still missing after installing linuxcnc-uspace"
+if [ ! -x /usr/bin/time ]; then
+  log "installing GNU time"
+  apt_install time
+fi
+if ! command -v hyperfine >/dev/null 2>&1; then
+  log "installing hyperfine"
+  apt_install hyperfine || true
+fi
+HAVE_HYPERFINE=0
+command -v hyperfine >/dev/null 2>&1 && HAVE_HYPERFINE=1
+# BENCH_NO_HYPERFINE=1 forces the best-of-5 fallback.
+[ "${BENCH_NO_HYPERFINE:-0}" = 1 ] && HAVE_HYPERFINE=0
+
+# --- programs --------------------------------------------------------------
+mkdir -p "$OUT"
+SMALL_PROG=$OUT/prog200k.nc
+LARGE_PROG=$OUT/prog2M.nc
+generate() { # blocks file
+  local stamp="$2.stamp" want
+  want="seed=$SEED blocks=$1 gen=$(sha256sum bench/gen.py | cut -c1-16)"
+  if [ -f "$2" ] && [ -f "$stamp" ] && [ "$(cat "$stamp")" = "$want" ]; then
+    return
+  fi
+  log "generating $2 ($1 blocks)"
+  python3 bench/gen.py "$1" "$2" --seed "$SEED"
+  printf '%s\n' "$want" >"$stamp"
+}
+generate "$SMALL" "$SMALL_PROG"
+generate "$LARGE" "$LARGE_PROG"
+
+# --- both tools run every block -------------------------------------------
+log "checking that both tools run all $SMALL blocks"
+rows=$("$FIVEAXIS" run "$SMALL_PROG" | grep -c ',linear,') \
+  || die "fiveaxis run failed on $SMALL_PROG (or printed no linear row)"
+[ "$rows" = "$SMALL" ] || die "fiveaxis printed $rows linear rows, expected $SMALL"
+
+RS_OUT=$OUT/rs274-200k.txt
+rs_status=0
+rs274 -g "$SMALL_PROG" >"$RS_OUT" 2>"$OUT/rs274-200k.err" || rs_status=$?
+[ "$rs_status" = 0 ] || die "rs274 exited with $rs_status: $(tail -n 3 "$OUT/rs274-200k.err")"
+feeds=$(grep -c 'STRAIGHT_FEED(' "$RS_OUT" || true)
+[ "$feeds" = "$SMALL" ] || die "rs274 executed $feeds feed moves, expected $SMALL"
+grep -q 'PROGRAM_END()' "$RS_OUT" || die "rs274 did not reach M30"
+# rs274 prints X Y Z A B C: the last move's A and C must be the program's.
+last_block=$(grep '^G1 ' "$SMALL_PROG" | tail -n 1)
+last_feed=$(grep 'STRAIGHT_FEED(' "$RS_OUT" | tail -n 1)
+awk -v block="$last_block" -v feed="$last_feed" 'BEGIN {
+  n = split(block, w, " ")
+  for (i = 1; i <= n; i++) v[substr(w[i], 1, 1)] = substr(w[i], 2) + 0
+  sub(/.*STRAIGHT_FEED\(/, "", feed); sub(/\).*/, "", feed)
+  split(feed, f, ", *")
+  d = (f[4] - v["A"]) ^ 2 + (f[6] - v["C"]) ^ 2 + (f[1] - v["X"]) ^ 2
+  if (d > 1e-6) { printf "rs274 last move %s does not match block %s\n", feed, block; exit 1 }
+}' || die "rs274 does not carry the A and C values"
+
+# --- wall time -------------------------------------------------------------
+# Sets T_BEST and T_MEAN (seconds) for the command given.
+time_cmd() { # name command...
+  local name=$1
+  shift
+  if [ "$HAVE_HYPERFINE" = 1 ]; then
+    hyperfine -N --style basic --warmup 2 --runs 10 --output null \
+      --export-json "$OUT/hyperfine-$name.json" --command-name "$name" "$*" >&2
+    read -r T_BEST T_MEAN < <(python3 -c '
+import json, sys
+r = json.load(open(sys.argv[1]))["results"][0]
+print(r["min"], r["mean"])' "$OUT/hyperfine-$name.json")
+  else
+    "$@" >/dev/null 2>&1 # warm-up
+    local times=() i start end
+    for i in 1 2 3 4 5; do
+      start=$(date +%s%N)
+      "$@" >/dev/null
+      end=$(date +%s%N)
+      times+=("$(( end - start ))")
+    done
+    read -r T_BEST T_MEAN < <(printf '%s\n' "${times[@]}" \
+      | awk 'NR == 1 || $1 < m { m = $1 } { s += $1 } END { printf "%.6f %.6f\n", m / 1e9, s / NR / 1e9 }')
+    printf '%s: best %.3f s, mean %.3f s (5 runs)\n' "$name" "$T_BEST" "$T_MEAN" >&2
+  fi
+}
+
+log "wall time, $SMALL blocks"
+time_cmd fiveaxis "$FIVEAXIS" run "$SMALL_PROG"
+FA_BEST=$T_BEST FA_MEAN=$T_MEAN
+time_cmd rs274 rs274 -g "$SMALL_PROG"
+RS_BEST=$T_BEST RS_MEAN=$T_MEAN
+
+# --- peak memory -----------------------------------------------------------
+rss_kb() { # command... ; prints the maximum resident set size in kB
+  local report
+  report=$(/usr/bin/time -v "$@" 2>&1 >/dev/null) || die "$* failed: $(tail -n 3 <<<"$report")"
+  awk -F': *' '/Maximum resident set size/ { print $2 }' <<<"$report"
+}
+log "peak resident memory"
+FA_RSS_SMALL=$(rss_kb "$FIVEAXIS" run "$SMALL_PROG")
+FA_RSS_LARGE=$(rss_kb "$FIVEAXIS" run "$LARGE_PROG")
+RS_RSS_SMALL=$(rss_kb rs274 -g "$SMALL_PROG")
+for v in "$FA_RSS_SMALL" "$FA_RSS_LARGE" "$RS_RSS_SMALL"; do
+  [[ "$v" =~ ^[0-9]+$ ]] || die "could not read a peak RSS from /usr/bin/time -v"
+done
+
+# --- summary ---------------------------------------------------------------
+cpu=$(awk -F': *' '/^model name/ { print $2; exit }' /proc/cpuinfo)
+rs_version=$(dpkg-query -W -f '${Version}' linuxcnc-uspace 2>/dev/null || echo unknown)
+commit=$(git rev-parse --short HEAD 2>/dev/null || echo unknown)
+dirty=$(git status --porcelain --untracked-files=no 2>/dev/null | head -c1)
+[ -n "$dirty" ] && commit="$commit (with local changes)"
+timer=$([ "$HAVE_HYPERFINE" = 1 ] && echo "hyperfine, 2 warm-ups + 10 runs" || echo "best of 5 after 1 warm-up")
+
+python3 - "$OUT/summary.md" <<EOF
+import sys
+small, large = $SMALL, $LARGE
+fa_best, fa_mean, rs_best, rs_mean = $FA_BEST, $FA_MEAN, $RS_BEST, $RS_MEAN
+fa_rss_s, fa_rss_l, rs_rss_s = $FA_RSS_SMALL, $FA_RSS_LARGE, $RS_RSS_SMALL
+min_ratio, max_rss_mb = float("$MIN_RATIO"), float("$MAX_RSS_MB")
+fa_bps, rs_bps = small / fa_best, small / rs_best
+ratio = fa_bps / rs_bps
+mb = lambda kb: kb * 1024 / 1e6
+ok_ratio = ratio >= min_ratio
+ok_rss = mb(fa_rss_l) < max_rss_mb
+lines = [
+    "# fiveaxis vs rs274",
+    "",
+    "| | |",
+    "|---|---|",
+    "| date | $(date -u '+%Y-%m-%d %H:%M UTC') |",
+    "| CPU | $cpu ($(nproc) cores) |",
+    "| fiveaxis | $commit, \`fiveaxis run\` CSV to /dev/null, machine trunnion-ac |",
+    "| rs274 | linuxcnc-uspace $rs_version, \`rs274 -g\` to /dev/null |",
+    "| program | bench/gen.py seed $SEED: G1 X Y Z A C moves |",
+    "| timing | $timer; blocks/s from the best run |",
+    "",
+    "| measure | fiveaxis | rs274 | fiveaxis / rs274 |",
+    "|---|---:|---:|---:|",
+    f"| wall time, {small:,} blocks (best / mean) | {fa_best:.3f} s / {fa_mean:.3f} s | {rs_best:.3f} s / {rs_mean:.3f} s | |",
+    f"| blocks per second | {fa_bps:,.0f} | {rs_bps:,.0f} | **{ratio:.2f}x** |",
+    f"| peak RSS, {small:,} blocks | {mb(fa_rss_s):.1f} MB | {mb(rs_rss_s):.1f} MB | {fa_rss_s / rs_rss_s:.2f} |",
+    f"| peak RSS, {large:,} blocks | {mb(fa_rss_l):.1f} MB | | |",
+    "",
+    f"- speed: fiveaxis/rs274 = {ratio:.2f}, required >= {min_ratio:g}: **{'PASS' if ok_ratio else 'FAIL'}**",
+    f"- memory: {mb(fa_rss_l):.1f} MB on {large:,} blocks, required < {max_rss_mb:g} MB: **{'PASS' if ok_rss else 'FAIL'}**",
+]
+text = "\n".join(lines) + "\n"
+open(sys.argv[1], "w").write(text)
+print(text, end="")
+sys.exit(0 if ok_ratio and ok_rss else 1)
+EOF

@@ -1,0 +1,492 @@
+//! The runner never panics: whatever program it is given, on every built-in
+//! machine, it ends (`Ok(None)`) or stops with an alarm, and every row it
+//! yields on the way is made of finite numbers.
+//!
+//! Programs come from a vocabulary of realistic words (the G and M codes the
+//! kernel has, with the values they take, axis and centre words with small,
+//! huge, zero and negative values, with and without a decimal point), from
+//! G-code characters in any order, and from arbitrary bytes.
+
+use std::io;
+
+use fiveaxis_control::{
+    MAX_STEPS, Row, RunError, RunOptions, Runner, Segment, SliceSource, Source,
+};
+use fiveaxis_machine::{Machine, Offsets, ToolOffset, Vec3, builtin, builtin_names};
+use proptest::prelude::*;
+
+/// Most segments taken from one run; a program may legitimately repeat
+/// forever (`M99` in a loop), so the test stops consuming there.
+const MAX_SEGMENTS: usize = 10_000;
+
+/// Most lines the runner may read in one run (subprogram calls and
+/// searches included): bounds the work of call trees that never move.
+const LINE_BUDGET: u64 = 200_000;
+
+/// Where each segment is sampled, besides the first of its `--step` rows.
+const SAMPLES: [f64; 2] = [0.5, 1.0];
+
+/// `--step` and `--step-angle` for the step count of each segment.
+const STEP: f64 = 5.0;
+const STEP_ANGLE: f64 = 5.0;
+
+/// A source that stops with `TimedOut` once it has read `budget` lines.
+struct Budgeted<S> {
+    inner: S,
+    budget: u64,
+}
+
+impl<S: Source> Source for Budgeted<S> {
+    fn read_line(&mut self, buf: &mut Vec<u8>) -> io::Result<bool> {
+        if self.budget == 0 {
+            return Err(io::Error::new(
+                io::ErrorKind::TimedOut,
+                "line budget of the test used up",
+            ));
+        }
+        self.budget -= 1;
+        self.inner.read_line(buf)
+    }
+
+    fn position(&self) -> u64 {
+        self.inner.position()
+    }
+
+    fn seek(&mut self, offset: u64) -> io::Result<()> {
+        self.inner.seek(offset)
+    }
+}
+
+/// Offset memory with tools and work offsets set, so that G43, G54 … have
+/// something to apply. H3 is negative.
+fn offsets() -> Offsets {
+    let tool = |length, length_wear| ToolOffset {
+        length,
+        length_wear,
+        ..ToolOffset::default()
+    };
+    let mut offsets = Offsets::default();
+    offsets.tools.extend([
+        (1, tool(100.0, 0.0)),
+        (2, tool(50.0, -0.5)),
+        (3, tool(-20.0, 0.0)),
+    ]);
+    offsets.work[0] = Vec3::new(10.0, 20.0, 30.0);
+    offsets.work[1] = Vec3::new(100.0, 0.0, -50.0);
+    offsets.extended_work[0] = Vec3::new(-10.0, -20.0, -30.0);
+    offsets
+}
+
+fn machines() -> Vec<Machine> {
+    builtin_names()
+        .iter()
+        .map(|&name| builtin(name).expect("built-in machine"))
+        .collect()
+}
+
+fn check_row(row: &Row, machine: &Machine, lines: u32) -> Result<(), TestCaseError> {
+    let n = machine.axis_count();
+    let finite = row.s.is_finite()
+        && row.joints[..n].iter().all(|x| x.is_finite())
+        && row.tip.iter().all(|x| x.is_finite())
+        && row.dir.iter().all(|x| x.is_finite())
+        && row.feed.is_none_or(f64::is_finite);
+    prop_assert!(finite, "row with a value that is not finite: {row:?}");
+    prop_assert!(
+        (row.dir.norm() - 1.0).abs() < 1e-9,
+        "tool direction is not a unit vector: {row:?}"
+    );
+    prop_assert!(
+        (1..=lines).contains(&row.line),
+        "row of line {} in a {lines}-line program",
+        row.line
+    );
+    Ok(())
+}
+
+/// Samples `segment` where the `run` writer would: the first `--step` row,
+/// half way and the end.
+fn check_segment(segment: &Segment, machine: &Machine, lines: u32) -> Result<(), TestCaseError> {
+    let n = segment.steps(machine, STEP, STEP_ANGLE);
+    prop_assert!((1..=MAX_STEPS).contains(&n), "{n} steps for {segment:?}");
+    for s in std::iter::once(1.0 / f64::from(n)).chain(SAMPLES) {
+        check_row(&segment.row(machine, s), machine, lines)?;
+    }
+    Ok(())
+}
+
+/// Runs `program` on `machine` until it ends, alarms, or uses up the
+/// test's budget, checking every sampled row and the alarm's line.
+fn check_run(machine: &Machine, program: &[u8], options: RunOptions) -> Result<(), TestCaseError> {
+    let lines = u32::try_from(program.split(|&b| b == b'\n').count()).unwrap_or(u32::MAX);
+    let source = Budgeted {
+        inner: SliceSource::new(program),
+        budget: LINE_BUDGET,
+    };
+    let mut runner = Runner::new(machine, offsets(), source, options);
+    for _ in 0..MAX_SEGMENTS {
+        match runner.next_segment() {
+            Ok(Some(segment)) => check_segment(&segment, machine, lines)?,
+            Ok(None) => return Ok(()),
+            Err(RunError::Alarm { alarm, .. }) => {
+                prop_assert!(
+                    (1..=lines).contains(&alarm.line),
+                    "alarm on line {} of {lines}: {alarm:?}",
+                    alarm.line
+                );
+                prop_assert!(
+                    !alarm.message.is_empty(),
+                    "alarm without a message: {alarm:?}"
+                );
+                return Ok(());
+            }
+            Err(RunError::Io(e)) if e.kind() == io::ErrorKind::TimedOut => return Ok(()),
+            Err(RunError::Io(e)) => {
+                return Err(TestCaseError::fail(format!(
+                    "a program in memory failed to read: {e}"
+                )));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Runs the program that `text_for` writes for each built-in machine.
+fn check_on_every_machine(
+    text_for: impl Fn(&Machine) -> Vec<u8>,
+    options: RunOptions,
+) -> Result<(), TestCaseError> {
+    for machine in machines() {
+        check_run(&machine, &text_for(&machine), options)?;
+    }
+    Ok(())
+}
+
+// ----- program generators ----------------------------------------------
+
+/// The address of a generated word: a fixed letter, or the machine's first
+/// or second rotary axis (the word is left out on a machine without it), so
+/// that one program runs on every machine.
+#[derive(Clone, Copy, Debug)]
+enum Address {
+    Fixed(&'static str),
+    Rotary(usize),
+}
+
+#[derive(Clone, Debug)]
+struct Word {
+    address: Address,
+    value: String,
+}
+
+/// A program as blocks of words, written out for one machine.
+#[derive(Clone, Debug)]
+struct Program(Vec<Vec<Word>>);
+
+impl Program {
+    fn text_for(&self, machine: &Machine) -> String {
+        let block = |words: &Vec<Word>| {
+            let words: Vec<String> = words
+                .iter()
+                .filter_map(|word| {
+                    let letter = match word.address {
+                        Address::Fixed(letter) => letter.to_owned(),
+                        Address::Rotary(k) => machine.rotary.get(k)?.name.to_string(),
+                    };
+                    Some(format!("{letter}{}", word.value))
+                })
+                .collect();
+            words.join(" ")
+        };
+        self.0.iter().map(block).collect::<Vec<_>>().join("\n") + "\n"
+    }
+}
+
+fn fixed(letter: &'static str, value: impl Into<String>) -> Word {
+    Word {
+        address: Address::Fixed(letter),
+        value: value.into(),
+    }
+}
+
+/// A code word: `G43.1` is letter `G`, value `43.1`.
+fn code(text: &'static str) -> Word {
+    fixed(&text[..1], &text[1..])
+}
+
+fn one_of_codes(codes: &'static [&'static str]) -> impl Strategy<Value = Word> + Clone {
+    prop::sample::select(codes).prop_map(code)
+}
+
+/// A number as a program writes it: mostly in `range`, with no decimal
+/// point (least input increments), a bare point or a fraction; sometimes
+/// zero, huge, negative or oddly written whatever the range.
+fn number(range: std::ops::RangeInclusive<i64>) -> impl Strategy<Value = String> + Clone {
+    let plain =
+        (range, prop::option::of(prop::option::of(0u32..1000))).prop_map(|(int, fraction)| {
+            match fraction {
+                None => int.to_string(),
+                Some(None) => format!("{int}."),
+                Some(Some(fraction)) => format!("{int}.{fraction:03}"),
+            }
+        });
+    let odd = prop::sample::select(
+        &[
+            "0",
+            "-0.",
+            "0.0001",
+            "-1.5",
+            "99999999",
+            "-99999999.",
+            "999999999999999",
+        ][..],
+    );
+    prop_oneof![12 => plain, 1 => odd.prop_map(str::to_owned)]
+}
+
+fn value(
+    letter: &'static str,
+    range: std::ops::RangeInclusive<i64>,
+) -> impl Strategy<Value = Word> + Clone {
+    number(range).prop_map(move |v| fixed(letter, v))
+}
+
+fn integer(
+    letter: &'static str,
+    range: std::ops::RangeInclusive<u32>,
+) -> impl Strategy<Value = Word> + Clone {
+    range.prop_map(move |n| fixed(letter, n.to_string()))
+}
+
+/// Any of X, Y, Z, each at most once.
+fn linear_axes() -> impl Strategy<Value = Vec<Word>> {
+    let linear = |letter| prop::option::of(value(letter, -150..=150));
+    (linear("X"), linear("Y"), linear("Z"))
+        .prop_map(|(x, y, z)| [x, y, z].into_iter().flatten().collect())
+}
+
+/// Axis words: any of X, Y, Z, sometimes the rotary axes, each at most once.
+fn axes() -> impl Strategy<Value = Vec<Word>> {
+    let rotary = |k: usize| {
+        prop::option::weighted(
+            0.25,
+            number(-180..=180).prop_map(move |v| Word {
+                address: Address::Rotary(k),
+                value: v,
+            }),
+        )
+    };
+    (linear_axes(), rotary(0), rotary(1))
+        .prop_map(|(linear, r0, r1)| linear.into_iter().chain(r0).chain(r1).collect())
+}
+
+/// Arc words: R, or centre words of any plane.
+fn arc_words() -> impl Strategy<Value = Vec<Word>> {
+    prop_oneof![
+        3 => value("R", -100..=100).prop_map(|r| vec![r]),
+        1 => (value("I", -100..=100), value("J", -100..=100)).prop_map(|(i, j)| vec![i, j]),
+        1 => (value("I", -100..=100), value("K", -100..=100)).prop_map(|(i, k)| vec![i, k]),
+        1 => (value("J", -100..=100), value("K", -100..=100)).prop_map(|(j, k)| vec![j, k]),
+    ]
+}
+
+fn feed() -> impl Strategy<Value = Option<Word>> {
+    prop::option::weighted(0.5, value("F", 1..=5000))
+}
+
+/// G00-G03 with the modal codes that change how they read, axis words,
+/// arc words when the block is an arc, and a feed.
+fn motion_block() -> impl Strategy<Value = Vec<Word>> {
+    let modal = |codes| prop::option::weighted(0.2, one_of_codes(codes));
+    let motion = prop::option::weighted(
+        0.85,
+        one_of_codes(&["G0", "G0", "G0", "G1", "G1", "G1", "G2", "G3"]),
+    );
+    let setup = (
+        modal(&["G90", "G91"]),
+        modal(&["G17", "G18", "G19"]),
+        modal(&["G20", "G21"]),
+    );
+    (setup, motion, axes(), arc_words(), feed()).prop_map(
+        |((distance, plane, units), motion, axes, arc, feed)| {
+            let is_arc = motion
+                .as_ref()
+                .is_some_and(|m| m.value == "2" || m.value == "3");
+            // An arc with centre words and no axis words is a full circle.
+            let by_radius = matches!(arc[0].address, Address::Fixed("R"));
+            let (axes, arc) = match (is_arc, by_radius) {
+                (false, _) => (axes, Vec::new()),
+                (true, false) if axes.len() % 2 == 0 => (Vec::new(), arc),
+                (true, _) => (axes, arc),
+            };
+            [distance, plane, units, motion]
+                .into_iter()
+                .flatten()
+                .chain(axes)
+                .chain(arc)
+                .chain(feed)
+                .collect()
+        },
+    )
+}
+
+/// G27, G28, G30, G53, G92 with axis words.
+fn reference_block() -> impl Strategy<Value = Vec<Word>> {
+    (one_of_codes(&["G27", "G28", "G30", "G53", "G92"]), axes())
+        .prop_map(|(code, axes)| std::iter::once(code).chain(axes).collect())
+}
+
+/// Tool length compensation on (G43, G44, G43.1 with H) or off (G49).
+fn length_block() -> impl Strategy<Value = Vec<Word>> {
+    let on = (
+        one_of_codes(&["G43", "G44", "G43.1"]),
+        integer("H", 0..=3),
+        prop::option::of(value("Z", -100..=200)),
+    )
+        .prop_map(|(code, h, z)| [Some(code), Some(h), z].into_iter().flatten().collect());
+    prop_oneof![3 => on, 1 => Just(vec![code("G49")])]
+}
+
+/// G54-G59, G54.1 Pn and G54 Pn (P up to 60, past the 48 that exist).
+fn work_block() -> impl Strategy<Value = Vec<Word>> {
+    prop_oneof![
+        one_of_codes(&["G54", "G55", "G56", "G57", "G58", "G59"]).prop_map(|c| vec![c]),
+        (one_of_codes(&["G54.1", "G54"]), integer("P", 0..=60)).prop_map(|(c, p)| vec![c, p]),
+    ]
+}
+
+/// G10: L2 and L20 work offsets, L10-L13 tool offsets, P in and out of range.
+fn data_block() -> impl Strategy<Value = Vec<Word>> {
+    let work = (
+        prop::sample::select(&["2", "20"][..]),
+        integer("P", 0..=60),
+        linear_axes(),
+    )
+        .prop_map(|(l, p, axes)| {
+            [code("G10"), fixed("L", l), p]
+                .into_iter()
+                .chain(axes)
+                .collect()
+        });
+    let tool = (10u32..=13, integer("P", 0..=4), value("R", -200..=200))
+        .prop_map(|(l, p, r)| vec![code("G10"), fixed("L", l.to_string()), p, r]);
+    prop_oneof![work, tool]
+}
+
+/// G93, G94, G95, and the spindle that G95 needs.
+fn feed_block() -> impl Strategy<Value = Vec<Word>> {
+    let mode = (one_of_codes(&["G93", "G94", "G95"]), feed())
+        .prop_map(|(c, f)| [Some(c), f].into_iter().flatten().collect());
+    let spindle =
+        (integer("S", 0..=20_000), one_of_codes(&["M3", "M5"])).prop_map(|(s, m)| vec![s, m]);
+    prop_oneof![mode, spindle]
+}
+
+/// Program numbers an `M98 P` may name: the two subprograms of the file,
+/// one that is missing, and the eight-digit form with repetitions.
+const CALLED: &[u32] = &[1, 2, 1, 2, 4242, 20001, 30002, 99_999_999];
+
+/// Sequence numbers some blocks carry and `M99 P` returns to.
+const SEQUENCES: &[u32] = &[10, 20, 30];
+
+/// M98 P… L…, M99 P…, M30.
+fn flow_block() -> impl Strategy<Value = Vec<Word>> {
+    // L is kept small: a call tree of L-fold calls nested ten deep is
+    // L^10 runs long.
+    let call = (
+        prop::sample::select(CALLED),
+        prop::option::of(integer("L", 0..=3)),
+    )
+        .prop_map(|(p, l)| {
+            [Some(code("M98")), Some(fixed("P", p.to_string())), l]
+                .into_iter()
+                .flatten()
+                .collect()
+        });
+    let back =
+        prop::sample::select(SEQUENCES).prop_map(|n| vec![code("M99"), fixed("P", n.to_string())]);
+    prop_oneof![4 => call, 2 => back, 1 => Just(vec![code("M99")]), 1 => Just(vec![code("M30")])]
+}
+
+/// Words of the vocabulary in any mix: mostly blocks a control refuses.
+fn noise_block() -> impl Strategy<Value = Vec<Word>> {
+    let codes = one_of_codes(&[
+        "G0", "G2", "G17", "G20", "G27", "G28", "G53", "G91", "G92", "G93", "G43", "G43.1", "G49",
+        "G54", "G10", "M3", "M98", "M99", "M30",
+    ]);
+    let letters =
+        prop::sample::select(&["X", "Y", "Z", "I", "J", "K", "R", "F", "S", "P", "L", "H"][..]);
+    let values = (letters, number(-99_999..=99_999)).prop_map(|(letter, v)| fixed(letter, v));
+    prop::collection::vec(prop_oneof![codes, values], 1..5)
+}
+
+/// One block of any kind, sometimes with a sequence number, sometimes
+/// marked for block delete.
+fn block() -> impl Strategy<Value = Vec<Word>> {
+    let body = prop_oneof![
+        12 => motion_block(),
+        2 => reference_block(),
+        2 => length_block(),
+        2 => work_block(),
+        1 => data_block(),
+        2 => feed_block(),
+        2 => flow_block(),
+        1 => noise_block(),
+    ];
+    let deleted = prop::option::weighted(0.1, Just(fixed("/", "")));
+    let sequence = prop::option::weighted(0.2, prop::sample::select(SEQUENCES));
+    (deleted, sequence, body).prop_map(|(deleted, n, body)| {
+        let n = n.map(|n| fixed("N", n.to_string()));
+        deleted.into_iter().chain(n).chain(body).collect()
+    })
+}
+
+/// A main program and two subprograms, O1 and O2, in one file. Most main
+/// programs set a feed first, as real ones do.
+fn program() -> impl Strategy<Value = Program> {
+    let blocks = |range| prop::collection::vec(block(), range);
+    let preamble = prop::option::weighted(0.7, value("F", 1..=5000));
+    (
+        preamble,
+        blocks(1..25),
+        any::<bool>(),
+        blocks(0..6),
+        blocks(0..6),
+    )
+        .prop_map(|(feed, main, end, o1, o2)| {
+            let mut all: Vec<Vec<Word>> = feed
+                .map(|f| vec![code("G94"), f])
+                .into_iter()
+                .chain(main)
+                .collect();
+            if end {
+                all.push(vec![code("M30")]);
+            }
+            for (number, body) in [("1", o1), ("2", o2)] {
+                all.push(vec![fixed("O", number)]);
+                all.extend(body);
+                all.push(vec![code("M99")]);
+            }
+            all.push(vec![fixed("%", "")]);
+            Program(all)
+        })
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 512, ..ProptestConfig::default() })]
+
+    #[test]
+    fn programs_of_realistic_words_end_or_alarm_with_finite_rows(program in program(), block_delete in any::<bool>()) {
+        check_on_every_machine(|machine| program.text_for(machine).into_bytes(), RunOptions { block_delete })?;
+    }
+
+    #[test]
+    fn text_of_g_code_characters_never_panics(program in "[GMXYZABCIJKRFSPLHNO0-9.+\\- ()/%;#\n]{0,300}") {
+        check_on_every_machine(|_| program.clone().into_bytes(), RunOptions::default())?;
+    }
+
+    #[test]
+    fn arbitrary_bytes_never_panic(program in prop::collection::vec(any::<u8>(), 0..400)) {
+        check_on_every_machine(|_| program.clone(), RunOptions::default())?;
+    }
+}
