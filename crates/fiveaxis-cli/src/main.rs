@@ -304,24 +304,15 @@ fn stream<S: Source, W: Write + Send>(
 
         let mut batch = Vec::with_capacity(BATCH);
         let outcome = loop {
-            match runner.next_segment() {
-                Ok(Some(segment)) => {
-                    batch.push(segment);
-                    if batch.len() == BATCH {
-                        let next = empty_rx
-                            .try_recv()
-                            .unwrap_or_else(|_| Vec::with_capacity(BATCH));
-                        if full_tx
-                            .send((std::mem::replace(&mut batch, next), None))
-                            .is_err()
-                        {
-                            break Ok(());
-                        }
+            match runner.fill(&mut batch, BATCH) {
+                Ok(more) => {
+                    let next = empty_rx
+                        .try_recv()
+                        .unwrap_or_else(|_| Vec::with_capacity(BATCH));
+                    let full = std::mem::replace(&mut batch, next);
+                    if full_tx.send((full, None)).is_err() || !more {
+                        break Ok(());
                     }
-                }
-                Ok(None) => {
-                    let _ = full_tx.send((batch, None));
-                    break Ok(());
                 }
                 Err(error) => {
                     let alarm = match &error {

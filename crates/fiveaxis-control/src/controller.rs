@@ -78,6 +78,8 @@ pub struct Controller<'m> {
     dialect: Dialect,
     state: State,
     words: Words,
+    /// Address letters of the machine's axes, in joint order.
+    axis_letters: [u8; MAX_AXES],
 }
 
 /// Where the control point goes, for each axis: programmed value if the
@@ -105,6 +107,13 @@ impl<'m> Controller<'m> {
                 axis_shift: [0.0; MAX_AXES],
             },
             words: Words::new(machine.control),
+            axis_letters: {
+                let mut letters = [0u8; MAX_AXES];
+                for (slot, name) in letters.iter_mut().zip(machine.axis_names()) {
+                    *slot = name as u8;
+                }
+                letters
+            },
         }
     }
 
@@ -138,23 +147,23 @@ impl<'m> Controller<'m> {
         self.words.alarm(condition, span, message)
     }
 
-    /// Executes one block: pushes its segments onto `out` (cleared first)
-    /// and says what comes next. On an alarm, `out` is left empty and the
-    /// state is as before the block, except for offset data written by G10
-    /// before the failing part.
+    /// Executes one block: appends its segments to `out` and says what
+    /// comes next. On an alarm nothing is appended and the state is as
+    /// before the block, except for offset data written by G10 before the
+    /// failing part.
     pub fn execute(&mut self, block: &Block, out: &mut Vec<Segment>) -> Result<Flow, Alarm> {
-        out.clear();
+        let base = out.len();
         self.words.load(block, self.machine)?;
         let saved = self.state.clone();
-        let result = self.execute_loaded(out);
+        let result = self.execute_loaded(base, out);
         if result.is_err() {
             self.state = saved;
-            out.clear();
+            out.truncate(base);
         }
         result
     }
 
-    fn execute_loaded(&mut self, out: &mut Vec<Segment>) -> Result<Flow, Alarm> {
+    fn execute_loaded(&mut self, base: usize, out: &mut Vec<Segment>) -> Result<Flow, Alarm> {
         // A program-number line is a label.
         self.words.take(b'O');
         let codes = self.classify_g_codes()?;
@@ -167,17 +176,21 @@ impl<'m> Controller<'m> {
         let change = self.apply_length(&codes)?;
         // A cancel without movement (Mitsubishi G44): the axes stay, the
         // programmed position takes the offset's place.
-        let from = if change == LengthChange::InPlace { self.programmed(&self.state.joints) } else { from };
+        let from = if change == LengthChange::InPlace {
+            self.programmed(&self.state.joints)
+        } else {
+            from
+        };
         let length_changed = change == LengthChange::Moves;
         match codes.one_shot {
             Some((code, span)) => self.one_shot(code, span, &from, out)?,
             None => self.motion(&from, length_changed, out)?,
         }
         self.words.check_all_used()?;
-        for seg in out.iter() {
+        for seg in &out[base..] {
             self.check_limits(seg)?;
         }
-        if let Some(last) = out.last() {
+        if let Some(last) = out[base..].last() {
             self.state.joints = last.end;
         }
         Ok(flow)
@@ -493,8 +506,11 @@ impl<'m> Controller<'m> {
     /// Axis words of the block, by joint index, marked used.
     fn axis_words(&mut self) -> Targets {
         let mut targets = [None; MAX_AXES];
-        for (i, name) in self.machine.axis_names().enumerate() {
-            if let Some(word) = self.words.take(name as u8) {
+        for (i, &letter) in self.axis_letters[..self.machine.axis_count()]
+            .iter()
+            .enumerate()
+        {
+            if let Some(word) = self.words.take(letter) {
                 targets[i] = Some(self.axis_value(i, &word));
             }
         }

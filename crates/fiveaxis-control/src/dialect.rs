@@ -18,12 +18,24 @@ pub struct Dialect {
 impl Dialect {
     /// The table for `control`.
     pub fn of(control: Control) -> Self {
-        let fanuc = |max_nesting| Self { max_nesting, max_m_codes: 3, g44_cancels: false };
+        let fanuc = |max_nesting| Self {
+            max_nesting,
+            max_m_codes: 3,
+            g44_cancels: false,
+        };
         match control {
             Control::Fanuc30i => fanuc(10),
             Control::Fanuc16 => fanuc(4),
-            Control::Mitsubishi => Self { max_nesting: 8, max_m_codes: 4, g44_cancels: true },
-            Control::Mazak => Self { max_nesting: 8, max_m_codes: 4, g44_cancels: false },
+            Control::Mitsubishi => Self {
+                max_nesting: 8,
+                max_m_codes: 4,
+                g44_cancels: true,
+            },
+            Control::Mazak => Self {
+                max_nesting: 8,
+                max_m_codes: 4,
+                g44_cancels: false,
+            },
         }
     }
 }
