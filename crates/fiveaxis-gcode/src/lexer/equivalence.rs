@@ -20,11 +20,7 @@ mod reference {
     /// leading `0` when no integer digit is left, and the decimal point.
     const NUMBER_TEXT_LEN: usize = MAX_DIGITS + 3;
 
-    pub(super) fn parse_line(
-        text: &[u8],
-        line: u32,
-        block: &mut Block,
-    ) -> Result<(), SyntaxError> {
+    pub(super) fn parse_line(text: &[u8], line: u32, block: &mut Block) -> Result<(), SyntaxError> {
         block.clear();
         block.line = line;
         let text = block_text(text);
@@ -216,10 +212,7 @@ struct Outcome {
     words: Vec<ExactWord>,
 }
 
-fn outcome(
-    parse: fn(&[u8], u32, &mut Block) -> Result<(), SyntaxError>,
-    text: &[u8],
-) -> Outcome {
+fn outcome(parse: fn(&[u8], u32, &mut Block) -> Result<(), SyntaxError>, text: &[u8]) -> Outcome {
     let mut block = Block::default();
     let result = parse(text, 9, &mut block);
     Outcome {
@@ -264,8 +257,7 @@ fn plain_number(max_digits: usize) -> impl Strategy<Value = String> {
     (
         prop::sample::select(vec!["", "+", "-"]),
         "0{0,3}",
-        prop::string::string_regex(&format!("[0-9]{{1,{max_digits}}}"))
-            .expect("a valid regex"),
+        prop::string::string_regex(&format!("[0-9]{{1,{max_digits}}}")).expect("a valid regex"),
         any::<bool>(),
         any::<prop::sample::Index>(),
     )
@@ -297,7 +289,11 @@ fn coordinate() -> impl Strategy<Value = String> {
 fn realistic_line() -> impl Strategy<Value = String> {
     let word = (
         "[GMXYZABCFIJKNSTgxyz]",
-        prop_oneof![coordinate(), plain_number(MAX_DIGITS), "[0-9]{1,3}(\\.[0-9])?"],
+        prop_oneof![
+            coordinate(),
+            plain_number(MAX_DIGITS),
+            "[0-9]{1,3}(\\.[0-9])?"
+        ],
         prop::sample::select(vec!["", "", "", "", " ", "\t"]),
         prop::sample::select(vec![" ", " ", "", "\t", "  ", " (c) ", "(c)"]),
     )
