@@ -12,7 +12,7 @@ use std::process::ExitCode;
 use std::sync::mpsc;
 
 use clap::{Parser, Subcommand};
-use fiveaxis_control::{Alarm, ReaderSource, RunError, RunOptions, Runner, Segment, Source};
+use fiveaxis_control::{Alarm, ReaderSource, Row, RunError, RunOptions, Runner, Segment, Source};
 use fiveaxis_machine::{DEFAULT_MACHINE, FileError, Machine, Offsets, builtin, builtin_names};
 
 use output::{Format, RowWriter};
@@ -255,9 +255,10 @@ const BATCH: usize = 1024;
 /// Bytes of formatted rows gathered before one write.
 const WRITE_CHUNK: usize = 1 << 16;
 
-/// Runs the program and writes every row. The controller runs on this
-/// thread; sampling, forward kinematics and formatting run on a second one,
-/// fed with batches of segments whose buffers travel back for reuse.
+/// Runs the program and writes every row. The controller, the sampling of
+/// segments and forward kinematics run on this thread; formatting and
+/// writing on a second one, fed with batches of rows whose buffers travel
+/// back for reuse.
 fn stream<S: Source, W: Write + Send>(
     mut runner: Runner<'_, S>,
     writer: &RowWriter<'_>,
@@ -266,26 +267,15 @@ fn stream<S: Source, W: Write + Send>(
 ) -> Result<(), Stop> {
     let machine = runner.controller().machine();
     std::thread::scope(|scope| {
-        let (full_tx, full_rx) = mpsc::sync_channel::<(Vec<Segment>, Option<Alarm>)>(4);
-        let (empty_tx, empty_rx) = mpsc::channel::<Vec<Segment>>();
-        let step = args.step;
-        let step_angle = args.step_angle;
+        let (full_tx, full_rx) = mpsc::sync_channel::<(Vec<Row>, Option<Alarm>)>(4);
+        let (empty_tx, empty_rx) = mpsc::channel::<Vec<Row>>();
         let formatter = scope.spawn(move || -> io::Result<()> {
             let mut out = out;
             let mut text = Vec::with_capacity(2 * WRITE_CHUNK);
             writer.header(&mut text);
-            for (mut batch, alarm) in full_rx {
-                for segment in &batch {
-                    if let Some(step) = step {
-                        let n = segment.steps(machine, step, step_angle);
-                        for i in 1..n {
-                            writer.row(
-                                &mut text,
-                                &segment.row(machine, f64::from(i) / f64::from(n)),
-                            );
-                        }
-                    }
-                    writer.row(&mut text, &segment.row(machine, 1.0));
+            for (mut rows, alarm) in full_rx {
+                for row in &rows {
+                    writer.row(&mut text, row);
                     if text.len() >= WRITE_CHUNK {
                         out.write_all(&text)?;
                         text.clear();
@@ -294,36 +284,38 @@ fn stream<S: Source, W: Write + Send>(
                 if let Some(alarm) = alarm {
                     writer.alarm(&mut text, &alarm);
                 }
-                batch.clear();
+                rows.clear();
                 // The producer may be gone already; then the buffer is dropped.
-                let _ = empty_tx.send(batch);
+                let _ = empty_tx.send(rows);
             }
             out.write_all(&text)?;
             out.flush()
         });
 
-        let mut batch = Vec::with_capacity(BATCH);
+        let mut segments = Vec::with_capacity(BATCH);
+        let mut batch = RowBatch { rows: Vec::with_capacity(BATCH), full: full_tx, empty: empty_rx };
         let outcome = loop {
-            match runner.fill(&mut batch, BATCH) {
-                Ok(more) => {
-                    let next = empty_rx
-                        .try_recv()
-                        .unwrap_or_else(|_| Vec::with_capacity(BATCH));
-                    let full = std::mem::replace(&mut batch, next);
-                    if full_tx.send((full, None)).is_err() || !more {
-                        break Ok(());
-                    }
-                }
+            segments.clear();
+            let filled = runner.fill(&mut segments, BATCH);
+            let mut sent = true;
+            for segment in &segments {
+                sent &= sample(segment, machine, args, &mut batch);
+            }
+            let (more, alarm, outcome) = match filled {
+                Ok(more) => (more, None, Ok(())),
                 Err(error) => {
                     let alarm = match &error {
                         RunError::Alarm { alarm, .. } => Some(alarm.clone()),
                         RunError::Io(_) => None,
                     };
-                    let _ = full_tx.send((batch, alarm));
-                    break Err(Stop::Alarm(Box::new(error)));
+                    (false, alarm, Err(Stop::Alarm(Box::new(error))))
                 }
+            };
+            if !(sent && batch.send(alarm)) || !more {
+                break outcome;
             }
         };
+        let RowBatch { full: full_tx, .. } = batch;
         drop(full_tx);
         let written = formatter
             .join()
@@ -331,6 +323,43 @@ fn stream<S: Source, W: Write + Send>(
         written.map_err(Stop::Write)?;
         outcome
     })
+}
+
+/// Rows on their way to the writer thread.
+struct RowBatch {
+    rows: Vec<Row>,
+    full: mpsc::SyncSender<(Vec<Row>, Option<Alarm>)>,
+    empty: mpsc::Receiver<Vec<Row>>,
+}
+
+impl RowBatch {
+    /// Adds a row; hands the batch over when it is full. `false` when the
+    /// writer has stopped.
+    fn push(&mut self, row: Row) -> bool {
+        self.rows.push(row);
+        self.rows.len() < BATCH || self.send(None)
+    }
+
+    /// Hands the rows (and a closing alarm) over to the writer.
+    fn send(&mut self, alarm: Option<Alarm>) -> bool {
+        let next = self.empty.try_recv().unwrap_or_else(|_| Vec::with_capacity(BATCH));
+        let rows = std::mem::replace(&mut self.rows, next);
+        self.full.send((rows, alarm)).is_ok()
+    }
+}
+
+/// The rows of one segment: with `--step`, the ones inside it, then always
+/// its end. `false` when the writer has stopped.
+fn sample(segment: &Segment, machine: &Machine, args: &RunArgs, batch: &mut RowBatch) -> bool {
+    if let Some(step) = args.step {
+        let n = segment.steps(machine, step, args.step_angle);
+        for i in 1..n {
+            if !batch.push(segment.row(machine, f64::from(i) / f64::from(n))) {
+                return false;
+            }
+        }
+    }
+    batch.push(segment.row(machine, 1.0))
 }
 
 /// Reports how the run ended and gives its exit status.
