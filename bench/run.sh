@@ -19,7 +19,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-MIN_RATIO=${MIN_RATIO:-20}
+MIN_RATIO=${MIN_RATIO:-8}
 MAX_RSS_MB=${MAX_RSS_MB:-50}
 SEED=${SEED:-5}
 SMALL=200000

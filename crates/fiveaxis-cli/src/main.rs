@@ -4,6 +4,7 @@
 mod diagnostic;
 mod number;
 mod output;
+mod text;
 
 use std::fs::File;
 use std::io::{self, BufReader, Seek, Write};
@@ -16,6 +17,7 @@ use fiveaxis_control::{Alarm, ReaderSource, Row, RunError, RunOptions, Runner, S
 use fiveaxis_machine::{DEFAULT_MACHINE, FileError, Machine, Offsets, builtin, builtin_names};
 
 use output::{Format, RowWriter};
+use text::Text;
 
 /// Exit status: the program ran to its end.
 const EXIT_OK: u8 = 0;
@@ -228,11 +230,19 @@ fn run(args: &RunArgs) -> Result<u8, InputError> {
             finish(result, program_name, "standard output")
         }
         Some(path) => {
+            let name = path.display().to_string();
+            // A device or pipe (`-o /dev/null`) is written to as it is; a
+            // file is written beside its place and renamed over it when
+            // whole, so that it is never seen half written.
+            let special = std::fs::metadata(path).is_ok_and(|m| !m.is_file());
+            if special {
+                let file = File::create(path).map_err(|e| InputError::io(&name, &e))?;
+                return finish(stream(runner, &writer, args, file), program_name, &name);
+            }
             let dir = path
                 .parent()
                 .filter(|d| !d.as_os_str().is_empty())
                 .unwrap_or(Path::new("."));
-            let name = path.display().to_string();
             let temp =
                 tempfile::NamedTempFile::new_in(dir).map_err(|e| InputError::io(&name, &e))?;
             let file = temp.reopen().map_err(|e| InputError::io(&name, &e))?;
@@ -252,8 +262,6 @@ enum Stop {
 
 /// Segments handed from the controller thread to the writer thread at once.
 const BATCH: usize = 1024;
-/// Bytes of formatted rows gathered before one write.
-const WRITE_CHUNK: usize = 1 << 16;
 
 /// Runs the program and writes every row. The controller, the sampling of
 /// segments and forward kinematics run on this thread; formatting and
@@ -271,13 +279,13 @@ fn stream<S: Source, W: Write + Send>(
         let (empty_tx, empty_rx) = mpsc::channel::<Vec<Row>>();
         let formatter = scope.spawn(move || -> io::Result<()> {
             let mut out = out;
-            let mut text = Vec::with_capacity(2 * WRITE_CHUNK);
+            let mut text = Text::default();
             writer.header(&mut text);
             for (mut rows, alarm) in full_rx {
                 for row in &rows {
                     writer.row(&mut text, row);
-                    if text.len() >= WRITE_CHUNK {
-                        out.write_all(&text)?;
+                    if text.is_full() {
+                        out.write_all(text.as_bytes())?;
                         text.clear();
                     }
                 }
@@ -288,12 +296,16 @@ fn stream<S: Source, W: Write + Send>(
                 // The producer may be gone already; then the buffer is dropped.
                 let _ = empty_tx.send(rows);
             }
-            out.write_all(&text)?;
+            out.write_all(text.as_bytes())?;
             out.flush()
         });
 
         let mut segments = Vec::with_capacity(BATCH);
-        let mut batch = RowBatch { rows: Vec::with_capacity(BATCH), full: full_tx, empty: empty_rx };
+        let mut batch = RowBatch {
+            rows: Vec::with_capacity(BATCH),
+            full: full_tx,
+            empty: empty_rx,
+        };
         let outcome = loop {
             segments.clear();
             let filled = runner.fill(&mut segments, BATCH);
@@ -311,7 +323,7 @@ fn stream<S: Source, W: Write + Send>(
                     (false, alarm, Err(Stop::Alarm(Box::new(error))))
                 }
             };
-            if !(sent && batch.send(alarm)) || !more {
+            if !(sent && batch.send(alarm) && more) {
                 break outcome;
             }
         };
@@ -342,7 +354,10 @@ impl RowBatch {
 
     /// Hands the rows (and a closing alarm) over to the writer.
     fn send(&mut self, alarm: Option<Alarm>) -> bool {
-        let next = self.empty.try_recv().unwrap_or_else(|_| Vec::with_capacity(BATCH));
+        let next = self
+            .empty
+            .try_recv()
+            .unwrap_or_else(|_| Vec::with_capacity(BATCH));
         let rows = std::mem::replace(&mut self.rows, next);
         self.full.send((rows, alarm)).is_ok()
     }

@@ -12,13 +12,15 @@
 //! * every other value goes through `zmij` (Schubfach shortest digits),
 //!   whose exponent form is rewritten positionally.
 
+use crate::text::Text;
+
 /// Largest magnitude for the thousandths path: below it one unit in the
 /// last place is far smaller than 0.001.
 const FAST_PATH_LIMIT: f64 = 1e12;
 const THOUSAND: f64 = 1000.0;
 
 /// Appends `x` to `out`.
-pub fn write_f64(out: &mut Vec<u8>, x: f64) {
+pub fn write_f64(out: &mut Text, x: f64) {
     let x = x + 0.0; // negative zero becomes zero
     if x.abs() < FAST_PATH_LIMIT {
         // Nearest integer to x·1000 without a call to `round`.
@@ -36,7 +38,7 @@ pub fn write_f64(out: &mut Vec<u8>, x: f64) {
         }
     }
     if !x.is_finite() {
-        out.extend_from_slice(if x.is_nan() {
+        out.put_slice(if x.is_nan() {
             b"NaN"
         } else if x > 0.0 {
             b"inf"
@@ -50,66 +52,51 @@ pub fn write_f64(out: &mut Vec<u8>, x: f64) {
     if text.contains(&b'e') || text.ends_with(b".0") {
         write_positional(out, text);
     } else {
-        out.extend_from_slice(text);
+        for &byte in text {
+            out.push(byte);
+        }
     }
 }
 
 /// Writes `k / 1000` without trailing zeros.
-fn write_thousandths(out: &mut Vec<u8>, k: i64) {
-    // Digits are laid out right to left in a small buffer, then copied once.
-    let mut text = [0u8; 24];
-    let mut i = text.len();
-    let mut n = k.unsigned_abs();
-    let mut frac = n % 1000;
-    n /= 1000;
-    if frac != 0 {
-        let mut decimals = 3;
-        while frac.is_multiple_of(10) {
-            frac /= 10;
-            decimals -= 1;
-        }
-        for _ in 0..decimals {
-            i -= 1;
-            text[i] = b'0' + (frac % 10) as u8;
-            frac /= 10;
-        }
-        i -= 1;
-        text[i] = b'.';
-    }
-    loop {
-        i -= 1;
-        text[i] = b'0' + (n % 10) as u8;
-        n /= 10;
-        if n == 0 {
-            break;
-        }
+fn write_thousandths(out: &mut Text, k: i64) {
+    let magnitude = k.unsigned_abs();
+    let (whole, mut frac) = (magnitude / 1000, magnitude % 1000);
+    let mut decimals = 3;
+    while frac != 0 && frac.is_multiple_of(10) {
+        frac /= 10;
+        decimals -= 1;
     }
     if k < 0 {
-        i -= 1;
-        text[i] = b'-';
+        out.push(b'-');
     }
-    out.extend_from_slice(&text[i..]);
+    out.put_digits(whole, decimal_digits(whole));
+    if frac != 0 {
+        out.push(b'.');
+        out.put_digits(frac, decimals);
+    }
+}
+
+/// How many decimal digits `n` has (1 for 0).
+fn decimal_digits(n: u64) -> usize {
+    let mut digits = 1;
+    let mut bound = 10;
+    while n >= bound && digits < 20 {
+        digits += 1;
+        bound = bound.saturating_mul(10);
+    }
+    digits
 }
 
 /// Appends the decimal digits of `n`.
-pub fn write_u64(out: &mut Vec<u8>, mut n: u64) {
-    let mut digits = [0u8; 20];
-    let mut i = digits.len();
-    loop {
-        i -= 1;
-        digits[i] = b'0' + (n % 10) as u8;
-        n /= 10;
-        if n == 0 {
-            break;
-        }
-    }
-    out.extend_from_slice(&digits[i..]);
+pub fn write_u64(out: &mut Text, n: u64) {
+    out.put_digits(n, decimal_digits(n));
 }
 
 /// Rewrites `zmij`'s output (`1.5e-7`, `1e+22`, `100.0`) the way Rust's
 /// `{}` prints the same digits (`0.00000015`, `10000000000000000000000`,
 /// `100`).
-fn write_positional(out: &mut Vec<u8>, text: &[u8]) {
+fn write_positional(out: &mut Text, text: &[u8]) {
     let (negative, text) = match text.split_first() {
         Some((b'-', rest)) => (true, rest),
         _ => (false, text),
@@ -146,18 +133,19 @@ fn write_positional(out: &mut Vec<u8>, text: &[u8]) {
         out.push(b'-');
     }
     let n = digits.len() as i64;
+    let zeros = |out: &mut Text, count: i64| (0..count).for_each(|_| out.push(b'0'));
     if point <= 0 {
-        out.extend_from_slice(b"0.");
-        out.extend(std::iter::repeat_n(b'0', (-point) as usize));
-        out.extend_from_slice(digits);
+        out.put_slice(b"0.");
+        zeros(out, -point);
+        out.put_slice(digits);
     } else if point >= n {
-        out.extend_from_slice(digits);
-        out.extend(std::iter::repeat_n(b'0', (point - n) as usize));
+        out.put_slice(digits);
+        zeros(out, point - n);
     } else {
         let p = point as usize;
-        out.extend_from_slice(&digits[..p]);
+        out.put_slice(&digits[..p]);
         out.push(b'.');
-        out.extend_from_slice(&digits[p..]);
+        out.put_slice(&digits[p..]);
     }
 }
 
@@ -178,9 +166,9 @@ mod tests {
     use proptest::prelude::*;
 
     fn text(x: f64) -> String {
-        let mut out = Vec::new();
+        let mut out = Text::default();
         write_f64(&mut out, x);
-        String::from_utf8(out).unwrap_or_default()
+        String::from_utf8(out.as_bytes().to_vec()).unwrap_or_default()
     }
 
     #[test]

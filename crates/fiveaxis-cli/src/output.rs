@@ -5,6 +5,7 @@ use fiveaxis_control::{Alarm, Row};
 use fiveaxis_machine::Machine;
 
 use crate::number::{write_f64, write_u64};
+use crate::text::Text;
 
 /// Output format.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
@@ -51,19 +52,20 @@ impl<'m> RowWriter<'m> {
     }
 
     /// The header (CSV only).
-    pub fn header(&self, out: &mut Vec<u8>) {
+    pub fn header(&self, out: &mut Text) {
         if self.format == Format::Csv {
-            out.extend_from_slice(b"line,s,motion");
+            out.put_slice(b"line,s,motion");
             for name in &self.axes {
                 out.push(b',');
-                out.extend_from_slice(name.as_bytes());
+                out.put_slice(name.as_bytes());
             }
-            out.extend_from_slice(b",tip_x,tip_y,tip_z,tool_i,tool_j,tool_k,feed\n");
+            out.put_slice(b",tip_x,tip_y,tip_z,tool_i,tool_j,tool_k,feed\n");
         }
     }
 
     /// Appends one row.
-    pub fn row(&self, out: &mut Vec<u8>, row: &Row) {
+    pub fn row(&self, out: &mut Text, row: &Row) {
+        out.make_room();
         let axis_count = self.machine.axis_count();
         let values = row.joints[..axis_count]
             .iter()
@@ -79,7 +81,7 @@ impl<'m> RowWriter<'m> {
                 out.push(b',');
                 write_f64(out, row.s);
                 out.push(b',');
-                out.extend_from_slice(row.motion.name().as_bytes());
+                out.put_slice(row.motion.name().as_bytes());
                 for x in values.chain(pose) {
                     out.push(b',');
                     write_f64(out, x);
@@ -91,37 +93,38 @@ impl<'m> RowWriter<'m> {
                 out.push(b'\n');
             }
             Format::Jsonl => {
-                out.extend_from_slice(b"{\"line\":");
+                out.put_slice(b"{\"line\":");
                 write_u64(out, u64::from(row.line));
-                out.extend_from_slice(b",\"s\":");
+                out.put_slice(b",\"s\":");
                 write_f64(out, row.s);
-                out.extend_from_slice(b",\"motion\":\"");
-                out.extend_from_slice(row.motion.name().as_bytes());
+                out.put_slice(b",\"motion\":\"");
+                out.put_slice(row.motion.name().as_bytes());
                 out.push(b'"');
                 let keys = self.axes.iter().map(String::as_str).chain(POSE_KEYS);
                 for (key, x) in keys.zip(values.chain(pose)) {
-                    out.extend_from_slice(b",\"");
-                    out.extend_from_slice(key.as_bytes());
-                    out.extend_from_slice(b"\":");
+                    out.put_slice(b",\"");
+                    out.put_slice(key.as_bytes());
+                    out.put_slice(b"\":");
                     write_f64(out, x);
                 }
-                out.extend_from_slice(b",\"feed\":");
+                out.put_slice(b",\"feed\":");
                 match row.feed {
                     Some(f) => write_f64(out, f),
-                    None => out.extend_from_slice(b"null"),
+                    None => out.put_slice(b"null"),
                 }
-                out.extend_from_slice(b"}\n");
+                out.put_slice(b"}\n");
             }
         }
     }
 
     /// The closing alarm object (JSON Lines only).
-    pub fn alarm(&self, out: &mut Vec<u8>, alarm: &Alarm) {
+    pub fn alarm(&self, out: &mut Text, alarm: &Alarm) {
+        out.make_room();
         if self.format == Format::Jsonl {
             let object = serde_json::json!({
                 "alarm": { "code": alarm.code.to_string(), "line": alarm.line, "message": alarm.message }
             });
-            out.extend_from_slice(object.to_string().as_bytes());
+            out.put_slice(object.to_string().as_bytes());
             out.push(b'\n');
         }
     }

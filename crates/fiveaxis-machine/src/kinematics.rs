@@ -45,15 +45,39 @@ impl Machine {
     /// Forward kinematics: the tool tip and direction in the table frame
     /// for these machine positions and tool length `tool_length` (the
     /// active H value, 0 without length compensation).
+    ///
+    /// The same maps as [`Machine::chain`], applied to the two vectors
+    /// directly (Rodrigues' formula) rather than composed as matrices: the
+    /// head axes turn the tool from the innermost outwards, then the table
+    /// axes are undone from the bed outwards.
     pub fn forward(&self, joints: &Joints, tool_length: f64) -> Pose {
-        let head = self.chain(Side::Head, joints);
-        let table = self.chain(Side::Table, joints);
         let t0 = self.tool_direction.into_inner();
-        let gauge = Vec3::new(joints[0], joints[1], joints[2]);
-        let tip_machine = gauge + head.transform_point(&(-tool_length * t0).into()).coords;
-        let dir_machine = head.rotation * t0;
-        let tip = table.inverse_transform_point(&tip_machine.into()).coords;
-        let dir = table.rotation.inverse_transform_vector(&dir_machine);
+        let mut tip = -tool_length * t0;
+        let mut dir = t0;
+        let first = self.linear.len();
+        for (k, axis) in self.rotary.iter().enumerate().rev() {
+            if axis.on == Side::Head {
+                let (sin, cos) = joints[first + k].to_radians().sin_cos();
+                tip = axis.center + turn(&axis.axis, &(tip - axis.center), sin, cos);
+                dir = turn(&axis.axis, &dir, sin, cos);
+            }
+        }
+        tip += Vec3::new(joints[0], joints[1], joints[2]);
+        for (k, axis) in self.rotary.iter().enumerate() {
+            if axis.on == Side::Table {
+                let (sin, cos) = joints[first + k].to_radians().sin_cos();
+                tip = axis.center + turn(&axis.axis, &(tip - axis.center), -sin, cos);
+                dir = turn(&axis.axis, &dir, -sin, cos);
+            }
+        }
         Pose { tip, dir }
     }
+}
+
+/// `v` turned about unit `axis` by the angle whose sine and cosine are
+/// given (Rodrigues: v·cos + (k × v)·sin + k·(k·v)·(1 − cos)).
+#[inline]
+fn turn(axis: &Unit<Vec3>, v: &Vec3, sin: f64, cos: f64) -> Vec3 {
+    let k = axis.as_ref();
+    v * cos + k.cross(v) * sin + k * (k.dot(v) * (1.0 - cos))
 }
