@@ -165,11 +165,19 @@ fn output_file_of_an_alarmed_run_holds_the_rows_before_the_failing_block() {
 fn output_to_a_device_writes_through_it_instead_of_replacing_it() {
     // `-o /dev/stdout` names a device (through a symbolic link): the rows
     // go to it, and it is not renamed over as a regular file would be.
-    let before = std::fs::metadata("/dev/stdout").map(|m| m.file_type().is_file()).ok();
+    let before = std::fs::metadata("/dev/stdout")
+        .map(|m| m.file_type().is_file())
+        .ok();
     let output = fiveaxis(&["run", "program.nc", "-o", "/dev/stdout"]);
     assert_eq!(output.status.code(), Some(0), "{}", stderr(&output));
-    assert!(stdout(&output).starts_with("line,s,motion,"), "{}", stdout(&output));
-    let after = std::fs::metadata("/dev/stdout").map(|m| m.file_type().is_file()).ok();
+    assert!(
+        stdout(&output).starts_with("line,s,motion,"),
+        "{}",
+        stdout(&output)
+    );
+    let after = std::fs::metadata("/dev/stdout")
+        .map(|m| m.file_type().is_file())
+        .ok();
     assert_eq!(before, after);
 }
 
