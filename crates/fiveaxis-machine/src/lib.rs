@@ -125,6 +125,32 @@ pub enum ProgrammingFrame {
     Workpiece,
 }
 
+/// How TCPC picks among the rotary positions that give one tool direction.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum RotaryChoice {
+    /// The smallest total rotary motion (FANUC).
+    #[default]
+    Shortest,
+    /// The smallest motion of the rotating axis (Mitsubishi type 2; Mazak
+    /// F162 bit 1 = 1).
+    RotatingAxis,
+    /// Keep the tilt axis on the side it had at TCPC start-up; from 0, the
+    /// side with the wider stroke (Mitsubishi type 1; Mazak F162 bit 1 = 0).
+    KeepTiltSign,
+}
+
+impl RotaryChoice {
+    /// The choice a control family makes unless its parameters say
+    /// otherwise.
+    pub fn default_for(control: Control) -> Self {
+        match control {
+            Control::Fanuc30i | Control::Fanuc16 => RotaryChoice::Shortest,
+            Control::Mitsubishi => RotaryChoice::RotatingAxis,
+            Control::Mazak => RotaryChoice::KeepTiltSign,
+        }
+    }
+}
+
 /// Control parameters. Every field has the control's default.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Parameters {
@@ -143,6 +169,16 @@ pub struct Parameters {
     /// Least input increment in mm (IS-B: 0.001); inch programs use a
     /// tenth of it in inches.
     pub least_input_increment: f64,
+    /// Tool posture control (FANUC 19604#0 TPC): between block ends the
+    /// tool vector turns on the great circle instead of the rotary axes
+    /// moving linearly; G43.4 / G43.5 P1 turns it on for one mode.
+    pub tool_posture_control: bool,
+    /// How TCPC picks among the rotary positions of one tool direction.
+    pub rotary_choice: RotaryChoice,
+    /// Half-angle of the cone around the singular direction, degrees
+    /// (Mitsubishi #7907 CHK_ANG): inside it the rotating axis moves as
+    /// little as it can, whatever `rotary_choice` says.
+    pub singular_zone: f64,
 }
 
 impl Default for Parameters {
@@ -154,6 +190,9 @@ impl Default for Parameters {
             reference_2: [0.0; MAX_AXES],
             decimal_point_input: false,
             least_input_increment: 0.001,
+            tool_posture_control: false,
+            rotary_choice: RotaryChoice::Shortest,
+            singular_zone: 0.0,
         }
     }
 }

@@ -9,7 +9,7 @@ use toml::Spanned;
 use super::{FileError, Source, in_file_order};
 use crate::{
     Control, Joints, LinearAxis, MAX_AXES, Machine, MachineType, Parameters, ProgrammingFrame,
-    RotaryAxis, Side, Vec3,
+    RotaryAxis, RotaryChoice, Side, Vec3,
 };
 
 /// The linear axes that must come first, in this order.
@@ -71,6 +71,24 @@ enum RawFrame {
     Workpiece,
 }
 
+#[derive(Clone, Copy, Deserialize)]
+#[serde(rename_all = "snake_case")]
+enum RawChoice {
+    Shortest,
+    RotatingAxis,
+    KeepTiltSign,
+}
+
+impl From<RawChoice> for RotaryChoice {
+    fn from(raw: RawChoice) -> Self {
+        match raw {
+            RawChoice::Shortest => RotaryChoice::Shortest,
+            RawChoice::RotatingAxis => RotaryChoice::RotatingAxis,
+            RawChoice::KeepTiltSign => RotaryChoice::KeepTiltSign,
+        }
+    }
+}
+
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct RawLinear {
@@ -107,6 +125,9 @@ struct RawParameters {
     reference_2: RawPositions,
     decimal_point_input: Option<bool>,
     least_input_increment: Option<Spanned<f64>>,
+    tool_posture_control: Option<bool>,
+    rotary_choice: Option<RawChoice>,
+    singular_zone: Option<Spanned<f64>>,
 }
 
 impl Machine {
@@ -401,6 +422,17 @@ fn parameters(
             Some(v) => increment(src, v)?,
             None => defaults.least_input_increment,
         },
+        tool_posture_control: raw
+            .tool_posture_control
+            .unwrap_or(defaults.tool_posture_control),
+        rotary_choice: raw.rotary_choice.map_or(
+            RotaryChoice::default_for(machine.control),
+            RotaryChoice::from,
+        ),
+        singular_zone: match &raw.singular_zone {
+            Some(v) => zone(src, v)?,
+            None => defaults.singular_zone,
+        },
     })
 }
 
@@ -420,6 +452,20 @@ fn positions(src: &Source<'_>, raw: &RawPositions, machine: &Machine) -> Result<
         joints[index] = src.finite(value, name.get_ref())?;
     }
     Ok(joints)
+}
+
+fn zone(src: &Source<'_>, value: &Spanned<f64>) -> Result<f64, FileError> {
+    let key = "singular_zone";
+    let v = src.finite(value, key)?;
+    if (0.0..90.0).contains(&v) {
+        Ok(v)
+    } else {
+        Err(src.at(
+            value,
+            key,
+            format!("`{key}` must be at least 0 and below 90 degrees"),
+        ))
+    }
 }
 
 fn increment(src: &Source<'_>, value: &Spanned<f64>) -> Result<f64, FileError> {

@@ -7,7 +7,8 @@ use std::collections::BTreeSet;
 use std::fmt::Write as _;
 
 use crate::{
-    Control, Joints, LinearAxis, Machine, MachineType, ProgrammingFrame, RotaryAxis, Side, Vec3,
+    Control, Joints, LinearAxis, Machine, MachineType, ProgrammingFrame, RotaryAxis, RotaryChoice,
+    Side, Vec3,
 };
 
 /// Column at which trailing comments start, when the line is short enough.
@@ -86,6 +87,26 @@ impl Machine {
             "least_input_increment",
             &number(p.least_input_increment),
             "mm per unit of a number without a decimal point",
+        );
+        w.key(
+            "tool_posture_control",
+            &p.tool_posture_control.to_string(),
+            "TCPC turns the tool on the great circle between block ends (FANUC 19604#0)",
+        );
+        let choice = match p.rotary_choice {
+            RotaryChoice::Shortest => "shortest",
+            RotaryChoice::RotatingAxis => "rotating_axis",
+            RotaryChoice::KeepTiltSign => "keep_tilt_sign",
+        };
+        w.key(
+            "rotary_choice",
+            &quote(choice),
+            "\"shortest\" total motion, \"rotating_axis\" moves least, or \"keep_tilt_sign\"",
+        );
+        w.key(
+            "singular_zone",
+            &number(p.singular_zone),
+            "degrees around the singular direction where the rotating axis moves least (#7907)",
         );
     }
 

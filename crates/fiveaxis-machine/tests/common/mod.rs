@@ -3,8 +3,8 @@
 #![allow(dead_code)]
 
 use fiveaxis_machine::{
-    Control, Joints, LinearAxis, MAX_AXES, Machine, Parameters, ProgrammingFrame, RotaryAxis, Side,
-    Vec3,
+    Control, Joints, LinearAxis, MAX_AXES, Machine, Parameters, ProgrammingFrame, RotaryAxis,
+    RotaryChoice, Side, Vec3,
 };
 use nalgebra::Unit;
 use proptest::prelude::*;
@@ -127,31 +127,41 @@ fn parameters(count: usize) -> impl Strategy<Value = Parameters> {
         Just(ProgrammingFrame::Table),
         Just(ProgrammingFrame::Workpiece)
     ];
+    let choice = prop_oneof![
+        Just(RotaryChoice::Shortest),
+        Just(RotaryChoice::RotatingAxis),
+        Just(RotaryChoice::KeepTiltSign)
+    ];
     (
-        frame,
-        any::<bool>(),
-        reference(count),
-        reference(count),
-        any::<bool>(),
-        1e-6..1.0f64,
+        (frame, any::<bool>(), reference(count), reference(count)),
+        (
+            any::<bool>(),
+            1e-6..1.0f64,
+            any::<bool>(),
+            choice,
+            0.0..10.0f64,
+        ),
     )
         .prop_map(
             |(
+                (programming_frame, tcpc_option, reference_1, reference_2),
+                (
+                    decimal_point_input,
+                    least_input_increment,
+                    tool_posture_control,
+                    rotary_choice,
+                    singular_zone,
+                ),
+            )| Parameters {
                 programming_frame,
                 tcpc_option,
                 reference_1,
                 reference_2,
                 decimal_point_input,
                 least_input_increment,
-            )| {
-                Parameters {
-                    programming_frame,
-                    tcpc_option,
-                    reference_1,
-                    reference_2,
-                    decimal_point_input,
-                    least_input_increment,
-                }
+                tool_posture_control,
+                rotary_choice,
+                singular_zone,
             },
         )
 }
