@@ -111,6 +111,24 @@ pub enum Condition {
     GCodeConflict,
     /// Several words of the same address in one block.
     DuplicateAddress,
+    /// TCPC commanded on a control without the TCPC option.
+    TcpcOptionMissing,
+    /// I, J, K in the G43.5 block on a table or mixed machine.
+    TcpcIjkInStartBlock,
+    /// G43.5 with the workpiece programming frame (WKP = 1) or fewer than two rotary axes.
+    TcpcType2NotAvailable,
+    /// A rotary axis word in TCPC type 2 (G43.5).
+    TcpcRotaryWordInType2,
+    /// A G43.4 block whose tilt axis passes the singular point while the other rotary axis turns.
+    TcpcSingularPassage,
+    /// No rotary position inside the soft limits gives the tool direction.
+    ToolDirectionUnreachable,
+    /// I, J, K give no direction (all zero).
+    ToolVectorZero,
+    /// An arc in TCPC while the rotary axes move.
+    TcpcArcWithRotaryMotion,
+    /// TCPC on a machine without a rotary axis.
+    TcpcWithoutRotaryAxis,
 }
 
 impl Condition {
@@ -143,6 +161,15 @@ impl Condition {
         Condition::ReferencePositionUndefined,
         Condition::GCodeConflict,
         Condition::DuplicateAddress,
+        Condition::TcpcOptionMissing,
+        Condition::TcpcIjkInStartBlock,
+        Condition::TcpcType2NotAvailable,
+        Condition::TcpcRotaryWordInType2,
+        Condition::TcpcSingularPassage,
+        Condition::ToolDirectionUnreachable,
+        Condition::ToolVectorZero,
+        Condition::TcpcArcWithRotaryMotion,
+        Condition::TcpcWithoutRotaryAxis,
     ];
 
     /// One line saying when the condition arises.
@@ -185,6 +212,23 @@ impl Condition {
             }
             Condition::GCodeConflict => "Two G codes in one block that cannot go together",
             Condition::DuplicateAddress => "Several words of the same address in one block",
+            Condition::TcpcOptionMissing => "TCPC commanded on a control without the TCPC option",
+            Condition::TcpcIjkInStartBlock => {
+                "I, J, K in the G43.5 block on a table or mixed machine"
+            }
+            Condition::TcpcType2NotAvailable => {
+                "G43.5 with the workpiece programming frame (WKP = 1) or fewer than two rotary axes"
+            }
+            Condition::TcpcRotaryWordInType2 => "A rotary axis word in TCPC type 2 (G43.5)",
+            Condition::TcpcSingularPassage => {
+                "A G43.4 block whose tilt axis passes the singular point while the other rotary axis turns"
+            }
+            Condition::ToolDirectionUnreachable => {
+                "No rotary position inside the soft limits gives the tool direction"
+            }
+            Condition::ToolVectorZero => "I, J, K give no direction (all zero)",
+            Condition::TcpcArcWithRotaryMotion => "An arc in TCPC while the rotary axes move",
+            Condition::TcpcWithoutRotaryAxis => "TCPC on a machine without a rotary axis",
         }
     }
 }
@@ -211,6 +255,9 @@ impl Condition {
             C::NestingTooDeep => Some(77),
             C::ProgramNotFound => Some(78),
             C::ReferenceReturnCheck => Some(92),
+            C::TcpcOptionMissing => Some(10),
+            C::TcpcIjkInStartBlock => Some(5421),
+            C::TcpcType2NotAvailable => Some(5459),
             C::OvertravelPlus => {
                 return if fanuc {
                     AlarmCode::new("OT", 500, 4)
@@ -240,6 +287,9 @@ impl Condition {
             C::ArcCenterMissing => Some(71),
             C::NestingTooDeep => Some(230),
             C::ProgramNotFound | C::SubprogramNumberMissing => Some(232),
+            C::TcpcOptionMissing => Some(940),
+            C::TcpcRotaryWordInType2 => Some(33),
+            C::TcpcSingularPassage => Some(943),
             _ => None,
         };
         match (fanuc, mitsubishi, fanuc_number, mitsubishi_number) {
@@ -279,6 +329,15 @@ impl Condition {
             C::ReferenceReturnCheck => 60,
             C::ReferencePositionUndefined => 61,
             C::OvertravelPlus => 500,
+            C::TcpcOptionMissing => 70,
+            C::TcpcIjkInStartBlock => 71,
+            C::TcpcType2NotAvailable => 72,
+            C::TcpcRotaryWordInType2 => 73,
+            C::TcpcSingularPassage => 74,
+            C::ToolDirectionUnreachable => 75,
+            C::ToolVectorZero => 76,
+            C::TcpcArcWithRotaryMotion => 77,
+            C::TcpcWithoutRotaryAxis => 78,
             C::OvertravelMinus => 501,
         }
     }

@@ -10,9 +10,15 @@ use fiveaxis_machine::{Control, Joints, MAX_AXES, MAX_TOOL_OFFSET, Machine, Offs
 
 use crate::alarm::{Alarm, Condition};
 use crate::dialect::Dialect;
-use crate::modal::{Distance, FeedMode, LengthMode, Modal, MotionMode, Plane, Units, WorkSelect};
+use crate::modal::{
+    Distance, FeedMode, LengthMode, Modal, MotionMode, Plane, TcpcType, Units, WorkSelect,
+};
 use crate::segment::{Arc, Motion, Path, Segment};
 use crate::words::Words;
+
+mod tcpc;
+
+pub use tcpc::inclined;
 
 /// Millimetres in an inch.
 const MM_PER_INCH: f64 = 25.4;
@@ -68,6 +74,8 @@ struct State {
     shift: Vec3,
     /// G92 shift of each axis beyond X, Y, Z (by joint index).
     axis_shift: Joints,
+    /// Tool centre point control data of the running mode.
+    tcpc: tcpc::TcpcState,
 }
 
 /// The controller of one run.
@@ -105,6 +113,7 @@ impl<'m> Controller<'m> {
                 tool: 0,
                 shift: Vec3::zeros(),
                 axis_shift: [0.0; MAX_AXES],
+                tcpc: tcpc::TcpcState::default(),
             },
             words: Words::new(machine.control),
             axis_letters: {
@@ -172,12 +181,21 @@ impl<'m> Controller<'m> {
         // Where the program stands, in the (possibly new) work coordinate
         // system, under the length offset in force before this block.
         let from = self.programmed(&self.state.joints);
+        // The same point as the tip in the work coordinate system that
+        // does not turn: where a block leaving TCPC starts from.
+        let plain_from = self.plain_programmed(&self.state.joints);
+        let was_tcpc = self.tcpc_type().is_some();
         let flow = self.m_codes()?;
         let change = self.apply_length(&codes)?;
-        // A cancel without movement (Mitsubishi G44): the axes stay, the
-        // programmed position takes the offset's place.
         let from = if change == LengthChange::InPlace {
+            // A cancel or start-up without movement (Mitsubishi G44,
+            // G43.4/G43.5): the axes stay, the programmed position takes
+            // the offset's place.
             self.programmed(&self.state.joints)
+        } else if was_tcpc && self.tcpc_type().is_none() {
+            // Leaving TCPC: axes the block does not name move only by the
+            // removal of the offset vector along the tool.
+            plain_from
         } else {
             from
         };
@@ -207,7 +225,7 @@ impl<'m> Controller<'m> {
                 (90 | 91, 0) => GKind::Distance,
                 (93..=95, 0) => GKind::Feed,
                 (20 | 21, 0) => GKind::Units,
-                (43 | 44 | 49, 0) | (43, 1) => GKind::Length,
+                (43 | 44 | 49, 0) | (43, 1 | 4 | 5) => GKind::Length,
                 (54..=59, 0) | (54, 1) => GKind::Work,
                 (4 | 10 | 27 | 28 | 30 | 53 | 92, 0) => GKind::OneShot,
                 // Cancels of modes that cannot be active in this kernel
@@ -368,9 +386,19 @@ impl<'m> Controller<'m> {
     fn apply_length(&mut self, codes: &GCodes) -> Result<LengthChange, Alarm> {
         let before = (self.state.modal.length, self.state.h);
         let mut in_place = false;
-        if let Some((code, _)) = codes.length {
+        self.state.tcpc.startup = false;
+        if let Some((code, span)) = codes.length {
             self.state.modal.length = match (code.major, code.minor) {
                 (43, 1) => LengthMode::ToolAxis,
+                (43, minor @ (4 | 5)) => {
+                    let kind = if minor == 4 {
+                        TcpcType::Angles
+                    } else {
+                        TcpcType::Vector
+                    };
+                    in_place = self.start_tcpc(kind, span)? == LengthChange::InPlace;
+                    LengthMode::Tcpc(kind)
+                }
                 (43, _) => LengthMode::Plus,
                 (44, _) if self.dialect.g44_cancels => {
                     in_place = true;
@@ -389,10 +417,10 @@ impl<'m> Controller<'m> {
             self.words.take(b'H');
             self.state.h = self.offset_number(&word)?;
         }
-        Ok(if before == (self.state.modal.length, self.state.h) {
-            LengthChange::None
-        } else if in_place {
+        Ok(if in_place {
             LengthChange::InPlace
+        } else if before == (self.state.modal.length, self.state.h) && !self.state.tcpc.startup {
+            LengthChange::None
         } else {
             LengthChange::Moves
         })
@@ -546,7 +574,7 @@ impl<'m> Controller<'m> {
             LengthMode::Off => Vec3::zeros(),
             LengthMode::Plus => l * t0,
             LengthMode::Minus => -l * t0,
-            LengthMode::ToolAxis => {
+            LengthMode::ToolAxis | LengthMode::Tcpc(_) => {
                 let head = self.machine.chain(Side::Head, joints);
                 -head.transform_point(&(-l * t0).into()).coords
             }
@@ -558,11 +586,24 @@ impl<'m> Controller<'m> {
         self.tool_length()
     }
 
+    /// Programmed position outside TCPC semantics: machine position less
+    /// the work offset and the length offset vector in force.
+    fn plain_programmed(&self, joints: &Joints) -> Joints {
+        let mut p = self.programmed(joints);
+        let lin =
+            Vec3::new(joints[0], joints[1], joints[2]) - self.work() - self.length_vector(joints);
+        p[..3].copy_from_slice(lin.as_slice());
+        p
+    }
+
     /// Programmed position of every axis at machine position `joints`.
     fn programmed(&self, joints: &Joints) -> Joints {
         let mut p = *joints;
-        let lin =
-            Vec3::new(joints[0], joints[1], joints[2]) - self.work() - self.length_vector(joints);
+        let lin = if self.tcpc_type().is_some() {
+            self.tcpc_programmed(joints)
+        } else {
+            Vec3::new(joints[0], joints[1], joints[2]) - self.work() - self.length_vector(joints)
+        };
         p[..3].copy_from_slice(lin.as_slice());
         for (i, value) in p
             .iter_mut()
@@ -587,7 +628,11 @@ impl<'m> Controller<'m> {
         {
             *value += self.state.axis_shift[i];
         }
-        let lin = Vec3::new(p[0], p[1], p[2]) + self.work() + self.length_vector(&joints);
+        let lin = if self.tcpc_type().is_some() {
+            self.tcpc_gauge(&joints, &Vec3::new(p[0], p[1], p[2]))
+        } else {
+            Vec3::new(p[0], p[1], p[2]) + self.work() + self.length_vector(&joints)
+        };
         joints[..3].copy_from_slice(lin.as_slice());
         joints
     }
@@ -697,6 +742,9 @@ impl<'m> Controller<'m> {
         length_changed: bool,
         out: &mut Vec<Segment>,
     ) -> Result<(), Alarm> {
+        if let Some(kind) = self.tcpc_type() {
+            return self.tcpc_motion(kind, from, length_changed, out);
+        }
         let targets = self.axis_words();
         let has_axes = targets.iter().any(Option::is_some);
         let mode = self.state.modal.motion;
@@ -757,7 +805,41 @@ impl<'m> Controller<'m> {
         end: Joints,
         out: &mut Vec<Segment>,
     ) -> Result<(), Alarm> {
-        let [p, q, _] = self.state.modal.plane.axes();
+        let Some(geo) = self.arc_geometry(mode, from, end_p)? else {
+            // R with the end point on the start point: no arc.
+            return self.push_line(Motion::Linear, start, end, out);
+        };
+        let [p, q] = geo.axes;
+        // The centre in machine coordinates, and its drift when the offset
+        // vector changes over the block.
+        let offset0 = self.length_vector(&start) + self.work();
+        let offset1 = self.length_vector(&end) + self.work();
+        let arc = Arc {
+            axes: [p, q],
+            center: [geo.center[0] + offset0[p], geo.center[1] + offset0[q]],
+            r0: geo.r0,
+            r1: geo.r1,
+            theta0: geo.theta0,
+            sweep: geo.sweep,
+            drift: [offset1[p] - offset0[p], offset1[q] - offset0[q]],
+        };
+        let mut seg = self.segment(geo.motion, start, end, Path::Arc(arc));
+        let helix = end_p[geo.normal] - from[geo.normal];
+        seg.feed = Some(self.cutting_feed(|| arc.length().hypot(helix))?);
+        out.push(seg);
+        Ok(())
+    }
+
+    /// The circle of a G02 / G03 block in programmed coordinates, from
+    /// `from` to `end_p` in the selected plane; `None` for an R arc whose
+    /// end point is its start point (no arc).
+    fn arc_geometry(
+        &mut self,
+        mode: MotionMode,
+        from: &Joints,
+        end_p: &Joints,
+    ) -> Result<Option<ArcGeometry>, Alarm> {
+        let [p, q, normal] = self.state.modal.plane.axes();
         let ccw = mode == MotionMode::Ccw;
         let (sp, sq) = (from[p], from[q]);
         let (ep, eq) = (end_p[p], end_p[q]);
@@ -774,8 +856,7 @@ impl<'m> Controller<'m> {
             let r = self.length(&r_word);
             match self.center_from_radius((sp, sq), (ep, eq), r, ccw, r_word.span)? {
                 Some(c) => c,
-                // R with the end point on the start point: no arc.
-                None => return self.push_line(Motion::Linear, start, end, out),
+                None => return Ok(None),
             }
         } else {
             let i = self
@@ -806,26 +887,16 @@ impl<'m> Controller<'m> {
         }
         let theta0 = (sq - center.1).atan2(sp - center.0);
         let theta1 = (eq - center.1).atan2(ep - center.0);
-        let sweep = arc_sweep(theta0, theta1, ccw, r0);
-        // The centre in machine coordinates, and its drift when the offset
-        // vector changes over the block.
-        let offset0 = self.length_vector(&start) + self.work();
-        let offset1 = self.length_vector(&end) + self.work();
-        let arc = Arc {
+        Ok(Some(ArcGeometry {
             axes: [p, q],
-            center: [center.0 + offset0[p], center.1 + offset0[q]],
+            normal,
+            center: [center.0, center.1],
             r0,
             r1,
             theta0,
-            sweep,
-            drift: [offset1[p] - offset0[p], offset1[q] - offset0[q]],
-        };
-        let motion = if ccw { Motion::Ccw } else { Motion::Cw };
-        let mut seg = self.segment(motion, start, end, Path::Arc(arc));
-        let helix = end_p[3 - p - q] - from[3 - p - q];
-        seg.feed = Some(self.cutting_feed(|| arc.length().hypot(helix))?);
-        out.push(seg);
-        Ok(())
+            sweep: arc_sweep(theta0, theta1, ccw, r0),
+            motion: if ccw { Motion::Ccw } else { Motion::Cw },
+        }))
     }
 
     /// The centre of an R arc: of the two circles through both points, the
@@ -1127,6 +1198,18 @@ impl<'m> Controller<'m> {
                     hi[i] = hi[i].max(mid[i]);
                 }
             }
+            // The linear axes of a TCPC block swing with the rotary axes:
+            // sampled densely enough to follow them.
+            Path::Tcpc(_) => {
+                let n = limit_samples(seg, machine);
+                for k in 1..n {
+                    let joints = seg.eval(machine, f64::from(k) / f64::from(n));
+                    for i in 0..machine.axis_count() {
+                        lo[i] = lo[i].min(joints[i]);
+                        hi[i] = hi[i].max(joints[i]);
+                    }
+                }
+            }
             Path::Joint => {}
         }
         let limits = machine.linear.iter().map(|a| Some((a.min, a.max))).chain(
@@ -1153,6 +1236,27 @@ impl<'m> Controller<'m> {
         }
         Ok(())
     }
+}
+
+/// Rotary motion between two samples when a TCPC block is checked against
+/// the soft limits, degrees.
+pub const LIMIT_SAMPLE_ANGLE: f64 = 0.5;
+/// Tip travel between two samples when a TCPC block is checked, mm.
+pub const LIMIT_SAMPLE_LENGTH: f64 = 5.0;
+
+/// How many samples check a TCPC segment against the soft limits.
+fn limit_samples(seg: &Segment, machine: &Machine) -> u32 {
+    let turn = (machine.linear.len()..machine.axis_count())
+        .map(|i| (seg.end[i] - seg.start[i]).abs())
+        .fold(0.0, f64::max);
+    let travel = match &seg.path {
+        Path::Tcpc(t) => t.tip.length(),
+        _ => 0.0,
+    };
+    let n = (turn / LIMIT_SAMPLE_ANGLE)
+        .max(travel / LIMIT_SAMPLE_LENGTH)
+        .ceil();
+    n.clamp(2.0, 4096.0) as u32
 }
 
 /// How far past a soft limit rounding may carry a position, mm or degrees.
@@ -1218,6 +1322,21 @@ fn arc_extent(arc: &Arc, k: usize) -> (f64, f64) {
         q += quarter;
     }
     (lo, hi)
+}
+
+/// A G02 / G03 circle in programmed coordinates.
+#[derive(Clone, Copy, Debug)]
+struct ArcGeometry {
+    /// Indices of the plane's first and second axis.
+    axes: [usize; 2],
+    /// Index of the plane's normal axis.
+    normal: usize,
+    center: [f64; 2],
+    r0: f64,
+    r1: f64,
+    theta0: f64,
+    sweep: f64,
+    motion: Motion,
 }
 
 /// What a block did to the length offset vector.

@@ -13,6 +13,10 @@ pub struct Dialect {
     /// G44 cancels tool length compensation (and TCPC) without moving
     /// (Mitsubishi, seed 004) instead of compensating in the − direction.
     pub g44_cancels: bool,
+    /// The TCPC start-up block moves under TCPC (tip controlled), and not
+    /// at all without axis words (Mitsubishi); otherwise it moves with
+    /// tool length compensation only (FANUC, seed 000).
+    pub tcpc_startup_controls_tip: bool,
 }
 
 impl Dialect {
@@ -22,6 +26,7 @@ impl Dialect {
             max_nesting,
             max_m_codes: 3,
             g44_cancels: false,
+            tcpc_startup_controls_tip: false,
         };
         match control {
             Control::Fanuc30i => fanuc(10),
@@ -30,11 +35,13 @@ impl Dialect {
                 max_nesting: 8,
                 max_m_codes: 4,
                 g44_cancels: true,
+                tcpc_startup_controls_tip: true,
             },
             Control::Mazak => Self {
                 max_nesting: 8,
                 max_m_codes: 4,
                 g44_cancels: false,
+                tcpc_startup_controls_tip: false,
             },
         }
     }

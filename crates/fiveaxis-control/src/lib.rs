@@ -19,9 +19,11 @@ mod words;
 pub use alarm::{Alarm, AlarmCode, Condition, alarm_reference};
 pub use controller::{
     ARC_RADIUS_TOLERANCE, Controller, Flow, POSITION_TOLERANCE, REFERENCE_CHECK_TOLERANCE,
-    normalize_360, shortest_turn,
+    inclined, normalize_360, shortest_turn,
 };
 pub use dialect::Dialect;
-pub use modal::{Distance, FeedMode, LengthMode, Modal, MotionMode, Plane, Units, WorkSelect};
+pub use modal::{
+    Distance, FeedMode, LengthMode, Modal, MotionMode, Plane, TcpcType, Units, WorkSelect,
+};
 pub use runner::{ReaderSource, RunError, RunOptions, Runner, SliceSource, Source};
 pub use segment::{Arc, MAX_STEPS, Motion, Path, Row, Segment};

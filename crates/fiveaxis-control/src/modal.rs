@@ -76,6 +76,18 @@ pub enum LengthMode {
     Minus,
     /// G43.1: H along the actual tool axis, recomputed at block ends.
     ToolAxis,
+    /// G43.4 / G43.5: tool centre point control, H along the tool axis
+    /// everywhere on the path.
+    Tcpc(TcpcType),
+}
+
+/// Which TCPC: how the tool direction is programmed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TcpcType {
+    /// Type 1, G43.4: by the rotary axis angles.
+    Angles,
+    /// Type 2, G43.5: by the tool vector I, J, K.
+    Vector,
 }
 
 /// Group 14: the selected work coordinate system.

@@ -8,7 +8,7 @@
 //! from forward kinematics of the sampled machine position, never from the
 //! programmed values.
 
-use fiveaxis_machine::{Joints, Machine, Vec3};
+use fiveaxis_machine::{Joints, Machine, Side, Vec3};
 
 /// Interpolation kind of a move, as the `motion` column shows it.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -46,6 +46,84 @@ pub enum Path {
     /// Straight through an intermediate machine position reached at
     /// s = 0.5 (G28 / G30 reference returns).
     Via(Joints),
+    /// Tool centre point control: the tip follows `tip` relative to the
+    /// workpiece while the rotary axes turn; the linear axes are whatever
+    /// puts the tip there.
+    Tcpc(TcpcPath),
+}
+
+/// The law of a TCPC block.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TcpcPath {
+    /// Where the tip goes, as a function of s.
+    pub tip: TipPath,
+    /// The tip path is given in the machine frame and the table turns
+    /// under it (FANUC WKP = 1); otherwise it is in the table frame.
+    pub turning: bool,
+    /// Tool posture control: the tool directions (table frame) at s = 0
+    /// and 1, between which the tool turns on the great circle. `None`:
+    /// the rotary axes move linearly in s.
+    pub posture: Option<[Vec3; 2]>,
+}
+
+/// A tip path: a line or a circle (helix) in space.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum TipPath {
+    /// From `0` to `1` along a straight line.
+    Line([Vec3; 2]),
+    /// A circle in the plane of `axes[0]`, `axes[1]` about `center`,
+    /// rising along `axes[2]` by `rise` over the block.
+    Arc {
+        /// Centre at s = 0.
+        center: Vec3,
+        /// Unit first and second plane axis and normal.
+        axes: [Vec3; 3],
+        /// Radius at s = 0 and s = 1.
+        radius: [f64; 2],
+        /// Angle of the start point from the first axis, radians.
+        theta0: f64,
+        /// Signed sweep, radians (positive counter-clockwise about the normal).
+        sweep: f64,
+        /// Travel along the normal over the block.
+        rise: f64,
+    },
+}
+
+impl TipPath {
+    /// The tip at `s`.
+    pub fn at(&self, s: f64) -> Vec3 {
+        match self {
+            TipPath::Line([a, b]) => a + (b - a) * s,
+            TipPath::Arc {
+                center,
+                axes,
+                radius,
+                theta0,
+                sweep,
+                rise,
+            } => {
+                let theta = theta0 + sweep * s;
+                let r = lerp(radius[0], radius[1], s);
+                center
+                    + axes[0] * (r * theta.cos())
+                    + axes[1] * (r * theta.sin())
+                    + axes[2] * (rise * s)
+            }
+        }
+    }
+
+    /// Length of the path.
+    pub fn length(&self) -> f64 {
+        match self {
+            TipPath::Line([a, b]) => (b - a).norm(),
+            TipPath::Arc {
+                radius,
+                sweep,
+                rise,
+                ..
+            } => (0.5 * (radius[0] + radius[1]) * sweep.abs()).hypot(*rise),
+        }
+    }
 }
 
 /// A circle in the plane of two machine axes.
@@ -104,9 +182,12 @@ fn lerp(a: f64, b: f64, s: f64) -> f64 {
 
 impl Segment {
     /// Machine position at `s` (0 ≤ s ≤ 1); exactly `end` at s = 1.
-    pub fn eval(&self, s: f64) -> Joints {
+    pub fn eval(&self, machine: &Machine, s: f64) -> Joints {
         if s >= 1.0 {
             return self.end;
+        }
+        if let Path::Tcpc(tcpc) = &self.path {
+            return self.eval_tcpc(machine, tcpc, s);
         }
         let (from, to, t) = match &self.path {
             Path::Via(mid) if s < 0.5 => (&self.start, mid, 2.0 * s),
@@ -127,12 +208,35 @@ impl Segment {
         joints
     }
 
+    fn eval_tcpc(&self, machine: &Machine, tcpc: &TcpcPath, s: f64) -> Joints {
+        let mut joints = self.start;
+        for (j, (a, b)) in joints.iter_mut().zip(self.start.iter().zip(&self.end)) {
+            *j = lerp(*a, *b, s);
+        }
+        if let Some([d0, d1]) = tcpc.posture {
+            posture_angles(machine, &mut joints, &slerp(&d0, &d1, s));
+        }
+        let tip = tcpc.tip.at(s);
+        let tip_table = if tcpc.turning {
+            machine
+                .chain(Side::Table, &joints)
+                .inverse_transform_point(&tip.into())
+                .coords
+        } else {
+            tip
+        };
+        let gauge = machine.gauge_for_tip(&joints, &tip_table, self.tool_length);
+        joints[..3].copy_from_slice(gauge.as_slice());
+        joints
+    }
+
     /// Whether any axis moves.
     pub fn moves(&self) -> bool {
         self.start != self.end
             || match &self.path {
                 Path::Arc(a) => a.sweep != 0.0,
                 Path::Via(mid) => *mid != self.start,
+                Path::Tcpc(t) => t.tip.length() > 0.0,
                 Path::Joint => false,
             }
     }
@@ -140,7 +244,7 @@ impl Segment {
     /// The row at `s`: machine position and, by forward kinematics, the tip
     /// and tool direction in the part frame.
     pub fn row(&self, machine: &Machine, s: f64) -> Row {
-        let joints = self.eval(s);
+        let joints = self.eval(machine, s);
         let pose = machine.forward(&joints, self.tool_length);
         Row {
             line: self.line,
@@ -173,6 +277,7 @@ impl Segment {
                 (tip_mid - tip_start).norm() + (tip_end - tip_mid).norm()
             }
             Path::Joint => (tip_end - tip_start).norm(),
+            Path::Tcpc(tcpc) => tcpc.tip.length(),
         };
         let count = |span: f64, limit: f64| {
             if limit > 0.0 && span.is_finite() {
@@ -195,12 +300,56 @@ impl Segment {
         let mut previous = machine.forward(&self.start, self.tool_length).tip;
         (1..=n).all(|i| {
             let tip = machine
-                .forward(&self.eval(f64::from(i) / f64::from(n)), self.tool_length)
+                .forward(
+                    &self.eval(machine, f64::from(i) / f64::from(n)),
+                    self.tool_length,
+                )
                 .tip;
             let ok = (tip - previous).norm() <= bound;
             previous = tip;
             ok
         })
+    }
+}
+
+/// The unit vector a fraction `s` of the way from `a` to `b` along the
+/// great circle through them (the shorter arc).
+pub fn slerp(a: &Vec3, b: &Vec3, s: f64) -> Vec3 {
+    let angle = a.cross(b).norm().atan2(a.dot(b));
+    if angle < 1e-12 {
+        return (a + (b - a) * s).normalize();
+    }
+    let sin = angle.sin();
+    if sin < 1e-12 {
+        // Opposite directions: no unique great circle; turn through the
+        // lerp, which the caller never asks for (TCPC refuses it).
+        return (a + (b - a) * s).normalize();
+    }
+    (a * ((1.0 - s) * angle).sin() + b * (s * angle).sin()) / sin
+}
+
+/// Sets the rotary angles in `joints` (holding the linear interpolation of
+/// the block ends) to the solution for `dir` nearest to them.
+fn posture_angles(machine: &Machine, joints: &mut Joints, dir: &Vec3) {
+    if machine.rotary.len() != 2 {
+        return;
+    }
+    let (i0, i1) = (machine.rotary_index(0), machine.rotary_index(1));
+    let guide = [joints[i0], joints[i1]];
+    let found = machine.orientations(dir, guide);
+    let near = |pair: &[f64; 2]| {
+        let a = guide[0] + fiveaxis_machine::principal(pair[0] - guide[0]);
+        let b = guide[1] + fiveaxis_machine::principal(pair[1] - guide[1]);
+        ((a - guide[0]).abs() + (b - guide[1]).abs(), [a, b])
+    };
+    if let Some((_, [a, b])) = found
+        .pairs()
+        .iter()
+        .map(near)
+        .min_by(|x, y| x.0.total_cmp(&y.0))
+    {
+        joints[i0] = a;
+        joints[i1] = b;
     }
 }
 
