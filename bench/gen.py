@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Generates a seeded 5-axis benchmark program of straight feed moves.
 
-    gen.py BLOCKS OUTPUT [--seed N]
+    gen.py BLOCKS OUTPUT [--seed N] [--tcpc]
 
 The program is valid for both `fiveaxis run` (FANUC syntax, default machine
 `trunnion-ac`) and LinuxCNC's `rs274` (RS274/NGC):
@@ -15,8 +15,14 @@ The program is valid for both `fiveaxis run` (FANUC syntax, default machine
 Every value has a decimal point (FANUC reads numbers without one as least
 input increments) and stays inside the default machine's soft limits:
 X, Y in [-200, 200], Z in [-100, 100], A in [-100, 0], C in [0, 360).
+With --tcpc the same number of blocks is written as tool centre point
+control type 2 (FANUC G43.5): `G1 X… Y… Z… I… J… K…` with tool vectors
+within 60 degrees of +Z, after `G43.5 H0` (for `fiveaxis` only).
+
 Only the Python standard library is used.
 """
+
+import math
 
 import argparse
 import random
@@ -28,6 +34,7 @@ def main() -> int:
     parser.add_argument("blocks", type=int, help="number of G1 blocks")
     parser.add_argument("output", help="program file to write")
     parser.add_argument("--seed", type=int, default=5, help="random seed (default 5)")
+    parser.add_argument("--tcpc", action="store_true", help="write a G43.5 program")
     args = parser.parse_args()
     if args.blocks < 1:
         parser.error("blocks must be at least 1")
@@ -36,18 +43,35 @@ def main() -> int:
     uniform = rng.uniform
     with open(args.output, "w", encoding="ascii", newline="\n") as out:
         out.write("G21 G90 G94 G17\nG0 X0 Y0 Z0\nF1000.\n")
+        if args.tcpc:
+            out.write("G43.5 H0 X0 Y0 Z50.\n")
         lines = []
         for i in range(args.blocks):
-            lines.append(
-                "G1 X%.3f Y%.3f Z%.3f A%.3f C%.3f\n"
-                % (
-                    uniform(-200.0, 200.0),
-                    uniform(-200.0, 200.0),
-                    uniform(-100.0, 100.0),
-                    uniform(-100.0, 0.0),
-                    uniform(0.0, 359.999),
+            if args.tcpc:
+                tilt = math.radians(uniform(0.0, 60.0))
+                turn = math.radians(uniform(0.0, 360.0))
+                lines.append(
+                    "G1 X%.3f Y%.3f Z%.3f I%.6f J%.6f K%.6f\n"
+                    % (
+                        uniform(-150.0, 150.0),
+                        uniform(-150.0, 150.0),
+                        uniform(0.0, 100.0),
+                        math.sin(tilt) * math.cos(turn),
+                        math.sin(tilt) * math.sin(turn),
+                        math.cos(tilt),
+                    )
                 )
-            )
+            else:
+                lines.append(
+                    "G1 X%.3f Y%.3f Z%.3f A%.3f C%.3f\n"
+                    % (
+                        uniform(-200.0, 200.0),
+                        uniform(-200.0, 200.0),
+                        uniform(-100.0, 100.0),
+                        uniform(-100.0, 0.0),
+                        uniform(0.0, 359.999),
+                    )
+                )
             if len(lines) == 10000:
                 out.writelines(lines)
                 lines.clear()

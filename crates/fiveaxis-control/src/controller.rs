@@ -13,7 +13,7 @@ use crate::dialect::Dialect;
 use crate::modal::{
     Distance, FeedMode, LengthMode, Modal, MotionMode, Plane, TcpcType, Units, WorkSelect,
 };
-use crate::segment::{Arc, Motion, Path, Segment};
+use crate::segment::{Arc, Motion, Path, Segment, TipPath};
 use crate::words::Words;
 
 mod tcpc;
@@ -1199,17 +1199,8 @@ impl<'m> Controller<'m> {
                 }
             }
             // The linear axes of a TCPC block swing with the rotary axes:
-            // sampled densely enough to follow them.
-            Path::Tcpc(_) => {
-                let n = limit_samples(seg, machine);
-                for k in 1..n {
-                    let joints = seg.eval(machine, f64::from(k) / f64::from(n));
-                    for i in 0..machine.axis_count() {
-                        lo[i] = lo[i].min(joints[i]);
-                        hi[i] = hi[i].max(joints[i]);
-                    }
-                }
-            }
+            // checked on the way, below.
+            Path::Tcpc(_) => {}
             Path::Joint => {}
         }
         let limits = machine.linear.iter().map(|a| Some((a.min, a.max))).chain(
@@ -1234,29 +1225,213 @@ impl<'m> Controller<'m> {
                 format!("{name}{side} over-travel: {name} would reach {reach} beyond the soft limit {bound}"),
             ));
         }
+        if let Path::Tcpc(_) = seg.path
+            && let Some((i, value)) = tcpc_overtravel(seg, machine)
+        {
+            let name = self.axis_letters[i];
+            let (min, max) = (machine.linear[i].min, machine.linear[i].max);
+            let (condition, side, bound) = if value > max {
+                (Condition::OvertravelPlus, '+', max)
+            } else {
+                (Condition::OvertravelMinus, '-', min)
+            };
+            let name = char::from(name);
+            return Err(self.alarm(
+                condition,
+                self.words.peek(name as u8).map(|w| w.span),
+                format!("{name}{side} over-travel: {name} would reach {value} beyond the soft limit {bound} on the way"),
+            ));
+        }
         Ok(())
     }
 }
 
-/// Rotary motion between two samples when a TCPC block is checked against
-/// the soft limits, degrees.
-pub const LIMIT_SAMPLE_ANGLE: f64 = 0.5;
-/// Tip travel between two samples when a TCPC block is checked, mm.
-pub const LIMIT_SAMPLE_LENGTH: f64 = 5.0;
+/// Finest subdivision of a TCPC block when its path is checked against
+/// the soft limits (a fraction of s).
+pub const LIMIT_CHECK_RESOLUTION: f64 = 1.0 / 4096.0;
 
-/// How many samples check a TCPC segment against the soft limits.
-fn limit_samples(seg: &Segment, machine: &Machine) -> u32 {
-    let turn = (machine.linear.len()..machine.axis_count())
-        .map(|i| (seg.end[i] - seg.start[i]).abs())
-        .fold(0.0, f64::max);
-    let travel = match &seg.path {
-        Path::Tcpc(t) => t.tip.length(),
-        _ => 0.0,
+/// A linear axis of a TCPC block beyond its soft limit somewhere inside
+/// the block: the axis and the position found.
+///
+/// The block is halved until each piece is proven inside the limits: no
+/// linear axis can move faster in s than `speed_bound`, so a piece whose
+/// ends stay farther from a limit than that speed times half its length
+/// cannot cross it. Far from the limits this costs nothing beyond the two
+/// block ends; near them pieces are refined down to
+/// [`LIMIT_CHECK_RESOLUTION`].
+fn tcpc_overtravel(seg: &Segment, machine: &Machine) -> Option<(usize, f64)> {
+    let linear = machine.linear.len().min(3);
+    // Every position of the block lies in a ball: when that ball is inside
+    // the limits there is nothing to check.
+    let (center, radius) = reach_ball(seg, machine);
+    if (0..linear).all(|i| {
+        let a = &machine.linear[i];
+        center[i] + radius <= a.max && center[i] - radius >= a.min
+    }) {
+        return None;
+    }
+    let speed = speed_bound(seg, machine);
+    let outside = |j: &Joints| {
+        (0..linear).find_map(|i| {
+            let a = &machine.linear[i];
+            (j[i] > a.max + LIMIT_TOLERANCE || j[i] < a.min - LIMIT_TOLERANCE).then_some((i, j[i]))
+        })
     };
-    let n = (turn / LIMIT_SAMPLE_ANGLE)
-        .max(travel / LIMIT_SAMPLE_LENGTH)
-        .ceil();
-    n.clamp(2.0, 4096.0) as u32
+    let clear = |a: &Joints, b: &Joints, margin: f64| {
+        (0..linear).all(|i| {
+            let axis = &machine.linear[i];
+            a[i].max(b[i]) + margin <= axis.max && a[i].min(b[i]) - margin >= axis.min
+        })
+    };
+    overtravel_in(
+        seg,
+        machine,
+        &outside,
+        &clear,
+        speed,
+        (0.0, &seg.start),
+        (1.0, &seg.end),
+    )
+}
+
+/// The halving search of [`tcpc_overtravel`] on the piece from `a` to `b`
+/// (each an s and the joints there).
+fn overtravel_in(
+    seg: &Segment,
+    machine: &Machine,
+    outside: &dyn Fn(&Joints) -> Option<(usize, f64)>,
+    clear: &dyn Fn(&Joints, &Joints, f64) -> bool,
+    speed: f64,
+    (s0, j0): (f64, &Joints),
+    (s1, j1): (f64, &Joints),
+) -> Option<(usize, f64)> {
+    if clear(j0, j1, speed * (s1 - s0) / 2.0) {
+        return None;
+    }
+    let mid = 0.5 * (s0 + s1);
+    let jm = seg.eval(machine, mid);
+    if let Some(found) = outside(&jm) {
+        return Some(found);
+    }
+    if s1 - s0 <= LIMIT_CHECK_RESOLUTION {
+        return None;
+    }
+    overtravel_in(seg, machine, outside, clear, speed, (s0, j0), (mid, &jm))
+        .or_else(|| overtravel_in(seg, machine, outside, clear, speed, (mid, &jm), (s1, j1)))
+}
+
+/// A ball holding every position of X, Y, Z in a TCPC block.
+///
+/// Each rotation keeps distances to its own line, so turning a point about
+/// the table axes, innermost first, keeps it within (its distance to the
+/// innermost centre + the distances between successive centres) of the
+/// outermost centre; the same holds for the tool end turned by the head
+/// axes. The gauge point is the turned tip less the turned tool end.
+fn reach_ball(seg: &Segment, machine: &Machine) -> (Vec3, f64) {
+    let Path::Tcpc(tcpc) = &seg.path else {
+        return (Vec3::zeros(), f64::INFINITY);
+    };
+    let (a, b) = (tcpc.tip.at(0.0), tcpc.tip.at(1.0));
+    let bulge = match tcpc.tip {
+        TipPath::Arc { radius, rise, .. } => 2.0 * radius[0].max(radius[1]) + rise.abs(),
+        TipPath::Line(_) => 0.0,
+    };
+    let centers = |side: Side| {
+        machine
+            .rotary
+            .iter()
+            .filter(move |r| r.on == side)
+            .map(|r| r.center)
+    };
+    // Distance from a point to the first centre after turning about every
+    // centre of the chain, innermost (last) first.
+    let chain_radius = |side: Side, far: &dyn Fn(&Vec3) -> f64| -> Option<(Vec3, f64)> {
+        let list: Vec3Chain = centers(side).collect();
+        let (first, last) = (list.first()?, list.last()?);
+        let hops: f64 = list.windows().map(|(x, y)| (x - y).norm()).sum();
+        Some((*first, far(last) + hops))
+    };
+    let tip_far = |c: &Vec3| (a - c).norm().max((b - c).norm()) + bulge;
+    let (table_center, table_radius) = if tcpc.turning {
+        ((a + b) / 2.0, (a - b).norm() / 2.0 + bulge)
+    } else {
+        chain_radius(Side::Table, &tip_far).unwrap_or(((a + b) / 2.0, (a - b).norm() / 2.0 + bulge))
+    };
+    let tool_end = -seg.tool_length * machine.tool_direction.into_inner();
+    let (head_center, head_radius) =
+        chain_radius(Side::Head, &|c: &Vec3| (tool_end - c).norm()).unwrap_or((tool_end, 0.0));
+    (table_center - head_center, table_radius + head_radius)
+}
+
+/// The rotary centres of one side of the chain, bed outwards (at most two).
+#[derive(Clone, Copy, Debug, Default)]
+struct Vec3Chain {
+    items: [Vec3; 2],
+    len: usize,
+}
+
+impl FromIterator<Vec3> for Vec3Chain {
+    fn from_iter<I: IntoIterator<Item = Vec3>>(iter: I) -> Self {
+        let mut chain = Self::default();
+        for v in iter {
+            if chain.len < 2 {
+                chain.items[chain.len] = v;
+                chain.len += 1;
+            }
+        }
+        chain
+    }
+}
+
+impl Vec3Chain {
+    fn first(&self) -> Option<&Vec3> {
+        self.items[..self.len].first()
+    }
+
+    fn last(&self) -> Option<&Vec3> {
+        self.items[..self.len].last()
+    }
+
+    fn windows(&self) -> impl Iterator<Item = (&Vec3, &Vec3)> {
+        self.items[..self.len].windows(2).map(|w| (&w[0], &w[1]))
+    }
+}
+
+/// An upper bound on how fast (mm per unit s) any linear axis moves in a
+/// TCPC block: the tip's own travel, plus each rotary axis's turn times the
+/// farthest the turned points can be from its line.
+fn speed_bound(seg: &Segment, machine: &Machine) -> f64 {
+    let Path::Tcpc(tcpc) = &seg.path else {
+        return 0.0;
+    };
+    let tip = match tcpc.tip {
+        TipPath::Line(_) => tcpc.tip.length(),
+        TipPath::Arc {
+            radius,
+            sweep,
+            rise,
+            ..
+        } => radius[0].max(radius[1]) * sweep.abs() + rise.abs() + (radius[1] - radius[0]).abs(),
+    };
+    let far = |p: &Vec3| p.norm();
+    let reach = far(&tcpc.tip.at(0.0)).max(far(&tcpc.tip.at(1.0)))
+        + match tcpc.tip {
+            TipPath::Arc { radius, .. } => radius[0].max(radius[1]),
+            TipPath::Line(_) => 0.0,
+        }
+        + seg.tool_length.abs()
+        + machine
+            .rotary
+            .iter()
+            .map(|r| 2.0 * r.center.norm())
+            .sum::<f64>();
+    let turn: f64 = (machine.linear.len()..machine.axis_count())
+        .map(|i| (seg.end[i] - seg.start[i]).abs().to_radians())
+        .sum();
+    // Tool posture control turns the axes unevenly inside the block: allow
+    // for twice the average rate.
+    let posture = if tcpc.posture.is_some() { 2.0 } else { 1.0 };
+    tip + posture * turn * reach
 }
 
 /// How far past a soft limit rounding may carry a position, mm or degrees.

@@ -46,6 +46,11 @@ pub(super) struct TcpcState {
     tilt_sign: f64,
     /// This block started the mode.
     pub(super) startup: bool,
+    /// The programmed point a TCPC block ended on, with the machine
+    /// position, tool length and work offset it was reached with: the
+    /// programmed position stays exactly as programmed instead of being
+    /// recomputed through forward kinematics.
+    last: Option<(Joints, f64, Vec3, Vec3)>,
 }
 
 impl Default for TcpcState {
@@ -58,6 +63,7 @@ impl Default for TcpcState {
             vector: Vec3::z(),
             tilt_sign: 1.0,
             startup: false,
+            last: None,
         }
     }
 }
@@ -178,6 +184,7 @@ impl Controller<'_> {
             vector: frame.rotation * dir_table,
             tilt_sign,
             startup: true,
+            last: None,
         };
         Ok(if self.dialect.tcpc_startup_controls_tip {
             // Mitsubishi: the start-up block moves under TCPC itself, and
@@ -191,6 +198,13 @@ impl Controller<'_> {
     /// Programmed position X, Y, Z under TCPC at machine position `joints`:
     /// the tool tip in the programming frame.
     pub(super) fn tcpc_programmed(&self, joints: &Joints) -> Vec3 {
+        if let Some((at, length, work, point)) = self.state.tcpc.last
+            && at == *joints
+            && length == self.tool_length()
+            && work == self.work()
+        {
+            return point;
+        }
         let tip_table = self.machine.forward(joints, self.tool_length()).tip;
         let map = self.programming_map(joints);
         map.transform_point(&tip_table.into()).coords - self.work()
@@ -397,9 +411,13 @@ impl Controller<'_> {
             TipPath::Line([p0, p1])
         } else {
             let frame = &self.state.tcpc.frame;
-            // Start from where the tip really is (start-up blocks begin off
-            // the programmed path).
-            let tip0 = self.machine.forward(start, self.tool_length()).tip;
+            // A start-up block begins where the tip really is, off the
+            // programmed path; later blocks on their programmed start.
+            let tip0 = if self.state.tcpc.startup {
+                self.machine.forward(start, self.tool_length()).tip
+            } else {
+                frame.inverse_transform_point(&p0.into()).coords
+            };
             TipPath::Line([tip0, frame.inverse_transform_point(&p1.into()).coords])
         }
     }
