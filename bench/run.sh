@@ -20,6 +20,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 MIN_RATIO=${MIN_RATIO:-8}
+MIN_TCPC=${MIN_TCPC:-0.7}
 MAX_RSS_MB=${MAX_RSS_MB:-50}
 SEED=${SEED:-5}
 SMALL=200000
@@ -65,18 +66,20 @@ command -v hyperfine >/dev/null 2>&1 && HAVE_HYPERFINE=1
 mkdir -p "$OUT"
 SMALL_PROG=$OUT/prog200k.nc
 LARGE_PROG=$OUT/prog2M.nc
-generate() { # blocks file
+TCPC_PROG=$OUT/tcpc200k.nc
+generate() { # blocks file [gen.py options]
   local stamp="$2.stamp" want
-  want="seed=$SEED blocks=$1 gen=$(sha256sum bench/gen.py | cut -c1-16)"
+  want="seed=$SEED blocks=$1 ${3:-} gen=$(sha256sum bench/gen.py | cut -c1-16)"
   if [ -f "$2" ] && [ -f "$stamp" ] && [ "$(cat "$stamp")" = "$want" ]; then
     return
   fi
   log "generating $2 ($1 blocks)"
-  python3 bench/gen.py "$1" "$2" --seed "$SEED"
+  python3 bench/gen.py "$1" "$2" --seed "$SEED" ${3:-}
   printf '%s\n' "$want" >"$stamp"
 }
 generate "$SMALL" "$SMALL_PROG"
 generate "$LARGE" "$LARGE_PROG"
+generate "$SMALL" "$TCPC_PROG" --tcpc
 
 # --- both tools run every block -------------------------------------------
 log "checking that both tools run all $SMALL blocks"
@@ -135,6 +138,11 @@ time_cmd fiveaxis "$FIVEAXIS" run "$SMALL_PROG"
 FA_BEST=$T_BEST FA_MEAN=$T_MEAN
 time_cmd rs274 rs274 -g "$SMALL_PROG"
 RS_BEST=$T_BEST RS_MEAN=$T_MEAN
+log "wall time, $SMALL TCPC type 2 blocks"
+rows=$("$FIVEAXIS" run "$TCPC_PROG" | grep -c ',linear,') || die "fiveaxis run failed on $TCPC_PROG"
+[ "$rows" = "$SMALL" ] || die "fiveaxis printed $rows linear TCPC rows, expected $SMALL"
+time_cmd fiveaxis-tcpc "$FIVEAXIS" run "$TCPC_PROG"
+TC_BEST=$T_BEST TC_MEAN=$T_MEAN
 
 # --- peak memory -----------------------------------------------------------
 rss_kb() { # command... ; prints the maximum resident set size in kB
@@ -162,6 +170,7 @@ python3 - "$OUT/summary.md" <<EOF
 import sys
 small, large = $SMALL, $LARGE
 fa_best, fa_mean, rs_best, rs_mean = $FA_BEST, $FA_MEAN, $RS_BEST, $RS_MEAN
+tc_best, tc_mean, min_tcpc = $TC_BEST, $TC_MEAN, float("$MIN_TCPC")
 fa_rss_s, fa_rss_l, rs_rss_s = $FA_RSS_SMALL, $FA_RSS_LARGE, $RS_RSS_SMALL
 min_ratio, max_rss_mb = float("$MIN_RATIO"), float("$MAX_RSS_MB")
 fa_bps, rs_bps = small / fa_best, small / rs_best
@@ -169,6 +178,8 @@ ratio = fa_bps / rs_bps
 mb = lambda kb: kb * 1024 / 1e6
 ok_ratio = ratio >= min_ratio
 ok_rss = mb(fa_rss_l) < max_rss_mb
+tcpc_share = fa_best / tc_best
+ok_tcpc = tcpc_share >= min_tcpc
 lines = [
     "# fiveaxis vs rs274",
     "",
@@ -187,12 +198,14 @@ lines = [
     f"| blocks per second | {fa_bps:,.0f} | {rs_bps:,.0f} | **{ratio:.2f}x** |",
     f"| peak RSS, {small:,} blocks | {mb(fa_rss_s):.1f} MB | {mb(rs_rss_s):.1f} MB | {fa_rss_s / rs_rss_s:.2f} |",
     f"| peak RSS, {large:,} blocks | {mb(fa_rss_l):.1f} MB | | |",
+    f"| wall time, {small:,} TCPC type 2 blocks (best / mean) | {tc_best:.3f} s / {tc_mean:.3f} s | | {tcpc_share:.2f} of plain G1 |",
     "",
     f"- speed: fiveaxis/rs274 = {ratio:.2f}, required >= {min_ratio:g}: **{'PASS' if ok_ratio else 'FAIL'}**",
     f"- memory: {mb(fa_rss_l):.1f} MB on {large:,} blocks, required < {max_rss_mb:g} MB: **{'PASS' if ok_rss else 'FAIL'}**",
+    f"- TCPC type 2 throughput: {tcpc_share:.2f} of plain G1, required >= {min_tcpc:g}: **{'PASS' if ok_tcpc else 'FAIL'}**",
 ]
 text = "\n".join(lines) + "\n"
 open(sys.argv[1], "w").write(text)
 print(text, end="")
-sys.exit(0 if ok_ratio and ok_rss else 1)
+sys.exit(0 if ok_ratio and ok_rss and ok_tcpc else 1)
 EOF

@@ -129,6 +129,8 @@ pub enum Condition {
     TcpcArcWithRotaryMotion,
     /// TCPC on a machine without a rotary axis.
     TcpcWithoutRotaryAxis,
+    /// Tool posture control between opposite tool vectors (no single great circle).
+    PostureUndefined,
 }
 
 impl Condition {
@@ -170,6 +172,7 @@ impl Condition {
         Condition::ToolVectorZero,
         Condition::TcpcArcWithRotaryMotion,
         Condition::TcpcWithoutRotaryAxis,
+        Condition::PostureUndefined,
     ];
 
     /// One line saying when the condition arises.
@@ -229,6 +232,9 @@ impl Condition {
             Condition::ToolVectorZero => "I, J, K give no direction (all zero)",
             Condition::TcpcArcWithRotaryMotion => "An arc in TCPC while the rotary axes move",
             Condition::TcpcWithoutRotaryAxis => "TCPC on a machine without a rotary axis",
+            Condition::PostureUndefined => {
+                "Tool posture control between opposite tool vectors (no single great circle)"
+            }
         }
     }
 }
@@ -338,6 +344,7 @@ impl Condition {
             C::ToolVectorZero => 76,
             C::TcpcArcWithRotaryMotion => 77,
             C::TcpcWithoutRotaryAxis => 78,
+            C::PostureUndefined => 79,
             C::OvertravelMinus => 501,
         }
     }

@@ -13,6 +13,7 @@ use crate::dialect::Dialect;
 use crate::modal::{
     Distance, FeedMode, LengthMode, Modal, MotionMode, Plane, TcpcType, Units, WorkSelect,
 };
+use crate::reach;
 use crate::segment::{Arc, Motion, Path, Segment, TipPath};
 use crate::words::Words;
 
@@ -183,8 +184,9 @@ impl<'m> Controller<'m> {
         let from = self.programmed(&self.state.joints);
         // The same point as the tip in the work coordinate system that
         // does not turn: where a block leaving TCPC starts from.
-        let plain_from = self.plain_programmed(&self.state.joints);
         let was_tcpc = self.tcpc_type().is_some();
+        let plain_from =
+            (was_tcpc && codes.length.is_some()).then(|| self.plain_programmed(&self.state.joints));
         let flow = self.m_codes()?;
         let change = self.apply_length(&codes)?;
         let from = if change == LengthChange::InPlace {
@@ -192,7 +194,7 @@ impl<'m> Controller<'m> {
             // G43.4/G43.5): the axes stay, the programmed position takes
             // the offset's place.
             self.programmed(&self.state.joints)
-        } else if was_tcpc && self.tcpc_type().is_none() {
+        } else if let Some(plain_from) = plain_from.filter(|_| self.tcpc_type().is_none()) {
             // Leaving TCPC: axes the block does not name move only by the
             // removal of the offset vector along the tool.
             plain_from
@@ -1253,185 +1255,91 @@ pub const LIMIT_CHECK_RESOLUTION: f64 = 1.0 / 4096.0;
 /// A linear axis of a TCPC block beyond its soft limit somewhere inside
 /// the block: the axis and the position found.
 ///
-/// The block is halved until each piece is proven inside the limits: no
-/// linear axis can move faster in s than `speed_bound`, so a piece whose
-/// ends stay farther from a limit than that speed times half its length
-/// cannot cross it. Far from the limits this costs nothing beyond the two
-/// block ends; near them pieces are refined down to
-/// [`LIMIT_CHECK_RESOLUTION`].
+/// A box that holds every position of the block (`reach::gauge_box`, by
+/// interval arithmetic over the tip's box and the rotary ranges) proves
+/// most blocks inside their limits at once. Where it does not, the block is
+/// halved, and each half boxed again, until every piece is proven inside or
+/// a position beyond a limit is found, down to [`LIMIT_CHECK_RESOLUTION`].
+/// With tool posture control the rotary axes do not move monotonically
+/// inside the block, so it is sampled instead, every
+/// [`LIMIT_SAMPLE_ANGLE`] of rotary motion.
 fn tcpc_overtravel(seg: &Segment, machine: &Machine) -> Option<(usize, f64)> {
-    let linear = machine.linear.len().min(3);
-    // Every position of the block lies in a ball: when that ball is inside
-    // the limits there is nothing to check.
-    let (center, radius) = reach_ball(seg, machine);
-    if (0..linear).all(|i| {
-        let a = &machine.linear[i];
-        center[i] + radius <= a.max && center[i] - radius >= a.min
-    }) {
+    let Path::Tcpc(tcpc) = &seg.path else {
         return None;
-    }
-    let speed = speed_bound(seg, machine);
+    };
+    let linear = machine.linear.len().min(3);
     let outside = |j: &Joints| {
         (0..linear).find_map(|i| {
             let a = &machine.linear[i];
             (j[i] > a.max + LIMIT_TOLERANCE || j[i] < a.min - LIMIT_TOLERANCE).then_some((i, j[i]))
         })
     };
-    let clear = |a: &Joints, b: &Joints, margin: f64| {
-        (0..linear).all(|i| {
-            let axis = &machine.linear[i];
-            a[i].max(b[i]) + margin <= axis.max && a[i].min(b[i]) - margin >= axis.min
-        })
+    if tcpc.posture.is_some() {
+        let turn = (machine.linear.len()..machine.axis_count())
+            .map(|i| (seg.end[i] - seg.start[i]).abs())
+            .fold(0.0, f64::max);
+        let n = (turn / LIMIT_SAMPLE_ANGLE)
+            .ceil()
+            .clamp(8.0, 1.0 / LIMIT_CHECK_RESOLUTION) as u32;
+        return (1..n).find_map(|k| outside(&seg.eval(machine, f64::from(k) / f64::from(n))));
+    }
+    let inside = |b: &reach::Box3| {
+        (0..linear).all(|i| b[i].hi <= machine.linear[i].max && b[i].lo >= machine.linear[i].min)
     };
-    overtravel_in(
+    let piece = Piece {
         seg,
         machine,
-        &outside,
-        &clear,
-        speed,
-        (0.0, &seg.start),
-        (1.0, &seg.end),
-    )
+        tcpc,
+        outside: &outside,
+        inside: &inside,
+    };
+    piece.search((0.0, &seg.start), (1.0, &seg.end))
 }
 
-/// The halving search of [`tcpc_overtravel`] on the piece from `a` to `b`
-/// (each an s and the joints there).
-fn overtravel_in(
-    seg: &Segment,
-    machine: &Machine,
-    outside: &dyn Fn(&Joints) -> Option<(usize, f64)>,
-    clear: &dyn Fn(&Joints, &Joints, f64) -> bool,
-    speed: f64,
-    (s0, j0): (f64, &Joints),
-    (s1, j1): (f64, &Joints),
-) -> Option<(usize, f64)> {
-    if clear(j0, j1, speed * (s1 - s0) / 2.0) {
-        return None;
-    }
-    let mid = 0.5 * (s0 + s1);
-    let jm = seg.eval(machine, mid);
-    if let Some(found) = outside(&jm) {
-        return Some(found);
-    }
-    if s1 - s0 <= LIMIT_CHECK_RESOLUTION {
-        return None;
-    }
-    overtravel_in(seg, machine, outside, clear, speed, (s0, j0), (mid, &jm))
-        .or_else(|| overtravel_in(seg, machine, outside, clear, speed, (mid, &jm), (s1, j1)))
+/// Rotary motion between two samples of a TCPC block with tool posture
+/// control checked against the soft limits, degrees.
+pub const LIMIT_SAMPLE_ANGLE: f64 = 0.5;
+
+/// The halving search of [`tcpc_overtravel`].
+struct Piece<'a> {
+    seg: &'a Segment,
+    machine: &'a Machine,
+    tcpc: &'a crate::segment::TcpcPath,
+    outside: &'a dyn Fn(&Joints) -> Option<(usize, f64)>,
+    inside: &'a dyn Fn(&reach::Box3) -> bool,
 }
 
-/// A ball holding every position of X, Y, Z in a TCPC block.
-///
-/// Each rotation keeps distances to its own line, so turning a point about
-/// the table axes, innermost first, keeps it within (its distance to the
-/// innermost centre + the distances between successive centres) of the
-/// outermost centre; the same holds for the tool end turned by the head
-/// axes. The gauge point is the turned tip less the turned tool end.
-fn reach_ball(seg: &Segment, machine: &Machine) -> (Vec3, f64) {
-    let Path::Tcpc(tcpc) = &seg.path else {
-        return (Vec3::zeros(), f64::INFINITY);
-    };
-    let (a, b) = (tcpc.tip.at(0.0), tcpc.tip.at(1.0));
-    let bulge = match tcpc.tip {
-        TipPath::Arc { radius, rise, .. } => 2.0 * radius[0].max(radius[1]) + rise.abs(),
-        TipPath::Line(_) => 0.0,
-    };
-    let centers = |side: Side| {
-        machine
-            .rotary
-            .iter()
-            .filter(move |r| r.on == side)
-            .map(|r| r.center)
-    };
-    // Distance from a point to the first centre after turning about every
-    // centre of the chain, innermost (last) first.
-    let chain_radius = |side: Side, far: &dyn Fn(&Vec3) -> f64| -> Option<(Vec3, f64)> {
-        let list: Vec3Chain = centers(side).collect();
-        let (first, last) = (list.first()?, list.last()?);
-        let hops: f64 = list.windows().map(|(x, y)| (x - y).norm()).sum();
-        Some((*first, far(last) + hops))
-    };
-    let tip_far = |c: &Vec3| (a - c).norm().max((b - c).norm()) + bulge;
-    let (table_center, table_radius) = if tcpc.turning {
-        ((a + b) / 2.0, (a - b).norm() / 2.0 + bulge)
-    } else {
-        chain_radius(Side::Table, &tip_far).unwrap_or(((a + b) / 2.0, (a - b).norm() / 2.0 + bulge))
-    };
-    let tool_end = -seg.tool_length * machine.tool_direction.into_inner();
-    let (head_center, head_radius) =
-        chain_radius(Side::Head, &|c: &Vec3| (tool_end - c).norm()).unwrap_or((tool_end, 0.0));
-    (table_center - head_center, table_radius + head_radius)
-}
-
-/// The rotary centres of one side of the chain, bed outwards (at most two).
-#[derive(Clone, Copy, Debug, Default)]
-struct Vec3Chain {
-    items: [Vec3; 2],
-    len: usize,
-}
-
-impl FromIterator<Vec3> for Vec3Chain {
-    fn from_iter<I: IntoIterator<Item = Vec3>>(iter: I) -> Self {
-        let mut chain = Self::default();
-        for v in iter {
-            if chain.len < 2 {
-                chain.items[chain.len] = v;
-                chain.len += 1;
+impl Piece<'_> {
+    fn search(&self, (s0, j0): (f64, &Joints), (s1, j1): (f64, &Joints)) -> Option<(usize, f64)> {
+        let bulge = match self.tcpc.tip {
+            TipPath::Arc { radius, sweep, .. } => {
+                radius[0].max(radius[1]) * sweep.abs() * (s1 - s0)
             }
-        }
-        chain
-    }
-}
-
-impl Vec3Chain {
-    fn first(&self) -> Option<&Vec3> {
-        self.items[..self.len].first()
-    }
-
-    fn last(&self) -> Option<&Vec3> {
-        self.items[..self.len].last()
-    }
-
-    fn windows(&self) -> impl Iterator<Item = (&Vec3, &Vec3)> {
-        self.items[..self.len].windows(2).map(|w| (&w[0], &w[1]))
-    }
-}
-
-/// An upper bound on how fast (mm per unit s) any linear axis moves in a
-/// TCPC block: the tip's own travel, plus each rotary axis's turn times the
-/// farthest the turned points can be from its line.
-fn speed_bound(seg: &Segment, machine: &Machine) -> f64 {
-    let Path::Tcpc(tcpc) = &seg.path else {
-        return 0.0;
-    };
-    let tip = match tcpc.tip {
-        TipPath::Line(_) => tcpc.tip.length(),
-        TipPath::Arc {
-            radius,
-            sweep,
-            rise,
-            ..
-        } => radius[0].max(radius[1]) * sweep.abs() + rise.abs() + (radius[1] - radius[0]).abs(),
-    };
-    let far = |p: &Vec3| p.norm();
-    let reach = far(&tcpc.tip.at(0.0)).max(far(&tcpc.tip.at(1.0)))
-        + match tcpc.tip {
-            TipPath::Arc { radius, .. } => radius[0].max(radius[1]),
             TipPath::Line(_) => 0.0,
+        };
+        let tip = reach::tip_box(&self.tcpc.tip.at(s0), &self.tcpc.tip.at(s1), bulge);
+        let gauge = reach::gauge_box(
+            self.machine,
+            &tip,
+            self.tcpc.turning,
+            j0,
+            j1,
+            self.seg.tool_length,
+        );
+        if (self.inside)(&gauge) {
+            return None;
         }
-        + seg.tool_length.abs()
-        + machine
-            .rotary
-            .iter()
-            .map(|r| 2.0 * r.center.norm())
-            .sum::<f64>();
-    let turn: f64 = (machine.linear.len()..machine.axis_count())
-        .map(|i| (seg.end[i] - seg.start[i]).abs().to_radians())
-        .sum();
-    // Tool posture control turns the axes unevenly inside the block: allow
-    // for twice the average rate.
-    let posture = if tcpc.posture.is_some() { 2.0 } else { 1.0 };
-    tip + posture * turn * reach
+        let mid = 0.5 * (s0 + s1);
+        let jm = self.seg.eval(self.machine, mid);
+        if let Some(found) = (self.outside)(&jm) {
+            return Some(found);
+        }
+        if s1 - s0 <= LIMIT_CHECK_RESOLUTION {
+            return None;
+        }
+        self.search((s0, j0), (mid, &jm))
+            .or_else(|| self.search((mid, &jm), (s1, j1)))
+    }
 }
 
 /// How far past a soft limit rounding may carry a position, mm or degrees.

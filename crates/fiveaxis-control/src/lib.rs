@@ -12,6 +12,7 @@ mod alarm;
 mod controller;
 mod dialect;
 mod modal;
+mod reach;
 mod runner;
 mod segment;
 mod words;

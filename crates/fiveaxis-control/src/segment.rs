@@ -289,24 +289,28 @@ impl Segment {
         let mut n = count(chord, step)
             .max(count(rotary_span, step_angle))
             .max(1.0) as u32;
-        while n < MAX_STEPS && !self.steps_within(machine, n, step) {
+        while n < MAX_STEPS && !self.steps_within(machine, n, step, step_angle) {
             n = (n * 2).min(MAX_STEPS);
         }
         n
     }
 
-    fn steps_within(&self, machine: &Machine, n: u32, step: f64) -> bool {
+    fn steps_within(&self, machine: &Machine, n: u32, step: f64, step_angle: f64) -> bool {
         let bound = step * (1.0 + STEP_SLACK);
-        let mut previous = machine.forward(&self.start, self.tool_length).tip;
+        let turn_bound = step_angle * (1.0 + STEP_SLACK);
+        let rotary = machine.linear.len()..machine.axis_count();
+        let mut previous = (
+            self.start,
+            machine.forward(&self.start, self.tool_length).tip,
+        );
         (1..=n).all(|i| {
-            let tip = machine
-                .forward(
-                    &self.eval(machine, f64::from(i) / f64::from(n)),
-                    self.tool_length,
-                )
-                .tip;
-            let ok = (tip - previous).norm() <= bound;
-            previous = tip;
+            let joints = self.eval(machine, f64::from(i) / f64::from(n));
+            let tip = machine.forward(&joints, self.tool_length).tip;
+            let ok = (tip - previous.1).norm() <= bound
+                && rotary
+                    .clone()
+                    .all(|k| (joints[k] - previous.0[k]).abs() <= turn_bound);
+            previous = (joints, tip);
             ok
         })
     }

@@ -23,6 +23,12 @@ use crate::segment::{Motion, Path, Segment, TcpcPath, TipPath};
 /// Shortest tip travel that counts as a direction of travel for the
 /// inclination angle Q, mm.
 const TRAVEL_EPSILON: f64 = 1e-9;
+/// How close to a half turn two tool vectors count as opposite for tool
+/// posture control, radians.
+const POSTURE_OPPOSITE: f64 = 1e-9;
+/// Turn of the tool between two checks that tool posture control stays
+/// reachable, degrees.
+const POSTURE_SAMPLE_ANGLE: f64 = 1.0;
 /// Rotary motion under which the rotary axes count as standing still
 /// (arcs in TCPC), degrees.
 const ROTARY_EPSILON: f64 = 1e-9;
@@ -265,7 +271,10 @@ impl Controller<'_> {
         }
         let (mut end_p, mut travel) = self.end_point(from, &targets);
         let current = self.state.joints;
-        if kind == TcpcType::Vector {
+        // The start-up block turns the rotary axes only for a vector it
+        // gives itself (head-head machines); otherwise they stay.
+        let solve_vector = kind == TcpcType::Vector && (vector_given || !self.state.tcpc.startup);
+        if solve_vector {
             let (i0, i1) = (machine.rotary_index(0), machine.rotary_index(1));
             let p0 = Vec3::new(from[0], from[1], from[2]);
             let p1 = Vec3::new(end_p[0], end_p[1], end_p[2]);
@@ -321,13 +330,17 @@ impl Controller<'_> {
         } else {
             self.tcpc_line(from, &end_p, &start)
         };
-        let posture = self.state.tcpc.posture.then(|| {
+        let posture = if self.state.tcpc.posture {
             let length = self.tool_length();
-            [
+            let ends = [
                 machine.forward(&start, length).dir,
                 machine.forward(&end, length).dir,
-            ]
-        });
+            ];
+            self.check_posture_path(&ends, &start, &end)?;
+            Some(ends)
+        } else {
+            None
+        };
         let path = Path::Tcpc(TcpcPath {
             tip,
             turning: self.state.tcpc.turning,
@@ -341,6 +354,50 @@ impl Controller<'_> {
             seg.feed = Some(self.cutting_feed(|| tip.length())?);
         }
         out.push(seg);
+        Ok(())
+    }
+
+    /// Tool posture control turns the tool on the great circle between
+    /// `ends`: refuses opposite vectors (no single great circle) and a
+    /// circle that passes directions no rotary position gives.
+    fn check_posture_path(
+        &self,
+        ends: &[Vec3; 2],
+        start: &Joints,
+        end: &Joints,
+    ) -> Result<(), Alarm> {
+        let angle = ends[0].cross(&ends[1]).norm().atan2(ends[0].dot(&ends[1]));
+        if std::f64::consts::PI - angle < POSTURE_OPPOSITE {
+            return Err(self.alarm(
+                Condition::PostureUndefined,
+                None,
+                "tool posture control between opposite tool vectors: no single great circle".into(),
+            ));
+        }
+        let machine = self.machine;
+        if machine.rotary.len() != 2 {
+            return Ok(());
+        }
+        let (i0, i1) = (machine.rotary_index(0), machine.rotary_index(1));
+        let samples = (angle.to_degrees() / POSTURE_SAMPLE_ANGLE).ceil().max(1.0) as u32;
+        for k in 1..samples {
+            let s = f64::from(k) / f64::from(samples);
+            let dir = crate::segment::slerp(&ends[0], &ends[1], s);
+            let guide = [
+                start[i0] + (end[i0] - start[i0]) * s,
+                start[i1] + (end[i1] - start[i1]) * s,
+            ];
+            if machine.orientations(&dir, guide).is_empty() {
+                return Err(self.alarm(
+                    Condition::ToolDirectionUnreachable,
+                    None,
+                    format!(
+                        "tool posture control passes a tool direction ({}, {}, {}) no rotary position gives",
+                        dir.x, dir.y, dir.z
+                    ),
+                ));
+            }
+        }
         Ok(())
     }
 
