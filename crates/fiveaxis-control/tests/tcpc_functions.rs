@@ -1154,7 +1154,7 @@ fn type_2_arc_by_radius_keeps_the_vector() {
     assert_close("rotaries stand", &joints(&r.end(2))[3..], &[0.0, 45.0]);
 }
 
-// ----- failing: behaviour the kernel gets wrong (see the comments) ----------
+// ----- regressions: found wrong while writing these tests ---------------------
 
 #[test]
 fn g43_5_block_with_q_does_not_turn_the_rotary_axes_on_table_and_mixed_machines() {
@@ -1172,8 +1172,8 @@ fn g43_5_block_with_q_does_not_turn_the_rotary_axes_on_table_and_mixed_machines(
     // stay 0, tool (0, 0, 1), G = tip + L·Z = (10, 0, 100). Then `X20.`
     // under TCPC travels +X: t = (sin 10, 0, cos 10), B 10, C 0.
     //
-    // The kernel inclines the start-up block by the "travel" from the
-    // untouched programmed position (0, 0, 0) to (10, 0, 0): B turns to 10
+    // The kernel once inclined the start-up block by the "travel" from the
+    // untouched programmed position (0, 0, 0) to (10, 0, 0): B turned to 10
     // in the G43.5 block (on trunnion-ac A 10, C 90), which is what PS5421
     // forbids for I, J, K.
     let m = machine("head-table-bc");
@@ -1213,8 +1213,8 @@ fn posture_control_rows_keep_within_the_step_angle() {
     // tool passes close to the singular direction, so C turns fast around
     // s = 0.5: with the 17 steps the span 170 / 10 gives, C moves 44.6°
     // between the rows at s = 8/17 and 9/17. `Segment::steps` (used by
-    // `run --step-angle`) only refines for the tip distance, not for the
-    // rotary increments of a posture-controlled TCPC block.
+    // `run --step-angle`) once refined for the tip distance only, not for
+    // the rotary increments of a posture-controlled TCPC block.
     let m = machine("head-head-ca");
     let r = run("G0 A60.\nG43.4 H1 P1 X0 Y0 Z0\nG1 C170. F100.\nM30\n", &m);
     r.ok();
@@ -1233,4 +1233,56 @@ fn posture_control_rows_keep_within_the_step_angle() {
         worst <= 10.0 + 1e-9,
         "{n} steps: a rotary axis moves {worst} degrees between rows (bound 10)"
     );
+}
+
+// ----- failing: behaviour the kernel gets wrong (see the comments) ----------
+
+#[test]
+fn posture_control_through_the_singular_direction_is_not_an_instant_half_turn() {
+    // cli-contract.md, --step-angle DEG: "no rotary axis moves more than
+    // DEG between consecutive rows"; functions.md: with P1 "the tool
+    // vector turns at a uniform rate ... and the rotary axes follow it".
+    //
+    // head-head-ca, G43.4 P1 from (C 0, A 30) to (C 180, A 30):
+    // start dir (sA·sC, −sA·cC, cA) = (0, −0.5, √3/2), end (0, 0.5, √3/2).
+    // The great circle between them passes (0, 0, 1), the singular
+    // direction (parallel to C), exactly at s = 0.5 (normalized sum
+    // (0, 0, √3)/√3). Before it the tool (0, −sin θ, cos θ) is met by
+    // C 0 (A > 0) or C 180 (A < 0); after it (0, sin θ, cos θ) by C 180
+    // (A > 0) or C 0 (A < 0). Following the programmed end angles, C must
+    // turn 180° at the single instant s = 0.5 while the tool vector
+    // stands on the C axis: no finite number of rows keeps C within the
+    // step angle.
+    //
+    // The kernel emits the half turn anyway: `Segment::steps` doubles up
+    // to MAX_STEPS (2^20: `fiveaxis run --step 100 --step-angle 10` writes
+    // 1 048 582 rows for this one block, 39 s in a debug build) and the
+    // rows still show C 0 → 90 → 180 between s = 0.5 − 2⁻²⁰ and
+    // 0.5 + 2⁻²⁰. The control should refuse the block (an alarm, as
+    // Mitsubishi P943 refuses a type 1 block through the singular point
+    // with the rotating axis turning) or move it so that the rows keep
+    // the bound; either is accepted here.
+    let m = machine("head-head-ca");
+    let r = run("G0 A30.\nG43.4 H1 P1 X0 Y0 Z0\nG1 C180. F100.\nM30\n", &m);
+    if r.alarm.is_some() {
+        assert_eq!(r.alarm.as_ref().map(|a| a.line), Some(3), "{:?}", r.alarm);
+        return;
+    }
+    let seg = r.seg(3);
+    // The vector itself is right at the singular point.
+    assert_close("s = 0.5", &dir(&seg.row(&m, 0.5)), &[0.0, 0.0, 1.0]);
+    let n = seg.steps(&m, 100.0, 10.0);
+    assert!(
+        n < fiveaxis_control::MAX_STEPS,
+        "the step count runs to MAX_STEPS ({n}) without meeting the 10 degree bound"
+    );
+    let mut previous = seg.start;
+    for i in 1..=n {
+        let j = seg.eval(&m, f64::from(i) / f64::from(n));
+        for k in [3, 4] {
+            let turn = (j[k] - previous[k]).abs();
+            assert!(turn <= 10.0 + 1e-9, "axis {k} turns {turn} between rows");
+        }
+        previous = j;
+    }
 }

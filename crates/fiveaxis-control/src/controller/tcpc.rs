@@ -29,6 +29,10 @@ const POSTURE_OPPOSITE: f64 = 1e-9;
 /// Turn of the tool between two checks that tool posture control stays
 /// reachable, degrees.
 const POSTURE_SAMPLE_ANGLE: f64 = 1.0;
+/// Closest approach (radians) of a posture-controlled tool to the singular
+/// direction under which the block is refused: passing nearer would turn
+/// the rotating axis half a turn in an instant.
+const SINGULAR_PASSAGE: f64 = 1e-6;
 /// Rotary motion under which the rotary axes count as standing still
 /// (arcs in TCPC), degrees.
 const ROTARY_EPSILON: f64 = 1e-9;
@@ -317,10 +321,17 @@ impl Controller<'_> {
             let rotary_moves =
                 (first_rotary..machine.axis_count()).any(|i| travel[i].abs() > ROTARY_EPSILON);
             if rotary_moves {
+                let hint = if kind == TcpcType::Vector {
+                    " (in G43.5, I J K give the tool vector: program the arc with R)"
+                } else {
+                    ""
+                };
                 return Err(self.alarm(
                     Condition::TcpcArcWithRotaryMotion,
                     None,
-                    "circular interpolation in TCPC needs the rotary axes to stand still".into(),
+                    format!(
+                        "circular interpolation in TCPC needs the rotary axes to stand still{hint}"
+                    ),
                 ));
             }
             match self.tcpc_arc(mode, from, &end_p)? {
@@ -377,6 +388,17 @@ impl Controller<'_> {
         let machine = self.machine;
         if machine.rotary.len() != 2 {
             return Ok(());
+        }
+        let axis = machine.rotary[self.rotating_axis()].axis.into_inner();
+        if arc_distance(&ends[0], &ends[1], &axis).min(arc_distance(&ends[0], &ends[1], &-axis))
+            < SINGULAR_PASSAGE
+        {
+            return Err(self.alarm(
+                Condition::TcpcSingularPassage,
+                None,
+                "tool posture control passes the singular direction: the rotating axis would turn half a turn at once"
+                    .into(),
+            ));
         }
         let (i0, i1) = (machine.rotary_index(0), machine.rotary_index(1));
         let samples = (angle.to_degrees() / POSTURE_SAMPLE_ANGLE).ceil().max(1.0) as u32;
@@ -606,6 +628,29 @@ impl Controller<'_> {
             LengthMode::Tcpc(kind) => Some(kind),
             _ => None,
         }
+    }
+}
+
+/// The smallest angle (radians) between direction `a` and the shorter
+/// great-circle arc from `d0` to `d1`.
+fn arc_distance(d0: &Vec3, d1: &Vec3, a: &Vec3) -> f64 {
+    let angle = |u: &Vec3, v: &Vec3| u.cross(v).norm().atan2(u.dot(v));
+    let ends = angle(d0, a).min(angle(d1, a));
+    let normal = d0.cross(d1);
+    if normal.norm() < 1e-15 {
+        return ends;
+    }
+    let normal = normal.normalize();
+    let foot = a - normal * normal.dot(a);
+    if foot.norm() < 1e-15 {
+        return ends;
+    }
+    let foot = foot.normalize();
+    // The foot lies on the arc when it is between the ends.
+    if d0.cross(&foot).dot(&normal) >= 0.0 && foot.cross(d1).dot(&normal) >= 0.0 {
+        angle(&foot, a)
+    } else {
+        ends
     }
 }
 
