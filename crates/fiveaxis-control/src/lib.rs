@@ -27,4 +27,6 @@ pub use modal::{
     Distance, FeedMode, LengthMode, Modal, MotionMode, Plane, TcpcType, Units, WorkSelect,
 };
 pub use runner::{ReaderSource, RunError, RunOptions, Runner, SliceSource, Source};
-pub use segment::{Arc, MAX_STEPS, Motion, Path, Row, Segment};
+pub use segment::{
+    Arc, MAX_STEPS, Motion, POSTURE_KNOTS, Path, Posture, Row, Segment, TcpcPath, TipPath,
+};

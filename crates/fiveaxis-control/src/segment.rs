@@ -37,6 +37,9 @@ impl Motion {
 
 /// How the axes get from `start` to `end`.
 #[derive(Clone, Copy, Debug, PartialEq)]
+// Segments live in reused buffers; boxing the large TCPC variant would
+// allocate once per TCPC block instead.
+#[allow(clippy::large_enum_variant)]
 pub enum Path {
     /// Every axis linear in `s`.
     Joint,
@@ -60,10 +63,54 @@ pub struct TcpcPath {
     /// The tip path is given in the machine frame and the table turns
     /// under it (FANUC WKP = 1); otherwise it is in the table frame.
     pub turning: bool,
-    /// Tool posture control: the tool directions (table frame) at s = 0
-    /// and 1, between which the tool turns on the great circle. `None`:
-    /// the rotary axes move linearly in s.
-    pub posture: Option<[Vec3; 2]>,
+    /// Tool posture control: the tool turns on the great circle between
+    /// two directions. `None`: the rotary axes move linearly in s.
+    pub posture: Option<Posture>,
+}
+
+/// Knots of a posture-controlled block.
+pub const POSTURE_KNOTS: usize = 16;
+
+/// The law of a block under tool posture control.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Posture {
+    /// Tool directions (table frame) at s = 0 and s = 1.
+    pub ends: [Vec3; 2],
+    /// The rotary angles, followed continuously along the circle, at
+    /// increasing s from 0 to 1, spaced by equal shares of the rotary
+    /// motion: they say which of the solutions of each direction the axes
+    /// are on, and how they turn.
+    /// Single precision is plenty for that and keeps segments small; the
+    /// angles themselves come from the inverse kinematics.
+    pub knots: [(f32, [f32; 2]); POSTURE_KNOTS + 1],
+}
+
+impl Posture {
+    /// The tool direction at `s`.
+    pub fn direction(&self, s: f64) -> Vec3 {
+        slerp(&self.ends[0], &self.ends[1], s)
+    }
+
+    /// The knot angles interpolated at `s`: within a quarter turn of the
+    /// rotary angles there (the controller refuses blocks where they would
+    /// stray further).
+    pub fn guide(&self, s: f64) -> [f64; 2] {
+        let k = self.knots[1..]
+            .iter()
+            .position(|(at, _)| s <= f64::from(*at))
+            .unwrap_or(POSTURE_KNOTS - 1);
+        let ((s0, a), (s1, b)) = (self.knots[k], self.knots[k + 1]);
+        let (s0, s1) = (f64::from(s0), f64::from(s1));
+        let t = if s1 > s0 {
+            ((s - s0) / (s1 - s0)).clamp(0.0, 1.0)
+        } else {
+            1.0
+        };
+        [
+            lerp(f64::from(a[0]), f64::from(b[0]), t),
+            lerp(f64::from(a[1]), f64::from(b[1]), t),
+        ]
+    }
 }
 
 /// A tip path: a line or a circle (helix) in space.
@@ -213,8 +260,10 @@ impl Segment {
         for (j, (a, b)) in joints.iter_mut().zip(self.start.iter().zip(&self.end)) {
             *j = lerp(*a, *b, s);
         }
-        if let Some([d0, d1]) = tcpc.posture {
-            posture_angles(machine, &mut joints, &slerp(&d0, &d1, s));
+        if let Some(posture) = &tcpc.posture {
+            let angles = posture_angles(machine, &posture.direction(s), posture.guide(s));
+            joints[machine.rotary_index(0)] = angles[0];
+            joints[machine.rotary_index(1)] = angles[1];
         }
         let tip = tcpc.tip.at(s);
         let tip_table = if tcpc.turning {
@@ -299,10 +348,10 @@ impl Segment {
         let bound = step * (1.0 + STEP_SLACK);
         let turn_bound = step_angle * (1.0 + STEP_SLACK);
         let rotary = machine.linear.len()..machine.axis_count();
-        let mut previous = (
-            self.start,
-            machine.forward(&self.start, self.tool_length).tip,
-        );
+        // From where the block's law starts (a posture-controlled block
+        // leaving the singular direction turns its free axis at once).
+        let first = self.eval(machine, 0.0);
+        let mut previous = (first, machine.forward(&first, self.tool_length).tip);
         (1..=n).all(|i| {
             let joints = self.eval(machine, f64::from(i) / f64::from(n));
             let tip = machine.forward(&joints, self.tool_length).tip;
@@ -332,29 +381,22 @@ pub fn slerp(a: &Vec3, b: &Vec3, s: f64) -> Vec3 {
     (a * ((1.0 - s) * angle).sin() + b * (s * angle).sin()) / sin
 }
 
-/// Sets the rotary angles in `joints` (holding the linear interpolation of
-/// the block ends) to the solution for `dir` nearest to them.
-fn posture_angles(machine: &Machine, joints: &mut Joints, dir: &Vec3) {
-    if machine.rotary.len() != 2 {
-        return;
-    }
-    let (i0, i1) = (machine.rotary_index(0), machine.rotary_index(1));
-    let guide = [joints[i0], joints[i1]];
+/// The rotary angles for tool direction `dir` nearest to `guide`, each
+/// axis unwrapped to within half a turn of it; `guide` itself when `dir`
+/// cannot be reached.
+pub fn posture_angles(machine: &Machine, dir: &Vec3, guide: [f64; 2]) -> [f64; 2] {
     let found = machine.orientations(dir, guide);
     let near = |pair: &[f64; 2]| {
         let a = guide[0] + fiveaxis_machine::principal(pair[0] - guide[0]);
         let b = guide[1] + fiveaxis_machine::principal(pair[1] - guide[1]);
         ((a - guide[0]).abs() + (b - guide[1]).abs(), [a, b])
     };
-    if let Some((_, [a, b])) = found
+    found
         .pairs()
         .iter()
         .map(near)
         .min_by(|x, y| x.0.total_cmp(&y.0))
-    {
-        joints[i0] = a;
-        joints[i1] = b;
-    }
+        .map_or(guide, |(_, angles)| angles)
 }
 
 /// Most interpolation steps one block is split into.

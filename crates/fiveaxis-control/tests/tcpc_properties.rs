@@ -663,6 +663,17 @@ fn check_type2(case: &Case, posture: bool) -> Result<u32, TestCaseError> {
     let mut interiors = 0;
     for (k, (line, tip, _, _)) in p.blocks.iter().enumerate().take(last) {
         let (v0, v) = (vectors[k], vectors[k + 1]);
+        // A block that changes neither the tip nor the tool direction moves
+        // no axis (under posture control the axes follow the tool, so they
+        // stand still too) and has no segment.
+        if posture && *tip == prev_tip && angle_between(&v0, &v) < DIR_EPS {
+            prop_assert!(
+                out.segments.iter().all(|s| s.line != *line),
+                "a block that moves nothing has a segment; {}",
+                ctx(*line)
+            );
+            continue;
+        }
         let seg = segment_of(&out, *line)?;
         let judge = posture && kinds[k] == Circle::Inside;
         for i in 1..=SAMPLES {

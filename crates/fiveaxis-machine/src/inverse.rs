@@ -66,6 +66,17 @@ impl Orientations {
     }
 }
 
+/// The orientation equation `R(ωa, θa)·R(ωb, θb)·p = q` of a machine, with
+/// the file index and angle sign of `a` and `b`.
+struct Subproblem {
+    file_index: [usize; 2],
+    sign: [f64; 2],
+    wa: Unit<Vec3>,
+    wb: Unit<Vec3>,
+    p: Vec3,
+    q: Vec3,
+}
+
 /// Angle in degrees that turns `p` about `axis` onto `q` (subproblem 1),
 /// both projected onto the plane normal to `axis`; `None` when `p` lies on
 /// the axis (any angle does).
@@ -94,18 +105,14 @@ impl Machine {
         if self.rotary.len() != 2 {
             return Orientations::none();
         }
-        let t0 = self.tool_direction.into_inner();
-        // The machine as R(ωa, θa)·R(ωb, θb)·p = q: which file axis is a
-        // and b, and the sign of its angle (a table axis turns the part
-        // the other way relative to the tool).
-        let (file_index, sign, p, q) = match (self.rotary[0].on, self.rotary[1].on) {
-            (Side::Head, Side::Head) => ([0, 1], [1.0, 1.0], t0, *dir),
-            (Side::Table, Side::Table) => ([0, 1], [1.0, 1.0], *dir, t0),
-            (Side::Head, Side::Table) => ([1, 0], [-1.0, 1.0], t0, *dir),
-            (Side::Table, Side::Head) => ([0, 1], [-1.0, 1.0], t0, *dir),
-        };
-        let axes = [self.rotary[0].axis, self.rotary[1].axis];
-        let (wa, wb) = (axes[file_index[0]], axes[file_index[1]]);
+        let Subproblem {
+            file_index,
+            sign,
+            wa,
+            wb,
+            p,
+            q,
+        } = self.subproblem(dir);
         let held_ab = [sign[0] * held[file_index[0]], sign[1] * held[file_index[1]]];
         let mut out = Orientations::none();
         let mut free = None;
@@ -117,6 +124,59 @@ impl Machine {
         }
         out.free_axis = free.map(|k| file_index[k]);
         out
+    }
+
+    /// The orientation equation of a two-rotary machine as subproblem 2.
+    fn subproblem(&self, dir: &Vec3) -> Subproblem {
+        let t0 = self.tool_direction.into_inner();
+        // R(ωa, θa)·R(ωb, θb)·p = q: which file axis is a and b, and the
+        // sign of its angle (a table axis turns the part the other way
+        // relative to the tool).
+        let (file_index, sign, p, q) = match (self.rotary[0].on, self.rotary[1].on) {
+            (Side::Head, Side::Head) => ([0, 1], [1.0, 1.0], t0, *dir),
+            (Side::Table, Side::Table) => ([0, 1], [1.0, 1.0], *dir, t0),
+            (Side::Head, Side::Table) => ([1, 0], [-1.0, 1.0], t0, *dir),
+            (Side::Table, Side::Head) => ([0, 1], [-1.0, 1.0], t0, *dir),
+        };
+        let axes = [self.rotary[0].axis, self.rotary[1].axis];
+        Subproblem {
+            file_index,
+            sign,
+            wa: axes[file_index[0]],
+            wb: axes[file_index[1]],
+            p,
+            q,
+        }
+    }
+
+    /// How far inside the set of tool directions the machine can reach
+    /// `dir` (a unit vector in the table frame) lies: positive inside,
+    /// negative outside, 0 on its edge, where the two solutions meet. It
+    /// is a quadratic form in `dir` (the squared third coordinate of the
+    /// subproblem's intermediate vector, times the squared sine of the
+    /// angle between the axes), so it changes smoothly along a path.
+    /// Machines with other than two rotary axes, or two parallel ones,
+    /// give 1 where `dir` is reachable and −1 where not.
+    pub fn reach_margin(&self, dir: &Vec3) -> f64 {
+        let fallback = || {
+            if self.orientations(dir, [0.0, 0.0]).is_empty() {
+                -1.0
+            } else {
+                1.0
+            }
+        };
+        if self.rotary.len() != 2 {
+            return fallback();
+        }
+        let Subproblem { wa, wb, p, q, .. } = self.subproblem(dir);
+        let d = wa.dot(&wb);
+        if 1.0 - d * d <= SINGULAR_TOLERANCE {
+            return fallback();
+        }
+        let (aq, bp) = (wa.dot(&q), wb.dot(&p));
+        let alpha = (aq - d * bp) / (1.0 - d * d);
+        let beta = (bp - d * aq) / (1.0 - d * d);
+        p.norm_squared() - alpha * alpha - beta * beta - 2.0 * alpha * beta * d
     }
 
     /// Machine position of the linear axes X, Y, Z that put the tool tip

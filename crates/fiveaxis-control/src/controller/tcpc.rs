@@ -18,7 +18,7 @@ use nalgebra::IsometryMatrix3;
 use super::{Controller, LengthChange};
 use crate::alarm::{Alarm, Condition};
 use crate::modal::{LengthMode, MotionMode, TcpcType};
-use crate::segment::{Motion, Path, Segment, TcpcPath, TipPath};
+use crate::segment::{Motion, POSTURE_KNOTS, Path, Posture, Segment, TcpcPath, TipPath};
 
 /// Shortest tip travel that counts as a direction of travel for the
 /// inclination angle Q, mm.
@@ -26,13 +26,26 @@ const TRAVEL_EPSILON: f64 = 1e-9;
 /// How close to a half turn two tool vectors count as opposite for tool
 /// posture control, radians.
 const POSTURE_OPPOSITE: f64 = 1e-9;
-/// Turn of the tool between two checks that tool posture control stays
-/// reachable, degrees.
-const POSTURE_SAMPLE_ANGLE: f64 = 1.0;
-/// Closest approach (radians) of a posture-controlled tool to the singular
-/// direction under which the block is refused: passing nearer would turn
-/// the rotating axis half a turn in an instant.
-const SINGULAR_PASSAGE: f64 = 1e-6;
+/// Turn of the tool between two steps of following the rotary axes under
+/// tool posture control, degrees.
+const POSTURE_TRACK_ANGLE: f64 = 0.25;
+/// Most the rotary axes may turn in one step of following them before the
+/// step is halved, degrees.
+const POSTURE_STEP_TURN: f64 = 45.0;
+/// Most halvings of one step: a turn still above [`POSTURE_STEP_TURN`]
+/// after them is the passage through the singular direction.
+const POSTURE_REFINE_DEPTH: u32 = 24;
+/// Most the rotary angles may stray from the straight line between two
+/// knots, degrees (well inside the half turn that separates solutions).
+const POSTURE_GUIDE_TURN: f64 = 60.0;
+/// How far outside the reach a posture-controlled direction may lie
+/// (rounding), in reach-margin units.
+const POSTURE_REACH_TOLERANCE: f64 = 1e-12;
+/// Reach margin under which a dip between samples is searched.
+const POSTURE_REFINE_BELOW: f64 = 1e-2;
+/// How close the followed end angles must come to the programmed ones,
+/// degrees.
+const POSTURE_END_TOLERANCE: f64 = 1e-6;
 /// Rotary motion under which the rotary axes count as standing still
 /// (arcs in TCPC), degrees.
 const ROTARY_EPSILON: f64 = 1e-9;
@@ -56,6 +69,8 @@ pub(super) struct TcpcState {
     tilt_sign: f64,
     /// This block started the mode.
     pub(super) startup: bool,
+    /// The posture law worked out for the block being executed.
+    block_posture: Option<Posture>,
     /// The programmed point a TCPC block ended on, with the machine
     /// position, tool length and work offset it was reached with: the
     /// programmed position stays exactly as programmed instead of being
@@ -73,6 +88,7 @@ impl Default for TcpcState {
             vector: Vec3::z(),
             tilt_sign: 1.0,
             startup: false,
+            block_posture: None,
             last: None,
         }
     }
@@ -194,6 +210,7 @@ impl Controller<'_> {
             vector: frame.rotation * dir_table,
             tilt_sign,
             startup: true,
+            block_posture: None,
             last: None,
         };
         Ok(if self.dialect.tcpc_startup_controls_tip {
@@ -265,6 +282,7 @@ impl Controller<'_> {
                 ),
             ));
         }
+        self.state.tcpc.block_posture = None;
         let vector_given = self.tcpc_vector(kind)?;
         let mode = self.state.modal.motion;
         let is_arc = matches!(mode, MotionMode::Cw | MotionMode::Ccw);
@@ -285,7 +303,17 @@ impl Controller<'_> {
             let tcpc = self.state.tcpc;
             let t = inclined(&tcpc.vector, &(p1 - p0), tcpc.inclination);
             let v_table = tcpc.frame.rotation.inverse_transform_vector(&t);
-            let chosen = self.choose_rotaries(&v_table, [current[i0], current[i1]])?;
+            let here = [current[i0], current[i1]];
+            let chosen = if self.posture_controls_block() {
+                // Tool posture control: the axes follow the tool along the
+                // great circle, and end wherever that takes them.
+                let d0 = machine.forward(&current, self.tool_length()).dir;
+                let (posture, end) = self.track_posture([d0, v_table], here, None)?;
+                self.state.tcpc.block_posture = Some(posture);
+                end
+            } else {
+                self.choose_rotaries(&v_table, here)?
+            };
             for (k, i) in [i0, i1].into_iter().enumerate() {
                 let shift = self.state.axis_shift[i];
                 travel[i] = chosen[k] - current[i];
@@ -341,16 +369,37 @@ impl Controller<'_> {
         } else {
             self.tcpc_line(from, &end_p, &start)
         };
-        let posture = if self.state.tcpc.posture {
-            let length = self.tool_length();
-            let ends = [
-                machine.forward(&start, length).dir,
-                machine.forward(&end, length).dir,
-            ];
-            self.check_posture_path(&ends, &start, &end)?;
-            Some(ends)
-        } else {
-            None
+        let posture = match self.state.tcpc.block_posture.take() {
+            Some(mut posture) => {
+                // The knots were followed from the axes as they stood; the
+                // segment ends on the angles reduced for rollover axes.
+                let (i0, i1) = (machine.rotary_index(0), machine.rotary_index(1));
+                // Whole turns only: rounding the shift to them keeps the
+                // single-precision knots on their solutions.
+                let last = posture.knots[POSTURE_KNOTS].1;
+                let turns = [end[i0] - f64::from(last[0]), end[i1] - f64::from(last[1])]
+                    .map(|d| ((d / 360.0).round() * 360.0) as f32);
+                for (_, knot) in &mut posture.knots {
+                    knot[0] += turns[0];
+                    knot[1] += turns[1];
+                }
+                posture.knots[POSTURE_KNOTS].1 = [end[i0] as f32, end[i1] as f32];
+                Some(posture)
+            }
+            None if self.posture_controls_block() => {
+                // Type 1: the tool turns on the great circle between the
+                // directions of the programmed angles, which it must reach.
+                let length = self.tool_length();
+                let ends = [
+                    machine.forward(&start, length).dir,
+                    machine.forward(&end, length).dir,
+                ];
+                let (i0, i1) = (machine.rotary_index(0), machine.rotary_index(1));
+                let (posture, _) =
+                    self.track_posture(ends, [start[i0], start[i1]], Some([end[i0], end[i1]]))?;
+                Some(posture)
+            }
+            None => None,
         };
         let path = Path::Tcpc(TcpcPath {
             tip,
@@ -368,15 +417,30 @@ impl Controller<'_> {
         Ok(())
     }
 
-    /// Tool posture control turns the tool on the great circle between
-    /// `ends`: refuses opposite vectors (no single great circle) and a
-    /// circle that passes directions no rotary position gives.
-    fn check_posture_path(
+    /// Whether the block moves under tool posture control: the mode asks
+    /// for it and the machine has the two rotary axes it needs.
+    fn posture_controls_block(&self) -> bool {
+        let joint_path = self.state.tcpc.startup && !self.dialect.tcpc_startup_controls_tip;
+        self.state.tcpc.posture && self.machine.rotary.len() == 2 && !joint_path
+    }
+
+    /// Follows the rotary axes along the great circle of tool directions
+    /// between `ends`, from the angles `from`, continuously: at each small
+    /// turn of the tool the solution nearest the last one. Returns the law
+    /// of the block and the angles it ends on, which must be `to` (mod 360)
+    /// when the program gives them (type 1).
+    ///
+    /// Refuses opposite vectors (no single great circle), a circle that
+    /// leaves the directions the machine reaches (the reach margin is
+    /// followed, and its dips between samples searched), a passage through
+    /// the singular direction, a turn too fast for the knots to follow, and
+    /// rotary over-travel on the way.
+    fn track_posture(
         &self,
-        ends: &[Vec3; 2],
-        start: &Joints,
-        end: &Joints,
-    ) -> Result<(), Alarm> {
+        ends: [Vec3; 2],
+        from: [f64; 2],
+        to: Option<[f64; 2]>,
+    ) -> Result<(Posture, [f64; 2]), Alarm> {
         let angle = ends[0].cross(&ends[1]).norm().atan2(ends[0].dot(&ends[1]));
         if std::f64::consts::PI - angle < POSTURE_OPPOSITE {
             return Err(self.alarm(
@@ -385,14 +449,148 @@ impl Controller<'_> {
                 "tool posture control between opposite tool vectors: no single great circle".into(),
             ));
         }
-        let machine = self.machine;
-        if machine.rotary.len() != 2 {
-            return Ok(());
+        // First pass: follow the axes, check the way, measure their motion.
+        let mut travel = 0.0;
+        let end = self.follow_circle(&ends, from, angle, |_, _, step| {
+            travel += step;
+            Ok(())
+        })?;
+        if travel / POSTURE_KNOTS as f64 > POSTURE_GUIDE_TURN {
+            return Err(self.alarm(
+                Condition::TcpcSingularPassage,
+                None,
+                format!(
+                    "tool posture control turns the rotary axes {travel} degrees near the singular direction: too fast to follow"
+                ),
+            ));
         }
-        let axis = machine.rotary[self.rotating_axis()].axis.into_inner();
-        if arc_distance(&ends[0], &ends[1], &axis).min(arc_distance(&ends[0], &ends[1], &-axis))
-            < SINGULAR_PASSAGE
-        {
+        // Second pass, the same way: knots at equal shares of the motion,
+        // so that between two knots no axis strays far from their line.
+        let knot = |s: f64, angles: [f64; 2]| (s as f32, angles.map(|a| a as f32));
+        let mut knots = [knot(0.0, from); POSTURE_KNOTS + 1];
+        let mut done = 0.0;
+        let mut next_knot = 1;
+        self.follow_circle(&ends, from, angle, |s, angles, step| {
+            done += step;
+            if s == 0.0 {
+                knots[0] = knot(0.0, angles);
+            }
+            while next_knot < POSTURE_KNOTS
+                && done >= travel * next_knot as f64 / POSTURE_KNOTS as f64
+                && travel > 0.0
+            {
+                knots[next_knot] = knot(s, angles);
+                next_knot += 1;
+            }
+            Ok(())
+        })?;
+        // Knots left over (no motion) sit on the end.
+        for slot in &mut knots[next_knot..] {
+            *slot = knot(1.0, end);
+        }
+        let mut last = end;
+        if let Some(target) = to {
+            if (0..2).any(|k| (principal(end[k] - target[k])).abs() > POSTURE_END_TOLERANCE) {
+                return Err(self.alarm(
+                    Condition::TcpcSingularPassage,
+                    None,
+                    format!(
+                        "tool posture control reaches the rotary angles ({}, {}), not the programmed ({}, {})",
+                        end[0], end[1], target[0], target[1]
+                    ),
+                ));
+            }
+            last = [0, 1].map(|k| end[k] + principal(target[k] - end[k]));
+        }
+        knots[POSTURE_KNOTS] = knot(1.0, last);
+        Ok((Posture { ends, knots }, last))
+    }
+
+    /// Follows the rotary axes from `from` along the great circle between
+    /// `ends` (`angle` radians apart) in small turns of the tool, taking at
+    /// each the solution nearest the last. Calls `visit(s, angles, turn)`
+    /// at every step (first at s = 0 with the start, where the free axis of
+    /// a singular start takes the angle of the way out). Returns the angles
+    /// at the end.
+    fn follow_circle(
+        &self,
+        ends: &[Vec3; 2],
+        from: [f64; 2],
+        angle: f64,
+        mut visit: impl FnMut(f64, [f64; 2], f64) -> Result<(), Alarm>,
+    ) -> Result<[f64; 2], Alarm> {
+        let machine = self.machine;
+        let steps = ((angle.to_degrees() / POSTURE_TRACK_ANGLE).ceil() as usize).max(1);
+        let direction = |s: f64| crate::segment::slerp(&ends[0], &ends[1], s);
+        let unreachable = |dir: &Vec3| {
+            self.alarm(
+                Condition::ToolDirectionUnreachable,
+                None,
+                format!(
+                    "tool posture control passes a tool direction ({}, {}, {}) no rotary position gives",
+                    dir.x, dir.y, dir.z
+                ),
+            )
+        };
+        // Leaving the singular direction the rotating axis is free: it
+        // takes the angle of the way out at once (the tool does not move).
+        let mut previous = from;
+        if let Some(free) = machine.orientations(&ends[0], from).free_axis {
+            let out = crate::segment::posture_angles(machine, &direction(1.0 / steps as f64), from);
+            previous[free] = out[free];
+        }
+        visit(0.0, previous, 0.0)?;
+        let mut margins = [machine.reach_margin(&ends[0]); 3];
+        for i in 1..=steps {
+            let s = i as f64 / steps as f64;
+            let dir = direction(s);
+            margins = [margins[1], margins[2], machine.reach_margin(&dir)];
+            if margins[2] < -POSTURE_REACH_TOLERANCE {
+                return Err(unreachable(&dir));
+            }
+            // A dip of the margin between samples: search it.
+            if i >= 2
+                && margins[1] <= margins[0]
+                && margins[1] <= margins[2]
+                && margins[1] < POSTURE_REFINE_BELOW
+            {
+                let step = 1.0 / steps as f64;
+                let (dip, at) =
+                    minimize(|t| machine.reach_margin(&direction(t)), s - 2.0 * step, s);
+                if dip < -POSTURE_REACH_TOLERANCE {
+                    return Err(unreachable(&direction(at)));
+                }
+            }
+            if machine.orientations(&dir, previous).is_empty() {
+                return Err(unreachable(&dir));
+            }
+            let next = self.posture_step(&direction, (s - 1.0 / steps as f64, previous), s, 0)?;
+            let turn = (next[0] - previous[0]).abs() + (next[1] - previous[1]).abs();
+            self.check_rotary_limits(&next)?;
+            visit(s, next, turn)?;
+            previous = next;
+        }
+        Ok(previous)
+    }
+
+    /// The rotary angles at `s`, followed from `(s0, angles)`: when the axes
+    /// turn much in one step (near the singular direction) the step is
+    /// halved until they turn little, so that the solution followed stays
+    /// the continuous one. A turn that stays large however small the step
+    /// is the passage through the singular direction itself.
+    fn posture_step(
+        &self,
+        direction: &dyn Fn(f64) -> Vec3,
+        (s0, angles): (f64, [f64; 2]),
+        s: f64,
+        depth: u32,
+    ) -> Result<[f64; 2], Alarm> {
+        let next = crate::segment::posture_angles(self.machine, &direction(s), angles);
+        let turn = (next[0] - angles[0]).abs() + (next[1] - angles[1]).abs();
+        if turn <= POSTURE_STEP_TURN {
+            return Ok(next);
+        }
+        if depth >= POSTURE_REFINE_DEPTH {
             return Err(self.alarm(
                 Condition::TcpcSingularPassage,
                 None,
@@ -400,22 +598,30 @@ impl Controller<'_> {
                     .into(),
             ));
         }
-        let (i0, i1) = (machine.rotary_index(0), machine.rotary_index(1));
-        let samples = (angle.to_degrees() / POSTURE_SAMPLE_ANGLE).ceil().max(1.0) as u32;
-        for k in 1..samples {
-            let s = f64::from(k) / f64::from(samples);
-            let dir = crate::segment::slerp(&ends[0], &ends[1], s);
-            let guide = [
-                start[i0] + (end[i0] - start[i0]) * s,
-                start[i1] + (end[i1] - start[i1]) * s,
-            ];
-            if machine.orientations(&dir, guide).is_empty() {
+        let mid = 0.5 * (s0 + s);
+        let halfway = self.posture_step(direction, (s0, angles), mid, depth + 1)?;
+        self.posture_step(direction, (mid, halfway), s, depth + 1)
+    }
+
+    /// Over-travel of a rotary axis at `angles` (rotary file order).
+    fn check_rotary_limits(&self, angles: &[f64; 2]) -> Result<(), Alarm> {
+        for (k, axis) in self.machine.rotary.iter().enumerate() {
+            let Some((min, max)) = axis.limits.filter(|_| !axis.rollover) else {
+                continue;
+            };
+            let a = angles[k];
+            if a > max + super::LIMIT_TOLERANCE || a < min - super::LIMIT_TOLERANCE {
+                let (condition, side, bound) = if a > max {
+                    (Condition::OvertravelPlus, '+', max)
+                } else {
+                    (Condition::OvertravelMinus, '-', min)
+                };
                 return Err(self.alarm(
-                    Condition::ToolDirectionUnreachable,
+                    condition,
                     None,
                     format!(
-                        "tool posture control passes a tool direction ({}, {}, {}) no rotary position gives",
-                        dir.x, dir.y, dir.z
+                        "{0}{side} over-travel: {0} would reach {a} beyond the soft limit {bound} under tool posture control",
+                        axis.name
                     ),
                 ));
             }
@@ -631,27 +837,30 @@ impl Controller<'_> {
     }
 }
 
-/// The smallest angle (radians) between direction `a` and the shorter
-/// great-circle arc from `d0` to `d1`.
-fn arc_distance(d0: &Vec3, d1: &Vec3, a: &Vec3) -> f64 {
-    let angle = |u: &Vec3, v: &Vec3| u.cross(v).norm().atan2(u.dot(v));
-    let ends = angle(d0, a).min(angle(d1, a));
-    let normal = d0.cross(d1);
-    if normal.norm() < 1e-15 {
-        return ends;
+/// The smallest value of `f` on [a, b] and where, by golden-section search
+/// (f is smooth with one dip there).
+fn minimize(f: impl Fn(f64) -> f64, a: f64, b: f64) -> (f64, f64) {
+    let ratio = (5f64.sqrt() - 1.0) / 2.0;
+    let (mut a, mut b) = (a.max(0.0), b.min(1.0));
+    let mut c = b - ratio * (b - a);
+    let mut d = a + ratio * (b - a);
+    let (mut fc, mut fd) = (f(c), f(d));
+    for _ in 0..60 {
+        if fc < fd {
+            b = d;
+            d = c;
+            fd = fc;
+            c = b - ratio * (b - a);
+            fc = f(c);
+        } else {
+            a = c;
+            c = d;
+            fc = fd;
+            d = a + ratio * (b - a);
+            fd = f(d);
+        }
     }
-    let normal = normal.normalize();
-    let foot = a - normal * normal.dot(a);
-    if foot.norm() < 1e-15 {
-        return ends;
-    }
-    let foot = foot.normalize();
-    // The foot lies on the arc when it is between the ends.
-    if d0.cross(&foot).dot(&normal) >= 0.0 && foot.cross(d1).dot(&normal) >= 0.0 {
-        angle(&foot, a)
-    } else {
-        ends
-    }
+    if fc < fd { (fc, c) } else { (fd, d) }
 }
 
 /// Sort key of a candidate under `rule` (smaller is better).
