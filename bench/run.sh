@@ -20,7 +20,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 MIN_RATIO=${MIN_RATIO:-8}
-MIN_TCPC=${MIN_TCPC:-0.7}
+MIN_TCPC=${MIN_TCPC:-0.3}
 MAX_RSS_MB=${MAX_RSS_MB:-50}
 SEED=${SEED:-5}
 SMALL=200000

@@ -62,6 +62,28 @@ fn program() -> Vec<u8> {
     text.into_bytes()
 }
 
+/// The same number of TCPC type 2 blocks (`bench/gen.py --tcpc`): tool
+/// vectors within 60° of +Z.
+fn tcpc_program() -> Vec<u8> {
+    use std::fmt::Write as _;
+    let mut rng = Rng(0x7c9c_5eed);
+    let mut text = String::from("G21 G90 G94 G17\nG0 X0 Y0 Z0\nF1000.\nG43.5 H0 X0 Y0 Z50.\n");
+    for _ in 0..BLOCKS {
+        let (x, y, z) = (
+            rng.uniform(-150.0, 150.0),
+            rng.uniform(-150.0, 150.0),
+            rng.uniform(0.0, 100.0),
+        );
+        let tilt = rng.uniform(0.0, 60.0).to_radians();
+        let turn = rng.uniform(0.0, 360.0).to_radians();
+        let (i, j, k) = (tilt.sin() * turn.cos(), tilt.sin() * turn.sin(), tilt.cos());
+        writeln!(text, "G1 X{x:.3} Y{y:.3} Z{z:.3} I{i:.6} J{j:.6} K{k:.6}")
+            .expect("writing to a String");
+    }
+    text.push_str("M30\n");
+    text.into_bytes()
+}
+
 fn machine() -> Machine {
     builtin("trunnion-ac").expect("trunnion-ac is a built-in machine")
 }
@@ -123,6 +145,16 @@ fn runner(c: &mut Criterion) {
     });
     group.bench_function("rows", |b| {
         b.iter(|| run(&machine, black_box(&program), true))
+    });
+    let tcpc = tcpc_program();
+    let (segments, _) = run(&machine, &tcpc, true);
+    assert_eq!(
+        segments,
+        BLOCKS + 1,
+        "one segment per G1 block and the start-up"
+    );
+    group.bench_function("tcpc_rows", |b| {
+        b.iter(|| run(&machine, black_box(&tcpc), true))
     });
     group.finish();
 }

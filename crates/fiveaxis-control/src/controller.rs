@@ -89,6 +89,9 @@ pub struct Controller<'m> {
     words: Words,
     /// Address letters of the machine's axes, in joint order.
     axis_letters: [u8; MAX_AXES],
+    /// The tool posture law worked out for the block being executed (kept
+    /// out of `state`, which is copied for every block).
+    block_posture: Option<crate::segment::Posture>,
 }
 
 /// Where the control point goes, for each axis: programmed value if the
@@ -117,6 +120,7 @@ impl<'m> Controller<'m> {
                 tcpc: tcpc::TcpcState::default(),
             },
             words: Words::new(machine.control),
+            block_posture: None,
             axis_letters: {
                 let mut letters = [0u8; MAX_AXES];
                 for (slot, name) in letters.iter_mut().zip(machine.axis_names()) {

@@ -80,8 +80,8 @@ fn box_of(a: &Vec3, b: &Vec3) -> Box3 {
 /// The ranges of cos θ and sin θ for θ from `a` to `b` degrees.
 fn trig_ranges(a: f64, b: f64) -> (Interval, Interval) {
     let (lo, hi) = (a.min(b), a.max(b));
-    let (sa, ca) = lo.to_radians().sin_cos();
-    let (sb, cb) = hi.to_radians().sin_cos();
+    let (sa, ca) = fiveaxis_machine::sin_cos_degrees(lo);
+    let (sb, cb) = fiveaxis_machine::sin_cos_degrees(hi);
     let mut cos = Interval::hull(ca, cb);
     let mut sin = Interval::hull(sa, sb);
     if hi - lo >= 360.0 {
@@ -111,6 +111,9 @@ fn turn_box(b: &Box3, k: &Vec3, c: &Vec3, a0: f64, a1: f64) -> Box3 {
         return *b;
     }
     let (cos, sin) = trig_ranges(a0, a1);
+    if let Some(j) = (0..3).find(|&j| k[j].abs() == 1.0) {
+        return turn_box_about_axis(b, j, k[j], c, cos, sin);
+    }
     let u = [
         b[0].sub(Interval::point(c.x)),
         b[1].sub(Interval::point(c.y)),
@@ -131,6 +134,27 @@ fn turn_box(b: &Box3, k: &Vec3, c: &Vec3, a0: f64, a1: f64) -> Box3 {
             .add(along.scale(k[i]).mul(versine))
             .add(Interval::point(c[i]));
     }
+    out
+}
+
+/// [`turn_box`] for a rotation line along coordinate axis `j` (direction
+/// `sign`): that coordinate stays, the other two turn in their plane.
+fn turn_box_about_axis(
+    b: &Box3,
+    j: usize,
+    sign: f64,
+    c: &Vec3,
+    cos: Interval,
+    sin: Interval,
+) -> Box3 {
+    // (p, q) follow j cyclically, so that +e_j turns p towards q.
+    let (p, q) = ((j + 1) % 3, (j + 2) % 3);
+    let sin = sin.scale(sign);
+    let up = b[p].sub(Interval::point(c[p]));
+    let uq = b[q].sub(Interval::point(c[q]));
+    let mut out = *b;
+    out[p] = up.mul(cos).sub(uq.mul(sin)).add(Interval::point(c[p]));
+    out[q] = up.mul(sin).add(uq.mul(cos)).add(Interval::point(c[q]));
     out
 }
 
@@ -206,6 +230,37 @@ mod tests {
                         assert!(
                             p[d] >= turned[d].lo - 1e-9 && p[d] <= turned[d].hi + 1e-9,
                             "{p:?} {turned:?}"
+                        );
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn turned_points_stay_in_the_box_about_coordinate_axes() {
+        let c = Vec3::new(10.0, -20.0, 5.0);
+        let b: Box3 = [
+            Interval::hull(-3.0, 4.0),
+            Interval::hull(1.0, 2.0),
+            Interval::hull(-7.0, 0.5),
+        ];
+        for k in [Vec3::x(), -Vec3::y(), Vec3::z(), -Vec3::z()] {
+            let turned = turn_box(&b, &k, &c, -40.0, 130.0);
+            let axis = nalgebra::Unit::new_normalize(k);
+            for i in 0..=10 {
+                let v = Vec3::new(
+                    -3.0 + 0.7 * f64::from(i),
+                    1.0 + 0.1 * f64::from(i),
+                    -7.0 + 0.75 * f64::from(i),
+                );
+                for t in 0..=34 {
+                    let p =
+                        c + fiveaxis_machine::rotation(&axis, -40.0 + 5.0 * f64::from(t)) * (v - c);
+                    for d in 0..3 {
+                        assert!(
+                            p[d] >= turned[d].lo - 1e-9 && p[d] <= turned[d].hi + 1e-9,
+                            "{k:?} {p:?} {turned:?}"
                         );
                     }
                 }

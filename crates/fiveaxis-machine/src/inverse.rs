@@ -92,6 +92,16 @@ pub fn turn_angle(axis: &Unit<Vec3>, p: &Vec3, q: &Vec3) -> Option<f64> {
 
 /// `degrees` reduced to (−180, 180].
 pub fn principal(degrees: f64) -> f64 {
+    // Most angles are within a turn of the range: no division for them.
+    if degrees > -180.0 && degrees <= 180.0 {
+        return degrees;
+    }
+    if degrees > 180.0 && degrees <= 540.0 {
+        return degrees - 360.0;
+    }
+    if degrees <= -180.0 && degrees > -540.0 {
+        return degrees + 360.0;
+    }
     let r = degrees.rem_euclid(360.0);
     if r > 180.0 { r - 360.0 } else { r }
 }

@@ -19,6 +19,12 @@ pub fn rotation(axis: &Unit<Vec3>, degrees: f64) -> Rotation3<f64> {
     Rotation3::from_axis_angle(axis, degrees.to_radians())
 }
 
+/// Sine and cosine of an angle in degrees.
+#[inline]
+pub fn sin_cos_degrees(degrees: f64) -> (f64, f64) {
+    degrees.to_radians().sin_cos()
+}
+
 /// The rigid map of a rotation by `degrees` about the line through `center`
 /// along `axis`: `p ↦ center + R·(p − center)`.
 fn rotation_about(axis: &Unit<Vec3>, center: &Vec3, degrees: f64) -> IsometryMatrix3<f64> {

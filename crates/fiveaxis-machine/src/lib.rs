@@ -17,7 +17,7 @@ mod offsets;
 pub use builtin::{DEFAULT_MACHINE, builtin, builtin_names, builtin_source};
 pub use file::FileError;
 pub use inverse::{Orientations, SINGULAR_TOLERANCE, principal, turn_angle};
-pub use kinematics::{Pose, rotation};
+pub use kinematics::{Pose, rotation, sin_cos_degrees};
 pub use offsets::{MAX_EXTENDED_WORK, MAX_TOOL_OFFSET, Offsets, SetupErrorSet, ToolOffset};
 
 use nalgebra::{Unit, Vector3};

@@ -69,8 +69,6 @@ pub(super) struct TcpcState {
     tilt_sign: f64,
     /// This block started the mode.
     pub(super) startup: bool,
-    /// The posture law worked out for the block being executed.
-    block_posture: Option<Posture>,
     /// The programmed point a TCPC block ended on, with the machine
     /// position, tool length and work offset it was reached with: the
     /// programmed position stays exactly as programmed instead of being
@@ -88,7 +86,6 @@ impl Default for TcpcState {
             vector: Vec3::z(),
             tilt_sign: 1.0,
             startup: false,
-            block_posture: None,
             last: None,
         }
     }
@@ -210,7 +207,6 @@ impl Controller<'_> {
             vector: frame.rotation * dir_table,
             tilt_sign,
             startup: true,
-            block_posture: None,
             last: None,
         };
         Ok(if self.dialect.tcpc_startup_controls_tip {
@@ -282,7 +278,7 @@ impl Controller<'_> {
                 ),
             ));
         }
-        self.state.tcpc.block_posture = None;
+        self.block_posture = None;
         let vector_given = self.tcpc_vector(kind)?;
         let mode = self.state.modal.motion;
         let is_arc = matches!(mode, MotionMode::Cw | MotionMode::Ccw);
@@ -309,7 +305,7 @@ impl Controller<'_> {
                 // great circle, and end wherever that takes them.
                 let d0 = machine.forward(&current, self.tool_length()).dir;
                 let (posture, end) = self.track_posture([d0, v_table], here, None)?;
-                self.state.tcpc.block_posture = Some(posture);
+                self.block_posture = Some(posture);
                 end
             } else {
                 self.choose_rotaries(&v_table, here)?
@@ -369,7 +365,7 @@ impl Controller<'_> {
         } else {
             self.tcpc_line(from, &end_p, &start)
         };
-        let posture = match self.state.tcpc.block_posture.take() {
+        let posture = match self.block_posture.take() {
             Some(mut posture) => {
                 // The knots were followed from the axes as they stood; the
                 // segment ends on the angles reduced for rollover axes.
@@ -406,14 +402,19 @@ impl Controller<'_> {
             turning: self.state.tcpc.turning,
             posture,
         });
-        let mut seg = self.segment(motion, start, end, path);
-        if !seg.moves() && start == end {
+        if start == end && tip.length() == 0.0 {
             return Ok(());
         }
-        if motion != Motion::Rapid {
-            seg.feed = Some(self.cutting_feed(|| tip.length())?);
+        let feed = if motion == Motion::Rapid {
+            None
+        } else {
+            Some(self.cutting_feed(|| tip.length())?)
+        };
+        // Built in place: segments are large.
+        out.push(self.segment(motion, start, end, path));
+        if let Some(seg) = out.last_mut() {
+            seg.feed = feed;
         }
-        out.push(seg);
         Ok(())
     }
 
