@@ -131,6 +131,18 @@ pub enum Condition {
     TcpcWithoutRotaryAxis,
     /// Tool posture control between opposite tool vectors (no single great circle).
     PostureUndefined,
+    /// Two axes in the same direction at the start-up of 3-D tool compensation.
+    Comp3dParallelAxes,
+    /// 3-D tool compensation start-up omits an axis whose basic axis is not set.
+    Comp3dBasicAxisMissing,
+    /// G05 (high-speed cycle machining) in 3-D tool compensation.
+    Comp3dHighSpeedCycle,
+    /// G31 (skip) in 3-D tool compensation.
+    Comp3dSkip,
+    /// G51 (scaling) in 3-D tool compensation.
+    Comp3dScaling,
+    /// G45 to G48 (tool offset) in 3-D tool compensation.
+    Comp3dToolOffset,
 }
 
 impl Condition {
@@ -173,6 +185,12 @@ impl Condition {
         Condition::TcpcArcWithRotaryMotion,
         Condition::TcpcWithoutRotaryAxis,
         Condition::PostureUndefined,
+        Condition::Comp3dParallelAxes,
+        Condition::Comp3dBasicAxisMissing,
+        Condition::Comp3dHighSpeedCycle,
+        Condition::Comp3dSkip,
+        Condition::Comp3dScaling,
+        Condition::Comp3dToolOffset,
     ];
 
     /// One line saying when the condition arises.
@@ -235,6 +253,18 @@ impl Condition {
             Condition::PostureUndefined => {
                 "Tool posture control between opposite tool vectors (no single great circle)"
             }
+            Condition::Comp3dParallelAxes => {
+                "Two axes in the same direction at the start-up of 3-D tool compensation"
+            }
+            Condition::Comp3dBasicAxisMissing => {
+                "3-D tool compensation start-up omits an axis whose basic axis is not set"
+            }
+            Condition::Comp3dHighSpeedCycle => {
+                "G05 (high-speed cycle machining) in 3-D tool compensation"
+            }
+            Condition::Comp3dSkip => "G31 (skip) in 3-D tool compensation",
+            Condition::Comp3dScaling => "G51 (scaling) in 3-D tool compensation",
+            Condition::Comp3dToolOffset => "G45 to G48 (tool offset) in 3-D tool compensation",
         }
     }
 }
@@ -261,6 +291,12 @@ impl Condition {
             C::NestingTooDeep => Some(77),
             C::ProgramNotFound => Some(78),
             C::ReferenceReturnCheck => Some(92),
+            C::Comp3dParallelAxes => Some(47),
+            C::Comp3dBasicAxisMissing => Some(48),
+            C::Comp3dHighSpeedCycle => Some(178),
+            C::Comp3dSkip => Some(36),
+            C::Comp3dScaling => Some(141),
+            C::Comp3dToolOffset => Some(42),
             C::TcpcOptionMissing => Some(10),
             C::TcpcIjkInStartBlock => Some(5421),
             C::TcpcType2NotAvailable => Some(5459),
@@ -345,6 +381,12 @@ impl Condition {
             C::TcpcArcWithRotaryMotion => 77,
             C::TcpcWithoutRotaryAxis => 78,
             C::PostureUndefined => 79,
+            C::Comp3dParallelAxes => 80,
+            C::Comp3dBasicAxisMissing => 81,
+            C::Comp3dHighSpeedCycle => 82,
+            C::Comp3dSkip => 83,
+            C::Comp3dScaling => 84,
+            C::Comp3dToolOffset => 85,
             C::OvertravelMinus => 501,
         }
     }

@@ -17,6 +17,7 @@ use crate::reach;
 use crate::segment::{Arc, Motion, Path, Segment, TipPath};
 use crate::words::Words;
 
+mod comp3d;
 mod tcpc;
 
 pub use tcpc::inclined;
@@ -77,6 +78,8 @@ struct State {
     axis_shift: Joints,
     /// Tool centre point control data of the running mode.
     tcpc: tcpc::TcpcState,
+    /// Three-dimensional tool compensation.
+    comp3d: comp3d::Comp3d,
 }
 
 /// The controller of one run.
@@ -118,6 +121,7 @@ impl<'m> Controller<'m> {
                 shift: Vec3::zeros(),
                 axis_shift: [0.0; MAX_AXES],
                 tcpc: tcpc::TcpcState::default(),
+                comp3d: comp3d::Comp3d::default(),
             },
             words: Words::new(machine.control),
             block_posture: None,
@@ -205,7 +209,8 @@ impl<'m> Controller<'m> {
         } else {
             from
         };
-        let length_changed = change == LengthChange::Moves;
+        let comp_changed = self.apply_cutter(&codes)?;
+        let length_changed = change == LengthChange::Moves || comp_changed;
         match codes.one_shot {
             Some((code, span)) => self.one_shot(code, span, &from, out)?,
             None => self.motion(&from, length_changed, out)?,
@@ -234,11 +239,19 @@ impl<'m> Controller<'m> {
                 (43 | 44 | 49, 0) | (43, 1 | 4 | 5) => GKind::Length,
                 (54..=59, 0) | (54, 1) => GKind::Work,
                 (4 | 10 | 27 | 28 | 30 | 53 | 92, 0) => GKind::OneShot,
+                (40..=42, 0) => GKind::Cutter,
                 // Cancels of modes that cannot be active in this kernel
-                // (cutter compensation, polar coordinates, scaling,
-                // mirror image, rotation, canned cycles): nothing to do.
-                (40 | 15 | 50 | 69 | 80, 0) | (50, 1) => GKind::Cancel,
+                // (polar coordinates, scaling, mirror image, rotation,
+                // canned cycles): nothing to do.
+                (15 | 50 | 69 | 80, 0) | (50, 1) => GKind::Cancel,
                 _ => {
+                    if let Some((condition, what)) = self.comp3d_forbidden(code) {
+                        return Err(self.alarm(
+                            condition,
+                            Some(span),
+                            format!("G{code} ({what}) cannot be used in 3-D tool compensation"),
+                        ));
+                    }
                     return Err(self.alarm(
                         Condition::ImproperGCode,
                         Some(span),
@@ -264,6 +277,7 @@ impl<'m> Controller<'m> {
                 GKind::Units => codes.units = Some(code),
                 GKind::Length => codes.length = Some((code, span)),
                 GKind::Work => codes.work = Some((code, span)),
+                GKind::Cutter => codes.cutter = Some((code, span)),
                 GKind::Cancel => {}
             }
         }
@@ -432,6 +446,22 @@ impl<'m> Controller<'m> {
         })
     }
 
+    /// Group 07: 3-D tool compensation (G41/G42 with I, J, K) or cutter
+    /// compensation C. Returns whether the offset vector changed.
+    fn apply_cutter(&mut self, codes: &GCodes) -> Result<bool, Alarm> {
+        if let Some((code, span)) = codes.cutter
+            && code.major != 40
+            && !self.starts_comp3d(codes)
+        {
+            return Err(self.alarm(
+                Condition::ImproperGCode,
+                Some(span),
+                format!("G{code} without all of I, J, K starts cutter compensation C, which this kernel does not have yet"),
+            ));
+        }
+        self.apply_comp3d(codes)
+    }
+
     // ----- M codes --------------------------------------------------------
 
     fn m_codes(&mut self) -> Result<Flow, Alarm> {
@@ -562,6 +592,12 @@ impl<'m> Controller<'m> {
         base + self.offsets.external + self.state.shift
     }
 
+    /// Where programmed coordinates have their origin: the work offset
+    /// plus the 3-D tool compensation vector in force.
+    fn origin(&self) -> Vec3 {
+        self.work() + self.state.comp3d.vector
+    }
+
     /// The active H value (geometry + wear), mm.
     fn tool_length(&self) -> f64 {
         if self.state.modal.length == LengthMode::Off || self.state.h == 0 {
@@ -597,7 +633,7 @@ impl<'m> Controller<'m> {
     fn plain_programmed(&self, joints: &Joints) -> Joints {
         let mut p = self.programmed(joints);
         let lin =
-            Vec3::new(joints[0], joints[1], joints[2]) - self.work() - self.length_vector(joints);
+            Vec3::new(joints[0], joints[1], joints[2]) - self.origin() - self.length_vector(joints);
         p[..3].copy_from_slice(lin.as_slice());
         p
     }
@@ -608,7 +644,7 @@ impl<'m> Controller<'m> {
         let lin = if self.tcpc_type().is_some() {
             self.tcpc_programmed(joints)
         } else {
-            Vec3::new(joints[0], joints[1], joints[2]) - self.work() - self.length_vector(joints)
+            Vec3::new(joints[0], joints[1], joints[2]) - self.origin() - self.length_vector(joints)
         };
         p[..3].copy_from_slice(lin.as_slice());
         for (i, value) in p
@@ -637,7 +673,7 @@ impl<'m> Controller<'m> {
         let lin = if self.tcpc_type().is_some() {
             self.tcpc_gauge(&joints, &Vec3::new(p[0], p[1], p[2]))
         } else {
-            Vec3::new(p[0], p[1], p[2]) + self.work() + self.length_vector(&joints)
+            Vec3::new(p[0], p[1], p[2]) + self.origin() + self.length_vector(&joints)
         };
         joints[..3].copy_from_slice(lin.as_slice());
         joints
@@ -818,8 +854,8 @@ impl<'m> Controller<'m> {
         let [p, q] = geo.axes;
         // The centre in machine coordinates, and its drift when the offset
         // vector changes over the block.
-        let offset0 = self.length_vector(&start) + self.work();
-        let offset1 = self.length_vector(&end) + self.work();
+        let offset0 = self.length_vector(&start) + self.origin();
+        let offset1 = self.length_vector(&end) + self.origin();
         let arc = Arc {
             axes: [p, q],
             center: [geo.center[0] + offset0[p], geo.center[1] + offset0[q]],
@@ -1113,6 +1149,9 @@ impl<'m> Controller<'m> {
         };
         let targets = self.axis_words();
         let (mid_p, travel) = self.end_point(from, &targets);
+        // 3-D tool compensation: the vector is cleared at the intermediate
+        // point.
+        self.state.comp3d.vector = Vec3::zeros();
         let mid = self.machine_position(&mid_p);
         let mut start = self.rollover_start(&mid, &travel);
         let mut mid_joints = start;
@@ -1447,6 +1486,7 @@ enum GKind {
     Length,
     Work,
     OneShot,
+    Cutter,
     Cancel,
 }
 
@@ -1460,5 +1500,6 @@ struct GCodes {
     units: Option<Code>,
     length: Option<(Code, Span)>,
     work: Option<(Code, Span)>,
+    cutter: Option<(Code, Span)>,
     one_shot: Option<(Code, Span)>,
 }

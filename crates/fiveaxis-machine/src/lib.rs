@@ -179,6 +179,9 @@ pub struct Parameters {
     /// (Mitsubishi #7907 CHK_ANG): inside it the rotating axis moves as
     /// little as it can, whatever `rotary_choice` says.
     pub singular_zone: f64,
+    /// Denominator p of the three-dimensional tool compensation vector
+    /// `r·(i, j, k)/p` (FANUC No.5011); 0 takes p = √(i² + j² + k²).
+    pub tool_comp_3d_denominator: f64,
 }
 
 impl Default for Parameters {
@@ -193,6 +196,7 @@ impl Default for Parameters {
             tool_posture_control: false,
             rotary_choice: RotaryChoice::Shortest,
             singular_zone: 0.0,
+            tool_comp_3d_denominator: 0.0,
         }
     }
 }

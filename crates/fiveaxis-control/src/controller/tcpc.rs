@@ -224,13 +224,13 @@ impl Controller<'_> {
         if let Some((at, length, work, point)) = self.state.tcpc.last
             && at == *joints
             && length == self.tool_length()
-            && work == self.work()
+            && work == self.origin()
         {
             return point;
         }
         let tip_table = self.machine.forward(joints, self.tool_length()).tip;
         let map = self.programming_map(joints);
-        map.transform_point(&tip_table.into()).coords - self.work()
+        map.transform_point(&tip_table.into()).coords - self.origin()
     }
 
     /// Machine position of X, Y, Z that puts the tip on programmed point
@@ -238,7 +238,7 @@ impl Controller<'_> {
     pub(super) fn tcpc_gauge(&self, joints: &Joints, p: &Vec3) -> Vec3 {
         let map = self.programming_map(joints);
         let tip_table = map
-            .inverse_transform_point(&(p + self.work()).into())
+            .inverse_transform_point(&(p + self.origin()).into())
             .coords;
         self.machine
             .gauge_for_tip(joints, &tip_table, self.tool_length())
@@ -690,7 +690,7 @@ impl Controller<'_> {
 
     /// The tip path of a straight TCPC block.
     fn tcpc_line(&self, from: &Joints, end_p: &Joints, start: &Joints) -> TipPath {
-        let work = self.work();
+        let work = self.origin();
         let p0 = Vec3::new(from[0], from[1], from[2]) + work;
         let p1 = Vec3::new(end_p[0], end_p[1], end_p[2]) + work;
         if self.state.tcpc.turning {
@@ -725,9 +725,9 @@ impl Controller<'_> {
             v
         };
         let [p, q] = geo.axes;
-        let mut center = Vec3::new(from[0], from[1], from[2]) + self.work();
-        center[p] = geo.center[0] + self.work()[p];
-        center[q] = geo.center[1] + self.work()[q];
+        let mut center = Vec3::new(from[0], from[1], from[2]) + self.origin();
+        center[p] = geo.center[0] + self.origin()[p];
+        center[q] = geo.center[1] + self.origin()[q];
         let mut axes = [unit(p), unit(q), unit(geo.normal)];
         if !self.state.tcpc.turning {
             let frame = &self.state.tcpc.frame;

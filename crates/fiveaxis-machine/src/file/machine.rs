@@ -128,6 +128,7 @@ struct RawParameters {
     tool_posture_control: Option<bool>,
     rotary_choice: Option<RawChoice>,
     singular_zone: Option<Spanned<f64>>,
+    tool_comp_3d_denominator: Option<Spanned<f64>>,
 }
 
 impl Machine {
@@ -433,6 +434,10 @@ fn parameters(
             Some(v) => zone(src, v)?,
             None => defaults.singular_zone,
         },
+        tool_comp_3d_denominator: match &raw.tool_comp_3d_denominator {
+            Some(v) => non_negative(src, v, "tool_comp_3d_denominator")?,
+            None => defaults.tool_comp_3d_denominator,
+        },
     })
 }
 
@@ -452,6 +457,15 @@ fn positions(src: &Source<'_>, raw: &RawPositions, machine: &Machine) -> Result<
         joints[index] = src.finite(value, name.get_ref())?;
     }
     Ok(joints)
+}
+
+fn non_negative(src: &Source<'_>, value: &Spanned<f64>, key: &str) -> Result<f64, FileError> {
+    let v = src.finite(value, key)?;
+    if v >= 0.0 {
+        Ok(v)
+    } else {
+        Err(src.at(value, key, format!("`{key}` must not be negative")))
+    }
 }
 
 fn zone(src: &Source<'_>, value: &Spanned<f64>) -> Result<f64, FileError> {

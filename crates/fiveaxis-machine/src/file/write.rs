@@ -108,6 +108,11 @@ impl Machine {
             &number(p.singular_zone),
             "degrees around the singular direction where the rotating axis moves least (#7907)",
         );
+        w.key(
+            "tool_comp_3d_denominator",
+            &number(p.tool_comp_3d_denominator),
+            "p of the 3-D tool compensation vector r(i,j,k)/p; 0: the length of (i,j,k) (FANUC 5011)",
+        );
     }
 
     /// A reference position as an inline table over every axis.

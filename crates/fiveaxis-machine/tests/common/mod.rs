@@ -140,6 +140,7 @@ fn parameters(count: usize) -> impl Strategy<Value = Parameters> {
             any::<bool>(),
             choice,
             0.0..10.0f64,
+            0.0..2.0f64,
         ),
     )
         .prop_map(
@@ -151,6 +152,7 @@ fn parameters(count: usize) -> impl Strategy<Value = Parameters> {
                     tool_posture_control,
                     rotary_choice,
                     singular_zone,
+                    tool_comp_3d_denominator,
                 ),
             )| Parameters {
                 programming_frame,
@@ -162,6 +164,7 @@ fn parameters(count: usize) -> impl Strategy<Value = Parameters> {
                 tool_posture_control,
                 rotary_choice,
                 singular_zone,
+                tool_comp_3d_denominator,
             },
         )
 }

@@ -1,0 +1,160 @@
+//! Three-dimensional tool compensation (FANUC Series 16/18-C, seed 001):
+//! G41 / G42 with all of I, J, K.
+//!
+//! At the end of every block the tool is shifted by the vector
+//! `V = r·(i, j, k)/p` (G42: `−V`), r the D offset, p the length of
+//! (i, j, k) or parameter No.5011 when it is set, so that one program
+//! (surface points with their normals) serves every cutter size. Blocks
+//! without I, J, K and arc blocks keep the vector of the block before;
+//! G28 / G30 clear it at their intermediate point; G40 cancels it. The
+//! vector is added to the programmed point before the work offset and the
+//! tool length compensation, in the programming frame, so on a 5-axis
+//! machine (and under TCPC, evaluated at block ends as the FANUC 15i
+//! manual describes) the compensated point goes through the same
+//! kinematics.
+
+use fiveaxis_gcode::Code;
+use fiveaxis_machine::Vec3;
+
+use super::{Controller, GCodes};
+use crate::alarm::{Alarm, Condition};
+use crate::modal::{MotionMode, TcpcType};
+
+/// 3-D tool compensation state.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub(super) struct Comp3d {
+    /// The mode is on (G41 / G42 with I, J, K).
+    pub(super) active: bool,
+    /// +1 for G41, −1 for G42.
+    sign: f64,
+    /// The last programmed (i, j, k), mm.
+    ijk: Vec3,
+    /// The offset vector at the current position, programming frame.
+    pub(super) vector: Vec3,
+}
+
+/// Address letters of the vector.
+const IJK: [u8; 3] = [b'I', b'J', b'K'];
+/// Each basic axis with the axis parallel to it.
+const PARALLEL: [(u8, u8); 3] = [(b'X', b'U'), (b'Y', b'V'), (b'Z', b'W')];
+
+impl Controller<'_> {
+    /// G codes that 3-D tool compensation forbids in its mode, with their
+    /// alarms: `None` when `code` is not one of them or the mode is off.
+    pub(super) fn comp3d_forbidden(&self, code: Code) -> Option<(Condition, &'static str)> {
+        if !self.state.comp3d.active {
+            return None;
+        }
+        match code.major {
+            5 => Some((
+                Condition::Comp3dHighSpeedCycle,
+                "high-speed cycle machining",
+            )),
+            31 => Some((Condition::Comp3dSkip, "the skip function")),
+            51 => Some((Condition::Comp3dScaling, "scaling")),
+            45..=48 => Some((Condition::Comp3dToolOffset, "tool offset")),
+            _ => None,
+        }
+    }
+
+    /// Whether a G41 / G42 block starts 3-D tool compensation (it gives all
+    /// of I, J, K and is not an arc) rather than cutter compensation C.
+    pub(super) fn starts_comp3d(&self, codes: &GCodes) -> bool {
+        let arc = matches!(self.state.modal.motion, MotionMode::Cw | MotionMode::Ccw);
+        matches!(codes.cutter, Some((code, _)) if code.major == 41 || code.major == 42)
+            && !arc
+            && IJK.iter().all(|&l| self.words.has(l))
+    }
+
+    /// Group 07 for 3-D tool compensation and the vector at the end of this
+    /// block. Returns whether the vector changed (the axes then move by
+    /// the change even without axis words).
+    pub(super) fn apply_comp3d(&mut self, codes: &GCodes) -> Result<bool, Alarm> {
+        let before = self.state.comp3d.vector;
+        let arc = matches!(self.state.modal.motion, MotionMode::Cw | MotionMode::Ccw);
+        if self.starts_comp3d(codes) {
+            self.check_comp3d_startup()?;
+            let sign = if codes.cutter.is_some_and(|(code, _)| code.major == 41) {
+                1.0
+            } else {
+                -1.0
+            };
+            self.state.comp3d = Comp3d {
+                active: true,
+                sign,
+                ijk: self.read_ijk(),
+                vector: before,
+            };
+        } else if codes.cutter.is_some_and(|(code, _)| code.major == 40) {
+            self.state.comp3d = Comp3d::default();
+        } else if self.state.comp3d.active
+            && !arc
+            && self.tcpc_type() != Some(TcpcType::Vector)
+            && IJK.iter().any(|&l| self.words.has(l))
+        {
+            // In the mode, I, J, K give the vector of this block end (an
+            // omitted one counts 0). Arcs keep the vector: their I, J, K are
+            // the centre.
+            self.state.comp3d.ijk = self.read_ijk();
+        }
+        let comp = self.state.comp3d;
+        let vector = if !comp.active {
+            Vec3::zeros()
+        } else if arc {
+            before
+        } else {
+            comp.sign * self.tool_radius() * comp.ijk / self.comp3d_denominator(&comp.ijk)
+        };
+        self.state.comp3d.vector = vector;
+        Ok(vector != before)
+    }
+
+    /// P/S 047 and 048 at start-up: two axes in the same direction, or an
+    /// omitted axis whose basic axis the machine does not have.
+    fn check_comp3d_startup(&self) -> Result<(), Alarm> {
+        for (basic, parallel) in PARALLEL {
+            if let (Some(_), Some(word)) = (self.words.peek(basic), self.words.peek(parallel)) {
+                return Err(self.alarm(
+                    Condition::Comp3dParallelAxes,
+                    Some(word.span),
+                    format!(
+                        "3-D tool compensation start-up names {} and {}, two axes in the same direction",
+                        char::from(basic),
+                        char::from(parallel)
+                    ),
+                ));
+            }
+            let named = self.words.has(basic) || self.words.has(parallel);
+            if !named && self.machine.axis_index(char::from(basic)).is_none() {
+                return Err(self.alarm(
+                    Condition::Comp3dBasicAxisMissing,
+                    None,
+                    format!(
+                        "3-D tool compensation start-up omits {0} but the machine has no basic axis {0}",
+                        char::from(basic)
+                    ),
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// I, J, K of the block (an omitted one is 0), taken.
+    fn read_ijk(&mut self) -> Vec3 {
+        let [i, j, k] = IJK.map(|l| self.words.take(l).map_or(0.0, |w| self.length(&w)));
+        Vec3::new(i, j, k)
+    }
+
+    /// p of the vector: parameter No.5011, or the length of (i, j, k).
+    fn comp3d_denominator(&self, ijk: &Vec3) -> f64 {
+        let p = self.machine.params.tool_comp_3d_denominator;
+        let p = if p > 0.0 { p } else { ijk.norm() };
+        if p > 0.0 { p } else { f64::INFINITY }
+    }
+
+    /// The active D value (geometry + wear), mm.
+    pub(super) fn tool_radius(&self) -> f64 {
+        let tool = self.offsets.tool(self.state.d);
+        tool.radius + tool.radius_wear
+    }
+}
