@@ -143,6 +143,22 @@ pub enum Condition {
     Comp3dScaling,
     /// G45 to G48 (tool offset) in 3-D tool compensation.
     Comp3dToolOffset,
+    /// Cutter compensation C finds no intersection of the offset paths.
+    CrcNoIntersection,
+    /// An arc in the start-up or cancel block of cutter compensation C.
+    CrcArcInStartOrCancel,
+    /// The plane changes in cutter compensation C.
+    CrcPlaneChange,
+    /// An arc whose centre is its start or end point in cutter compensation C.
+    CrcArcCenter,
+    /// Cutter compensation C would cut into the workpiece (interference check).
+    CrcInterference,
+    /// Cutter compensation C meets a value that is not a finite number.
+    CrcNonFinite,
+    /// Cutter compensation C under tool centre point control.
+    CrcInTcpc,
+    /// Too many blocks without movement in cutter compensation C.
+    CrcTooManyStill,
 }
 
 impl Condition {
@@ -191,6 +207,14 @@ impl Condition {
         Condition::Comp3dSkip,
         Condition::Comp3dScaling,
         Condition::Comp3dToolOffset,
+        Condition::CrcNoIntersection,
+        Condition::CrcArcInStartOrCancel,
+        Condition::CrcPlaneChange,
+        Condition::CrcArcCenter,
+        Condition::CrcInterference,
+        Condition::CrcNonFinite,
+        Condition::CrcInTcpc,
+        Condition::CrcTooManyStill,
     ];
 
     /// One line saying when the condition arises.
@@ -265,6 +289,26 @@ impl Condition {
             Condition::Comp3dSkip => "G31 (skip) in 3-D tool compensation",
             Condition::Comp3dScaling => "G51 (scaling) in 3-D tool compensation",
             Condition::Comp3dToolOffset => "G45 to G48 (tool offset) in 3-D tool compensation",
+            Condition::CrcNoIntersection => {
+                "Cutter compensation C finds no intersection of the offset paths"
+            }
+            Condition::CrcArcInStartOrCancel => {
+                "An arc in the start-up or cancel block of cutter compensation C"
+            }
+            Condition::CrcPlaneChange => "The plane changes in cutter compensation C",
+            Condition::CrcArcCenter => {
+                "An arc whose centre is its start or end point in cutter compensation C"
+            }
+            Condition::CrcInterference => {
+                "Cutter compensation C would cut into the workpiece (interference check)"
+            }
+            Condition::CrcNonFinite => {
+                "Cutter compensation C meets a value that is not a finite number"
+            }
+            Condition::CrcInTcpc => "Cutter compensation C under tool centre point control",
+            Condition::CrcTooManyStill => {
+                "Too many blocks without movement in cutter compensation C"
+            }
         }
     }
 }
@@ -291,6 +335,11 @@ impl Condition {
             C::NestingTooDeep => Some(77),
             C::ProgramNotFound => Some(78),
             C::ReferenceReturnCheck => Some(92),
+            C::CrcNoIntersection => Some(33),
+            C::CrcArcInStartOrCancel => Some(34),
+            C::CrcPlaneChange => Some(37),
+            C::CrcArcCenter => Some(38),
+            C::CrcInterference => Some(41),
             C::Comp3dParallelAxes => Some(47),
             C::Comp3dBasicAxisMissing => Some(48),
             C::Comp3dHighSpeedCycle => Some(178),
@@ -387,6 +436,14 @@ impl Condition {
             C::Comp3dSkip => 83,
             C::Comp3dScaling => 84,
             C::Comp3dToolOffset => 85,
+            C::CrcNoIntersection => 86,
+            C::CrcArcInStartOrCancel => 87,
+            C::CrcPlaneChange => 88,
+            C::CrcArcCenter => 89,
+            C::CrcInterference => 90,
+            C::CrcNonFinite => 91,
+            C::CrcInTcpc => 92,
+            C::CrcTooManyStill => 93,
             C::OvertravelMinus => 501,
         }
     }

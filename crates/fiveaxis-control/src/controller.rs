@@ -18,6 +18,7 @@ use crate::segment::{Arc, Motion, Path, Segment, TipPath};
 use crate::words::Words;
 
 mod comp3d;
+mod cutter_c;
 mod tcpc;
 
 pub use tcpc::inclined;
@@ -95,6 +96,8 @@ pub struct Controller<'m> {
     /// The tool posture law worked out for the block being executed (kept
     /// out of `state`, which is copied for every block).
     block_posture: Option<crate::segment::Posture>,
+    /// Cutter compensation C: the engine and the blocks it holds.
+    cutter: cutter_c::CutterC,
 }
 
 /// Where the control point goes, for each axis: programmed value if the
@@ -125,6 +128,7 @@ impl<'m> Controller<'m> {
             },
             words: Words::new(machine.control),
             block_posture: None,
+            cutter: cutter_c::CutterC::new(machine.params.cutter_startup_b),
             axis_letters: {
                 let mut letters = [0u8; MAX_AXES];
                 for (slot, name) in letters.iter_mut().zip(machine.axis_names()) {
@@ -189,7 +193,13 @@ impl<'m> Controller<'m> {
         self.apply_values()?;
         // Where the program stands, in the (possibly new) work coordinate
         // system, under the length offset in force before this block.
-        let from = self.programmed(&self.state.joints);
+        let from = if self.cutter.routing() {
+            // Cutter compensation C holds blocks back: the program stands
+            // at the end of the last block read, not where the tool is.
+            self.cutter.point
+        } else {
+            self.programmed(&self.state.joints)
+        };
         // The same point as the tip in the work coordinate system that
         // does not turn: where a block leaving TCPC starts from.
         let was_tcpc = self.tcpc_type().is_some();
@@ -212,12 +222,29 @@ impl<'m> Controller<'m> {
         let comp_changed = self.apply_cutter(&codes)?;
         let length_changed = change == LengthChange::Moves || comp_changed;
         match codes.one_shot {
-            Some((code, span)) => self.one_shot(code, span, &from, out)?,
+            Some((code, span)) if self.cutter.routing() && matches!(code.major, 4 | 10) => {
+                // A dwell or data setting in cutter compensation C is a
+                // block without movement.
+                self.one_shot(code, span, &from, out)?;
+                self.cutter_c_motion(&from, false, out)?;
+            }
+            Some((code, span)) => {
+                // Other group-00 functions end the compensated path here;
+                // the next move starts the offset again.
+                let from = if self.cutter.routing() {
+                    self.cutter_c_finish(out)?;
+                    self.cutter.engine.reset();
+                    self.programmed(&self.state.joints)
+                } else {
+                    from
+                };
+                self.one_shot(code, span, &from, out)?
+            }
             None => self.motion(&from, length_changed, out)?,
         }
         self.words.check_all_used()?;
         for seg in &out[base..] {
-            self.check_limits(seg)?;
+            self.check_limits(seg).map_err(|a| at_line(a, seg.line))?;
         }
         if let Some(last) = out[base..].last() {
             self.state.joints = last.end;
@@ -305,6 +332,21 @@ impl<'m> Controller<'m> {
                 _ => MotionMode::Ccw,
             };
         }
+        if let Some(code) = codes.plane {
+            let plane = match code.major {
+                17 => Plane::Xy,
+                18 => Plane::Zx,
+                _ => Plane::Yz,
+            };
+            if plane != modal.plane && self.cutter.routing() {
+                return Err(self.alarm(
+                    Condition::CrcPlaneChange,
+                    None,
+                    "the plane cannot change in cutter compensation C".into(),
+                ));
+            }
+        }
+        let modal = &mut self.state.modal;
         if let Some(code) = codes.plane {
             modal.plane = match code.major {
                 17 => Plane::Xy,
@@ -449,17 +491,25 @@ impl<'m> Controller<'m> {
     /// Group 07: 3-D tool compensation (G41/G42 with I, J, K) or cutter
     /// compensation C. Returns whether the offset vector changed.
     fn apply_cutter(&mut self, codes: &GCodes) -> Result<bool, Alarm> {
-        if let Some((code, span)) = codes.cutter
-            && code.major != 40
-            && !self.starts_comp3d(codes)
-        {
-            return Err(self.alarm(
-                Condition::ImproperGCode,
-                Some(span),
-                format!("G{code} without all of I, J, K starts cutter compensation C, which this kernel does not have yet"),
-            ));
+        if let Some((code, _)) = codes.cutter {
+            self.cutter.side = match code.major {
+                41 if !self.starts_comp3d(codes) => Some(crate::cutter::Side::Left),
+                42 if !self.starts_comp3d(codes) => Some(crate::cutter::Side::Right),
+                _ => None,
+            };
         }
         self.apply_comp3d(codes)
+    }
+
+    /// The end of the program: blocks held by cutter compensation C are
+    /// emitted.
+    pub fn finish(&mut self, out: &mut Vec<Segment>) -> Result<(), Alarm> {
+        let base = out.len();
+        self.cutter_c_finish(out)?;
+        for seg in &out[base..] {
+            self.check_limits(seg).map_err(|a| at_line(a, seg.line))?;
+        }
+        Ok(())
     }
 
     // ----- M codes --------------------------------------------------------
@@ -610,9 +660,13 @@ impl<'m> Controller<'m> {
     /// The length offset vector at machine position `joints`: what is added
     /// to W + P to get the machine position of X, Y, Z.
     fn length_vector(&self, joints: &Joints) -> Vec3 {
-        let l = self.tool_length();
+        self.length_vector_for(self.state.modal.length, self.tool_length(), joints)
+    }
+
+    /// The length offset vector of mode `mode` with tool length `l`.
+    fn length_vector_for(&self, mode: LengthMode, l: f64, joints: &Joints) -> Vec3 {
         let t0 = self.machine.tool_direction.into_inner();
-        match self.state.modal.length {
+        match mode {
             LengthMode::Off => Vec3::zeros(),
             LengthMode::Plus => l * t0,
             LengthMode::Minus => -l * t0,
@@ -784,6 +838,9 @@ impl<'m> Controller<'m> {
         length_changed: bool,
         out: &mut Vec<Segment>,
     ) -> Result<(), Alarm> {
+        if self.cutter.routing() {
+            return self.cutter_c_motion(from, length_changed, out);
+        }
         if let Some(kind) = self.tcpc_type() {
             return self.tcpc_motion(kind, from, length_changed, out);
         }
@@ -1390,6 +1447,16 @@ const LIMIT_TOLERANCE: f64 = 1e-9;
 
 /// Centre-offset letters by axis: I for X, J for Y, K for Z.
 const CENTER_LETTERS: [u8; 3] = [b'I', b'J', b'K'];
+
+/// An alarm about a segment of an earlier block (held back by cutter
+/// compensation C) names that block's line.
+fn at_line(mut alarm: Alarm, line: u32) -> Alarm {
+    if alarm.line != line {
+        alarm.line = line;
+        alarm.span = None;
+    }
+    alarm
+}
 
 /// `x` reduced to [0, 360), exactly when it already is in range.
 pub fn normalize_360(x: f64) -> f64 {

@@ -10,6 +10,7 @@
 
 mod alarm;
 mod controller;
+pub mod cutter;
 mod dialect;
 mod modal;
 mod reach;

@@ -173,6 +173,8 @@ pub struct Runner<'m, S> {
     /// No block has run since the start or the last jump to a program.
     at_program_start: bool,
     done: bool,
+    /// The controller has emitted what it held at the end.
+    flushed: bool,
 }
 
 impl<'m, S: Source> Runner<'m, S> {
@@ -195,6 +197,7 @@ impl<'m, S: Source> Runner<'m, S> {
             scanned: Mark { offset: 0, line: 1 },
             at_program_start: true,
             done: false,
+            flushed: false,
         }
     }
 
@@ -216,7 +219,9 @@ impl<'m, S: Source> Runner<'m, S> {
             let mut queue = std::mem::take(&mut self.queue);
             queue.clear();
             self.queue_pos = 0;
-            let result = self.step(&mut queue);
+            let result = self
+                .step(&mut queue)
+                .and_then(|()| self.flush_at_end(&mut queue));
             self.queue = queue;
             result?;
         }
@@ -234,7 +239,20 @@ impl<'m, S: Source> Runner<'m, S> {
         while out.len() < count && !self.done {
             self.step(out)?;
         }
+        self.flush_at_end(out)?;
         Ok(!self.done)
+    }
+
+    /// At the end of the program, what the controller still holds (cutter
+    /// compensation's look-ahead).
+    fn flush_at_end(&mut self, out: &mut Vec<Segment>) -> Result<(), RunError> {
+        if self.done && !self.flushed {
+            self.flushed = true;
+            if let Err(alarm) = self.controller.finish(out) {
+                return Err(self.alarm_here(alarm));
+            }
+        }
+        Ok(())
     }
 
     /// Reads and executes one line, appending its segments to `out`.

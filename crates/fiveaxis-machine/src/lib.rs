@@ -184,6 +184,9 @@ pub struct Parameters {
     /// Denominator p of the three-dimensional tool compensation vector
     /// `r·(i, j, k)/p` (FANUC No.5011); 0 takes p = √(i² + j² + k²).
     pub tool_comp_3d_denominator: f64,
+    /// Cutter compensation C start-up and cancel type B (FANUC No.5003#0
+    /// SUP = 1) instead of type A.
+    pub cutter_startup_b: bool,
 }
 
 impl Default for Parameters {
@@ -199,6 +202,7 @@ impl Default for Parameters {
             rotary_choice: RotaryChoice::Shortest,
             singular_zone: 0.0,
             tool_comp_3d_denominator: 0.0,
+            cutter_startup_b: false,
         }
     }
 }

@@ -129,6 +129,15 @@ struct RawParameters {
     rotary_choice: Option<RawChoice>,
     singular_zone: Option<Spanned<f64>>,
     tool_comp_3d_denominator: Option<Spanned<f64>>,
+    cutter_startup: Option<RawStartup>,
+}
+
+#[derive(Clone, Copy, Deserialize)]
+enum RawStartup {
+    #[serde(rename = "A")]
+    A,
+    #[serde(rename = "B")]
+    B,
 }
 
 impl Machine {
@@ -438,6 +447,7 @@ fn parameters(
             Some(v) => non_negative(src, v, "tool_comp_3d_denominator")?,
             None => defaults.tool_comp_3d_denominator,
         },
+        cutter_startup_b: matches!(raw.cutter_startup, Some(RawStartup::B)),
     })
 }
 

@@ -113,6 +113,11 @@ impl Machine {
             &number(p.tool_comp_3d_denominator),
             "p of the 3-D tool compensation vector r(i,j,k)/p; 0: the length of (i,j,k) (FANUC 5011)",
         );
+        w.key(
+            "cutter_startup",
+            &quote(if p.cutter_startup_b { "B" } else { "A" }),
+            "cutter compensation C start-up and cancel type \"A\" or \"B\" (FANUC 5003#0)",
+        );
     }
 
     /// A reference position as an inline table over every axis.

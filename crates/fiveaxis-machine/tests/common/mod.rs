@@ -165,6 +165,7 @@ fn parameters(count: usize) -> impl Strategy<Value = Parameters> {
                 rotary_choice,
                 singular_zone,
                 tool_comp_3d_denominator,
+                cutter_startup_b: tool_comp_3d_denominator > 1.0,
             },
         )
 }
