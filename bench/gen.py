@@ -35,12 +35,21 @@ def main() -> int:
     parser.add_argument("output", help="program file to write")
     parser.add_argument("--seed", type=int, default=5, help="random seed (default 5)")
     parser.add_argument("--tcpc", action="store_true", help="write a G43.5 program")
+    parser.add_argument(
+        "--contour",
+        choices=["plain", "cutter", "comp3d"],
+        help="write a 2-D contour (a polygon of BLOCKS sides, radius 200 mm) for the 3-axis mill:"
+        " plain, with cutter compensation C (G41 D1), or with 3-D tool compensation (G41 I J K D1)",
+    )
     args = parser.parse_args()
     if args.blocks < 1:
         parser.error("blocks must be at least 1")
 
     rng = random.Random(args.seed)
     uniform = rng.uniform
+    if args.contour:
+        write_contour(args.blocks, args.output, args.contour)
+        return 0
     with open(args.output, "w", encoding="ascii", newline="\n") as out:
         out.write("G21 G90 G94 G17\nG0 X0 Y0 Z0\nF1000.\n")
         if args.tcpc:
@@ -78,6 +87,30 @@ def main() -> int:
         out.writelines(lines)
         out.write("M30\n")
     return 0
+
+
+def write_contour(blocks: int, output: str, kind: str) -> None:
+    """A closed polygon traversed clockwise (outside with G41: no gouging)."""
+    with open(output, "w", encoding="ascii", newline="\n") as out:
+        out.write("G21 G90 G94 G17\nG0 X0 Y250. Z0\nF1000.\n")
+        start = {"plain": "G1", "cutter": "G41 G1", "comp3d": "G41 G1"}[kind]
+        lines = []
+        for i in range(blocks):
+            a = -2.0 * math.pi * i / blocks
+            x, y = 200.0 * math.sin(-a), 200.0 * math.cos(a)
+            word = start if i == 0 else "G1"
+            if kind == "comp3d":
+                lines.append("%s X%.7f Y%.7f I%.6f J%.6f K0.5 D1\n" % (word, x, y, x / 200.0, y / 200.0))
+            elif i == 0 and kind == "cutter":
+                lines.append("%s X%.7f Y%.7f D1\n" % (word, x, y))
+            else:
+                lines.append("%s X%.7f Y%.7f\n" % (word, x, y))
+            if len(lines) == 10000:
+                out.writelines(lines)
+                lines.clear()
+        out.writelines(lines)
+        end = {"plain": "", "cutter": "G40 ", "comp3d": "G40 "}[kind]
+        out.write("%sG0 X0 Y250.\nM30\n" % end)
 
 
 if __name__ == "__main__":

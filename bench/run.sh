@@ -21,6 +21,7 @@ cd "$(dirname "$0")/.."
 
 MIN_RATIO=${MIN_RATIO:-8}
 MIN_TCPC=${MIN_TCPC:-0.3}
+MAX_COMP=${MAX_COMP:-2}
 MAX_RSS_MB=${MAX_RSS_MB:-50}
 SEED=${SEED:-5}
 SMALL=200000
@@ -80,6 +81,10 @@ generate() { # blocks file [gen.py options]
 generate "$SMALL" "$SMALL_PROG"
 generate "$LARGE" "$LARGE_PROG"
 generate "$SMALL" "$TCPC_PROG" --tcpc
+for kind in plain cutter comp3d; do
+  generate "$SMALL" "$OUT/contour-$kind.nc" "--contour $kind"
+done
+printf '[tools]\n1 = { length = 0.0, radius = 5.0 }\n' >"$OUT/offsets.toml"
 
 # --- both tools run every block -------------------------------------------
 log "checking that both tools run all $SMALL blocks"
@@ -143,6 +148,13 @@ rows=$("$FIVEAXIS" run "$TCPC_PROG" | grep -c ',linear,') || die "fiveaxis run f
 [ "$rows" = "$SMALL" ] || die "fiveaxis printed $rows linear TCPC rows, expected $SMALL"
 time_cmd fiveaxis-tcpc "$FIVEAXIS" run "$TCPC_PROG"
 TC_BEST=$T_BEST TC_MEAN=$T_MEAN
+log "wall time, $SMALL-block contours: plain, cutter compensation C, 3-D tool compensation"
+for kind in plain cutter comp3d; do
+  "$FIVEAXIS" run "$OUT/contour-$kind.nc" --machine mill-3axis --offsets "$OUT/offsets.toml" >/dev/null \
+    || die "fiveaxis run failed on contour-$kind.nc"
+  time_cmd "contour-$kind" "$FIVEAXIS" run "$OUT/contour-$kind.nc" --machine mill-3axis --offsets "$OUT/offsets.toml"
+  eval "CONTOUR_${kind^^}=$T_BEST"
+done
 
 # --- peak memory -----------------------------------------------------------
 rss_kb() { # command... ; prints the maximum resident set size in kB
@@ -171,6 +183,7 @@ import sys
 small, large = $SMALL, $LARGE
 fa_best, fa_mean, rs_best, rs_mean = $FA_BEST, $FA_MEAN, $RS_BEST, $RS_MEAN
 tc_best, tc_mean, min_tcpc = $TC_BEST, $TC_MEAN, float("$MIN_TCPC")
+c_plain, c_cutter, c_3d, max_comp = $CONTOUR_PLAIN, $CONTOUR_CUTTER, $CONTOUR_COMP3D, float("$MAX_COMP")
 fa_rss_s, fa_rss_l, rs_rss_s = $FA_RSS_SMALL, $FA_RSS_LARGE, $RS_RSS_SMALL
 min_ratio, max_rss_mb = float("$MIN_RATIO"), float("$MAX_RSS_MB")
 fa_bps, rs_bps = small / fa_best, small / rs_best
@@ -180,6 +193,8 @@ ok_ratio = ratio >= min_ratio
 ok_rss = mb(fa_rss_l) < max_rss_mb
 tcpc_share = fa_best / tc_best
 ok_tcpc = tcpc_share >= min_tcpc
+comp_cost = max(c_cutter, c_3d) / c_plain
+ok_comp = comp_cost <= max_comp
 lines = [
     "# fiveaxis vs rs274",
     "",
@@ -199,13 +214,15 @@ lines = [
     f"| peak RSS, {small:,} blocks | {mb(fa_rss_s):.1f} MB | {mb(rs_rss_s):.1f} MB | {fa_rss_s / rs_rss_s:.2f} |",
     f"| peak RSS, {large:,} blocks | {mb(fa_rss_l):.1f} MB | | |",
     f"| wall time, {small:,} TCPC type 2 blocks (best / mean) | {tc_best:.3f} s / {tc_mean:.3f} s | | {tcpc_share:.2f} of plain G1 |",
+    f"| {small:,}-block contour: plain / cutter comp C / 3-D comp (best) | {c_plain:.3f} / {c_cutter:.3f} / {c_3d:.3f} s | | {c_cutter / c_plain:.2f}x / {c_3d / c_plain:.2f}x |",
     "",
     f"- speed: fiveaxis/rs274 = {ratio:.2f}, required >= {min_ratio:g}: **{'PASS' if ok_ratio else 'FAIL'}**",
     f"- memory: {mb(fa_rss_l):.1f} MB on {large:,} blocks, required < {max_rss_mb:g} MB: **{'PASS' if ok_rss else 'FAIL'}**",
     f"- TCPC type 2 throughput: {tcpc_share:.2f} of plain G1, required >= {min_tcpc:g}: **{'PASS' if ok_tcpc else 'FAIL'}**",
+    f"- compensation cost: {comp_cost:.2f}x a plain contour, required <= {max_comp:g}: **{'PASS' if ok_comp else 'FAIL'}**",
 ]
 text = "\n".join(lines) + "\n"
 open(sys.argv[1], "w").write(text)
 print(text, end="")
-sys.exit(0 if ok_ratio and ok_rss and ok_tcpc else 1)
+sys.exit(0 if ok_ratio and ok_rss and ok_tcpc and ok_comp else 1)
 EOF

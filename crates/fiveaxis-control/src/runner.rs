@@ -175,7 +175,14 @@ pub struct Runner<'m, S> {
     done: bool,
     /// The controller has emitted what it held at the end.
     flushed: bool,
+    /// The last lines read, for messages about blocks the controller held
+    /// back (cutter compensation's look-ahead); buffers are reused.
+    recent: [(u32, Vec<u8>); RECENT_LINES],
+    recent_next: usize,
 }
+
+/// How many recent lines the runner keeps for messages.
+const RECENT_LINES: usize = 16;
 
 impl<'m, S: Source> Runner<'m, S> {
     /// A run of the program in `source` on `machine` with `offsets`.
@@ -198,6 +205,8 @@ impl<'m, S: Source> Runner<'m, S> {
             at_program_start: true,
             done: false,
             flushed: false,
+            recent: std::array::from_fn(|_| (0, Vec::new())),
+            recent_next: 0,
         }
     }
 
@@ -265,6 +274,11 @@ impl<'m, S: Source> Runner<'m, S> {
             return self.end_of_program();
         }
         self.next_line += 1;
+        let slot = &mut self.recent[self.recent_next];
+        slot.0 = here.line;
+        slot.1.clear();
+        slot.1.extend_from_slice(&self.text);
+        self.recent_next = (self.recent_next + 1) % RECENT_LINES;
         let sequential = here.offset >= self.scanned.offset;
         if sequential {
             self.scanned = Mark {
@@ -462,10 +476,17 @@ impl<'m, S: Source> Runner<'m, S> {
     }
 
     fn alarm_here(&self, alarm: Alarm) -> RunError {
-        RunError::Alarm {
-            alarm,
-            text: self.text(),
-        }
+        // An alarm about an earlier block (held back by the controller)
+        // shows that block's text.
+        let text = match self
+            .recent
+            .iter()
+            .find(|(line, _)| *line == alarm.line && *line != 0)
+        {
+            Some((_, text)) => String::from_utf8_lossy(text).into_owned(),
+            None => self.text(),
+        };
+        RunError::Alarm { alarm, text }
     }
 
     fn runner_alarm(&self, condition: Condition, line: u32, message: String) -> RunError {
