@@ -6,7 +6,9 @@
 //! manuals; where a control family differs, [`crate::dialect`] says how.
 
 use fiveaxis_gcode::{Block, Code, Span, Word};
-use fiveaxis_machine::{Control, Joints, MAX_AXES, MAX_TOOL_OFFSET, Machine, Offsets, Side, Vec3};
+use fiveaxis_machine::{
+    Control, Joints, MAX_AXES, MAX_TOOL_OFFSET, Machine, Offsets, SetupError, Side, Vec3,
+};
 
 use crate::alarm::{Alarm, Condition};
 use crate::dialect::Dialect;
@@ -81,6 +83,10 @@ struct State {
     tcpc: tcpc::TcpcState,
     /// Three-dimensional tool compensation.
     comp3d: comp3d::Comp3d,
+    /// Workpiece setup error correction in force (G54.4), identity when off.
+    setup: SetupError,
+    /// The data set selected by G54.4 (0: off).
+    setup_set: u32,
 }
 
 /// The controller of one run.
@@ -125,6 +131,8 @@ impl<'m> Controller<'m> {
                 axis_shift: [0.0; MAX_AXES],
                 tcpc: tcpc::TcpcState::default(),
                 comp3d: comp3d::Comp3d::default(),
+                setup: SetupError::IDENTITY,
+                setup_set: 0,
             },
             words: Words::new(machine.control),
             block_posture: None,
@@ -642,10 +650,17 @@ impl<'m> Controller<'m> {
         base + self.offsets.external + self.state.shift
     }
 
-    /// Where programmed coordinates have their origin: the work offset
-    /// plus the 3-D tool compensation vector in force.
-    fn origin(&self) -> Vec3 {
-        self.work() + self.state.comp3d.vector
+    /// A programmed point as a point of the real workpiece in work
+    /// coordinates at table position 0, work offset included: the 3-D
+    /// tool compensation vector is added, then the setup error (G54.4)
+    /// maps the ideal workpiece onto the real one.
+    fn to_real(&self, p: &Vec3) -> Vec3 {
+        self.work() + self.state.setup.point(&(p + self.state.comp3d.vector))
+    }
+
+    /// The inverse of [`Controller::to_real`].
+    fn from_real(&self, x: &Vec3) -> Vec3 {
+        self.state.setup.inverse_point(&(x - self.work())) - self.state.comp3d.vector
     }
 
     /// The active H value (geometry + wear), mm.
@@ -686,8 +701,8 @@ impl<'m> Controller<'m> {
     /// the work offset and the length offset vector in force.
     fn plain_programmed(&self, joints: &Joints) -> Joints {
         let mut p = self.programmed(joints);
-        let lin =
-            Vec3::new(joints[0], joints[1], joints[2]) - self.origin() - self.length_vector(joints);
+        let lin = self
+            .from_real(&(Vec3::new(joints[0], joints[1], joints[2]) - self.length_vector(joints)));
         p[..3].copy_from_slice(lin.as_slice());
         p
     }
@@ -698,7 +713,9 @@ impl<'m> Controller<'m> {
         let lin = if self.tcpc_type().is_some() {
             self.tcpc_programmed(joints)
         } else {
-            Vec3::new(joints[0], joints[1], joints[2]) - self.origin() - self.length_vector(joints)
+            self.from_real(
+                &(Vec3::new(joints[0], joints[1], joints[2]) - self.length_vector(joints)),
+            )
         };
         p[..3].copy_from_slice(lin.as_slice());
         for (i, value) in p
@@ -727,7 +744,7 @@ impl<'m> Controller<'m> {
         let lin = if self.tcpc_type().is_some() {
             self.tcpc_gauge(&joints, &Vec3::new(p[0], p[1], p[2]))
         } else {
-            Vec3::new(p[0], p[1], p[2]) + self.origin() + self.length_vector(&joints)
+            self.to_real(&Vec3::new(p[0], p[1], p[2])) + self.length_vector(&joints)
         };
         joints[..3].copy_from_slice(lin.as_slice());
         joints
@@ -789,6 +806,7 @@ impl<'m> Controller<'m> {
             path,
             tool_length: self.reported_length(),
             work: self.work(),
+            setup: self.state.setup,
         }
     }
 
@@ -909,10 +927,22 @@ impl<'m> Controller<'m> {
             return self.push_line(Motion::Linear, start, end, out);
         };
         let [p, q] = geo.axes;
+        if self.state.setup.rotation != SetupError::IDENTITY.rotation {
+            // The real workpiece is turned: the circle is no longer in a
+            // plane of the machine axes.
+            let circle = self.real_circle(&geo, from, end_p);
+            let drift = self.length_vector(&end) - self.length_vector(&start);
+            let offset = self.length_vector(&start);
+            let circle = circle.shifted(&offset);
+            let mut seg = self.segment(geo.motion, start, end, Path::Helix { circle, drift });
+            seg.feed = Some(self.cutting_feed(|| circle.length())?);
+            out.push(seg);
+            return Ok(());
+        }
         // The centre in machine coordinates, and its drift when the offset
         // vector changes over the block.
-        let offset0 = self.length_vector(&start) + self.origin();
-        let offset1 = self.length_vector(&end) + self.origin();
+        let offset0 = self.length_vector(&start) + self.to_real(&Vec3::zeros());
+        let offset1 = self.length_vector(&end) + self.to_real(&Vec3::zeros());
         let arc = Arc {
             axes: [p, q],
             center: [geo.center[0] + offset0[p], geo.center[1] + offset0[q]],
@@ -927,6 +957,33 @@ impl<'m> Controller<'m> {
         seg.feed = Some(self.cutting_feed(|| arc.length().hypot(helix))?);
         out.push(seg);
         Ok(())
+    }
+
+    /// The circle of an arc block on the real workpiece, work offset
+    /// included (before the length offset).
+    fn real_circle(&self, geo: &ArcGeometry, from: &Joints, end_p: &Joints) -> TipPath {
+        let [p, q] = geo.axes;
+        let unit = |i: usize| {
+            let mut v = Vec3::zeros();
+            v[i] = 1.0;
+            v
+        };
+        let mut center = Vec3::new(from[0], from[1], from[2]);
+        center[p] = geo.center[0];
+        center[q] = geo.center[1];
+        let setup = &self.state.setup;
+        TipPath::Arc {
+            center: self.to_real(&center),
+            axes: [
+                setup.vector(&unit(p)),
+                setup.vector(&unit(q)),
+                setup.vector(&unit(geo.normal)),
+            ],
+            radius: [geo.r0, geo.r1],
+            theta0: geo.theta0,
+            sweep: geo.sweep,
+            rise: end_p[geo.normal] - from[geo.normal],
+        }
     }
 
     /// The circle of a G02 / G03 block in programmed coordinates, from
@@ -1303,6 +1360,13 @@ impl<'m> Controller<'m> {
             // The linear axes of a TCPC block swing with the rotary axes:
             // checked on the way, below.
             Path::Tcpc(_) => {}
+            Path::Helix { circle, drift } => {
+                for i in 0..3 {
+                    let (a, b) = circle.extent(i);
+                    lo[i] = lo[i].min(a + drift[i].min(0.0));
+                    hi[i] = hi[i].max(b + drift[i].max(0.0));
+                }
+            }
             Path::Joint => {}
         }
         let limits = machine.linear.iter().map(|a| Some((a.min, a.max))).chain(

@@ -8,7 +8,7 @@
 //! from forward kinematics of the sampled machine position, never from the
 //! programmed values.
 
-use fiveaxis_machine::{Joints, Machine, Side, Vec3};
+use fiveaxis_machine::{Joints, Machine, SetupError, Side, Vec3};
 
 /// Interpolation kind of a move, as the `motion` column shows it.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -49,6 +49,15 @@ pub enum Path {
     /// Straight through an intermediate machine position reached at
     /// s = 0.5 (G28 / G30 reference returns).
     Via(Joints),
+    /// X, Y, Z on a circle (or helix) in space, plus `drift · s`; every
+    /// other axis linear in `s` (arcs on a workpiece turned by a setup
+    /// error).
+    Helix {
+        /// The circle of X, Y, Z.
+        circle: TipPath,
+        /// Change of the length offset over the block.
+        drift: Vec3,
+    },
     /// Tool centre point control: the tip follows `tip` relative to the
     /// workpiece while the rotary axes turn; the linear axes are whatever
     /// puts the tip there.
@@ -159,6 +168,72 @@ impl TipPath {
         }
     }
 
+    /// The same path moved by `offset`.
+    pub fn shifted(&self, offset: &Vec3) -> TipPath {
+        match *self {
+            TipPath::Line([a, b]) => TipPath::Line([a + offset, b + offset]),
+            TipPath::Arc {
+                center,
+                axes,
+                radius,
+                theta0,
+                sweep,
+                rise,
+            } => TipPath::Arc {
+                center: center + offset,
+                axes,
+                radius,
+                theta0,
+                sweep,
+                rise,
+            },
+        }
+    }
+
+    /// The range the path covers along coordinate `i`.
+    pub fn extent(&self, i: usize) -> (f64, f64) {
+        match *self {
+            TipPath::Line([a, b]) => (a[i].min(b[i]), a[i].max(b[i])),
+            TipPath::Arc {
+                center,
+                axes,
+                radius,
+                theta0,
+                sweep,
+                rise,
+            } => {
+                let (a, b) = (self.at(0.0)[i], self.at(1.0)[i]);
+                let (mut lo, mut hi) = (a.min(b), a.max(b));
+                // The circle peaks along i where its tangent is across i.
+                let peak = axes[1][i].atan2(axes[0][i]);
+                let r = radius[0].max(radius[1]);
+                let reach = r * axes[0][i].hypot(axes[1][i]);
+                for (k, value) in [(0.0, 1.0), (std::f64::consts::PI, -1.0)] {
+                    let mut t = peak + k;
+                    // Bring t into the sweep's turn, if it is inside.
+                    let (from, to) = if sweep >= 0.0 {
+                        (theta0, theta0 + sweep)
+                    } else {
+                        (theta0 + sweep, theta0)
+                    };
+                    while t < from {
+                        t += std::f64::consts::TAU;
+                    }
+                    while t - std::f64::consts::TAU >= from {
+                        t -= std::f64::consts::TAU;
+                    }
+                    if t <= to {
+                        let s = ((t - theta0) / sweep).clamp(0.0, 1.0);
+                        let v = center[i] + value * reach + axes[2][i] * rise * s;
+                        lo = lo.min(v - (radius[1] - radius[0]).abs());
+                        hi = hi.max(v + (radius[1] - radius[0]).abs());
+                    }
+                }
+                (lo, hi)
+            }
+        }
+    }
+
     /// Length of the path.
     pub fn length(&self) -> f64 {
         match self {
@@ -221,6 +296,9 @@ pub struct Segment {
     pub tool_length: f64,
     /// Work offset: table-frame coordinates of the part frame's origin.
     pub work: Vec3,
+    /// Workpiece setup error in force (G54.4): rows report the tip and
+    /// direction in the frame of the programmed (ideal) workpiece.
+    pub setup: SetupError,
 }
 
 fn lerp(a: f64, b: f64, s: f64) -> f64 {
@@ -244,6 +322,10 @@ impl Segment {
         let mut joints = self.start;
         for (j, (a, b)) in joints.iter_mut().zip(from.iter().zip(to)) {
             *j = lerp(*a, *b, t);
+        }
+        if let Path::Helix { circle, drift } = &self.path {
+            let xyz = circle.at(s) + drift * s;
+            joints[..3].copy_from_slice(xyz.as_slice());
         }
         if let Path::Arc(arc) = &self.path {
             let theta = arc.theta0 + arc.sweep * s;
@@ -286,6 +368,7 @@ impl Segment {
                 Path::Arc(a) => a.sweep != 0.0,
                 Path::Via(mid) => *mid != self.start,
                 Path::Tcpc(t) => t.tip.length() > 0.0,
+                Path::Helix { circle, .. } => circle.length() > 0.0,
                 Path::Joint => false,
             }
     }
@@ -300,8 +383,8 @@ impl Segment {
             s,
             motion: self.motion,
             joints,
-            tip: pose.tip - self.work,
-            dir: pose.dir,
+            tip: self.setup.inverse_point(&(pose.tip - self.work)),
+            dir: self.setup.inverse_vector(&pose.dir),
             feed: self.feed,
         }
     }
@@ -327,6 +410,7 @@ impl Segment {
             }
             Path::Joint => (tip_end - tip_start).norm(),
             Path::Tcpc(tcpc) => tcpc.tip.length(),
+            Path::Helix { circle, .. } => circle.length(),
         };
         let count = |span: f64, limit: f64| {
             if limit > 0.0 && span.is_finite() {

@@ -6,13 +6,13 @@
 
 use std::collections::VecDeque;
 
-use fiveaxis_machine::{Joints, Vec3};
+use fiveaxis_machine::{Joints, SetupError, Vec3};
 
 use super::{Controller, LengthMode};
 use crate::alarm::{Alarm, Condition};
 use crate::cutter::{CompError, Compensated, Element, Move, P2, PieceKind, Side};
 use crate::modal::MotionMode;
-use crate::segment::{Arc, Motion, Path, Segment};
+use crate::segment::{Arc, Motion, Path, Segment, TipPath};
 
 /// Blocks waiting for their compensated path (the held block and those
 /// without movement behind it); more raise an alarm (FANUC reads a bounded
@@ -32,11 +32,14 @@ pub(super) struct Deferred {
     end: Joints,
     /// Plane axes (first, second, normal).
     plane: [usize; 3],
-    origin: Vec3,
+    /// The 3-D compensation vector (zero: the two compensations exclude
+    /// each other, kept for the mapping).
+    vector: Vec3,
     length_mode: LengthMode,
     tool_length: f64,
     axis_shift: Joints,
     work: Vec3,
+    setup: fiveaxis_machine::SetupError,
 }
 
 /// The controller's side of cutter compensation C.
@@ -169,11 +172,12 @@ impl Controller<'_> {
             from: *from,
             end: end_p,
             plane: [p, q, n],
-            origin: self.origin(),
+            vector: self.state.comp3d.vector,
             length_mode: self.state.modal.length,
             tool_length: self.tool_length(),
             axis_shift: self.state.axis_shift,
             work: self.work(),
+            setup: self.state.setup,
         });
         self.cutter.point = end_p;
         let offset = self.cutter.side.map(|side| (side, self.tool_radius()));
@@ -297,14 +301,44 @@ impl Controller<'_> {
             end[q] = e2.y;
             let end_joints = self.machine_at(block, &end);
             let path = match piece.element {
+                Some(Element::Arc { center, ccw, .. })
+                    if block.setup.rotation != SetupError::IDENTITY.rotation =>
+                {
+                    // A turned workpiece: the circle leaves the plane of
+                    // the machine axes.
+                    let mut c3 = block.from;
+                    c3[p] = center.x;
+                    c3[q] = center.y;
+                    let unit = |i: usize| {
+                        let mut v = Vec3::zeros();
+                        v[i] = 1.0;
+                        block.setup.vector(&v)
+                    };
+                    let r0 = (s2 - center).norm();
+                    let theta0 = (s2.y - center.y).atan2(s2.x - center.x);
+                    let theta1 = (e2.y - center.y).atan2(e2.x - center.x);
+                    let circle = TipPath::Arc {
+                        center: self.real_at(block, &Vec3::new(c3[0], c3[1], c3[2]))
+                            + self.length_at(block, &before),
+                        axes: [unit(p), unit(q), unit(block.plane[2])],
+                        radius: [r0, (e2 - center).norm()],
+                        theta0,
+                        sweep: super::arc_sweep(theta0, theta1, ccw, r0),
+                        rise: end[block.plane[2]] - start_normal(block, &before, self),
+                    };
+                    let drift = self.length_at(block, &end_joints) - self.length_at(block, &before);
+                    Path::Helix { circle, drift }
+                }
                 Some(Element::Arc { center, ccw, .. }) => {
-                    let offset = self.length_at(block, &before) + block.origin;
+                    let offset =
+                        self.length_at(block, &before) + self.real_at(block, &Vec3::zeros());
                     let r0 = (s2 - center).norm();
                     let r1 = (e2 - center).norm();
                     let theta0 = (s2.y - center.y).atan2(s2.x - center.x);
                     let theta1 = (e2.y - center.y).atan2(e2.x - center.x);
                     let sweep = super::arc_sweep(theta0, theta1, ccw, r0);
-                    let offset1 = self.length_at(block, &end_joints) + block.origin;
+                    let offset1 =
+                        self.length_at(block, &end_joints) + self.real_at(block, &Vec3::zeros());
                     Path::Arc(Arc {
                         axes: [p, q],
                         center: [center.x + offset[p], center.y + offset[q]],
@@ -337,6 +371,7 @@ impl Controller<'_> {
                 path,
                 tool_length: block.tool_length,
                 work: block.work,
+                setup: block.setup,
             };
             if seg.moves() {
                 out.push(seg);
@@ -353,9 +388,8 @@ impl Controller<'_> {
         for (i, v) in p.iter_mut().enumerate().skip(3) {
             *v -= block.axis_shift[i];
         }
-        let lin = Vec3::new(joints[0], joints[1], joints[2])
-            - block.origin
-            - self.length_at(block, joints);
+        let x = Vec3::new(joints[0], joints[1], joints[2]) - self.length_at(block, joints);
+        let lin = block.setup.inverse_point(&(x - block.work)) - block.vector;
         p[..3].copy_from_slice(lin.as_slice());
         p
     }
@@ -367,14 +401,26 @@ impl Controller<'_> {
         for (i, v) in joints.iter_mut().enumerate().skip(3) {
             *v += block.axis_shift[i];
         }
-        let lin = Vec3::new(p[0], p[1], p[2]) + block.origin + self.length_at(block, &joints);
+        let lin =
+            self.real_at(block, &Vec3::new(p[0], p[1], p[2])) + self.length_at(block, &joints);
         joints[..3].copy_from_slice(lin.as_slice());
         joints
+    }
+
+    /// A programmed point of `block` on the real workpiece, work offset
+    /// included.
+    fn real_at(&self, block: &Deferred, p: &Vec3) -> Vec3 {
+        block.work + block.setup.point(&(p + block.vector))
     }
 
     fn length_at(&self, block: &Deferred, joints: &Joints) -> Vec3 {
         self.length_vector_for(block.length_mode, block.tool_length, joints)
     }
+}
+
+/// The programmed normal-axis coordinate at machine position `joints`.
+fn start_normal(block: &Deferred, joints: &Joints, controller: &Controller<'_>) -> f64 {
+    controller.programmed_at(block, joints)[block.plane[2]]
 }
 
 /// Length of a piece's path in the plane (0 for none).

@@ -73,7 +73,12 @@ pub(super) struct TcpcState {
     /// position, tool length and work offset it was reached with: the
     /// programmed position stays exactly as programmed instead of being
     /// recomputed through forward kinematics.
-    last: Option<(Joints, f64, Vec3, Vec3)>,
+    last: Option<(
+        Joints,
+        f64,
+        (Vec3, Vec3, fiveaxis_machine::SetupError),
+        Vec3,
+    )>,
 }
 
 impl Default for TcpcState {
@@ -221,27 +226,46 @@ impl Controller<'_> {
     /// Programmed position X, Y, Z under TCPC at machine position `joints`:
     /// the tool tip in the programming frame.
     pub(super) fn tcpc_programmed(&self, joints: &Joints) -> Vec3 {
-        if let Some((at, length, work, point)) = self.state.tcpc.last
+        if let Some((at, length, frames, point)) = self.state.tcpc.last
             && at == *joints
             && length == self.tool_length()
-            && work == self.origin()
+            && frames == self.frames_key()
         {
             return point;
         }
         let tip_table = self.machine.forward(joints, self.tool_length()).tip;
+        let ideal = self.ideal_from_real(&tip_table);
         let map = self.programming_map(joints);
-        map.transform_point(&tip_table.into()).coords - self.origin()
+        map.transform_point(&ideal.into()).coords - self.work() - self.state.comp3d.vector
+    }
+
+    /// What the programmed point depends on besides the joints: the work
+    /// offset, the 3-D compensation vector and the setup error.
+    fn frames_key(&self) -> (Vec3, Vec3, fiveaxis_machine::SetupError) {
+        (self.work(), self.state.comp3d.vector, self.state.setup)
     }
 
     /// Machine position of X, Y, Z that puts the tip on programmed point
     /// `p` with the rotary axes at `joints`.
     pub(super) fn tcpc_gauge(&self, joints: &Joints, p: &Vec3) -> Vec3 {
         let map = self.programming_map(joints);
-        let tip_table = map
-            .inverse_transform_point(&(p + self.origin()).into())
+        let ideal = map
+            .inverse_transform_point(&(p + self.work() + self.state.comp3d.vector).into())
             .coords;
+        let tip_table = self.real_from_ideal(&ideal);
         self.machine
             .gauge_for_tip(joints, &tip_table, self.tool_length())
+    }
+
+    /// A point of the ideal workpiece in the table frame as the point of
+    /// the real one (G54.4: the error acts about the work zero).
+    fn real_from_ideal(&self, x: &Vec3) -> Vec3 {
+        self.work() + self.state.setup.point(&(x - self.work()))
+    }
+
+    /// The inverse of [`Controller::real_from_ideal`].
+    fn ideal_from_real(&self, x: &Vec3) -> Vec3 {
+        self.work() + self.state.setup.inverse_point(&(x - self.work()))
     }
 
     /// Table frame → programming frame (plus the work offset) at `joints`.
@@ -298,7 +322,10 @@ impl Controller<'_> {
             let p1 = Vec3::new(end_p[0], end_p[1], end_p[2]);
             let tcpc = self.state.tcpc;
             let t = inclined(&tcpc.vector, &(p1 - p0), tcpc.inclination);
-            let v_table = tcpc.frame.rotation.inverse_transform_vector(&t);
+            let v_table = self
+                .state
+                .setup
+                .vector(&tcpc.frame.rotation.inverse_transform_vector(&t));
             let here = [current[i0], current[i1]];
             let chosen = if self.posture_controls_block() {
                 // Tool posture control: the axes follow the tool along the
@@ -690,21 +717,27 @@ impl Controller<'_> {
 
     /// The tip path of a straight TCPC block.
     fn tcpc_line(&self, from: &Joints, end_p: &Joints, start: &Joints) -> TipPath {
-        let work = self.origin();
-        let p0 = Vec3::new(from[0], from[1], from[2]) + work;
-        let p1 = Vec3::new(end_p[0], end_p[1], end_p[2]) + work;
+        let shift = self.work() + self.state.comp3d.vector;
+        let p0 = Vec3::new(from[0], from[1], from[2]) + shift;
+        let p1 = Vec3::new(end_p[0], end_p[1], end_p[2]) + shift;
         if self.state.tcpc.turning {
-            TipPath::Line([p0, p1])
+            // WKP = 1: the tip path is in the work coordinate system that
+            // does not turn; a setup error acts there.
+            let real = |p: &Vec3| self.real_from_ideal(p);
+            TipPath::Line([real(&p0), real(&p1)])
         } else {
             let frame = &self.state.tcpc.frame;
+            let table = |p: &Vec3| {
+                self.real_from_ideal(&frame.inverse_transform_point(&(*p).into()).coords)
+            };
             // A start-up block begins where the tip really is, off the
             // programmed path; later blocks on their programmed start.
             let tip0 = if self.state.tcpc.startup {
                 self.machine.forward(start, self.tool_length()).tip
             } else {
-                frame.inverse_transform_point(&p0.into()).coords
+                table(&p0)
             };
-            TipPath::Line([tip0, frame.inverse_transform_point(&p1.into()).coords])
+            TipPath::Line([tip0, table(&p1)])
         }
     }
 
@@ -725,9 +758,10 @@ impl Controller<'_> {
             v
         };
         let [p, q] = geo.axes;
-        let mut center = Vec3::new(from[0], from[1], from[2]) + self.origin();
-        center[p] = geo.center[0] + self.origin()[p];
-        center[q] = geo.center[1] + self.origin()[q];
+        let shift = self.work() + self.state.comp3d.vector;
+        let mut center = Vec3::new(from[0], from[1], from[2]) + shift;
+        center[p] = geo.center[0] + shift[p];
+        center[q] = geo.center[1] + shift[q];
         let mut axes = [unit(p), unit(q), unit(geo.normal)];
         if !self.state.tcpc.turning {
             let frame = &self.state.tcpc.frame;
@@ -736,6 +770,8 @@ impl Controller<'_> {
                 *axis = frame.rotation.inverse_transform_vector(axis);
             }
         }
+        let center = self.real_from_ideal(&center);
+        let axes = axes.map(|a| self.state.setup.vector(&a));
         Ok(Some(TipPath::Arc {
             center,
             axes,
