@@ -159,6 +159,14 @@ pub enum Condition {
     CrcInTcpc,
     /// Too many blocks without movement in cutter compensation C.
     CrcTooManyStill,
+    /// G54.4 with other words in its block.
+    SetupErrorNotAlone,
+    /// G54.4 without P.
+    SetupErrorNumberMissing,
+    /// G54.4 with P out of range (0 to 7).
+    SetupErrorNumberRange,
+    /// A setup error data set names a rotary axis the machine's table does not have.
+    SetupErrorAxis,
 }
 
 impl Condition {
@@ -215,6 +223,10 @@ impl Condition {
         Condition::CrcNonFinite,
         Condition::CrcInTcpc,
         Condition::CrcTooManyStill,
+        Condition::SetupErrorNotAlone,
+        Condition::SetupErrorNumberMissing,
+        Condition::SetupErrorNumberRange,
+        Condition::SetupErrorAxis,
     ];
 
     /// One line saying when the condition arises.
@@ -309,6 +321,12 @@ impl Condition {
             Condition::CrcTooManyStill => {
                 "Too many blocks without movement in cutter compensation C"
             }
+            Condition::SetupErrorNotAlone => "G54.4 with other words in its block",
+            Condition::SetupErrorNumberMissing => "G54.4 without P",
+            Condition::SetupErrorNumberRange => "G54.4 with P out of range (0 to 7)",
+            Condition::SetupErrorAxis => {
+                "A setup error data set names a rotary axis the machine's table does not have"
+            }
         }
     }
 }
@@ -383,6 +401,15 @@ impl Condition {
             C::TcpcSingularPassage => Some(943),
             _ => None,
         };
+        // Mazak alarms (seed 002).
+        if control == Control::Mazak {
+            match self {
+                C::SetupErrorNotAlone => return AlarmCode::new("", 1815, 1),
+                C::SetupErrorNumberMissing => return AlarmCode::new("", 807, 1),
+                C::SetupErrorNumberRange => return AlarmCode::new("", 809, 1),
+                _ => {}
+            }
+        }
         match (fanuc, mitsubishi, fanuc_number, mitsubishi_number) {
             (true, _, Some(n), _) => AlarmCode::fanuc(control, n),
             (_, true, _, Some(n)) => AlarmCode::new("P", n, 1),
@@ -444,6 +471,10 @@ impl Condition {
             C::CrcNonFinite => 91,
             C::CrcInTcpc => 92,
             C::CrcTooManyStill => 93,
+            C::SetupErrorNotAlone => 94,
+            C::SetupErrorNumberMissing => 95,
+            C::SetupErrorNumberRange => 96,
+            C::SetupErrorAxis => 97,
             C::OvertravelMinus => 501,
         }
     }

@@ -21,6 +21,7 @@ use crate::words::Words;
 
 mod comp3d;
 mod cutter_c;
+mod setup;
 mod tcpc;
 
 pub use tcpc::inclined;
@@ -87,6 +88,8 @@ struct State {
     setup: SetupError,
     /// The data set selected by G54.4 (0: off).
     setup_set: u32,
+    /// The side of the tilt axis at the G54.4 block (keep-tilt-sign rule).
+    setup_tilt_sign: f64,
 }
 
 /// The controller of one run.
@@ -133,6 +136,7 @@ impl<'m> Controller<'m> {
                 comp3d: comp3d::Comp3d::default(),
                 setup: SetupError::IDENTITY,
                 setup_set: 0,
+                setup_tilt_sign: 1.0,
             },
             words: Words::new(machine.control),
             block_posture: None,
@@ -229,6 +233,30 @@ impl<'m> Controller<'m> {
         };
         let comp_changed = self.apply_cutter(&codes)?;
         let length_changed = change == LengthChange::Moves || comp_changed;
+        if let Some((_, span)) = codes.setup {
+            self.select_setup_error(span, &from, out)?;
+        } else {
+            self.block_motion(&codes, &from, length_changed, out)?;
+        }
+        self.words.check_all_used()?;
+        for seg in &out[base..] {
+            self.check_limits(seg).map_err(|a| at_line(a, seg.line))?;
+        }
+        if let Some(last) = out[base..].last() {
+            self.state.joints = last.end;
+        }
+        Ok(flow)
+    }
+
+    /// The movement of a block: its group-00 function or its motion.
+    fn block_motion(
+        &mut self,
+        codes: &GCodes,
+        from: &Joints,
+        length_changed: bool,
+        out: &mut Vec<Segment>,
+    ) -> Result<(), Alarm> {
+        let from = *from;
         match codes.one_shot {
             Some((code, span)) if self.cutter.routing() && matches!(code.major, 4 | 10) => {
                 // A dwell or data setting in cutter compensation C is a
@@ -250,14 +278,7 @@ impl<'m> Controller<'m> {
             }
             None => self.motion(&from, length_changed, out)?,
         }
-        self.words.check_all_used()?;
-        for seg in &out[base..] {
-            self.check_limits(seg).map_err(|a| at_line(a, seg.line))?;
-        }
-        if let Some(last) = out[base..].last() {
-            self.state.joints = last.end;
-        }
-        Ok(flow)
+        Ok(())
     }
 
     // ----- G codes --------------------------------------------------------
@@ -273,6 +294,7 @@ impl<'m> Controller<'m> {
                 (20 | 21, 0) => GKind::Units,
                 (43 | 44 | 49, 0) | (43, 1 | 4 | 5) => GKind::Length,
                 (54..=59, 0) | (54, 1) => GKind::Work,
+                (54, 4) => GKind::SetupError,
                 (4 | 10 | 27 | 28 | 30 | 53 | 92, 0) => GKind::OneShot,
                 (40..=42, 0) => GKind::Cutter,
                 // Cancels of modes that cannot be active in this kernel
@@ -313,6 +335,7 @@ impl<'m> Controller<'m> {
                 GKind::Length => codes.length = Some((code, span)),
                 GKind::Work => codes.work = Some((code, span)),
                 GKind::Cutter => codes.cutter = Some((code, span)),
+                GKind::SetupError => codes.setup = Some((code, span)),
                 GKind::Cancel => {}
             }
         }
@@ -1618,6 +1641,7 @@ enum GKind {
     Work,
     OneShot,
     Cutter,
+    SetupError,
     Cancel,
 }
 
@@ -1632,5 +1656,6 @@ struct GCodes {
     length: Option<(Code, Span)>,
     work: Option<(Code, Span)>,
     cutter: Option<(Code, Span)>,
+    setup: Option<(Code, Span)>,
     one_shot: Option<(Code, Span)>,
 }

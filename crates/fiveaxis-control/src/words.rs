@@ -153,6 +153,14 @@ impl Words {
         self.by_letter[index(letter)]
     }
 
+    /// The first word whose letter is not `letter`.
+    pub fn first_other_than(&self, letter: u8) -> Option<Word> {
+        let others = self.present & !(1 << index(letter));
+        (0..26)
+            .find(|i| others & (1 << i) != 0)
+            .and_then(|i| self.by_letter[i])
+    }
+
     /// Whether a word with this letter is present.
     pub fn has(&self, letter: u8) -> bool {
         self.present & (1 << index(letter)) != 0

@@ -187,6 +187,10 @@ pub struct Parameters {
     /// Cutter compensation C start-up and cancel type B (FANUC No.5003#0
     /// SUP = 1) instead of type A.
     pub cutter_startup_b: bool,
+    /// Under G54.4 and TCPC, blocks after the G54.4 block take the rotary
+    /// pair with the smaller table-axis motion instead of keeping the tilt
+    /// axis on its side (Mazak F162 bit 1).
+    pub setup_error_table_motion: bool,
 }
 
 impl Default for Parameters {
@@ -203,6 +207,7 @@ impl Default for Parameters {
             singular_zone: 0.0,
             tool_comp_3d_denominator: 0.0,
             cutter_startup_b: false,
+            setup_error_table_motion: false,
         }
     }
 }

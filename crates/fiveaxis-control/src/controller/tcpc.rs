@@ -125,6 +125,48 @@ impl Controller<'_> {
         }
     }
 
+    /// The programmed tool vector of type 2 in the table frame (ideal
+    /// workpiece).
+    pub(super) fn tcpc_vector_table(&self) -> Vec3 {
+        self.state
+            .tcpc
+            .frame
+            .rotation
+            .inverse_transform_vector(&self.state.tcpc.vector)
+    }
+
+    /// The table axis (0 or 1, file order) whose motion G54.4 keeps small:
+    /// the machine's only table axis, or else the rotating axis.
+    pub(super) fn table_axis(&self) -> usize {
+        let mut tables =
+            (0..self.machine.rotary.len()).filter(|&k| self.machine.rotary[k].on == Side::Table);
+        match (tables.next(), tables.next()) {
+            (Some(only), None) => only,
+            _ => self.rotating_axis(),
+        }
+    }
+
+    /// The side the tilt axis is on at `angles` (rotary file order): its
+    /// sign, or from 0 the side with the wider stroke (minus when equal).
+    pub(super) fn tilt_side(&self, angles: [f64; 2]) -> f64 {
+        let tilt = if self.machine.rotary.len() == 2 {
+            1 - self.rotating_axis()
+        } else {
+            0
+        };
+        let angle = angles[tilt.min(1)];
+        if angle > 0.0 {
+            1.0
+        } else if angle < 0.0 {
+            -1.0
+        } else {
+            match self.machine.rotary.get(tilt).and_then(|a| a.limits) {
+                Some((min, max)) if max > -min => 1.0,
+                _ => -1.0,
+            }
+        }
+    }
+
     /// G43.4 / G43.5 in a block: checks the start-up conditions and fixes
     /// the programming frame. Returns how the axes respond to the new
     /// offset.
@@ -346,6 +388,25 @@ impl Controller<'_> {
                     chosen[k]
                 };
                 end_p[i] = angle - shift;
+            }
+        } else if self.state.setup_set != 0 && machine.rotary.len() == 2 {
+            // G54.4: the programmed angles give the attitude on the ideal
+            // workpiece; the axes turn to keep it on the real one.
+            let (i0, i1) = (machine.rotary_index(0), machine.rotary_index(1));
+            let mut programmed = current;
+            programmed[i0] = current[i0] + travel[i0];
+            programmed[i1] = current[i1] + travel[i1];
+            let ideal = machine.forward(&programmed, 0.0).dir;
+            let real = self.state.setup.vector(&ideal);
+            let chosen = self.choose_rotaries(&real, [current[i0], current[i1]])?;
+            for (k, i) in [i0, i1].into_iter().enumerate() {
+                travel[i] = chosen[k] - current[i];
+                let angle = if self.is_rollover(i) {
+                    super::normalize_360(chosen[k])
+                } else {
+                    chosen[k]
+                };
+                end_p[i] = angle - self.state.axis_shift[i];
             }
         } else {
             self.check_singular_passage(&current, &end_p, &travel)?;
@@ -786,26 +847,48 @@ impl Controller<'_> {
     /// tool along `dir` (table frame), chosen by the control's rule among
     /// the solutions and their 360° repeats inside the soft limits.
     pub(super) fn choose_rotaries(&self, dir: &Vec3, current: [f64; 2]) -> Result<[f64; 2], Alarm> {
+        let rule = if self.state.setup_set != 0 {
+            // G54.4 in force: Mazak F162 bit 1.
+            if self.machine.params.setup_error_table_motion {
+                Choice::TableMotion
+            } else {
+                Choice::KeepTilt(self.state.setup_tilt_sign)
+            }
+        } else {
+            Choice::Control
+        };
+        self.choose_rotaries_by(dir, current, rule)
+    }
+
+    /// [`Controller::choose_rotaries`] by an explicit rule.
+    pub(super) fn choose_rotaries_by(
+        &self,
+        dir: &Vec3,
+        current: [f64; 2],
+        choice: Choice,
+    ) -> Result<[f64; 2], Alarm> {
         let machine = self.machine;
         let found = machine.orientations(dir, current);
         let rotating = self.rotating_axis();
-        let rule = if self.in_singular_zone(dir, rotating) {
-            RotaryChoice::RotatingAxis
-        } else {
-            machine.params.rotary_choice
+        let (rule, tilt_sign, scored) = match choice {
+            _ if self.in_singular_zone(dir, rotating) => {
+                (RotaryChoice::RotatingAxis, 0.0, rotating)
+            }
+            Choice::Control => (
+                machine.params.rotary_choice,
+                self.state.tcpc.tilt_sign,
+                rotating,
+            ),
+            Choice::TableMotion => (RotaryChoice::RotatingAxis, 0.0, self.table_axis()),
+            Choice::KeepTilt(sign) => (RotaryChoice::KeepTiltSign, sign, rotating),
         };
+        let rotating = scored;
         let mut best: Option<(f64, f64, [f64; 2])> = None;
         for pair in found.pairs() {
             for a in self.repeats(0, pair[0], current[0]).into_iter().flatten() {
                 for b in self.repeats(1, pair[1], current[1]).into_iter().flatten() {
                     let candidate = [a, b];
-                    let key = choice_key(
-                        rule,
-                        &candidate,
-                        &current,
-                        rotating,
-                        self.state.tcpc.tilt_sign,
-                    );
+                    let key = choice_key(rule, &candidate, &current, rotating, tilt_sign);
                     if best.is_none_or(|(k0, k1, _)| key < (k0, k1)) {
                         best = Some((key.0, key.1, candidate));
                     }
@@ -898,6 +981,17 @@ fn minimize(f: impl Fn(f64) -> f64, a: f64, b: f64) -> (f64, f64) {
         }
     }
     if fc < fd { (fc, c) } else { (fd, d) }
+}
+
+/// Which rule picks the rotary pair.
+#[derive(Clone, Copy, Debug)]
+pub(super) enum Choice {
+    /// The machine's `rotary_choice`.
+    Control,
+    /// The smaller motion of the table axis (the G54.4 block).
+    TableMotion,
+    /// Keep the tilt axis on this side (+1 or −1).
+    KeepTilt(f64),
 }
 
 /// Sort key of a candidate under `rule` (smaller is better).

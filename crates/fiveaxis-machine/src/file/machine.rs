@@ -130,6 +130,14 @@ struct RawParameters {
     singular_zone: Option<Spanned<f64>>,
     tool_comp_3d_denominator: Option<Spanned<f64>>,
     cutter_startup: Option<RawStartup>,
+    setup_error_choice: Option<RawSetupChoice>,
+}
+
+#[derive(Clone, Copy, Deserialize)]
+#[serde(rename_all = "snake_case")]
+enum RawSetupChoice {
+    KeepTiltSign,
+    TableMotion,
 }
 
 #[derive(Clone, Copy, Deserialize)]
@@ -448,6 +456,10 @@ fn parameters(
             None => defaults.tool_comp_3d_denominator,
         },
         cutter_startup_b: matches!(raw.cutter_startup, Some(RawStartup::B)),
+        setup_error_table_motion: matches!(
+            raw.setup_error_choice,
+            Some(RawSetupChoice::TableMotion)
+        ),
     })
 }
 

@@ -118,6 +118,15 @@ impl Machine {
             &quote(if p.cutter_startup_b { "B" } else { "A" }),
             "cutter compensation C start-up and cancel type \"A\" or \"B\" (FANUC 5003#0)",
         );
+        w.key(
+            "setup_error_choice",
+            &quote(if p.setup_error_table_motion {
+                "table_motion"
+            } else {
+                "keep_tilt_sign"
+            }),
+            "G54.4 under TCPC: \"keep_tilt_sign\" or smaller \"table_motion\" (Mazak F162 bit 1)",
+        );
     }
 
     /// A reference position as an inline table over every axis.

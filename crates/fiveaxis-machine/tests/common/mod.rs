@@ -166,6 +166,7 @@ fn parameters(count: usize) -> impl Strategy<Value = Parameters> {
                 singular_zone,
                 tool_comp_3d_denominator,
                 cutter_startup_b: tool_comp_3d_denominator > 1.0,
+                setup_error_table_motion: singular_zone > 5.0,
             },
         )
 }
