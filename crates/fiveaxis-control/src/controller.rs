@@ -681,8 +681,8 @@ impl<'m> Controller<'m> {
         self.work() + self.state.setup.point(&(p + self.state.comp3d.vector))
     }
 
-    /// The inverse of [`Controller::to_real`].
-    fn from_real(&self, x: &Vec3) -> Vec3 {
+    /// The inverse of [`Controller::to_real`]: a real point as programmed.
+    fn programmed_of_real(&self, x: &Vec3) -> Vec3 {
         self.state.setup.inverse_point(&(x - self.work())) - self.state.comp3d.vector
     }
 
@@ -736,7 +736,7 @@ impl<'m> Controller<'m> {
         let lin = if self.tcpc_type().is_some() {
             self.tcpc_programmed(joints)
         } else {
-            self.from_real(
+            self.programmed_of_real(
                 &(Vec3::new(joints[0], joints[1], joints[2]) - self.length_vector(joints)),
             )
         };

@@ -73,12 +73,7 @@ pub(super) struct TcpcState {
     /// position, tool length and work offset it was reached with: the
     /// programmed position stays exactly as programmed instead of being
     /// recomputed through forward kinematics.
-    last: Option<(
-        Joints,
-        f64,
-        (Vec3, Vec3, fiveaxis_machine::SetupError),
-        Vec3,
-    )>,
+    last: Option<LastPoint>,
 }
 
 impl Default for TcpcState {
@@ -95,6 +90,14 @@ impl Default for TcpcState {
         }
     }
 }
+
+/// What the programmed point depends on besides the machine position: the
+/// work offset, the 3-D compensation vector and the setup error.
+type FramesKey = (Vec3, Vec3, fiveaxis_machine::SetupError);
+
+/// The end of the last TCPC block: machine position, tool length, frames,
+/// programmed point.
+type LastPoint = (Joints, f64, FramesKey, Vec3);
 
 /// The tool vector inclined by `q` degrees from `n` towards the travel
 /// direction `travel` (made perpendicular to `n`); `n` itself when the tip
@@ -283,7 +286,7 @@ impl Controller<'_> {
 
     /// What the programmed point depends on besides the joints: the work
     /// offset, the 3-D compensation vector and the setup error.
-    fn frames_key(&self) -> (Vec3, Vec3, fiveaxis_machine::SetupError) {
+    fn frames_key(&self) -> FramesKey {
         (self.work(), self.state.comp3d.vector, self.state.setup)
     }
 
