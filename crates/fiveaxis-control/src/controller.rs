@@ -724,8 +724,9 @@ impl<'m> Controller<'m> {
     /// the work offset and the length offset vector in force.
     fn plain_programmed(&self, joints: &Joints) -> Joints {
         let mut p = self.programmed(joints);
-        let lin = self
-            .from_real(&(Vec3::new(joints[0], joints[1], joints[2]) - self.length_vector(joints)));
+        let lin = self.programmed_of_real(
+            &(Vec3::new(joints[0], joints[1], joints[2]) - self.length_vector(joints)),
+        );
         p[..3].copy_from_slice(lin.as_slice());
         p
     }
