@@ -90,6 +90,9 @@ struct State {
     setup_set: u32,
     /// The side of the tilt axis at the G54.4 block (keep-tilt-sign rule).
     setup_tilt_sign: f64,
+    /// Under G54.4 and TCPC type 1, the programmed rotary angles (the
+    /// attitude on the ideal workpiece), which differ from the machine's.
+    setup_angles: Option<[f64; 2]>,
 }
 
 /// The controller of one run.
@@ -112,6 +115,13 @@ pub struct Controller<'m> {
 /// Where the control point goes, for each axis: programmed value if the
 /// block names the axis.
 type Targets = [Option<f64>; MAX_AXES];
+
+impl State {
+    /// Whether this block started TCPC.
+    fn tcpc_started(&self) -> bool {
+        self.tcpc.startup
+    }
+}
 
 impl<'m> Controller<'m> {
     /// A controller switched on: every axis at reference position 1, no
@@ -137,6 +147,7 @@ impl<'m> Controller<'m> {
                 setup: SetupError::IDENTITY,
                 setup_set: 0,
                 setup_tilt_sign: 1.0,
+                setup_angles: None,
             },
             words: Words::new(machine.control),
             block_posture: None,
@@ -214,6 +225,18 @@ impl<'m> Controller<'m> {
         };
         // The same point as the tip in the work coordinate system that
         // does not turn: where a block leaving TCPC starts from.
+        let mut from = from;
+        if let Some(angles) = self.state.setup_angles {
+            // G54.4 under TCPC type 1: the program stands at its own angles.
+            for (k, angle) in angles
+                .into_iter()
+                .enumerate()
+                .take(self.machine.rotary.len())
+            {
+                let i = self.machine.rotary_index(k);
+                from[i] = angle - self.state.axis_shift[i];
+            }
+        }
         let was_tcpc = self.tcpc_type().is_some();
         let plain_from =
             (was_tcpc && codes.length.is_some()).then(|| self.plain_programmed(&self.state.joints));
@@ -231,6 +254,9 @@ impl<'m> Controller<'m> {
         } else {
             from
         };
+        if self.tcpc_type() != Some(TcpcType::Angles) || self.state.tcpc_started() {
+            self.state.setup_angles = None;
+        }
         let comp_changed = self.apply_cutter(&codes)?;
         let length_changed = change == LengthChange::Moves || comp_changed;
         if let Some((_, span)) = codes.setup {

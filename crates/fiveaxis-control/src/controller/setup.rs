@@ -65,10 +65,23 @@ impl Controller<'_> {
         let n = p.value as u32;
         let error = self.setup_error_of(n, p.span)?;
         let before = self.state.setup;
+        // Type 1 keeps its programmed angles apart from the machine's while
+        // a correction is in force.
+        let programmed_angles = self.state.setup_angles.or_else(|| {
+            (self.machine.rotary.len() == 2).then(|| {
+                let (i0, i1) = (self.machine.rotary_index(0), self.machine.rotary_index(1));
+                [self.state.joints[i0], self.state.joints[i1]]
+            })
+        });
         self.state.setup = error;
         self.state.setup_set = n;
+        self.state.setup_angles = if n != 0 && self.tcpc_type() == Some(TcpcType::Angles) {
+            programmed_angles
+        } else {
+            None
+        };
         if let Some(kind) = self.tcpc_type() {
-            self.setup_attitude_move(kind, &before, from, out)?;
+            self.setup_attitude_move(kind, &before, programmed_angles, from, out)?;
         }
         Ok(())
     }
@@ -111,6 +124,7 @@ impl Controller<'_> {
         &mut self,
         kind: TcpcType,
         before: &SetupError,
+        programmed_angles: Option<[f64; 2]>,
         from: &Joints,
         out: &mut Vec<Segment>,
     ) -> Result<(), Alarm> {
@@ -123,7 +137,15 @@ impl Controller<'_> {
         // The attitude on the ideal workpiece, table frame.
         let ideal = match kind {
             TcpcType::Vector => self.tcpc_vector_table(),
-            TcpcType::Angles => before.inverse_vector(&machine.forward(&start, 0.0).dir),
+            TcpcType::Angles => match programmed_angles {
+                Some([a, b]) => {
+                    let mut ideal = start;
+                    ideal[i0] = a;
+                    ideal[i1] = b;
+                    machine.forward(&ideal, 0.0).dir
+                }
+                None => before.inverse_vector(&machine.forward(&start, 0.0).dir),
+            },
         };
         let real = self.state.setup.vector(&ideal);
         let angles = self.choose_rotaries_by(&real, [start[i0], start[i1]], Choice::TableMotion)?;

@@ -396,9 +396,12 @@ impl Controller<'_> {
             // G54.4: the programmed angles give the attitude on the ideal
             // workpiece; the axes turn to keep it on the real one.
             let (i0, i1) = (machine.rotary_index(0), machine.rotary_index(1));
+            // The programmed angles: where the program stood (its own
+            // angles, not the corrected machine's) moved by the block.
             let mut programmed = current;
-            programmed[i0] = current[i0] + travel[i0];
-            programmed[i1] = current[i1] + travel[i1];
+            programmed[i0] = from[i0] + self.state.axis_shift[i0] + travel[i0];
+            programmed[i1] = from[i1] + self.state.axis_shift[i1] + travel[i1];
+            self.state.setup_angles = Some([programmed[i0], programmed[i1]]);
             let ideal = machine.forward(&programmed, 0.0).dir;
             let real = self.state.setup.vector(&ideal);
             let chosen = self.choose_rotaries(&real, [current[i0], current[i1]])?;
