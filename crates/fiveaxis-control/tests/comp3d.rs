@@ -2,7 +2,9 @@
 //! rule and alarm of the seed, hand-computed, judged through the rows
 //! (forward kinematics of the machine position).
 
-use fiveaxis_control::{Alarm, Row, RunError, RunOptions, Runner, SliceSource};
+mod common;
+
+use fiveaxis_control::{Alarm, Row, RunOptions, Runner, SliceSource};
 use fiveaxis_machine::{Control, LinearAxis, Machine, Offsets, ToolOffset, Vec3, builtin};
 
 const EPS: f64 = 1e-9;
@@ -36,21 +38,7 @@ fn offsets() -> Offsets {
 
 /// Rows at the end of every block, and the alarm.
 fn run_on(machine: &Machine, program: &str) -> (Vec<Row>, Option<Alarm>) {
-    let mut runner = Runner::new(
-        machine,
-        offsets(),
-        SliceSource::new(program.as_bytes()),
-        RunOptions::default(),
-    );
-    let mut rows = Vec::new();
-    loop {
-        match runner.next_segment() {
-            Ok(Some(seg)) => rows.push(seg.row(machine, 1.0)),
-            Ok(None) => return (rows, None),
-            Err(RunError::Alarm { alarm, .. }) => return (rows, Some(alarm)),
-            Err(RunError::Io(e)) => panic!("{e}"),
-        }
-    }
+    common::run_ends(machine, offsets(), program)
 }
 
 fn run(program: &str) -> (Vec<Row>, Option<Alarm>) {

@@ -1,7 +1,9 @@
 //! Cutter compensation C through the controller: the tool centre path as
 //! the rows show it (forward kinematics of the machine positions).
 
-use fiveaxis_control::{Alarm, Row, RunError, RunOptions, Runner, SliceSource};
+mod common;
+
+use fiveaxis_control::{Alarm, Row};
 use fiveaxis_machine::{Control, Machine, Offsets, ToolOffset, builtin};
 use proptest::prelude::*;
 use proptest::test_runner::{Config, RngSeed};
@@ -42,21 +44,7 @@ fn offsets() -> Offsets {
 }
 
 fn run_on(machine: &Machine, program: &str) -> (Vec<Row>, Option<Alarm>) {
-    let mut runner = Runner::new(
-        machine,
-        offsets(),
-        SliceSource::new(program.as_bytes()),
-        RunOptions::default(),
-    );
-    let mut rows = Vec::new();
-    loop {
-        match runner.next_segment() {
-            Ok(Some(seg)) => rows.push(seg.row(machine, 1.0)),
-            Ok(None) => return (rows, None),
-            Err(RunError::Alarm { alarm, .. }) => return (rows, Some(alarm)),
-            Err(RunError::Io(e)) => panic!("{e}"),
-        }
-    }
+    common::run_ends(machine, offsets(), program)
 }
 
 fn run(program: &str) -> (Vec<Row>, Option<Alarm>) {

@@ -1,7 +1,9 @@
 //! Workpiece setup error correction G54.4 (seed 002, Mazak; FANUC common
 //! set): judged by forward kinematics of the machine positions.
 
-use fiveaxis_control::{Alarm, Row, RunError, RunOptions, Runner, SliceSource};
+mod common;
+
+use fiveaxis_control::{Alarm, Row};
 use fiveaxis_machine::{
     Control, Machine, Offsets, SetupError, SetupErrorSet, Side, ToolOffset, Vec3, builtin,
 };
@@ -32,24 +34,7 @@ fn offsets(sets: &[(u32, SetupErrorSet)]) -> Offsets {
 }
 
 fn run(m: &Machine, o: Offsets, program: &str) -> (Vec<Row>, Option<Alarm>) {
-    let mut runner = Runner::new(
-        m,
-        o,
-        SliceSource::new(program.as_bytes()),
-        RunOptions::default(),
-    );
-    let mut rows = Vec::new();
-    loop {
-        match runner.next_segment() {
-            Ok(Some(seg)) => {
-                rows.push(seg.row(m, 0.5));
-                rows.push(seg.row(m, 1.0));
-            }
-            Ok(None) => return (rows, None),
-            Err(RunError::Alarm { alarm, .. }) => return (rows, Some(alarm)),
-            Err(RunError::Io(e)) => panic!("{e}"),
-        }
-    }
+    common::run_sampled(m, o, program, &[0.5, 1.0])
 }
 
 fn ends(rows: &[Row]) -> Vec<&Row> {
