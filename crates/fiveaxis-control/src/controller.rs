@@ -260,6 +260,12 @@ impl<'m> Controller<'m> {
         let comp_changed = self.apply_cutter(&codes)?;
         let length_changed = change == LengthChange::Moves || comp_changed;
         if let Some((_, span)) = codes.setup {
+            if self.cutter.routing() {
+                // The held block is emitted with the correction it was
+                // read with.
+                self.cutter_c_finish(out)?;
+                self.cutter.engine.reset();
+            }
             self.select_setup_error(span, &from, out)?;
         } else {
             self.block_motion(&codes, &from, length_changed, out)?;

@@ -220,7 +220,7 @@ impl<'m, S: Source> Runner<'m, S> {
         loop {
             if let Some(seg) = self.queue.get(self.queue_pos) {
                 self.queue_pos += 1;
-                return Ok(Some(*seg));
+                return Ok(Some(seg.clone()));
             }
             if self.done {
                 return Ok(None);

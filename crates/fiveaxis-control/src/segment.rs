@@ -36,7 +36,7 @@ impl Motion {
 }
 
 /// How the axes get from `start` to `end`.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 // Segments live in reused buffers; boxing the large TCPC variant would
 // allocate once per TCPC block instead.
 #[allow(clippy::large_enum_variant)]
@@ -65,7 +65,7 @@ pub enum Path {
 }
 
 /// The law of a TCPC block.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct TcpcPath {
     /// Where the tip goes, as a function of s.
     pub tip: TipPath,
@@ -74,7 +74,8 @@ pub struct TcpcPath {
     pub turning: bool,
     /// Tool posture control: the tool turns on the great circle between
     /// two directions. `None`: the rotary axes move linearly in s.
-    pub posture: Option<Posture>,
+    /// Boxed: it is large, and only posture-controlled blocks have one.
+    pub posture: Option<Box<Posture>>,
 }
 
 /// Knots of a posture-controlled block.
@@ -278,7 +279,7 @@ impl Arc {
 }
 
 /// One move of every machine axis.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct Segment {
     /// 1-based line of the block in the program.
     pub line: u32,

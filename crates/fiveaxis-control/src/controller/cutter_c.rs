@@ -20,7 +20,9 @@ use crate::segment::{Arc, Motion, Path, Segment, TipPath};
 const MAX_DEFERRED: usize = 8;
 
 /// What a block needs to become segments once its path is known: taken
-/// when the block was read.
+/// when the block was read. (G92 shifts and G54.4 selections end the
+/// compensated path before they act, so they are the same when the block
+/// is emitted.)
 #[derive(Clone, Copy, Debug)]
 pub(super) struct Deferred {
     tag: u32,
@@ -37,9 +39,7 @@ pub(super) struct Deferred {
     vector: Vec3,
     length_mode: LengthMode,
     tool_length: f64,
-    axis_shift: Joints,
     work: Vec3,
-    setup: fiveaxis_machine::SetupError,
 }
 
 /// The controller's side of cutter compensation C.
@@ -175,9 +175,7 @@ impl Controller<'_> {
             vector: self.state.comp3d.vector,
             length_mode: self.state.modal.length,
             tool_length: self.tool_length(),
-            axis_shift: self.state.axis_shift,
             work: self.work(),
-            setup: self.state.setup,
         });
         self.cutter.point = end_p;
         let offset = self.cutter.side.map(|side| (side, self.tool_radius()));
@@ -244,11 +242,10 @@ impl Controller<'_> {
             while self.cutter.queue.front().is_some_and(|d| d.tag != tag) {
                 self.cutter.queue.pop_front();
             }
-            let Some(block) = self.cutter.queue.front().copied() else {
+            let Some(block) = self.cutter.queue.pop_front() else {
                 break;
             };
             self.emit_block(&block, group, out)?;
-            self.cutter.queue.pop_front();
             i += count;
         }
         Ok(())
@@ -276,7 +273,6 @@ impl Controller<'_> {
         let mut done_count = 0;
         for piece in pieces {
             let before = self.state.joints;
-            let here = self.programmed_at(block, &before);
             let mut end = block.end;
             let fraction = |d: f64, k: usize| {
                 if total > 0.0 {
@@ -295,14 +291,19 @@ impl Controller<'_> {
             }
             let (s2, e2) = match piece.element {
                 Some(element) => (element.start(), element.end()),
-                None => (P2::new(here[p], here[q]), P2::new(here[p], here[q])),
+                None => {
+                    // A block without movement in the plane runs where the
+                    // tool is.
+                    let here = self.programmed_at(block, &before);
+                    (P2::new(here[p], here[q]), P2::new(here[p], here[q]))
+                }
             };
             end[p] = e2.x;
             end[q] = e2.y;
             let end_joints = self.machine_at(block, &end);
             let path = match piece.element {
                 Some(Element::Arc { center, ccw, .. })
-                    if block.setup.rotation != SetupError::IDENTITY.rotation =>
+                    if self.state.setup.rotation != SetupError::IDENTITY.rotation =>
                 {
                     // A turned workpiece: the circle leaves the plane of
                     // the machine axes.
@@ -312,7 +313,7 @@ impl Controller<'_> {
                     let unit = |i: usize| {
                         let mut v = Vec3::zeros();
                         v[i] = 1.0;
-                        block.setup.vector(&v)
+                        self.state.setup.vector(&v)
                     };
                     let r0 = (s2 - center).norm();
                     let theta0 = (s2.y - center.y).atan2(s2.x - center.x);
@@ -371,7 +372,7 @@ impl Controller<'_> {
                 path,
                 tool_length: block.tool_length,
                 work: block.work,
-                setup: block.setup,
+                setup: self.state.setup,
             };
             if seg.moves() {
                 out.push(seg);
@@ -386,10 +387,10 @@ impl Controller<'_> {
     fn programmed_at(&self, block: &Deferred, joints: &Joints) -> Joints {
         let mut p = *joints;
         for (i, v) in p.iter_mut().enumerate().skip(3) {
-            *v -= block.axis_shift[i];
+            *v -= self.state.axis_shift[i];
         }
         let x = Vec3::new(joints[0], joints[1], joints[2]) - self.length_at(block, joints);
-        let lin = block.setup.inverse_point(&(x - block.work)) - block.vector;
+        let lin = self.state.setup.inverse_point(&(x - block.work)) - block.vector;
         p[..3].copy_from_slice(lin.as_slice());
         p
     }
@@ -399,7 +400,7 @@ impl Controller<'_> {
     fn machine_at(&self, block: &Deferred, p: &Joints) -> Joints {
         let mut joints = *p;
         for (i, v) in joints.iter_mut().enumerate().skip(3) {
-            *v += block.axis_shift[i];
+            *v += self.state.axis_shift[i];
         }
         let lin =
             self.real_at(block, &Vec3::new(p[0], p[1], p[2])) + self.length_at(block, &joints);
@@ -410,7 +411,7 @@ impl Controller<'_> {
     /// A programmed point of `block` on the real workpiece, work offset
     /// included.
     fn real_at(&self, block: &Deferred, p: &Vec3) -> Vec3 {
-        block.work + block.setup.point(&(p + block.vector))
+        block.work + self.state.setup.point(&(p + block.vector))
     }
 
     fn length_at(&self, block: &Deferred, joints: &Joints) -> Vec3 {

@@ -494,7 +494,7 @@ impl Controller<'_> {
         let path = Path::Tcpc(TcpcPath {
             tip,
             turning: self.state.tcpc.turning,
-            posture,
+            posture: posture.map(Box::new),
         });
         if start == end && tip.length() == 0.0 {
             return Ok(());
