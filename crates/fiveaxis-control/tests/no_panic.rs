@@ -60,17 +60,35 @@ impl<S: Source> Source for Budgeted<S> {
 /// Offset memory with tools and work offsets set, so that G43, G54 … have
 /// something to apply. H3 is negative.
 fn offsets() -> Offsets {
-    let tool = |length, length_wear| ToolOffset {
+    let tool = |length, length_wear, radius| ToolOffset {
         length,
         length_wear,
+        radius,
         ..ToolOffset::default()
     };
     let mut offsets = Offsets::default();
     offsets.tools.extend([
-        (1, tool(100.0, 0.0)),
-        (2, tool(50.0, -0.5)),
-        (3, tool(-20.0, 0.0)),
+        (1, tool(100.0, 0.0, 5.0)),
+        (2, tool(50.0, -0.5, 2.0)),
+        (3, tool(-20.0, 0.0, -3.0)),
     ]);
+    // Setup error data sets (G54.4), one naming a table axis.
+    offsets.setup_error.insert(
+        1,
+        fiveaxis_machine::SetupErrorSet {
+            origin: Vec3::new(1.0, -2.0, 0.5),
+            rotation: Vec3::new(0.0, -30.0, 5.0),
+            table: vec![],
+        },
+    );
+    offsets.setup_error.insert(
+        2,
+        fiveaxis_machine::SetupErrorSet {
+            rotation: Vec3::new(3.0, 0.0, 0.0),
+            table: vec![('C', 90.0)],
+            ..Default::default()
+        },
+    );
     offsets.work[0] = Vec3::new(10.0, 20.0, 30.0);
     offsets.work[1] = Vec3::new(100.0, 0.0, -50.0);
     offsets.extended_work[0] = Vec3::new(-10.0, -20.0, -30.0);
@@ -408,6 +426,71 @@ fn flow_block() -> impl Strategy<Value = Vec<Word>> {
     prop_oneof![4 => call, 2 => back, 1 => Just(vec![code("M99")]), 1 => Just(vec![code("M30")])]
 }
 
+/// Tool radius compensation (G40, G41/G42 with D, with or without I J K),
+/// TCPC (G43.4/G43.5 with H, P, Q, I J K) and setup error correction
+/// (G54.4 P0–P8, alone or not).
+fn compensation_block() -> impl Strategy<Value = Vec<Word>> {
+    let radius = (
+        one_of_codes(&["G40", "G41", "G42", "G41", "G42"]),
+        integer("D", 0..=3),
+        prop::option::weighted(
+            0.5,
+            (
+                value("I", -10..=10),
+                value("J", -10..=10),
+                value("K", -10..=10),
+            ),
+        ),
+        linear_axes(),
+    )
+        .prop_map(|(code, d, ijk, axes)| {
+            let ijk = ijk.map(|(i, j, k)| vec![i, j, k]).unwrap_or_default();
+            [code, d].into_iter().chain(ijk).chain(axes).collect()
+        });
+    let tcpc = (
+        one_of_codes(&["G43.4", "G43.5"]),
+        integer("H", 0..=3),
+        prop::option::of(integer("P", 0..=1)),
+        prop::option::weighted(0.3, value("Q", -30..=30)),
+        prop::option::weighted(
+            0.5,
+            (
+                value("I", -10..=10),
+                value("J", -10..=10),
+                value("K", -10..=10),
+            ),
+        ),
+        axes(),
+    )
+        .prop_map(|(code, h, p, q, ijk, axes)| {
+            let ijk = ijk.map(|(i, j, k)| vec![i, j, k]).unwrap_or_default();
+            [Some(code), Some(h), p, q]
+                .into_iter()
+                .flatten()
+                .chain(ijk)
+                .chain(axes)
+                .collect()
+        });
+    let vector = (
+        value("I", -10..=10),
+        value("J", -10..=10),
+        value("K", -10..=10),
+        linear_axes(),
+    )
+        .prop_map(|(i, j, k, axes)| [i, j, k].into_iter().chain(axes).collect());
+    let setup = (
+        integer("P", 0..=8),
+        prop::option::weighted(0.2, value("X", -10..=10)),
+    )
+        .prop_map(|(p, x)| {
+            [Some(code("G54.4")), Some(p), x]
+                .into_iter()
+                .flatten()
+                .collect()
+        });
+    prop_oneof![3 => radius, 2 => tcpc, 2 => vector, 1 => setup]
+}
+
 /// Words of the vocabulary in any mix: mostly blocks a control refuses.
 fn noise_block() -> impl Strategy<Value = Vec<Word>> {
     let codes = one_of_codes(&[
@@ -432,6 +515,7 @@ fn block() -> impl Strategy<Value = Vec<Word>> {
         2 => feed_block(),
         2 => flow_block(),
         1 => noise_block(),
+        3 => compensation_block(),
     ];
     let deleted = prop::option::weighted(0.1, Just(fixed("/", "")));
     let sequence = prop::option::weighted(0.2, prop::sample::select(SEQUENCES));
