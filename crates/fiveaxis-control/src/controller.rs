@@ -747,11 +747,6 @@ impl<'m> Controller<'m> {
         }
     }
 
-    /// Tool length for forward kinematics of the reported tip.
-    fn reported_length(&self) -> f64 {
-        self.tool_length()
-    }
-
     /// Programmed position outside TCPC semantics: machine position less
     /// the work offset and the length offset vector in force.
     fn plain_programmed(&self, joints: &Joints) -> Joints {
@@ -860,7 +855,7 @@ impl<'m> Controller<'m> {
             start,
             end,
             path,
-            tool_length: self.reported_length(),
+            tool_length: self.tool_length(),
             work: self.work(),
             setup: self.state.setup,
         }

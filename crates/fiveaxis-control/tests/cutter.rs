@@ -9,13 +9,16 @@
 //! the inside; the outside of a contour is cut with G41 going clockwise or
 //! G42 going counter-clockwise.
 
+mod common;
+
 use std::f64::consts::PI;
 
+use common::check;
 use fiveaxis_control::cutter::{
     CompError, Compensated, CutterComp, Element, Move, P2, PieceKind, Side, StartupType,
 };
 use proptest::prelude::*;
-use proptest::test_runner::{Config, RngSeed, TestCaseError, TestRunner};
+use proptest::test_runner::{Config, RngSeed, TestCaseError};
 
 const EPS: f64 = 1e-9;
 
@@ -1091,17 +1094,6 @@ fn config(cases: u32) -> Config {
     }
 }
 
-fn check<S: Strategy>(
-    cases: u32,
-    strategy: S,
-    test: impl Fn(S::Value) -> Result<(), TestCaseError>,
-) {
-    let mut runner = TestRunner::new(config(cases));
-    if let Err(e) = runner.run(&strategy, test) {
-        panic!("{e}");
-    }
-}
-
 /// A convex polygon: vertices on a circle of radius `size` at sorted
 /// angles with gaps of at least 10°, counter-clockwise.
 fn convex_polygon() -> impl Strategy<Value = Vec<P2>> {
@@ -1234,7 +1226,7 @@ fn property_convex_polygon_outside_offsets_are_at_r() {
         any::<bool>(),
         any::<bool>(),
     );
-    check(256, strategy, |(pts, r, ccw, type_b)| {
+    check(config(256), strategy, |(pts, r, ccw, type_b)| {
         let side = if ccw { Side::Right } else { Side::Left };
         let blocks = polygon_program(&pts, &[], ccw, (side, r));
         let ty = if type_b {
@@ -1258,7 +1250,7 @@ fn property_convex_polygon_outside_offsets_are_at_r() {
 #[test]
 fn property_convex_polygon_inside_offsets_are_at_r_or_interference() {
     let strategy = (convex_polygon(), 0.05..60.0f64, any::<bool>());
-    check(256, strategy, |(pts, r, ccw)| {
+    check(config(256), strategy, |(pts, r, ccw)| {
         let side = if ccw { Side::Left } else { Side::Right };
         let blocks = polygon_program(&pts, &[], ccw, (side, r));
         match run_blocks(StartupType::B, &blocks) {
@@ -1288,7 +1280,7 @@ fn property_convex_arc_chains_outside_are_concentric() {
         any::<bool>(),
         any::<bool>(),
     );
-    check(256, strategy, |(pts, edges, rf, ccw, type_b)| {
+    check(config(256), strategy, |(pts, edges, rf, ccw, type_b)| {
         let n = pts.len();
         let shortest = (0..n)
             .map(|i| (pts[(i + 1) % n] - pts[i]).norm())
@@ -1369,7 +1361,7 @@ fn property_random_programs_never_panic() {
         proptest::collection::vec((step(), radius()), 1..14),
         any::<bool>(),
     );
-    check(2048, strategy, |(steps, type_b)| {
+    check(config(2048), strategy, |(steps, type_b)| {
         let ty = if type_b {
             StartupType::B
         } else {

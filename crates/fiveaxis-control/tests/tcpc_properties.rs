@@ -31,10 +31,16 @@
 //! Tests named `..._minimal_example` are hand-made small cases; those whose
 //! comment starts with BUG fail on the kernel as it stands.
 
+mod common;
+/// The machine crate's generators of directions and points.
+#[path = "../../fiveaxis-machine/tests/common/mod.rs"]
+mod machine_gen;
+
 use std::cell::Cell;
 use std::f64::consts::PI;
 use std::sync::OnceLock;
 
+use common::check;
 use fiveaxis_control::{
     Alarm, Condition, Path, RunError, RunOptions, Runner, Segment, SliceSource,
 };
@@ -42,10 +48,11 @@ use fiveaxis_machine::{
     Control, Joints, LinearAxis, MAX_AXES, Machine, Offsets, Parameters, ProgrammingFrame,
     RotaryAxis, RotaryChoice, Side, ToolOffset, Vec3, builtin, principal,
 };
+use machine_gen::{direction, point};
 use nalgebra::{IsometryMatrix3, Unit};
 use proptest::prelude::*;
 use proptest::sample::subsequence;
-use proptest::test_runner::{Config, RngSeed, TestCaseError, TestRunner};
+use proptest::test_runner::{Config, RngSeed, TestCaseError};
 
 // ----- tolerances -----------------------------------------------------------
 
@@ -71,45 +78,6 @@ fn config(cases: u32) -> Config {
         max_shrink_iters: 2048,
         ..Config::default()
     }
-}
-
-/// Runs `test` over `strategy` and panics with proptest's report (the
-/// minimal failing input) on failure.
-fn check<S: Strategy>(
-    cases: u32,
-    strategy: S,
-    test: impl Fn(S::Value) -> Result<(), TestCaseError>,
-) {
-    let mut runner = TestRunner::new(config(cases));
-    if let Err(e) = runner.run(&strategy, test) {
-        panic!("{e}");
-    }
-}
-
-/// A unit direction: axis-aligned, at 45° between two axes, or arbitrary
-/// (as the machine crate's generator).
-fn direction() -> impl Strategy<Value = Unit<Vec3>> {
-    let sign = || prop_oneof![Just(1.0), Just(-1.0)];
-    let aligned = (0..3usize, sign()).prop_map(|(i, s)| {
-        let mut v = Vec3::zeros();
-        v[i] = s;
-        v
-    });
-    let diagonal = (0..3usize, sign(), sign()).prop_map(|(i, s, t)| {
-        let mut v = Vec3::zeros();
-        v[i] = s;
-        v[(i + 1) % 3] = t;
-        v
-    });
-    let any = (-1.0..1.0f64, -1.0..1.0f64, -1.0..1.0f64)
-        .prop_map(|(x, y, z)| Vec3::new(x, y, z))
-        .prop_filter("not too short", |v| v.norm() > 0.1);
-    prop_oneof![aligned, diagonal, any].prop_map(Unit::new_normalize)
-}
-
-/// A point in the cube of half-side `range`.
-fn point(range: f64) -> impl Strategy<Value = Vec3> {
-    (-range..range, -range..range, -range..range).prop_map(|(x, y, z)| Vec3::new(x, y, z))
 }
 
 /// The four arrangements of two rotary axes, bed outwards.
@@ -713,7 +681,7 @@ fn check_type2(case: &Case, posture: bool) -> Result<u32, TestCaseError> {
 /// line inside, tool vectors at block ends.
 #[test]
 fn type2_tip_on_line_and_vector_at_block_ends() {
-    check(256, case_type2(), |case| {
+    check(config(256), case_type2(), |case| {
         check_type2(&case, false).map(|_| ())
     });
 }
@@ -724,7 +692,7 @@ fn type2_tip_on_line_and_vector_at_block_ends() {
 #[test]
 fn type2_posture_control_turns_on_the_great_circle() {
     let blocks = Cell::new(0);
-    check(256, case_type2(), |case| {
+    check(config(256), case_type2(), |case| {
         blocks.set(blocks.get() + check_type2(&case, true)?);
         Ok(())
     });
@@ -745,7 +713,7 @@ fn type2_posture_control_turns_on_the_great_circle() {
 #[test]
 fn type2_posture_circle_outside_reach_alarms_or_is_followed() {
     let seen = Cell::new(0);
-    check(256, case_type2(), |case| {
+    check(config(256), case_type2(), |case| {
         let m = &case.machine;
         let p = write_type2(&case, true);
         let (vectors, kinds) = circles(m, &p);
@@ -975,7 +943,7 @@ fn check_type1(case: &Case) -> Result<(), TestCaseError> {
 /// linear in s.
 #[test]
 fn type1_tip_on_line_and_rotaries_as_programmed() {
-    check(256, case_type1(ProgrammingFrame::Table), |case| {
+    check(config(256), case_type1(ProgrammingFrame::Table), |case| {
         check_type1(&case)
     });
 }
@@ -985,9 +953,11 @@ fn type1_tip_on_line_and_rotaries_as_programmed() {
 /// row's own joints).
 #[test]
 fn type1_workpiece_frame_tip_on_line_in_non_turning_frame() {
-    check(256, case_type1(ProgrammingFrame::Workpiece), |case| {
-        check_type1(&case)
-    });
+    check(
+        config(256),
+        case_type1(ProgrammingFrame::Workpiece),
+        |case| check_type1(&case),
+    );
 }
 
 // ----- property 5: rotary choice against a brute force ----------------------
@@ -1169,7 +1139,7 @@ struct ChoiceCounts {
 #[test]
 fn type2_rotary_choice_matches_brute_force() {
     let counts = ChoiceCounts::default();
-    check(256, choice_case(), |case| {
+    check(config(256), choice_case(), |case| {
         let (m, grid) = &choice_machines()[case.machine];
         let names = [m.rotary[0].name, m.rotary[1].name];
         let d = match case.target {
@@ -1490,7 +1460,7 @@ fn finite_row(row: &fiveaxis_control::Row, m: &Machine) -> bool {
 fn tcpc_programs_never_panic() {
     let strategy = (machine_and_program(), point(300.0), -50.0..200.0f64);
     let (runs, tcpc_runs, alarms) = (Cell::new(0), Cell::new(0), Cell::new(0));
-    check(256, strategy, |((m, lines), work, length)| {
+    check(config(256), strategy, |((m, lines), work, length)| {
         bump(&runs);
         let program = lines.join("\n") + "\n";
         let lines_count = u32::try_from(program.lines().count()).unwrap_or(u32::MAX);
@@ -1542,7 +1512,7 @@ fn tcpc_programs_never_panic() {
 /// forward direction.
 #[test]
 fn oracle_reach_margin_contains_forward_directions() {
-    check(64, tcpc_machine(ProgrammingFrame::Table), |m| {
+    check(config(64), tcpc_machine(ProgrammingFrame::Table), |m| {
         for i in 0..36 {
             for j in 0..36 {
                 let q = [f64::from(i) * 10.0 - 180.0, f64::from(j) * 10.0 - 180.0];
@@ -1607,7 +1577,7 @@ fn rotary_jump(m: &Machine, seg: &Segment, n: u32) -> (f64, f64, Joints, Joints)
 #[test]
 fn type2_posture_rotary_axes_continuous_inside_block() {
     let blocks = Cell::new(0);
-    check(256, case_type2(), |case| {
+    check(config(256), case_type2(), |case| {
         let m = &case.machine;
         let p = write_type2(&case, true);
         let (vectors, _) = circles(m, &p);

@@ -149,10 +149,10 @@ impl Controller<'_> {
         };
         let real = self.state.setup.vector(&ideal);
         let angles = self.choose_rotaries_by(&real, [start[i0], start[i1]], Choice::TableMotion)?;
-        self.state.setup_tilt_sign = self.tilt_side(angles);
         let mut end = start;
         end[i0] = angles[0];
         end[i1] = angles[1];
+        self.state.setup_tilt_sign = self.tilt_side(&end);
         let point = Vec3::new(from[0], from[1], from[2]);
         let gauge = self.tcpc_gauge(&end, &point);
         end[..3].copy_from_slice(gauge.as_slice());

@@ -149,15 +149,21 @@ impl Controller<'_> {
         }
     }
 
-    /// The side the tilt axis is on at `angles` (rotary file order): its
-    /// sign, or from 0 the side with the wider stroke (minus when equal).
-    pub(super) fn tilt_side(&self, angles: [f64; 2]) -> f64 {
-        let tilt = if self.machine.rotary.len() == 2 {
+    /// The tilt axis (rotary file order): the one that is not the
+    /// rotating axis; the only one on a single-rotary machine.
+    fn tilt_axis(&self) -> usize {
+        if self.machine.rotary.len() == 2 {
             1 - self.rotating_axis()
         } else {
             0
-        };
-        let angle = angles[tilt.min(1)];
+        }
+    }
+
+    /// The side the tilt axis is on at `joints`: its sign, or from 0 the
+    /// side with the wider stroke (minus when equal).
+    pub(super) fn tilt_side(&self, joints: &Joints) -> f64 {
+        let tilt = self.tilt_axis();
+        let angle = joints[self.machine.rotary_index(tilt)];
         if angle > 0.0 {
             1.0
         } else if angle < 0.0 {
@@ -232,23 +238,7 @@ impl Controller<'_> {
         let joints = self.state.joints;
         let frame = machine.chain(Side::Table, &joints);
         let dir_table = machine.forward(&joints, 0.0).dir;
-        let tilt = if machine.rotary.len() == 2 {
-            1 - self.rotating_axis()
-        } else {
-            0
-        };
-        let tilt_angle = joints[machine.rotary_index(tilt)];
-        let tilt_sign = if tilt_angle > 0.0 {
-            1.0
-        } else if tilt_angle < 0.0 {
-            -1.0
-        } else {
-            // From 0: the side with the wider stroke; equal strokes, minus.
-            match machine.rotary.get(tilt).and_then(|a| a.limits) {
-                Some((min, max)) if max > -min => 1.0,
-                _ => -1.0,
-            }
-        };
+        let tilt_sign = self.tilt_side(&joints);
         self.state.tcpc = TcpcState {
             frame,
             turning: workpiece_frame,

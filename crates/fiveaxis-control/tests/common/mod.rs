@@ -4,6 +4,21 @@
 
 use fiveaxis_control::{Alarm, Row, RunError, RunOptions, Runner, SliceSource};
 use fiveaxis_machine::{Machine, Offsets};
+use proptest::strategy::Strategy;
+use proptest::test_runner::{Config, TestCaseError, TestRunner};
+
+/// Runs `test` over `strategy` with `config` and panics with proptest's
+/// report (the minimal failing input) on failure.
+pub fn check<S: Strategy>(
+    config: Config,
+    strategy: S,
+    test: impl Fn(S::Value) -> Result<(), TestCaseError>,
+) {
+    let mut runner = TestRunner::new(config);
+    if let Err(e) = runner.run(&strategy, test) {
+        panic!("{e}");
+    }
+}
 
 /// Runs `program` on `machine`, sampling every segment at each of
 /// `samples` (values of s); returns the rows and the alarm that stopped the
