@@ -424,13 +424,7 @@ impl<'m, S: Source> Runner<'m, S> {
         self.source.seek(self.scanned.offset)?;
         let mut line = self.scanned.line;
         let mut found = None;
-        loop {
-            let offset = self.source.position();
-            if !self.source.read_line(&mut self.scan_text)? {
-                break;
-            }
-            let mark = Mark { offset, line };
-            line += 1;
+        while let Some(mark) = self.scan_line(&mut line)? {
             if let Some(n) = program_number(&self.scan_text) {
                 self.labels.push((n, mark));
                 if n == number {
@@ -448,19 +442,28 @@ impl<'m, S: Source> Runner<'m, S> {
         Ok(found)
     }
 
+    /// Reads the next line of the source into the scan buffer; its mark,
+    /// numbered `line` (counted on), or `None` at the end.
+    fn scan_line(&mut self, line: &mut u32) -> Result<Option<Mark>, RunError> {
+        let offset = self.source.position();
+        if !self.source.read_line(&mut self.scan_text)? {
+            return Ok(None);
+        }
+        let mark = Mark {
+            offset,
+            line: *line,
+        };
+        *line += 1;
+        Ok(Some(mark))
+    }
+
     /// The line with sequence number `n`: searched from `from` to the end,
     /// then from the start of the file.
     fn find_sequence(&mut self, n: u32, from: Mark) -> Result<Option<Mark>, RunError> {
         for start in [from, Mark { offset: 0, line: 1 }] {
             self.source.seek(start.offset)?;
             let mut line = start.line;
-            loop {
-                let offset = self.source.position();
-                if !self.source.read_line(&mut self.scan_text)? {
-                    break;
-                }
-                let mark = Mark { offset, line };
-                line += 1;
+            while let Some(mark) = self.scan_line(&mut line)? {
                 if parse_line(&self.scan_text, mark.line, &mut self.scan_block).is_ok()
                     && self.scan_block.sequence == Some(n)
                 {

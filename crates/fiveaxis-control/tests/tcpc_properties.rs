@@ -40,10 +40,8 @@ use std::cell::Cell;
 use std::f64::consts::PI;
 use std::sync::OnceLock;
 
-use common::check;
-use fiveaxis_control::{
-    Alarm, Condition, Path, RunError, RunOptions, Runner, Segment, SliceSource,
-};
+use common::{Outcome, check, run};
+use fiveaxis_control::{Condition, Path, RunError, RunOptions, Runner, Segment, SliceSource};
 use fiveaxis_machine::{
     Control, Joints, LinearAxis, MAX_AXES, Machine, Offsets, Parameters, ProgrammingFrame,
     RotaryAxis, RotaryChoice, Side, ToolOffset, Vec3, builtin, principal,
@@ -406,39 +404,6 @@ fn write_type1(case: &Case) -> Program {
 }
 
 // ----- running ------------------------------------------------------------
-
-struct Outcome {
-    segments: Vec<Segment>,
-    alarm: Option<Alarm>,
-}
-
-fn run(machine: &Machine, offsets: Offsets, program: &str) -> Outcome {
-    let mut runner = Runner::new(
-        machine,
-        offsets,
-        SliceSource::new(program.as_bytes()),
-        RunOptions::default(),
-    );
-    let mut segments = Vec::new();
-    loop {
-        match runner.next_segment() {
-            Ok(Some(seg)) => segments.push(seg),
-            Ok(None) => {
-                return Outcome {
-                    segments,
-                    alarm: None,
-                };
-            }
-            Err(RunError::Alarm { alarm, .. }) => {
-                return Outcome {
-                    segments,
-                    alarm: Some(alarm),
-                };
-            }
-            Err(RunError::Io(e)) => panic!("io error {e}"),
-        }
-    }
-}
 
 /// The one segment of `line`.
 fn segment_of(out: &Outcome, line: u32) -> Result<&Segment, TestCaseError> {

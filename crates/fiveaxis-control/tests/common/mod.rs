@@ -2,7 +2,7 @@
 
 #![allow(dead_code)]
 
-use fiveaxis_control::{Alarm, Row, RunError, RunOptions, Runner, SliceSource};
+use fiveaxis_control::{Alarm, Row, RunError, RunOptions, Runner, Segment, SliceSource};
 use fiveaxis_machine::{Machine, Offsets};
 use proptest::strategy::Strategy;
 use proptest::test_runner::{Config, TestCaseError, TestRunner};
@@ -20,6 +20,33 @@ pub fn check<S: Strategy>(
     }
 }
 
+/// What a program run in memory gave: its segments, and the alarm that
+/// stopped it, if any.
+pub struct Outcome {
+    pub segments: Vec<Segment>,
+    pub alarm: Option<Alarm>,
+}
+
+/// Runs `program` on `machine` to its end or its first alarm.
+pub fn run(machine: &Machine, offsets: Offsets, program: &str) -> Outcome {
+    let mut runner = Runner::new(
+        machine,
+        offsets,
+        SliceSource::new(program.as_bytes()),
+        RunOptions::default(),
+    );
+    let mut segments = Vec::new();
+    let alarm = loop {
+        match runner.next_segment() {
+            Ok(Some(seg)) => segments.push(seg),
+            Ok(None) => break None,
+            Err(RunError::Alarm { alarm, .. }) => break Some(alarm),
+            Err(RunError::Io(e)) => panic!("a program in memory failed to read: {e}"),
+        }
+    };
+    Outcome { segments, alarm }
+}
+
 /// Runs `program` on `machine`, sampling every segment at each of
 /// `samples` (values of s); returns the rows and the alarm that stopped the
 /// run, if any.
@@ -29,21 +56,13 @@ pub fn run_sampled(
     program: &str,
     samples: &[f64],
 ) -> (Vec<Row>, Option<Alarm>) {
-    let mut runner = Runner::new(
-        machine,
-        offsets,
-        SliceSource::new(program.as_bytes()),
-        RunOptions::default(),
-    );
-    let mut rows = Vec::new();
-    loop {
-        match runner.next_segment() {
-            Ok(Some(seg)) => rows.extend(samples.iter().map(|&s| seg.row(machine, s))),
-            Ok(None) => return (rows, None),
-            Err(RunError::Alarm { alarm, .. }) => return (rows, Some(alarm)),
-            Err(RunError::Io(e)) => panic!("a program in memory failed to read: {e}"),
-        }
-    }
+    let out = run(machine, offsets, program);
+    let rows = out
+        .segments
+        .iter()
+        .flat_map(|seg| samples.iter().map(|&s| seg.row(machine, s)))
+        .collect();
+    (rows, out.alarm)
 }
 
 /// [`run_sampled`] with the row at the end of every segment.
