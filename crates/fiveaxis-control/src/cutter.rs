@@ -814,40 +814,27 @@ fn check_offset_element(e: &Element, d: f64, tag: u32) -> Result<(), CompError> 
     Ok(())
 }
 
-fn carrier_end(e: &Element, d: f64) -> Carrier {
+/// The carrier of `e` offset by `d` through its point `at`, where its
+/// tangent is `u`: the offset line, or the offset circle.
+fn carrier(e: &Element, at: P2, u: P2, d: f64) -> Carrier {
     match *e {
-        Element::Line { to, .. } => {
-            let u = e.end_tangent();
-            Carrier::Line {
-                p: to + left(u) * d,
-                u,
-            }
-        }
-        Element::Arc {
-            to, center, ccw, ..
-        } => Carrier::Circle {
+        Element::Line { .. } => Carrier::Line {
+            p: at + left(u) * d,
+            u,
+        },
+        Element::Arc { center, ccw, .. } => Carrier::Circle {
             c: center,
-            rho: ((to - center).norm() - sigma(ccw) * d).max(0.0),
+            rho: ((at - center).norm() - sigma(ccw) * d).max(0.0),
         },
     }
 }
 
+fn carrier_end(e: &Element, d: f64) -> Carrier {
+    carrier(e, e.end(), e.end_tangent(), d)
+}
+
 fn carrier_start(e: &Element, d: f64) -> Carrier {
-    match *e {
-        Element::Line { from, .. } => {
-            let u = e.start_tangent();
-            Carrier::Line {
-                p: from + left(u) * d,
-                u,
-            }
-        }
-        Element::Arc {
-            from, center, ccw, ..
-        } => Carrier::Circle {
-            c: center,
-            rho: ((from - center).norm() - sigma(ccw) * d).max(0.0),
-        },
-    }
+    carrier(e, e.start(), e.start_tangent(), d)
 }
 
 fn nearest(a: P2, b: P2, reference: P2) -> P2 {

@@ -327,21 +327,27 @@ struct Program {
     blocks: Vec<(u32, Vec3, [f64; 2], Vec3)>,
 }
 
+/// The `G0 X Y Z <rotary>` before start-up; the angles as written.
+fn write_rapid(w: &mut Writer, case: &Case) -> [f64; 2] {
+    let names = [case.machine.rotary[0].name, case.machine.rotary[1].name];
+    w.start("G0");
+    w.xyz(&case.rapid_xyz);
+    let angles = [
+        w.word(names[0], case.rapid_angles[0]),
+        w.word(names[1], case.rapid_angles[1]),
+    ];
+    w.end();
+    angles
+}
+
 /// Type 2: `G0`, `G43.5 H1 X Y Z [P1]`, then `G1 X Y Z I J K` with each
 /// vector made by forward kinematics from random angles and turned into
 /// the programming frame; now and then a block without I J K, which keeps
 /// the vector in force.
 fn write_type2(case: &Case, posture: bool) -> Program {
     let m = &case.machine;
-    let names = [m.rotary[0].name, m.rotary[1].name];
     let mut w = Writer::default();
-    w.start("G0");
-    w.xyz(&case.rapid_xyz);
-    let rapid_angles = [
-        w.word(names[0], case.rapid_angles[0]),
-        w.word(names[1], case.rapid_angles[1]),
-    ];
-    w.end();
+    let rapid_angles = write_rapid(&mut w, case);
     let frame = m.chain(Side::Table, &joints_with_angles(m, rapid_angles));
     w.start(if posture { "G43.5 H1 P1" } else { "G43.5 H1" });
     let startup_tip = w.xyz(&case.startup_tip);
@@ -375,13 +381,7 @@ fn write_type1(case: &Case) -> Program {
     let m = &case.machine;
     let names = [m.rotary[0].name, m.rotary[1].name];
     let mut w = Writer::default();
-    w.start("G0");
-    w.xyz(&case.rapid_xyz);
-    let rapid_angles = [
-        w.word(names[0], case.rapid_angles[0]),
-        w.word(names[1], case.rapid_angles[1]),
-    ];
-    w.end();
+    let rapid_angles = write_rapid(&mut w, case);
     w.start("G43.4 H1");
     let startup_tip = w.xyz(&case.startup_tip);
     let startup_line = w.end();
