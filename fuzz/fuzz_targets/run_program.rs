@@ -35,7 +35,7 @@ fuzz_target!(|data: &[u8]| {
                 }
             }
             Ok(None) | Err(RunError::Alarm { .. }) => return,
-            Err(RunError::Io(e)) => panic!("a program in memory failed to read: {e}"),
+            Err(e) => panic!("a program in memory failed to read: {e}"),
         }
     }
 });

@@ -4,16 +4,20 @@
 mod diagnostic;
 mod number;
 mod output;
+mod signals;
 mod text;
 
 use std::fs::File;
-use std::io::{self, BufReader, Seek, Write};
+use std::io::{self, BufReader, Read, Seek, Write};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::sync::mpsc;
 
 use clap::{Parser, Subcommand};
-use fiveaxis_control::{Alarm, ReaderSource, Row, RunError, RunOptions, Runner, Segment, Source};
+use fiveaxis_control::{
+    Alarm, DEFAULT_MAX_BLOCKS, Interpolation, MAX_LINE_BYTES, ReaderSource, Row, RunError,
+    RunOptions, Runner, Segment, Source,
+};
 use fiveaxis_machine::{DEFAULT_MACHINE, FileError, Machine, Offsets, builtin, builtin_names};
 
 use output::{Format, RowWriter};
@@ -82,6 +86,10 @@ struct RunArgs {
     /// Block delete switch on: skip blocks that start with `/`.
     #[arg(long)]
     block_delete: bool,
+    /// Stop a program that has not ended after this many lines (an
+    /// endless loop) with alarm FX0102.
+    #[arg(long, default_value_t = DEFAULT_MAX_BLOCKS, value_parser = clap::value_parser!(u64).range(1..))]
+    max_blocks: u64,
 }
 
 fn positive(text: &str) -> Result<f64, String> {
@@ -100,18 +108,28 @@ impl InputError {
         Self(format!("error: {path}: {error}"))
     }
 
-    fn file(path: &str, text: &str, error: &FileError) -> Self {
+    fn file(path: &str, text: &[u8], error: &FileError) -> Self {
         let line_text = text
-            .lines()
+            .split(|&b| b == b'\n')
             .nth(error.line.saturating_sub(1) as usize)
-            .unwrap_or("");
-        let column = error.column.max(1);
+            .unwrap_or(b"");
+        let line_text = line_text.strip_suffix(b"\r").unwrap_or(line_text);
+        // File errors count columns in characters; the renderer marks bytes.
+        let chars = error.column.max(1) as usize - 1;
+        let column = String::from_utf8_lossy(line_text)
+            .char_indices()
+            .nth(chars)
+            .map_or(line_text.len(), |(at, _)| at.min(line_text.len()));
+        let column = u32::try_from(column + 1).unwrap_or(u32::MAX);
+        let message = diagnostic::escape(&error.message);
         let title = match &error.key {
             Some(key) => format!(
-                "{path}:{}:{}: {} (key `{key}`)",
-                error.line, error.column, error.message
+                "{path}:{}:{}: {message} (key `{}`)",
+                error.line,
+                error.column,
+                diagnostic::escape(key)
             ),
-            None => format!("{path}:{}:{}: {}", error.line, error.column, error.message),
+            None => format!("{path}:{}:{}: {message}", error.line, error.column),
         };
         let snippet = diagnostic::render(
             path,
@@ -121,12 +139,26 @@ impl InputError {
             &title,
             "here",
         );
-        Self(format!("error: {title}\n{snippet}"))
+        // The snippet's heading is the title itself: `error: path:line:col: …`.
+        Self(snippet.trim_end().to_owned())
     }
 }
 
 fn main() -> ExitCode {
-    let cli = Cli::parse();
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(error) => {
+            // Help and version go to standard output, usage errors to
+            // standard error; a stream that cannot be written to is no
+            // reason to panic.
+            let _ = error.print();
+            return ExitCode::from(if error.use_stderr() {
+                EXIT_INPUT
+            } else {
+                EXIT_OK
+            });
+        }
+    };
     let status = match cli.command {
         Command::Run(args) => run(&args),
         Command::Machines { action: None } => list_machines(),
@@ -137,14 +169,33 @@ fn main() -> ExitCode {
     match status {
         Ok(code) => ExitCode::from(code),
         Err(InputError(message)) => {
-            eprintln!("{message}");
+            report(&message);
             ExitCode::from(EXIT_INPUT)
         }
     }
 }
 
-fn list_machines() -> Result<u8, InputError> {
+/// Writes a message for people to standard error. Standard error that
+/// cannot be written to (closed, full) loses the message; the exit status
+/// still tells what happened.
+fn report(message: &str) {
+    let mut err = io::stderr().lock();
+    let _ = writeln!(err, "{message}");
+}
+
+/// Writes `text` to standard output whole; a reader that went away
+/// (`| head`) is not an error.
+fn print_out(text: &str) -> Result<u8, InputError> {
     let mut out = io::stdout().lock();
+    match out.write_all(text.as_bytes()).and_then(|()| out.flush()) {
+        Ok(()) => Ok(EXIT_OK),
+        Err(e) if e.kind() == io::ErrorKind::BrokenPipe => Ok(EXIT_OK),
+        Err(e) => Err(write_error("standard output", &e)),
+    }
+}
+
+fn list_machines() -> Result<u8, InputError> {
+    let mut text = String::new();
     for &name in builtin_names() {
         let description = builtin(name).map(|m| m.name).unwrap_or_default();
         let marker = if name == DEFAULT_MACHINE {
@@ -152,23 +203,71 @@ fn list_machines() -> Result<u8, InputError> {
         } else {
             ""
         };
-        writeln!(out, "{name:<16} {description}{marker}")
-            .map_err(|e| InputError::io("stdout", &e))?;
+        text.push_str(&format!("{name:<16} {description}{marker}\n"));
     }
-    Ok(EXIT_OK)
+    print_out(&text)
 }
 
 fn show_machine(name: &str) -> Result<u8, InputError> {
     let machine = builtin(name).ok_or_else(|| unknown_machine(name))?;
-    print!("{}", machine.to_toml());
-    Ok(EXIT_OK)
+    print_out(&machine.to_toml())
 }
 
 fn unknown_machine(name: &str) -> InputError {
     InputError(format!(
-        "error: `{name}` is neither a built-in machine nor a machine file; built-in machines: {}",
+        "error: `{}` is neither a built-in machine nor a machine file; built-in machines: {}",
+        diagnostic::escape(name),
         builtin_names().join(", ")
     ))
+}
+
+/// The largest machine or offsets file read, bytes: a real one is a few
+/// kilobytes.
+const MAX_DATA_FILE_BYTES: u64 = 1 << 20;
+
+/// The largest program read from standard input or a device, bytes (it is
+/// spooled to a temporary file; files on disk are read in place, whatever
+/// their size).
+const MAX_SPOOL_BYTES: u64 = 4 << 30;
+
+/// A machine or offsets file: at most [`MAX_DATA_FILE_BYTES`], UTF-8.
+fn read_data_file(name: &str, path: &Path) -> Result<(Vec<u8>, String), InputError> {
+    let file = File::open(path).map_err(|e| InputError::io(name, &e))?;
+    let mut bytes = Vec::new();
+    file.take(MAX_DATA_FILE_BYTES + 1)
+        .read_to_end(&mut bytes)
+        .map_err(|e| InputError::io(name, &e))?;
+    if bytes.len() as u64 > MAX_DATA_FILE_BYTES {
+        return Err(InputError(format!(
+            "error: {name}: larger than {} bytes: not a machine or offsets file",
+            MAX_DATA_FILE_BYTES
+        )));
+    }
+    match std::str::from_utf8(&bytes) {
+        Ok(text) => {
+            let text = text.to_owned();
+            Ok((bytes, text))
+        }
+        Err(e) => {
+            let at = e.valid_up_to();
+            let line = bytes[..at].iter().filter(|&&b| b == b'\n').count() + 1;
+            let line_start = bytes[..at]
+                .iter()
+                .rposition(|&b| b == b'\n')
+                .map_or(0, |i| i + 1);
+            let column = String::from_utf8_lossy(&bytes[line_start..at])
+                .chars()
+                .count()
+                + 1;
+            let error = FileError {
+                line: u32::try_from(line).unwrap_or(u32::MAX),
+                column: u32::try_from(column).unwrap_or(u32::MAX),
+                key: None,
+                message: "not UTF-8 text: the file must be saved as UTF-8".into(),
+            };
+            Err(InputError::file(name, &bytes, &error))
+        }
+    }
 }
 
 fn load_machine(spec: &str) -> Result<Machine, InputError> {
@@ -178,8 +277,8 @@ fn load_machine(spec: &str) -> Result<Machine, InputError> {
     if !Path::new(spec).exists() {
         return Err(unknown_machine(spec));
     }
-    let text = std::fs::read_to_string(spec).map_err(|e| InputError::io(spec, &e))?;
-    Machine::from_toml(&text).map_err(|e| InputError::file(spec, &text, &e))
+    let (bytes, text) = read_data_file(spec, Path::new(spec))?;
+    Machine::from_toml(&text).map_err(|e| InputError::file(spec, &bytes, &e))
 }
 
 fn load_offsets(path: Option<&Path>) -> Result<Offsets, InputError> {
@@ -187,25 +286,68 @@ fn load_offsets(path: Option<&Path>) -> Result<Offsets, InputError> {
         return Ok(Offsets::default());
     };
     let name = path.display().to_string();
-    let text = std::fs::read_to_string(path).map_err(|e| InputError::io(&name, &e))?;
-    Offsets::from_toml(&text).map_err(|e| InputError::file(&name, &text, &e))
+    let (bytes, text) = read_data_file(&name, path)?;
+    Offsets::from_toml(&text).map_err(|e| InputError::file(&name, &bytes, &e))
 }
 
-/// The program as a seekable file: the file itself, or standard input
-/// spooled to an anonymous temporary file (so that subprogram calls can
-/// jump back and memory stays constant).
+/// The program as a seekable file: a regular file itself, or standard
+/// input (or a device, a pipe) spooled to an anonymous temporary file, so
+/// that subprogram calls can jump back and memory stays constant.
 fn open_program(spec: &str) -> Result<File, InputError> {
     if spec == "-" {
-        let mut spool = tempfile::tempfile().map_err(|e| InputError::io("temporary file", &e))?;
-        io::copy(&mut io::stdin().lock(), &mut spool)
-            .map_err(|e| InputError::io("standard input", &e))?;
-        spool
-            .rewind()
-            .map_err(|e| InputError::io("temporary file", &e))?;
-        Ok(spool)
-    } else {
-        File::open(spec).map_err(|e| InputError::io(spec, &e))
+        return spool(&mut io::stdin().lock(), "standard input");
     }
+    let file = File::open(spec).map_err(|e| InputError::io(spec, &e))?;
+    let regular = file.metadata().is_ok_and(|m| m.is_file());
+    if regular {
+        Ok(file)
+    } else {
+        spool(&mut BufReader::new(file), spec)
+    }
+}
+
+/// Copies a program from a stream to a temporary file, refusing a line
+/// longer than [`MAX_LINE_BYTES`] or more than [`MAX_SPOOL_BYTES`] in all
+/// as soon as it shows (`/dev/zero` is refused after 64 KiB, not after
+/// filling the disk).
+fn spool(input: &mut dyn io::BufRead, name: &str) -> Result<File, InputError> {
+    let temp_error = |e: &io::Error| InputError::io("temporary file", e);
+    let mut spool = tempfile::tempfile().map_err(|e| temp_error(&e))?;
+    let mut total: u64 = 0;
+    let mut line_len: usize = 0;
+    let mut line: u64 = 1;
+    loop {
+        let chunk = match input.fill_buf() {
+            Ok([]) => break,
+            Ok(chunk) => chunk,
+            Err(e) if e.kind() == io::ErrorKind::Interrupted => continue,
+            Err(e) => return Err(InputError::io(name, &e)),
+        };
+        for &b in chunk {
+            if b == b'\n' {
+                line += 1;
+                line_len = 0;
+            } else {
+                line_len += 1;
+                if line_len > MAX_LINE_BYTES + 1 {
+                    return Err(InputError(format!(
+                        "error: {name}: line {line} is longer than {MAX_LINE_BYTES} bytes: this is not a program text"
+                    )));
+                }
+            }
+        }
+        total += chunk.len() as u64;
+        if total > MAX_SPOOL_BYTES {
+            return Err(InputError(format!(
+                "error: {name}: more than {MAX_SPOOL_BYTES} bytes: too large to read from a stream (give the program as a file)"
+            )));
+        }
+        spool.write_all(chunk).map_err(|e| temp_error(&e))?;
+        let n = chunk.len();
+        input.consume(n);
+    }
+    spool.rewind().map_err(|e| temp_error(&e))?;
+    Ok(spool)
 }
 
 fn run(args: &RunArgs) -> Result<u8, InputError> {
@@ -217,41 +359,99 @@ fn run(args: &RunArgs) -> Result<u8, InputError> {
     } else {
         args.program.as_str()
     };
-    let source = ReaderSource::new(BufReader::with_capacity(1 << 16, file));
+    let source = ReaderSource::new(file);
     let options = RunOptions {
         block_delete: args.block_delete,
+        interpolation: args.step.map(|step| Interpolation {
+            step,
+            step_angle: args.step_angle,
+        }),
+        max_blocks: args.max_blocks,
     };
     let runner = Runner::new(&machine, offsets, source, options);
     let writer = RowWriter::new(args.format, &machine);
 
     match &args.output {
         None => {
-            let result = stream(runner, &writer, args, io::stdout());
+            let result = stream(runner, &writer, io::stdout());
             finish(result, program_name, "standard output")
         }
-        Some(path) => {
-            let name = path.display().to_string();
-            // A device or pipe (`-o /dev/null`) is written to as it is; a
-            // file is written beside its place and renamed over it when
-            // whole, so that it is never seen half written.
-            let special = std::fs::metadata(path).is_ok_and(|m| !m.is_file());
-            if special {
-                let file = File::create(path).map_err(|e| InputError::io(&name, &e))?;
-                return finish(stream(runner, &writer, args, file), program_name, &name);
-            }
-            let dir = path
-                .parent()
-                .filter(|d| !d.as_os_str().is_empty())
-                .unwrap_or(Path::new("."));
-            let temp =
-                tempfile::NamedTempFile::new_in(dir).map_err(|e| InputError::io(&name, &e))?;
-            let file = temp.reopen().map_err(|e| InputError::io(&name, &e))?;
-            let status = finish(stream(runner, &writer, args, file), program_name, &name)?;
-            temp.persist(path)
-                .map_err(|e| InputError::io(&name, &e.error))?;
-            Ok(status)
+        Some(path) => write_output_file(path, runner, &writer, program_name),
+    }
+}
+
+/// Runs into the `-o` file. A device or pipe (`-o /dev/null`) is written
+/// to as it is. A file is written to a hidden temporary file beside it and
+/// renamed over it when the run is over, so that it is never seen half
+/// written: after the program's end or an alarm (then it holds the rows
+/// before the failing block, as standard output would); after any other
+/// failure (an input that cannot be used, a write error, a signal) the
+/// temporary file is removed and the target is left as it was.
+fn write_output_file<S: Source>(
+    path: &Path,
+    runner: Runner<'_, S>,
+    writer: &RowWriter<'_>,
+    program_name: &str,
+) -> Result<u8, InputError> {
+    let name = path.display().to_string();
+    // A device or pipe, also behind a link (`/dev/stdout`), is written
+    // through.
+    if std::fs::metadata(path).is_ok_and(|m| !m.is_file()) {
+        let file = std::fs::OpenOptions::new()
+            .write(true)
+            .open(path)
+            .map_err(|e| InputError::io(&name, &e))?;
+        return finish(stream(runner, writer, file), program_name, &name);
+    }
+    let link = std::fs::symlink_metadata(path).is_ok_and(|m| m.file_type().is_symlink());
+    // A symbolic link is written through: its target is replaced, the
+    // link stays.
+    let target = if link {
+        std::fs::canonicalize(path).map_err(|e| {
+            InputError(format!(
+                "error: {name}: a symbolic link whose target cannot be written ({e})"
+            ))
+        })?
+    } else {
+        path.to_path_buf()
+    };
+    let existing = std::fs::metadata(&target).ok();
+    let dir = target
+        .parent()
+        .filter(|d| !d.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    let mut builder = tempfile::Builder::new();
+    builder.prefix(".fiveaxis-").suffix(".tmp");
+    // A new file gets the usual permissions (0666 less the umask); a
+    // replaced file keeps its own.
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt;
+        if existing.is_none() {
+            builder.permissions(std::fs::Permissions::from_mode(0o666));
         }
     }
+    let temp = builder
+        .tempfile_in(dir)
+        .map_err(|e| InputError::io(&name, &e))?;
+    if let Some(m) = &existing {
+        // Exactly the old mode, whatever the umask.
+        std::fs::set_permissions(temp.path(), m.permissions())
+            .map_err(|e| InputError::io(&name, &e))?;
+    }
+    let cleanup = signals::remove_on_signal(temp.path());
+    let file = temp.reopen().map_err(|e| InputError::io(&name, &e))?;
+    let status = finish(stream(runner, writer, file), program_name, &name);
+    cleanup.finish(|| match status {
+        Ok(code) => temp
+            .persist(&target)
+            .map(|_| code)
+            .map_err(|e| InputError::io(&name, &e.error)),
+        Err(error) => {
+            drop(temp);
+            Err(error)
+        }
+    })
 }
 
 /// Why streaming stopped, besides reaching the end.
@@ -270,7 +470,6 @@ const BATCH: usize = 1024;
 fn stream<S: Source, W: Write + Send>(
     mut runner: Runner<'_, S>,
     writer: &RowWriter<'_>,
-    args: &RunArgs,
     out: W,
 ) -> Result<(), Stop> {
     let machine = runner.controller().machine();
@@ -311,14 +510,14 @@ fn stream<S: Source, W: Write + Send>(
             let filled = runner.fill(&mut segments, BATCH);
             let mut sent = true;
             for segment in &segments {
-                sent &= sample(segment, machine, args, &mut batch);
+                sent &= sample(segment, machine, &mut batch);
             }
             let (more, alarm, outcome) = match filled {
                 Ok(more) => (more, None, Ok(())),
                 Err(error) => {
                     let alarm = match &error {
                         RunError::Alarm { alarm, .. } => Some(alarm.clone()),
-                        RunError::Io(_) => None,
+                        RunError::Io(_) | RunError::LineTooLong { .. } => None,
                     };
                     (false, alarm, Err(Stop::Alarm(Box::new(error))))
                 }
@@ -365,13 +564,12 @@ impl RowBatch {
 
 /// The rows of one segment: with `--step`, the ones inside it, then always
 /// its end. `false` when the writer has stopped.
-fn sample(segment: &Segment, machine: &Machine, args: &RunArgs, batch: &mut RowBatch) -> bool {
-    if let Some(step) = args.step {
-        let n = segment.steps(machine, step, args.step_angle);
-        for i in 1..n {
-            if !batch.push(segment.row(machine, f64::from(i) / f64::from(n))) {
-                return false;
-            }
+fn sample(segment: &Segment, machine: &Machine, batch: &mut RowBatch) -> bool {
+    // The runner has divided the block for `--step` (1 without).
+    let n = segment.rows;
+    for i in 1..n {
+        if !batch.push(segment.row(machine, f64::from(i) / f64::from(n))) {
+            return false;
         }
     }
     batch.push(segment.row(machine, 1.0))
@@ -386,19 +584,20 @@ fn finish(result: Result<(), Stop>, program: &str, output: &str) -> Result<u8, I
         Err(Stop::Write(e)) => Err(write_error(output, &e)),
         Err(Stop::Alarm(error)) => match *error {
             RunError::Alarm { alarm, text } => {
-                eprintln!(
-                    "ALARM {} line {}: {}",
-                    alarm.code, alarm.line, alarm.message
-                );
                 let span = alarm.span.map(|s| (s.start, s.end));
-                let title = format!("{} {}", alarm.code, alarm.message);
-                eprint!(
-                    "{}",
+                let message = diagnostic::escape(&alarm.message);
+                let title = format!("{} {message}", alarm.code);
+                report(&format!(
+                    "ALARM {} line {}: {message}\n{}",
+                    alarm.code,
+                    alarm.line,
                     diagnostic::render(program, alarm.line, &text, span, &title, "here")
-                );
-                eprintln!();
+                ));
                 Ok(EXIT_ALARM)
             }
+            RunError::LineTooLong { line } => Err(InputError(format!(
+                "error: {program}: line {line} is longer than {MAX_LINE_BYTES} bytes: this is not a program text"
+            ))),
             RunError::Io(e) => Err(InputError::io(program, &e)),
         },
     }

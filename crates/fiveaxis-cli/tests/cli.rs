@@ -229,9 +229,11 @@ fn kernel_rows(machine_name: &str, offsets: &str, program: &str, step: f64) -> V
             Ok(Some(segment)) => segment,
             Ok(None) => return rows,
             Err(RunError::Alarm { alarm, .. }) => panic!("the program alarms: {alarm}"),
-            Err(RunError::Io(e)) => panic!("a program in memory failed to read: {e}"),
+            Err(e) => panic!("a program in memory failed to read: {e}"),
         };
-        let n = segment.steps(&machine, step, 1.0);
+        let n = segment
+            .steps(&machine, step, 1.0)
+            .unwrap_or(fiveaxis_control::MAX_STEPS);
         for s in (1..=n).map(|i| f64::from(i) / f64::from(n)) {
             let row = segment.row(&machine, s);
             let mut numbers = vec![row.s];

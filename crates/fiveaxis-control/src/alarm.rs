@@ -34,6 +34,16 @@ impl AlarmCode {
         }
     }
 
+    /// The number of a program's own alarm, `#3000 = n`: 3000 + n as the
+    /// FANUC control shows it, the kernel's `FX` code 3000 + n elsewhere.
+    pub fn program_alarm(control: Control, n: u32) -> Self {
+        let number = u16::try_from(n.saturating_add(3000)).unwrap_or(u16::MAX);
+        match control {
+            Control::Fanuc30i | Control::Fanuc16 => Self::new("", number, 4),
+            _ => Self::kernel(number),
+        }
+    }
+
     /// The kernel's own code for a condition no manual numbers.
     const fn kernel(number: u16) -> Self {
         Self::new("FX", number, 4)
@@ -167,6 +177,42 @@ pub enum Condition {
     SetupErrorNumberRange,
     /// A setup error data set names a rotary axis the machine's table does not have.
     SetupErrorAxis,
+    /// A block computes a position that is not a finite number.
+    NonFinitePosition,
+    /// A block's rows cannot keep the `--step` bound within the row cap.
+    InterpolationTooFine,
+    /// The program ran past the block budget (`--max-blocks`) without ending.
+    BlockBudget,
+    /// A macro calculation overflows.
+    MacroOverflow,
+    /// Division by zero in a macro expression.
+    MacroDivisionByZero,
+    /// A macro statement or expression that cannot be read.
+    MacroFormat,
+    /// A variable number that does not exist.
+    MacroUndefinedVariable,
+    /// A write to a variable that cannot be written (#0, read-only system variables).
+    MacroWriteProtected,
+    /// Brackets nested deeper than five levels.
+    MacroBracketNesting,
+    /// A macro function argument out of its range (SQRT, LN, ASIN …).
+    MacroArgumentRange,
+    /// Macro calls nested deeper than the control allows.
+    MacroCallNesting,
+    /// WHILE … DO without its END.
+    MacroMissingEnd,
+    /// A macro statement in the wrong form.
+    MacroStatementFormat,
+    /// DO / END with a loop number other than 1 to 3, or END without its DO.
+    MacroLoopNumber,
+    /// An NC statement and a macro statement in one block.
+    MacroNcAndMacro,
+    /// GOTO to a sequence number that is out of range or not in the program.
+    MacroSequenceNumber,
+    /// An argument address that G65/G66 cannot take.
+    MacroArgumentAddress,
+    /// #3000 = n (message): the program's own alarm, 3000 + n.
+    MacroAlarm,
 }
 
 impl Condition {
@@ -227,6 +273,24 @@ impl Condition {
         Condition::SetupErrorNumberMissing,
         Condition::SetupErrorNumberRange,
         Condition::SetupErrorAxis,
+        Condition::NonFinitePosition,
+        Condition::InterpolationTooFine,
+        Condition::BlockBudget,
+        Condition::MacroOverflow,
+        Condition::MacroDivisionByZero,
+        Condition::MacroFormat,
+        Condition::MacroUndefinedVariable,
+        Condition::MacroWriteProtected,
+        Condition::MacroBracketNesting,
+        Condition::MacroArgumentRange,
+        Condition::MacroCallNesting,
+        Condition::MacroMissingEnd,
+        Condition::MacroStatementFormat,
+        Condition::MacroLoopNumber,
+        Condition::MacroNcAndMacro,
+        Condition::MacroSequenceNumber,
+        Condition::MacroArgumentAddress,
+        Condition::MacroAlarm,
     ];
 
     /// One line saying when the condition arises.
@@ -327,6 +391,38 @@ impl Condition {
             Condition::SetupErrorAxis => {
                 "A setup error data set names a rotary axis the machine's table does not have"
             }
+            Condition::NonFinitePosition => {
+                "A block computes a position that is not a finite number"
+            }
+            Condition::InterpolationTooFine => {
+                "A block's rows cannot keep the `--step` bound within the row cap (2^20 rows)"
+            }
+            Condition::BlockBudget => {
+                "The program ran past the block budget (`--max-blocks`) without ending"
+            }
+            Condition::MacroOverflow => "A macro calculation overflows",
+            Condition::MacroDivisionByZero => "Division by zero in a macro expression",
+            Condition::MacroFormat => "A macro statement or expression that cannot be read",
+            Condition::MacroUndefinedVariable => "A variable number that does not exist",
+            Condition::MacroWriteProtected => {
+                "A write to a variable that cannot be written (#0, read-only system variables)"
+            }
+            Condition::MacroBracketNesting => "Brackets nested deeper than five levels",
+            Condition::MacroArgumentRange => {
+                "A macro function argument out of its range (SQRT, LN, ASIN …)"
+            }
+            Condition::MacroCallNesting => "Macro calls nested deeper than the control allows",
+            Condition::MacroMissingEnd => "WHILE … DO without its END",
+            Condition::MacroStatementFormat => "A macro statement in the wrong form",
+            Condition::MacroLoopNumber => {
+                "DO / END with a loop number other than 1 to 3, or END without its DO"
+            }
+            Condition::MacroNcAndMacro => "An NC statement and a macro statement in one block",
+            Condition::MacroSequenceNumber => {
+                "GOTO to a sequence number that is out of range or not in the program"
+            }
+            Condition::MacroArgumentAddress => "An argument address that G65/G66 cannot take",
+            Condition::MacroAlarm => "#3000 = n (message): the program's own alarm, 3000 + n",
         }
     }
 }
@@ -366,6 +462,20 @@ impl Condition {
             C::Comp3dToolOffset => Some(42),
             C::TcpcOptionMissing => Some(10),
             C::TcpcIjkInStartBlock => Some(5421),
+            C::MacroOverflow => Some(111),
+            C::MacroDivisionByZero => Some(112),
+            C::MacroFormat => Some(114),
+            C::MacroUndefinedVariable => Some(115),
+            C::MacroWriteProtected => Some(116),
+            C::MacroBracketNesting => Some(118),
+            C::MacroArgumentRange => Some(119),
+            C::MacroCallNesting => Some(122),
+            C::MacroMissingEnd => Some(124),
+            C::MacroStatementFormat => Some(125),
+            C::MacroLoopNumber => Some(126),
+            C::MacroNcAndMacro => Some(127),
+            C::MacroSequenceNumber => Some(128),
+            C::MacroArgumentAddress => Some(129),
             C::TcpcType2NotAvailable => Some(5459),
             C::OvertravelPlus => {
                 return if fanuc {
@@ -475,6 +585,24 @@ impl Condition {
             C::SetupErrorNumberMissing => 95,
             C::SetupErrorNumberRange => 96,
             C::SetupErrorAxis => 97,
+            C::NonFinitePosition => 100,
+            C::InterpolationTooFine => 101,
+            C::BlockBudget => 102,
+            C::MacroOverflow => 110,
+            C::MacroDivisionByZero => 111,
+            C::MacroFormat => 112,
+            C::MacroUndefinedVariable => 113,
+            C::MacroWriteProtected => 114,
+            C::MacroBracketNesting => 115,
+            C::MacroArgumentRange => 116,
+            C::MacroCallNesting => 117,
+            C::MacroMissingEnd => 118,
+            C::MacroStatementFormat => 119,
+            C::MacroLoopNumber => 120,
+            C::MacroNcAndMacro => 121,
+            C::MacroSequenceNumber => 122,
+            C::MacroArgumentAddress => 123,
+            C::MacroAlarm => 124,
             C::OvertravelMinus => 501,
         }
     }

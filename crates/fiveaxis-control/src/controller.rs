@@ -495,15 +495,18 @@ impl<'m> Controller<'m> {
     }
 
     fn offset_number(&self, word: &Word) -> Result<u32, Alarm> {
-        let n = self.words.integer(word, u32::MAX)?;
-        if n > MAX_TOOL_OFFSET {
-            return Err(self.alarm(
-                Condition::IllegalOffsetNumber,
-                Some(word.span),
-                format!("offset number {} is beyond the offset memory", n),
-            ));
+        if word.decimal_point || (0.0..=f64::from(MAX_TOOL_OFFSET)).contains(&word.value) {
+            return self.words.integer(word, MAX_TOOL_OFFSET);
         }
-        Ok(n)
+        Err(self.alarm(
+            Condition::IllegalOffsetNumber,
+            Some(word.span),
+            format!(
+                "offset number {}{} is outside the offset memory: numbers are 0 to {MAX_TOOL_OFFSET}",
+                char::from(word.letter),
+                word.value
+            ),
+        ))
     }
 
     /// Group 08 and H: returns whether the length offset vector may have
@@ -858,6 +861,7 @@ impl<'m> Controller<'m> {
             tool_length: self.tool_length(),
             work: self.work(),
             setup: self.state.setup,
+            rows: 1,
         }
     }
 
@@ -1066,19 +1070,25 @@ impl<'m> Controller<'m> {
                 None => return Ok(None),
             }
         } else {
-            let i = self
-                .words
-                .take(CENTER_LETTERS[p])
-                .map_or(0.0, |w| self.length(&w));
-            let j = self
-                .words
-                .take(CENTER_LETTERS[q])
-                .map_or(0.0, |w| self.length(&w));
+            let i_word = self.words.take(CENTER_LETTERS[p]);
+            let j_word = self.words.take(CENTER_LETTERS[q]);
+            let given = i_word.is_some() || j_word.is_some();
+            let i = i_word.map_or(0.0, |w| self.length(&w));
+            let j = j_word.map_or(0.0, |w| self.length(&w));
             if i == 0.0 && j == 0.0 {
+                let message = if given {
+                    format!(
+                        "the arc's centre words {}0 {}0 put the centre on the start point: the radius is 0",
+                        char::from(CENTER_LETTERS[p]),
+                        char::from(CENTER_LETTERS[q])
+                    )
+                } else {
+                    "arc needs R or the centre words of the selected plane".into()
+                };
                 return Err(self.alarm(
                     Condition::ArcCenterMissing,
-                    None,
-                    "arc needs R or the centre words of the selected plane".into(),
+                    i_word.or(j_word).map(|w| w.span),
+                    message,
                 ));
             }
             (sp + i, sq + j)
@@ -1166,6 +1176,16 @@ impl<'m> Controller<'m> {
     }
 
     /// G04: dwell, P in ms or X in s. No axis moves.
+    /// The seconds of a G04 X word: without a decimal point, in least
+    /// input increments (as for lengths).
+    fn dwell_seconds(&self, word: &Word) -> f64 {
+        if word.decimal_point || self.machine.params.decimal_point_input {
+            word.value
+        } else {
+            word.value * self.machine.params.least_input_increment
+        }
+    }
+
     fn dwell(&mut self, span: Span) -> Result<(), Alarm> {
         let p = self.words.take(b'P');
         let x = self.words.peek(b'X');
@@ -1173,11 +1193,15 @@ impl<'m> Controller<'m> {
             self.words.integer(&word, 99_999_999)?;
         } else if let Some(word) = x {
             self.words.take(b'X');
-            if word.value < 0.0 {
+            let seconds = self.dwell_seconds(&word);
+            if !(0.0..=MAX_DWELL_SECONDS).contains(&seconds) {
                 return Err(self.alarm(
                     Condition::ValueOutOfRange,
                     Some(word.span),
-                    "dwell time is negative".into(),
+                    format!(
+                        "dwell time X{} is outside 0 to {MAX_DWELL_SECONDS} s",
+                        word.value
+                    ),
                 ));
             }
         } else {
@@ -1463,6 +1487,9 @@ impl<'m> Controller<'m> {
     }
 }
 
+/// Longest dwell, seconds (FANUC: G04 X or P up to 99999.999 s).
+pub const MAX_DWELL_SECONDS: f64 = 99_999.999;
+
 /// Finest subdivision of a TCPC block when its path is checked against
 /// the soft limits (a fraction of s).
 pub const LIMIT_CHECK_RESOLUTION: f64 = 1.0 / 4096.0;
@@ -1489,7 +1516,10 @@ fn tcpc_overtravel(seg: &Segment, machine: &Machine) -> Option<(usize, f64)> {
             (j[i] > a.max + LIMIT_TOLERANCE || j[i] < a.min - LIMIT_TOLERANCE).then_some((i, j[i]))
         })
     };
-    if tcpc.posture.is_some() {
+    // Sampled, not boxed: posture control (the rotary axes need not move
+    // monotonically) and a setup error on a turning frame (the tip in the
+    // machine frame then depends on the table's turn).
+    if tcpc.posture.is_some() || (tcpc.turning && !seg.setup.is_identity()) {
         let turn = (machine.linear.len()..machine.axis_count())
             .map(|i| (seg.end[i] - seg.start[i]).abs())
             .fold(0.0, f64::max);

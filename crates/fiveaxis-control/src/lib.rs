@@ -27,7 +27,10 @@ pub use dialect::Dialect;
 pub use modal::{
     Distance, FeedMode, LengthMode, Modal, MotionMode, Plane, TcpcType, Units, WorkSelect,
 };
-pub use runner::{ReaderSource, RunError, RunOptions, Runner, SliceSource, Source};
+pub use runner::{
+    DEFAULT_MAX_BLOCKS, Interpolation, MAX_LINE_BYTES, ReaderSource, RunError, RunOptions, Runner,
+    SliceSource, Source,
+};
 pub use segment::{
     Arc, MAX_STEPS, Motion, POSTURE_KNOTS, Path, Posture, Row, Segment, TcpcPath, TipPath,
 };

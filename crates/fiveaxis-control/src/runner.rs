@@ -6,7 +6,7 @@
 //! the program numbers (`O…`) it has passed, which it needs to find
 //! subprograms.
 
-use std::io::{self, BufRead, Seek, SeekFrom};
+use std::io::{self, BufRead, BufReader, Read, Seek, SeekFrom};
 
 use fiveaxis_gcode::{Block, SyntaxError, SyntaxErrorKind, parse_line};
 use fiveaxis_machine::{Machine, Offsets};
@@ -14,7 +14,11 @@ use fiveaxis_machine::{Machine, Offsets};
 use crate::alarm::{Alarm, Condition};
 use crate::controller::{Controller, Flow};
 use crate::dialect::Dialect;
-use crate::segment::Segment;
+use crate::segment::{MAX_STEPS, Segment};
+
+mod macros;
+
+use macros::{MacroFlow, MacroState};
 
 /// Lines of a program, read in order, with the ability to jump back to a
 /// line start (subprogram calls).
@@ -49,9 +53,15 @@ impl Source for SliceSource<'_> {
             return Ok(false);
         };
         let len = rest.iter().position(|&b| b == b'\n').unwrap_or(rest.len());
+        if len > MAX_LINE_BYTES + 1 {
+            return Err(line_too_long());
+        }
         buf.extend_from_slice(&rest[..len]);
         self.pos += (len + 1).min(rest.len());
         trim_line_end(buf);
+        if buf.len() > MAX_LINE_BYTES {
+            return Err(line_too_long());
+        }
         Ok(true)
     }
 
@@ -70,24 +80,56 @@ impl Source for SliceSource<'_> {
 /// A program read from a seekable reader (a file), buffered.
 #[derive(Debug)]
 pub struct ReaderSource<R> {
-    inner: R,
+    inner: BufReader<R>,
     pos: u64,
 }
 
-impl<R: BufRead + Seek> ReaderSource<R> {
+/// Read buffer of a [`ReaderSource`], bytes.
+const READ_BUFFER: usize = 64 * 1024;
+
+impl<R: Read + Seek> ReaderSource<R> {
     /// Reads `inner` from its current position, taken as offset 0.
     pub fn new(inner: R) -> Self {
-        Self { inner, pos: 0 }
+        Self {
+            inner: BufReader::with_capacity(READ_BUFFER, inner),
+            pos: 0,
+        }
     }
 }
 
-impl<R: BufRead + Seek> Source for ReaderSource<R> {
+impl<R: Read + Seek> Source for ReaderSource<R> {
     fn read_line(&mut self, buf: &mut Vec<u8>) -> io::Result<bool> {
         buf.clear();
-        let n = self.inner.read_until(b'\n', buf)?;
-        self.pos += n as u64;
+        let mut any = false;
+        loop {
+            let available = match self.inner.fill_buf() {
+                Ok(bytes) => bytes,
+                Err(e) if e.kind() == io::ErrorKind::Interrupted => continue,
+                Err(e) => return Err(e),
+            };
+            if available.is_empty() {
+                break;
+            }
+            any = true;
+            let (take, done) = match available.iter().position(|&b| b == b'\n') {
+                Some(i) => (i + 1, true),
+                None => (available.len(), false),
+            };
+            if buf.len() + take > MAX_LINE_BYTES + 2 {
+                return Err(line_too_long());
+            }
+            buf.extend_from_slice(&available[..take]);
+            self.inner.consume(take);
+            self.pos += take as u64;
+            if done {
+                break;
+            }
+        }
         trim_line_end(buf);
-        Ok(n > 0)
+        if buf.len() > MAX_LINE_BYTES {
+            return Err(line_too_long());
+        }
+        Ok(any)
     }
 
     fn position(&self) -> u64 {
@@ -95,7 +137,16 @@ impl<R: BufRead + Seek> Source for ReaderSource<R> {
     }
 
     fn seek(&mut self, offset: u64) -> io::Result<()> {
-        self.inner.seek(SeekFrom::Start(offset))?;
+        // Relative, so that a jump within the buffered text (a loop, a
+        // subprogram nearby) keeps the buffer instead of reading again.
+        let delta =
+            i64::try_from(offset).unwrap_or(i64::MAX) - i64::try_from(self.pos).unwrap_or(i64::MAX);
+        match self.inner.seek_relative(delta) {
+            Ok(()) => {}
+            Err(_) => {
+                self.inner.seek(SeekFrom::Start(offset))?;
+            }
+        }
         self.pos = offset;
         Ok(())
     }
@@ -107,12 +158,46 @@ fn trim_line_end(buf: &mut Vec<u8>) {
     }
 }
 
+/// The bound of `--step`: rows inside each block with tool tips at most
+/// `step` mm and rotary axes at most `step_angle` degrees apart.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Interpolation {
+    /// Most tip travel between rows, mm.
+    pub step: f64,
+    /// Most turn of any rotary axis between rows, degrees.
+    pub step_angle: f64,
+}
+
 /// Options of a run that are the operator's, not the machine's.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RunOptions {
     /// Block delete switch: skip blocks that start with `/`.
     pub block_delete: bool,
+    /// Rows inside the blocks (`--step`); `None`: end rows only.
+    pub interpolation: Option<Interpolation>,
+    /// Most program lines the run reads before it stops a program that
+    /// does not end (an endless `M99` or macro loop).
+    pub max_blocks: u64,
 }
+
+impl Default for RunOptions {
+    fn default() -> Self {
+        Self {
+            block_delete: false,
+            interpolation: None,
+            max_blocks: DEFAULT_MAX_BLOCKS,
+        }
+    }
+}
+
+/// The default block budget: beyond real programs (a large mould
+/// finishing program has some millions of blocks; `--max-blocks` raises
+/// it), reached by an endless loop in seconds.
+pub const DEFAULT_MAX_BLOCKS: u64 = 50_000_000;
+
+/// Lines in one window of the loop report: when the budget runs out, the
+/// message names the lines run in the last full window.
+const LOOP_WINDOW: u64 = 4096;
 
 /// Why a run stopped early.
 #[derive(Debug, thiserror::Error)]
@@ -122,12 +207,47 @@ pub enum RunError {
     Alarm {
         /// The alarm.
         alarm: Alarm,
-        /// The text of the failing line, for display.
-        text: String,
+        /// The bytes of the failing line as the program holds them, for
+        /// display (not necessarily UTF-8).
+        text: Vec<u8>,
     },
     /// The program could not be read.
     #[error("cannot read the program: {0}")]
     Io(#[from] io::Error),
+    /// A line of the program is longer than any control reads
+    /// ([`MAX_LINE_BYTES`]): not a program (a binary file, `/dev/zero`).
+    #[error("line {line} is longer than {MAX_LINE_BYTES} bytes: this is not a program text")]
+    LineTooLong {
+        /// 1-based number of the line.
+        line: u32,
+    },
+}
+
+/// The longest program line the runner reads, bytes. Real blocks are tens
+/// of bytes, CAM comments a few hundred; anything longer is not a program.
+pub const MAX_LINE_BYTES: usize = 64 * 1024;
+
+/// The error a [`Source`] gives for a line longer than [`MAX_LINE_BYTES`].
+pub fn line_too_long() -> io::Error {
+    io::Error::new(io::ErrorKind::InvalidData, LineTooLong)
+}
+
+/// Marker inside the I/O error of a line that is too long.
+#[derive(Debug)]
+struct LineTooLong;
+
+impl std::fmt::Display for LineTooLong {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "a line is longer than {MAX_LINE_BYTES} bytes")
+    }
+}
+
+impl std::error::Error for LineTooLong {}
+
+fn is_line_too_long(error: &io::Error) -> bool {
+    error
+        .get_ref()
+        .is_some_and(|inner| inner.downcast_ref::<LineTooLong>().is_some())
 }
 
 /// A line start: byte offset and 1-based line number.
@@ -146,6 +266,8 @@ struct Frame {
     start: Mark,
     /// Runs still to do after the current one.
     repeats_left: u32,
+    /// A `G65` macro call: it has a level of local variables of its own.
+    macro_call: bool,
 }
 
 /// Streams a program through the controller.
@@ -179,6 +301,13 @@ pub struct Runner<'m, S> {
     /// back (cutter compensation's look-ahead); buffers are reused.
     recent: [(u32, Vec<u8>); RECENT_LINES],
     recent_next: usize,
+    /// Custom macro B: variables and open loops.
+    macros: MacroState,
+    /// Lines read so far (the block budget counts them).
+    blocks: u64,
+    /// Lowest and highest line of the current and of the last full window
+    /// of [`LOOP_WINDOW`] lines, for the message of an endless loop.
+    window: [(u32, u32); 2],
 }
 
 /// How many recent lines the runner keeps for messages.
@@ -207,6 +336,9 @@ impl<'m, S: Source> Runner<'m, S> {
             flushed: false,
             recent: std::array::from_fn(|_| (0, Vec::new())),
             recent_next: 0,
+            macros: MacroState::new(Dialect::of(machine.control).max_nesting),
+            blocks: 0,
+            window: [(u32::MAX, 0); 2],
         }
     }
 
@@ -228,9 +360,12 @@ impl<'m, S: Source> Runner<'m, S> {
             let mut queue = std::mem::take(&mut self.queue);
             queue.clear();
             self.queue_pos = 0;
-            let result = self
-                .step(&mut queue)
-                .and_then(|()| self.flush_at_end(&mut queue));
+            let stepped = self.step(&mut queue);
+            let result = self.release(&mut queue, 0, stepped).and_then(|()| {
+                let first = queue.len();
+                let flushed = self.flush_at_end(&mut queue);
+                self.release(&mut queue, first, flushed)
+            });
             self.queue = queue;
             result?;
         }
@@ -246,10 +381,78 @@ impl<'m, S: Source> Runner<'m, S> {
             self.queue_pos = self.queue.len();
         }
         while out.len() < count && !self.done {
-            self.step(out)?;
+            let first = out.len();
+            let stepped = self.step(out);
+            self.release(out, first, stepped)?;
         }
-        self.flush_at_end(out)?;
+        let first = out.len();
+        let flushed = self.flush_at_end(out);
+        self.release(out, first, flushed)?;
         Ok(!self.done)
+    }
+
+    /// Checks the segments a step appended (from `first` on) before they
+    /// leave the runner: every number finite, and with `--step` the rows
+    /// each block is sampled into. On an alarm the failing block's
+    /// segments are taken back out: the caller keeps only whole blocks
+    /// before it.
+    fn release(
+        &self,
+        out: &mut Vec<Segment>,
+        first: usize,
+        stepped: Result<(), RunError>,
+    ) -> Result<(), RunError> {
+        let failed = |out: &mut Vec<Segment>, at: usize, line: u32| {
+            let keep = (first..at)
+                .rev()
+                .take_while(|&k| out[k].line == line)
+                .last()
+                .unwrap_or(at);
+            out.truncate(keep);
+        };
+        // The block that failed appended nothing of its own; earlier held
+        // blocks released in the same step stay.
+        stepped?;
+        let machine = self.controller.machine();
+        for at in first..out.len() {
+            let seg = &out[at];
+            if !seg.is_finite() {
+                let line = seg.line;
+                failed(out, at, line);
+                return Err(self.alarm_here(Alarm {
+                    condition: Condition::NonFinitePosition,
+                    code: Condition::NonFinitePosition.code(self.controller.control()),
+                    line,
+                    span: None,
+                    message: "the block computes a position that is not a finite number: \
+                              an offset, a tool length or a machine dimension is out of range"
+                        .into(),
+                }));
+            }
+            if let Some(bound) = self.options.interpolation {
+                match seg.steps(machine, bound.step, bound.step_angle) {
+                    Some(n) => out[at].rows = n,
+                    None => {
+                        let line = seg.line;
+                        failed(out, at, line);
+                        return Err(self.alarm_here(Alarm {
+                            condition: Condition::InterpolationTooFine,
+                            code: Condition::InterpolationTooFine.code(self.controller.control()),
+                            line,
+                            span: None,
+                            message: format!(
+                                "the block cannot be interpolated in {MAX_STEPS} rows at most \
+                                 {} mm and {} degrees apart: an axis moves too fast for the \
+                                 step (a rotary axis swinging near the singular direction, or a \
+                                 step too fine for the block's length)",
+                                bound.step, bound.step_angle
+                            ),
+                        }));
+                    }
+                }
+            }
+        }
+        Ok(())
     }
 
     /// At the end of the program, what the controller still holds (cutter
@@ -270,9 +473,17 @@ impl<'m, S: Source> Runner<'m, S> {
             offset: self.source.position(),
             line: self.next_line,
         };
-        if !self.source.read_line(&mut self.text)? {
+        let read = self.source.read_line(&mut self.text).map_err(|e| {
+            if is_line_too_long(&e) {
+                RunError::LineTooLong { line: here.line }
+            } else {
+                RunError::Io(e)
+            }
+        });
+        if !read? {
             return self.end_of_program();
         }
+        self.count_block(here.line)?;
         self.next_line += 1;
         let slot = &mut self.recent[self.recent_next];
         slot.0 = here.line;
@@ -286,7 +497,19 @@ impl<'m, S: Source> Runner<'m, S> {
                 line: self.next_line,
             };
         }
-        if let Err(error) = parse_line(&self.text, here.line, &mut self.block) {
+        if fiveaxis_macro::is_macro_line(&self.text) {
+            match self.macro_line(here)? {
+                MacroFlow::Done => return Ok(()),
+                MacroFlow::Block => {
+                    if self.block.is_empty() {
+                        return Ok(());
+                    }
+                    if let Some(called) = self.macro_call(here.line) {
+                        return called;
+                    }
+                }
+            }
+        } else if let Err(error) = parse_line(&self.text, here.line, &mut self.block) {
             return Err(self.syntax_alarm(here.line, error));
         }
         let program = self
@@ -316,6 +539,9 @@ impl<'m, S: Source> Runner<'m, S> {
             return Ok(());
         }
         self.at_program_start = false;
+        if let Some(called) = self.macro_call(here.line) {
+            return called;
+        }
         let flow = match self.controller.execute(&self.block, out) {
             Ok(flow) => flow,
             Err(alarm) => return Err(self.alarm_here(alarm)),
@@ -329,6 +555,34 @@ impl<'m, S: Source> Runner<'m, S> {
             Flow::Call { program, repeats } => self.call(program, repeats, here.line),
             Flow::Return { sequence } => self.return_from(sequence, here.line),
         }
+    }
+
+    /// Counts a line against the block budget (`--max-blocks`); past it,
+    /// the program is taken for one that does not end.
+    fn count_block(&mut self, line: u32) -> Result<(), RunError> {
+        self.blocks += 1;
+        let current = &mut self.window[0];
+        *current = (current.0.min(line), current.1.max(line));
+        if self.blocks.is_multiple_of(LOOP_WINDOW) {
+            self.window = [(u32::MAX, 0), self.window[0]];
+        }
+        if self.blocks <= self.options.max_blocks {
+            return Ok(());
+        }
+        let (lo, hi) = if self.window[1].1 > 0 {
+            self.window[1]
+        } else {
+            self.window[0]
+        };
+        Err(self.runner_alarm(
+            Condition::BlockBudget,
+            line,
+            format!(
+                "the program ran {} blocks without ending (--max-blocks); \
+                 it was repeating lines {lo} to {hi}",
+                self.options.max_blocks
+            ),
+        ))
     }
 
     /// The end of the text of the running program: a subprogram returns,
@@ -368,16 +622,37 @@ impl<'m, S: Source> Runner<'m, S> {
             return_to,
             start,
             repeats_left: repeats - 1,
+            macro_call: false,
         });
         self.jump(start)
     }
 
     fn return_from(&mut self, sequence: Option<u32>, line: u32) -> Result<(), RunError> {
         let Some(frame) = self.stack.last_mut() else {
-            // M99 in the main program: a control would start it again; the
-            // run ends here.
-            self.done = true;
-            return Ok(());
+            // M99 P n in the main program jumps to its sequence n (the
+            // endless loops of bar feeders and pallet changers: the block
+            // budget stops them). A plain M99 there would start the program
+            // again; the run ends here.
+            let Some(n) = sequence else {
+                self.done = true;
+                return Ok(());
+            };
+            let here = Mark {
+                offset: self.source.position(),
+                line: self.next_line,
+            };
+            return match self.find_sequence(n, here)? {
+                Some(mark) => {
+                    self.jump(mark)?;
+                    self.at_program_start = false;
+                    Ok(())
+                }
+                None => Err(self.runner_alarm(
+                    Condition::ProgramNotFound,
+                    line,
+                    format!("sequence number N{n} is not in the program"),
+                )),
+            };
         };
         if frame.repeats_left > 0 {
             frame.repeats_left -= 1;
@@ -385,7 +660,12 @@ impl<'m, S: Source> Runner<'m, S> {
             return self.jump(start);
         }
         let return_to = frame.return_to;
+        if frame.macro_call {
+            self.macros.vars.pop_frame();
+        }
         self.stack.pop();
+        let level = self.stack.len();
+        self.macros.loops.retain(|l| l.level <= level);
         self.jump(return_to)?;
         self.at_program_start = false;
         if let Some(n) = sequence {
@@ -464,18 +744,21 @@ impl<'m, S: Source> Runner<'m, S> {
             self.source.seek(start.offset)?;
             let mut line = start.line;
             while let Some(mark) = self.scan_line(&mut line)? {
-                if parse_line(&self.scan_text, mark.line, &mut self.scan_block).is_ok()
-                    && self.scan_block.sequence == Some(n)
-                {
+                let sequence = if fiveaxis_macro::is_macro_line(&self.scan_text) {
+                    fiveaxis_macro::parse_statement(&self.scan_text, mark.line)
+                        .ok()
+                        .and_then(|line| line.sequence)
+                } else if parse_line(&self.scan_text, mark.line, &mut self.scan_block).is_ok() {
+                    self.scan_block.sequence
+                } else {
+                    None
+                };
+                if sequence == Some(n) {
                     return Ok(Some(mark));
                 }
             }
         }
         Ok(None)
-    }
-
-    fn text(&self) -> String {
-        String::from_utf8_lossy(&self.text).into_owned()
     }
 
     fn alarm_here(&self, alarm: Alarm) -> RunError {
@@ -486,8 +769,8 @@ impl<'m, S: Source> Runner<'m, S> {
             .iter()
             .find(|(line, _)| *line == alarm.line && *line != 0)
         {
-            Some((_, text)) => String::from_utf8_lossy(text).into_owned(),
-            None => self.text(),
+            Some((_, text)) => text.clone(),
+            None => self.text.clone(),
         };
         RunError::Alarm { alarm, text }
     }

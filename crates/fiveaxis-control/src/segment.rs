@@ -70,7 +70,9 @@ pub struct TcpcPath {
     /// Where the tip goes, as a function of s.
     pub tip: TipPath,
     /// The tip path is given in the machine frame and the table turns
-    /// under it (FANUC WKP = 1); otherwise it is in the table frame.
+    /// under it (FANUC WKP = 1), on the ideal workpiece (the segment's
+    /// setup error maps it onto the real one in the table frame);
+    /// otherwise it is in the table frame, on the real workpiece.
     pub turning: bool,
     /// Tool posture control: the tool turns on the great circle between
     /// two directions. `None`: the rotary axes move linearly in s.
@@ -93,12 +95,22 @@ pub struct Posture {
     /// Single precision is plenty for that and keeps segments small; the
     /// angles themselves come from the inverse kinematics.
     pub knots: [(f32, [f32; 2]); POSTURE_KNOTS + 1],
+    /// Share of the block (from s = 0) in which the tool leaves the
+    /// singular direction: the tool stays on `ends[0]` while the free
+    /// rotary axis turns to the angle of the way out (the first two knots),
+    /// so that every axis moves continuously. 0 when the block does not
+    /// start at the singular direction.
+    pub lead: f64,
 }
 
 impl Posture {
     /// The tool direction at `s`.
     pub fn direction(&self, s: f64) -> Vec3 {
-        slerp(&self.ends[0], &self.ends[1], s)
+        if s <= self.lead {
+            return self.ends[0];
+        }
+        let t = ((s - self.lead) / (1.0 - self.lead)).clamp(0.0, 1.0);
+        slerp(&self.ends[0], &self.ends[1], t)
     }
 
     /// The knot angles interpolated at `s`: within a quarter turn of the
@@ -300,6 +312,10 @@ pub struct Segment {
     /// Workpiece setup error in force (G54.4): rows report the tip and
     /// direction in the frame of the programmed (ideal) workpiece.
     pub setup: SetupError,
+    /// Rows the block is sampled into: 1 (its end row only) unless the run
+    /// interpolates (`--step`), when the runner sets it from
+    /// [`Segment::steps`].
+    pub rows: u32,
 }
 
 fn lerp(a: f64, b: f64, s: f64) -> f64 {
@@ -350,16 +366,62 @@ impl Segment {
         }
         let tip = tcpc.tip.at(s);
         let tip_table = if tcpc.turning {
-            machine
+            // The ideal tip turned into the table frame, then onto the
+            // real workpiece (G54.4 acts about the work zero).
+            let ideal = machine
                 .chain(Side::Table, &joints)
                 .inverse_transform_point(&tip.into())
-                .coords
+                .coords;
+            self.work + self.setup.point(&(ideal - self.work))
         } else {
             tip
         };
         let gauge = machine.gauge_for_tip(&joints, &tip_table, self.tool_length);
         joints[..3].copy_from_slice(gauge.as_slice());
         joints
+    }
+
+    /// Whether every number of the segment is finite (checked before a
+    /// segment is released: no row may hold a non-finite number).
+    pub fn is_finite(&self) -> bool {
+        let all = |v: &[f64]| v.iter().all(|x| x.is_finite());
+        let vec = |v: &Vec3| all(v.as_slice());
+        let tip_path = |t: &TipPath| match t {
+            TipPath::Line([a, b]) => vec(a) && vec(b),
+            TipPath::Arc {
+                center,
+                axes,
+                radius,
+                theta0,
+                sweep,
+                rise,
+            } => {
+                vec(center) && axes.iter().all(vec) && all(radius) && all(&[*theta0, *sweep, *rise])
+            }
+        };
+        let path = match &self.path {
+            Path::Joint => true,
+            Path::Arc(arc) => {
+                all(&arc.center) && all(&arc.drift) && all(&[arc.r0, arc.r1, arc.theta0, arc.sweep])
+            }
+            Path::Via(mid) => all(mid),
+            Path::Helix { circle, drift } => tip_path(circle) && vec(drift),
+            Path::Tcpc(tcpc) => {
+                tip_path(&tcpc.tip)
+                    && tcpc.posture.as_ref().is_none_or(|p| {
+                        p.ends.iter().all(vec)
+                            && p.knots
+                                .iter()
+                                .all(|(s, a)| s.is_finite() && a.iter().all(|x| x.is_finite()))
+                    })
+            }
+        };
+        all(&self.start)
+            && all(&self.end)
+            && path
+            && self.tool_length.is_finite()
+            && vec(&self.work)
+            && self.feed.is_none_or(f64::is_finite)
     }
 
     /// Whether any axis moves.
@@ -395,8 +457,12 @@ impl Segment {
     ///
     /// The tip path of a move with rotary axes is not straight, so the
     /// count from the straight-line estimate is doubled until every step
-    /// obeys the bound (at most [`MAX_STEPS`] steps).
-    pub fn steps(&self, machine: &Machine, step: f64, step_angle: f64) -> u32 {
+    /// obeys the bound. `None` when even [`MAX_STEPS`] steps do not: the
+    /// axes move too fast for the bound somewhere in the block (a rotary
+    /// axis swinging near the singular direction, or a bound far too fine
+    /// for the block's length); the run then stops with an alarm rather
+    /// than break the bound.
+    pub fn steps(&self, machine: &Machine, step: f64, step_angle: f64) -> Option<u32> {
         let first_rotary = machine.linear.len();
         let rotary_span = (first_rotary..machine.axis_count())
             .map(|i| (self.end[i] - self.start[i]).abs())
@@ -415,18 +481,25 @@ impl Segment {
         };
         let count = |span: f64, limit: f64| {
             if limit > 0.0 && span.is_finite() {
-                (span / limit).ceil().min(f64::from(MAX_STEPS))
+                (span / limit).ceil()
             } else {
                 1.0
             }
         };
-        let mut n = count(chord, step)
+        let estimate = count(chord, step)
             .max(count(rotary_span, step_angle))
-            .max(1.0) as u32;
-        while n < MAX_STEPS && !self.steps_within(machine, n, step, step_angle) {
+            .max(1.0);
+        if estimate > f64::from(MAX_STEPS) {
+            return None;
+        }
+        let mut n = estimate as u32;
+        while !self.steps_within(machine, n, step, step_angle) {
+            if n >= MAX_STEPS {
+                return None;
+            }
             n = (n * 2).min(MAX_STEPS);
         }
-        n
+        Some(n)
     }
 
     fn steps_within(&self, machine: &Machine, n: u32, step: f64, step_angle: f64) -> bool {
@@ -484,7 +557,7 @@ pub fn posture_angles(machine: &Machine, dir: &Vec3, guide: [f64; 2]) -> [f64; 2
         .map_or(guide, |(_, angles)| angles)
 }
 
-/// Most interpolation steps one block is split into.
+/// Most interpolation steps one block is split into (rows per block).
 pub const MAX_STEPS: u32 = 1 << 20;
 
 /// Relative slack on the `--step` bound, for rounding.

@@ -69,7 +69,7 @@ fn run_sampled(
                     alarm: Some(alarm),
                 };
             }
-            Err(RunError::Io(e)) => panic!("io error {e}"),
+            Err(e) => panic!("io error {e}"),
         }
     }
 }
@@ -407,10 +407,20 @@ fn block_delete_switch() {
         offsets(),
         RunOptions {
             block_delete: false,
+            ..RunOptions::default()
         },
         1,
     );
-    let on = run_sampled(program, &m, offsets(), RunOptions { block_delete: true }, 1);
+    let on = run_sampled(
+        program,
+        &m,
+        offsets(),
+        RunOptions {
+            block_delete: true,
+            ..RunOptions::default()
+        },
+        1,
+    );
     assert_eq!(off.rows.len(), 2);
     assert_eq!(on.rows.len(), 1);
 }
@@ -439,7 +449,7 @@ fn codes_and_words_the_kernel_does_not_have_stop_with_an_alarm() {
     assert_eq!(alarm_code(&run("M428\n")), "FX0011");
     assert_eq!(alarm_code(&run("G1 X1. F100. P5\n")), "FX0012");
     assert_eq!(alarm_code(&run("G0 X1. X2.\n")), "PS0009");
-    assert_eq!(alarm_code(&run("#1=5\n")), "FX0006");
+    assert_eq!(alarm_code(&run("#34=5\n")), "PS0115");
     let mut m = machine("trunnion-ac");
     m.control = Control::Mitsubishi;
     assert_eq!(alarm_code(&run_on("G5.1 Q1\n", &m)), "P34");

@@ -10,7 +10,7 @@
 use std::io;
 
 use fiveaxis_control::{
-    MAX_STEPS, Row, RunError, RunOptions, Runner, Segment, SliceSource, Source,
+    Interpolation, MAX_STEPS, Row, RunError, RunOptions, Runner, Segment, SliceSource, Source,
 };
 use fiveaxis_machine::{Machine, Offsets, ToolOffset, Vec3, builtin, builtin_names};
 use proptest::prelude::*;
@@ -125,7 +125,9 @@ fn check_row(row: &Row, machine: &Machine, lines: u32) -> Result<(), TestCaseErr
 /// Samples `segment` where the `run` writer would: the first `--step` row,
 /// half way and the end.
 fn check_segment(segment: &Segment, machine: &Machine, lines: u32) -> Result<(), TestCaseError> {
-    let n = segment.steps(machine, STEP, STEP_ANGLE);
+    let n = segment
+        .steps(machine, STEP, STEP_ANGLE)
+        .unwrap_or(MAX_STEPS);
     prop_assert!((1..=MAX_STEPS).contains(&n), "{n} steps for {segment:?}");
     for s in std::iter::once(1.0 / f64::from(n)).chain(SAMPLES) {
         check_row(&segment.row(machine, s), machine, lines)?;
@@ -159,7 +161,7 @@ fn check_run(machine: &Machine, program: &[u8], options: RunOptions) -> Result<(
                 return Ok(());
             }
             Err(RunError::Io(e)) if e.kind() == io::ErrorKind::TimedOut => return Ok(()),
-            Err(RunError::Io(e)) => {
+            Err(e) => {
                 return Err(TestCaseError::fail(format!(
                     "a program in memory failed to read: {e}"
                 )));
@@ -561,7 +563,7 @@ proptest! {
 
     #[test]
     fn programs_of_realistic_words_end_or_alarm_with_finite_rows(program in program(), block_delete in any::<bool>()) {
-        check_on_every_machine(|machine| program.text_for(machine).into_bytes(), RunOptions { block_delete })?;
+        check_on_every_machine(|machine| program.text_for(machine).into_bytes(), RunOptions { block_delete, ..RunOptions::default() })?;
     }
 
     #[test]
@@ -572,5 +574,99 @@ proptest! {
     #[test]
     fn arbitrary_bytes_never_panic(program in prop::collection::vec(any::<u8>(), 0..400)) {
         check_on_every_machine(|_| program.clone(), RunOptions::default())?;
+    }
+}
+
+// ----- interpolation continuity ----------------------------------------
+
+/// Checks the `--step` contract on every pair of rows of a run: each block
+/// starts where the previous one ended (machine position, rollover axes
+/// modulo 360), and consecutive rows inside a block, from its start, are at
+/// most `step` apart at the tool tip and `step_angle` on every rotary axis.
+/// A block that cannot keep the bound must stop with an alarm instead.
+fn check_continuity(
+    machine: &Machine,
+    program: &[u8],
+    step: f64,
+    step_angle: f64,
+) -> Result<(), TestCaseError> {
+    let options = RunOptions {
+        interpolation: Some(Interpolation { step, step_angle }),
+        ..RunOptions::default()
+    };
+    let source = Budgeted {
+        inner: SliceSource::new(program),
+        budget: LINE_BUDGET,
+    };
+    let mut runner = Runner::new(machine, offsets(), source, options);
+    let rotary = machine.linear.len()..machine.axis_count();
+    let slack = 1.0 + 1e-6;
+    let mut previous_end: Option<fiveaxis_machine::Joints> = None;
+    for _ in 0..MAX_SEGMENTS / 10 {
+        let segment = match runner.next_segment() {
+            Ok(Some(segment)) => segment,
+            Ok(None) | Err(RunError::Alarm { .. }) => return Ok(()),
+            Err(RunError::Io(e)) if e.kind() == io::ErrorKind::TimedOut => return Ok(()),
+            Err(e) => return Err(TestCaseError::fail(format!("read error: {e}"))),
+        };
+        let first = segment.eval(machine, 0.0);
+        if let Some(end) = previous_end {
+            for i in 0..machine.axis_count() {
+                let mut gap = (first[i] - end[i]).abs();
+                if machine
+                    .rotary
+                    .iter()
+                    .enumerate()
+                    .any(|(k, a)| a.rollover && machine.rotary_index(k) == i)
+                {
+                    gap = fiveaxis_machine::principal(first[i] - end[i]).abs();
+                }
+                prop_assert!(
+                    gap <= 1e-6 * (1.0 + end[i].abs()),
+                    "line {} starts {gap} away from the previous block's end on axis {i}: {first:?} vs {end:?}",
+                    segment.line
+                );
+            }
+        }
+        let n = segment.rows;
+        prop_assert!((1..=MAX_STEPS).contains(&n));
+        let mut last = (first, machine.forward(&first, segment.tool_length).tip);
+        for i in 1..=n {
+            let s = f64::from(i) / f64::from(n);
+            let joints = segment.eval(machine, s);
+            let tip = machine.forward(&joints, segment.tool_length).tip;
+            let moved = (tip - last.1).norm();
+            prop_assert!(
+                moved <= step * slack + 1e-9,
+                "line {}: rows at s = {s} are {moved} mm apart (step {step})",
+                segment.line
+            );
+            for k in rotary.clone() {
+                let turn = (joints[k] - last.0[k]).abs();
+                prop_assert!(
+                    turn <= step_angle * slack + 1e-9,
+                    "line {}: axis {k} turns {turn} degrees between rows at s = {s} (step angle {step_angle})",
+                    segment.line
+                );
+            }
+            last = (joints, tip);
+        }
+        previous_end = Some(segment.end);
+    }
+    Ok(())
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 256, ..ProptestConfig::default() })]
+
+    #[test]
+    fn interpolated_rows_are_continuous_and_within_the_step(
+        program in program(),
+        step in prop::sample::select(&[2.0, 10.0, 50.0][..]),
+        step_angle in prop::sample::select(&[1.0, 10.0][..]),
+    ) {
+        for machine in machines() {
+            check_continuity(&machine, program.text_for(&machine).as_bytes(), step, step_angle)?;
+        }
     }
 }

@@ -26,7 +26,7 @@ fn run_on(control: Control, program: &str) -> (Vec<Row>, Option<Alarm>) {
             Ok(Some(segment)) => rows.push(segment.row(&machine, 1.0)),
             Ok(None) => return (rows, None),
             Err(RunError::Alarm { alarm, .. }) => return (rows, Some(alarm)),
-            Err(RunError::Io(e)) => panic!("a program in memory failed to read: {e}"),
+            Err(e) => panic!("a program in memory failed to read: {e}"),
         }
     }
 }
@@ -73,4 +73,107 @@ fn mitsubishi_g44_alone_cancels_without_moving() {
     let (rows, alarm) = run_on(Control::Mitsubishi, "G43 H1 G0 Z50.\nG44\nM30\n");
     assert_eq!(alarm, None);
     assert_eq!(rows.len(), 1, "G44 alone moved: {rows:?}");
+}
+
+/// Runs `program` on `machine` with H1 = 100 mm, setup error set 1 =
+/// rotation −30° about Y, and `--step` rows: the rows of every block (from
+/// its start, s = 0) and the alarm, if one stopped it.
+fn run_stepped(
+    machine: &fiveaxis_machine::Machine,
+    program: &str,
+    step: f64,
+    step_angle: f64,
+) -> (Vec<Vec<Row>>, Option<Alarm>) {
+    let mut offsets = Offsets::default();
+    offsets.tools.insert(
+        1,
+        ToolOffset {
+            length: 100.0,
+            ..ToolOffset::default()
+        },
+    );
+    offsets.setup_error.insert(
+        1,
+        fiveaxis_machine::SetupErrorSet {
+            rotation: fiveaxis_machine::Vec3::new(0.0, -30.0, 0.0),
+            ..Default::default()
+        },
+    );
+    let options = RunOptions {
+        interpolation: Some(fiveaxis_control::Interpolation { step, step_angle }),
+        ..RunOptions::default()
+    };
+    let source = SliceSource::new(program.as_bytes());
+    let mut runner = Runner::new(machine, offsets, source, options);
+    let mut blocks = Vec::new();
+    loop {
+        match runner.next_segment() {
+            Ok(Some(seg)) => {
+                let n = seg.rows;
+                blocks.push(
+                    (0..=n)
+                        .map(|i| seg.row(machine, f64::from(i) / f64::from(n)))
+                        .collect(),
+                );
+            }
+            Ok(None) => return (blocks, None),
+            Err(RunError::Alarm { alarm, .. }) => return (blocks, Some(alarm)),
+            Err(e) => panic!("a program in memory failed to read: {e}"),
+        }
+    }
+}
+
+#[test]
+fn tcpc_rows_on_a_workpiece_frame_with_a_setup_error_start_where_the_last_block_ended() {
+    // Found by the robustness issue: the tip path of a G43.4 block on a
+    // turning programming frame (WKP = 1) took the setup error in the
+    // machine frame, the block ends in the table frame, so the rows of
+    // line 4 started 26.6 mm away from line 3's end.
+    let mut machine = builtin(DEFAULT_MACHINE).expect("built in");
+    machine.params.programming_frame = fiveaxis_machine::ProgrammingFrame::Workpiece;
+    let program = "G0 X0 Y0 Z100. A0 C0\nG54.4 P1\nG43.4 H1 X0 Y0 Z0 A-10. C0\nG1 X-50. F1000.\n";
+    let (blocks, alarm) = run_stepped(&machine, program, 10.0, 1.0);
+    assert_eq!(alarm, None);
+    for pair in blocks.windows(2) {
+        let (end, start) = (pair[0].last().expect("rows"), &pair[1][0]);
+        for i in 0..machine.axis_count() {
+            assert!(
+                (end.joints[i] - start.joints[i]).abs() < 1e-9,
+                "line {} starts away from line {}: {:?} vs {:?}",
+                start.line,
+                end.line,
+                start.joints,
+                end.joints
+            );
+        }
+    }
+    for rows in &blocks {
+        for pair in rows.windows(2) {
+            assert!(
+                (pair[1].tip - pair[0].tip).norm() <= 10.0 + 1e-6,
+                "line {}: rows {:?} and {:?} are more than a step apart",
+                pair[0].line,
+                pair[0].tip,
+                pair[1].tip
+            );
+        }
+    }
+}
+
+#[test]
+fn posture_control_ending_next_to_the_singular_tilt_keeps_the_step_or_alarms() {
+    // Found by the robustness issue: C must turn 28.6 degrees within the
+    // last millionth of the block; with the row cap reached the last
+    // interpolated row was 28.6 degrees and 19 mm from the end row.
+    let machine = builtin("head-table-bc").expect("built in");
+    let program =
+        "G0 X0 Y0 Z100. B0 C0\nG43.4 H1 P1 X0 Y0 Z50. B-20. C0\nG1 Y-40. B-.000001 C30. F100.\n";
+    let (blocks, alarm) = run_stepped(&machine, program, 10.0, 10.0);
+    let code = alarm.as_ref().map(|a| a.code.to_string());
+    assert_eq!(code.as_deref(), Some("FX0101"), "{alarm:?}");
+    assert_eq!(alarm.map(|a| a.line), Some(3));
+    assert!(
+        blocks.iter().all(|rows| rows[0].line != 3),
+        "rows of the failing block left"
+    );
 }

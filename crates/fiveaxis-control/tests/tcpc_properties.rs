@@ -1458,7 +1458,7 @@ fn tcpc_programs_never_panic() {
                     bump(&alarms);
                     return Ok(());
                 }
-                Err(RunError::Io(e)) => panic!("io error {e}"),
+                Err(e) => panic!("io error {e}"),
             }
         }
         Ok(())

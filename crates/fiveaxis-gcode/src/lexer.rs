@@ -373,10 +373,14 @@ fn stray(text: &[u8], pos: usize) -> SyntaxError {
         return SyntaxError::new(SyntaxErrorKind::Macro, span(pos, pos + 1));
     }
     let (character, len) = decode_char(text, pos);
-    SyntaxError::new(
-        SyntaxErrorKind::UnexpectedChar(character),
-        span(pos, pos + len),
-    )
+    let kind = match text.get(pos) {
+        // Not text at all: say which byte, not a replacement character.
+        Some(&byte) if character == char::REPLACEMENT_CHARACTER && len == 1 => {
+            SyntaxErrorKind::InvalidByte(byte)
+        }
+        _ => SyntaxErrorKind::UnexpectedChar(character),
+    };
+    SyntaxError::new(kind, span(pos, pos + len))
 }
 
 /// In a line written in custom macro syntax (one with `#`, `[` or `]`

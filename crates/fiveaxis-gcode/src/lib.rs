@@ -173,9 +173,14 @@ pub enum SyntaxErrorKind {
     /// A number with more digits than the control accepts.
     #[error("too many digits")]
     TooManyDigits,
-    /// A byte that is neither an address, a digit nor G-code punctuation.
-    #[error("unexpected character `{0}`")]
+    /// A character that is neither an address, a digit nor G-code
+    /// punctuation (shown escaped when it does not print).
+    #[error("unexpected character `{}`", .0.escape_debug())]
     UnexpectedChar(char),
+    /// A byte that is not part of any UTF-8 text (a binary file, another
+    /// encoding).
+    #[error("byte 0x{0:02x} is not text (the program must be ASCII or UTF-8)")]
+    InvalidByte(u8),
     /// `(` without its `)` on the same line.
     #[error("comment is not closed")]
     UnclosedComment,

@@ -116,13 +116,16 @@ impl<'a> Source<'a> {
         best.map(|(_, key)| key)
     }
 
-    /// A finite number.
+    /// A finite number within what a machine can have
+    /// ([`MAX_FILE_MAGNITUDE`]).
     pub(crate) fn finite(&self, value: &Spanned<f64>, key: &str) -> Result<f64, FileError> {
         let v = *value.get_ref();
-        if v.is_finite() {
-            Ok(v)
-        } else {
+        if !v.is_finite() {
             Err(self.at(value, key, format!("`{key}` must be a finite number")))
+        } else if v.abs() > MAX_FILE_MAGNITUDE {
+            Err(self.at(value, key, magnitude_message(key)))
+        } else {
+            Ok(v)
         }
     }
 
@@ -145,8 +148,23 @@ impl<'a> Source<'a> {
         if v.iter().any(|x| !x.is_finite()) {
             return Err(self.at(value, key, format!("`{key}` must hold finite numbers")));
         }
+        if v.iter().any(|x| x.abs() > MAX_FILE_MAGNITUDE) {
+            return Err(self.at(value, key, magnitude_message(key)));
+        }
         Ok(Vec3::new(v[0], v[1], v[2]))
     }
+}
+
+/// The largest magnitude of any number in a machine or offsets file: a
+/// length (mm), a position, a stroke or an angle (degrees). No machine
+/// has a kilometre of travel or a thousand turns of soft limit; bounding
+/// every input keeps every computed position finite.
+pub const MAX_FILE_MAGNITUDE: f64 = 1e6;
+
+fn magnitude_message(key: &str) -> String {
+    format!(
+        "`{key}` is beyond what a machine can have: at most {MAX_FILE_MAGNITUDE:e} (mm or degrees) in size"
+    )
 }
 
 /// The entries of a map read from the file, in the order they were written

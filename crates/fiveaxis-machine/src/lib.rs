@@ -16,7 +16,7 @@ mod offsets;
 mod setup_error;
 
 pub use builtin::{DEFAULT_MACHINE, builtin, builtin_names, builtin_source};
-pub use file::FileError;
+pub use file::{FileError, MAX_FILE_MAGNITUDE};
 pub use inverse::{Orientations, SINGULAR_TOLERANCE, principal, turn_angle};
 pub use kinematics::{Pose, rotation, sin_cos_degrees};
 pub use offsets::{MAX_EXTENDED_WORK, MAX_TOOL_OFFSET, Offsets, SetupErrorSet, ToolOffset};

@@ -373,6 +373,7 @@ impl Controller<'_> {
                 tool_length: block.tool_length,
                 work: block.work,
                 setup: self.state.setup,
+                rows: 1,
             };
             if seg.moves() {
                 out.push(seg);

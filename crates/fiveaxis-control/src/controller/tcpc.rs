@@ -444,10 +444,10 @@ impl Controller<'_> {
             }
             match self.tcpc_arc(mode, from, &end_p)? {
                 Some(tip) => tip,
-                None => self.tcpc_line(from, &end_p, &start),
+                None => self.tcpc_line(&end_p, &start),
             }
         } else {
-            self.tcpc_line(from, &end_p, &start)
+            self.tcpc_line(&end_p, &start)
         };
         let posture = match self.block_posture.take() {
             Some(mut posture) => {
@@ -534,9 +534,14 @@ impl Controller<'_> {
                 "tool posture control between opposite tool vectors: no single great circle".into(),
             ));
         }
-        // First pass: follow the axes, check the way, measure their motion.
+        // First pass: follow the axes, check the way, measure their motion
+        // (and the turn of the free axis leaving a singular start).
         let mut travel = 0.0;
-        let end = self.follow_circle(&ends, from, angle, |_, _, step| {
+        let mut lead_turn = 0.0;
+        let end = self.follow_circle(&ends, from, angle, |s, angles, step| {
+            if s == 0.0 {
+                lead_turn = (angles[0] - from[0]).abs() + (angles[1] - from[1]).abs();
+            }
             travel += step;
             Ok(())
         })?;
@@ -549,6 +554,14 @@ impl Controller<'_> {
                 ),
             ));
         }
+        // Leaving a singular start, the free axis turns first, in the
+        // block's first `lead` share, while the tool stays put.
+        let lead = if lead_turn > 0.0 {
+            lead_turn / (lead_turn + travel)
+        } else {
+            0.0
+        };
+        let at = |s: f64| lead + (1.0 - lead) * s;
         // Second pass, the same way: knots at equal shares of the motion,
         // so that between two knots no axis strays far from their line.
         let knot = |s: f64, angles: [f64; 2]| (s as f32, angles.map(|a| a as f32));
@@ -557,14 +570,18 @@ impl Controller<'_> {
         let mut next_knot = 1;
         self.follow_circle(&ends, from, angle, |s, angles, step| {
             done += step;
-            if s == 0.0 {
-                knots[0] = knot(0.0, angles);
+            if s == 0.0 && lead > 0.0 {
+                // The way out: a knot of its own, where the lead ends.
+                knots[1] = knot(lead, angles);
+                next_knot = 2;
+                return Ok(());
             }
             while next_knot < POSTURE_KNOTS
-                && done >= travel * next_knot as f64 / POSTURE_KNOTS as f64
+                && done
+                    >= travel * (next_knot - usize::from(lead > 0.0)) as f64 / POSTURE_KNOTS as f64
                 && travel > 0.0
             {
-                knots[next_knot] = knot(s, angles);
+                knots[next_knot] = knot(at(s), angles);
                 next_knot += 1;
             }
             Ok(())
@@ -588,7 +605,7 @@ impl Controller<'_> {
             last = [0, 1].map(|k| end[k] + principal(target[k] - end[k]));
         }
         knots[POSTURE_KNOTS] = knot(1.0, last);
-        Ok((Posture { ends, knots }, last))
+        Ok((Posture { ends, knots, lead }, last))
     }
 
     /// Follows the rotary axes from `from` along the great circle between
@@ -773,28 +790,33 @@ impl Controller<'_> {
     }
 
     /// The tip path of a straight TCPC block.
-    fn tcpc_line(&self, from: &Joints, end_p: &Joints, start: &Joints) -> TipPath {
+    fn tcpc_line(&self, end_p: &Joints, start: &Joints) -> TipPath {
         let shift = self.work() + self.state.comp3d.vector;
-        let p0 = Vec3::new(from[0], from[1], from[2]) + shift;
         let p1 = Vec3::new(end_p[0], end_p[1], end_p[2]) + shift;
+        // The line starts where the tip really is: on the programmed start
+        // when nothing changed, and off it when the block itself changes
+        // what the programmed point means (the start-up block, a 3-D
+        // compensation vector, a tool length): the axes then move
+        // continuously from where they stand.
+        let here = self.machine.forward(start, self.tool_length()).tip;
         if self.state.tcpc.turning {
-            // WKP = 1: the tip path is in the work coordinate system that
-            // does not turn; a setup error acts there.
-            let real = |p: &Vec3| self.real_from_ideal(p);
-            TipPath::Line([real(&p0), real(&p1)])
+            // WKP = 1: the tip path is the programmed (ideal) line in the
+            // work coordinate system that does not turn; the setup error
+            // acts on the table, so the segment applies it point by point
+            // after turning the tip into the table frame.
+            let ideal = self.ideal_from_real(&here);
+            let tip0 = self
+                .machine
+                .chain(Side::Table, start)
+                .transform_point(&ideal.into())
+                .coords;
+            TipPath::Line([tip0, p1])
         } else {
             let frame = &self.state.tcpc.frame;
             let table = |p: &Vec3| {
                 self.real_from_ideal(&frame.inverse_transform_point(&(*p).into()).coords)
             };
-            // A start-up block begins where the tip really is, off the
-            // programmed path; later blocks on their programmed start.
-            let tip0 = if self.state.tcpc.startup {
-                self.machine.forward(start, self.tool_length()).tip
-            } else {
-                table(&p0)
-            };
-            TipPath::Line([tip0, table(&p1)])
+            TipPath::Line([here, table(&p1)])
         }
     }
 
@@ -827,8 +849,12 @@ impl Controller<'_> {
                 *axis = frame.rotation.inverse_transform_vector(axis);
             }
         }
-        let center = self.real_from_ideal(&center);
-        let axes = axes.map(|a| self.state.setup.vector(&a));
+        // On a turning frame the circle stays ideal in the machine frame
+        // (the segment applies the setup error in the table frame).
+        if !self.state.tcpc.turning {
+            center = self.real_from_ideal(&center);
+            axes = axes.map(|a| self.state.setup.vector(&a));
+        }
         Ok(Some(TipPath::Arc {
             center,
             axes,

@@ -41,7 +41,7 @@ pub fn run(machine: &Machine, offsets: Offsets, program: &str) -> Outcome {
             Ok(Some(seg)) => segments.push(seg),
             Ok(None) => break None,
             Err(RunError::Alarm { alarm, .. }) => break Some(alarm),
-            Err(RunError::Io(e)) => panic!("a program in memory failed to read: {e}"),
+            Err(e) => panic!("a program in memory failed to read: {e}"),
         }
     };
     Outcome { segments, alarm }

@@ -582,14 +582,13 @@ fn non_ascii_characters_are_decoded() {
 }
 
 #[test]
-fn invalid_utf8_is_a_replacement_character() {
+fn invalid_utf8_is_reported_as_the_byte() {
+    assert_eq!(err_bytes(b"G1 \xff X1"), (InvalidByte(0xff), 4, 5));
+    assert_eq!(err_bytes(b"G1 \xe2\x82"), (InvalidByte(0xe2), 4, 5));
+    // A real replacement character in UTF-8 text is a character.
     assert_eq!(
-        err_bytes(b"G1 \xff X1"),
-        (UnexpectedChar(char::REPLACEMENT_CHARACTER), 4, 5)
-    );
-    assert_eq!(
-        err_bytes(b"G1 \xe2\x82"),
-        (UnexpectedChar(char::REPLACEMENT_CHARACTER), 4, 5)
+        err_bytes("G1 \u{fffd}".as_bytes()),
+        (UnexpectedChar(char::REPLACEMENT_CHARACTER), 4, 7)
     );
     assert!(parse_bytes(b"G1 (\xff\xfe) X1").is_ok());
 }

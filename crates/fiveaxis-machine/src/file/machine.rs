@@ -313,10 +313,27 @@ fn rotary_axes(
                 format!("at most {MAX_AXES} axes in all"),
             ));
         }
-        axes.push(rotary_axis(src, item, &axes)?);
+        let axis = rotary_axis(src, item, &axes)?;
+        if let Some(other) = axes
+            .iter()
+            .find(|a| a.axis.cross(&axis.axis).norm() <= PARALLEL_TOLERANCE)
+        {
+            return Err(src.at(
+                &item.get_ref().axis,
+                "axis",
+                format!(
+                    "rotary axes {} and {} turn about parallel lines: two rotary axes must point the tool in two different directions",
+                    other.name, axis.name
+                ),
+            ));
+        }
+        axes.push(axis);
     }
     Ok(axes)
 }
+
+/// Sine of the smallest angle between two rotary axis directions.
+const PARALLEL_TOLERANCE: f64 = 1e-9;
 
 fn rotary_axis(
     src: &Source<'_>,
@@ -431,8 +448,8 @@ fn parameters(
     Ok(Parameters {
         programming_frame: raw.programming_frame.into(),
         tcpc_option: raw.tcpc_option.unwrap_or(defaults.tcpc_option),
-        reference_1: positions(src, &raw.reference_1, machine)?,
-        reference_2: positions(src, &raw.reference_2, machine)?,
+        reference_1: positions(src, &raw.reference_1, machine, "reference_1")?,
+        reference_2: positions(src, &raw.reference_2, machine, "reference_2")?,
         decimal_point_input: raw
             .decimal_point_input
             .unwrap_or(defaults.decimal_point_input),
@@ -463,8 +480,14 @@ fn parameters(
     })
 }
 
-/// A reference position: axes left out are 0.
-fn positions(src: &Source<'_>, raw: &RawPositions, machine: &Machine) -> Result<Joints, FileError> {
+/// A reference position: axes left out are 0; every axis inside its soft
+/// limits (a machine cannot have its reference position beyond them).
+fn positions(
+    src: &Source<'_>,
+    raw: &RawPositions,
+    machine: &Machine,
+    key: &str,
+) -> Result<Joints, FileError> {
     let mut joints = [0.0; MAX_AXES];
     for (name, value) in in_file_order(raw) {
         let index = axis_letter(name, &['X', 'Y', 'Z', 'U', 'V', 'W', 'A', 'B', 'C'])
@@ -476,7 +499,51 @@ fn positions(src: &Source<'_>, raw: &RawPositions, machine: &Machine) -> Result<
                 format!("the machine has no axis named `{}`", name.get_ref()),
             ));
         };
-        joints[index] = src.finite(value, name.get_ref())?;
+        let v = src.finite(value, name.get_ref())?;
+        let limits = match index.checked_sub(machine.linear.len()) {
+            None => Some((machine.linear[index].min, machine.linear[index].max)),
+            Some(k) => machine.rotary[k]
+                .limits
+                .filter(|_| !machine.rotary[k].rollover),
+        };
+        if let Some((min, max)) = limits
+            && !(min..=max).contains(&v)
+        {
+            return Err(src.at(
+                value,
+                key,
+                format!(
+                    "`{key}` puts {} at {v}, outside its soft limits {min} to {max}",
+                    name.get_ref()
+                ),
+            ));
+        }
+        joints[index] = v;
+    }
+    // Axes left out are at 0: that must be inside the limits too.
+    for (index, name) in machine.axis_names().enumerate() {
+        let given = in_file_order(raw)
+            .iter()
+            .any(|(n, _)| axis_letter(n, &[name]).is_some());
+        let limits = match index.checked_sub(machine.linear.len()) {
+            None => Some((machine.linear[index].min, machine.linear[index].max)),
+            Some(k) => machine.rotary[k]
+                .limits
+                .filter(|_| !machine.rotary[k].rollover),
+        };
+        if !given
+            && let Some((min, max)) = limits
+            && !(min..=max).contains(&0.0)
+        {
+            let at = src.text.find(key).unwrap_or(0);
+            return Err(src.error(
+                at..at,
+                Some(key),
+                format!(
+                    "`{key}` leaves {name} at 0, outside its soft limits {min} to {max}: give {name} in `{key}`"
+                ),
+            ));
+        }
     }
     Ok(joints)
 }
@@ -504,12 +571,22 @@ fn zone(src: &Source<'_>, value: &Spanned<f64>) -> Result<f64, FileError> {
     }
 }
 
+/// Finest least input increment accepted, mm (FANUC's finest is IS-E,
+/// 0.000001 mm; a thousandth of that is room enough).
+const MIN_INCREMENT: f64 = 1e-9;
+/// Coarsest least input increment accepted, mm.
+const MAX_INCREMENT: f64 = 1.0;
+
 fn increment(src: &Source<'_>, value: &Spanned<f64>) -> Result<f64, FileError> {
     let key = "least_input_increment";
     let v = src.finite(value, key)?;
-    if v > 0.0 {
+    if (MIN_INCREMENT..=MAX_INCREMENT).contains(&v) {
         Ok(v)
     } else {
-        Err(src.at(value, key, format!("`{key}` must be greater than 0")))
+        Err(src.at(
+            value,
+            key,
+            format!("`{key}` must be between {MIN_INCREMENT:e} and {MAX_INCREMENT} mm (FANUC IS-A is 0.01, IS-B 0.001, IS-C 0.0001)"),
+        ))
     }
 }

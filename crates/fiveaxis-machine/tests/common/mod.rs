@@ -46,9 +46,11 @@ pub fn point(range: f64) -> impl Strategy<Value = Vec3> {
     (-range..range, -range..range, -range..range).prop_map(|(x, y, z)| Vec3::new(x, y, z))
 }
 
-/// Limits `lo < hi` inside `[-range, range]`-ish.
+/// Limits `lo < hi` inside `[-range, range]`, holding 0 (where a machine's
+/// reference position is unless its file says otherwise; a machine file
+/// with the reference position outside the limits is refused).
 fn limits(range: f64) -> impl Strategy<Value = (f64, f64)> {
-    (-range..range, 0.001..range).prop_map(|(lo, span)| (lo, lo + span))
+    (0.0..range, 0.001..range).prop_map(|(down, up)| (-down, up))
 }
 
 /// Rotary limits: some, none (unlimited) or rollover.
@@ -101,6 +103,15 @@ fn rotary_axes(sides: Vec<Side>) -> BoxedStrategy<Vec<RotaryAxis>> {
                 .map(|(&name, &on)| rotary(name, on))
                 .collect();
             axes
+        })
+        // Two rotary axes about parallel lines are refused by the machine
+        // file: they do not make a 5-axis machine.
+        .prop_filter("rotary axes not parallel", |axes| {
+            axes.iter().enumerate().all(|(k, a)| {
+                axes[..k]
+                    .iter()
+                    .all(|b| a.axis.cross(&b.axis).norm() > 1e-6)
+            })
         })
         .boxed()
 }
@@ -183,13 +194,29 @@ pub fn machine_on(sides: Vec<Side>) -> impl Strategy<Value = Machine> {
     )
         .prop_flat_map(|(name, control, tool_direction, linear, rotary)| {
             let count = linear.len() + rotary.len();
-            parameters(count).prop_map(move |params| Machine {
-                name: name.clone(),
-                control,
-                tool_direction,
-                linear: linear.clone(),
-                rotary: rotary.clone(),
-                params,
+            parameters(count).prop_map(move |mut params| {
+                // Reference positions inside the soft limits, as a machine
+                // file must have them.
+                let limits: Vec<Option<(f64, f64)>> = linear
+                    .iter()
+                    .map(|a| Some((a.min, a.max)))
+                    .chain(rotary.iter().map(|r| r.limits.filter(|_| !r.rollover)))
+                    .collect();
+                for reference in [&mut params.reference_1, &mut params.reference_2] {
+                    for (value, limit) in reference.iter_mut().zip(&limits) {
+                        if let Some((lo, hi)) = limit {
+                            *value = value.clamp(*lo, *hi);
+                        }
+                    }
+                }
+                Machine {
+                    name: name.clone(),
+                    control,
+                    tool_direction,
+                    linear: linear.clone(),
+                    rotary: rotary.clone(),
+                    params,
+                }
             })
         })
 }

@@ -531,8 +531,8 @@ fn reference_names_a_machine_axis() {
 }
 
 #[test]
-fn least_input_increment_is_positive() {
-    for bad in ["0", "-0.001", "0.0"] {
+fn least_input_increment_is_positive_and_sane() {
+    for bad in ["0", "-0.001", "0.0", "1e-300", "2.0"] {
         let text = file(
             "type = \"none\"\n",
             &format!("[parameters]\nleast_input_increment = {bad}\n"),
@@ -542,7 +542,7 @@ fn least_input_increment_is_positive() {
             &text,
             &format!("increment = ^{bad}"),
             Some("least_input_increment"),
-            "greater than 0",
+            "must be between",
         );
     }
 }

@@ -5,6 +5,7 @@
 mod common;
 
 mod builtins;
+mod hostile;
 mod machine_bad;
 mod machine_good;
 mod offsets;

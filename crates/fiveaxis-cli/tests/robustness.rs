@@ -1,0 +1,291 @@
+//! The command line on hostile input (issue: robustness before breadth):
+//! bytes that are not text, full and closed output streams, endless
+//! inputs, endless programs, interrupted runs and the `-o` file's
+//! permissions and links. Each test is a class, with the reproducer that
+//! found it.
+
+use std::io::Write as _;
+use std::path::Path;
+use std::process::{Command, Output, Stdio};
+
+fn binary() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_fiveaxis"))
+}
+
+/// Runs the binary with `args` in `dir`, feeding `stdin` (bytes) to it.
+fn run_in(dir: &Path, args: &[&str], stdin: &[u8]) -> Output {
+    let mut child = binary()
+        .args(args)
+        .current_dir(dir)
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("the fiveaxis binary starts");
+    let mut input = child.stdin.take().expect("piped stdin");
+    let _ = input.write_all(stdin);
+    drop(input);
+    child.wait_with_output().expect("fiveaxis runs to its end")
+}
+
+fn run(args: &[&str], stdin: &[u8]) -> Output {
+    let dir = tempfile::tempdir().expect("a temporary directory");
+    run_in(dir.path(), args, stdin)
+}
+
+fn stderr(output: &Output) -> String {
+    String::from_utf8_lossy(&output.stderr).into_owned()
+}
+
+/// A program with bytes that are not UTF-8 alarms with the byte shown
+/// escaped and the caret under it, never a panic.
+#[test]
+fn invalid_utf8_in_a_program_alarms_with_the_byte_escaped() {
+    for (program, shown, caret_under) in [
+        (&b"\xff\n"[..], "\\xff", "\\xff"),
+        (&b"(\xe9\xe9) Q\n"[..], "(\\xe9\\xe9) Q", "Q"),
+        (&b"G1 X1. \xc3\x28\n"[..], "\\xc3(", "\\xc3"),
+        (&b"G0 X1.\x1b\n"[..], "G0 X1.\\x1b", "\\x1b"),
+        (&b"\xef\xbb\xbfG0 X1.\n"[..], "\\u{feff}G0", "\\u{feff}"),
+    ] {
+        let out = run(&["run", "-"], program);
+        let err = stderr(&out);
+        assert_eq!(out.status.code(), Some(1), "{err}");
+        assert!(!err.contains("panicked"), "{err}");
+        assert!(
+            !err.contains('\u{1b}'),
+            "control characters printed raw: {err:?}"
+        );
+        let lines: Vec<&str> = err.lines().collect();
+        let source = lines
+            .iter()
+            .position(|l| l.contains(shown))
+            .unwrap_or_else(|| panic!("the line is not shown as `{shown}`: {err}"));
+        let column = lines[source].find(caret_under).expect("marked text shown");
+        assert_eq!(
+            lines[source + 1].find('^'),
+            Some(column),
+            "caret not under `{caret_under}`:\n{err}"
+        );
+    }
+}
+
+/// Output that cannot be written ends with a message and exit status 2.
+#[test]
+fn a_full_output_device_exits_2_with_a_message() {
+    if !Path::new("/dev/full").exists() {
+        return;
+    }
+    let full = || {
+        std::fs::OpenOptions::new()
+            .write(true)
+            .open("/dev/full")
+            .expect("/dev/full")
+    };
+    let show = binary()
+        .args(["machines", "show", "trunnion-ac"])
+        .stdout(full())
+        .stderr(Stdio::piped())
+        .output()
+        .expect("runs");
+    assert_eq!(show.status.code(), Some(2), "{}", stderr(&show));
+    assert!(
+        stderr(&show).contains("standard output"),
+        "{}",
+        stderr(&show)
+    );
+    let mut child = binary()
+        .args(["run", "-"])
+        .stdin(Stdio::piped())
+        .stdout(full())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("runs");
+    let _ = child
+        .stdin
+        .take()
+        .expect("stdin")
+        .write_all(b"G0 X1.\nM30\n");
+    let out = child.wait_with_output().expect("ends");
+    assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
+    assert!(!stderr(&out).contains("panicked"));
+}
+
+/// An alarm with standard error on a full device or closed still exits 1.
+#[test]
+fn an_alarm_with_standard_error_full_or_closed_exits_1() {
+    let mut sinks = vec![Stdio::null()];
+    if let Ok(full) = std::fs::OpenOptions::new().write(true).open("/dev/full") {
+        sinks.push(Stdio::from(full));
+    }
+    for sink in sinks {
+        let mut child = binary()
+            .args(["run", "-"])
+            .stdin(Stdio::piped())
+            .stdout(Stdio::null())
+            .stderr(sink)
+            .spawn()
+            .expect("runs");
+        let _ = child.stdin.take().expect("stdin").write_all(b"G1 X1. F0\n");
+        let status = child.wait().expect("ends");
+        assert_eq!(status.code(), Some(1));
+    }
+}
+
+/// Endless or huge inputs are refused early with a message naming the
+/// limit, not read until memory or disk run out.
+#[test]
+fn endless_inputs_are_refused_naming_the_limit() {
+    if !Path::new("/dev/zero").exists() {
+        return;
+    }
+    let started = std::time::Instant::now();
+    let as_file = run(&["run", "/dev/zero"], b"");
+    assert_eq!(as_file.status.code(), Some(2));
+    assert!(
+        stderr(&as_file).contains("longer than 65536 bytes"),
+        "{}",
+        stderr(&as_file)
+    );
+    let zero = std::fs::File::open("/dev/zero").expect("/dev/zero");
+    let piped = binary()
+        .args(["run", "-"])
+        .stdin(zero)
+        .output()
+        .expect("runs");
+    assert_eq!(piped.status.code(), Some(2));
+    assert!(
+        stderr(&piped).contains("standard input: line 1 is longer"),
+        "{}",
+        stderr(&piped)
+    );
+    let machine = run(&["run", "-", "--machine", "/dev/zero"], b"G0 X1.\n");
+    assert_eq!(machine.status.code(), Some(2));
+    assert!(
+        stderr(&machine).contains("larger than 1048576 bytes"),
+        "{}",
+        stderr(&machine)
+    );
+    let offsets = run(&["run", "-", "--offsets", "/dev/zero"], b"G0 X1.\n");
+    assert_eq!(offsets.status.code(), Some(2));
+    assert!(
+        started.elapsed().as_secs() < 30,
+        "refusing took {:?}",
+        started.elapsed()
+    );
+}
+
+/// A program that never ends is stopped by the block budget, with the
+/// lines it was repeating.
+#[test]
+fn endless_programs_stop_at_the_block_budget() {
+    for program in [
+        &b"O1\nN5 G0 X1.\nG0 X2.\nM99 P5\n"[..],
+        &b"O1\nM98 P2 L9999\nM30\nO2\nM98 P3 L9999\nM99\nO3\nG0 X1.\nG0 X0\nM99\n"[..],
+    ] {
+        let out = run(&["run", "-", "--max-blocks", "20000"], program);
+        let err = stderr(&out);
+        assert_eq!(out.status.code(), Some(1), "{err}");
+        assert!(err.contains("ALARM FX0102"), "{err}");
+        assert!(err.contains("repeating lines"), "{err}");
+    }
+    let out = run(&["run", "-", "--max-blocks", "0"], b"G0 X1.\n");
+    assert_eq!(out.status.code(), Some(2), "a zero budget is not a budget");
+}
+
+#[cfg(unix)]
+mod output_file {
+    use std::os::unix::fs::{PermissionsExt, symlink};
+
+    use super::*;
+
+    const PROGRAM: &[u8] = b"G0 X10.\nG1 X20. F100.\nM30\n";
+
+    fn mode(path: &Path) -> u32 {
+        std::fs::metadata(path)
+            .expect("exists")
+            .permissions()
+            .mode()
+            & 0o777
+    }
+
+    #[test]
+    fn a_new_file_gets_the_usual_permissions_and_a_replaced_one_keeps_its_mode() {
+        let dir = tempfile::tempdir().expect("dir");
+        let out = run_in(dir.path(), &["run", "-", "-o", "rows.csv"], PROGRAM);
+        assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+        let path = dir.path().join("rows.csv");
+        // 0666 less the umask: readable by others unless the umask says no.
+        assert_ne!(mode(&path), 0o600, "the temporary file's 0600 leaked");
+        std::fs::set_permissions(&path, std::fs::Permissions::from_mode(0o640)).expect("chmod");
+        let out = run_in(dir.path(), &["run", "-", "-o", "rows.csv"], PROGRAM);
+        assert_eq!(out.status.code(), Some(0));
+        assert_eq!(mode(&path), 0o640);
+    }
+
+    #[test]
+    fn output_onto_a_symbolic_link_writes_its_target_and_keeps_the_link() {
+        let dir = tempfile::tempdir().expect("dir");
+        std::fs::create_dir(dir.path().join("real")).expect("mkdir");
+        std::fs::write(dir.path().join("real/rows.csv"), "old").expect("write");
+        symlink("real/rows.csv", dir.path().join("link.csv")).expect("symlink");
+        let out = run_in(dir.path(), &["run", "-", "-o", "link.csv"], PROGRAM);
+        assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+        let link = std::fs::symlink_metadata(dir.path().join("link.csv")).expect("link");
+        assert!(
+            link.file_type().is_symlink(),
+            "the link was replaced by a file"
+        );
+        let target = std::fs::read_to_string(dir.path().join("real/rows.csv")).expect("target");
+        assert!(target.starts_with("line,s,motion"), "{target}");
+        // A dangling link is refused, and nothing is created.
+        symlink("missing/rows.csv", dir.path().join("dangling.csv")).expect("symlink");
+        let out = run_in(dir.path(), &["run", "-", "-o", "dangling.csv"], PROGRAM);
+        assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
+        assert!(stderr(&out).contains("symbolic link"), "{}", stderr(&out));
+    }
+
+    #[test]
+    fn an_interrupted_run_leaves_no_temporary_file() {
+        let dir = tempfile::tempdir().expect("dir");
+        // An endless program that writes rows all the time.
+        let program = dir.path().join("loop.nc");
+        std::fs::write(&program, "O1\nN5 G0 X1.\nG0 X2.\nM99 P5\n").expect("program");
+        for signal in ["TERM", "INT", "HUP"] {
+            let mut child = binary()
+                .args([
+                    "run",
+                    "loop.nc",
+                    "-o",
+                    "rows.csv",
+                    "--max-blocks",
+                    "4000000000",
+                ])
+                .current_dir(dir.path())
+                .stdout(Stdio::null())
+                .stderr(Stdio::null())
+                .spawn()
+                .expect("runs");
+            // Wait until the temporary file is there.
+            let started = std::time::Instant::now();
+            while std::fs::read_dir(dir.path()).expect("dir").count() < 2
+                && started.elapsed().as_secs() < 20
+            {
+                std::thread::sleep(std::time::Duration::from_millis(20));
+            }
+            std::thread::sleep(std::time::Duration::from_millis(200));
+            let killed = Command::new("kill")
+                .args([&format!("-{signal}"), &child.id().to_string()])
+                .status()
+                .expect("kill runs");
+            assert!(killed.success());
+            let status = child.wait().expect("ends");
+            assert!(!status.success());
+            let names: Vec<String> = std::fs::read_dir(dir.path())
+                .expect("dir")
+                .map(|e| e.expect("entry").file_name().to_string_lossy().into_owned())
+                .collect();
+            assert_eq!(names, vec!["loop.nc".to_owned()], "after SIG{signal}");
+        }
+    }
+}

@@ -1,0 +1,376 @@
+//! Custom macro B in the runner: where the program text is, the control
+//! flow of macro statements (`GOTO`, `IF`, `WHILE … DO … END`, `G65`
+//! calls) is carried out; expressions, variables and their alarms are
+//! `fiveaxis-macro`'s.
+//!
+//! A line goes through the macro layer only when it holds macro syntax
+//! (`#`, `[ ]` or a macro keyword, [`fiveaxis_macro::is_macro_line`]);
+//! plain lines keep the front end's fast path. An NC block with
+//! expressions is evaluated into an ordinary [`fiveaxis_gcode::Block`]
+//! and executed like any other.
+
+use fiveaxis_gcode::{Code, Span};
+use fiveaxis_macro::{
+    LOCAL_COUNT, MacroError, MacroErrorKind, MacroSettings, Statement, SystemVarError,
+    SystemVariables, Variables, evaluate_block, parse_statement,
+};
+
+use super::{Mark, RunError, Runner, Source};
+use crate::alarm::{Alarm, AlarmCode, Condition};
+
+/// Macro state of a run: the variables and the open loops.
+#[derive(Debug)]
+pub(super) struct MacroState {
+    pub(super) vars: Variables,
+    pub(super) settings: MacroSettings,
+    /// Open `WHILE … DO m` / `DO m` loops, innermost last.
+    pub(super) loops: Vec<Loop>,
+}
+
+/// An open loop: its number, its `WHILE` (or `DO`) line and the call
+/// level it belongs to.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Loop {
+    id: u8,
+    start: Mark,
+    pub(super) level: usize,
+}
+
+impl MacroState {
+    pub(super) fn new(max_nesting: usize) -> Self {
+        Self {
+            vars: Variables::new(max_nesting),
+            settings: MacroSettings::default(),
+            loops: Vec::new(),
+        }
+    }
+}
+
+/// What a macro line left for the runner.
+pub(super) enum MacroFlow {
+    /// Nothing more to do for this line.
+    Done,
+    /// The line was an NC block, now in `Runner::block`: execute it.
+    Block,
+}
+
+/// The system variables the kernel answers (`#1000` and up): the clocks
+/// and part counts read as 0, interface signals as 0, `#3000 = n` stops
+/// with the program's alarm. Any other number is the undefined-variable
+/// alarm naming it.
+#[derive(Debug, Default)]
+pub(super) struct System;
+
+impl SystemVariables for System {
+    fn read(&self, number: u32) -> Result<Option<f64>, SystemVarError> {
+        match number {
+            // Interface signal inputs #1000-#1035, clocks #3001/#3002, part
+            // counts #3901/#3902: nothing outside the program sets them.
+            1000..=1035 | 3001 | 3002 | 3901 | 3902 => Ok(Some(0.0)),
+            _ => Err(SystemVarError::NotAVariable),
+        }
+    }
+
+    fn write(&mut self, number: u32, value: Option<f64>) -> Result<(), SystemVarError> {
+        match number {
+            3000 => {
+                let n = value.unwrap_or(0.0).round();
+                Err(SystemVarError::Alarm(if (0.0..=999.0).contains(&n) {
+                    n as u32
+                } else {
+                    0
+                }))
+            }
+            3001 | 3002 | 3901 | 3902 | 1100..=1135 => Ok(()),
+            _ => Err(SystemVarError::NotAVariable),
+        }
+    }
+}
+
+impl<S: Source> Runner<'_, S> {
+    /// Carries out the macro statement of the line just read (`here`).
+    pub(super) fn macro_line(&mut self, here: Mark) -> Result<MacroFlow, RunError> {
+        let line = match parse_statement(&self.text, here.line) {
+            Ok(line) => line,
+            Err(error) => return Err(self.macro_alarm(here.line, error)),
+        };
+        if line.block_delete && self.options.block_delete {
+            return Ok(MacroFlow::Done);
+        }
+        self.at_program_start = false;
+        let mut sys = System;
+        let settings = self.macros.settings;
+        let result: Result<MacroFlow, MacroError> = match &line.statement {
+            Statement::Assign { target, value } => self
+                .macros
+                .vars
+                .assign(target, value, line.comment.as_deref(), &mut sys, &settings)
+                .map(|()| MacroFlow::Done),
+            Statement::IfThen {
+                cond,
+                target,
+                value,
+            } => match self.macros.vars.eval_condition(cond, &sys, &settings) {
+                Ok(true) => self
+                    .macros
+                    .vars
+                    .assign(target, value, line.comment.as_deref(), &mut sys, &settings)
+                    .map(|()| MacroFlow::Done),
+                Ok(false) => Ok(MacroFlow::Done),
+                Err(e) => Err(e),
+            },
+            Statement::Goto(target) => {
+                let n = match self.macros.vars.eval_sequence(target, &sys, &settings) {
+                    Ok(n) => n,
+                    Err(e) => return Err(self.macro_alarm(here.line, e)),
+                };
+                self.goto(n, here.line)?;
+                return Ok(MacroFlow::Done);
+            }
+            Statement::IfGoto { cond, target } => {
+                let jump = match self.macros.vars.eval_condition(cond, &sys, &settings) {
+                    Ok(jump) => jump,
+                    Err(e) => return Err(self.macro_alarm(here.line, e)),
+                };
+                if jump {
+                    let n = match self.macros.vars.eval_sequence(target, &sys, &settings) {
+                        Ok(n) => n,
+                        Err(e) => return Err(self.macro_alarm(here.line, e)),
+                    };
+                    self.goto(n, here.line)?;
+                }
+                return Ok(MacroFlow::Done);
+            }
+            Statement::While { cond, id } => {
+                let go_on = match self.macros.vars.eval_condition(cond, &sys, &settings) {
+                    Ok(go_on) => go_on,
+                    Err(e) => return Err(self.macro_alarm(here.line, e)),
+                };
+                if go_on {
+                    self.open_loop(*id, here);
+                } else {
+                    self.close_loop(*id, here)?;
+                }
+                return Ok(MacroFlow::Done);
+            }
+            Statement::Do { id } => {
+                self.open_loop(*id, here);
+                return Ok(MacroFlow::Done);
+            }
+            Statement::End { id } => {
+                self.loop_back(*id, here.line)?;
+                return Ok(MacroFlow::Done);
+            }
+            Statement::Nc(nc) => {
+                evaluate_block(nc, &self.macros.vars, &sys, &settings, &mut self.block)
+                    .map(|()| MacroFlow::Block)
+            }
+        };
+        result.map_err(|e| self.macro_alarm(here.line, e))
+    }
+
+    /// `WHILE` true or `DO`: the loop is open (again, when `END` jumped
+    /// back to it).
+    fn open_loop(&mut self, id: u8, here: Mark) {
+        let level = self.stack.len();
+        let open = self
+            .macros
+            .loops
+            .last()
+            .is_some_and(|l| l.start == here && l.level == level);
+        if !open {
+            self.macros.loops.push(Loop {
+                id,
+                start: here,
+                level,
+            });
+        }
+    }
+
+    /// `WHILE` false: the loop ends; the program goes on after its `END`.
+    fn close_loop(&mut self, id: u8, here: Mark) -> Result<(), RunError> {
+        let level = self.stack.len();
+        if self
+            .macros
+            .loops
+            .last()
+            .is_some_and(|l| l.start == here && l.level == level)
+        {
+            self.macros.loops.pop();
+        }
+        let mut line = self.next_line;
+        while let Some(_mark) = self.scan_line(&mut line)? {
+            if fiveaxis_macro::loop_end(&self.scan_text) == Some(id) {
+                self.next_line = line;
+                return Ok(());
+            }
+            if super::program_number(&self.scan_text).is_some() {
+                break;
+            }
+        }
+        Err(self.macro_alarm(
+            here.line,
+            MacroError::new(
+                MacroErrorKind::MissingEnd,
+                Span::default(),
+                format!("WHILE … DO{id} has no END{id} in its program"),
+            ),
+        ))
+    }
+
+    /// `END m`: back to the line that opened loop m.
+    fn loop_back(&mut self, id: u8, line: u32) -> Result<(), RunError> {
+        let level = self.stack.len();
+        match self.macros.loops.last() {
+            Some(open) if open.id == id && open.level == level => {
+                let start = open.start;
+                self.source.seek(start.offset)?;
+                self.next_line = start.line;
+                Ok(())
+            }
+            _ => Err(self.macro_alarm(
+                line,
+                MacroError::new(
+                    MacroErrorKind::IllegalLoopNumber,
+                    Span::default(),
+                    format!("END{id} without an open DO{id}"),
+                ),
+            )),
+        }
+    }
+
+    /// `GOTO n`: on at sequence number n of the program.
+    fn goto(&mut self, n: u32, line: u32) -> Result<(), RunError> {
+        let here = Mark {
+            offset: self.source.position(),
+            line: self.next_line,
+        };
+        match self.find_sequence(n, here)? {
+            Some(mark) => {
+                let at = self.at_program_start;
+                self.source.seek(mark.offset)?;
+                self.next_line = mark.line;
+                self.at_program_start = at;
+                // Loops opened after the target are left.
+                let level = self.stack.len();
+                self.macros
+                    .loops
+                    .retain(|l| l.level < level || l.start.offset < mark.offset);
+                Ok(())
+            }
+            None => Err(self.macro_alarm(
+                line,
+                MacroError::new(
+                    MacroErrorKind::IllegalSequenceNumber,
+                    Span::default(),
+                    format!("GOTO {n}: sequence number N{n} is not in the program"),
+                ),
+            )),
+        }
+    }
+
+    /// A `G65 P… L…` block: the macro call with its arguments as local
+    /// variables. `None` when the block is not a `G65` call.
+    pub(super) fn macro_call(&mut self, line: u32) -> Option<Result<(), RunError>> {
+        let g65 = self
+            .block
+            .words
+            .iter()
+            .any(|w| w.letter == b'G' && w.code == Some(Code::new(65, 0)));
+        if !g65 {
+            return None;
+        }
+        Some(self.call_with_arguments(line))
+    }
+
+    fn call_with_arguments(&mut self, line: u32) -> Result<(), RunError> {
+        let args: [Option<f64>; LOCAL_COUNT] = match fiveaxis_macro::arguments(&self.block) {
+            Ok(args) => args,
+            Err(e) => return Err(self.macro_alarm(line, e)),
+        };
+        let word = |letter: u8| {
+            self.block
+                .words
+                .iter()
+                .find(|w| w.letter == letter)
+                .copied()
+        };
+        let Some(p) = word(b'P') else {
+            return Err(self.runner_alarm(
+                Condition::SubprogramNumberMissing,
+                line,
+                "G65 needs P, the number of the macro program".into(),
+            ));
+        };
+        let repeats = word(b'L').map_or(1.0, |l| l.value.round());
+        if !(0.0..=9999.0).contains(&repeats) || !(0.0..=99_999_999.0).contains(&p.value) {
+            return Err(self.runner_alarm(
+                Condition::ValueOutOfRange,
+                line,
+                "G65: P is a program number (0 to 99999999), L a count (0 to 9999)".into(),
+            ));
+        }
+        if repeats == 0.0 {
+            return Ok(());
+        }
+        if let Err(e) = self.macros.vars.push_frame(args) {
+            return Err(self.macro_alarm(line, e));
+        }
+        let depth = self.stack.len();
+        self.call(p.value.round() as u32, repeats as u32, line)?;
+        if self.stack.len() > depth
+            && let Some(frame) = self.stack.last_mut()
+        {
+            frame.macro_call = true;
+        } else {
+            self.macros.vars.pop_frame();
+        }
+        Ok(())
+    }
+
+    /// A macro alarm on `line`, under the control's number.
+    pub(super) fn macro_alarm(&self, line: u32, error: MacroError) -> RunError {
+        let control = self.controller.control();
+        let (condition, code) = match error.kind {
+            MacroErrorKind::CustomAlarm(n) => {
+                (Condition::MacroAlarm, AlarmCode::program_alarm(control, n))
+            }
+            kind => {
+                let condition = macro_condition(kind);
+                (condition, condition.code(control))
+            }
+        };
+        let span = (error.span != Span::default()).then_some(error.span);
+        let alarm = Alarm {
+            condition,
+            code,
+            line,
+            span,
+            message: error.message,
+        };
+        self.alarm_here(alarm)
+    }
+}
+
+/// The kernel's condition for a macro alarm.
+fn macro_condition(kind: MacroErrorKind) -> Condition {
+    use MacroErrorKind as K;
+    match kind {
+        K::TooManyDigits => Condition::TooManyDigits,
+        K::Overflow => Condition::MacroOverflow,
+        K::DivisionByZero => Condition::MacroDivisionByZero,
+        K::UndefinedVariable => Condition::MacroUndefinedVariable,
+        K::WriteProtected => Condition::MacroWriteProtected,
+        K::BracketNesting => Condition::MacroBracketNesting,
+        K::ArgumentOutOfRange => Condition::MacroArgumentRange,
+        K::CallNesting => Condition::MacroCallNesting,
+        K::MissingEnd => Condition::MacroMissingEnd,
+        K::StatementFormat => Condition::MacroStatementFormat,
+        K::IllegalLoopNumber => Condition::MacroLoopNumber,
+        K::NcAndMacro => Condition::MacroNcAndMacro,
+        K::IllegalSequenceNumber => Condition::MacroSequenceNumber,
+        K::IllegalArgumentAddress => Condition::MacroArgumentAddress,
+        K::CustomAlarm(_) => Condition::MacroAlarm,
+        _ => Condition::MacroFormat,
+    }
+}

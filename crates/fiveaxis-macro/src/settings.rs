@@ -1,0 +1,34 @@
+//! The control parameters the macro layer depends on.
+
+/// Parameters of the control that change how macros evaluate.
+///
+/// `Default` gives the manual's defaults.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct MacroSettings {
+    /// Parameter NAT (No. 6004#0). `false` (the default): `ASIN` and the
+    /// one-argument `ATAN` give 270° … 90° (a negative angle is given as
+    /// its positive equivalent, `ASIN[-0.5]` = 330), the two-argument
+    /// `ATAN` gives 0° … 360° (`ATAN[-1,-1]` = 225). `true`: -90° … 90°
+    /// and -180° … 180° (`ATAN[-1,-1]` = -135). `ACOS` always gives
+    /// 0° … 180°.
+    pub nat: bool,
+    /// Whether the common variables `#200` … `#499` exist (the control's
+    /// extended common variables option). Default `false`: they are
+    /// undefined (PS0115).
+    pub extended_common: bool,
+    /// `ADP[x]` multiplies by `10^adp_digits`: it gives back the number
+    /// as written for an argument passed without decimal point and scaled
+    /// by the least input increment (3 for IS-B in mm: `A10` → 0.010 →
+    /// `ADP` → 10). Default 3.
+    pub adp_digits: u8,
+}
+
+impl Default for MacroSettings {
+    fn default() -> Self {
+        Self {
+            nat: false,
+            extended_common: false,
+            adp_digits: 3,
+        }
+    }
+}
