@@ -289,3 +289,75 @@ mod output_file {
         }
     }
 }
+
+/// A machine or offsets file that is not UTF-8 is refused naming the line
+/// and column of the first bad byte.
+#[test]
+fn a_data_file_that_is_not_utf8_names_its_line() {
+    let dir = tempfile::tempdir().expect("dir");
+    std::fs::write(
+        dir.path().join("m.toml"),
+        b"# a machine\nname = \"caf\xe9\"\n".as_slice(),
+    )
+    .expect("write");
+    std::fs::write(
+        dir.path().join("o.toml"),
+        b"[tools]\n\n1 = { length = 1\xff }\n".as_slice(),
+    )
+    .expect("write");
+    let out = run_in(
+        dir.path(),
+        &["run", "-", "--machine", "m.toml"],
+        b"G0 X1.\n",
+    );
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        stderr(&out).contains("m.toml:2:12: not UTF-8 text"),
+        "{}",
+        stderr(&out)
+    );
+    let out = run_in(
+        dir.path(),
+        &["run", "-", "--offsets", "o.toml"],
+        b"G0 X1.\n",
+    );
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        stderr(&out).contains("o.toml:3:17: not UTF-8 text"),
+        "{}",
+        stderr(&out)
+    );
+}
+
+/// Numbers beyond what a machine can have are refused when the file is
+/// read, naming the key: they used to hang TCPC (a stroke of 1e18 degrees)
+/// or give rows of NaN (offsets of 1e308).
+#[test]
+fn huge_file_values_are_refused_naming_the_key() {
+    let dir = tempfile::tempdir().expect("dir");
+    let machine = binary()
+        .args(["machines", "show", "trunnion-ac"])
+        .output()
+        .expect("runs");
+    let text = String::from_utf8_lossy(&machine.stdout).replacen("min = -120.0", "min = -1e18", 1);
+    std::fs::write(dir.path().join("m.toml"), text).expect("write");
+    std::fs::write(
+        dir.path().join("o.toml"),
+        "[work]\nG54 = [1.7e308, 0.0, 0.0]\n",
+    )
+    .expect("write");
+    let out = run_in(
+        dir.path(),
+        &["run", "-", "--machine", "m.toml"],
+        b"G0 X1.\n",
+    );
+    assert_eq!(out.status.code(), Some(2));
+    assert!(stderr(&out).contains("(key `min`)"), "{}", stderr(&out));
+    let out = run_in(
+        dir.path(),
+        &["run", "-", "--offsets", "o.toml"],
+        b"G0 Y1.\n",
+    );
+    assert_eq!(out.status.code(), Some(2));
+    assert!(stderr(&out).contains("(key `G54`)"), "{}", stderr(&out));
+}

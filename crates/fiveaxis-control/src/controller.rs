@@ -1651,13 +1651,18 @@ fn arc_extent(arc: &Arc, k: usize) -> (f64, f64) {
         (arc.theta0 + arc.sweep, arc.theta0)
     };
     let quarter = std::f64::consts::FRAC_PI_2;
-    let mut q = (a / quarter).ceil() * quarter;
-    while q <= b {
+    let first = (a / quarter).ceil();
+    // A sweep is at most one turn: at most five quarter angles, a bound
+    // that holds whatever the magnitudes.
+    for k in 0..6 {
+        let q = (first + f64::from(k)) * quarter;
+        if q > b {
+            break;
+        }
         let s = ((q - arc.theta0) / arc.sweep).clamp(0.0, 1.0);
         let v = point(q, s);
         lo = lo.min(v);
         hi = hi.max(v);
-        q += quarter;
     }
     (lo, hi)
 }

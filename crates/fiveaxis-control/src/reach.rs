@@ -91,15 +91,19 @@ fn trig_ranges(a: f64, b: f64) -> (Interval, Interval) {
         );
     }
     // Quarter turns inside the range are where cos and sin peak.
-    let mut quarter = (lo / 90.0).ceil();
-    while quarter * 90.0 <= hi {
+    // Fewer than 360 degrees: at most four quarter turns, whatever the
+    // magnitudes.
+    let first = (lo / 90.0).ceil();
+    for quarter in (0..5).map(|k| first + f64::from(k)) {
+        if quarter * 90.0 > hi {
+            break;
+        }
         match (quarter as i64).rem_euclid(4) {
             0 => cos.hi = 1.0,
             1 => sin.hi = 1.0,
             2 => cos.lo = -1.0,
             _ => sin.lo = -1.0,
         }
-        quarter += 1.0;
     }
     (cos, sin)
 }

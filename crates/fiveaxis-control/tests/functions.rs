@@ -482,3 +482,39 @@ fn tape_marks_and_a_following_program_end_the_main_program() {
     let r = run("O100\nG0 X1.\nO200\nG0 X2.\n");
     assert_eq!(ends(&r).len(), 1);
 }
+
+/// The message of the alarm that stopped `run`.
+fn alarm_message(run: &Run) -> String {
+    run.alarm
+        .as_ref()
+        .map(|a| a.message.clone())
+        .unwrap_or_default()
+}
+
+#[test]
+fn messages_say_what_is_wrong() {
+    // The range of an offset number is the offset memory's, not u32's.
+    let r = run("G43 H-1\n");
+    assert_eq!(alarm_code(&r), "PS0030");
+    assert!(
+        alarm_message(&r).contains("0 to 999"),
+        "{}",
+        alarm_message(&r)
+    );
+    // Centre words given as zero are not "missing".
+    let r = run("G2 X10. I0 J0 F100.\n");
+    assert_eq!(alarm_code(&r), "PS0022");
+    assert!(
+        alarm_message(&r).contains("radius is 0"),
+        "{}",
+        alarm_message(&r)
+    );
+    let r = run("G2 X10. F100.\n");
+    assert!(alarm_message(&r).contains("needs R or the centre words"));
+    // G04 X is range-checked like G04 P (FANUC: at most 99999.999 s).
+    assert_eq!(alarm_code(&run("G4 X99999999999999.\n")), "FX0014");
+    assert_eq!(alarm_code(&run("G4 X-1.\n")), "FX0014");
+    assert_eq!(alarm_code(&run("G4 X99999.999\n")), "none");
+    // Without a decimal point X counts least input increments: 1.5 s.
+    assert_eq!(alarm_code(&run("G4 X1500\n")), "none");
+}

@@ -954,15 +954,21 @@ impl Controller<'_> {
         let nearest = current + principal(angle - current);
         match axis.limits {
             Some((min, max)) if !axis.rollover => {
+                // At most three repeats fit the limits the machine file
+                // allows; the loop is bounded by that count, not by the
+                // magnitudes (at 1e18 adding 360 changes nothing).
                 let mut out = [None; 3];
                 let mut n = 0;
-                let mut a = angle - 360.0 * ((angle - min) / 360.0).floor();
-                while a <= max + super::LIMIT_TOLERANCE && n < 3 {
+                let first = angle - 360.0 * ((angle - min) / 360.0).floor();
+                for turn in 0..4 {
+                    let a = first + 360.0 * f64::from(turn);
+                    if a > max + super::LIMIT_TOLERANCE || n == 3 {
+                        break;
+                    }
                     if a >= min - super::LIMIT_TOLERANCE {
                         out[n] = Some(a);
                         n += 1;
                     }
-                    a += 360.0;
                 }
                 out
             }
