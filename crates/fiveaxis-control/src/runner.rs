@@ -497,8 +497,11 @@ impl<'m, S: Source> Runner<'m, S> {
                 line: self.next_line,
             };
         }
-        if fiveaxis_macro::is_macro_line(&self.text) {
-            match self.macro_line(here)? {
+        // Plain lines take the front end's fast path; a line the front end
+        // finds custom macro syntax in goes through the macro layer.
+        match parse_line(&self.text, here.line, &mut self.block) {
+            Ok(()) => {}
+            Err(error) if error.kind == SyntaxErrorKind::Macro => match self.macro_line(here)? {
                 MacroFlow::Done => return Ok(()),
                 MacroFlow::Block => {
                     if self.block.is_empty() {
@@ -508,9 +511,8 @@ impl<'m, S: Source> Runner<'m, S> {
                         return called;
                     }
                 }
-            }
-        } else if let Err(error) = parse_line(&self.text, here.line, &mut self.block) {
-            return Err(self.syntax_alarm(here.line, error));
+            },
+            Err(error) => return Err(self.syntax_alarm(here.line, error)),
         }
         let program = self
             .block
@@ -744,14 +746,14 @@ impl<'m, S: Source> Runner<'m, S> {
             self.source.seek(start.offset)?;
             let mut line = start.line;
             while let Some(mark) = self.scan_line(&mut line)? {
-                let sequence = if fiveaxis_macro::is_macro_line(&self.scan_text) {
-                    fiveaxis_macro::parse_statement(&self.scan_text, mark.line)
-                        .ok()
-                        .and_then(|line| line.sequence)
-                } else if parse_line(&self.scan_text, mark.line, &mut self.scan_block).is_ok() {
-                    self.scan_block.sequence
-                } else {
-                    None
+                let sequence = match parse_line(&self.scan_text, mark.line, &mut self.scan_block) {
+                    Ok(()) => self.scan_block.sequence,
+                    Err(e) if e.kind == SyntaxErrorKind::Macro => {
+                        fiveaxis_macro::parse_statement(&self.scan_text, mark.line)
+                            .ok()
+                            .and_then(|line| line.sequence)
+                    }
+                    Err(_) => None,
                 };
                 if sequence == Some(n) {
                     return Ok(Some(mark));
