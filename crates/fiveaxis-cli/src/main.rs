@@ -90,6 +90,10 @@ struct RunArgs {
     /// endless loop) with alarm FX0102.
     #[arg(long, default_value_t = DEFAULT_MAX_BLOCKS, value_parser = clap::value_parser!(u64).range(1..))]
     max_blocks: u64,
+    /// Say on standard error what was skipped and why (leader text before
+    /// the first `%`, a byte-order mark, text after the closing `%`).
+    #[arg(short, long)]
+    verbose: bool,
 }
 
 fn positive(text: &str) -> Result<f64, String> {
@@ -368,16 +372,25 @@ fn run(args: &RunArgs) -> Result<u8, InputError> {
         }),
         max_blocks: args.max_blocks,
     };
-    let runner = Runner::new(&machine, offsets, source, options);
+    let mut runner = Runner::new(&machine, offsets, source, options);
     let writer = RowWriter::new(args.format, &machine);
 
-    match &args.output {
+    let status = match &args.output {
         None => {
-            let result = stream(runner, &writer, io::stdout());
+            let result = stream(&mut runner, &writer, io::stdout());
             finish(result, program_name, "standard output")
         }
-        Some(path) => write_output_file(path, runner, &writer, program_name),
+        Some(path) => write_output_file(path, &mut runner, &writer, program_name),
+    };
+    if args.verbose {
+        for note in runner.notes() {
+            report(&format!(
+                "note: {program_name}: {}",
+                diagnostic::escape(note)
+            ));
+        }
     }
+    status
 }
 
 /// Runs into the `-o` file. A device or pipe (`-o /dev/null`) is written
@@ -389,7 +402,7 @@ fn run(args: &RunArgs) -> Result<u8, InputError> {
 /// temporary file is removed and the target is left as it was.
 fn write_output_file<S: Source>(
     path: &Path,
-    runner: Runner<'_, S>,
+    runner: &mut Runner<'_, S>,
     writer: &RowWriter<'_>,
     program_name: &str,
 ) -> Result<u8, InputError> {
@@ -468,7 +481,7 @@ const BATCH: usize = 1024;
 /// writing on a second one, fed with batches of rows whose buffers travel
 /// back for reuse.
 fn stream<S: Source, W: Write + Send>(
-    mut runner: Runner<'_, S>,
+    runner: &mut Runner<'_, S>,
     writer: &RowWriter<'_>,
     out: W,
 ) -> Result<(), Stop> {

@@ -52,12 +52,21 @@ impl Source for SliceSource<'_> {
         let Some(rest) = self.data.get(self.pos..).filter(|r| !r.is_empty()) else {
             return Ok(false);
         };
-        let len = rest.iter().position(|&b| b == b'\n').unwrap_or(rest.len());
+        // A line ends at LF, CR LF or a lone CR.
+        let len = rest
+            .iter()
+            .position(|&b| b == b'\n' || b == b'\r')
+            .unwrap_or(rest.len());
         if len > MAX_LINE_BYTES + 1 {
             return Err(line_too_long());
         }
         buf.extend_from_slice(&rest[..len]);
-        self.pos += (len + 1).min(rest.len());
+        let ending = match rest.get(len..) {
+            Some([b'\r', b'\n', ..]) => 2,
+            Some([_, ..]) => 1,
+            _ => 0,
+        };
+        self.pos += len + ending;
         trim_line_end(buf);
         if buf.len() > MAX_LINE_BYTES {
             return Err(line_too_long());
@@ -111,9 +120,10 @@ impl<R: Read + Seek> Source for ReaderSource<R> {
                 break;
             }
             any = true;
-            let (take, done) = match available.iter().position(|&b| b == b'\n') {
-                Some(i) => (i + 1, true),
-                None => (available.len(), false),
+            // A line ends at LF, CR LF or a lone CR (old Macintosh files).
+            let (take, end) = match available.iter().position(|&b| b == b'\n' || b == b'\r') {
+                Some(i) => (i + 1, Some(available[i])),
+                None => (available.len(), None),
             };
             if buf.len() + take > MAX_LINE_BYTES + 2 {
                 return Err(line_too_long());
@@ -121,7 +131,22 @@ impl<R: Read + Seek> Source for ReaderSource<R> {
             buf.extend_from_slice(&available[..take]);
             self.inner.consume(take);
             self.pos += take as u64;
-            if done {
+            if end == Some(b'\r') {
+                // CR LF: the LF belongs to this line end.
+                loop {
+                    match self.inner.fill_buf() {
+                        Ok([b'\n', ..]) => {
+                            self.inner.consume(1);
+                            self.pos += 1;
+                        }
+                        Ok(_) => {}
+                        Err(e) if e.kind() == io::ErrorKind::Interrupted => continue,
+                        Err(e) => return Err(e),
+                    }
+                    break;
+                }
+            }
+            if end.is_some() {
                 break;
             }
         }
@@ -303,6 +328,10 @@ pub struct Runner<'m, S> {
     recent_next: usize,
     /// Custom macro B: variables and open loops.
     macros: MacroState,
+    /// The leader before the first `%` has been looked for.
+    started: bool,
+    /// What the runner skipped and why, for `--verbose`.
+    notes: Vec<String>,
     /// Lines read so far (the block budget counts them).
     blocks: u64,
     /// Lowest and highest line of the current and of the last full window
@@ -337,6 +366,8 @@ impl<'m, S: Source> Runner<'m, S> {
             recent: std::array::from_fn(|_| (0, Vec::new())),
             recent_next: 0,
             macros: MacroState::new(Dialect::of(machine.control).max_nesting),
+            started: false,
+            notes: Vec::new(),
             blocks: 0,
             window: [(u32::MAX, 0); 2],
         }
@@ -345,6 +376,13 @@ impl<'m, S: Source> Runner<'m, S> {
     /// The controller, for its state after the run.
     pub fn controller(&self) -> &Controller<'m> {
         &self.controller
+    }
+
+    /// What the run skipped so far and why (a leader before the first `%`,
+    /// a byte-order mark, text after the closing `%`, deleted blocks), one
+    /// sentence each.
+    pub fn notes(&self) -> &[String] {
+        &self.notes
     }
 
     /// The next segment of the program, `None` at its end.
@@ -469,6 +507,10 @@ impl<'m, S: Source> Runner<'m, S> {
 
     /// Reads and executes one line, appending its segments to `out`.
     fn step(&mut self, out: &mut Vec<Segment>) -> Result<(), RunError> {
+        if !self.started {
+            self.started = true;
+            self.skip_leader()?;
+        }
         let here = Mark {
             offset: self.source.position(),
             line: self.next_line,
@@ -485,6 +527,11 @@ impl<'m, S: Source> Runner<'m, S> {
         }
         self.count_block(here.line)?;
         self.next_line += 1;
+        if here.offset == 0 && self.text.starts_with(BYTE_ORDER_MARK) {
+            self.text.drain(..BYTE_ORDER_MARK.len());
+            self.notes
+                .push("line 1: a UTF-8 byte-order mark, skipped".into());
+        }
         let slot = &mut self.recent[self.recent_next];
         slot.0 = here.line;
         slot.1.clear();
@@ -495,6 +542,14 @@ impl<'m, S: Source> Runner<'m, S> {
             self.scanned = Mark {
                 offset: self.source.position(),
                 line: self.next_line,
+            };
+        }
+        if is_program_name(&self.text) {
+            // `<NAME>` or `O<NAME>`: a program start by name (30i).
+            return if self.at_program_start {
+                Ok(())
+            } else {
+                self.end_of_program()
             };
         }
         // Plain lines take the front end's fast path; a line the front end
@@ -512,6 +567,16 @@ impl<'m, S: Source> Runner<'m, S> {
                     }
                 }
             },
+            Err(error) if starts_with_o(&self.text) => {
+                let mut alarm = self.syntax_alarm(here.line, error);
+                if let RunError::Alarm { alarm, .. } = &mut alarm {
+                    alarm.message = format!(
+                        "an O line gives a program number (O1234) or a name (O<NAME>): {}",
+                        alarm.message
+                    );
+                }
+                return Err(alarm);
+            }
             Err(error) => return Err(self.syntax_alarm(here.line, error)),
         }
         let program = self
@@ -529,6 +594,12 @@ impl<'m, S: Source> Runner<'m, S> {
             return if self.at_program_start && self.stack.is_empty() {
                 Ok(())
             } else {
+                if self.stack.is_empty() {
+                    self.notes.push(format!(
+                        "line {}: the closing %: anything after it is not read",
+                        here.line
+                    ));
+                }
                 self.end_of_program()
             };
         }
@@ -557,6 +628,61 @@ impl<'m, S: Source> Runner<'m, S> {
             Flow::Call { program, repeats } => self.call(program, repeats, here.line),
             Flow::Return { sequence } => self.return_from(sequence, here.line),
         }
+    }
+
+    /// Text before the first `%` line is leader when no program block
+    /// comes before that `%` (CAM listings, banners, blank lines): the run
+    /// starts at the `%`. Otherwise the program starts at its first line.
+    fn skip_leader(&mut self) -> Result<(), RunError> {
+        let start = Mark {
+            offset: self.source.position(),
+            line: self.next_line,
+        };
+        let mut line = start.line;
+        let mut tape = None;
+        let mut content = false;
+        while let Some(mark) = self.scan_line(&mut line)? {
+            let text = if mark.offset == 0 {
+                self.scan_text
+                    .strip_prefix(BYTE_ORDER_MARK)
+                    .unwrap_or(&self.scan_text)
+            } else {
+                &self.scan_text
+            };
+            let first = text.iter().find(|b| !b.is_ascii_whitespace());
+            if first == Some(&b'%') {
+                tape = Some(mark);
+                break;
+            }
+            if is_program_name(text) {
+                break;
+            }
+            match parse_line(text, mark.line, &mut self.scan_block) {
+                Ok(()) if self.scan_block.is_empty() => {}
+                Ok(()) => break,
+                Err(e) if e.kind == SyntaxErrorKind::Macro => break,
+                Err(_) => content = true,
+            }
+        }
+        match tape {
+            Some(mark) if mark.line > start.line => {
+                self.source.seek(mark.offset)?;
+                self.next_line = mark.line;
+                self.scanned = mark;
+                let what = if content {
+                    "leader text"
+                } else {
+                    "blank lines"
+                };
+                self.notes.push(format!(
+                    "lines {} to {}: {what} before the first %, skipped",
+                    start.line,
+                    mark.line - 1
+                ));
+            }
+            _ => self.source.seek(start.offset)?,
+        }
+        Ok(())
     }
 
     /// Counts a line against the block budget (`--max-blocks`); past it,
@@ -808,6 +934,25 @@ impl<'m, S: Source> Runner<'m, S> {
         };
         self.alarm_here(alarm)
     }
+}
+
+/// The UTF-8 byte-order mark some editors put at the start of a file.
+const BYTE_ORDER_MARK: &[u8] = b"\xef\xbb\xbf";
+
+/// Whether the line is a program name, `<NAME>` or `O<NAME>` (FANUC 30i
+/// program names), alone apart from blanks and a comment.
+fn is_program_name(text: &[u8]) -> bool {
+    let rest = text.trim_ascii_start();
+    let rest = match rest {
+        [b'O' | b'o', tail @ ..] => tail.trim_ascii_start(),
+        _ => rest,
+    };
+    rest.first() == Some(&b'<') && rest.contains(&b'>')
+}
+
+/// Whether the line's first word is an `O`.
+fn starts_with_o(text: &[u8]) -> bool {
+    matches!(text.trim_ascii_start().first(), Some(b'O' | b'o'))
 }
 
 /// The program number of a line that starts with `O` and digits.
