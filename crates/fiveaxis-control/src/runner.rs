@@ -544,6 +544,12 @@ impl<'m, S: Source> Runner<'m, S> {
                 line: self.next_line,
             };
         }
+        if self.is_cached_macro_line(here.offset) {
+            match self.macro_line(here)? {
+                MacroFlow::Done => return Ok(()),
+                MacroFlow::Block => return self.execute_block(here, false, out),
+            }
+        }
         if is_program_name(&self.text) {
             // `<NAME>` or `O<NAME>`: a program start by name (30i).
             return if self.at_program_start {
@@ -558,14 +564,7 @@ impl<'m, S: Source> Runner<'m, S> {
             Ok(()) => {}
             Err(error) if error.kind == SyntaxErrorKind::Macro => match self.macro_line(here)? {
                 MacroFlow::Done => return Ok(()),
-                MacroFlow::Block => {
-                    if self.block.is_empty() {
-                        return Ok(());
-                    }
-                    if let Some(called) = self.macro_call(here.line) {
-                        return called;
-                    }
-                }
+                MacroFlow::Block => return self.execute_block(here, false, out),
             },
             Err(error) if starts_with_o(&self.text) => {
                 let mut alarm = self.syntax_alarm(here.line, error);
@@ -579,6 +578,17 @@ impl<'m, S: Source> Runner<'m, S> {
             }
             Err(error) => return Err(self.syntax_alarm(here.line, error)),
         }
+        self.execute_block(here, sequential, out)
+    }
+
+    /// Executes the block in `self.block`, read at `here` (`sequential`:
+    /// for the first time, in file order).
+    fn execute_block(
+        &mut self,
+        here: Mark,
+        sequential: bool,
+        out: &mut Vec<Segment>,
+    ) -> Result<(), RunError> {
         let program = self
             .block
             .words

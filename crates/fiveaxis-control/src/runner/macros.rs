@@ -10,8 +10,11 @@
 //! and executed like any other.
 
 use fiveaxis_gcode::{Code, Span};
+use std::collections::HashMap;
+use std::rc::Rc;
+
 use fiveaxis_macro::{
-    LOCAL_COUNT, MacroError, MacroErrorKind, MacroSettings, Statement, SystemVarError,
+    LOCAL_COUNT, Line, MacroError, MacroErrorKind, MacroSettings, Statement, SystemVarError,
     SystemVariables, Variables, evaluate_block, parse_statement,
 };
 
@@ -25,7 +28,13 @@ pub(super) struct MacroState {
     pub(super) settings: MacroSettings,
     /// Open `WHILE … DO m` / `DO m` loops, innermost last.
     pub(super) loops: Vec<Loop>,
+    /// Macro lines parsed before, by their offset in the program: a loop
+    /// parses its lines once. Bounded: cleared when full.
+    cache: HashMap<u64, Rc<Line>>,
 }
+
+/// Most parsed macro lines kept.
+const CACHE_LINES: usize = 4096;
 
 /// An open loop: its number, its `WHILE` (or `DO`) line and the call
 /// level it belongs to.
@@ -42,6 +51,7 @@ impl MacroState {
             vars: Variables::new(max_nesting),
             settings: MacroSettings::default(),
             loops: Vec::new(),
+            cache: HashMap::new(),
         }
     }
 }
@@ -90,10 +100,29 @@ impl SystemVariables for System {
 impl<S: Source> Runner<'_, S> {
     /// Carries out the macro statement of the line just read (`here`).
     pub(super) fn macro_line(&mut self, here: Mark) -> Result<MacroFlow, RunError> {
-        let line = match parse_statement(&self.text, here.line) {
-            Ok(line) => line,
-            Err(error) => return Err(self.macro_alarm(here.line, error)),
+        let line = match self.macros.cache.get(&here.offset) {
+            Some(line) => Rc::clone(line),
+            None => {
+                let line = match parse_statement(&self.text, here.line) {
+                    Ok(line) => Rc::new(line),
+                    Err(error) => return Err(self.macro_alarm(here.line, error)),
+                };
+                if self.macros.cache.len() >= CACHE_LINES {
+                    self.macros.cache.clear();
+                }
+                self.macros.cache.insert(here.offset, Rc::clone(&line));
+                line
+            }
         };
+        self.macro_statement(here, &line)
+    }
+
+    /// Whether the line at `offset` is a macro line parsed before.
+    pub(super) fn is_cached_macro_line(&self, offset: u64) -> bool {
+        self.macros.cache.contains_key(&offset)
+    }
+
+    fn macro_statement(&mut self, here: Mark, line: &Line) -> Result<MacroFlow, RunError> {
         if line.block_delete && self.options.block_delete {
             return Ok(MacroFlow::Done);
         }
