@@ -46,7 +46,7 @@ fn invalid_utf8_in_a_program_alarms_with_the_byte_escaped() {
         (&b"(\xe9\xe9) Q\n"[..], "(\\xe9\\xe9) Q", "Q"),
         (&b"G1 X1. \xc3\x28\n"[..], "\\xc3(", "\\xc3"),
         (&b"G0 X1.\x1b\n"[..], "G0 X1.\\x1b", "\\x1b"),
-        (&b"\xef\xbb\xbfG0 X1.\n"[..], "\\u{feff}G0", "\\u{feff}"),
+        (&b"G0 \xef\xbb\xbfX1.\n"[..], "G0 \\u{feff}X1.", "\\u{feff}"),
     ] {
         let out = run(&["run", "-"], program);
         let err = stderr(&out);
