@@ -557,14 +557,53 @@ impl<'m> Controller<'m> {
     /// Group 07: 3-D tool compensation (G41/G42 with I, J, K) or cutter
     /// compensation C. Returns whether the offset vector changed.
     fn apply_cutter(&mut self, codes: &GCodes) -> Result<bool, Alarm> {
-        if let Some((code, _)) = codes.cutter {
+        self.cutter.vector = None;
+        if let Some((code, span)) = codes.cutter {
             self.cutter.side = match code.major {
                 41 if !self.starts_comp3d(codes) => Some(crate::cutter::Side::Left),
                 42 if !self.starts_comp3d(codes) => Some(crate::cutter::Side::Right),
                 _ => None,
             };
+            if self.cutter.side.is_some() {
+                self.cutter_ij_vector(span)?;
+            }
         }
         self.apply_comp3d(codes)
+    }
+
+    /// Seed 001: a G41 / G42 block that omits one of I, J, K starts (or
+    /// stays in) cutter compensation C; the centre words of the plane it
+    /// gives (I, J in G17; I, K in G18; J, K in G19) are the I, J type
+    /// vector: the offset vector at the block's end is perpendicular to
+    /// that direction, on the compensation side, and no intersection with
+    /// the next block is taken.
+    fn cutter_ij_vector(&mut self, span: Span) -> Result<(), Alarm> {
+        let arc = matches!(self.state.modal.motion, MotionMode::Cw | MotionMode::Ccw);
+        let [p, q, _] = self.state.modal.plane.axes();
+        if arc || !(self.words.has(CENTER_LETTERS[p]) || self.words.has(CENTER_LETTERS[q])) {
+            return Ok(());
+        }
+        let i = self
+            .words
+            .take(CENTER_LETTERS[p])
+            .map_or(0.0, |w| self.length(&w));
+        let j = self
+            .words
+            .take(CENTER_LETTERS[q])
+            .map_or(0.0, |w| self.length(&w));
+        if i == 0.0 && j == 0.0 {
+            return Err(self.alarm(
+                Condition::ToolVectorZero,
+                Some(span),
+                format!(
+                    "the I, J type vector {}0 {}0 gives no direction",
+                    char::from(CENTER_LETTERS[p]),
+                    char::from(CENTER_LETTERS[q])
+                ),
+            ));
+        }
+        self.cutter.vector = Some(crate::cutter::P2::new(i, j));
+        Ok(())
     }
 
     /// The end of the program: blocks held by cutter compensation C are

@@ -299,6 +299,12 @@ pub struct Move {
     pub element: Element,
     /// Positioning (G00) rather than a cutting move.
     pub rapid: bool,
+    /// The I, J type vector of a G41 / G42 block that gives only the
+    /// plane's centre words (seed 001: not all of I, J, K): the direction
+    /// (I, J) in the plane. The vector at the block's end is then
+    /// perpendicular to it, `d` long, on the compensation side (G41: left
+    /// of the direction), instead of the intersection with the next block.
+    pub vector: Option<P2>,
 }
 
 /// What a piece of the tool centre path is.
@@ -435,6 +441,8 @@ struct Held {
     startup: bool,
     /// One block without movement read after it.
     still: Option<u32>,
+    /// The block's I, J type vector direction ([`Move::vector`]).
+    vector: Option<P2>,
 }
 
 #[derive(Clone, Copy, Debug)]
@@ -631,6 +639,7 @@ impl CutterComp {
                     start: m.element.start(),
                     startup: true,
                     still: None,
+                    vector: m.vector,
                 });
             }
             (State::Held(mut h), None, Some(_)) => {
@@ -656,7 +665,7 @@ impl CutterComp {
                 if m.element.is_arc() {
                     return Err(CompError::ArcInStartOrCancel { tag });
                 }
-                let corner = if h.startup {
+                let corner = if h.startup || h.vector.is_some() {
                     Corner::single(perpendicular_end(&h))
                 } else {
                     corner(&h.element, &m.element, h.d, h.d, Role::Cancel, self.startup)
@@ -684,8 +693,14 @@ impl CutterComp {
                 } else {
                     Role::Offset
                 };
-                let corner = corner(&h.element, &m.element, h.d, d, role, self.startup)
-                    .ok_or(CompError::NoIntersection { tag })?;
+                let corner = if h.vector.is_some() {
+                    // The I, J type vector: no intersection, no extra
+                    // points (no insertion block).
+                    Corner::single(perpendicular_end(&h))
+                } else {
+                    corner(&h.element, &m.element, h.d, d, role, self.startup)
+                        .ok_or(CompError::NoIntersection { tag })?
+                };
                 if !corner.is_finite() {
                     return Err(CompError::NonFinite { tag });
                 }
@@ -699,6 +714,7 @@ impl CutterComp {
                     start: corner.last(),
                     startup: false,
                     still: None,
+                    vector: m.vector,
                 });
             }
             (State::Free { .. }, None, _) => out.push(still(tag)),
@@ -719,6 +735,7 @@ impl CutterComp {
                     start: at,
                     startup: false,
                     still: None,
+                    vector: m.vector,
                 });
             }
         }
@@ -787,9 +804,14 @@ fn sigma(ccw: bool) -> f64 {
     if ccw { 1.0 } else { -1.0 }
 }
 
-/// The end of the held block with the vector perpendicular to it.
+/// The end of the held block with the vector perpendicular to it, or to
+/// its I, J type vector direction.
 fn perpendicular_end(h: &Held) -> P2 {
-    h.element.end() + left(h.element.end_tangent()) * h.d
+    let direction = match h.vector {
+        Some(v) if v.norm() > 0.0 => v / v.norm(),
+        _ => h.element.end_tangent(),
+    };
+    h.element.end() + left(direction) * h.d
 }
 
 /// The PS0038 and inner-radius checks for a block entering offset mode.

@@ -54,6 +54,7 @@ fn run(ty: StartupType, blocks: &[Blk]) -> Result<Vec<Compensated>, CompError> {
         let m = element.map(|element| Move {
             element,
             rapid: false,
+            vector: None,
         });
         comp.push(m, *mode, u32::try_from(tag).unwrap_or(u32::MAX), &mut out)?;
     }
@@ -919,6 +920,7 @@ fn groove_narrower_than_the_cutter_is_interference() {
         let m = e.map(|element| Move {
             element,
             rapid: false,
+            vector: None,
         });
         if let Err(e) = comp.push(m, *mode, tag as u32, &mut out) {
             err = Some(e);
@@ -1058,6 +1060,7 @@ fn look_ahead_holds_one_block_and_keeps_rapid() {
         Some(Move {
             element: Element::Line { from: a, to: b },
             rapid,
+            vector: None,
         })
     };
     assert!(
@@ -1400,6 +1403,7 @@ fn property_random_programs_never_panic() {
             let m = element.map(|element| Move {
                 element,
                 rapid: tag % 3 == 0,
+                vector: None,
             });
             if comp.push(m, *mode, tag as u32, &mut out).is_err() {
                 failed = true;

@@ -284,3 +284,74 @@ proptest! {
         }
     }
 }
+
+// ----- seed 001: G41 / G42 without all of I, J, K ------------------------
+
+#[test]
+fn g41_with_i_j_only_starts_cutter_compensation_c_with_the_ij_type_vector() {
+    // Seed 001: "When even one of the three addresses is omitted,
+    // two-dimensional cutter compensation C is activated." The I, J given
+    // are the I, J type vector: the vector at the end of the block is r
+    // long, perpendicular to (I, J), on the G41 side (left of it).
+    let (rows, alarm) =
+        run("G0 X-20. Y0\nG41 G1 X0. Y0. I0. J1. D1 F100.\nG1 Y50.\nX50.\nG40 G0 X80. Y80.\n");
+    assert!(alarm.is_none(), "{alarm:?}");
+    assert_path(
+        &rows,
+        &[
+            (1, [-20.0, 0.0]),
+            // Left of +Y is -X: the vector (-5, 0) at (0, 0).
+            (2, [-5.0, 0.0]),
+            // Offset mode goes on with intersections.
+            (3, [-5.0, 55.0]),
+            (4, [50.0, 55.0]),
+            (5, [80.0, 80.0]),
+        ],
+    );
+}
+
+#[test]
+fn the_ij_type_vector_replaces_the_intersection_in_offset_mode() {
+    // Mitsubishi's example of the same function (M700V manual, tool radius
+    // compensation, "I, J type vector"): G41 with I in offset mode; no
+    // corner block is inserted, the vector is perpendicular to (I, J).
+    let program =
+        "G0 X0 Y0\nG41 G1 X50. D1 F100.\nG41 X100. I1. J1.\nG1 X150. Y-50.\nG40 G0 X200. Y-50.\n";
+    let (rows, alarm) = run(program);
+    assert!(alarm.is_none(), "{alarm:?}");
+    let s = 5.0 / 2f64.sqrt();
+    // Left of (1, 1)/√2 is (-1, 1)/√2.
+    let at = |rows: &[Row], line: u32| {
+        rows.iter()
+            .find(|r| r.line == line)
+            .map(|r| [r.tip.x, r.tip.y, r.tip.z])
+            .unwrap_or_else(|| panic!("no row of line {line}: {:?}", xy(rows)))
+    };
+    let p = at(&rows, 3);
+    assert!(
+        (p[0] - (100.0 - s)).abs() < EPS && (p[1] - s).abs() < EPS,
+        "{:?}",
+        xy(&rows)
+    );
+    // G42 takes the other side; I, K in G18 and J, K in G19 likewise.
+    let (rows, _) = run("G0 X0 Y0\nG42 G1 X50. I1. J0 D1 F100.\nX100.\nG40 X120.\n");
+    let p = at(&rows, 2);
+    assert!(
+        (p[0] - 50.0).abs() < EPS && (p[1] + 5.0).abs() < EPS,
+        "{:?}",
+        xy(&rows)
+    );
+    let (rows, alarm) = run("G18 G0 X0 Z0\nG41 G1 X50. I0 K1. D1 F100.\nX100.\nG40 X120.\n");
+    assert!(alarm.is_none(), "{alarm:?}");
+    // G18: the plane is Z-X; left of +Z (seen from +Y) is +X.
+    assert!((at(&rows, 2)[0] - 55.0).abs() < EPS, "{:?}", at(&rows, 2));
+}
+
+#[test]
+fn an_ij_type_vector_of_zero_length_is_an_alarm() {
+    let (_, alarm) = run("G0 X0 Y0\nG41 G1 X50. I0 J0 D1 F100.\nX100.\n");
+    assert_eq!(alarm.map(|a| a.code.to_string()), Some("FX0076".into()));
+    // With all of I, J, K it is 3-D tool compensation, not this.
+    let (_, alarm) = run("G0 X0 Y0\nG41 G1 X50. I0 J0 K1. D1 F100.\nX100.\n");
+    assert!(alarm.is_none(), "{alarm:?}");
+}

@@ -53,6 +53,9 @@ pub(super) struct CutterC {
     pub(super) point: Joints,
     /// The mode in force: `Some(side)` for G41 / G42.
     pub(super) side: Option<Side>,
+    /// The I, J type vector direction of this block (a G41 / G42 block
+    /// with the plane's centre words but not all of I, J, K).
+    pub(super) vector: Option<crate::cutter::P2>,
 }
 
 impl CutterC {
@@ -179,9 +182,11 @@ impl Controller<'_> {
         });
         self.cutter.point = end_p;
         let offset = self.cutter.side.map(|side| (side, self.tool_radius()));
+        let vector = self.cutter.vector.take();
         let block = element.map(|element| Move {
             element,
             rapid: motion == Motion::Rapid,
+            vector,
         });
         let mut pieces = std::mem::take(&mut self.cutter.pieces);
         pieces.clear();
