@@ -22,7 +22,10 @@ use crate::words::Words;
 mod comp3d;
 mod cutter_c;
 mod setup;
+mod system_vars;
 mod tcpc;
+
+pub use system_vars::SystemVarFault;
 
 pub use tcpc::inclined;
 

@@ -20,6 +20,7 @@ use fiveaxis_macro::{
 
 use super::{Mark, RunError, Runner, Source};
 use crate::alarm::{Alarm, AlarmCode, Condition};
+use crate::controller::{Controller, SystemVarFault};
 
 /// Macro state of a run: the variables and the open loops.
 #[derive(Debug)]
@@ -64,20 +65,28 @@ pub(super) enum MacroFlow {
     Block,
 }
 
-/// The system variables the kernel answers (`#1000` and up): the clocks
-/// and part counts read as 0, interface signals as 0, `#3000 = n` stops
-/// with the program's alarm. Any other number is the undefined-variable
-/// alarm naming it.
-#[derive(Debug, Default)]
-pub(super) struct System;
+/// The system variables the kernel answers (`#1000` and up): the
+/// controller's (tool and work offsets, modal information, positions:
+/// `controller/system_vars.rs`), and here the ones nothing outside the
+/// program sets: interface signal inputs `#1000`–`#1035`, clocks
+/// `#3001`/`#3002` and part counts `#3901`/`#3902` read 0 (writes are
+/// taken); `#3000 = n` stops with the program's alarm 3000 + n. Any other
+/// number is the undefined-variable alarm naming it.
+pub(super) struct System<'c, 'm> {
+    controller: &'c mut Controller<'m>,
+}
 
-impl SystemVariables for System {
+impl std::fmt::Debug for System<'_, '_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("System")
+    }
+}
+
+impl SystemVariables for System<'_, '_> {
     fn read(&self, number: u32) -> Result<Option<f64>, SystemVarError> {
         match number {
-            // Interface signal inputs #1000-#1035, clocks #3001/#3002, part
-            // counts #3901/#3902: nothing outside the program sets them.
             1000..=1035 | 3001 | 3002 | 3901 | 3902 => Ok(Some(0.0)),
-            _ => Err(SystemVarError::NotAVariable),
+            _ => self.controller.read_system_variable(number).map_err(fault),
         }
     }
 
@@ -92,8 +101,19 @@ impl SystemVariables for System {
                 }))
             }
             3001 | 3002 | 3901 | 3902 | 1100..=1135 => Ok(()),
-            _ => Err(SystemVarError::NotAVariable),
+            1000..=1035 => Err(SystemVarError::ReadOnly),
+            _ => self
+                .controller
+                .write_system_variable(number, value)
+                .map_err(fault),
         }
+    }
+}
+
+fn fault(fault: SystemVarFault) -> SystemVarError {
+    match fault {
+        SystemVarFault::Unknown => SystemVarError::NotAVariable,
+        SystemVarFault::ReadOnly => SystemVarError::ReadOnly,
     }
 }
 
@@ -127,7 +147,9 @@ impl<S: Source> Runner<'_, S> {
             return Ok(MacroFlow::Done);
         }
         self.at_program_start = false;
-        let mut sys = System;
+        let mut sys = System {
+            controller: &mut self.controller,
+        };
         let settings = self.macros.settings;
         let result: Result<MacroFlow, MacroError> = match &line.statement {
             Statement::Assign { target, value } => self

@@ -1,0 +1,241 @@
+//! The system variables of custom macro B that read and write the
+//! controller's state (FANUC 30i operator's manual, "System variables"):
+//! tool offsets, work offsets, modal information and positions.
+//!
+//! Numbers (FANUC, tool offset memory C):
+//!
+//! | variables | what |
+//! |---|---|
+//! | `#2001`–`#2200`, `#10001`–`#10999` | tool length wear of H 1 … |
+//! | `#2201`–`#2400`, `#11001`–`#11999` | tool length geometry |
+//! | `#2401`–`#2600`, `#12001`–`#12999` | cutter radius wear of D 1 … |
+//! | `#2601`–`#2800`, `#13001`–`#13999` | cutter radius geometry |
+//! | `#5201`–`#5203` | external work offset X, Y, Z |
+//! | `#5221`–`#5223` … `#5321`–`#5323` | G54 … G59 X, Y, Z (20 apart) |
+//! | `#7001`–`#7003` … `#7941`–`#7943` | G54.1 P1 … P48 X, Y, Z (20 apart) |
+//! | `#4001`–`#4022` | modal G codes of groups 1 … 22 (the kernel's groups) |
+//! | `#4107`, `#4109`, `#4111`, `#4119`, `#4120` | D, F, H, S, T |
+//! | `#5001`+ | end point of the last block, workpiece coordinates, per axis |
+//! | `#5021`+ | machine coordinates, per axis |
+//! | `#5041`+ | current position, workpiece coordinates (= `#5001`+ here) |
+//! | `#5061`+ | skip position (no skip signal: the block end) |
+//!
+//! Work offsets are read and written for X, Y, Z (the offsets file holds
+//! no rotary work offsets: other axes read 0 and refuse writes). Writes of
+//! positions and modal information are refused (read-only), as on the
+//! control.
+
+use fiveaxis_machine::MAX_TOOL_OFFSET;
+
+use super::Controller;
+use crate::modal::{
+    Distance, FeedMode, LengthMode, MotionMode, Plane, TcpcType, Units, WorkSelect,
+};
+
+/// Why a system variable cannot be read or written.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SystemVarFault {
+    /// The number is not a system variable the kernel has.
+    Unknown,
+    /// The variable can only be read.
+    ReadOnly,
+}
+
+/// A tool offset field.
+#[derive(Clone, Copy)]
+enum ToolField {
+    LengthWear,
+    Length,
+    RadiusWear,
+    Radius,
+}
+
+/// The tool offset field and offset number of a variable number.
+fn tool_variable(n: u32) -> Option<(ToolField, u32)> {
+    let field = |k: u32| match k {
+        0 => ToolField::LengthWear,
+        1 => ToolField::Length,
+        2 => ToolField::RadiusWear,
+        _ => ToolField::Radius,
+    };
+    match n {
+        2001..=2800 => Some((field((n - 2001) / 200), (n - 2001) % 200 + 1)),
+        10001..=13999 if !n.is_multiple_of(1000) && n % 1000 <= MAX_TOOL_OFFSET => {
+            Some((field(n / 1000 - 10), n % 1000))
+        }
+        _ => None,
+    }
+}
+
+/// The work offset (`None`: external) and axis of a variable number.
+fn work_variable(n: u32) -> Option<(Option<WorkSelect>, usize)> {
+    match n {
+        5201..=5340 => {
+            let set = (n - 5201) / 20;
+            let axis = ((n - 5201) % 20) as usize;
+            let select = match set {
+                0 => None,
+                k => Some(WorkSelect::Standard(u8::try_from(k - 1).ok()?)),
+            };
+            Some((select, axis))
+        }
+        7001..=7960 => {
+            let p = (n - 7001) / 20 + 1;
+            Some((
+                Some(WorkSelect::Extended(u8::try_from(p).ok()?)),
+                ((n - 7001) % 20) as usize,
+            ))
+        }
+        _ => None,
+    }
+}
+
+impl Controller<'_> {
+    /// Reads system variable `n`: `Ok(None)` is vacant.
+    pub fn read_system_variable(&self, n: u32) -> Result<Option<f64>, SystemVarFault> {
+        if let Some((field, number)) = tool_variable(n) {
+            let tool = self.offsets.tools.get(&number).copied().unwrap_or_default();
+            return Ok(Some(match field {
+                ToolField::LengthWear => tool.length_wear,
+                ToolField::Length => tool.length,
+                ToolField::RadiusWear => tool.radius_wear,
+                ToolField::Radius => tool.radius,
+            }));
+        }
+        if let Some((select, axis)) = work_variable(n) {
+            let Some(vector) = self.work_vector(select) else {
+                return Err(SystemVarFault::Unknown);
+            };
+            return Ok(Some(if axis < 3 { vector[axis] } else { 0.0 }));
+        }
+        let axes = self.machine.axis_count() as u32;
+        let position = |base: u32| {
+            (base + 1..=base + axes)
+                .contains(&n)
+                .then(|| (n - base - 1) as usize)
+        };
+        if let Some(i) = position(5000)
+            .or_else(|| position(5040))
+            .or_else(|| position(5060))
+        {
+            return Ok(Some(self.programmed(&self.state.joints)[i]));
+        }
+        if let Some(i) = position(5020) {
+            return Ok(Some(self.state.joints[i]));
+        }
+        self.modal_variable(n)
+            .map(Some)
+            .ok_or(SystemVarFault::Unknown)
+    }
+
+    /// Writes system variable `n` (tool and work offsets only).
+    pub fn write_system_variable(
+        &mut self,
+        n: u32,
+        value: Option<f64>,
+    ) -> Result<(), SystemVarFault> {
+        let v = value.unwrap_or(0.0);
+        if let Some((field, number)) = tool_variable(n) {
+            if number > MAX_TOOL_OFFSET {
+                return Err(SystemVarFault::Unknown);
+            }
+            let tool = self.offsets.tools.entry(number).or_default();
+            match field {
+                ToolField::LengthWear => tool.length_wear = v,
+                ToolField::Length => tool.length = v,
+                ToolField::RadiusWear => tool.radius_wear = v,
+                ToolField::Radius => tool.radius = v,
+            }
+            return Ok(());
+        }
+        if let Some((select, axis)) = work_variable(n) {
+            if axis >= 3 {
+                return Err(SystemVarFault::ReadOnly);
+            }
+            let slot = match select {
+                None => Some(&mut self.offsets.external),
+                Some(WorkSelect::Standard(i)) => self.offsets.work.get_mut(usize::from(i)),
+                Some(WorkSelect::Extended(p)) => self
+                    .offsets
+                    .extended_work
+                    .get_mut(usize::from(p).wrapping_sub(1)),
+            };
+            let Some(slot) = slot else {
+                return Err(SystemVarFault::Unknown);
+            };
+            slot[axis] = v;
+            return Ok(());
+        }
+        if self.read_system_variable(n).is_ok() {
+            return Err(SystemVarFault::ReadOnly);
+        }
+        Err(SystemVarFault::Unknown)
+    }
+
+    fn work_vector(&self, select: Option<WorkSelect>) -> Option<fiveaxis_machine::Vec3> {
+        match select {
+            None => Some(self.offsets.external),
+            Some(WorkSelect::Standard(i)) => self.offsets.work.get(usize::from(i)).copied(),
+            Some(WorkSelect::Extended(p)) => self
+                .offsets
+                .extended_work
+                .get(usize::from(p).wrapping_sub(1))
+                .copied(),
+        }
+    }
+
+    /// `#4001`+: the G code of each modal group, and the modal values.
+    fn modal_variable(&self, n: u32) -> Option<f64> {
+        let m = &self.state.modal;
+        Some(match n {
+            4001 => match m.motion {
+                MotionMode::Rapid => 0.0,
+                MotionMode::Linear => 1.0,
+                MotionMode::Cw => 2.0,
+                MotionMode::Ccw => 3.0,
+            },
+            4002 => match m.plane {
+                Plane::Xy => 17.0,
+                Plane::Zx => 18.0,
+                Plane::Yz => 19.0,
+            },
+            4003 => match m.distance {
+                Distance::Absolute => 90.0,
+                Distance::Incremental => 91.0,
+            },
+            4005 => match m.feed_mode {
+                FeedMode::InverseTime => 93.0,
+                FeedMode::PerMinute => 94.0,
+                FeedMode::PerRevolution => 95.0,
+            },
+            4006 => match m.units {
+                Units::Inch => 20.0,
+                Units::Metric => 21.0,
+            },
+            4007 => match self.cutter.side {
+                None if self.state.comp3d.active => 41.0,
+                None => 40.0,
+                Some(crate::cutter::Side::Left) => 41.0,
+                Some(crate::cutter::Side::Right) => 42.0,
+            },
+            4008 => match m.length {
+                LengthMode::Off => 49.0,
+                LengthMode::Plus => 43.0,
+                LengthMode::Minus => 44.0,
+                LengthMode::ToolAxis => 43.1,
+                LengthMode::Tcpc(TcpcType::Angles) => 43.4,
+                LengthMode::Tcpc(TcpcType::Vector) => 43.5,
+            },
+            4014 => match m.work {
+                WorkSelect::Standard(i) => 54.0 + f64::from(i),
+                WorkSelect::Extended(_) => 54.1,
+            },
+            4107 => f64::from(self.state.d),
+            4109 => self.state.feed,
+            4111 => f64::from(self.state.h),
+            4119 => self.state.spindle_speed,
+            4120 => f64::from(self.state.tool),
+            _ => return None,
+        })
+    }
+}

@@ -1,0 +1,192 @@
+//! Custom macro B run by the runner: control flow where the program text
+//! is (GOTO, IF, WHILE … DO … END, G65 calls with arguments), system
+//! variables read from and written to the controller, and the alarms.
+//! Positions are checked against closed forms.
+
+mod common;
+
+use fiveaxis_control::{Alarm, Row};
+use fiveaxis_machine::{DEFAULT_MACHINE, Machine, Offsets, ToolOffset, builtin};
+
+fn machine() -> Machine {
+    builtin(DEFAULT_MACHINE).expect("built in")
+}
+
+fn run(program: &str) -> (Vec<Row>, Option<Alarm>) {
+    let mut offsets = Offsets::default();
+    offsets.tools.insert(
+        1,
+        ToolOffset {
+            length: 100.0,
+            length_wear: -0.5,
+            radius: 5.0,
+            ..ToolOffset::default()
+        },
+    );
+    common::run_ends(&machine(), offsets, program)
+}
+
+fn xy(rows: &[Row]) -> Vec<(u32, f64, f64)> {
+    rows.iter().map(|r| (r.line, r.tip.x, r.tip.y)).collect()
+}
+
+fn code(alarm: &Option<Alarm>) -> String {
+    alarm
+        .as_ref()
+        .map_or_else(|| "none".into(), |a| a.code.to_string())
+}
+
+#[test]
+fn bolt_hole_circle_by_a_g65_macro_with_a_while_loop() {
+    // The manual's classic: holes on a circle, the macro called with
+    // X Y (centre) R (radius) A (start angle) B (step) H (count).
+    let program = "\
+O1
+G65 P9100 X100. Y50. R40. A15. B60. H6
+M30
+O9100
+#30=0
+WHILE [#30 LT #11] DO1
+#31=#1+#30*#2
+G0 X[#24+#18*COS[#31]] Y[#25+#18*SIN[#31]]
+#30=#30+1
+END1
+M99
+";
+    let (rows, alarm) = run(program);
+    assert_eq!(code(&alarm), "none", "{alarm:?}");
+    assert_eq!(rows.len(), 6, "{:?}", xy(&rows));
+    for (k, row) in rows.iter().enumerate() {
+        let angle = (15.0 + 60.0 * k as f64).to_radians();
+        assert!(
+            (row.tip.x - (100.0 + 40.0 * angle.cos())).abs() < 1e-9,
+            "{:?}",
+            xy(&rows)
+        );
+        assert!(
+            (row.tip.y - (50.0 + 40.0 * angle.sin())).abs() < 1e-9,
+            "{:?}",
+            xy(&rows)
+        );
+        assert_eq!(row.line, 8);
+    }
+}
+
+#[test]
+fn goto_if_and_nested_loops() {
+    let program = "\
+#1=0
+N10 #1=#1+1
+IF [#1 LT 3] GOTO 10
+G0 X#1
+#2=0
+WHILE [#2 LT 2] DO1
+#3=0
+WHILE [#3 LT 2] DO2
+G0 Y[#2*10+#3]
+#3=#3+1
+END2
+#2=#2+1
+END1
+IF [#2 EQ 2] THEN #4=7.
+G0 Z#4
+GOTO 99
+G0 X500.
+N99 M30
+";
+    let (rows, alarm) = run(program);
+    assert_eq!(code(&alarm), "none", "{alarm:?}");
+    let got: Vec<(u32, f64, f64, f64)> = rows
+        .iter()
+        .map(|r| (r.line, r.tip.x, r.tip.y, r.tip.z))
+        .collect();
+    assert_eq!(
+        got,
+        vec![
+            (4, 3.0, 0.0, 0.0),
+            (9, 3.0, 1.0, 0.0),
+            (9, 3.0, 10.0, 0.0),
+            (9, 3.0, 11.0, 0.0),
+            (15, 3.0, 11.0, 7.0),
+        ]
+    );
+}
+
+#[test]
+fn vacant_variables_leave_words_out() {
+    // #1 is vacant: `Y#1` is as if not written, `#2 = #1 * 5` is 0.
+    let (rows, alarm) = run("G0 X5. Y#1\n#2=#1*5\nG0 X#2\n");
+    assert_eq!(code(&alarm), "none");
+    assert_eq!(xy(&rows), vec![(1, 5.0, 0.0), (3, 0.0, 0.0)]);
+}
+
+#[test]
+fn system_variables_read_and_write_the_controller() {
+    let program = "\
+G0 X10. Y20.
+#1=#5001
+#2=#5022
+#3=#2201+#2001
+#4=#4003
+G91 G0 X[#1] Y#2
+#5221=100.
+G90 G0 X0
+";
+    let (rows, alarm) = run(program);
+    assert_eq!(code(&alarm), "none", "{alarm:?}");
+    // H1 geometry 100 + wear -0.5; G90 read as 90.
+    assert_eq!(rows[1].joints[0], 20.0);
+    assert_eq!(rows[1].joints[1], 40.0);
+    // G54 X written: X0 is now machine X 100.
+    assert_eq!(rows[2].joints[0], 100.0);
+    let (rows, alarm) = run("#1=#2201+#2001\nG0 X#1\n");
+    assert_eq!(code(&alarm), "none");
+    assert_eq!(rows[0].joints[0], 99.5);
+}
+
+#[test]
+fn macro_alarms_name_the_line_and_the_control_number() {
+    for (program, want, line) in [
+        ("#1=1/0\n", "PS0112", 1),
+        ("G0 X1.\n#34=1\n", "PS0115", 2),
+        ("#5021=0\n", "PS0116", 1),
+        ("#1=SQRT[-1]\n", "PS0119", 1),
+        ("WHILE [1 GT 2] DO1\nG0 X1.\n", "PS0124", 1),
+        ("END1\n", "PS0126", 1),
+        ("GOTO 77\n", "PS0128", 1),
+        ("#1=[[[[[[1]]]]]]\n", "PS0118", 1),
+        ("#3000=12(SPINDLE NOT READY)\n", "3012", 1),
+    ] {
+        let (_, alarm) = run(program);
+        assert_eq!(code(&alarm), want, "{program}: {alarm:?}");
+        assert_eq!(alarm.as_ref().map(|a| a.line), Some(line), "{program}");
+    }
+    let (_, alarm) = run("#3000=12(SPINDLE NOT READY)\n");
+    assert!(alarm.is_some_and(|a| a.message.contains("SPINDLE NOT READY")));
+}
+
+#[test]
+fn an_endless_macro_loop_is_stopped_by_the_block_budget() {
+    let machine = machine();
+    let options = fiveaxis_control::RunOptions {
+        max_blocks: 10_000,
+        ..fiveaxis_control::RunOptions::default()
+    };
+    let mut runner = fiveaxis_control::Runner::new(
+        &machine,
+        Offsets::default(),
+        fiveaxis_control::SliceSource::new(b"#1=0\nWHILE [#1 GE 0] DO1\n#1=#1+1\nEND1\n"),
+        options,
+    );
+    let alarm = loop {
+        match runner.next_segment() {
+            Ok(Some(_)) => {}
+            Ok(None) => break None,
+            Err(fiveaxis_control::RunError::Alarm { alarm, .. }) => break Some(alarm),
+            Err(e) => panic!("{e}"),
+        }
+    };
+    let alarm = alarm.expect("stopped");
+    assert_eq!(alarm.code.to_string(), "FX0102");
+    assert!(alarm.message.contains("lines 2 to 4"), "{}", alarm.message);
+}
