@@ -94,6 +94,14 @@ struct RunArgs {
     /// the first `%`, a byte-order mark, text after the closing `%`).
     #[arg(short, long)]
     verbose: bool,
+    /// Custom macro variables file (TOML, `500 = 1.25`): the kept common
+    /// variables #500-#999 and the interface signals #1000-#1035 at start.
+    #[arg(long)]
+    variables: Option<PathBuf>,
+    /// Write #500-#999 back to the --variables file after the run (whole or
+    /// not at all), as the control keeps them.
+    #[arg(long, requires = "variables")]
+    save_variables: bool,
 }
 
 fn positive(text: &str) -> Result<f64, String> {
@@ -373,6 +381,13 @@ fn run(args: &RunArgs) -> Result<u8, InputError> {
         max_blocks: args.max_blocks,
     };
     let mut runner = Runner::new(&machine, offsets, source, options);
+    if let Some(path) = &args.variables {
+        let name = path.display().to_string();
+        let values = load_variables(&name, path)?;
+        runner
+            .set_variables(&values)
+            .map_err(|e| InputError(format!("error: {name}: {e}")))?;
+    }
     let writer = RowWriter::new(args.format, &machine);
 
     let status = match &args.output {
@@ -390,7 +405,93 @@ fn run(args: &RunArgs) -> Result<u8, InputError> {
             ));
         }
     }
+    if let (Ok(_), true, Some(path)) = (&status, args.save_variables, &args.variables) {
+        save_variables(path, &runner.kept_variables())?;
+    }
     status
+}
+
+/// A variables file: `NUMBER = value` lines of TOML (`500 = 1.25`), the
+/// number with or without `#` in quotes (`"#500" = 1.25`).
+fn load_variables(name: &str, path: &Path) -> Result<Vec<(u32, f64)>, InputError> {
+    let (bytes, text) = read_data_file(name, path)?;
+    let table: toml::Table = text.parse().map_err(|e: toml::de::Error| {
+        let at = e.span().map_or(0, |s| s.start);
+        let line = text[..at.min(text.len())].matches('\n').count() + 1;
+        let error = FileError {
+            line: u32::try_from(line).unwrap_or(u32::MAX),
+            column: 1,
+            key: None,
+            message: e.message().trim().to_owned(),
+        };
+        InputError::file(name, &bytes, &error)
+    })?;
+    let mut values = Vec::with_capacity(table.len());
+    for (key, value) in &table {
+        let number = key.trim_start_matches('#').parse::<u32>().ok();
+        let value = match value {
+            toml::Value::Float(v) => Some(*v),
+            toml::Value::Integer(v) => Some(*v as f64),
+            _ => None,
+        };
+        match (number, value) {
+            (Some(n), Some(v)) => values.push((n, v)),
+            _ => {
+                return Err(InputError(format!(
+                    "error: {name}: `{}`: each line is a variable number and a number, as `500 = 1.25`",
+                    diagnostic::escape(key)
+                )));
+            }
+        }
+    }
+    Ok(values)
+}
+
+/// Writes the kept variables back, whole or not at all; the interface
+/// signals the file held stay as they were (they are inputs).
+fn save_variables(path: &Path, values: &[(u32, f64)]) -> Result<(), InputError> {
+    let name = path.display().to_string();
+    let mut text = String::from(
+        "# fiveaxis custom macro variables: #500-#999 kept between runs, #1000-#1035 interface signals\n",
+    );
+    if let Ok(old) = std::fs::read_to_string(path) {
+        for line in old.lines() {
+            let key = line
+                .split('=')
+                .next()
+                .unwrap_or("")
+                .trim()
+                .trim_matches('"');
+            if key
+                .trim_start_matches('#')
+                .parse::<u32>()
+                .is_ok_and(|n| (1000..=1035).contains(&n))
+            {
+                text.push_str(line);
+                text.push('\n');
+            }
+        }
+    }
+    for (n, v) in values {
+        text.push_str(&format!("{n} = {v:?}\n"));
+    }
+    let dir = path
+        .parent()
+        .filter(|d| !d.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    let mut temp = tempfile::Builder::new()
+        .prefix(".fiveaxis-")
+        .tempfile_in(dir)
+        .map_err(|e| InputError::io(&name, &e))?;
+    temp.write_all(text.as_bytes())
+        .and_then(|()| temp.flush())
+        .map_err(|e| write_error(&name, &e))?;
+    if let Ok(m) = std::fs::metadata(path) {
+        let _ = std::fs::set_permissions(temp.path(), m.permissions());
+    }
+    temp.persist(path)
+        .map_err(|e| InputError::io(&name, &e.error))?;
+    Ok(())
 }
 
 /// Runs into the `-o` file. A device or pipe (`-o /dev/null`) is written

@@ -361,3 +361,45 @@ fn huge_file_values_are_refused_naming_the_key() {
     assert_eq!(out.status.code(), Some(2));
     assert!(stderr(&out).contains("(key `G54`)"), "{}", stderr(&out));
 }
+
+/// `--variables` sets #500-#999 and the interface signals at start;
+/// `--save-variables` writes #500-#999 back (whole), keeping the signals.
+#[test]
+fn macro_variables_file_is_read_and_written_back() {
+    let dir = tempfile::tempdir().expect("dir");
+    std::fs::write(dir.path().join("vars.toml"), "500 = 2\n\"#1000\" = 1\n").expect("write");
+    let program = b"IF [#1000 EQ 1] THEN #500=#500+1\nG0 X#500\n";
+    for want in [3.0, 4.0] {
+        let out = run_in(
+            dir.path(),
+            &["run", "-", "--variables", "vars.toml", "--save-variables"],
+            program,
+        );
+        assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+        let rows = String::from_utf8_lossy(&out.stdout).into_owned();
+        assert!(
+            rows.lines()
+                .nth(1)
+                .is_some_and(|l| l.starts_with(&format!("2,1,rapid,{want},"))),
+            "{rows}"
+        );
+    }
+    let saved = std::fs::read_to_string(dir.path().join("vars.toml")).expect("read");
+    assert!(
+        saved.contains("500 = 4.0") && saved.contains("\"#1000\" = 1"),
+        "{saved}"
+    );
+    // A number that is not a kept variable is refused, naming it.
+    std::fs::write(dir.path().join("bad.toml"), "100 = 1\n").expect("write");
+    let out = run_in(
+        dir.path(),
+        &["run", "-", "--variables", "bad.toml"],
+        program,
+    );
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        stderr(&out).contains("#100 cannot be set"),
+        "{}",
+        stderr(&out)
+    );
+}

@@ -32,7 +32,13 @@ pub(super) struct MacroState {
     /// Macro lines parsed before, by their offset in the program: a loop
     /// parses its lines once. Bounded: cleared when full.
     cache: HashMap<u64, Rc<Line>>,
+    /// Interface signal inputs `#1000`–`#1035` (the variables file may set
+    /// them; otherwise 0).
+    pub(super) inputs: [f64; INPUTS],
 }
+
+/// Interface signal inputs `#1000`–`#1035`.
+const INPUTS: usize = 36;
 
 /// Most parsed macro lines kept.
 const CACHE_LINES: usize = 4096;
@@ -53,6 +59,7 @@ impl MacroState {
             settings: MacroSettings::default(),
             loops: Vec::new(),
             cache: HashMap::new(),
+            inputs: [0.0; INPUTS],
         }
     }
 }
@@ -74,6 +81,7 @@ pub(super) enum MacroFlow {
 /// number is the undefined-variable alarm naming it.
 pub(super) struct System<'c, 'm> {
     controller: &'c mut Controller<'m>,
+    inputs: &'c [f64; INPUTS],
 }
 
 impl std::fmt::Debug for System<'_, '_> {
@@ -85,7 +93,8 @@ impl std::fmt::Debug for System<'_, '_> {
 impl SystemVariables for System<'_, '_> {
     fn read(&self, number: u32) -> Result<Option<f64>, SystemVarError> {
         match number {
-            1000..=1035 | 3001 | 3002 | 3901 | 3902 => Ok(Some(0.0)),
+            1000..=1035 => Ok(self.inputs.get((number - 1000) as usize).copied()),
+            3001 | 3002 | 3901 | 3902 => Ok(Some(0.0)),
             _ => self.controller.read_system_variable(number).map_err(fault),
         }
     }
@@ -149,6 +158,7 @@ impl<S: Source> Runner<'_, S> {
         self.at_program_start = false;
         let mut sys = System {
             controller: &mut self.controller,
+            inputs: &self.macros.inputs,
         };
         let settings = self.macros.settings;
         let result: Result<MacroFlow, MacroError> = match &line.statement {
@@ -218,6 +228,41 @@ impl<S: Source> Runner<'_, S> {
             }
         };
         result.map_err(|e| self.macro_alarm(here.line, e))
+    }
+
+    /// Sets variables before the run (a variables file): the kept common
+    /// variables `#500`–`#999` and the interface signal inputs
+    /// `#1000`–`#1035`. An error names the first number that is neither.
+    pub fn set_variables(&mut self, values: &[(u32, f64)]) -> Result<(), String> {
+        for &(number, value) in values {
+            if !value.is_finite() {
+                return Err(format!("#{number}: {value} is not a finite number"));
+            }
+            match number {
+                500..=999 => self
+                    .macros
+                    .vars
+                    .load_persistent(&[(number as u16, value)])
+                    .map_err(|e| e.message)?,
+                1000..=1035 => self.macros.inputs[(number - 1000) as usize] = value,
+                _ => {
+                    return Err(format!(
+                        "#{number} cannot be set from a variables file: only #500-#999 (kept common variables) and #1000-#1035 (interface signals)"
+                    ));
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// The kept common variables `#500`–`#999` that are not vacant, as
+    /// the program left them (for writing the variables file back).
+    pub fn kept_variables(&self) -> Vec<(u32, f64)> {
+        self.macros
+            .vars
+            .persistent()
+            .map(|(n, v)| (u32::from(n), v))
+            .collect()
     }
 
     /// `WHILE` true or `DO`: the loop is open (again, when `END` jumped
