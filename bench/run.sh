@@ -22,6 +22,7 @@ cd "$(dirname "$0")/.."
 MIN_RATIO=${MIN_RATIO:-8}
 MIN_TCPC=${MIN_TCPC:-0.3}
 MAX_COMP=${MAX_COMP:-2}
+MIN_LOOP=${MIN_LOOP:-10}
 MAX_RSS_MB=${MAX_RSS_MB:-50}
 SEED=${SEED:-5}
 SMALL=200000
@@ -85,6 +86,14 @@ for kind in plain cutter comp3d; do
   generate "$SMALL" "$OUT/contour-$kind.nc" "--contour $kind"
 done
 printf '[tools]\n1 = { length = 0.0, radius = 5.0 }\n' >"$OUT/offsets.toml"
+# The same loop in both languages: custom macro B WHILE (fiveaxis) and an
+# O-word while (rs274), computing and moving each iteration.
+LOOP_PROG=$OUT/loop200k.nc
+LOOP_NGC=$OUT/loop200k.ngc
+printf '%s\n' '#100=0' "WHILE [#100 LT $SMALL] DO1" 'G1 X[#100 MOD 100] Y[#100/1000] F1000.' \
+  '#100=#100+1' 'END1' 'M30' >"$LOOP_PROG"
+printf '%s\n' '#100=0' "o1 while [#100 LT $SMALL]" 'G1 X[#100 MOD 100] Y[#100/1000] F1000.' \
+  '#100=[#100+1]' 'o1 endwhile' 'M2' >"$LOOP_NGC"
 
 # --- both tools run every block -------------------------------------------
 log "checking that both tools run all $SMALL blocks"
@@ -156,6 +165,16 @@ for kind in plain cutter comp3d; do
   eval "CONTOUR_${kind^^}=$T_BEST"
 done
 
+log "wall time, a $SMALL-iteration macro loop (custom macro B WHILE vs O-word while)"
+loop_rows=$("$FIVEAXIS" run "$LOOP_PROG" | grep -c ',linear,') || die "fiveaxis run failed on $LOOP_PROG"
+loop_feeds=$(rs274 -g "$LOOP_NGC" 2>/dev/null | grep -c 'STRAIGHT_FEED(' || true)
+# Both skip the moves that do not move (X0 Y0 at the start): equal counts.
+[ "$loop_rows" = "$loop_feeds" ] || die "loop: fiveaxis moved $loop_rows times, rs274 $loop_feeds"
+time_cmd fiveaxis-loop "$FIVEAXIS" run "$LOOP_PROG"
+LOOP_FA=$T_BEST
+time_cmd rs274-loop rs274 -g "$LOOP_NGC"
+LOOP_RS=$T_BEST
+
 # --- peak memory -----------------------------------------------------------
 rss_kb() { # command... ; prints the maximum resident set size in kB
   local report
@@ -185,6 +204,9 @@ fa_best, fa_mean, rs_best, rs_mean = $FA_BEST, $FA_MEAN, $RS_BEST, $RS_MEAN
 tc_best, tc_mean, min_tcpc = $TC_BEST, $TC_MEAN, float("$MIN_TCPC")
 c_plain, c_cutter, c_3d, max_comp = $CONTOUR_PLAIN, $CONTOUR_CUTTER, $CONTOUR_COMP3D, float("$MAX_COMP")
 fa_rss_s, fa_rss_l, rs_rss_s = $FA_RSS_SMALL, $FA_RSS_LARGE, $RS_RSS_SMALL
+loop_fa, loop_rs, min_loop = $LOOP_FA, $LOOP_RS, float("$MIN_LOOP")
+loop_ratio = loop_rs / loop_fa
+ok_loop = loop_ratio >= min_loop
 min_ratio, max_rss_mb = float("$MIN_RATIO"), float("$MAX_RSS_MB")
 fa_bps, rs_bps = small / fa_best, small / rs_best
 ratio = fa_bps / rs_bps
@@ -215,8 +237,10 @@ lines = [
     f"| peak RSS, {large:,} blocks | {mb(fa_rss_l):.1f} MB | | |",
     f"| wall time, {small:,} TCPC type 2 blocks (best / mean) | {tc_best:.3f} s / {tc_mean:.3f} s | | {tcpc_share:.2f} of plain G1 |",
     f"| {small:,}-block contour: plain / cutter comp C / 3-D comp (best) | {c_plain:.3f} / {c_cutter:.3f} / {c_3d:.3f} s | | {c_cutter / c_plain:.2f}x / {c_3d / c_plain:.2f}x |",
+    f"| {small:,}-iteration macro loop (custom macro B WHILE / O-word while), best | {loop_fa:.3f} s | {loop_rs:.3f} s | **{loop_ratio:.2f}x** |",
     "",
     f"- speed: fiveaxis/rs274 = {ratio:.2f}, required >= {min_ratio:g}: **{'PASS' if ok_ratio else 'FAIL'}**",
+    f"- macro loop: fiveaxis/rs274 = {loop_ratio:.2f}, required >= {min_loop:g}: **{'PASS' if ok_loop else 'FAIL'}**",
     f"- memory: {mb(fa_rss_l):.1f} MB on {large:,} blocks, required < {max_rss_mb:g} MB: **{'PASS' if ok_rss else 'FAIL'}**",
     f"- TCPC type 2 throughput: {tcpc_share:.2f} of plain G1, required >= {min_tcpc:g}: **{'PASS' if ok_tcpc else 'FAIL'}**",
     f"- compensation cost: {comp_cost:.2f}x a plain contour, required <= {max_comp:g}: **{'PASS' if ok_comp else 'FAIL'}**",
@@ -224,5 +248,5 @@ lines = [
 text = "\n".join(lines) + "\n"
 open(sys.argv[1], "w").write(text)
 print(text, end="")
-sys.exit(0 if ok_ratio and ok_rss and ok_tcpc and ok_comp else 1)
+sys.exit(0 if ok_ratio and ok_rss and ok_tcpc and ok_comp and ok_loop else 1)
 EOF
