@@ -2,6 +2,7 @@
 //! the machine-axis motion the control would command.
 
 mod diagnostic;
+mod library;
 mod number;
 mod output;
 mod signals;
@@ -102,6 +103,11 @@ struct RunArgs {
     /// not at all), as the control keeps them.
     #[arg(long, requires = "variables")]
     save_variables: bool,
+    /// The control's program memory: a folder of programs that M98 / G65
+    /// call by number (files named O1234, O1234.nc, or whose first O line
+    /// has the number).
+    #[arg(long)]
+    programs: Option<PathBuf>,
 }
 
 fn positive(text: &str) -> Result<f64, String> {
@@ -381,6 +387,11 @@ fn run(args: &RunArgs) -> Result<u8, InputError> {
         max_blocks: args.max_blocks,
     };
     let mut runner = Runner::new(&machine, offsets, source, options);
+    if let Some(dir) = &args.programs {
+        let library = library::DirLibrary::new(dir)
+            .map_err(|e| InputError::io(&dir.display().to_string(), &e))?;
+        runner = runner.with_library(Box::new(library));
+    }
     if let Some(path) = &args.variables {
         let name = path.display().to_string();
         let values = load_variables(&name, path)?;
@@ -697,7 +708,12 @@ fn finish(result: Result<(), Stop>, program: &str, output: &str) -> Result<u8, I
         Err(Stop::Write(e)) if e.kind() == io::ErrorKind::BrokenPipe => Ok(EXIT_OK),
         Err(Stop::Write(e)) => Err(write_error(output, &e)),
         Err(Stop::Alarm(error)) => match *error {
-            RunError::Alarm { alarm, text } => {
+            RunError::Alarm {
+                alarm,
+                text,
+                program: library_file,
+            } => {
+                let program = library_file.as_deref().unwrap_or(program);
                 let span = alarm.span.map(|s| (s.start, s.end));
                 let message = diagnostic::escape(&alarm.message);
                 let title = format!("{} {message}", alarm.code);

@@ -16,7 +16,11 @@ use crate::controller::{Controller, Flow};
 use crate::dialect::Dialect;
 use crate::segment::{MAX_STEPS, Segment};
 
+mod library;
 mod macros;
+
+pub use library::ProgramLibrary;
+use library::Sources;
 
 use macros::{MacroFlow, MacroState};
 
@@ -235,6 +239,9 @@ pub enum RunError {
         /// The bytes of the failing line as the program holds them, for
         /// display (not necessarily UTF-8).
         text: Vec<u8>,
+        /// The file of a library program the line is in (`--programs`);
+        /// `None` for the main program.
+        program: Option<String>,
     },
     /// The program could not be read.
     #[error("cannot read the program: {0}")]
@@ -291,15 +298,19 @@ struct Frame {
     start: Mark,
     /// Runs still to do after the current one.
     repeats_left: u32,
-    /// A `G65` macro call: it has a level of local variables of its own.
+    /// A `G65` / `G66` macro call: it has a level of local variables of
+    /// its own.
     macro_call: bool,
+    /// The call a `G66` modal call made after a move.
+    modal_call: bool,
 }
 
 /// Streams a program through the controller.
 #[derive(Debug)]
 pub struct Runner<'m, S> {
     controller: Controller<'m>,
-    source: S,
+    /// The main program and the library programs it called.
+    source: Sources<S>,
     options: RunOptions,
     max_nesting: usize,
     text: Vec<u8>,
@@ -347,7 +358,7 @@ impl<'m, S: Source> Runner<'m, S> {
     pub fn new(machine: &'m Machine, offsets: Offsets, source: S, options: RunOptions) -> Self {
         Self {
             controller: Controller::new(machine, offsets),
-            source,
+            source: Sources::new(source),
             options,
             max_nesting: Dialect::of(machine.control).max_nesting,
             text: Vec::new(),
@@ -376,6 +387,13 @@ impl<'m, S: Source> Runner<'m, S> {
     /// The controller, for its state after the run.
     pub fn controller(&self) -> &Controller<'m> {
         &self.controller
+    }
+
+    /// The control's program memory: programs that `M98` / `G65` call and
+    /// that the running file does not hold are looked up there.
+    pub fn with_library(mut self, library: Box<dyn ProgramLibrary>) -> Self {
+        self.source.set_library(library);
+        self
     }
 
     /// What the run skipped so far and why (a leader before the first `%`,
@@ -527,7 +545,9 @@ impl<'m, S: Source> Runner<'m, S> {
         }
         self.count_block(here.line)?;
         self.next_line += 1;
-        if here.offset == 0 && self.text.starts_with(BYTE_ORDER_MARK) {
+        if here.offset == library::file_start(library::file_of(here.offset))
+            && self.text.starts_with(BYTE_ORDER_MARK)
+        {
             self.text.drain(..BYTE_ORDER_MARK.len());
             self.notes
                 .push("line 1: a UTF-8 byte-order mark, skipped".into());
@@ -537,7 +557,7 @@ impl<'m, S: Source> Runner<'m, S> {
         slot.1.clear();
         slot.1.extend_from_slice(&self.text);
         self.recent_next = (self.recent_next + 1) % RECENT_LINES;
-        let sequential = here.offset >= self.scanned.offset;
+        let sequential = library::file_of(here.offset) == 0 && here.offset >= self.scanned.offset;
         if sequential {
             self.scanned = Mark {
                 offset: self.source.position(),
@@ -601,7 +621,12 @@ impl<'m, S: Source> Runner<'m, S> {
             self.labels.push((number, here));
         }
         if self.block.tape_mark {
-            return if self.at_program_start && self.stack.is_empty() {
+            // The opening % of the main program or of a library program's
+            // file; any other % ends the program that is running.
+            let opening = self.at_program_start
+                && (self.stack.is_empty()
+                    || here.offset == library::file_start(library::file_of(here.offset)));
+            return if opening {
                 Ok(())
             } else {
                 if self.stack.is_empty() {
@@ -630,7 +655,7 @@ impl<'m, S: Source> Runner<'m, S> {
             Err(alarm) => return Err(self.alarm_here(alarm)),
         };
         match flow {
-            Flow::Next => Ok(()),
+            Flow::Next => self.modal_call_after_move(here.line),
             Flow::End => {
                 self.done = true;
                 Ok(())
@@ -753,7 +778,7 @@ impl<'m, S: Source> Runner<'m, S> {
             return Err(self.runner_alarm(
                 Condition::ProgramNotFound,
                 line,
-                format!("program O{program} is not in this file"),
+                format!("program O{program} is neither in this file nor in the program library (--programs)"),
             ));
         };
         self.stack.push(Frame {
@@ -761,6 +786,7 @@ impl<'m, S: Source> Runner<'m, S> {
             start,
             repeats_left: repeats - 1,
             macro_call: false,
+            modal_call: false,
         });
         self.jump(start)
     }
@@ -842,6 +868,7 @@ impl<'m, S: Source> Runner<'m, S> {
         self.source.seek(self.scanned.offset)?;
         let mut line = self.scanned.line;
         let mut found = None;
+        // `scanned` is in the main program: the scan below reads it on.
         while let Some(mark) = self.scan_line(&mut line)? {
             if let Some(n) = program_number(&self.scan_text) {
                 self.labels.push((n, mark));
@@ -855,6 +882,13 @@ impl<'m, S: Source> Runner<'m, S> {
             offset: self.source.position(),
             line,
         };
+        if found.is_none()
+            && let Some(offset) = self.source.library_program(number)?
+        {
+            let mark = Mark { offset, line: 1 };
+            self.labels.push((number, mark));
+            found = Some(mark);
+        }
         self.source.seek(resume.offset)?;
         self.next_line = resume.line;
         Ok(found)
@@ -878,7 +912,11 @@ impl<'m, S: Source> Runner<'m, S> {
     /// The line with sequence number `n`: searched from `from` to the end,
     /// then from the start of the file.
     fn find_sequence(&mut self, n: u32, from: Mark) -> Result<Option<Mark>, RunError> {
-        for start in [from, Mark { offset: 0, line: 1 }] {
+        let file_start = Mark {
+            offset: library::file_start(library::file_of(from.offset)),
+            line: 1,
+        };
+        for start in [from, file_start] {
             self.source.seek(start.offset)?;
             let mut line = start.line;
             while let Some(mark) = self.scan_line(&mut line)? {
@@ -910,7 +948,11 @@ impl<'m, S: Source> Runner<'m, S> {
             Some((_, text)) => text.clone(),
             None => self.text.clone(),
         };
-        RunError::Alarm { alarm, text }
+        RunError::Alarm {
+            alarm,
+            text,
+            program: self.source.current_name().map(str::to_owned),
+        }
     }
 
     fn runner_alarm(&self, condition: Condition, line: u32, message: String) -> RunError {

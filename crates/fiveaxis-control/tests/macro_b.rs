@@ -190,3 +190,40 @@ fn an_endless_macro_loop_is_stopped_by_the_block_budget() {
     assert_eq!(alarm.code.to_string(), "FX0102");
     assert!(alarm.message.contains("lines 2 to 4"), "{}", alarm.message);
 }
+
+#[test]
+fn g66_calls_the_macro_after_every_move_until_g67() {
+    // A drilling macro called modally: after each positioning block the
+    // macro drills Z down by the argument Z and back.
+    let program = "\
+O1
+G66 P9000 Z5. F100.
+G0 X10. Y20.
+X30.
+G67
+X50.
+M30
+O9000
+G1 Z-#26 F#9
+G0 Z0
+M99
+";
+    let (rows, alarm) = run(program);
+    assert_eq!(code(&alarm), "none", "{alarm:?}");
+    let got: Vec<(u32, f64, f64, f64)> = rows
+        .iter()
+        .map(|r| (r.line, r.tip.x, r.tip.y, r.tip.z))
+        .collect();
+    assert_eq!(
+        got,
+        vec![
+            (3, 10.0, 20.0, 0.0),
+            (9, 10.0, 20.0, -5.0),
+            (10, 10.0, 20.0, 0.0),
+            (4, 30.0, 20.0, 0.0),
+            (9, 30.0, 20.0, -5.0),
+            (10, 30.0, 20.0, 0.0),
+            (6, 50.0, 20.0, 0.0),
+        ]
+    );
+}

@@ -35,6 +35,17 @@ pub(super) struct MacroState {
     /// Interface signal inputs `#1000`–`#1035` (the variables file may set
     /// them; otherwise 0).
     pub(super) inputs: [f64; INPUTS],
+    /// The `G66` modal call in force.
+    modal_call: Option<MacroCall>,
+}
+
+/// A macro call: program, repetitions and the local variables it starts
+/// with.
+#[derive(Clone, Copy, Debug)]
+struct MacroCall {
+    program: u32,
+    repeats: u32,
+    args: [Option<f64>; LOCAL_COUNT],
 }
 
 /// Interface signal inputs `#1000`–`#1035`.
@@ -60,6 +71,7 @@ impl MacroState {
             loops: Vec::new(),
             cache: HashMap::new(),
             inputs: [0.0; INPUTS],
+            modal_call: None,
         }
     }
 }
@@ -365,21 +377,66 @@ impl<S: Source> Runner<'_, S> {
         }
     }
 
-    /// A `G65 P… L…` block: the macro call with its arguments as local
-    /// variables. `None` when the block is not a `G65` call.
+    /// A `G65 P… L…` block (a macro call with its arguments as local
+    /// variables), a `G66 P… L…` block (the same call made modal: after
+    /// every later block that moves an axis) or `G67` (the modal call
+    /// cancelled). `None` when the block is none of these.
     pub(super) fn macro_call(&mut self, line: u32) -> Option<Result<(), RunError>> {
-        let g65 = self
+        let has = |block: &fiveaxis_gcode::Block, code: Code| {
+            block
+                .words
+                .iter()
+                .any(|w| w.letter == b'G' && w.code == Some(code))
+        };
+        if has(&self.block, Code::new(67, 0)) {
+            self.macros.modal_call = None;
+            self.block
+                .words
+                .retain(|w| !(w.letter == b'G' && w.code == Some(Code::new(67, 0))));
+            if self.block.is_empty() {
+                return Some(Ok(()));
+            }
+            return None;
+        }
+        let modal = has(&self.block, Code::new(66, 0));
+        if !(modal || has(&self.block, Code::new(65, 0))) {
+            return None;
+        }
+        let call = match self.read_call(line, if modal { "G66" } else { "G65" }) {
+            Ok(call) => call,
+            Err(e) => return Some(Err(e)),
+        };
+        if modal {
+            // G66 only sets the call up; the block moves nothing.
+            self.macros.modal_call = Some(call);
+            return Some(Ok(()));
+        }
+        Some(self.invoke(call, line, false))
+    }
+
+    /// After a block that moved an axis: the `G66` modal call, if one is
+    /// in force and this is not the called macro itself.
+    pub(super) fn modal_call_after_move(&mut self, line: u32) -> Result<(), RunError> {
+        let Some(call) = self.macros.modal_call else {
+            return Ok(());
+        };
+        if self.stack.iter().any(|f| f.modal_call) {
+            return Ok(());
+        }
+        let machine = self.controller.machine();
+        let moved = self
             .block
             .words
             .iter()
-            .any(|w| w.letter == b'G' && w.code == Some(Code::new(65, 0)));
-        if !g65 {
-            return None;
+            .any(|w| machine.axis_index(char::from(w.letter)).is_some());
+        if moved {
+            self.invoke(call, line, true)?;
         }
-        Some(self.call_with_arguments(line))
+        Ok(())
     }
 
-    fn call_with_arguments(&mut self, line: u32) -> Result<(), RunError> {
+    /// P, L and the arguments of a `G65` / `G66` block.
+    fn read_call(&self, line: u32, name: &str) -> Result<MacroCall, RunError> {
         let args: [Option<f64>; LOCAL_COUNT] = match fiveaxis_macro::arguments(&self.block) {
             Ok(args) => args,
             Err(e) => return Err(self.macro_alarm(line, e)),
@@ -395,7 +452,7 @@ impl<S: Source> Runner<'_, S> {
             return Err(self.runner_alarm(
                 Condition::SubprogramNumberMissing,
                 line,
-                "G65 needs P, the number of the macro program".into(),
+                format!("{name} needs P, the number of the macro program"),
             ));
         };
         let repeats = word(b'L').map_or(1.0, |l| l.value.round());
@@ -403,21 +460,31 @@ impl<S: Source> Runner<'_, S> {
             return Err(self.runner_alarm(
                 Condition::ValueOutOfRange,
                 line,
-                "G65: P is a program number (0 to 99999999), L a count (0 to 9999)".into(),
+                format!("{name}: P is a program number (0 to 99999999), L a count (0 to 9999)"),
             ));
         }
-        if repeats == 0.0 {
+        Ok(MacroCall {
+            program: p.value.round() as u32,
+            repeats: repeats as u32,
+            args,
+        })
+    }
+
+    /// Calls the macro with a level of local variables of its own.
+    fn invoke(&mut self, call: MacroCall, line: u32, modal: bool) -> Result<(), RunError> {
+        if call.repeats == 0 {
             return Ok(());
         }
-        if let Err(e) = self.macros.vars.push_frame(args) {
+        if let Err(e) = self.macros.vars.push_frame(call.args) {
             return Err(self.macro_alarm(line, e));
         }
         let depth = self.stack.len();
-        self.call(p.value.round() as u32, repeats as u32, line)?;
+        self.call(call.program, call.repeats, line)?;
         if self.stack.len() > depth
             && let Some(frame) = self.stack.last_mut()
         {
             frame.macro_call = true;
+            frame.modal_call = modal;
         } else {
             self.macros.vars.pop_frame();
         }

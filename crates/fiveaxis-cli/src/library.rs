@@ -1,0 +1,131 @@
+//! `--programs DIR`: a folder as the control's program memory. A program
+//! called by number (`M98 P1234`, `G65 P9010`) is the file named after it
+//! (`O1234`, `O1234.nc`, any extension, any case, with or without leading
+//! zeros), or else the file whose first `O` line has that number.
+
+use std::fs::File;
+use std::io::{self, BufRead, BufReader};
+use std::path::{Path, PathBuf};
+
+use fiveaxis_control::{MAX_LINE_BYTES, ProgramLibrary, ReaderSource, Source};
+
+/// Lines read from the top of a file to find its first `O` line.
+const HEAD_LINES: usize = 64;
+
+/// A folder of program files.
+#[derive(Debug)]
+pub struct DirLibrary {
+    dir: PathBuf,
+    /// Every file by its program number (from its name, else its first
+    /// `O` line), found when first needed.
+    index: Option<Vec<(u32, PathBuf)>>,
+}
+
+impl DirLibrary {
+    /// The programs of `dir`, which must be a readable folder.
+    pub fn new(dir: &Path) -> io::Result<Self> {
+        std::fs::read_dir(dir)?;
+        Ok(Self {
+            dir: dir.to_path_buf(),
+            index: None,
+        })
+    }
+
+    fn build_index(&self) -> io::Result<Vec<(u32, PathBuf)>> {
+        let mut by_name = Vec::new();
+        let mut by_content = Vec::new();
+        for entry in std::fs::read_dir(&self.dir)? {
+            let path = entry?.path();
+            if !path.is_file() {
+                continue;
+            }
+            let stem = path.file_stem().and_then(|s| s.to_str()).unwrap_or("");
+            if let Some(n) = number_of_name(stem) {
+                by_name.push((n, path));
+            } else if let Some(n) = first_program_number(&path) {
+                by_content.push((n, path));
+            }
+        }
+        // Names first: a file named after a number is that program.
+        by_name.sort();
+        by_content.sort();
+        by_name.extend(by_content);
+        Ok(by_name)
+    }
+}
+
+impl ProgramLibrary for DirLibrary {
+    fn open(&mut self, number: u32) -> io::Result<Option<(Box<dyn Source>, String)>> {
+        if self.index.is_none() {
+            self.index = Some(self.build_index()?);
+        }
+        let found = self
+            .index
+            .as_ref()
+            .and_then(|index| index.iter().find(|(n, _)| *n == number))
+            .map(|(_, path)| path.clone());
+        let Some(path) = found else {
+            return Ok(None);
+        };
+        let file = File::open(&path)?;
+        Ok(Some((
+            Box::new(ReaderSource::new(file)),
+            path.display().to_string(),
+        )))
+    }
+}
+
+/// `O1234` / `o01234` as a file name: the number.
+fn number_of_name(stem: &str) -> Option<u32> {
+    let digits = stem.strip_prefix(['O', 'o'])?;
+    (!digits.is_empty() && digits.len() <= 8 && digits.bytes().all(|b| b.is_ascii_digit()))
+        .then(|| digits.parse().ok())
+        .flatten()
+}
+
+/// The number of the first `O` line among the first lines of a file.
+fn first_program_number(path: &Path) -> Option<u32> {
+    let file = File::open(path).ok()?;
+    let mut reader = BufReader::new(file);
+    let mut line = Vec::new();
+    for _ in 0..HEAD_LINES {
+        line.clear();
+        let n = reader
+            .by_ref()
+            .take(MAX_LINE_BYTES as u64)
+            .read_until(b'\n', &mut line)
+            .ok()?;
+        if n == 0 {
+            return None;
+        }
+        let text = line.trim_ascii();
+        if let Some(rest) = text.strip_prefix(b"O").or_else(|| text.strip_prefix(b"o")) {
+            let digits: Vec<u8> = rest
+                .iter()
+                .copied()
+                .take_while(u8::is_ascii_digit)
+                .collect();
+            if digits.is_empty() || digits.len() > 8 {
+                return None;
+            }
+            return std::str::from_utf8(&digits).ok()?.parse().ok();
+        }
+    }
+    None
+}
+
+use std::io::Read as _;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn names_give_numbers() {
+        assert_eq!(number_of_name("O1234"), Some(1234));
+        assert_eq!(number_of_name("o0012"), Some(12));
+        assert_eq!(number_of_name("O123456789"), None);
+        assert_eq!(number_of_name("part"), None);
+        assert_eq!(number_of_name("O"), None);
+    }
+}
