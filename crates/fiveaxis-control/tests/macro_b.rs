@@ -227,3 +227,43 @@ M99
         ]
     );
 }
+
+#[test]
+fn arguments_without_a_decimal_point_count_in_least_input_increments() {
+    // FANUC: `G65 P9000 X10` passes #24 = 0.010 mm (IS-B); with a decimal
+    // point the value is as written. Other addresses (H, S, T, M, F, E)
+    // pass their number as written.
+    let program = "O1\nG65 P9000 X10 Y10. H3\nM30\nO9000\nG0 X[#24*1000] Y#25 Z#11\nM99\n";
+    let (rows, alarm) = run(program);
+    assert_eq!(code(&alarm), "none", "{alarm:?}");
+    assert_eq!(
+        rows.iter()
+            .map(|r| (r.tip.x, r.tip.y, r.tip.z))
+            .collect::<Vec<_>>(),
+        vec![(10.0, 10.0, 3.0)]
+    );
+}
+
+#[test]
+fn a_3006_stop_is_noted_and_the_run_goes_on() {
+    let machine = machine();
+    let mut runner = fiveaxis_control::Runner::new(
+        &machine,
+        Offsets::default(),
+        fiveaxis_control::SliceSource::new(b"#3006=1(CHECK THE CLAMPS)\nG0 X1.\n"),
+        fiveaxis_control::RunOptions::default(),
+    );
+    let mut rows = 0;
+    while let Ok(Some(_)) = runner.next_segment() {
+        rows += 1;
+    }
+    assert_eq!(rows, 1);
+    assert!(
+        runner
+            .notes()
+            .iter()
+            .any(|n| n.contains("#3006 stop: CHECK THE CLAMPS")),
+        "{:?}",
+        runner.notes()
+    );
+}

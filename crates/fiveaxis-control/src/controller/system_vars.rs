@@ -239,3 +239,21 @@ impl Controller<'_> {
         })
     }
 }
+
+impl Controller<'_> {
+    /// What a number without a decimal point counts in the current program
+    /// unit (least input increments: 0.001 mm, or 0.0001 inch under G20),
+    /// `None` with calculator-type input (No.3401#0 DPI), where it counts
+    /// in whole units. Macro call arguments of dimension addresses follow
+    /// this rule.
+    pub fn input_increment(&self) -> Option<f64> {
+        let params = &self.machine.params;
+        if params.decimal_point_input {
+            None
+        } else if self.state.modal.units == Units::Inch {
+            Some(params.least_input_increment / 10.0)
+        } else {
+            Some(params.least_input_increment)
+        }
+    }
+}

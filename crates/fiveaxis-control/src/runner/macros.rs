@@ -39,6 +39,10 @@ pub(super) struct MacroState {
     modal_call: Option<MacroCall>,
 }
 
+/// Addresses whose values are lengths or angles: as macro arguments
+/// without a decimal point they count in least input increments.
+const DIMENSION_ADDRESSES: &[u8] = b"ABCIJKQRUVWXYZ";
+
 /// A macro call: program, repetitions and the local variables it starts
 /// with.
 #[derive(Clone, Copy, Debug)]
@@ -174,6 +178,19 @@ impl<S: Source> Runner<'_, S> {
         };
         let settings = self.macros.settings;
         let result: Result<MacroFlow, MacroError> = match &line.statement {
+            Statement::Assign { target, .. }
+                if matches!(target.number, fiveaxis_macro::VarNumber::Direct(3006)) =>
+            {
+                // #3006 = n (MESSAGE): the control stops and shows the
+                // message until cycle start; a verification run goes on and
+                // notes it.
+                self.notes.push(format!(
+                    "line {}: #3006 stop: {}",
+                    here.line,
+                    line.comment.as_deref().unwrap_or("(no message)")
+                ));
+                Ok(MacroFlow::Done)
+            }
             Statement::Assign { target, value } => self
                 .macros
                 .vars
@@ -436,7 +453,19 @@ impl<S: Source> Runner<'_, S> {
     }
 
     /// P, L and the arguments of a `G65` / `G66` block.
-    fn read_call(&self, line: u32, name: &str) -> Result<MacroCall, RunError> {
+    fn read_call(&mut self, line: u32, name: &str) -> Result<MacroCall, RunError> {
+        // Arguments of dimension addresses written without a decimal point
+        // count in least input increments, as the words themselves would
+        // (FANUC: `G65 P9000 X10` gives #24 = 0.010 in mm, IS-B).
+        if let Some(increment) = self.controller.input_increment() {
+            for word in &mut self.block.words {
+                if !word.decimal_point && DIMENSION_ADDRESSES.contains(&word.letter) {
+                    word.value *= increment;
+                    word.decimal_point = true;
+                    word.code = None;
+                }
+            }
+        }
         let args: [Option<f64>; LOCAL_COUNT] = match fiveaxis_macro::arguments(&self.block) {
             Ok(args) => args,
             Err(e) => return Err(self.macro_alarm(line, e)),
