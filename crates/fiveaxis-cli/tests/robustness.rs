@@ -8,33 +8,13 @@ use std::io::Write as _;
 use std::path::Path;
 use std::process::{Command, Output, Stdio};
 
-fn binary() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_fiveaxis"))
-}
+mod common;
 
-/// Runs the binary with `args` in `dir`, feeding `stdin` (bytes) to it.
-fn run_in(dir: &Path, args: &[&str], stdin: &[u8]) -> Output {
-    let mut child = binary()
-        .args(args)
-        .current_dir(dir)
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("the fiveaxis binary starts");
-    let mut input = child.stdin.take().expect("piped stdin");
-    let _ = input.write_all(stdin);
-    drop(input);
-    child.wait_with_output().expect("fiveaxis runs to its end")
-}
+use common::{binary, run_in, stderr};
 
 fn run(args: &[&str], stdin: &[u8]) -> Output {
     let dir = tempfile::tempdir().expect("a temporary directory");
     run_in(dir.path(), args, stdin)
-}
-
-fn stderr(output: &Output) -> String {
-    String::from_utf8_lossy(&output.stderr).into_owned()
 }
 
 /// A program with bytes that are not UTF-8 alarms with the byte shown

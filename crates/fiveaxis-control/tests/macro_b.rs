@@ -30,6 +30,13 @@ fn xy(rows: &[Row]) -> Vec<(u32, f64, f64)> {
     rows.iter().map(|r| (r.line, r.tip.x, r.tip.y)).collect()
 }
 
+/// Line and tool tip of every row.
+fn tips(rows: &[Row]) -> Vec<(u32, f64, f64, f64)> {
+    rows.iter()
+        .map(|r| (r.line, r.tip.x, r.tip.y, r.tip.z))
+        .collect()
+}
+
 fn code(alarm: &Option<Alarm>) -> String {
     alarm
         .as_ref()
@@ -96,12 +103,8 @@ N99 M30
 ";
     let (rows, alarm) = run(program);
     assert_eq!(code(&alarm), "none", "{alarm:?}");
-    let got: Vec<(u32, f64, f64, f64)> = rows
-        .iter()
-        .map(|r| (r.line, r.tip.x, r.tip.y, r.tip.z))
-        .collect();
     assert_eq!(
-        got,
+        tips(&rows),
         vec![
             (4, 3.0, 0.0, 0.0),
             (9, 3.0, 1.0, 0.0),
@@ -210,12 +213,8 @@ M99
 ";
     let (rows, alarm) = run(program);
     assert_eq!(code(&alarm), "none", "{alarm:?}");
-    let got: Vec<(u32, f64, f64, f64)> = rows
-        .iter()
-        .map(|r| (r.line, r.tip.x, r.tip.y, r.tip.z))
-        .collect();
     assert_eq!(
-        got,
+        tips(&rows),
         vec![
             (3, 10.0, 20.0, 0.0),
             (9, 10.0, 20.0, -5.0),
