@@ -83,6 +83,8 @@ pub enum Condition {
     ImproperGCode,
     /// An M code that is not a function of the kernel.
     UnsupportedMCode,
+    /// A block moves a rotary axis that an M code has clamped.
+    ClampedAxisMoved,
     /// A word that has no meaning in its block.
     WordNotUsed,
     /// A decimal point where only integers are allowed.
@@ -226,6 +228,7 @@ impl Condition {
         Condition::CustomMacro,
         Condition::ImproperGCode,
         Condition::UnsupportedMCode,
+        Condition::ClampedAxisMoved,
         Condition::WordNotUsed,
         Condition::DecimalPointNotAllowed,
         Condition::ValueOutOfRange,
@@ -305,7 +308,12 @@ impl Condition {
             Condition::UnclosedComment => "A `(` comment without its `)`",
             Condition::CustomMacro => "Custom macro syntax, which the kernel does not read",
             Condition::ImproperGCode => "A G code the control does not have",
-            Condition::UnsupportedMCode => "An M code that is not a function of the kernel",
+            Condition::UnsupportedMCode => {
+                "An M code that is neither the control's nor declared in the machine file's `[m_codes]`"
+            }
+            Condition::ClampedAxisMoved => {
+                "A block moves a rotary axis that an M code of `[m_codes]` has clamped"
+            }
             Condition::WordNotUsed => "A word that has no meaning in its block",
             Condition::DecimalPointNotAllowed => "A decimal point where only integers are allowed",
             Condition::ValueOutOfRange => "A value out of the range the address accepts",
@@ -539,6 +547,7 @@ impl Condition {
             C::CustomMacro => 6,
             C::ImproperGCode => 10,
             C::UnsupportedMCode => 11,
+            C::ClampedAxisMoved => 17,
             C::WordNotUsed => 12,
             C::DecimalPointNotAllowed => 13,
             C::ValueOutOfRange => 14,

@@ -13,7 +13,8 @@ use fiveaxis_machine::{
 use crate::alarm::{Alarm, Condition};
 use crate::dialect::Dialect;
 use crate::modal::{
-    Distance, FeedMode, LengthMode, Modal, MotionMode, Plane, TcpcType, Units, WorkSelect,
+    ContourControl, CuttingMode, Distance, FeedMode, LengthMode, Modal, MotionMode, Plane,
+    TcpcType, Units, WorkSelect,
 };
 use crate::reach;
 use crate::segment::{Arc, Motion, Path, Segment, TipPath};
@@ -21,12 +22,13 @@ use crate::words::Words;
 
 mod comp3d;
 mod cutter_c;
+mod m_codes;
 mod setup;
 mod system_vars;
 mod tcpc;
 
+pub use m_codes::ProgramStop;
 pub use system_vars::SystemVarFault;
-
 pub use tcpc::inclined;
 
 /// Millimetres in an inch.
@@ -79,6 +81,14 @@ struct State {
     spindle_on: bool,
     /// Selected tool (T).
     tool: u32,
+    /// The tool in the spindle (the selected tool at the last tool change).
+    spindle_tool: u32,
+    /// Coolant on.
+    coolant: bool,
+    /// Rigid tapping commanded (M29) for the next G84 / G74; cleared by G80.
+    rigid_tap: bool,
+    /// Clamped rotary axes, by rotary index.
+    clamped: [Option<m_codes::Clamp>; 2],
     /// G92 shift of the linear axes.
     shift: Vec3,
     /// G92 shift of each axis beyond X, Y, Z (by joint index).
@@ -113,6 +123,13 @@ pub struct Controller<'m> {
     block_posture: Option<crate::segment::Posture>,
     /// Cutter compensation C: the engine and the blocks it holds.
     cutter: cutter_c::CutterC,
+    /// The optional-stop switch: M01 stops like M00.
+    optional_stop: bool,
+    /// Whether the last block stops a real control.
+    stop: Option<ProgramStop>,
+    /// The highest tool offset number of the offsets file, when it has
+    /// tools: T numbers beyond it are an alarm.
+    tool_memory: Option<u32>,
 }
 
 /// Where the control point goes, for each axis: programmed value if the
@@ -130,9 +147,13 @@ impl<'m> Controller<'m> {
     /// A controller switched on: every axis at reference position 1, no
     /// compensation, power-on modal codes.
     pub fn new(machine: &'m Machine, offsets: Offsets) -> Self {
+        let tool_memory = offsets.tools.keys().next_back().copied();
         Self {
             machine,
             offsets,
+            tool_memory,
+            optional_stop: false,
+            stop: None,
             dialect: Dialect::of(machine.control),
             state: State {
                 modal: Modal::power_on(),
@@ -143,6 +164,10 @@ impl<'m> Controller<'m> {
                 spindle_speed: 0.0,
                 spindle_on: false,
                 tool: 0,
+                spindle_tool: 0,
+                coolant: false,
+                rigid_tap: false,
+                clamped: [None; 2],
                 shift: Vec3::zeros(),
                 axis_shift: [0.0; MAX_AXES],
                 tcpc: tcpc::TcpcState::default(),
@@ -190,6 +215,59 @@ impl<'m> Controller<'m> {
         self.machine.control
     }
 
+    /// Turns the optional-stop switch on or off (off at power-on). With it
+    /// on, M01 (or a code declared `"optional_stop"`) is a program stop
+    /// like M00: [`Controller::program_stop`] reports it; the run goes on.
+    pub fn set_optional_stop(&mut self, on: bool) {
+        self.optional_stop = on;
+    }
+
+    /// Whether the last block executed would stop a real control (M00, M01
+    /// with the optional-stop switch on). A verification run goes on.
+    pub fn program_stop(&self) -> Option<ProgramStop> {
+        self.stop
+    }
+
+    /// The selected tool (last T number).
+    pub fn tool(&self) -> u32 {
+        self.state.tool
+    }
+
+    /// The tool in the spindle: the selected tool at the last tool change.
+    pub fn spindle_tool(&self) -> u32 {
+        self.state.spindle_tool
+    }
+
+    /// Whether the spindle turns (M03 / M04 and not stopped since).
+    pub fn spindle_on(&self) -> bool {
+        self.state.spindle_on
+    }
+
+    /// Spindle speed, rev/min (last S).
+    pub fn spindle_speed(&self) -> f64 {
+        self.state.spindle_speed
+    }
+
+    /// Whether coolant is on.
+    pub fn coolant(&self) -> bool {
+        self.state.coolant
+    }
+
+    /// Whether rigid tapping is commanded for the next G84 / G74.
+    pub fn rigid_tap(&self) -> bool {
+        self.state.rigid_tap
+    }
+
+    /// The rotary axes clamped by M code, by name.
+    pub fn clamped_axes(&self) -> impl Iterator<Item = char> + '_ {
+        self.machine
+            .rotary
+            .iter()
+            .zip(self.state.clamped)
+            .filter(|(_, c)| c.is_some())
+            .map(|(r, _)| r.name)
+    }
+
     /// An alarm for the current block.
     fn alarm(&self, condition: Condition, span: Option<Span>, message: String) -> Alarm {
         self.words.alarm(condition, span, message)
@@ -201,6 +279,7 @@ impl<'m> Controller<'m> {
     /// failing part.
     pub fn execute(&mut self, block: &Block, out: &mut Vec<Segment>) -> Result<Flow, Alarm> {
         let base = out.len();
+        self.stop = None;
         self.words.load(block, self.machine)?;
         let saved = self.state.clone();
         let result = self.execute_loaded(base, out);
@@ -214,7 +293,8 @@ impl<'m> Controller<'m> {
     fn execute_loaded(&mut self, base: usize, out: &mut Vec<Segment>) -> Result<Flow, Alarm> {
         // A program-number line is a label.
         self.words.take(b'O');
-        let codes = self.classify_g_codes()?;
+        let mut codes = self.classify_g_codes()?;
+        self.m_code_length(&mut codes)?;
         self.apply_modal(&codes)?;
         self.apply_values()?;
         // Where the program stands, in the (possibly new) work coordinate
@@ -274,6 +354,7 @@ impl<'m> Controller<'m> {
             self.block_motion(&codes, &from, length_changed, out)?;
         }
         self.words.check_all_used()?;
+        self.check_clamps(&out[base..])?;
         for seg in &out[base..] {
             self.check_limits(seg).map_err(|a| at_line(a, seg.line))?;
         }
@@ -331,11 +412,18 @@ impl<'m> Controller<'m> {
                 (54..=59, 0) | (54, 1) => GKind::Work,
                 (54, 4) => GKind::SetupError,
                 (4 | 10 | 27 | 28 | 30 | 53 | 92, 0) => GKind::OneShot,
+                (61..=64, 0) => GKind::Cutting,
+                // G05 is refused in 3-D tool compensation (below).
+                (5, 0) if self.comp3d_forbidden(code).is_none() => GKind::Accuracy,
+                (5, 1) | (8, 0) => GKind::Accuracy,
+                // Exact stop for one block: speed only.
+                (9, 0) => GKind::Cancel,
                 (40..=42, 0) => GKind::Cutter,
                 // Cancels of modes that cannot be active in this kernel
                 // (polar coordinates, scaling, mirror image, rotation,
-                // canned cycles): nothing to do.
-                (15 | 50 | 69 | 80, 0) | (50, 1) => GKind::Cancel,
+                // canned cycles): nothing to do but end M29's rigid tapping.
+                (80, 0) => GKind::CannedCancel,
+                (15 | 50 | 69, 0) | (50, 1) => GKind::Cancel,
                 _ => {
                     if let Some((condition, what)) = self.comp3d_forbidden(code) {
                         return Err(self.alarm(
@@ -371,13 +459,26 @@ impl<'m> Controller<'m> {
                 GKind::Work => codes.work = Some((code, span)),
                 GKind::Cutter => codes.cutter = Some((code, span)),
                 GKind::SetupError => codes.setup = Some((code, span)),
+                GKind::Cutting => codes.cutting = Some(code),
+                GKind::Accuracy => {
+                    if let Some((other, _)) = codes.accuracy {
+                        return Err(self.alarm(
+                            Condition::GCodeConflict,
+                            Some(span),
+                            format!("G{code} and G{other} cannot be in the same block"),
+                        ));
+                    }
+                    codes.accuracy = Some((code, span));
+                }
+                GKind::CannedCancel => codes.canned_cancel = true,
                 GKind::Cancel => {}
             }
         }
+        // G04, G10 and G92 do not move; G53 moves at rapid whatever the
+        // motion code (posts write `G90 G53 G00 Z0.`), which stays modal.
         if let (Some((motion, span)), Some((one, _))) = (codes.motion, codes.one_shot)
-            && one.major != 4
-            && one.major != 10
-            && one.major != 92
+            && !matches!(one.major, 4 | 10 | 92)
+            && !(one.major == 53 && motion.major <= 1)
         {
             return Err(self.alarm(
                 Condition::GCodeConflict,
@@ -444,6 +545,61 @@ impl<'m> Controller<'m> {
         if let Some((code, span)) = codes.work {
             self.state.modal.work = self.work_select(code, span)?;
         }
+        if let Some(code) = codes.cutting {
+            self.state.modal.cutting = match code.major {
+                61 => CuttingMode::ExactStop,
+                62 => CuttingMode::CornerOverride,
+                63 => CuttingMode::Tapping,
+                _ => CuttingMode::Cutting,
+            };
+        }
+        if let Some((code, span)) = codes.accuracy {
+            self.accuracy_mode(code, span)?;
+        }
+        if codes.canned_cancel {
+            self.state.rigid_tap = false;
+        }
+        Ok(())
+    }
+
+    /// G05.1 Q1 / Q3 / Q0, G05 P10000 / P0, G08 P1 / P0.
+    fn accuracy_mode(&mut self, code: Code, span: Span) -> Result<(), Alarm> {
+        let (letter, allowed): (u8, &[u32]) = match (code.major, code.minor) {
+            (5, 1) => (b'Q', &[0, 1, 3]),
+            (5, _) => (b'P', &[0, 10_000]),
+            _ => (b'P', &[0, 1]),
+        };
+        let written = allowed
+            .iter()
+            .map(|v| format!("{}{v}", char::from(letter)))
+            .collect::<Vec<_>>()
+            .join(", ");
+        let Some(word) = self.words.take(letter) else {
+            return Err(self.alarm(
+                Condition::NoDataAfterAddress,
+                Some(span),
+                format!("G{code} needs {written}"),
+            ));
+        };
+        let value = self.words.integer(&word, 99_999_999)?;
+        if !allowed.contains(&value) {
+            return Err(self.alarm(
+                Condition::ValueOutOfRange,
+                Some(word.span),
+                format!(
+                    "G{code} {}{value} is not a mode of this control: {written}",
+                    char::from(letter)
+                ),
+            ));
+        }
+        let accuracy = &mut self.state.modal.accuracy;
+        match (code.major, code.minor, value) {
+            (5, 1, 1) => accuracy.contour = ContourControl::AiContour,
+            (5, 1, 3) => accuracy.contour = ContourControl::NanoSmoothing,
+            (5, 1, _) => accuracy.contour = ContourControl::Off,
+            (5, _, v) => accuracy.high_precision = v != 0,
+            (_, _, v) => accuracy.look_ahead = v != 0,
+        }
         Ok(())
     }
 
@@ -489,7 +645,19 @@ impl<'m> Controller<'m> {
             self.state.spindle_speed = f64::from(self.words.integer(&word, 999_999)?);
         }
         if let Some(word) = self.words.take(b'T') {
-            self.state.tool = self.words.integer(&word, 99_999_999)?;
+            let t = self.words.integer(&word, 99_999_999)?;
+            if let Some(max) = self.tool_memory
+                && t > max
+            {
+                return Err(self.alarm(
+                    Condition::IllegalOffsetNumber,
+                    Some(word.span),
+                    format!(
+                        "T{t} is beyond the offset memory: the offsets file holds tools up to {max}"
+                    ),
+                ));
+            }
+            self.state.tool = t;
         }
         if let Some(word) = self.words.take(b'D') {
             self.state.d = self.offset_number(&word)?;
@@ -538,9 +706,8 @@ impl<'m> Controller<'m> {
                 (44, _) => LengthMode::Minus,
                 _ => LengthMode::Off,
             };
-            if self.state.modal.length == LengthMode::Off {
-                self.state.h = 0;
-            }
+            // The H number stays modal through G49 (FANUC: #4111 keeps it;
+            // a later G43 without H takes it again).
         }
         if let Some(word) = self.words.peek(b'H')
             && (self.state.modal.length != LengthMode::Off || codes.length.is_some())
@@ -621,50 +788,6 @@ impl<'m> Controller<'m> {
     }
 
     // ----- M codes --------------------------------------------------------
-
-    fn m_codes(&mut self) -> Result<Flow, Alarm> {
-        let mut flow = Flow::Next;
-        if self.words.m_len > self.dialect.max_m_codes {
-            let span = self.words.m[self.dialect.max_m_codes].1;
-            return Err(self.alarm(
-                Condition::GCodeConflict,
-                Some(span),
-                format!(
-                    "more than {} M codes in one block",
-                    self.dialect.max_m_codes
-                ),
-            ));
-        }
-        for i in 0..self.words.m_len {
-            let (code, span) = self.words.m[i];
-            match (code.major, code.minor) {
-                // Program stop and optional stop: the run goes on.
-                (0 | 1, 0) => {}
-                (2 | 30, 0) => flow = Flow::End,
-                (3 | 4, 0) => self.state.spindle_on = true,
-                (5, 0) => self.state.spindle_on = false,
-                // Tool change, coolant, spindle orientation: no axis motion
-                // in this model.
-                (6..=9 | 19, 0) => {}
-                (98, 0) => flow = self.call()?,
-                (99, 0) => {
-                    let sequence = match self.words.take(b'P') {
-                        Some(word) => Some(self.words.integer(&word, 99_999)?),
-                        None => None,
-                    };
-                    flow = Flow::Return { sequence };
-                }
-                _ => {
-                    return Err(self.alarm(
-                        Condition::UnsupportedMCode,
-                        Some(span),
-                        format!("M{code} is not a function of this kernel"),
-                    ));
-                }
-            }
-        }
-        Ok(flow)
-    }
 
     /// M98 P… L…: FANUC also reads P as four digits of repetitions then
     /// four digits of program number when it has more than four digits.
@@ -1259,10 +1382,20 @@ impl<'m> Controller<'m> {
     /// G10: programmable data input of work offsets (L2, L20) and tool
     /// offsets (L10 to L13).
     fn data_setting(&mut self, span: Span) -> Result<(), Alarm> {
-        let Some(l) = self.words.take(b'L') else {
-            return Err(self.alarm(Condition::IllegalG10L, Some(span), "G10 needs L".into()));
+        let l = self.words.take(b'L');
+        let l_value = match l {
+            Some(l) => self.words.integer(&l, 99)?,
+            // Tool offset memory A format, `G10 P R`: the offset value of
+            // number P, which is what H reads: the length geometry.
+            None if self.words.has(b'P') && self.words.has(b'R') => 10,
+            None => {
+                return Err(self.alarm(
+                    Condition::IllegalG10L,
+                    Some(span),
+                    "G10 needs L (or P and R: tool offset value)".into(),
+                ));
+            }
         };
-        let l_value = self.words.integer(&l, 99)?;
         let Some(p) = self.words.take(b'P') else {
             return Err(self.alarm(Condition::IllegalG10P, Some(span), "G10 needs P".into()));
         };
@@ -1329,7 +1462,7 @@ impl<'m> Controller<'m> {
             }
             _ => Err(self.alarm(
                 Condition::IllegalG10L,
-                Some(l.span),
+                l.map(|l| l.span),
                 format!("G10 L{l_value} is not a data-setting format of this control"),
             )),
         }
@@ -1747,6 +1880,9 @@ enum GKind {
     OneShot,
     Cutter,
     SetupError,
+    Cutting,
+    Accuracy,
+    CannedCancel,
     Cancel,
 }
 
@@ -1763,4 +1899,10 @@ struct GCodes {
     cutter: Option<(Code, Span)>,
     setup: Option<(Code, Span)>,
     one_shot: Option<(Code, Span)>,
+    /// Group 15.
+    cutting: Option<Code>,
+    /// G05.1, G05 or G08 (one per block).
+    accuracy: Option<(Code, Span)>,
+    /// G80: ends rigid tapping.
+    canned_cancel: bool,
 }

@@ -20,12 +20,13 @@ mod words;
 
 pub use alarm::{Alarm, AlarmCode, Condition, alarm_reference};
 pub use controller::{
-    ARC_RADIUS_TOLERANCE, Controller, Flow, POSITION_TOLERANCE, REFERENCE_CHECK_TOLERANCE,
-    inclined, normalize_360, shortest_turn,
+    ARC_RADIUS_TOLERANCE, Controller, Flow, POSITION_TOLERANCE, ProgramStop,
+    REFERENCE_CHECK_TOLERANCE, inclined, normalize_360, shortest_turn,
 };
 pub use dialect::Dialect;
 pub use modal::{
-    Distance, FeedMode, LengthMode, Modal, MotionMode, Plane, TcpcType, Units, WorkSelect,
+    Accuracy, ContourControl, CuttingMode, Distance, FeedMode, LengthMode, Modal, MotionMode,
+    Plane, TcpcType, Units, WorkSelect,
 };
 pub use runner::{
     DEFAULT_MAX_BLOCKS, Interpolation, MAX_LINE_BYTES, ProgramLibrary, ReaderSource, RunError,

@@ -108,6 +108,46 @@ impl std::fmt::Display for WorkSelect {
     }
 }
 
+/// Group 15: how blocks join (speed at block ends, not the path).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CuttingMode {
+    /// G61: exact stop mode, every block decelerates to a stop and is
+    /// checked in position.
+    ExactStop,
+    /// G62: automatic corner override (inner corners of cutter
+    /// compensation C at a reduced feed).
+    CornerOverride,
+    /// G63: tapping mode (feed override and feed hold without effect).
+    Tapping,
+    /// G64: cutting mode (the power-on state).
+    Cutting,
+}
+
+/// Contour control of `G05.1` (group 00 codes that set a mode): they change
+/// the feed along the path; the kernel reports the programmed path.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ContourControl {
+    /// `G05.1 Q0`: off.
+    Off,
+    /// `G05.1 Q1`: AI contour control (AICC / AI APC).
+    AiContour,
+    /// `G05.1 Q3`: nano smoothing (the control smooths the programmed
+    /// points into a curve; the kernel still reports the programmed path).
+    NanoSmoothing,
+}
+
+/// Accuracy and look-ahead modes: speed, never path.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Accuracy {
+    /// `G05.1 Q1 / Q3 / Q0`.
+    pub contour: ContourControl,
+    /// `G05 P10000` (on) / `G05 P0` (off): high-precision contour control
+    /// (HPCC), or AI high-precision on the 30i.
+    pub high_precision: bool,
+    /// `G08 P1` (on) / `G08 P0` (off): advanced preview (look-ahead) control.
+    pub look_ahead: bool,
+}
+
 /// The modal state of the control.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Modal {
@@ -125,10 +165,15 @@ pub struct Modal {
     pub length: LengthMode,
     /// Group 14.
     pub work: WorkSelect,
+    /// Group 15.
+    pub cutting: CuttingMode,
+    /// G05.1, G05, G08 modes.
+    pub accuracy: Accuracy,
 }
 
 impl Modal {
-    /// FANUC power-on state: G00 G17 G90 G94 G21 G49 G54 (G40 group 07).
+    /// FANUC power-on state: G00 G17 G90 G94 G21 G49 G54 G64 (G40 group
+    /// 07), every accuracy mode off.
     pub fn power_on() -> Self {
         Self {
             motion: MotionMode::Rapid,
@@ -138,6 +183,12 @@ impl Modal {
             units: Units::Metric,
             length: LengthMode::Off,
             work: WorkSelect::Standard(0),
+            cutting: CuttingMode::Cutting,
+            accuracy: Accuracy {
+                contour: ContourControl::Off,
+                high_precision: false,
+                look_ahead: false,
+            },
         }
     }
 }

@@ -444,7 +444,7 @@ fn soft_limits_stop_before_the_move() {
 
 #[test]
 fn codes_and_words_the_kernel_does_not_have_stop_with_an_alarm() {
-    assert_eq!(alarm_code(&run("G5.1 Q1\n")), "PS0010");
+    assert_eq!(alarm_code(&run("G12.1\n")), "PS0010");
     assert_eq!(alarm_code(&run("G0 B10.\n")), "PS0009");
     assert_eq!(alarm_code(&run("M428\n")), "FX0011");
     assert_eq!(alarm_code(&run("G1 X1. F100. P5\n")), "FX0012");
@@ -452,7 +452,7 @@ fn codes_and_words_the_kernel_does_not_have_stop_with_an_alarm() {
     assert_eq!(alarm_code(&run("#34=5\n")), "PS0115");
     let mut m = machine("trunnion-ac");
     m.control = Control::Mitsubishi;
-    assert_eq!(alarm_code(&run_on("G5.1 Q1\n", &m)), "P34");
+    assert_eq!(alarm_code(&run_on("G12.1\n", &m)), "P34");
 }
 
 #[test]

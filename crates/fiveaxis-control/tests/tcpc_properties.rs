@@ -43,7 +43,7 @@ use std::sync::OnceLock;
 use common::{Outcome, check, run};
 use fiveaxis_control::{Condition, Path, RunError, RunOptions, Runner, Segment, SliceSource};
 use fiveaxis_machine::{
-    Control, Joints, LinearAxis, MAX_AXES, Machine, Offsets, Parameters, ProgrammingFrame,
+    Control, Joints, LinearAxis, MAX_AXES, MCodes, Machine, Offsets, Parameters, ProgrammingFrame,
     RotaryAxis, RotaryChoice, Side, ToolOffset, Vec3, builtin, principal,
 };
 use machine_gen::{direction, point};
@@ -128,6 +128,7 @@ fn tcpc_machine(frame: ProgrammingFrame) -> impl Strategy<Value = Machine> {
                 decimal_point_input: false,
                 ..Parameters::default()
             },
+            m_codes: MCodes::default(),
         }
     })
 }
@@ -738,6 +739,7 @@ fn nutating_head() -> Machine {
             ),
         ],
         params: Parameters::default(),
+        m_codes: MCodes::default(),
     }
 }
 
@@ -1304,6 +1306,7 @@ fn any_machine() -> impl Strategy<Value = Machine> {
             linear: linear_axes(limit),
             rotary,
             params,
+            m_codes: MCodes::default(),
         })
 }
 

@@ -8,6 +8,29 @@ use crate::Machine;
 /// Name of the machine used when none is given.
 pub const DEFAULT_MACHINE: &str = "trunnion-ac";
 
+/// The M codes every built-in machine shares: FANUC's usual M00–M09, M19,
+/// M29 rigid tapping (FANUC No.5210 commonly 29) and M30.
+macro_rules! standard_m_codes {
+    () => {
+        r#"
+[m_codes]
+0 = "stop"
+1 = "optional_stop"
+2 = "end"
+3 = "spindle_cw"
+4 = "spindle_ccw"
+5 = "spindle_stop"
+6 = "tool_change"
+7 = "coolant_on"
+8 = "coolant_on"
+9 = "coolant_off"
+19 = "spindle_orient"
+29 = "rigid_tap"
+30 = "end"
+"#
+    };
+}
+
 /// Linear axes shared by every built-in machine. Reference position 1 is
 /// machine zero, inside every limit.
 macro_rules! linear_axes {
@@ -53,6 +76,13 @@ on = "table"
 axis = [0, 0, -1]
 center = [0, 0, 0]
 rollover = true
+"#,
+    standard_m_codes!(),
+    r#"
+10 = "clamp A"
+11 = "unclamp A"
+12 = "clamp C"
+13 = "unclamp C"
 "#
 );
 
@@ -78,6 +108,13 @@ on = "table"
 axis = [0, 0, -1]
 center = [0, 0, 0]
 rollover = true
+"#,
+    standard_m_codes!(),
+    r#"
+10 = "clamp B"
+11 = "unclamp B"
+12 = "clamp C"
+13 = "unclamp C"
 "#
 );
 
@@ -103,6 +140,13 @@ on = "table"
 axis = [0, 0, -1]
 center = [0, 0, 0]
 rollover = true
+"#,
+    standard_m_codes!(),
+    r#"
+10 = "clamp B"
+11 = "unclamp B"
+12 = "clamp C"
+13 = "unclamp C"
 "#
 );
 
@@ -129,6 +173,13 @@ axis = [1, 0, 0]
 center = [0, 0, 150]
 min = -110.0
 max = 110.0
+"#,
+    standard_m_codes!(),
+    r#"
+10 = "clamp C"
+11 = "unclamp C"
+12 = "clamp A"
+13 = "unclamp A"
 "#
 );
 
@@ -138,7 +189,8 @@ name = "Three-axis vertical mill"
 type = "none"
 control = "fanuc30i"
 "#,
-    linear_axes!()
+    linear_axes!(),
+    standard_m_codes!()
 );
 
 /// The library: name and machine-file text.

@@ -12,6 +12,7 @@ mod builtin;
 mod file;
 mod inverse;
 mod kinematics;
+mod m_codes;
 mod offsets;
 mod setup_error;
 
@@ -19,6 +20,7 @@ pub use builtin::{DEFAULT_MACHINE, builtin, builtin_names, builtin_source};
 pub use file::{FileError, MAX_FILE_MAGNITUDE};
 pub use inverse::{Orientations, SINGULAR_TOLERANCE, principal, turn_angle};
 pub use kinematics::{Pose, rotation, sin_cos_degrees};
+pub use m_codes::{MAX_M_CODE, MCodes, MFunction, RESERVED_M_CODES};
 pub use offsets::{MAX_EXTENDED_WORK, MAX_TOOL_OFFSET, Offsets, SetupErrorSet, ToolOffset};
 pub use setup_error::SetupError;
 
@@ -227,6 +229,9 @@ pub struct Machine {
     pub rotary: Vec<RotaryAxis>,
     /// Control parameters.
     pub params: Parameters,
+    /// The machine builder's M codes (`[m_codes]`): each replaces the
+    /// control's standard meaning of its number.
+    pub m_codes: MCodes,
 }
 
 impl Machine {

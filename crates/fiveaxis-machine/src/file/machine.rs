@@ -8,8 +8,8 @@ use toml::Spanned;
 
 use super::{FileError, Source, in_file_order};
 use crate::{
-    Control, Joints, LinearAxis, MAX_AXES, Machine, MachineType, Parameters, ProgrammingFrame,
-    RotaryAxis, RotaryChoice, Side, Vec3,
+    Control, Joints, LinearAxis, MAX_AXES, MAX_M_CODE, MCodes, MFunction, Machine, MachineType,
+    Parameters, ProgrammingFrame, RESERVED_M_CODES, RotaryAxis, RotaryChoice, Side, Vec3,
 };
 
 /// The linear axes that must come first, in this order.
@@ -35,7 +35,12 @@ struct RawMachine {
     rotary: Vec<Spanned<RawRotary>>,
     #[serde(default)]
     parameters: RawParameters,
+    #[serde(default)]
+    m_codes: RawMCodes,
 }
+
+/// M number → function word, as written in `[m_codes]`.
+type RawMCodes = BTreeMap<Spanned<String>, Spanned<String>>;
 
 #[derive(Clone, Copy, Deserialize, PartialEq, Eq)]
 #[serde(rename_all = "lowercase")]
@@ -173,9 +178,11 @@ impl Machine {
             linear,
             rotary,
             params: Parameters::default(),
+            m_codes: MCodes::default(),
         };
         check_type(&src, &raw.kind, machine.machine_type())?;
         machine.params = parameters(&src, &raw.parameters, &machine)?;
+        machine.m_codes = m_codes(&src, &raw.m_codes, &machine)?;
         Ok(machine)
     }
 }
@@ -589,4 +596,60 @@ fn increment(src: &Source<'_>, value: &Spanned<f64>) -> Result<f64, FileError> {
             format!("`{key}` must be between {MIN_INCREMENT:e} and {MAX_INCREMENT} mm (FANUC IS-A is 0.01, IS-B 0.001, IS-C 0.0001)"),
         ))
     }
+}
+
+/// The `[m_codes]` table: keys are M numbers (0 to [`MAX_M_CODE`], not
+/// M98 / M99), values the function words; a clamp names a rotary axis of
+/// the machine.
+fn m_codes(src: &Source<'_>, raw: &RawMCodes, machine: &Machine) -> Result<MCodes, FileError> {
+    let mut entries: Vec<(u16, MFunction)> = Vec::with_capacity(raw.len());
+    for (key, value) in in_file_order(raw) {
+        let name = key.get_ref();
+        let number = name
+            .parse::<u16>()
+            .ok()
+            .filter(|n| *n <= MAX_M_CODE && name.bytes().all(|b| b.is_ascii_digit()));
+        let Some(number) = number else {
+            return Err(src.at(
+                key,
+                name,
+                format!("`{name}` is not an M number: keys of [m_codes] are numbers 0 to {MAX_M_CODE}, e.g. 50 = \"signal\""),
+            ));
+        };
+        if RESERVED_M_CODES.contains(&number) {
+            return Err(src.at(
+                key,
+                name,
+                format!(
+                    "M{number} is the control's subprogram call or return and cannot be redeclared"
+                ),
+            ));
+        }
+        if entries.iter().any(|(n, _)| *n == number) {
+            return Err(src.at(key, name, format!("M{number} is declared twice")));
+        }
+        let word = value.get_ref();
+        let Some(function) = MFunction::parse(word) else {
+            let known: Vec<String> = MFunction::words().map(|w| format!("\"{w}\"")).collect();
+            return Err(src.at(
+                value,
+                name,
+                format!(
+                    "unknown M function `{word}` for M{number}: one of {}",
+                    known.join(", ")
+                ),
+            ));
+        };
+        if let Some(axis) = function.axis()
+            && !machine.rotary.iter().any(|r| r.name == axis)
+        {
+            return Err(src.at(
+                value,
+                name,
+                format!("`{word}` for M{number}: the machine has no rotary axis named {axis}"),
+            ));
+        }
+        entries.push((number, function));
+    }
+    Ok(MCodes::new(entries))
 }

@@ -44,6 +44,7 @@ impl Machine {
             write_rotary(&mut w, axis);
         }
         self.write_parameters(&mut w);
+        self.write_m_codes(&mut w);
         w.out
     }
 
@@ -127,6 +128,20 @@ impl Machine {
             }),
             "G54.4 under TCPC: \"keep_tilt_sign\" or smaller \"table_motion\" (Mazak F162 bit 1)",
         );
+    }
+
+    fn write_m_codes(&self, w: &mut Writer) {
+        w.blank();
+        w.table(
+            "[m_codes]",
+            "the builder's M codes: number = function; each replaces the control's meaning",
+        );
+        if self.m_codes.is_empty() {
+            w.comment("e.g. 10 = \"clamp A\", 29 = \"rigid_tap\", 50 = \"signal\"");
+        }
+        for (number, function) in self.m_codes.iter() {
+            w.line(&format!("{number} = {}", quote(&function.to_string())), "");
+        }
     }
 
     /// A reference position as an inline table over every axis.

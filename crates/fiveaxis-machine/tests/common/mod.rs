@@ -3,8 +3,8 @@
 #![allow(dead_code)]
 
 use fiveaxis_machine::{
-    Control, Joints, LinearAxis, MAX_AXES, Machine, Parameters, ProgrammingFrame, RotaryAxis,
-    RotaryChoice, Side, Vec3,
+    Control, Joints, LinearAxis, MAX_AXES, MAX_M_CODE, MCodes, MFunction, Machine, Parameters,
+    ProgrammingFrame, RESERVED_M_CODES, RotaryAxis, RotaryChoice, Side, Vec3,
 };
 use nalgebra::Unit;
 use proptest::prelude::*;
@@ -182,6 +182,49 @@ fn parameters(count: usize) -> impl Strategy<Value = Parameters> {
         )
 }
 
+/// Every function an M code of a machine with rotary axes `names` can have.
+fn m_functions(names: &[char]) -> Vec<MFunction> {
+    let mut all: Vec<MFunction> = [
+        "rigid_tap",
+        "signal",
+        "tcpc_on",
+        "tcpc_off",
+        "stop",
+        "optional_stop",
+        "end",
+        "spindle_cw",
+        "spindle_ccw",
+        "spindle_stop",
+        "spindle_orient",
+        "tool_change",
+        "coolant_on",
+        "coolant_off",
+    ]
+    .iter()
+    .map(|w| MFunction::parse(w).expect("a function word"))
+    .collect();
+    for &name in names {
+        all.push(MFunction::Clamp(name));
+        all.push(MFunction::Unclamp(name));
+    }
+    all
+}
+
+/// An `[m_codes]` table for a machine with rotary axes `names`: up to eight
+/// numbers in 0 to 9999 (M98 and M99 left out), any function.
+fn m_codes(names: Vec<char>) -> impl Strategy<Value = MCodes> {
+    let functions = m_functions(&names);
+    let count = functions.len();
+    proptest::collection::vec((0..=MAX_M_CODE, 0..count), 0..8).prop_map(move |entries| {
+        MCodes::new(
+            entries
+                .into_iter()
+                .filter(|(n, _)| !RESERVED_M_CODES.contains(n))
+                .map(|(n, k)| (n, functions[k])),
+        )
+    })
+}
+
 /// A machine whose rotary axes sit on `sides`, bed outwards.
 pub fn machine_on(sides: Vec<Side>) -> impl Strategy<Value = Machine> {
     let name = prop_oneof!["[ -~]{0,24}", "\\PC{0,12}"];
@@ -194,7 +237,8 @@ pub fn machine_on(sides: Vec<Side>) -> impl Strategy<Value = Machine> {
     )
         .prop_flat_map(|(name, control, tool_direction, linear, rotary)| {
             let count = linear.len() + rotary.len();
-            parameters(count).prop_map(move |mut params| {
+            let names: Vec<char> = rotary.iter().map(|r| r.name).collect();
+            (parameters(count), m_codes(names)).prop_map(move |(mut params, m_codes)| {
                 // Reference positions inside the soft limits, as a machine
                 // file must have them.
                 let limits: Vec<Option<(f64, f64)>> = linear
@@ -216,6 +260,7 @@ pub fn machine_on(sides: Vec<Side>) -> impl Strategy<Value = Machine> {
                     linear: linear.clone(),
                     rotary: rotary.clone(),
                     params,
+                    m_codes,
                 }
             })
         })

@@ -218,3 +218,27 @@ proptest! {
         prop_assert_eq!(back, Ok(m), "{}", text);
     }
 }
+
+#[test]
+fn builtin_m_codes_clamp_the_rotary_axes_in_file_order() {
+    use fiveaxis_machine::MFunction as F;
+    for name in builtin_names() {
+        let m = machine(name);
+        let t = &m.m_codes;
+        assert_eq!(t.get(0), Some(F::Stop), "{name}");
+        assert_eq!(t.get(1), Some(F::OptionalStop), "{name}");
+        assert_eq!(t.get(6), Some(F::ToolChange), "{name}");
+        assert_eq!(t.get(19), Some(F::SpindleOrient), "{name}");
+        assert_eq!(t.get(29), Some(F::RigidTap), "{name}");
+        assert_eq!(t.get(30), Some(F::End), "{name}");
+        // The fourth axis (first rotary) on M10/M11, the fifth on M12/M13.
+        for (k, axis) in m.rotary.iter().enumerate() {
+            let n = 10 + 2 * u16::try_from(k).expect("small");
+            assert_eq!(t.get(n), Some(F::Clamp(axis.name)), "{name}");
+            assert_eq!(t.get(n + 1), Some(F::Unclamp(axis.name)), "{name}");
+        }
+        if m.rotary.is_empty() {
+            assert_eq!(t.get(10), None, "{name}");
+        }
+    }
+}

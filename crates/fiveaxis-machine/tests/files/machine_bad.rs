@@ -2,8 +2,8 @@
 
 use fiveaxis_machine::{FileError, Machine};
 
-use super::assert_error;
 use super::machine_good::{TABLE_C, file};
+use super::{assert_error, pos};
 
 fn fail(text: &str) -> FileError {
     match Machine::from_toml(text) {
@@ -554,5 +554,81 @@ fn error_display_names_the_position() {
     assert!(
         shown.starts_with("line 3, column 1: unknown field `spindle`"),
         "{shown}"
+    );
+}
+
+/// A table-C machine with `[m_codes]` holding `table`.
+fn with_m_codes(table: &str) -> String {
+    file(
+        "type = \"table\"\n",
+        &format!("{TABLE_C}\n[m_codes]\n{table}"),
+    )
+}
+
+#[test]
+fn m_code_with_an_unknown_function() {
+    let text = with_m_codes("10 = \"clamp C\"\n50 = \"coolant_flood\"\n");
+    assert_error(
+        &fail(&text),
+        &text,
+        "\"coolant_flood\"",
+        Some("50"),
+        "unknown M function `coolant_flood` for M50",
+    );
+}
+
+#[test]
+fn m_code_clamping_an_axis_the_machine_lacks() {
+    let text = with_m_codes("10 = \"clamp A\"\n");
+    assert_error(
+        &fail(&text),
+        &text,
+        "\"clamp A\"",
+        Some("10"),
+        "no rotary axis named A",
+    );
+    // A linear axis is not a rotary axis either.
+    let text = with_m_codes("10 = \"unclamp X\"\n");
+    assert_error(&fail(&text), &text, "\"unclamp X\"", Some("10"), "named X");
+}
+
+#[test]
+fn m_code_key_that_is_not_a_number() {
+    for key in ["M10", "\"10.5\"", "-1", "10000", "\"\""] {
+        let text = with_m_codes(&format!("{key} = \"signal\"\n"));
+        let e = fail(&text);
+        assert_eq!(e.line, pos(&text, &format!("{key} =")).0, "{key}: {e:?}");
+        assert!(
+            e.message.contains("not an M number") || e.message.contains("keys of"),
+            "{key}: {e:?}"
+        );
+    }
+}
+
+#[test]
+fn m98_and_m99_stay_the_controls() {
+    let text = with_m_codes("99 = \"end\"\n");
+    assert_error(
+        &fail(&text),
+        &text,
+        "99 =",
+        Some("99"),
+        "subprogram call or return",
+    );
+}
+
+#[test]
+fn m_code_declared_twice() {
+    let text = with_m_codes("10 = \"signal\"\n010 = \"stop\"\n");
+    assert_error(&fail(&text), &text, "010", Some("010"), "declared twice");
+}
+
+#[test]
+fn m_code_value_of_the_wrong_type() {
+    let text = with_m_codes("10 = 3\n");
+    let e = fail(&text);
+    assert_eq!(
+        (e.line, e.key.as_deref()),
+        (pos(&text, "10 = 3").0, Some("10"))
     );
 }

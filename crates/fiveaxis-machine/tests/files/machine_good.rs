@@ -241,3 +241,51 @@ reference_2 = { X = 0.0, Y = 0.0, Z = 0.0, A = 0.0, C = 0.0 }
     assert_eq!(m.name, "Generic A/C trunnion");
     assert_eq!(m.axis_names().collect::<String>(), "XYZAC");
 }
+
+#[test]
+fn m_codes_table_reads_every_function() {
+    use fiveaxis_machine::MFunction as F;
+    let text = file(
+        "type = \"table\"\n",
+        &format!(
+            "{TABLE_C}\n[m_codes]\n12 = \"clamp C\"\n13 = \"unclamp C\"\n29 = \"rigid_tap\"\n50 = \"signal\"\n\
+             128 = \"tcpc_on\"\n129 = \"tcpc_off\"\n0 = \"stop\"\n1 = \"optional_stop\"\n2 = \"end\"\n\
+             3 = \"spindle_cw\"\n4 = \"spindle_ccw\"\n5 = \"spindle_stop\"\n19 = \"spindle_orient\"\n\
+             6 = \"tool_change\"\n8 = \"coolant_on\"\n9 = \"coolant_off\"\n9999 = \"signal\"\n"
+        ),
+    );
+    let m = read(&text);
+    let got: Vec<(u16, F)> = m.m_codes.iter().collect();
+    assert_eq!(
+        got,
+        [
+            (0, F::Stop),
+            (1, F::OptionalStop),
+            (2, F::End),
+            (3, F::SpindleCw),
+            (4, F::SpindleCcw),
+            (5, F::SpindleStop),
+            (6, F::ToolChange),
+            (8, F::CoolantOn),
+            (9, F::CoolantOff),
+            (12, F::Clamp('C')),
+            (13, F::Unclamp('C')),
+            (19, F::SpindleOrient),
+            (29, F::RigidTap),
+            (50, F::Signal),
+            (128, F::TcpcOn),
+            (129, F::TcpcOff),
+            (9999, F::Signal),
+        ]
+    );
+    // Written back, the table reads the same.
+    assert_eq!(read(&m.to_toml()), m);
+}
+
+#[test]
+fn no_m_codes_table_is_an_empty_table() {
+    let m = read(&file("type = \"none\"\n", ""));
+    assert!(m.m_codes.is_empty());
+    assert!(m.to_toml().contains("[m_codes]"));
+    assert_eq!(read(&m.to_toml()), m);
+}

@@ -1,0 +1,216 @@
+//! M codes: the control's standard set and the machine builder's table
+//! (`[m_codes]` of the machine file), which replaces the standard meaning
+//! of every number it declares.
+//!
+//! M codes act before the motion of their block: `M11 G00 A30.` moves A,
+//! `M10 G00 A30.` stops with the clamp alarm.
+
+use fiveaxis_gcode::{Code, Span};
+use fiveaxis_machine::MFunction;
+
+use super::{Controller, Flow, GCodes, at_line};
+use crate::alarm::{Alarm, Condition};
+use crate::segment::{Path, Segment};
+
+/// Why the last block would stop a real control (the run goes on).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ProgramStop {
+    /// A program stop (M00, or a code declared `"stop"`).
+    Stop,
+    /// An optional stop (M01) with the optional-stop switch on.
+    OptionalStop,
+}
+
+/// A clamped rotary axis: the M code that clamped it and its line.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) struct Clamp {
+    pub(super) code: u16,
+    pub(super) line: u32,
+}
+
+/// How far a clamped axis may be found to move (rounding), degrees.
+const CLAMP_TOLERANCE: f64 = 1e-9;
+
+/// The control's standard meaning of an M code (FANUC machining centres:
+/// the usual M00–M09, M19, M30).
+fn standard(code: Code) -> Option<MFunction> {
+    if code.minor != 0 {
+        return None;
+    }
+    Some(match code.major {
+        0 => MFunction::Stop,
+        1 => MFunction::OptionalStop,
+        2 | 30 => MFunction::End,
+        3 => MFunction::SpindleCw,
+        4 => MFunction::SpindleCcw,
+        5 => MFunction::SpindleStop,
+        6 => MFunction::ToolChange,
+        7 | 8 => MFunction::CoolantOn,
+        9 => MFunction::CoolantOff,
+        19 => MFunction::SpindleOrient,
+        _ => return None,
+    })
+}
+
+impl Controller<'_> {
+    /// The function of an M code on this machine: its `[m_codes]` entry,
+    /// else the control's standard meaning.
+    fn m_function(&self, code: Code) -> Option<MFunction> {
+        let declared = if code.minor == 0 {
+            self.machine.m_codes.get(code.major)
+        } else {
+            None
+        };
+        declared.or_else(|| standard(code))
+    }
+
+    /// TCPC switched by M code: the block's group 08 becomes G43.4
+    /// (`tcpc_on`, with the block's H or the H in force) or G49
+    /// (`tcpc_off`). Runs before the G codes are applied.
+    pub(super) fn m_code_length(&self, codes: &mut GCodes) -> Result<(), Alarm> {
+        for &(code, span) in &self.words.m[..self.words.m_len] {
+            let g = match self.m_function(code) {
+                Some(MFunction::TcpcOn) => Code::new(43, 4),
+                Some(MFunction::TcpcOff) => Code::new(49, 0),
+                _ => continue,
+            };
+            if let Some((other, _)) = codes.length {
+                return Err(self.alarm(
+                    Condition::GCodeConflict,
+                    Some(span),
+                    format!(
+                        "M{code} switches tool centre point control and cannot be in a block with G{other}"
+                    ),
+                ));
+            }
+            codes.length = Some((g, span));
+        }
+        Ok(())
+    }
+
+    pub(super) fn m_codes(&mut self) -> Result<Flow, Alarm> {
+        let mut flow = Flow::Next;
+        if self.words.m_len > self.dialect.max_m_codes {
+            let span = self.words.m[self.dialect.max_m_codes].1;
+            return Err(self.alarm(
+                Condition::GCodeConflict,
+                Some(span),
+                format!(
+                    "more than {} M codes in one block",
+                    self.dialect.max_m_codes
+                ),
+            ));
+        }
+        for i in 0..self.words.m_len {
+            let (code, span) = self.words.m[i];
+            match (code.major, code.minor) {
+                (98, 0) => flow = self.call()?,
+                (99, 0) => {
+                    let sequence = match self.words.take(b'P') {
+                        Some(word) => Some(self.words.integer(&word, 99_999)?),
+                        None => None,
+                    };
+                    flow = Flow::Return { sequence };
+                }
+                _ => match self.m_function(code) {
+                    Some(function) => {
+                        if self.m_function_run(function, code, span)? {
+                            flow = Flow::End;
+                        }
+                    }
+                    None => {
+                        return Err(self.alarm(
+                            Condition::UnsupportedMCode,
+                            Some(span),
+                            format!(
+                                "M{code} is not a function of this kernel or machine: if the machine builder gives it one, declare it in the machine file's [m_codes] table, e.g. {code} = \"signal\""
+                            ),
+                        ));
+                    }
+                },
+            }
+        }
+        Ok(flow)
+    }
+
+    /// Carries out one M function; true when it ends the program.
+    fn m_function_run(
+        &mut self,
+        function: MFunction,
+        code: Code,
+        span: Span,
+    ) -> Result<bool, Alarm> {
+        match function {
+            MFunction::End => return Ok(true),
+            MFunction::Stop => self.stop = Some(ProgramStop::Stop),
+            MFunction::OptionalStop => {
+                if self.optional_stop {
+                    self.stop = Some(ProgramStop::OptionalStop);
+                }
+            }
+            MFunction::SpindleCw | MFunction::SpindleCcw => self.state.spindle_on = true,
+            // Orientation stops the spindle at an angle; a tool change
+            // leaves it stopped (the program turns it on again).
+            MFunction::SpindleStop | MFunction::SpindleOrient => self.state.spindle_on = false,
+            MFunction::ToolChange => {
+                self.state.spindle_on = false;
+                self.state.spindle_tool = self.state.tool;
+            }
+            MFunction::CoolantOn => self.state.coolant = true,
+            MFunction::CoolantOff => self.state.coolant = false,
+            MFunction::RigidTap => self.state.rigid_tap = true,
+            MFunction::Signal | MFunction::TcpcOn | MFunction::TcpcOff => {}
+            MFunction::Clamp(axis) | MFunction::Unclamp(axis) => {
+                let Some(k) = self.machine.rotary.iter().position(|r| r.name == axis) else {
+                    // The machine file checks the axis; a machine built in
+                    // code may not have.
+                    return Err(self.alarm(
+                        Condition::UnsupportedMCode,
+                        Some(span),
+                        format!("M{code} clamps axis {axis}, which this machine does not have"),
+                    ));
+                };
+                self.state.clamped[k] = matches!(function, MFunction::Clamp(_)).then_some(Clamp {
+                    code: code.major,
+                    line: self.words.line,
+                });
+            }
+        }
+        Ok(false)
+    }
+
+    /// Alarms when a segment moves a clamped rotary axis.
+    pub(super) fn check_clamps(&self, segments: &[Segment]) -> Result<(), Alarm> {
+        for (k, clamp) in self.state.clamped.iter().enumerate() {
+            let Some(clamp) = clamp else { continue };
+            let i = self.machine.rotary_index(k);
+            for seg in segments {
+                let moved = |a: f64| (a - seg.start[i]).abs() > CLAMP_TOLERANCE;
+                let via = match &seg.path {
+                    Path::Via(mid) => moved(mid[i]),
+                    _ => false,
+                };
+                if !(moved(seg.end[i]) || via) {
+                    continue;
+                }
+                let axis = self.machine.rotary[k].name;
+                let unclamp = self
+                    .machine
+                    .m_codes
+                    .number_of(MFunction::Unclamp(axis))
+                    .map_or(String::new(), |n| format!(" (M{n})"));
+                let span = self.words.peek(axis as u8).map(|w| w.span);
+                let alarm = self.alarm(
+                    Condition::ClampedAxisMoved,
+                    span,
+                    format!(
+                        "axis {axis} is clamped (M{} at line {}) and cannot move: unclamp it first{unclamp}",
+                        clamp.code, clamp.line
+                    ),
+                );
+                return Err(at_line(alarm, seg.line));
+            }
+        }
+        Ok(())
+    }
+}
