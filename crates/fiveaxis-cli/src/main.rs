@@ -103,6 +103,10 @@ struct RunArgs {
     /// not at all), as the control keeps them.
     #[arg(long, requires = "variables")]
     save_variables: bool,
+    /// Optional stop switch on: M01 stops like M00 (noted with --verbose;
+    /// the run goes on).
+    #[arg(long)]
+    optional_stop: bool,
     /// The control's program memory: a folder of programs that M98 / G65
     /// call by number (files named O1234, O1234.nc, or whose first O line
     /// has the number).
@@ -385,6 +389,7 @@ fn run(args: &RunArgs) -> Result<u8, InputError> {
             step_angle: args.step_angle,
         }),
         max_blocks: args.max_blocks,
+        optional_stop: args.optional_stop,
     };
     let mut runner = Runner::new(&machine, offsets, source, options);
     if let Some(dir) = &args.programs {

@@ -462,7 +462,7 @@ enum State {
 /// ```
 /// use fiveaxis_control::cutter::{CutterComp, Element, Move, P2, Side, StartupType};
 ///
-/// let mv = |from: P2, to: P2| Some(Move { element: Element::Line { from, to }, rapid: false });
+/// let mv = |from: P2, to: P2| Some(Move { element: Element::Line { from, to }, rapid: false, vector: None });
 /// let g41 = Some((Side::Left, 5.0));
 /// let mut comp = CutterComp::new(StartupType::A);
 /// let mut out = Vec::new();

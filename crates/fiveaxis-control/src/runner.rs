@@ -207,6 +207,9 @@ pub struct RunOptions {
     /// Most program lines the run reads before it stops a program that
     /// does not end (an endless `M99` or macro loop).
     pub max_blocks: u64,
+    /// The optional-stop switch: M01 stops like M00 (noted; the run goes
+    /// on).
+    pub optional_stop: bool,
 }
 
 impl Default for RunOptions {
@@ -215,6 +218,7 @@ impl Default for RunOptions {
             block_delete: false,
             interpolation: None,
             max_blocks: DEFAULT_MAX_BLOCKS,
+            optional_stop: false,
         }
     }
 }
@@ -343,6 +347,8 @@ pub struct Runner<'m, S> {
     started: bool,
     /// What the runner skipped and why, for `--verbose`.
     notes: Vec<String>,
+    /// Notes past [`MAX_NOTES`], counted only.
+    notes_dropped: u64,
     /// Lines read so far (the block budget counts them).
     blocks: u64,
     /// Lowest and highest line of the current and of the last full window
@@ -350,14 +356,19 @@ pub struct Runner<'m, S> {
     window: [(u32, u32); 2],
 }
 
+/// Most notes kept for `--verbose`.
+const MAX_NOTES: usize = 100;
+
 /// How many recent lines the runner keeps for messages.
 const RECENT_LINES: usize = 16;
 
 impl<'m, S: Source> Runner<'m, S> {
     /// A run of the program in `source` on `machine` with `offsets`.
     pub fn new(machine: &'m Machine, offsets: Offsets, source: S, options: RunOptions) -> Self {
+        let mut controller = Controller::new(machine, offsets);
+        controller.set_optional_stop(options.optional_stop);
         Self {
-            controller: Controller::new(machine, offsets),
+            controller,
             source: Sources::new(source),
             options,
             max_nesting: Dialect::of(machine.control).max_nesting,
@@ -379,6 +390,7 @@ impl<'m, S: Source> Runner<'m, S> {
             macros: MacroState::new(Dialect::of(machine.control).max_nesting),
             started: false,
             notes: Vec::new(),
+            notes_dropped: 0,
             blocks: 0,
             window: [(u32::MAX, 0); 2],
         }
@@ -394,6 +406,22 @@ impl<'m, S: Source> Runner<'m, S> {
     pub fn with_library(mut self, library: Box<dyn ProgramLibrary>) -> Self {
         self.source.set_library(library);
         self
+    }
+
+    /// Keeps a note for [`Runner::notes`]; past [`MAX_NOTES`] only counts
+    /// them (a loop must not grow memory).
+    fn note(&mut self, text: String) {
+        if self.notes.len() < MAX_NOTES {
+            self.notes.push(text);
+        } else {
+            self.notes_dropped += 1;
+            let last = format!("… and {} notes more", self.notes_dropped);
+            if self.notes.len() == MAX_NOTES {
+                self.notes.push(last);
+            } else if let Some(slot) = self.notes.last_mut() {
+                *slot = last;
+            }
+        }
     }
 
     /// What the run skipped so far and why (a leader before the first `%`,
@@ -549,8 +577,7 @@ impl<'m, S: Source> Runner<'m, S> {
             && self.text.starts_with(BYTE_ORDER_MARK)
         {
             self.text.drain(..BYTE_ORDER_MARK.len());
-            self.notes
-                .push("line 1: a UTF-8 byte-order mark, skipped".into());
+            self.note("line 1: a UTF-8 byte-order mark, skipped".into());
         }
         let slot = &mut self.recent[self.recent_next];
         slot.0 = here.line;
@@ -630,7 +657,7 @@ impl<'m, S: Source> Runner<'m, S> {
                 Ok(())
             } else {
                 if self.stack.is_empty() {
-                    self.notes.push(format!(
+                    self.note(format!(
                         "line {}: the closing %: anything after it is not read",
                         here.line
                     ));
@@ -654,6 +681,16 @@ impl<'m, S: Source> Runner<'m, S> {
             Ok(flow) => flow,
             Err(alarm) => return Err(self.alarm_here(alarm)),
         };
+        if let Some(stop) = self.controller.program_stop() {
+            let what = match stop {
+                crate::controller::ProgramStop::Stop => "program stop",
+                crate::controller::ProgramStop::OptionalStop => "optional stop (switch on)",
+            };
+            self.note(format!(
+                "line {}: {what}: the control waits for cycle start; the run goes on",
+                here.line
+            ));
+        }
         match flow {
             Flow::Next => self.modal_call_after_move(here.line),
             Flow::End => {
@@ -709,7 +746,7 @@ impl<'m, S: Source> Runner<'m, S> {
                 } else {
                     "blank lines"
                 };
-                self.notes.push(format!(
+                self.note(format!(
                     "lines {} to {}: {what} before the first %, skipped",
                     start.line,
                     mark.line - 1

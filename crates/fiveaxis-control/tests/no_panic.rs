@@ -138,7 +138,13 @@ fn check_segment(segment: &Segment, machine: &Machine, lines: u32) -> Result<(),
 /// Runs `program` on `machine` until it ends, alarms, or uses up the
 /// test's budget, checking every sampled row and the alarm's line.
 fn check_run(machine: &Machine, program: &[u8], options: RunOptions) -> Result<(), TestCaseError> {
-    let lines = u32::try_from(program.split(|&b| b == b'\n').count()).unwrap_or(u32::MAX);
+    // Lines end at LF, CR LF or a lone CR.
+    let breaks = program
+        .iter()
+        .enumerate()
+        .filter(|&(i, &b)| b == b'\n' || (b == b'\r' && program.get(i + 1) != Some(&b'\n')))
+        .count();
+    let lines = u32::try_from(breaks + 1).unwrap_or(u32::MAX);
     let source = Budgeted {
         inner: SliceSource::new(program),
         budget: LINE_BUDGET,

@@ -184,7 +184,7 @@ impl<S: Source> Runner<'_, S> {
                 // #3006 = n (MESSAGE): the control stops and shows the
                 // message until cycle start; a verification run goes on and
                 // notes it.
-                self.notes.push(format!(
+                self.note(format!(
                     "line {}: #3006 stop: {}",
                     here.line,
                     line.comment.as_deref().unwrap_or("(no message)")
