@@ -118,7 +118,7 @@ fn subprogram_calls_work_in_a_program_from_standard_input() {
 
 #[test]
 fn alarms_in_a_program_from_standard_input_name_stdin() {
-    let output = fiveaxis_in(Path::new("."), &["run", "-"], "G0 X1.\nG5.1 Q1\n");
+    let output = fiveaxis_in(Path::new("."), &["run", "-"], "G0 X1.\nG12.1\n");
     assert_eq!(output.status.code(), Some(1));
     let err = stderr(&output);
     assert!(err.starts_with("ALARM PS0010 line 2: "), "{err}");
