@@ -383,14 +383,23 @@ impl<'m> Controller<'m> {
             Some((code, span)) => {
                 // Other group-00 functions end the compensated path here;
                 // the next move starts the offset again.
-                let from = if self.cutter.routing() {
+                let routing = self.cutter.routing();
+                let from = if routing {
                     self.cutter_c_finish(out)?;
                     self.cutter.engine.reset();
                     self.programmed(&self.state.joints)
                 } else {
                     from
                 };
-                self.one_shot(code, span, &from, out)?
+                let before = out.len();
+                let flow = self.one_shot(code, span, &from, out)?;
+                if routing {
+                    // The next block starts where this one left the
+                    // program (a G53 / G28 move changes it).
+                    let end = out[before..].last().map_or(self.state.joints, |s| s.end);
+                    self.cutter.point = self.programmed(&end);
+                }
+                flow
             }
             None => self.motion(&from, length_changed, out)?,
         }

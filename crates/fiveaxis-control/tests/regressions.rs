@@ -177,3 +177,15 @@ fn posture_control_ending_next_to_the_singular_tilt_keeps_the_step_or_alarms() {
         "rows of the failing block left"
     );
 }
+
+#[test]
+fn a_g53_move_in_cutter_compensation_is_where_the_next_block_starts() {
+    // Found by the never-panic property: cutter compensation ended its
+    // path at the G53 block but the next block started from the program
+    // position before it, snapping A from 1 back to 0.
+    for last in ["G40 Y0", "G0 Y0", "G41 D0 I0 J0 K1. Y0"] {
+        let (rows, alarm) = run(&format!("G41 D0\nG53 A1.\n{last}\n"));
+        assert_eq!(alarm, None, "{last}");
+        assert!(rows.iter().all(|r| r.joints[3] == 1.0), "{last}: {rows:?}");
+    }
+}
