@@ -392,14 +392,13 @@ impl<'m> Controller<'m> {
                     from
                 };
                 let before = out.len();
-                let flow = self.one_shot(code, span, &from, out)?;
+                self.one_shot(code, span, &from, out)?;
                 if routing {
                     // The next block starts where this one left the
                     // program (a G53 / G28 move changes it).
                     let end = out[before..].last().map_or(self.state.joints, |s| s.end);
                     self.cutter.point = self.programmed(&end);
                 }
-                flow
             }
             None => self.motion(&from, length_changed, out)?,
         }
