@@ -21,10 +21,12 @@ use crate::words::Words;
 
 mod comp3d;
 mod cutter_c;
+mod cycles;
 mod setup;
 mod system_vars;
 mod tcpc;
 
+pub use cycles::{MAX_CYCLE_SEGMENTS, PECK_CLEARANCE, PECK_RETRACT};
 pub use system_vars::SystemVarFault;
 
 pub use tcpc::inclined;
@@ -96,6 +98,8 @@ struct State {
     /// Under G54.4 and TCPC type 1, the programmed rotary angles (the
     /// attitude on the ideal workpiece), which differ from the machine's.
     setup_angles: Option<[f64; 2]>,
+    /// Canned cycle (groups 09, 10) and its drilling data.
+    cycle: cycles::CycleState,
 }
 
 /// The controller of one run.
@@ -151,6 +155,7 @@ impl<'m> Controller<'m> {
                 setup_set: 0,
                 setup_tilt_sign: 1.0,
                 setup_angles: None,
+                cycle: cycles::CycleState::default(),
             },
             words: Words::new(machine.control),
             block_posture: None,
@@ -216,6 +221,7 @@ impl<'m> Controller<'m> {
         self.words.take(b'O');
         let codes = self.classify_g_codes()?;
         self.apply_modal(&codes)?;
+        self.apply_cycle_codes(&codes)?;
         self.apply_values()?;
         // Where the program stands, in the (possibly new) work coordinate
         // system, under the length offset in force before this block.
@@ -311,6 +317,7 @@ impl<'m> Controller<'m> {
                 };
                 self.one_shot(code, span, &from, out)?
             }
+            None if self.cycle_active() => self.cycle_motion(codes, &from, length_changed, out)?,
             None => self.motion(&from, length_changed, out)?,
         }
         Ok(())
@@ -332,10 +339,12 @@ impl<'m> Controller<'m> {
                 (54, 4) => GKind::SetupError,
                 (4 | 10 | 27 | 28 | 30 | 53 | 92, 0) => GKind::OneShot,
                 (40..=42, 0) => GKind::Cutter,
+                (73 | 74 | 76 | 80..=89, 0) => GKind::Cycle,
+                (98 | 99, 0) => GKind::CycleReturn,
                 // Cancels of modes that cannot be active in this kernel
-                // (polar coordinates, scaling, mirror image, rotation,
-                // canned cycles): nothing to do.
-                (15 | 50 | 69 | 80, 0) | (50, 1) => GKind::Cancel,
+                // (polar coordinates, scaling, mirror image, rotation):
+                // nothing to do.
+                (15 | 50 | 69, 0) | (50, 1) => GKind::Cancel,
                 _ => {
                     if let Some((condition, what)) = self.comp3d_forbidden(code) {
                         return Err(self.alarm(
@@ -371,6 +380,8 @@ impl<'m> Controller<'m> {
                 GKind::Work => codes.work = Some((code, span)),
                 GKind::Cutter => codes.cutter = Some((code, span)),
                 GKind::SetupError => codes.setup = Some((code, span)),
+                GKind::Cycle => codes.cycle = Some((code, span)),
+                GKind::CycleReturn => codes.cycle_return = Some(code),
                 GKind::Cancel => {}
             }
         }
@@ -1747,6 +1758,8 @@ enum GKind {
     OneShot,
     Cutter,
     SetupError,
+    Cycle,
+    CycleReturn,
     Cancel,
 }
 
@@ -1763,4 +1776,6 @@ struct GCodes {
     cutter: Option<(Code, Span)>,
     setup: Option<(Code, Span)>,
     one_shot: Option<(Code, Span)>,
+    cycle: Option<(Code, Span)>,
+    cycle_return: Option<Code>,
 }
