@@ -640,6 +640,12 @@ fn a_cycle_and_a_group_01_code_in_one_block_conflict() {
 }
 
 #[test]
+fn g80_and_a_group_01_code_go_together() {
+    let rows = run(&program("G81 X10. Z-5. R2. F100.\nG80 G01 X20. Z40.\n"));
+    assert_moves(&moves(&rows, 3), &[(3, F, [20.0, 0.0, 40.0])]);
+}
+
+#[test]
 fn a_cycle_without_feed_stops_with_ps0011() {
     let (alarm, _) = alarm_of(&program("G81 X10. Z-5. R2.\n"), &machine("mill-3axis"));
     assert_eq!(alarm.code.to_string(), "PS0011");

@@ -15,7 +15,8 @@
 //! when the cycle mode began), the R point and the hole bottom Z. In G90,
 //! R and Z are absolute; in G91, R is the distance from the initial level
 //! and Z the distance from the R point, and the plane position is an
-//! increment repeated K times.
+//! increment repeated K times. The stored R and Z are read in the mode of
+//! the block that drills.
 //!
 //! Decisions where the manual leaves room, also in `docs/functions.md`:
 //!
@@ -168,7 +169,9 @@ impl Controller<'_> {
         if let Some(code) = codes.cycle_return {
             self.state.cycle.return_initial = code.major == 98;
         }
-        if let (Some((cycle, span)), Some((motion, _))) = (codes.cycle, codes.motion) {
+        if let (Some((cycle, span)), Some((motion, _))) = (codes.cycle, codes.motion)
+            && Cycle::of(cycle).is_some()
+        {
             return Err(self.alarm(
                 Condition::GCodeConflict,
                 Some(span),
