@@ -646,6 +646,66 @@ fn g80_and_a_group_01_code_go_together() {
 }
 
 #[test]
+fn a_block_held_by_cutter_compensation_c_is_emitted_before_the_cycle() {
+    for cancel in ["G40 X20.", "G40 X20.\nM05", "X20.\nG40"] {
+        held_block_then_cycle(cancel);
+    }
+}
+
+fn held_block_then_cycle(cancel: &str) {
+    let text = program(&format!(
+        "G41 D1 G01 X10. F100.\nY10.\n{cancel}\nG81 X30. Z-5. R2.\nX40.\n"
+    ));
+    let rows = run(&text);
+    let last = u32::try_from(text.lines().count()).expect("lines");
+    let m = moves(&rows, 2);
+    let lines: Vec<u32> = m.iter().map(|r| r.0).collect();
+    let mut sorted = lines.clone();
+    sorted.sort_unstable();
+    assert_eq!(lines, sorted, "rows out of order: {m:#?}");
+    // The cancel block ends on its programmed point; the cycle goes on
+    // from there.
+    let (a, b) = (last - 1, last);
+    assert_moves(
+        &moves(&rows, a),
+        &[
+            (a, R, [30.0, 10.0, 50.0]),
+            (a, R, [30.0, 10.0, 2.0]),
+            (a, F, [30.0, 10.0, -5.0]),
+            (a, R, [30.0, 10.0, 50.0]),
+            (b, R, [40.0, 10.0, 50.0]),
+            (b, R, [40.0, 10.0, 2.0]),
+            (b, F, [40.0, 10.0, -5.0]),
+            (b, R, [40.0, 10.0, 50.0]),
+        ],
+    );
+    let end = m.iter().rfind(|r| r.0 < a).expect("the cancel's row");
+    // G40 alone leaves the offset at the last compensated end (X20 Y15):
+    // the cycle's positioning is the cancel move.
+    let y = if cancel.starts_with("G40 X20.") {
+        10.0
+    } else {
+        15.0
+    };
+    assert!(
+        (end.2[0] - 20.0).abs() < EPS && (end.2[1] - y).abs() < EPS,
+        "{cancel}: {m:#?}"
+    );
+}
+
+#[test]
+fn macro_variables_4009_and_4010_give_the_cycle_and_the_return_level() {
+    let rows = run(&program(
+        "G81 X10. Z-5. R2. F100.\nG99\n#100 = #4009\n#101 = #4010\nG80\nG0 X#100 Y#101\nG84 G98\n#102 = #4009 + #4010\nG80 G0 X#102\n",
+    ));
+    let last = rows.last().expect("rows");
+    assert!((last.tip.x - 182.0).abs() < EPS, "{:?}", last.tip);
+    assert!((last.tip.y - 99.0).abs() < EPS, "{:?}", last.tip);
+    let row = rows.iter().rfind(|r| r.line == 7).expect("line 7");
+    assert!((row.tip.x - 81.0).abs() < EPS && (row.tip.y - 99.0).abs() < EPS);
+}
+
+#[test]
 fn a_cycle_without_feed_stops_with_ps0011() {
     let (alarm, _) = alarm_of(&program("G81 X10. Z-5. R2.\n"), &machine("mill-3axis"));
     assert_eq!(alarm.code.to_string(), "PS0011");

@@ -86,6 +86,24 @@ pub enum Cycle {
 }
 
 impl Cycle {
+    /// The G code number (`#4009`).
+    pub(super) fn g_number(self) -> f64 {
+        match self {
+            Cycle::G73 => 73.0,
+            Cycle::G74 => 74.0,
+            Cycle::G76 => 76.0,
+            Cycle::G81 => 81.0,
+            Cycle::G82 => 82.0,
+            Cycle::G83 => 83.0,
+            Cycle::G84 => 84.0,
+            Cycle::G85 => 85.0,
+            Cycle::G86 => 86.0,
+            Cycle::G87 => 87.0,
+            Cycle::G88 => 88.0,
+            Cycle::G89 => 89.0,
+        }
+    }
+
     fn of(code: Code) -> Option<Self> {
         Some(match code.major {
             73 => Cycle::G73,
@@ -221,6 +239,19 @@ impl Controller<'_> {
     ) -> Result<(), Alarm> {
         let code_span = codes.cycle.map(|(_, span)| span);
         self.cycle_allowed(code_span)?;
+        // A block that cutter compensation C still holds (its cancel
+        // block) is emitted first: the cycle starts where it ends.
+        let base = out.len();
+        if self.cutter.routing() {
+            self.cutter_c_finish(out)?;
+            self.cutter.engine.reset();
+        }
+        let start = out[base..].last().map_or(self.state.joints, |seg| seg.end);
+        let from = &if out.len() > base {
+            self.programmed(&start)
+        } else {
+            *from
+        };
         let Some(cycle) = self.state.cycle.cycle else {
             return Ok(());
         };
@@ -287,7 +318,7 @@ impl Controller<'_> {
             0
         };
         let mut hole = *from;
-        let mut cur = self.state.joints;
+        let mut cur = start;
         for _ in 0..repeats {
             // Positioning in the plane (and any other named axis) at the
             // level where the tool stands.
