@@ -36,13 +36,13 @@ fn programs(dir: &Path) -> Vec<PathBuf> {
     files
 }
 
-/// Where the NMV5000 program stops today, and why (see the closing note of
-/// each issue for the plan: canned cycles and the tilted working plane).
+/// Where the NMV5000 program stops, and why.
 const NMV5000_STOP: Option<(&str, usize, &str)> = Some((
-    "PS0010",
-    548,
-    "the first canned cycle (G98 G73): cycles are the next issue; everything \
-     before it (milling, G05.1 AI contour control, G43.4 TCPC, G28/G53) runs",
+    "PS0045",
+    630,
+    "the post writes `G83 … Q0.0`: a FANUC control stops there with PS0045 \
+     (G73/G83 without Q, or Q0). Everything before it runs: milling, G05.1 \
+     AI contour control, G43.4 TCPC, G28/G30/G53, G73 and G74 cycles under TCPC",
 ));
 
 /// B/C programs run on the B/C trunnion, everything else on the default.

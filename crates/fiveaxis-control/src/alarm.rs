@@ -215,6 +215,14 @@ pub enum Condition {
     MacroArgumentAddress,
     /// #3000 = n (message): the program's own alarm, 3000 + n.
     MacroAlarm,
+    /// A canned cycle that drills without its hole bottom or R point.
+    CycleDataMissing,
+    /// G73 / G83 without Q, or with Q0.
+    CycleDepthMissing,
+    /// G27 to G30 in a canned cycle.
+    CycleReferenceReturn,
+    /// A canned cycle under TCPC, cutter compensation C or 3-D tool compensation.
+    CycleNotAllowed,
 }
 
 impl Condition {
@@ -294,6 +302,10 @@ impl Condition {
         Condition::MacroSequenceNumber,
         Condition::MacroArgumentAddress,
         Condition::MacroAlarm,
+        Condition::CycleDataMissing,
+        Condition::CycleDepthMissing,
+        Condition::CycleReferenceReturn,
+        Condition::CycleNotAllowed,
     ];
 
     /// One line saying when the condition arises.
@@ -431,6 +443,14 @@ impl Condition {
             }
             Condition::MacroArgumentAddress => "An argument address that G65/G66 cannot take",
             Condition::MacroAlarm => "#3000 = n (message): the program's own alarm, 3000 + n",
+            Condition::CycleDataMissing => {
+                "A canned cycle that drills without its hole bottom or R point"
+            }
+            Condition::CycleDepthMissing => "G73 / G83 without Q, or with Q0",
+            Condition::CycleReferenceReturn => "G27 to G30 in a canned cycle",
+            Condition::CycleNotAllowed => {
+                "A canned cycle with a rotary word under TCPC, or under cutter compensation C or 3-D tool compensation"
+            }
         }
     }
 }
@@ -457,6 +477,8 @@ impl Condition {
             C::NestingTooDeep => Some(77),
             C::ProgramNotFound => Some(78),
             C::ReferenceReturnCheck => Some(92),
+            C::CycleReferenceReturn => Some(44),
+            C::CycleDepthMissing => Some(45),
             C::CrcNoIntersection => Some(33),
             C::CrcArcInStartOrCancel => Some(34),
             C::CrcPlaneChange => Some(37),
@@ -612,6 +634,10 @@ impl Condition {
             C::MacroSequenceNumber => 122,
             C::MacroArgumentAddress => 123,
             C::MacroAlarm => 124,
+            C::CycleDataMissing => 130,
+            C::CycleDepthMissing => 131,
+            C::CycleReferenceReturn => 132,
+            C::CycleNotAllowed => 133,
             C::OvertravelMinus => 501,
         }
     }

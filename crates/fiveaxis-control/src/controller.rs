@@ -22,11 +22,13 @@ use crate::words::Words;
 
 mod comp3d;
 mod cutter_c;
+mod cycles;
 mod m_codes;
 mod setup;
 mod system_vars;
 mod tcpc;
 
+pub use cycles::{MAX_CYCLE_SEGMENTS, PECK_CLEARANCE, PECK_RETRACT};
 pub use m_codes::ProgramStop;
 pub use system_vars::SystemVarFault;
 pub use tcpc::inclined;
@@ -106,6 +108,8 @@ struct State {
     /// Under G54.4 and TCPC type 1, the programmed rotary angles (the
     /// attitude on the ideal workpiece), which differ from the machine's.
     setup_angles: Option<[f64; 2]>,
+    /// Canned cycle (groups 09, 10) and its drilling data.
+    cycle: cycles::CycleState,
 }
 
 /// The controller of one run.
@@ -176,6 +180,7 @@ impl<'m> Controller<'m> {
                 setup_set: 0,
                 setup_tilt_sign: 1.0,
                 setup_angles: None,
+                cycle: cycles::CycleState::default(),
             },
             words: Words::new(machine.control),
             block_posture: None,
@@ -296,6 +301,7 @@ impl<'m> Controller<'m> {
         let mut codes = self.classify_g_codes()?;
         self.m_code_length(&mut codes)?;
         self.apply_modal(&codes)?;
+        self.apply_cycle_codes(&codes)?;
         self.apply_values()?;
         // Where the program stands, in the (possibly new) work coordinate
         // system, under the length offset in force before this block.
@@ -400,6 +406,7 @@ impl<'m> Controller<'m> {
                     self.cutter.point = self.programmed(&end);
                 }
             }
+            None if self.cycle_active() => self.cycle_motion(codes, &from, length_changed, out)?,
             None => self.motion(&from, length_changed, out)?,
         }
         Ok(())
@@ -427,10 +434,11 @@ impl<'m> Controller<'m> {
                 // Exact stop for one block: speed only.
                 (9, 0) => GKind::Cancel,
                 (40..=42, 0) => GKind::Cutter,
+                (73 | 74 | 76 | 80..=89, 0) => GKind::Cycle,
+                (98 | 99, 0) => GKind::CycleReturn,
                 // Cancels of modes that cannot be active in this kernel
-                // (polar coordinates, scaling, mirror image, rotation,
-                // canned cycles): nothing to do but end M29's rigid tapping.
-                (80, 0) => GKind::CannedCancel,
+                // (polar coordinates, scaling, mirror image, rotation):
+                // nothing to do.
                 (15 | 50 | 69, 0) | (50, 1) => GKind::Cancel,
                 _ => {
                     if let Some((condition, what)) = self.comp3d_forbidden(code) {
@@ -478,7 +486,12 @@ impl<'m> Controller<'m> {
                     }
                     codes.accuracy = Some((code, span));
                 }
-                GKind::CannedCancel => codes.canned_cancel = true,
+                GKind::Cycle => {
+                    // G80 also ends M29's rigid tapping.
+                    codes.canned_cancel |= code.major == 80;
+                    codes.cycle = Some((code, span));
+                }
+                GKind::CycleReturn => codes.cycle_return = Some(code),
                 GKind::Cancel => {}
             }
         }
@@ -1890,7 +1903,8 @@ enum GKind {
     SetupError,
     Cutting,
     Accuracy,
-    CannedCancel,
+    Cycle,
+    CycleReturn,
     Cancel,
 }
 
@@ -1913,4 +1927,6 @@ struct GCodes {
     accuracy: Option<(Code, Span)>,
     /// G80: ends rigid tapping.
     canned_cancel: bool,
+    cycle: Option<(Code, Span)>,
+    cycle_return: Option<Code>,
 }

@@ -23,6 +23,7 @@ pub use controller::{
     ARC_RADIUS_TOLERANCE, Controller, Flow, POSITION_TOLERANCE, ProgramStop,
     REFERENCE_CHECK_TOLERANCE, inclined, normalize_360, shortest_turn,
 };
+pub use controller::{MAX_CYCLE_SEGMENTS, PECK_CLEARANCE, PECK_RETRACT};
 pub use dialect::Dialect;
 pub use modal::{
     Accuracy, ContourControl, CuttingMode, Distance, FeedMode, LengthMode, Modal, MotionMode,

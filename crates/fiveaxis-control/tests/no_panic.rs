@@ -499,6 +499,37 @@ fn compensation_block() -> impl Strategy<Value = Vec<Word>> {
     prop_oneof![3 => radius, 2 => tcpc, 2 => vector, 1 => setup]
 }
 
+/// Canned cycles: a cycle code (or G80, G98, G99) with plane positions,
+/// the drilling data and repeats; or just positions in the cycle mode.
+fn cycle_block() -> impl Strategy<Value = Vec<Word>> {
+    let code = prop::option::weighted(
+        0.7,
+        one_of_codes(&[
+            "G73", "G74", "G76", "G80", "G81", "G82", "G83", "G84", "G85", "G86", "G87", "G88",
+            "G89",
+        ]),
+    );
+    let back = prop::option::weighted(0.3, one_of_codes(&["G98", "G99"]));
+    let opt = |letter, lo, hi| prop::option::weighted(0.5, value(letter, lo..=hi));
+    (
+        (back, code, axes()),
+        (opt("Z", -300, 100), opt("R", -100, 100), opt("Q", -20, 20)),
+        (
+            prop::option::weighted(0.5, integer("P", 0..=2000)),
+            prop::option::weighted(0.5, integer("K", 0..=5)),
+            feed(),
+        ),
+    )
+        .prop_map(|((back, code, axes), (z, r, q), (p, k, f))| {
+            [back, code]
+                .into_iter()
+                .flatten()
+                .chain(axes)
+                .chain([z, r, q, p, k, f].into_iter().flatten())
+                .collect()
+        })
+}
+
 /// Words of the vocabulary in any mix: mostly blocks a control refuses.
 fn noise_block() -> impl Strategy<Value = Vec<Word>> {
     let codes = one_of_codes(&[
@@ -524,6 +555,7 @@ fn block() -> impl Strategy<Value = Vec<Word>> {
         2 => flow_block(),
         1 => noise_block(),
         3 => compensation_block(),
+        2 => cycle_block(),
     ];
     let deleted = prop::option::weighted(0.1, Just(fixed("/", "")));
     let sequence = prop::option::weighted(0.2, prop::sample::select(SEQUENCES));

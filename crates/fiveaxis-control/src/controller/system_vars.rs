@@ -226,6 +226,18 @@ impl Controller<'_> {
                 LengthMode::Tcpc(TcpcType::Angles) => 43.4,
                 LengthMode::Tcpc(TcpcType::Vector) => 43.5,
             },
+            4009 => self
+                .state
+                .cycle
+                .cycle
+                .map_or(80.0, super::cycles::Cycle::g_number),
+            4010 => {
+                if self.state.cycle.return_initial {
+                    98.0
+                } else {
+                    99.0
+                }
+            }
             4014 => match m.work {
                 WorkSelect::Standard(i) => 54.0 + f64::from(i),
                 WorkSelect::Extended(_) => 54.1,

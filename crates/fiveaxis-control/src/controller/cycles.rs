@@ -1,0 +1,504 @@
+//! Canned cycles for drilling (FANUC Series 30i operator's manual, chapter
+//! "Canned cycles for drilling"): G73, G74, G76, G81 to G89 (group 09),
+//! cancelled by G80 or a group-01 code, with G98 / G99 (group 10: return
+//! to the initial level or to the R point).
+//!
+//! Every elementary move of a cycle is a segment of its own (rapid or
+//! linear at F, on the cycle block's line) and goes through the ordinary
+//! segment path, so that tool length compensation applies and the soft
+//! limits are checked on each of them. Dwells, spindle stops, orientations
+//! and reversals move no axis and make no row.
+//!
+//! The hole is drilled along the normal of the selected plane (G17: Z,
+//! G18: Y, G19: X). Levels are positions of that axis in the work
+//! coordinate system: the initial level (where the drilling axis stood
+//! when the cycle mode began), the R point and the hole bottom Z. In G90,
+//! R and Z are absolute; in G91, R is the distance from the initial level
+//! and Z the distance from the R point, and the plane position is an
+//! increment repeated K times. The stored R and Z are read in the mode of
+//! the block that drills.
+//!
+//! Decisions where the manual leaves room, also in `docs/functions.md`:
+//!
+//! * G73 retracts [`PECK_RETRACT`] (No.5114) and G83 stops
+//!   [`PECK_CLEARANCE`] (No.5115) above the previous depth: constants, the
+//!   machine file has no such parameters yet.
+//! * G76 and G87 shift by Q (its sign ignored) in the direction that
+//!   No.5101#4 RD1 = #5 RD2 = 0 gives: + the first axis of the plane
+//!   (G17 +X, G18 +Z, G19 +Y).
+//! * G87 always returns to the initial level (its R point is below the
+//!   work); G88's manual retraction is taken as a rapid move to the R
+//!   point (then to the initial level in G98).
+//! * Z and R are needed by the first block that drills after the cycle mode
+//!   begins (FX0130); G80 and group-01 codes clear Z, R, Q and P.
+//! * A block drills when it has an axis word or R (a block with only F, Q,
+//!   P, K, M codes stores data); K0 stores the data and drills nothing.
+//! * Under TCPC (G43.4 / G43.5) a cycle drills in the programming frame
+//!   with the rotary axes standing (the NX posts for FANUC 5-axis machines
+//!   write `G43.4 … G98 G73 …` for 3+2 holes): each move is a straight
+//!   line of the tip in that frame, exact as a joint line because the
+//!   rotary axes do not move. A rotary word in a cycle block under TCPC,
+//!   and any cycle under cutter compensation C or 3-D tool compensation,
+//!   is refused (FX0133).
+
+use fiveaxis_gcode::{Code, Span};
+use fiveaxis_machine::Joints;
+
+use super::{Controller, GCodes};
+use crate::alarm::{Alarm, Condition};
+use crate::modal::Distance;
+use crate::segment::{Motion, Segment};
+
+/// G73's retraction d after each peck, mm (FANUC No.5114; the kernel uses
+/// this value, the machine file has no such parameter).
+pub const PECK_RETRACT: f64 = 0.1;
+/// G83's clearance d: the rapid move back into the hole stops this far
+/// short of the previous depth, mm (FANUC No.5115).
+pub const PECK_CLEARANCE: f64 = 0.1;
+/// Most segments one cycle block may make (K repeats times pecks): a bound
+/// that holds whatever the magnitudes of Z, R, Q and K.
+pub const MAX_CYCLE_SEGMENTS: usize = 1 << 16;
+/// Largest K (repetitions), FANUC 1 to 9999.
+pub const MAX_REPEATS: u32 = 9999;
+
+/// The canned cycle of group 09.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Cycle {
+    /// High-speed peck drilling.
+    G73,
+    /// Left-hand tapping.
+    G74,
+    /// Fine boring.
+    G76,
+    /// Drilling, spot drilling.
+    G81,
+    /// Drilling, counter boring (dwell).
+    G82,
+    /// Peck drilling.
+    G83,
+    /// Tapping.
+    G84,
+    /// Boring (feed out).
+    G85,
+    /// Boring (spindle stop, rapid out).
+    G86,
+    /// Back boring.
+    G87,
+    /// Boring (dwell, manual retract).
+    G88,
+    /// Boring (dwell, feed out).
+    G89,
+}
+
+impl Cycle {
+    /// The G code number (`#4009`).
+    pub(super) fn g_number(self) -> f64 {
+        match self {
+            Cycle::G73 => 73.0,
+            Cycle::G74 => 74.0,
+            Cycle::G76 => 76.0,
+            Cycle::G81 => 81.0,
+            Cycle::G82 => 82.0,
+            Cycle::G83 => 83.0,
+            Cycle::G84 => 84.0,
+            Cycle::G85 => 85.0,
+            Cycle::G86 => 86.0,
+            Cycle::G87 => 87.0,
+            Cycle::G88 => 88.0,
+            Cycle::G89 => 89.0,
+        }
+    }
+
+    fn of(code: Code) -> Option<Self> {
+        Some(match code.major {
+            73 => Cycle::G73,
+            74 => Cycle::G74,
+            76 => Cycle::G76,
+            81 => Cycle::G81,
+            82 => Cycle::G82,
+            83 => Cycle::G83,
+            84 => Cycle::G84,
+            85 => Cycle::G85,
+            86 => Cycle::G86,
+            87 => Cycle::G87,
+            88 => Cycle::G88,
+            89 => Cycle::G89,
+            _ => return None,
+        })
+    }
+}
+
+/// Canned cycle modal state and its stored drilling data.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) struct CycleState {
+    /// The cycle in force (None: G80).
+    pub(super) cycle: Option<Cycle>,
+    /// G98 (true, power-on) or G99.
+    pub(super) return_initial: bool,
+    /// The cycle mode began in this block: the initial level is taken.
+    pending_initial: bool,
+    /// Programmed X, Y, Z when the cycle mode began.
+    initial: [f64; 3],
+    /// R as programmed (mm): absolute, or from the initial level in G91.
+    r: Option<f64>,
+    /// Z as programmed (mm): absolute, or from the R point in G91.
+    z: Option<f64>,
+    /// Q, mm, sign dropped (0: not given).
+    q: f64,
+    /// P, ms.
+    p: u32,
+}
+
+impl Default for CycleState {
+    fn default() -> Self {
+        Self {
+            cycle: None,
+            return_initial: true,
+            pending_initial: false,
+            initial: [0.0; 3],
+            r: None,
+            z: None,
+            q: 0.0,
+            p: 0,
+        }
+    }
+}
+
+impl CycleState {
+    /// G80 or a group-01 code: the mode and its drilling data end.
+    fn cancel(&mut self) {
+        *self = Self {
+            return_initial: self.return_initial,
+            ..Self::default()
+        };
+    }
+}
+
+/// The levels of one hole along the drilling axis, in programmed
+/// coordinates.
+#[derive(Clone, Copy, Debug)]
+struct Levels {
+    initial: f64,
+    r: f64,
+    bottom: f64,
+    /// Where the tool goes after the hole (G98: initial, G99: R).
+    back: f64,
+}
+
+impl Controller<'_> {
+    /// Groups 09 and 10 of the block: G73 … G89, G80, G98, G99; a group-01
+    /// code cancels the cycle. Called after the other modal groups.
+    pub(super) fn apply_cycle_codes(&mut self, codes: &GCodes) -> Result<(), Alarm> {
+        if let Some(code) = codes.cycle_return {
+            self.state.cycle.return_initial = code.major == 98;
+        }
+        if let (Some((cycle, span)), Some((motion, _))) = (codes.cycle, codes.motion)
+            && Cycle::of(cycle).is_some()
+        {
+            return Err(self.alarm(
+                Condition::GCodeConflict,
+                Some(span),
+                format!("G{cycle} and G{motion} cannot be in the same block"),
+            ));
+        }
+        if codes.motion.is_some() {
+            self.state.cycle.cancel();
+        }
+        if let Some((code, _)) = codes.cycle {
+            match Cycle::of(code) {
+                None => self.state.cycle.cancel(),
+                Some(cycle) => {
+                    if self.state.cycle.cycle.is_none() {
+                        self.state.cycle.pending_initial = true;
+                    }
+                    self.state.cycle.cycle = Some(cycle);
+                }
+            }
+        }
+        if self.state.cycle.cycle.is_some()
+            && let Some((code, span)) = codes.one_shot
+            && matches!(code.major, 27 | 28 | 30)
+        {
+            return Err(self.alarm(
+                Condition::CycleReferenceReturn,
+                Some(span),
+                format!("G{code} cannot be commanded in a canned cycle: cancel it with G80 first"),
+            ));
+        }
+        Ok(())
+    }
+
+    /// Whether a canned cycle is in force.
+    pub(super) fn cycle_active(&self) -> bool {
+        self.state.cycle.cycle.is_some()
+    }
+
+    /// A block in the canned cycle mode: stores its drilling data and, when
+    /// it has an axis word or R, drills K times.
+    pub(super) fn cycle_motion(
+        &mut self,
+        codes: &GCodes,
+        from: &Joints,
+        length_changed: bool,
+        out: &mut Vec<Segment>,
+    ) -> Result<(), Alarm> {
+        let code_span = codes.cycle.map(|(_, span)| span);
+        self.cycle_allowed(code_span)?;
+        // A block that cutter compensation C still holds (its cancel
+        // block) is emitted first: the cycle starts where it ends.
+        let base = out.len();
+        if self.cutter.routing() {
+            self.cutter_c_finish(out)?;
+            self.cutter.engine.reset();
+        }
+        let start = out[base..].last().map_or(self.state.joints, |seg| seg.end);
+        let from = &if out.len() > base {
+            self.programmed(&start)
+        } else {
+            *from
+        };
+        let Some(cycle) = self.state.cycle.cycle else {
+            return Ok(());
+        };
+        let [_, _, n] = self.state.modal.plane.axes();
+        if std::mem::take(&mut self.state.cycle.pending_initial) {
+            self.state.cycle.initial = [from[0], from[1], from[2]];
+        }
+        let r_word = self.words.take(b'R');
+        if let Some(word) = r_word {
+            self.state.cycle.r = Some(self.length(&word));
+        }
+        let q_word = self.words.take(b'Q');
+        if let Some(word) = q_word {
+            self.state.cycle.q = self.length(&word).abs();
+        }
+        if let Some(word) = self.words.take(b'P') {
+            self.state.cycle.p = self.words.integer(&word, 99_999_999)?;
+        }
+        let repeats = match self.words.take(b'K').or_else(|| self.words.take(b'L')) {
+            Some(word) => self.words.integer(&word, MAX_REPEATS)?,
+            None => 1,
+        };
+        let z_letter = self.axis_letters[n];
+        let z_span = self.words.peek(z_letter).map(|w| w.span);
+        let mut targets = self.axis_words();
+        if let Some(z) = targets[n].take() {
+            self.state.cycle.z = Some(z);
+        }
+        let drills = z_span.is_some() || r_word.is_some() || targets.iter().any(Option::is_some);
+        if !drills {
+            if length_changed {
+                // A change of the length offset alone moves as outside
+                // the cycle.
+                return self.motion(from, true, out);
+            }
+            return Ok(());
+        }
+        if repeats == 0 {
+            return Ok(());
+        }
+        let levels = self.cycle_levels(cycle, code_span)?;
+        let pecks = if matches!(cycle, Cycle::G73 | Cycle::G83) {
+            let q = self.state.cycle.q;
+            if q <= 0.0 {
+                return Err(self.alarm(
+                    Condition::CycleDepthMissing,
+                    q_word.map(|w| w.span).or(code_span),
+                    format!("{cycle:?} needs Q, the depth of each cut, greater than 0"),
+                ));
+            }
+            let depth = (levels.bottom - levels.r).abs();
+            let count = (depth / q - 1e-9).ceil().max(1.0);
+            if count * 3.0 * f64::from(repeats) > MAX_CYCLE_SEGMENTS as f64 {
+                return Err(self.alarm(
+                    Condition::ValueOutOfRange,
+                    q_word.map(|w| w.span).or(code_span),
+                    format!(
+                        "Q{q} cuts {depth} mm in {count} pecks, {repeats} times: more than {MAX_CYCLE_SEGMENTS} moves"
+                    ),
+                ));
+            }
+            count as u32
+        } else {
+            0
+        };
+        let mut hole = *from;
+        let mut cur = start;
+        for _ in 0..repeats {
+            // Positioning in the plane (and any other named axis) at the
+            // level where the tool stands.
+            let (mut end_p, travel) = self.end_point(&hole, &targets);
+            end_p[n] = hole[n];
+            let end = self.machine_position(&end_p);
+            let mut start = cur;
+            for i in 3..self.machine.axis_count() {
+                if self.is_rollover(i) {
+                    start[i] = end[i] - travel[i];
+                }
+            }
+            // No positioning when the hole is where the tool stands (under
+            // TCPC the machine position computed again may differ by a
+            // rounding, which is no move).
+            if end_p != hole {
+                self.push_line(Motion::Rapid, start, end, out)?;
+                cur = end;
+            }
+            hole = end_p;
+            cur = self.hole(cycle, &levels, pecks, &hole, cur, out)?;
+            hole[n] = if cycle == Cycle::G87 {
+                levels.initial
+            } else {
+                levels.back
+            };
+        }
+        Ok(())
+    }
+
+    /// TCPC, cutter compensation C and 3-D tool compensation refuse canned
+    /// cycles.
+    fn cycle_allowed(&self, span: Option<Span>) -> Result<(), Alarm> {
+        let rotary_word = (self.machine.linear.len()..self.machine.axis_count())
+            .any(|i| self.words.has(self.axis_letters[i]));
+        let mode = if self.tcpc_type().is_some() && rotary_word {
+            "tool centre point control (G43.4/G43.5) with a rotary axis word (turn the rotary axes in a block of their own)"
+        } else if self.state.comp3d.active {
+            "3-D tool compensation"
+        } else if self.cutter.side.is_some() {
+            "cutter compensation C (G41/G42)"
+        } else {
+            return Ok(());
+        };
+        Err(self.alarm(
+            Condition::CycleNotAllowed,
+            span,
+            format!("a canned cycle cannot be used in {mode}: cancel it first"),
+        ))
+    }
+
+    /// The levels of the holes from the stored R and Z.
+    fn cycle_levels(&self, cycle: Cycle, span: Option<Span>) -> Result<Levels, Alarm> {
+        let [_, _, n] = self.state.modal.plane.axes();
+        let letter = char::from(self.axis_letters[n]);
+        let c = &self.state.cycle;
+        let (Some(r), Some(z)) = (c.r, c.z) else {
+            let missing = if c.z.is_none() {
+                format!("{letter} (the hole bottom)")
+            } else {
+                "R (the R point)".into()
+            };
+            return Err(self.alarm(
+                Condition::CycleDataMissing,
+                span,
+                format!("the canned cycle {cycle:?} has no {missing}"),
+            ));
+        };
+        let initial = c.initial[n];
+        let (r, bottom) = if self.state.modal.distance == Distance::Incremental {
+            (initial + r, initial + r + z)
+        } else {
+            (r, z)
+        };
+        Ok(Levels {
+            initial,
+            r,
+            bottom,
+            back: if c.return_initial { initial } else { r },
+        })
+    }
+
+    /// One hole at `hole` (plane position; its drilling coordinate is
+    /// where the tool stands), from machine position `cur`. Returns where
+    /// the machine ends.
+    fn hole(
+        &self,
+        cycle: Cycle,
+        lv: &Levels,
+        pecks: u32,
+        hole: &Joints,
+        cur: Joints,
+        out: &mut Vec<Segment>,
+    ) -> Result<Joints, Alarm> {
+        let [first, _, n] = self.state.modal.plane.axes();
+        let shift = self.state.cycle.q;
+        let mut cur = cur;
+        let mut go = |motion: Motion, level: f64, shifted: bool, out: &mut Vec<Segment>| {
+            let mut p: Joints = *hole;
+            p[n] = level;
+            if shifted {
+                p[first] += shift;
+            }
+            let end = self.machine_position(&p);
+            self.push_line(motion, cur, end, out)?;
+            cur = end;
+            Ok::<(), Alarm>(())
+        };
+        let (rapid, feed) = (Motion::Rapid, Motion::Linear);
+        let into = (lv.bottom - lv.r).signum();
+        // A level short of `depth` by `d`, not above the R point.
+        let short = |depth: f64, d: f64| {
+            let level = depth - into * d;
+            if (level - lv.r) * into < 0.0 {
+                lv.r
+            } else {
+                level
+            }
+        };
+        if cycle == Cycle::G87 {
+            let level = hole[n];
+            go(rapid, level, true, out)?;
+            go(rapid, lv.r, true, out)?;
+            go(rapid, lv.r, false, out)?;
+            go(feed, lv.bottom, false, out)?;
+            go(rapid, lv.bottom, true, out)?;
+            go(rapid, lv.initial, true, out)?;
+            go(rapid, lv.initial, false, out)?;
+            return Ok(cur);
+        }
+        go(rapid, lv.r, false, out)?;
+        match cycle {
+            Cycle::G73 | Cycle::G83 => {
+                let q = self.state.cycle.q;
+                for i in 1..=pecks {
+                    let next = if i == pecks {
+                        lv.bottom
+                    } else {
+                        lv.r + into * q * f64::from(i)
+                    };
+                    go(feed, next, false, out)?;
+                    if i == pecks {
+                        break;
+                    }
+                    if cycle == Cycle::G73 {
+                        go(rapid, short(next, PECK_RETRACT), false, out)?;
+                    } else {
+                        go(rapid, lv.r, false, out)?;
+                        go(rapid, short(next, PECK_CLEARANCE), false, out)?;
+                    }
+                }
+                go(rapid, lv.back, false, out)?;
+            }
+            Cycle::G81 | Cycle::G82 | Cycle::G86 => {
+                go(feed, lv.bottom, false, out)?;
+                go(rapid, lv.back, false, out)?;
+            }
+            Cycle::G74 | Cycle::G84 | Cycle::G85 | Cycle::G89 => {
+                go(feed, lv.bottom, false, out)?;
+                go(feed, lv.r, false, out)?;
+                go(rapid, lv.back, false, out)?;
+            }
+            Cycle::G88 => {
+                go(feed, lv.bottom, false, out)?;
+                go(rapid, lv.r, false, out)?;
+                go(rapid, lv.back, false, out)?;
+            }
+            Cycle::G76 => {
+                go(feed, lv.bottom, false, out)?;
+                go(rapid, lv.bottom, true, out)?;
+                go(rapid, lv.back, true, out)?;
+                go(rapid, lv.back, false, out)?;
+            }
+            Cycle::G87 => {}
+        }
+        Ok(cur)
+    }
+}
