@@ -345,11 +345,20 @@ impl Segment {
             joints[..3].copy_from_slice(xyz.as_slice());
         }
         if let Path::Arc(arc) = &self.path {
-            let theta = arc.theta0 + arc.sweep * s;
-            let r = lerp(arc.r0, arc.r1, s);
+            // Relative to the start point: the turn of the start radius by
+            // the swept angle, plus the change of radius. Exact at s = 0,
+            // and precise for radii far larger than the arc (a centre
+            // 1e12 mm away would lose the arc in rounding if added back).
+            let d = arc.sweep * s;
+            let theta = arc.theta0 + d;
+            let grow = lerp(arc.r0, arc.r1, s) - arc.r0;
+            let (sin_d, cos_d_1) = (d.sin(), -2.0 * (0.5 * d).sin().powi(2));
+            let (ux, uy) = (arc.r0 * arc.theta0.cos(), arc.r0 * arc.theta0.sin());
             let [p, q] = arc.axes;
-            joints[p] = arc.center[0] + arc.drift[0] * s + r * theta.cos();
-            joints[q] = arc.center[1] + arc.drift[1] * s + r * theta.sin();
+            joints[p] =
+                self.start[p] + arc.drift[0] * s + (cos_d_1 * ux - sin_d * uy) + grow * theta.cos();
+            joints[q] =
+                self.start[q] + arc.drift[1] * s + (sin_d * ux + cos_d_1 * uy) + grow * theta.sin();
         }
         joints
     }
