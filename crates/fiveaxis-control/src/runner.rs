@@ -57,10 +57,7 @@ impl Source for SliceSource<'_> {
             return Ok(false);
         };
         // A line ends at LF, CR LF or a lone CR.
-        let len = rest
-            .iter()
-            .position(|&b| b == b'\n' || b == b'\r')
-            .unwrap_or(rest.len());
+        let len = memchr::memchr2(b'\n', b'\r', rest).unwrap_or(rest.len());
         if len > MAX_LINE_BYTES + 1 {
             return Err(line_too_long());
         }
@@ -125,7 +122,7 @@ impl<R: Read + Seek> Source for ReaderSource<R> {
             }
             any = true;
             // A line ends at LF, CR LF or a lone CR (old Macintosh files).
-            let (take, end) = match available.iter().position(|&b| b == b'\n' || b == b'\r') {
+            let (take, end) = match memchr::memchr2(b'\n', b'\r', available) {
                 Some(i) => (i + 1, Some(available[i])),
                 None => (available.len(), None),
             };

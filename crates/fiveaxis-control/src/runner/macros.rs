@@ -164,7 +164,8 @@ impl<S: Source> Runner<'_, S> {
 
     /// Whether the line at `offset` is a macro line parsed before.
     pub(super) fn is_cached_macro_line(&self, offset: u64) -> bool {
-        self.macros.cache.contains_key(&offset)
+        // Plain programs never fill the cache: no hashing per line.
+        !self.macros.cache.is_empty() && self.macros.cache.contains_key(&offset)
     }
 
     fn macro_statement(&mut self, here: Mark, line: &Line) -> Result<MacroFlow, RunError> {
@@ -399,6 +400,19 @@ impl<S: Source> Runner<'_, S> {
     /// every later block that moves an axis) or `G67` (the modal call
     /// cancelled). `None` when the block is none of these.
     pub(super) fn macro_call(&mut self, line: u32) -> Option<Result<(), RunError>> {
+        // One pass for the plain block: no G65, G66 or G67 in it.
+        if !self.block.words.iter().any(|w| {
+            w.letter == b'G'
+                && matches!(
+                    w.code,
+                    Some(Code {
+                        major: 65..=67,
+                        minor: 0
+                    })
+                )
+        }) {
+            return None;
+        }
         let has = |block: &fiveaxis_gcode::Block, code: Code| {
             block
                 .words
