@@ -223,6 +223,8 @@ pub enum Condition {
     CycleReferenceReturn,
     /// A canned cycle under TCPC, cutter compensation C or 3-D tool compensation.
     CycleNotAllowed,
+    /// A tilted working plane (G68.2, G53.1) where the kernel does not combine it.
+    FeatureNotAllowed,
 }
 
 impl Condition {
@@ -306,6 +308,7 @@ impl Condition {
         Condition::CycleDepthMissing,
         Condition::CycleReferenceReturn,
         Condition::CycleNotAllowed,
+        Condition::FeatureNotAllowed,
     ];
 
     /// One line saying when the condition arises.
@@ -448,6 +451,9 @@ impl Condition {
             }
             Condition::CycleDepthMissing => "G73 / G83 without Q, or with Q0",
             Condition::CycleReferenceReturn => "G27 to G30 in a canned cycle",
+            Condition::FeatureNotAllowed => {
+                "A tilted working plane (G68.2, G53.1) where the kernel does not combine it"
+            }
             Condition::CycleNotAllowed => {
                 "A canned cycle with a rotary word under TCPC, or under cutter compensation C or 3-D tool compensation"
             }
@@ -638,6 +644,7 @@ impl Condition {
             C::CycleDepthMissing => 131,
             C::CycleReferenceReturn => 132,
             C::CycleNotAllowed => 133,
+            C::FeatureNotAllowed => 140,
             C::OvertravelMinus => 501,
         }
     }

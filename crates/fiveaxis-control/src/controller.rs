@@ -27,6 +27,7 @@ mod m_codes;
 mod setup;
 mod system_vars;
 mod tcpc;
+mod twp;
 
 pub use cycles::{MAX_CYCLE_SEGMENTS, PECK_CLEARANCE, PECK_RETRACT};
 pub use m_codes::ProgramStop;
@@ -69,6 +70,8 @@ pub enum Flow {
 #[derive(Clone, Debug)]
 struct State {
     modal: Modal,
+    /// The tilted working plane's feature frame (G68.2), if one is in force.
+    feature: Option<twp::Feature>,
     /// Current machine position (rollover axes unwrapped).
     joints: Joints,
     /// Active H number (0: none).
@@ -161,6 +164,7 @@ impl<'m> Controller<'m> {
             dialect: Dialect::of(machine.control),
             state: State {
                 modal: Modal::power_on(),
+                feature: None,
                 joints: machine.params.reference_1,
                 h: 0,
                 d: 0,
@@ -299,6 +303,7 @@ impl<'m> Controller<'m> {
         // A program-number line is a label.
         self.words.take(b'O');
         let mut codes = self.classify_g_codes()?;
+        self.feature_restrictions(&codes)?;
         self.m_code_length(&mut codes)?;
         self.apply_modal(&codes)?;
         self.apply_cycle_codes(&codes)?;
@@ -348,7 +353,11 @@ impl<'m> Controller<'m> {
         }
         let comp_changed = self.apply_cutter(&codes)?;
         let length_changed = change == LengthChange::Moves || comp_changed;
-        if let Some((_, span)) = codes.setup {
+        if let Some((code, span)) = codes.feature {
+            // G68.2 / G69 define or cancel the frame and move nothing: the
+            // program stands where it was, in the new frame.
+            self.feature_command(code, span)?;
+        } else if let Some((_, span)) = codes.setup {
             if self.cutter.routing() {
                 // The held block is emitted with the correction it was
                 // read with.
@@ -426,7 +435,8 @@ impl<'m> Controller<'m> {
                 (43 | 44 | 49, 0) | (43, 1 | 4 | 5) => GKind::Length,
                 (54..=59, 0) | (54, 1) => GKind::Work,
                 (54, 4) => GKind::SetupError,
-                (4 | 10 | 27 | 28 | 30 | 53 | 92, 0) => GKind::OneShot,
+                (4 | 10 | 27 | 28 | 30 | 53 | 92, 0) | (53, 1) => GKind::OneShot,
+                (68, 2) | (69, 0) => GKind::Feature,
                 (61..=64, 0) => GKind::Cutting,
                 // G05 is refused in 3-D tool compensation (below).
                 (5, 0) if self.comp3d_forbidden(code).is_none() => GKind::Accuracy,
@@ -439,7 +449,7 @@ impl<'m> Controller<'m> {
                 // Cancels of modes that cannot be active in this kernel
                 // (polar coordinates, scaling, mirror image, rotation):
                 // nothing to do.
-                (15 | 50 | 69, 0) | (50, 1) => GKind::Cancel,
+                (15 | 50, 0) | (50, 1) => GKind::Cancel,
                 _ => {
                     if let Some((condition, what)) = self.comp3d_forbidden(code) {
                         return Err(self.alarm(
@@ -492,6 +502,7 @@ impl<'m> Controller<'m> {
                     codes.cycle = Some((code, span));
                 }
                 GKind::CycleReturn => codes.cycle_return = Some(code),
+                GKind::Feature => codes.feature = Some((code, span)),
                 GKind::Cancel => {}
             }
         }
@@ -899,12 +910,18 @@ impl<'m> Controller<'m> {
     /// tool compensation vector is added, then the setup error (G54.4)
     /// maps the ideal workpiece onto the real one.
     fn to_real(&self, p: &Vec3) -> Vec3 {
-        self.work() + self.state.setup.point(&(p + self.state.comp3d.vector))
+        self.work()
+            + self
+                .state
+                .setup
+                .point(&(self.feature_to_work(p) + self.state.comp3d.vector))
     }
 
     /// The inverse of [`Controller::to_real`]: a real point as programmed.
     fn programmed_of_real(&self, x: &Vec3) -> Vec3 {
-        self.state.setup.inverse_point(&(x - self.work())) - self.state.comp3d.vector
+        self.work_to_feature(
+            &(self.state.setup.inverse_point(&(x - self.work())) - self.state.comp3d.vector),
+        )
     }
 
     /// The active H value (geometry + wear), mm.
@@ -952,6 +969,8 @@ impl<'m> Controller<'m> {
         let mut p = *joints;
         let lin = if self.tcpc_type().is_some() {
             self.tcpc_programmed(joints)
+        } else if self.feature().is_some() {
+            self.feature_programmed(joints)
         } else {
             self.programmed_of_real(
                 &(Vec3::new(joints[0], joints[1], joints[2]) - self.length_vector(joints)),
@@ -983,6 +1002,8 @@ impl<'m> Controller<'m> {
         }
         let lin = if self.tcpc_type().is_some() {
             self.tcpc_gauge(&joints, &Vec3::new(p[0], p[1], p[2]))
+        } else if self.feature().is_some() {
+            self.feature_gauge(&joints, &Vec3::new(p[0], p[1], p[2]))
         } else {
             self.to_real(&Vec3::new(p[0], p[1], p[2])) + self.length_vector(&joints)
         };
@@ -1168,6 +1189,35 @@ impl<'m> Controller<'m> {
             return self.push_line(Motion::Linear, start, end, out);
         };
         let [p, q] = geo.axes;
+        if self.feature().is_some() {
+            // The circle of the feature plane, carried into the machine
+            // frame with the rotary axes where they stand.
+            let unit = |i: usize| {
+                let mut v = Vec3::zeros();
+                v[i] = 1.0;
+                v
+            };
+            let mut center = Vec3::new(from[0], from[1], from[2]);
+            center[p] = geo.center[0];
+            center[q] = geo.center[1];
+            let programmed = TipPath::Arc {
+                center,
+                axes: [unit(p), unit(q), unit(geo.normal)],
+                radius: [geo.r0, geo.r1],
+                theta0: geo.theta0,
+                sweep: geo.sweep,
+                rise: end_p[geo.normal] - from[geo.normal],
+            };
+            let circle = self.feature_circle(&start, &programmed);
+            let path = Path::Helix {
+                circle,
+                drift: Vec3::zeros(),
+            };
+            let mut seg = self.segment(geo.motion, start, end, path);
+            seg.feed = Some(self.cutting_feed(|| circle.length())?);
+            out.push(seg);
+            return Ok(());
+        }
         if self.state.setup.rotation != SetupError::IDENTITY.rotation {
             // The real workpiece is turned: the circle is no longer in a
             // plane of the machine axes.
@@ -1356,6 +1406,7 @@ impl<'m> Controller<'m> {
                 };
                 self.reference_return(from, n, out)
             }
+            53 if code.minor == 1 => self.tool_axis_control(span, out),
             53 => self.machine_coordinates(out),
             _ => self.set_coordinate_system(from),
         }
@@ -1905,6 +1956,7 @@ enum GKind {
     Accuracy,
     Cycle,
     CycleReturn,
+    Feature,
     Cancel,
 }
 
@@ -1929,4 +1981,6 @@ struct GCodes {
     canned_cancel: bool,
     cycle: Option<(Code, Span)>,
     cycle_return: Option<Code>,
+    /// G68.2 or G69 (tilted working plane).
+    feature: Option<(Code, Span)>,
 }

@@ -1,0 +1,268 @@
+//! Tilted working plane (FANUC 30i-B "tilted working plane indexing"):
+//! `G68.2` defines a feature coordinate system, `G53.1` turns the rotary
+//! axes so that the tool stands along its Z axis, `G69` cancels.
+//!
+//! * `G68.2 X x Y y Z z I α J β K γ` (P0, the default): the feature frame's
+//!   origin is (x, y, z) in the workpiece coordinate system, its axes those
+//!   of the workpiece turned by the Euler angles α about Z, then β about the
+//!   new X, then γ about the newest Z: `R = Rz(α)·Rx(β)·Rz(γ)`.
+//!   `G68.2 P1 X Y Z I J K`: roll-pitch-yaw, I about X, J about Y, K about Z
+//!   of the workpiece, in that order: `R = Rz(K)·Ry(J)·Rx(I)`. A programmed
+//!   point p is the workpiece point `origin + R·p`. Words left out are 0;
+//!   X, Y, Z are absolute whatever G90 / G91 (the manual's definition).
+//! * `G53.1`: the rotary axes turn (rapid, the linear axes stay) to the
+//!   position that points the tool along the feature Z, chosen among the
+//!   solutions by the control's rule (`rotary_choice`, as TCPC chooses).
+//! * In the mode every programmed point goes through the feature frame,
+//!   then the work offset (and a setup error), and the linear axes are
+//!   whatever puts the tool tip there with the rotary axes where they
+//!   stand and the tool length along the tool (G43: as FANUC applies it in
+//!   the tool axis direction in this mode). Lines are straight in the
+//!   feature frame (the rotary axes stand, so a joint line is exact); arcs
+//!   are circles in the feature plane, carried into the machine frame.
+//!   Canned cycles drill along the feature Z.
+//!
+//! Decisions where this kernel is stricter than the control (each alarm
+//! FX0140 naming the function): TCPC, cutter compensation C and 3-D tool
+//! compensation are not combined with the tilted plane yet; the work
+//! offset and G54.4 cannot change in the mode; `G68.2` in the mode
+//! replaces the frame (FANUC nests it with parameter No.11221; here the
+//! new frame is always relative to the workpiece).
+
+use fiveaxis_gcode::{Code, Span};
+use fiveaxis_machine::{Joints, Vec3};
+use nalgebra::{Rotation3, Unit};
+
+use super::Controller;
+use crate::alarm::{Alarm, Condition};
+use crate::modal::LengthMode;
+use crate::segment::{Motion, Segment, TipPath};
+
+/// A feature coordinate system: a programmed point `p` is the workpiece
+/// point `origin + rotation·p`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) struct Feature {
+    origin: Vec3,
+    rotation: Rotation3<f64>,
+}
+
+impl Feature {
+    fn work_point(&self, p: &Vec3) -> Vec3 {
+        self.origin + self.rotation * p
+    }
+
+    fn feature_point(&self, x: &Vec3) -> Vec3 {
+        self.rotation.inverse() * (x - self.origin)
+    }
+}
+
+fn about(axis: Vec3, degrees: f64) -> Rotation3<f64> {
+    Rotation3::from_axis_angle(&Unit::new_unchecked(axis), degrees.to_radians())
+}
+
+impl Controller<'_> {
+    /// The feature frame in force, if any.
+    pub(super) fn feature(&self) -> Option<&Feature> {
+        self.state.feature.as_ref()
+    }
+
+    /// A programmed point in workpiece coordinates (through the feature
+    /// frame in the mode).
+    pub(super) fn feature_to_work(&self, p: &Vec3) -> Vec3 {
+        self.feature().map_or(*p, |f| f.work_point(p))
+    }
+
+    /// The inverse of [`Controller::feature_to_work`].
+    pub(super) fn work_to_feature(&self, x: &Vec3) -> Vec3 {
+        self.feature().map_or(*x, |f| f.feature_point(x))
+    }
+
+    /// The tool length along the tool in the mode: the H value with the
+    /// sign of G43 / G44, 0 without length compensation.
+    pub(super) fn feature_tool_length(&self) -> f64 {
+        match self.state.modal.length {
+            LengthMode::Plus | LengthMode::ToolAxis => self.tool_length(),
+            LengthMode::Minus => -self.tool_length(),
+            _ => 0.0,
+        }
+    }
+
+    /// G68.2 (define the frame) or G69 (cancel it).
+    pub(super) fn feature_command(&mut self, code: Code, span: Span) -> Result<(), Alarm> {
+        if code == Code::new(69, 0) {
+            self.state.feature = None;
+            return Ok(());
+        }
+        self.feature_allowed(span, "G68.2")?;
+        let form = match self.words.take(b'P') {
+            Some(word) => self.words.integer(&word, 9)?,
+            None => 0,
+        };
+        let mut origin = Vec3::zeros();
+        for (i, letter) in [b'X', b'Y', b'Z'].into_iter().enumerate() {
+            if let Some(word) = self.words.take(letter) {
+                origin[i] = self.length(&word);
+            }
+        }
+        let mut angle = |letter: u8| self.words.take(letter).map_or(0.0, |w| self.angle(&w));
+        let (i, j, k) = (angle(b'I'), angle(b'J'), angle(b'K'));
+        let rotation = match form {
+            0 => about(Vec3::z(), i) * about(Vec3::x(), j) * about(Vec3::z(), k),
+            1 => about(Vec3::z(), k) * about(Vec3::y(), j) * about(Vec3::x(), i),
+            _ => {
+                return Err(self.alarm(
+                    Condition::FeatureNotAllowed,
+                    Some(span),
+                    format!(
+                        "G68.2 P{form}: the kernel defines the feature frame by Euler angles (P0) or roll-pitch-yaw (P1)"
+                    ),
+                ));
+            }
+        };
+        if [origin.x, origin.y, origin.z, i, j, k]
+            .iter()
+            .any(|v| !v.is_finite())
+        {
+            return Err(self.alarm(
+                Condition::ValueOutOfRange,
+                Some(span),
+                "G68.2 with a value that is not a finite number".into(),
+            ));
+        }
+        self.state.feature = Some(Feature { origin, rotation });
+        Ok(())
+    }
+
+    /// In the mode: a block may not start what the tilted plane is not
+    /// combined with, nor change the work offset or the setup error.
+    pub(super) fn feature_restrictions(&self, codes: &super::GCodes) -> Result<(), Alarm> {
+        if self.feature().is_none() {
+            return Ok(());
+        }
+        let refused = [
+            codes
+                .length
+                .filter(|(c, _)| c.major == 43 && matches!(c.minor, 4 | 5))
+                .map(|(c, s)| (c, s, "tool centre point control")),
+            codes
+                .cutter
+                .filter(|(c, _)| matches!(c.major, 41 | 42))
+                .map(|(c, s)| (c, s, "tool radius compensation")),
+            codes
+                .work
+                .map(|(c, s)| (c, s, "a change of the work offset")),
+            codes
+                .setup
+                .map(|(c, s)| (c, s, "workpiece setup error correction")),
+        ];
+        match refused.into_iter().flatten().next() {
+            Some((code, span, what)) => Err(self.alarm(
+                Condition::FeatureNotAllowed,
+                Some(span),
+                format!("G{code} ({what}) cannot be given in the tilted working plane (G68.2) in this kernel: cancel it with G69 first"),
+            )),
+            None => Ok(()),
+        }
+    }
+
+    /// The functions the tilted plane is not combined with (yet).
+    pub(super) fn feature_allowed(&self, span: Span, what: &str) -> Result<(), Alarm> {
+        let conflict = if self.tcpc_type().is_some() {
+            Some("tool centre point control (G43.4/G43.5)")
+        } else if self.cutter.side.is_some() {
+            Some("cutter compensation C (G41/G42)")
+        } else if self.state.comp3d.active {
+            Some("3-D tool compensation")
+        } else {
+            None
+        };
+        match conflict {
+            Some(mode) => Err(self.alarm(
+                Condition::FeatureNotAllowed,
+                Some(span),
+                format!("{what} cannot be used with {mode} in this kernel: cancel it first"),
+            )),
+            None => Ok(()),
+        }
+    }
+
+    /// G53.1: the rotary axes turn so that the tool stands along the
+    /// feature Z; the linear axes stay.
+    pub(super) fn tool_axis_control(
+        &mut self,
+        span: Span,
+        out: &mut Vec<Segment>,
+    ) -> Result<(), Alarm> {
+        let Some(feature) = self.state.feature else {
+            return Err(self.alarm(
+                Condition::FeatureNotAllowed,
+                Some(span),
+                "G53.1 needs a tilted working plane (G68.2) in force".into(),
+            ));
+        };
+        if self.machine.rotary.len() != 2 {
+            return Err(self.alarm(
+                Condition::TcpcWithoutRotaryAxis,
+                Some(span),
+                "G53.1 needs a machine with two rotary axes".into(),
+            ));
+        }
+        let z = feature.rotation * Vec3::z();
+        let dir = self.state.setup.vector(&z);
+        let (i0, i1) = (self.machine.rotary_index(0), self.machine.rotary_index(1));
+        let current = self.state.joints;
+        let chosen = self.choose_rotaries(&dir, [current[i0], current[i1]])?;
+        let mut end = current;
+        let mut start = current;
+        for (k, i) in [i0, i1].into_iter().enumerate() {
+            if self.is_rollover(i) {
+                end[i] = super::normalize_360(chosen[k]);
+                start[i] = end[i] - (chosen[k] - current[i]);
+            } else {
+                end[i] = chosen[k];
+            }
+        }
+        self.push_line(Motion::Rapid, start, end, out)
+    }
+
+    /// Linear axes that put the tip on programmed point `p` (feature
+    /// frame) with the rotary axes at `joints`.
+    pub(super) fn feature_gauge(&self, joints: &Joints, p: &Vec3) -> Vec3 {
+        let tip = self.to_real(p);
+        self.machine
+            .gauge_for_tip(joints, &tip, self.feature_tool_length())
+    }
+
+    /// The programmed point (feature frame) of the tip at `joints`.
+    pub(super) fn feature_programmed(&self, joints: &Joints) -> Vec3 {
+        let tip = self.machine.forward(joints, self.feature_tool_length()).tip;
+        self.programmed_of_real(&tip)
+    }
+
+    /// An arc of the feature plane carried into machine X, Y, Z with the
+    /// rotary axes at `joints`: the map is a rigid motion, so the circle
+    /// stays a circle.
+    pub(super) fn feature_circle(&self, joints: &Joints, circle: &TipPath) -> TipPath {
+        let TipPath::Arc {
+            center,
+            axes,
+            radius,
+            theta0,
+            sweep,
+            rise,
+        } = *circle
+        else {
+            return *circle;
+        };
+        let origin = self.feature_gauge(joints, &Vec3::zeros());
+        let carry = |v: &Vec3| self.feature_gauge(joints, v) - origin;
+        TipPath::Arc {
+            center: self.feature_gauge(joints, &center),
+            axes: axes.map(|a| carry(&a)),
+            radius,
+            theta0,
+            sweep,
+            rise,
+        }
+    }
+}

@@ -1,0 +1,177 @@
+//! Tilted working plane (G68.2, G53.1, G69) judged by forward kinematics:
+//! on every built-in 5-axis machine, for random feature frames of both
+//! forms (P0 Euler ZXZ, P1 roll-pitch-yaw), after G53.1 the reported tip
+//! of every row is the frame's transform of the programmed point and the
+//! tool direction is the frame's Z (within 1e-9). The frame is computed
+//! here from closed-form rotation matrices, not by the kernel's code.
+
+mod common;
+
+use fiveaxis_control::{Alarm, Row};
+use fiveaxis_machine::{Machine, Offsets, ToolOffset, builtin};
+use proptest::prelude::*;
+use proptest::test_runner::Config;
+
+/// Rotation matrices about X, Y, Z by `deg` degrees, as rows.
+fn rx(deg: f64) -> [[f64; 3]; 3] {
+    let (s, c) = deg.to_radians().sin_cos();
+    [[1.0, 0.0, 0.0], [0.0, c, -s], [0.0, s, c]]
+}
+fn ry(deg: f64) -> [[f64; 3]; 3] {
+    let (s, c) = deg.to_radians().sin_cos();
+    [[c, 0.0, s], [0.0, 1.0, 0.0], [-s, 0.0, c]]
+}
+fn rz(deg: f64) -> [[f64; 3]; 3] {
+    let (s, c) = deg.to_radians().sin_cos();
+    [[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]]
+}
+fn mul(a: [[f64; 3]; 3], b: [[f64; 3]; 3]) -> [[f64; 3]; 3] {
+    let mut m = [[0.0; 3]; 3];
+    for i in 0..3 {
+        for j in 0..3 {
+            m[i][j] = (0..3).map(|k| a[i][k] * b[k][j]).sum();
+        }
+    }
+    m
+}
+fn apply(m: [[f64; 3]; 3], v: [f64; 3]) -> [f64; 3] {
+    [0, 1, 2].map(|i| (0..3).map(|k| m[i][k] * v[k]).sum())
+}
+
+fn offsets() -> Offsets {
+    let mut o = Offsets::default();
+    o.tools.insert(
+        1,
+        ToolOffset {
+            length: 100.0,
+            ..ToolOffset::default()
+        },
+    );
+    o
+}
+
+fn run(machine: &Machine, program: &str) -> (Vec<Row>, Option<Alarm>) {
+    common::run_sampled(machine, offsets(), program, &[0.5, 1.0])
+}
+
+const MACHINES: [&str; 4] = [
+    "trunnion-ac",
+    "trunnion-bc",
+    "head-table-bc",
+    "head-head-ca",
+];
+
+fn close(a: &[f64], b: &[f64], what: &str) -> Result<(), TestCaseError> {
+    let d = a
+        .iter()
+        .zip(b)
+        .map(|(x, y)| (x - y).abs())
+        .fold(0.0, f64::max);
+    prop_assert!(d < 1e-9, "{what}: {a:?} vs {b:?}");
+    Ok(())
+}
+
+proptest! {
+    #![proptest_config(Config { cases: 96, ..Config::default() })]
+
+    #[test]
+    fn rows_in_the_tilted_plane_are_the_frames_transform_of_the_program(
+        form in 0u32..2,
+        origin in prop::array::uniform3(-50.0..50.0f64),
+        angles in prop::array::uniform3(-40.0..40.0f64),
+        point in prop::array::uniform3(-30.0..30.0f64),
+        radius in 5.0..20.0f64,
+    ) {
+        // Everything as the program writes it: four decimals.
+        let round = |v: f64| (v * 1e4).round() / 1e4;
+        let [i, j, k] = angles.map(round);
+        let p = point.map(round);
+        let o = origin.map(round);
+        let radius = round(radius);
+        let r = if form == 0 {
+            mul(mul(rz(i), rx(j)), rz(k))
+        } else {
+            mul(mul(rz(k), ry(j)), rx(i))
+        };
+        let x0 = round(p[0] + 10.0);
+        let x1 = round(x0 + radius);
+        let z4 = round(p[2] + 40.0);
+        let program = format!(
+            "G43 H1 G0 Z250.\nG68.2 P{form} X{:?} Y{:?} Z{:?} I{i:?} J{j:?} K{k:?}\nG53.1\n\
+             G0 X{:?} Y{:?} Z{:?}\nG1 X{x0:?} F500.\nG3 X{:?} R{radius:?}\nG81 Z-5. R2.\nG80\nG69\n",
+            o[0], o[1], o[2], p[0], p[1], z4, x1,
+        );
+        let z = apply(r, [0.0, 0.0, 1.0]);
+        let to_work = |q: [f64; 3]| {
+            let v = apply(r, q);
+            [o[0] + v[0], o[1] + v[1], o[2] + v[2]]
+        };
+        for name in MACHINES {
+            let machine = builtin(name).expect("built in");
+            let (rows, alarm) = run(&machine, &program);
+            if let Some(a) = &alarm {
+                // A frame the machine cannot tilt to is the control's alarm;
+                // the B/C trunnion (B +-120, C endless) reaches every frame
+                // of these angles, so it is checked in every case.
+                prop_assert!(
+                    name != "trunnion-bc" && a.line == 3 && a.code.to_string() == "FX0075",
+                    "{name}: {a:?}\n{program}"
+                );
+                continue;
+            }
+            // Every row after G53.1: the tool along the frame's Z.
+            for row in rows.iter().filter(|r| r.line >= 4 && r.line <= 7) {
+                close(row.dir.as_slice(), &z, &format!("{name} line {} direction", row.line))?;
+            }
+            let ends: Vec<&Row> = rows.iter().filter(|r| r.s == 1.0).collect();
+            let at = |line: u32| ends.iter().find(|r| r.line == line).copied();
+            let end4 = at(4).expect("line 4 moves");
+            close(end4.tip.as_slice(), &to_work([p[0], p[1], z4]), &format!("{name} line 4"))?;
+            let end5 = at(5).expect("line 5 moves");
+            close(end5.tip.as_slice(), &to_work([x0, p[1], z4]), &format!("{name} line 5"))?;
+            // The arc: its end, and its middle on the circle of the plane.
+            let end6 = at(6).expect("line 6 moves");
+            close(end6.tip.as_slice(), &to_work([x1, p[1], z4]), &format!("{name} arc end"))?;
+            let mid = rows.iter().find(|r| r.line == 6 && r.s == 0.5).expect("arc middle");
+            // G3 from x0 to x1 (a chord c) with R r: the minor arc,
+            // counter-clockwise, its centre left of the chord, its middle
+            // r below the centre.
+            let c = x1 - x0;
+            let h = (radius * radius - 0.25 * c * c).sqrt();
+            close(mid.tip.as_slice(), &to_work([x0 + 0.5 * c, p[1] + h - radius, z4]), &format!("{name} arc middle"))?;
+            // G81 drills along the frame's Z at the last position.
+            let bottom = rows
+                .iter()
+                .filter(|r| r.line == 7 && r.s == 1.0)
+                .map(|r| r.tip)
+                .find(|t| {
+                    let q = to_work([x1, p[1], -5.0]);
+                    (t.x - q[0]).abs() + (t.y - q[1]).abs() + (t.z - q[2]).abs() < 1e-9
+                });
+            prop_assert!(bottom.is_some(), "{name}: no G81 row at the hole bottom: {rows:?}");
+        }
+    }
+}
+
+#[test]
+fn g53_1_needs_a_frame_and_the_plane_refuses_what_it_does_not_combine() {
+    let m = builtin("trunnion-ac").expect("built in");
+    let code = |program: &str| run(&m, program).1.map(|a| a.code.to_string());
+    assert_eq!(code("G53.1\n").as_deref(), Some("FX0140"));
+    assert_eq!(code("G68.2 P3 I10.\n").as_deref(), Some("FX0140"));
+    for inside in ["G55", "G43.4 H1", "G41 D1 X1.", "G54.4 P1"] {
+        assert_eq!(
+            code(&format!("G68.2 J10.\n{inside}\n")).as_deref(),
+            Some("FX0140"),
+            "{inside}"
+        );
+    }
+    assert_eq!(
+        code("G43.4 H1 Z50.\nG68.2 J10.\n").as_deref(),
+        Some("FX0140")
+    );
+    // G69 ends it: G55 is fine again, and G68.2 / G69 blocks move nothing.
+    let (rows, alarm) = run(&m, "G0 X5.\nG68.2 X10. J10.\nG69\nG55\n");
+    assert_eq!(alarm, None);
+    assert_eq!(rows.iter().filter(|r| r.s == 1.0).count(), 1, "{rows:?}");
+}
