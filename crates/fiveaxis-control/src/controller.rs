@@ -435,8 +435,8 @@ impl<'m> Controller<'m> {
                 (43 | 44 | 49, 0) | (43, 1 | 4 | 5) => GKind::Length,
                 (54..=59, 0) | (54, 1) => GKind::Work,
                 (54, 4) => GKind::SetupError,
-                (4 | 10 | 27 | 28 | 30 | 53 | 92, 0) | (53, 1) => GKind::OneShot,
-                (68, 2) | (69, 0) => GKind::Feature,
+                (4 | 10 | 27 | 28 | 30 | 53 | 92, 0) | (53, 1 | 6) => GKind::OneShot,
+                (68, 2 | 4) | (69, 0) => GKind::Feature,
                 (61..=64, 0) => GKind::Cutting,
                 // G05 is refused in 3-D tool compensation (below).
                 (5, 0) if self.comp3d_forbidden(code).is_none() => GKind::Accuracy,
@@ -1406,7 +1406,8 @@ impl<'m> Controller<'m> {
                 };
                 self.reference_return(from, n, out)
             }
-            53 if code.minor == 1 => self.tool_axis_control(span, out),
+            53 if code.minor == 1 => self.tool_axis_control(span, false, out),
+            53 if code.minor == 6 => self.tool_axis_control(span, true, out),
             53 => self.machine_coordinates(out),
             _ => self.set_coordinate_system(from),
         }

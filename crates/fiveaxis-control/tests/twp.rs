@@ -175,3 +175,64 @@ fn g53_1_needs_a_frame_and_the_plane_refuses_what_it_does_not_combine() {
     assert_eq!(alarm, None);
     assert_eq!(rows.iter().filter(|r| r.s == 1.0).count(), 1, "{rows:?}");
 }
+
+#[test]
+fn g68_4_defines_the_frame_inside_the_frame_in_force() {
+    // G68.2 tilts 30 degrees about X at X10; G68.4 then moves 5 along the
+    // tilted Y and turns 90 degrees about the tilted Z.
+    let m = builtin("trunnion-bc").expect("built in");
+    let (rows, alarm) = run(
+        &m,
+        "G43 H1 G0 Z250.\nG68.2 X10. J30.\nG68.4 Y5. I90.\nG53.1\nG0 X1. Y2. Z3.\n",
+    );
+    assert_eq!(alarm, None);
+    let r = mul(rx(30.0), rz(90.0));
+    let o = {
+        let v = apply(rx(30.0), [0.0, 5.0, 0.0]);
+        [10.0 + v[0], v[1], v[2]]
+    };
+    let want = {
+        let v = apply(r, [1.0, 2.0, 3.0]);
+        [o[0] + v[0], o[1] + v[1], o[2] + v[2]]
+    };
+    let end = rows
+        .iter()
+        .rfind(|r| r.line == 5 && r.s == 1.0)
+        .expect("line 5");
+    for (a, b) in end.tip.iter().zip(want) {
+        assert!((a - b).abs() < 1e-9, "{:?} vs {want:?}", end.tip);
+    }
+}
+
+#[test]
+fn g53_6_turns_the_tool_with_its_tip_held() {
+    for name in MACHINES {
+        let m = builtin(name).expect("built in");
+        let (rows, alarm) = common::run_sampled(
+            &m,
+            offsets(),
+            "G43 H1 G0 X5. Y5. Z60.\nG68.2 X0 J25.\nG53.6\n",
+            &[0.25, 0.5, 0.75, 1.0],
+        );
+        assert_eq!(alarm, None, "{name}");
+        let before = rows
+            .iter()
+            .find(|r| r.line == 1 && r.s == 1.0)
+            .expect("line 1")
+            .tip;
+        let turn: Vec<&Row> = rows.iter().filter(|r| r.line == 3).collect();
+        assert_eq!(turn.len(), 4, "{name}: {rows:?}");
+        for row in turn {
+            assert!(
+                (row.tip - before).norm() < 1e-9,
+                "{name}: {:?} vs {before:?}",
+                row.tip
+            );
+        }
+        let last = rows.last().expect("rows");
+        let z = apply(rx(25.0), [0.0, 0.0, 1.0]);
+        for (a, b) in last.dir.iter().zip(z) {
+            assert!((a - b).abs() < 1e-9, "{name}: {:?}", last.dir);
+        }
+    }
+}

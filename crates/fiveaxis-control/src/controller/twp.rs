@@ -87,13 +87,15 @@ impl Controller<'_> {
         }
     }
 
-    /// G68.2 (define the frame) or G69 (cancel it).
+    /// G68.2 (define the frame), G68.4 (define it relative to the frame
+    /// in force) or G69 (cancel it).
     pub(super) fn feature_command(&mut self, code: Code, span: Span) -> Result<(), Alarm> {
         if code == Code::new(69, 0) {
             self.state.feature = None;
             return Ok(());
         }
-        self.feature_allowed(span, "G68.2")?;
+        let name = format!("G{code}");
+        self.feature_allowed(span, &name)?;
         let form = match self.words.take(b'P') {
             Some(word) => self.words.integer(&word, 9)?,
             None => 0,
@@ -114,7 +116,7 @@ impl Controller<'_> {
                     Condition::FeatureNotAllowed,
                     Some(span),
                     format!(
-                        "G68.2 P{form}: the kernel defines the feature frame by Euler angles (P0) or roll-pitch-yaw (P1)"
+                        "{name} P{form}: the kernel defines the feature frame by Euler angles (P0) or roll-pitch-yaw (P1)"
                     ),
                 ));
             }
@@ -126,10 +128,19 @@ impl Controller<'_> {
             return Err(self.alarm(
                 Condition::ValueOutOfRange,
                 Some(span),
-                "G68.2 with a value that is not a finite number".into(),
+                format!("{name} with a value that is not a finite number"),
             ));
         }
-        self.state.feature = Some(Feature { origin, rotation });
+        let defined = Feature { origin, rotation };
+        // G68.4: the new frame is given in the frame in force.
+        let feature = match self.state.feature {
+            Some(outer) if code.minor == 4 => Feature {
+                origin: outer.work_point(&defined.origin),
+                rotation: outer.rotation * defined.rotation,
+            },
+            _ => defined,
+        };
+        self.state.feature = Some(feature);
         Ok(())
     }
 
@@ -187,24 +198,28 @@ impl Controller<'_> {
     }
 
     /// G53.1: the rotary axes turn so that the tool stands along the
-    /// feature Z; the linear axes stay.
+    /// feature Z; the linear axes stay. G53.6 (`keep_tip`): the same turn
+    /// with the tool tip held where it is (the linear axes follow, as in
+    /// TCPC).
     pub(super) fn tool_axis_control(
         &mut self,
         span: Span,
+        keep_tip: bool,
         out: &mut Vec<Segment>,
     ) -> Result<(), Alarm> {
+        let name = if keep_tip { "G53.6" } else { "G53.1" };
         let Some(feature) = self.state.feature else {
             return Err(self.alarm(
                 Condition::FeatureNotAllowed,
                 Some(span),
-                "G53.1 needs a tilted working plane (G68.2) in force".into(),
+                format!("{name} needs a tilted working plane (G68.2) in force"),
             ));
         };
         if self.machine.rotary.len() != 2 {
             return Err(self.alarm(
                 Condition::TcpcWithoutRotaryAxis,
                 Some(span),
-                "G53.1 needs a machine with two rotary axes".into(),
+                format!("{name} needs a machine with two rotary axes"),
             ));
         }
         let z = feature.rotation * Vec3::z();
@@ -222,7 +237,29 @@ impl Controller<'_> {
                 end[i] = chosen[k];
             }
         }
-        self.push_line(Motion::Rapid, start, end, out)
+        if !keep_tip {
+            return self.push_line(Motion::Rapid, start, end, out);
+        }
+        // The tip stays: a TCPC law with a standing tip.
+        let tip = self
+            .machine
+            .forward(&current, self.feature_tool_length())
+            .tip;
+        let gauge = self
+            .machine
+            .gauge_for_tip(&end, &tip, self.feature_tool_length());
+        end[..3].copy_from_slice(gauge.as_slice());
+        let path = crate::segment::Path::Tcpc(crate::segment::TcpcPath {
+            tip: TipPath::Line([tip, tip]),
+            turning: false,
+            posture: None,
+        });
+        let mut seg = self.segment(Motion::Rapid, start, end, path);
+        seg.tool_length = self.feature_tool_length();
+        if seg.moves() {
+            out.push(seg);
+        }
+        Ok(())
     }
 
     /// Linear axes that put the tip on programmed point `p` (feature
