@@ -1,0 +1,26 @@
+%
+O2000 (BOLT HOLES ON A TILTED FACE)
+(3+2 machining: a tilted working plane, the tool turned normal to it,)
+(and a custom macro B bolt-hole circle that drills with G81.)
+G21 G90 G17 G40 G49 G80
+G54
+G43 H1 G0 Z150.
+G68.2 X0 Y-20. Z10. I0 J-25. K0 (FACE TILTED 25 DEG ABOUT X)
+G53.1 (TOOL NORMAL TO THE FACE)
+G0 X0 Y0 Z30.
+G65 P9100 X0 Y0 R25. A15. B60. H6 Z-6. F120.
+G0 Z30.
+G69
+G49 G0 Z150.
+M30
+O9100 (BOLT CIRCLE: X Y CENTRE, R RADIUS, A START, B STEP, H COUNT, Z DEPTH, F FEED)
+#30=0
+G98 G81 X[#24+#18*COS[#1]] Y[#25+#18*SIN[#1]] Z#26 R2. F#9 K0
+WHILE [#30 LT #11] DO1
+#31=#1+#30*#2
+X[#24+#18*COS[#31]] Y[#25+#18*SIN[#31]]
+#30=#30+1
+END1
+G80
+M99
+%
