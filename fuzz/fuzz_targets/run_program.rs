@@ -17,7 +17,12 @@ fuzz_target!(|data: &[u8]| {
         &machine,
         Offsets::default(),
         SliceSource::new(data),
-        RunOptions::default(),
+        // Endless loops without movement end at the block budget: a small
+        // one keeps every input fast.
+        RunOptions {
+            max_blocks: 200_000,
+            ..RunOptions::default()
+        },
     );
     for _ in 0..MAX_SEGMENTS {
         match runner.next_segment() {

@@ -644,7 +644,7 @@ impl Condition {
             C::CycleDepthMissing => 131,
             C::CycleReferenceReturn => 132,
             C::CycleNotAllowed => 133,
-            C::FeatureNotAllowed => 140,
+            C::FeatureNotAllowed => 150,
             C::OvertravelMinus => 501,
         }
     }

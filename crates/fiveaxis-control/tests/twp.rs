@@ -157,18 +157,18 @@ proptest! {
 fn g53_1_needs_a_frame_and_the_plane_refuses_what_it_does_not_combine() {
     let m = builtin("trunnion-ac").expect("built in");
     let code = |program: &str| run(&m, program).1.map(|a| a.code.to_string());
-    assert_eq!(code("G53.1\n").as_deref(), Some("FX0140"));
-    assert_eq!(code("G68.2 P3 I10.\n").as_deref(), Some("FX0140"));
+    assert_eq!(code("G53.1\n").as_deref(), Some("FX0150"));
+    assert_eq!(code("G68.2 P3 I10.\n").as_deref(), Some("FX0150"));
     for inside in ["G55", "G43.4 H1", "G41 D1 X1.", "G54.4 P1"] {
         assert_eq!(
             code(&format!("G68.2 J10.\n{inside}\n")).as_deref(),
-            Some("FX0140"),
+            Some("FX0150"),
             "{inside}"
         );
     }
     assert_eq!(
         code("G43.4 H1 Z50.\nG68.2 J10.\n").as_deref(),
-        Some("FX0140")
+        Some("FX0150")
     );
     // G69 ends it: G55 is fine again, and G68.2 / G69 blocks move nothing.
     let (rows, alarm) = run(&m, "G0 X5.\nG68.2 X10. J10.\nG69\nG55\n");

@@ -23,7 +23,7 @@
 //!   Canned cycles drill along the feature Z.
 //!
 //! Decisions where this kernel is stricter than the control (each alarm
-//! FX0140 naming the function): TCPC, cutter compensation C and 3-D tool
+//! FX0150 naming the function): TCPC, cutter compensation C and 3-D tool
 //! compensation are not combined with the tilted plane yet; the work
 //! offset and G54.4 cannot change in the mode; `G68.2` in the mode
 //! replaces the frame (FANUC nests it with parameter No.11221; here the
