@@ -23,6 +23,7 @@ use crate::words::Words;
 mod comp3d;
 mod cutter_c;
 mod cycles;
+mod frames;
 mod m_codes;
 mod setup;
 mod system_vars;
@@ -110,6 +111,8 @@ struct State {
     setup_angles: Option<[f64; 2]>,
     /// Canned cycle (groups 09, 10) and its drilling data.
     cycle: cycles::CycleState,
+    /// G52, G16, G51.1, G51, G68 (`controller/frames.rs`).
+    frames: frames::Frames,
 }
 
 /// The controller of one run.
@@ -181,6 +184,7 @@ impl<'m> Controller<'m> {
                 setup_tilt_sign: 1.0,
                 setup_angles: None,
                 cycle: cycles::CycleState::default(),
+                frames: frames::Frames::default(),
             },
             words: Words::new(machine.control),
             block_posture: None,
@@ -347,6 +351,7 @@ impl<'m> Controller<'m> {
             self.state.setup_angles = None;
         }
         let comp_changed = self.apply_cutter(&codes)?;
+        self.apply_frames(&codes, &from)?;
         let length_changed = change == LengthChange::Moves || comp_changed;
         if let Some((_, span)) = codes.setup {
             if self.cutter.routing() {
@@ -426,7 +431,7 @@ impl<'m> Controller<'m> {
                 (43 | 44 | 49, 0) | (43, 1 | 4 | 5) => GKind::Length,
                 (54..=59, 0) | (54, 1) => GKind::Work,
                 (54, 4) => GKind::SetupError,
-                (4 | 10 | 27 | 28 | 30 | 53 | 92, 0) => GKind::OneShot,
+                (4 | 10 | 27 | 28 | 30 | 52 | 53 | 92, 0) => GKind::OneShot,
                 (61..=64, 0) => GKind::Cutting,
                 // G05 is refused in 3-D tool compensation (below).
                 (5, 0) if self.comp3d_forbidden(code).is_none() => GKind::Accuracy,
@@ -436,10 +441,10 @@ impl<'m> Controller<'m> {
                 (40..=42, 0) => GKind::Cutter,
                 (73 | 74 | 76 | 80..=89, 0) => GKind::Cycle,
                 (98 | 99, 0) => GKind::CycleReturn,
-                // Cancels of modes that cannot be active in this kernel
-                // (polar coordinates, scaling, mirror image, rotation):
-                // nothing to do.
-                (15 | 50 | 69, 0) | (50, 1) => GKind::Cancel,
+                // Program transforms (controller/frames.rs); G51 is
+                // refused in 3-D tool compensation (below).
+                (51, 0) if self.comp3d_forbidden(code).is_none() => GKind::Frame,
+                (15 | 16 | 50 | 68 | 69, 0) | (50 | 51, 1) => GKind::Frame,
                 _ => {
                     if let Some((condition, what)) = self.comp3d_forbidden(code) {
                         return Err(self.alarm(
@@ -492,6 +497,7 @@ impl<'m> Controller<'m> {
                     codes.cycle = Some((code, span));
                 }
                 GKind::CycleReturn => codes.cycle_return = Some(code),
+                GKind::Frame => codes.frames[frames::slot(code)] = Some((code, span)),
                 GKind::Cancel => {}
             }
         }
@@ -877,7 +883,11 @@ impl<'m> Controller<'m> {
             .enumerate()
         {
             if let Some(word) = self.words.take(letter) {
-                targets[i] = Some(self.axis_value(i, &word));
+                targets[i] = Some(if self.polar_angle_axis(i) {
+                    self.angle(&word)
+                } else {
+                    self.axis_value(i, &word)
+                });
             }
         }
         targets
@@ -899,12 +909,18 @@ impl<'m> Controller<'m> {
     /// tool compensation vector is added, then the setup error (G54.4)
     /// maps the ideal workpiece onto the real one.
     fn to_real(&self, p: &Vec3) -> Vec3 {
-        self.work() + self.state.setup.point(&(p + self.state.comp3d.vector))
+        self.work() + self.state.setup.point(&(p + self.local_vector()))
     }
 
     /// The inverse of [`Controller::to_real`]: a real point as programmed.
     fn programmed_of_real(&self, x: &Vec3) -> Vec3 {
-        self.state.setup.inverse_point(&(x - self.work())) - self.state.comp3d.vector
+        self.state.setup.inverse_point(&(x - self.work())) - self.local_vector()
+    }
+
+    /// What is added to a programmed point before the setup error: the
+    /// 3-D compensation vector and the G52 local coordinate system.
+    fn local_vector(&self) -> Vec3 {
+        self.state.comp3d.vector + self.state.frames.local
     }
 
     /// The active H value (geometry + wear), mm.
@@ -996,6 +1012,14 @@ impl<'m> Controller<'m> {
     /// programmed) and travel the shorter way on absolute commands, the
     /// increment itself on incremental ones.
     fn end_point(&self, from: &Joints, targets: &Targets) -> (Joints, Joints) {
+        if self.state.frames.active() {
+            return self.framed_end_point(from, targets);
+        }
+        self.plain_end_point(from, targets)
+    }
+
+    /// [`Controller::end_point`] without program transforms.
+    fn plain_end_point(&self, from: &Joints, targets: &Targets) -> (Joints, Joints) {
         let mut end = *from;
         let mut travel = [0.0; MAX_AXES];
         let incremental = self.state.modal.distance == Distance::Incremental;
@@ -1237,7 +1261,7 @@ impl<'m> Controller<'m> {
         end_p: &Joints,
     ) -> Result<Option<ArcGeometry>, Alarm> {
         let [p, q, normal] = self.state.modal.plane.axes();
-        let ccw = mode == MotionMode::Ccw;
+        let ccw = self.framed_ccw(mode);
         let (sp, sq) = (from[p], from[q]);
         let (ep, eq) = (end_p[p], end_p[q]);
         let center = if let Some(r_word) = self.words.take(b'R') {
@@ -1250,7 +1274,7 @@ impl<'m> Controller<'m> {
                     ));
                 }
             }
-            let r = self.length(&r_word);
+            let r = self.framed_radius(self.length(&r_word), r_word.span)?;
             match self.center_from_radius((sp, sq), (ep, eq), r, ccw, r_word.span)? {
                 Some(c) => c,
                 None => return Ok(None),
@@ -1277,6 +1301,7 @@ impl<'m> Controller<'m> {
                     message,
                 ));
             }
+            let (i, j) = self.framed_center(i, j, i_word.or(j_word).map(|w| w.span))?;
             (sp + i, sq + j)
         };
         let r0 = (sp - center.0).hypot(sq - center.1);
@@ -1356,6 +1381,7 @@ impl<'m> Controller<'m> {
                 };
                 self.reference_return(from, n, out)
             }
+            52 => self.local_coordinate_system(),
             53 => self.machine_coordinates(out),
             _ => self.set_coordinate_system(from),
         }
@@ -1593,7 +1619,9 @@ impl<'m> Controller<'m> {
             if let Some(word) = self.words.take(name as u8) {
                 let value = self.axis_value(i, &word);
                 if i < 3 {
-                    self.state.shift[i] += from[i] - value;
+                    // G92 cancels the local coordinate system of its axes.
+                    self.state.shift[i] += from[i] - value + self.state.frames.local[i];
+                    self.state.frames.local[i] = 0.0;
                 } else {
                     self.state.axis_shift[i] += from[i] - value;
                 }
@@ -1905,6 +1933,7 @@ enum GKind {
     Accuracy,
     Cycle,
     CycleReturn,
+    Frame,
     Cancel,
 }
 
@@ -1929,4 +1958,6 @@ struct GCodes {
     canned_cancel: bool,
     cycle: Option<(Code, Span)>,
     cycle_return: Option<Code>,
+    /// G15/G16, G50.1/G51.1, G50/G51, G68/G69 (`frames::slot`).
+    frames: [Option<(Code, Span)>; 4],
 }

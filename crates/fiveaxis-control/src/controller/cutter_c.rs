@@ -175,13 +175,16 @@ impl Controller<'_> {
             from: *from,
             end: end_p,
             plane: [p, q, n],
-            vector: self.state.comp3d.vector,
+            vector: self.local_vector(),
             length_mode: self.state.modal.length,
             tool_length: self.tool_length(),
             work: self.work(),
         });
         self.cutter.point = end_p;
-        let offset = self.cutter.side.map(|side| (side, self.tool_radius()));
+        let offset = self
+            .cutter
+            .side
+            .map(|side| (self.framed_side(side, [p, q, n]), self.tool_radius()));
         let vector = self.cutter.vector.take();
         let block = element.map(|element| Move {
             element,
