@@ -351,7 +351,8 @@ impl<'m> Controller<'m> {
             self.state.setup_angles = None;
         }
         let comp_changed = self.apply_cutter(&codes)?;
-        self.apply_frames(&codes, &from)?;
+        // A transform block's axis words are its centre or mirror axes.
+        let framed = self.apply_frames(&codes, &from)?;
         let length_changed = change == LengthChange::Moves || comp_changed;
         if let Some((_, span)) = codes.setup {
             if self.cutter.routing() {
@@ -361,7 +362,7 @@ impl<'m> Controller<'m> {
                 self.cutter.engine.reset();
             }
             self.select_setup_error(span, &from, out)?;
-        } else {
+        } else if !framed {
             self.block_motion(&codes, &from, length_changed, out)?;
         }
         self.words.check_all_used()?;

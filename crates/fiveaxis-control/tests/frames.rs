@@ -87,6 +87,8 @@ fn g68_rotates_about_the_given_centre() {
     // (20, 0) about (10, 0) by 90°: (10 + 0, 0 + 10).
     let rows = run(&program("G68 X10. Y0 R90.\nG01 X20. Y0 F100.\nG69 X0 Y0\n"));
     near(tip(&rows, 3), [10.0, 10.0, 0.0]);
+    // The G68 block does not move.
+    assert!(rows.iter().all(|r| r.line != 2));
     // G69 in a block with a move: the move is not rotated.
     near(tip(&rows, 4), [0.0, 0.0, 0.0]);
 }
@@ -114,12 +116,12 @@ fn g68_without_centre_turns_about_the_tool_position() {
 #[test]
 fn g68_incremental_moves_turn_and_g91_r_adds_to_the_angle() {
     let rows = run(&program(
-        "G68 X0 Y0 R30.\nG91 G01 X10. F100.\nG90 G68 X0 Y0 R30.\nG91 G68 R15.\nG90 X10. Y0\n",
+        "G68 X0 Y0 R30.\nG91 G01 X10. F100.\nG90 G69 G00 X0 Y0\nG68 R30.\nG91 G68 R15.\nG90 G01 X10. Y0\n",
     ));
     let a = 30.0f64.to_radians();
     near(tip(&rows, 3), [10.0 * a.cos(), 10.0 * a.sin(), 0.0]);
     let b = 45.0f64.to_radians();
-    near(tip(&rows, 6), [10.0 * b.cos(), 10.0 * b.sin(), 0.0]);
+    near(tip(&rows, 7), [10.0 * b.cos(), 10.0 * b.sin(), 0.0]);
 }
 
 #[test]
@@ -154,6 +156,7 @@ fn g51_1_mirrors_about_the_given_position() {
     ));
     near(tip(&rows, 3), [5.0, 3.0, 0.0]);
     near(tip(&rows, 4), [3.0, 3.0, 0.0]);
+    assert!(rows.iter().all(|r| r.line != 2 && r.line != 5));
     near(tip(&rows, 6), [15.0, 3.0, 0.0]);
 }
 
@@ -209,6 +212,7 @@ fn g51_p_scales_all_axes_about_the_centre() {
         "G51 X0 Y0 Z0 P2000\nG01 X5. Y3. Z-1. F100.\nG50\nG51 X10. Y10. Z0 P0.5\nX20. Y0 Z0\nG50\n",
     ));
     near(tip(&rows, 3), [10.0, 6.0, -2.0]);
+    assert!(rows.iter().all(|r| r.line != 2 && r.line != 5));
     near(tip(&rows, 6), [15.0, 5.0, 0.0]);
 }
 
@@ -410,4 +414,13 @@ fn transforms_are_refused_under_tcpc() {
 fn a_scaling_factor_of_zero_is_refused() {
     let (code, _) = alarm(&program("G51 X0 Y0 P0\n"), "mill-3axis");
     assert_eq!(code, "FX0014");
+}
+
+#[test]
+fn the_transform_groups_read_as_system_variables() {
+    let rows = run(&program(
+        "G68 X0 Y0 R10.\n#1 = #4016\nG69\n#2 = #4016\nG51.1 X0\n#3 = #4022\nG50.1\nG01 X[#1 / 1000 + #2 / 1000000 + #3 / 100] F100.\n",
+    ));
+    // 0.068 + 0.000069 + 0.511.
+    near(tip(&rows, 9), [0.579069, 0.0, 0.0]);
 }

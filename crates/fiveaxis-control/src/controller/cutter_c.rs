@@ -185,7 +185,11 @@ impl Controller<'_> {
             .cutter
             .side
             .map(|side| (self.framed_side(side, [p, q, n]), self.tool_radius()));
-        let vector = self.cutter.vector.take();
+        let vector = self
+            .cutter
+            .vector
+            .take()
+            .map(|v| self.framed_direction(v, [p, q, n]));
         let block = element.map(|element| Move {
             element,
             rapid: motion == Motion::Rapid,

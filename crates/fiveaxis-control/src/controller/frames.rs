@@ -138,6 +138,21 @@ impl Frames {
         p
     }
 
+    /// The G code of transform group `#4011` (11), `#4016` (16), `#4017`
+    /// (17) or `#4022` (22).
+    pub(super) fn modal_g(&self, variable: u32) -> f64 {
+        match variable {
+            4011 if self.scaling.is_some() => 51.0,
+            4011 => 50.0,
+            4016 if self.rotation.is_some() => 68.0,
+            4016 => 69.0,
+            4017 if self.polar => 16.0,
+            4017 => 15.0,
+            _ if self.mirror.iter().any(Option::is_some) => 51.1,
+            _ => 50.1,
+        }
+    }
+
     /// The linear part of [`Frames::apply`]: how a programmed direction or
     /// increment turns.
     pub(super) fn vector(&self, v: &Vec3) -> Vec3 {
@@ -181,7 +196,9 @@ impl Controller<'_> {
     /// compensation and cutter compensation are applied): the centres are
     /// read from the block's X, Y, Z, which then do not move the tool.
     /// `from` is where the program stands (after the transforms in force).
-    pub(super) fn apply_frames(&mut self, codes: &GCodes, from: &Joints) -> Result<(), Alarm> {
+    /// Returns whether the block's axis words were taken for a transform
+    /// (G68, G51, G51.1, G50.1): such a block does not move.
+    pub(super) fn apply_frames(&mut self, codes: &GCodes, from: &Joints) -> Result<bool, Alarm> {
         let here = Vec3::new(from[0], from[1], from[2]);
         let starts: Vec<(Code, Span)> = codes
             .frames
@@ -252,7 +269,9 @@ impl Controller<'_> {
         {
             self.rotation_start(span, &here)?;
         }
-        self.frames_restrictions(codes)
+        self.frames_restrictions(codes)?;
+        let mirror = codes.frames[MIRROR].is_some();
+        Ok(!starts.is_empty() || mirror)
     }
 
     fn nesting(&self, inner: bool, code: Code, span: Span, first: &str) -> Result<(), Alarm> {
@@ -555,6 +574,20 @@ impl Controller<'_> {
         v[q] = j;
         let w = self.state.frames.vector(&v);
         Ok((w[p], w[q]))
+    }
+
+    /// The direction of an I, J type vector (cutter compensation C) after
+    /// the transforms.
+    pub(super) fn framed_direction(
+        &self,
+        v: crate::cutter::P2,
+        plane: [usize; 3],
+    ) -> crate::cutter::P2 {
+        let mut w = Vec3::zeros();
+        w[plane[0]] = v.x;
+        w[plane[1]] = v.y;
+        let w = self.state.frames.vector(&w);
+        crate::cutter::P2::new(w[plane[0]], w[plane[1]])
     }
 
     /// The side of cutter compensation C after a mirror image.
