@@ -194,12 +194,20 @@ fn mirroring_both_axes_keeps_the_arc_direction() {
 
 #[test]
 fn cutter_compensation_under_a_mirror_image_is_the_mirror_of_the_path() {
-    let body = "G01 G41 D1 X20. Y10. F100.\nX40.\nY30.\nG40 X0 Y0\n";
-    let plain = run(&format!("{START}G00 X0 Y0\n{body}"));
-    let mirrored = run(&format!("{START}G51.1 X0\n{body}"));
+    let body = "G01 G41 D1 X20. Y10. F100.\nX40.\nG03 X50. Y20. R10.\nG01 Y30.\nG02 X40. Y40. I-10.\nG01 G40 X0 Y0\n";
+    let m = machine("mill-3axis");
+    let (plain, a1) = run_on(&format!("{START}G00 X0 Y0\n{body}"), &m, &[0.5, 1.0]);
+    let (mirrored, a2) = run_on(&format!("{START}G51.1 X0\n{body}"), &m, &[0.5, 1.0]);
+    assert!(a1.is_none() && a2.is_none(), "{a1:?} {a2:?}");
     assert_eq!(plain.len(), mirrored.len());
-    for (a, b) in plain.iter().zip(&mirrored).skip(1) {
+    for (a, b) in plain.iter().zip(&mirrored).skip(2) {
         near([-a.tip.x, a.tip.y, a.tip.z], [b.tip.x, b.tip.y, b.tip.z]);
+        let flipped = match a.motion {
+            Motion::Cw => Motion::Ccw,
+            Motion::Ccw => Motion::Cw,
+            m => m,
+        };
+        assert_eq!(b.motion, flipped);
     }
 }
 

@@ -116,7 +116,7 @@ impl Controller<'_> {
                         from: start2,
                         to: end2,
                         center: P2::new(geo.center[0], geo.center[1]),
-                        ccw: mode == MotionMode::Ccw,
+                        ccw: geo.motion == Motion::Ccw,
                     }),
                     geo.motion,
                 ),

@@ -516,14 +516,16 @@ impl Controller<'_> {
             end[p] = pole.0 + r * cos;
             end[q] = pole.1 + r * sin;
         }
-        // from + L·(end − start): axes the block leaves stay exactly.
-        let delta = Vec3::new(end[0], end[1], end[2]) - program;
-        let moved = here + f.vector(&delta);
+        // An axis the block leaves, which no other axis turns into, stays
+        // exactly where it is (no rounding from the round trip).
+        let target = Vec3::new(end[0], end[1], end[2]);
+        let mapped = f.apply(&target);
         for i in 0..3 {
-            end[i] = if delta[i] == 0.0 && f.vector(&unit(i)) == unit(i) {
+            let separate = (0..3).all(|j| j == i || f.vector(&unit(j))[i] == 0.0);
+            end[i] = if target[i] == program[i] && separate {
                 from[i]
             } else {
-                moved[i]
+                mapped[i]
             };
             travel[i] = end[i] - from[i];
         }
