@@ -432,3 +432,18 @@ fn the_transform_groups_read_as_system_variables() {
     // 0.068 + 0.000069 + 0.511.
     near(tip(&rows, 9), [0.579069, 0.0, 0.0]);
 }
+
+#[test]
+fn a_transform_block_moves_nothing_and_uses_no_other_axis_word() {
+    let (code, line) = alarm(&program("G68 X0 Y0 R10. Z5.\n"), "mill-3axis");
+    assert_eq!((code.as_str(), line), ("FX0012", 2));
+}
+
+#[test]
+fn g92_cancels_the_local_shift_of_its_axes() {
+    // At X11 (program X1 in G52 X10.), G92 X0 makes this point X0 with
+    // the local shift gone: X5. then lies 5 further.
+    let rows = run(&program("G52 X10.\nG00 X1. Y0\nG92 X0\nX5.\n"));
+    let last = rows.last().expect("rows");
+    assert!((last.joints[0] - 16.0).abs() < EPS, "{:?}", last.joints);
+}
