@@ -447,3 +447,9 @@ fn g92_cancels_the_local_shift_of_its_axes() {
     let last = rows.last().expect("rows");
     assert!((last.joints[0] - 16.0).abs() < EPS, "{:?}", last.joints);
 }
+
+#[test]
+fn g68_with_i_j_k_is_not_three_dimensional_conversion() {
+    let (code, _) = alarm(&program("G68 X0 Y0 Z0 I0 J0 K1 R10.\n"), "mill-3axis");
+    assert_eq!(code, "FX0012");
+}

@@ -219,10 +219,9 @@ impl Controller<'_> {
             ));
         }
         // Cancels first, innermost first; then the start.
-        if let Some((code, span)) = codes.frames[ROTATION]
+        if let Some((code, _)) = codes.frames[ROTATION]
             && code.major == 69
         {
-            let _ = span;
             self.state.frames.rotation = None;
         }
         if let Some((code, span)) = codes.frames[SCALING]
@@ -264,10 +263,10 @@ impl Controller<'_> {
             self.nesting(self.state.frames.rotation.is_some(), code, span, "G69")?;
             self.scaling_start(code, span, &here)?;
         }
-        if let Some((code, span)) = codes.frames[ROTATION]
+        if let Some((code, _)) = codes.frames[ROTATION]
             && code.major == 68
         {
-            self.rotation_start(span, &here)?;
+            self.rotation_start(&here);
         }
         self.frames_restrictions(codes)?;
         let mirror = codes.frames[MIRROR].is_some();
@@ -422,7 +421,7 @@ impl Controller<'_> {
         Ok(())
     }
 
-    fn rotation_start(&mut self, span: Span, here: &Vec3) -> Result<(), Alarm> {
+    fn rotation_start(&mut self, here: &Vec3) {
         let plane = self.state.modal.plane;
         let [p, q, _] = plane.axes();
         let given = [LINEAR[p], LINEAR[q]].map(|l| self.words.take(l));
@@ -452,13 +451,11 @@ impl Controller<'_> {
             // FANUC No.5410: the angle of a G68 without R; taken as 0.
             None => 0.0,
         };
-        let _ = span;
         self.state.frames.rotation = Some(Rotation {
             plane,
             center,
             angle,
         });
-        Ok(())
     }
 
     /// G52: the local coordinate system (absolute values in the work
