@@ -225,6 +225,19 @@ pub enum Condition {
     CycleNotAllowed,
     /// A tilted working plane (G68.2, G53.1) where the kernel does not combine it.
     FeatureNotAllowed,
+    /// G17 / G18 / G19 changes the plane in coordinate system rotation (G68).
+    FramePlaneChange,
+    /// A reference return or a coordinate system change (G27, G28, G30,
+    /// G52, G92, G54–G59) in a program transform (G68, G51, G51.1).
+    FrameCommandForbidden,
+    /// A program transform commanded out of its nesting order (G51.1, then
+    /// G51, then G68; cancelled in the reverse order).
+    FrameNesting,
+    /// A program transform (G16, G68, G51, G51.1, G52) with TCPC or 3-D
+    /// tool compensation.
+    FrameNotAllowed,
+    /// An arc under scaling with different factors on the plane's axes.
+    FrameArcScaling,
 }
 
 impl Condition {
@@ -309,6 +322,11 @@ impl Condition {
         Condition::CycleReferenceReturn,
         Condition::CycleNotAllowed,
         Condition::FeatureNotAllowed,
+        Condition::FramePlaneChange,
+        Condition::FrameCommandForbidden,
+        Condition::FrameNesting,
+        Condition::FrameNotAllowed,
+        Condition::FrameArcScaling,
     ];
 
     /// One line saying when the condition arises.
@@ -457,6 +475,21 @@ impl Condition {
             Condition::CycleNotAllowed => {
                 "A canned cycle with a rotary word under TCPC, or under cutter compensation C or 3-D tool compensation"
             }
+            Condition::FramePlaneChange => {
+                "G17 / G18 / G19 changes the plane in coordinate system rotation (G68)"
+            }
+            Condition::FrameCommandForbidden => {
+                "G27, G28, G30, G52, G92 or G54-G59 in coordinate rotation, scaling or programmable mirror image"
+            }
+            Condition::FrameNesting => {
+                "G51.1, G51, G68 started or cancelled out of their nesting order (G51.1, G51, G68; cancels in reverse)"
+            }
+            Condition::FrameNotAllowed => {
+                "G16, G68, G51, G51.1 or G52 with TCPC or 3-D tool compensation"
+            }
+            Condition::FrameArcScaling => {
+                "An arc under scaling with different factors on its plane's axes"
+            }
         }
     }
 }
@@ -488,6 +521,7 @@ impl Condition {
             C::CrcNoIntersection => Some(33),
             C::CrcArcInStartOrCancel => Some(34),
             C::CrcPlaneChange => Some(37),
+            C::FramePlaneChange => Some(144),
             C::CrcArcCenter => Some(38),
             C::CrcInterference => Some(41),
             C::Comp3dParallelAxes => Some(47),
@@ -645,6 +679,11 @@ impl Condition {
             C::CycleReferenceReturn => 132,
             C::CycleNotAllowed => 133,
             C::FeatureNotAllowed => 150,
+            C::FramePlaneChange => 140,
+            C::FrameCommandForbidden => 141,
+            C::FrameNesting => 142,
+            C::FrameNotAllowed => 143,
+            C::FrameArcScaling => 144,
             C::OvertravelMinus => 501,
         }
     }

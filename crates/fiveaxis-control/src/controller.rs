@@ -23,6 +23,7 @@ use crate::words::Words;
 mod comp3d;
 mod cutter_c;
 mod cycles;
+mod frames;
 mod m_codes;
 mod setup;
 mod system_vars;
@@ -113,6 +114,8 @@ struct State {
     setup_angles: Option<[f64; 2]>,
     /// Canned cycle (groups 09, 10) and its drilling data.
     cycle: cycles::CycleState,
+    /// G52, G16, G51.1, G51, G68 (`controller/frames.rs`).
+    frames: frames::Frames,
 }
 
 /// The controller of one run.
@@ -185,6 +188,7 @@ impl<'m> Controller<'m> {
                 setup_tilt_sign: 1.0,
                 setup_angles: None,
                 cycle: cycles::CycleState::default(),
+                frames: frames::Frames::default(),
             },
             words: Words::new(machine.control),
             block_posture: None,
@@ -308,6 +312,14 @@ impl<'m> Controller<'m> {
         self.apply_modal(&codes)?;
         self.apply_cycle_codes(&codes)?;
         self.apply_values()?;
+        // G69 ends the tilted working plane before the block's move, which
+        // is then in the workpiece frame.
+        if codes
+            .feature
+            .is_some_and(|(code, _)| code == Code::new(69, 0))
+        {
+            self.state.feature = None;
+        }
         // Where the program stands, in the (possibly new) work coordinate
         // system, under the length offset in force before this block.
         let from = if self.cutter.routing() {
@@ -352,10 +364,12 @@ impl<'m> Controller<'m> {
             self.state.setup_angles = None;
         }
         let comp_changed = self.apply_cutter(&codes)?;
+        // A transform block's axis words are its centre or mirror axes.
+        let framed = self.apply_frames(&codes, &from)?;
         let length_changed = change == LengthChange::Moves || comp_changed;
-        if let Some((code, span)) = codes.feature {
-            // G68.2 / G69 define or cancel the frame and move nothing: the
-            // program stands where it was, in the new frame.
+        if let Some((code, span)) = codes.feature.filter(|(c, _)| c.major == 68) {
+            // G68.2 / G68.4 define the frame and move nothing: the program
+            // stands where it was, in the new frame.
             self.feature_command(code, span)?;
         } else if let Some((_, span)) = codes.setup {
             if self.cutter.routing() {
@@ -365,7 +379,7 @@ impl<'m> Controller<'m> {
                 self.cutter.engine.reset();
             }
             self.select_setup_error(span, &from, out)?;
-        } else {
+        } else if !framed {
             self.block_motion(&codes, &from, length_changed, out)?;
         }
         self.words.check_all_used()?;
@@ -435,8 +449,8 @@ impl<'m> Controller<'m> {
                 (43 | 44 | 49, 0) | (43, 1 | 4 | 5) => GKind::Length,
                 (54..=59, 0) | (54, 1) => GKind::Work,
                 (54, 4) => GKind::SetupError,
-                (4 | 10 | 27 | 28 | 30 | 53 | 92, 0) | (53, 1 | 6) => GKind::OneShot,
-                (68, 2 | 4) | (69, 0) => GKind::Feature,
+                (4 | 10 | 27 | 28 | 30 | 52 | 53 | 92, 0) | (53, 1 | 6) => GKind::OneShot,
+                (68, 2 | 4) => GKind::Feature,
                 (61..=64, 0) => GKind::Cutting,
                 // G05 is refused in 3-D tool compensation (below).
                 (5, 0) if self.comp3d_forbidden(code).is_none() => GKind::Accuracy,
@@ -446,10 +460,10 @@ impl<'m> Controller<'m> {
                 (40..=42, 0) => GKind::Cutter,
                 (73 | 74 | 76 | 80..=89, 0) => GKind::Cycle,
                 (98 | 99, 0) => GKind::CycleReturn,
-                // Cancels of modes that cannot be active in this kernel
-                // (polar coordinates, scaling, mirror image, rotation):
-                // nothing to do.
-                (15 | 50, 0) | (50, 1) => GKind::Cancel,
+                // Program transforms (controller/frames.rs); G51 is
+                // refused in 3-D tool compensation (below).
+                (51, 0) if self.comp3d_forbidden(code).is_none() => GKind::Frame,
+                (15 | 16 | 50 | 68 | 69, 0) | (50 | 51, 1) => GKind::Frame,
                 _ => {
                     if let Some((condition, what)) = self.comp3d_forbidden(code) {
                         return Err(self.alarm(
@@ -503,6 +517,13 @@ impl<'m> Controller<'m> {
                 }
                 GKind::CycleReturn => codes.cycle_return = Some(code),
                 GKind::Feature => codes.feature = Some((code, span)),
+                GKind::Frame => {
+                    // G69 cancels the tilted working plane too.
+                    if code == Code::new(69, 0) {
+                        codes.feature = Some((code, span));
+                    }
+                    codes.frames[frames::slot(code)] = Some((code, span));
+                }
                 GKind::Cancel => {}
             }
         }
@@ -888,7 +909,11 @@ impl<'m> Controller<'m> {
             .enumerate()
         {
             if let Some(word) = self.words.take(letter) {
-                targets[i] = Some(self.axis_value(i, &word));
+                targets[i] = Some(if self.polar_angle_axis(i) {
+                    self.angle(&word)
+                } else {
+                    self.axis_value(i, &word)
+                });
             }
         }
         targets
@@ -914,14 +939,20 @@ impl<'m> Controller<'m> {
             + self
                 .state
                 .setup
-                .point(&(self.feature_to_work(p) + self.state.comp3d.vector))
+                .point(&(self.feature_to_work(p) + self.local_vector()))
     }
 
     /// The inverse of [`Controller::to_real`]: a real point as programmed.
     fn programmed_of_real(&self, x: &Vec3) -> Vec3 {
         self.work_to_feature(
-            &(self.state.setup.inverse_point(&(x - self.work())) - self.state.comp3d.vector),
+            &(self.state.setup.inverse_point(&(x - self.work())) - self.local_vector()),
         )
+    }
+
+    /// What is added to a programmed point before the setup error: the
+    /// 3-D compensation vector and the G52 local coordinate system.
+    fn local_vector(&self) -> Vec3 {
+        self.state.comp3d.vector + self.state.frames.local
     }
 
     /// The active H value (geometry + wear), mm.
@@ -1017,6 +1048,14 @@ impl<'m> Controller<'m> {
     /// programmed) and travel the shorter way on absolute commands, the
     /// increment itself on incremental ones.
     fn end_point(&self, from: &Joints, targets: &Targets) -> (Joints, Joints) {
+        if self.state.frames.active() {
+            return self.framed_end_point(from, targets);
+        }
+        self.plain_end_point(from, targets)
+    }
+
+    /// [`Controller::end_point`] without program transforms.
+    fn plain_end_point(&self, from: &Joints, targets: &Targets) -> (Joints, Joints) {
         let mut end = *from;
         let mut travel = [0.0; MAX_AXES];
         let incremental = self.state.modal.distance == Distance::Incremental;
@@ -1287,7 +1326,7 @@ impl<'m> Controller<'m> {
         end_p: &Joints,
     ) -> Result<Option<ArcGeometry>, Alarm> {
         let [p, q, normal] = self.state.modal.plane.axes();
-        let ccw = mode == MotionMode::Ccw;
+        let ccw = self.framed_ccw(mode);
         let (sp, sq) = (from[p], from[q]);
         let (ep, eq) = (end_p[p], end_p[q]);
         let center = if let Some(r_word) = self.words.take(b'R') {
@@ -1300,7 +1339,7 @@ impl<'m> Controller<'m> {
                     ));
                 }
             }
-            let r = self.length(&r_word);
+            let r = self.framed_radius(self.length(&r_word), r_word.span)?;
             match self.center_from_radius((sp, sq), (ep, eq), r, ccw, r_word.span)? {
                 Some(c) => c,
                 None => return Ok(None),
@@ -1327,6 +1366,7 @@ impl<'m> Controller<'m> {
                     message,
                 ));
             }
+            let (i, j) = self.framed_center(i, j, i_word.or(j_word).map(|w| w.span))?;
             (sp + i, sq + j)
         };
         let r0 = (sp - center.0).hypot(sq - center.1);
@@ -1408,6 +1448,7 @@ impl<'m> Controller<'m> {
             }
             53 if code.minor == 1 => self.tool_axis_control(span, false, out),
             53 if code.minor == 6 => self.tool_axis_control(span, true, out),
+            52 => self.local_coordinate_system(),
             53 => self.machine_coordinates(out),
             _ => self.set_coordinate_system(from),
         }
@@ -1645,7 +1686,9 @@ impl<'m> Controller<'m> {
             if let Some(word) = self.words.take(name as u8) {
                 let value = self.axis_value(i, &word);
                 if i < 3 {
-                    self.state.shift[i] += from[i] - value;
+                    // G92 cancels the local coordinate system of its axes.
+                    self.state.shift[i] += from[i] - value + self.state.frames.local[i];
+                    self.state.frames.local[i] = 0.0;
                 } else {
                     self.state.axis_shift[i] += from[i] - value;
                 }
@@ -1958,6 +2001,7 @@ enum GKind {
     Cycle,
     CycleReturn,
     Feature,
+    Frame,
     Cancel,
 }
 
@@ -1984,4 +2028,6 @@ struct GCodes {
     cycle_return: Option<Code>,
     /// G68.2 or G69 (tilted working plane).
     feature: Option<(Code, Span)>,
+    /// G15/G16, G50.1/G51.1, G50/G51, G68/G69 (`frames::slot`).
+    frames: [Option<(Code, Span)>; 4],
 }

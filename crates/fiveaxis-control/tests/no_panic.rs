@@ -530,6 +530,26 @@ fn cycle_block() -> impl Strategy<Value = Vec<Word>> {
         })
 }
 
+/// Program transforms: G52, G16/G15, G51.1/G50.1, G51/G50, G68/G69 with
+/// centres, angles and factors (zero and negative ones included).
+fn frames_block() -> impl Strategy<Value = Vec<Word>> {
+    let code = one_of_codes(&[
+        "G52", "G16", "G15", "G51.1", "G50.1", "G51", "G50", "G68", "G69", "G68", "G51",
+    ]);
+    let opt = |letter, lo, hi| prop::option::weighted(0.4, value(letter, lo..=hi));
+    (
+        code,
+        axes(),
+        (opt("R", -400, 400), opt("P", -3000, 3000), opt("I", -3, 3)),
+    )
+        .prop_map(|(code, axes, (r, p, i))| {
+            std::iter::once(code)
+                .chain(axes)
+                .chain([r, p, i].into_iter().flatten())
+                .collect()
+        })
+}
+
 /// Words of the vocabulary in any mix: mostly blocks a control refuses.
 fn noise_block() -> impl Strategy<Value = Vec<Word>> {
     let codes = one_of_codes(&[
@@ -556,6 +576,7 @@ fn block() -> impl Strategy<Value = Vec<Word>> {
         1 => noise_block(),
         3 => compensation_block(),
         2 => cycle_block(),
+        2 => frames_block(),
     ];
     let deleted = prop::option::weighted(0.1, Just(fixed("/", "")));
     let sequence = prop::option::weighted(0.2, prop::sample::select(SEQUENCES));

@@ -170,6 +170,19 @@ fn g53_1_needs_a_frame_and_the_plane_refuses_what_it_does_not_combine() {
         code("G43.4 H1 Z50.\nG68.2 J10.\n").as_deref(),
         Some("FX0150")
     );
+    // Not nested with the 2-D program transforms either way; G69 ends both.
+    assert_eq!(code("G68 R30.\nG68.2 J10.\n").as_deref(), Some("FX0150"));
+    assert_eq!(code("G68.2 J10.\nG68 R30.\n").as_deref(), Some("FX0150"));
+    assert_eq!(code("G68.2 J10.\nG69\nG68 R30.\nG69\nG0 X1.\n"), None);
+    // G69 with a move: the move is in the workpiece frame.
+    let (rows, alarm) = run(&m, "G68.2 X10. J30.\nG69 G0 X1. Y2.\n");
+    assert_eq!(alarm, None);
+    let end = rows.last().expect("a row");
+    assert!(
+        (end.tip.x - 1.0).abs() < 1e-9 && (end.tip.y - 2.0).abs() < 1e-9,
+        "{:?}",
+        end.tip
+    );
     // G69 ends it: G55 is fine again, and G68.2 / G69 blocks move nothing.
     let (rows, alarm) = run(&m, "G0 X5.\nG68.2 X10. J10.\nG69\nG55\n");
     assert_eq!(alarm, None);

@@ -116,7 +116,7 @@ impl Controller<'_> {
                         from: start2,
                         to: end2,
                         center: P2::new(geo.center[0], geo.center[1]),
-                        ccw: mode == MotionMode::Ccw,
+                        ccw: geo.motion == Motion::Ccw,
                     }),
                     geo.motion,
                 ),
@@ -175,14 +175,21 @@ impl Controller<'_> {
             from: *from,
             end: end_p,
             plane: [p, q, n],
-            vector: self.state.comp3d.vector,
+            vector: self.local_vector(),
             length_mode: self.state.modal.length,
             tool_length: self.tool_length(),
             work: self.work(),
         });
         self.cutter.point = end_p;
-        let offset = self.cutter.side.map(|side| (side, self.tool_radius()));
-        let vector = self.cutter.vector.take();
+        let offset = self
+            .cutter
+            .side
+            .map(|side| (self.framed_side(side, [p, q, n]), self.tool_radius()));
+        let vector = self
+            .cutter
+            .vector
+            .take()
+            .map(|v| self.framed_direction(v, [p, q, n]));
         let block = element.map(|element| Move {
             element,
             rapid: motion == Motion::Rapid,

@@ -242,6 +242,7 @@ impl Controller<'_> {
                 WorkSelect::Standard(i) => 54.0 + f64::from(i),
                 WorkSelect::Extended(_) => 54.1,
             },
+            4011 | 4016 | 4017 | 4022 => self.state.frames.modal_g(n),
             4107 => f64::from(self.state.d),
             4109 => self.state.feed,
             4111 => f64::from(self.state.h),

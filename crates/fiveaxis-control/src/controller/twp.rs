@@ -87,13 +87,9 @@ impl Controller<'_> {
         }
     }
 
-    /// G68.2 (define the frame), G68.4 (define it relative to the frame
-    /// in force) or G69 (cancel it).
+    /// G68.2 (define the frame) or G68.4 (define it relative to the frame
+    /// in force). G69 cancels it before the block's move (in `execute`).
     pub(super) fn feature_command(&mut self, code: Code, span: Span) -> Result<(), Alarm> {
-        if code == Code::new(69, 0) {
-            self.state.feature = None;
-            return Ok(());
-        }
         let name = format!("G{code}");
         self.feature_allowed(span, &name)?;
         let form = match self.words.take(b'P') {
@@ -165,6 +161,12 @@ impl Controller<'_> {
             codes
                 .setup
                 .map(|(c, s)| (c, s, "workpiece setup error correction")),
+            codes
+                .frames
+                .iter()
+                .flatten()
+                .find(|(c, _)| !matches!((c.major, c.minor), (69, 0) | (15, 0) | (50, 0) | (50, 1)))
+                .map(|&(c, s)| (c, s, "a program transform")),
         ];
         match refused.into_iter().flatten().next() {
             Some((code, span, what)) => Err(self.alarm(
@@ -180,6 +182,8 @@ impl Controller<'_> {
     pub(super) fn feature_allowed(&self, span: Span, what: &str) -> Result<(), Alarm> {
         let conflict = if self.tcpc_type().is_some() {
             Some("tool centre point control (G43.4/G43.5)")
+        } else if self.state.frames.active() {
+            Some("a program transform (G68, G51, G51.1, G16)")
         } else if self.cutter.side.is_some() {
             Some("cutter compensation C (G41/G42)")
         } else if self.state.comp3d.active {
