@@ -225,6 +225,8 @@ pub enum Condition {
     CycleNotAllowed,
     /// A tilted working plane (G68.2, G53.1) where the kernel does not combine it.
     FeatureNotAllowed,
+    /// G68.3 with one or two of the origin's X, Y, Z.
+    FeatureOriginIncomplete,
     /// G17 / G18 / G19 changes the plane in coordinate system rotation (G68).
     FramePlaneChange,
     /// A reference return or a coordinate system change (G27, G28, G30,
@@ -322,6 +324,7 @@ impl Condition {
         Condition::CycleReferenceReturn,
         Condition::CycleNotAllowed,
         Condition::FeatureNotAllowed,
+        Condition::FeatureOriginIncomplete,
         Condition::FramePlaneChange,
         Condition::FrameCommandForbidden,
         Condition::FrameNesting,
@@ -469,6 +472,7 @@ impl Condition {
             }
             Condition::CycleDepthMissing => "G73 / G83 without Q, or with Q0",
             Condition::CycleReferenceReturn => "G27 to G30 in a canned cycle",
+            Condition::FeatureOriginIncomplete => "G68.3 with one or two of the origin's X, Y, Z",
             Condition::FeatureNotAllowed => {
                 "A tilted working plane (G68.2, G53.1) where the kernel does not combine it"
             }
@@ -532,6 +536,7 @@ impl Condition {
             C::Comp3dToolOffset => Some(42),
             C::TcpcOptionMissing => Some(10),
             C::TcpcIjkInStartBlock => Some(5421),
+            C::FeatureOriginIncomplete => Some(5457),
             C::MacroOverflow => Some(111),
             C::MacroDivisionByZero => Some(112),
             C::MacroFormat => Some(114),
@@ -679,6 +684,7 @@ impl Condition {
             C::CycleReferenceReturn => 132,
             C::CycleNotAllowed => 133,
             C::FeatureNotAllowed => 150,
+            C::FeatureOriginIncomplete => 151,
             C::FramePlaneChange => 140,
             C::FrameCommandForbidden => 141,
             C::FrameNesting => 142,

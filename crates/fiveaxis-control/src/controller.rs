@@ -450,7 +450,7 @@ impl<'m> Controller<'m> {
                 (54..=59, 0) | (54, 1) => GKind::Work,
                 (54, 4) => GKind::SetupError,
                 (4 | 10 | 27 | 28 | 30 | 52 | 53 | 92, 0) | (53, 1 | 6) => GKind::OneShot,
-                (68, 2 | 4) => GKind::Feature,
+                (68, 2..=4) => GKind::Feature,
                 (61..=64, 0) => GKind::Cutting,
                 // G05 is refused in 3-D tool compensation (below).
                 (5, 0) if self.comp3d_forbidden(code).is_none() => GKind::Accuracy,

@@ -249,3 +249,44 @@ fn g53_6_turns_the_tool_with_its_tip_held() {
         }
     }
 }
+
+#[test]
+fn g68_3_takes_the_tool_axis_as_the_frames_z() {
+    for name in MACHINES {
+        let m = builtin(name).expect("built in");
+        let (r0, r1) = (m.rotary[0].name, m.rotary[1].name);
+        // Tilt the tool (rotary words as the machine names them), then
+        // build the frame from it at the current position.
+        let program = format!(
+            "G43 H1 G0 X10. Y5. Z80.\nG0 {r0}-20. {r1}30.\nG68.3\nG91 G0 Z10.\nG90 G0 X0 Y0 Z0\nG69\n"
+        );
+        let (rows, alarm) = run(&m, &program);
+        assert_eq!(alarm, None, "{name}");
+        let ends: Vec<&Row> = rows.iter().filter(|r| r.s == 1.0).collect();
+        let tilted = ends.iter().find(|r| r.line == 2).expect("line 2");
+        let up = ends.iter().find(|r| r.line == 4).expect("line 4");
+        // G91 Z10 in the frame: 10 along the tool, the tool unchanged.
+        let moved = up.tip - tilted.tip;
+        let want = tilted.dir * 10.0;
+        assert!(
+            (moved - want).norm() < 1e-9,
+            "{name}: {moved:?} vs {want:?}"
+        );
+        assert!((up.dir - tilted.dir).norm() < 1e-12, "{name}");
+        // X0 Y0 Z0 is the origin: the position in workpiece coordinates
+        // when G68.3 was given. Without TCPC, turning the rotary axes does
+        // not change it (the control's absolute position stays X10 Y5
+        // Z80): the tip goes back to where line 1 put it.
+        let origin = ends.iter().find(|r| r.line == 5).expect("line 5");
+        let start = ends.iter().find(|r| r.line == 1).expect("line 1");
+        assert!(
+            (origin.tip - start.tip).norm() < 1e-9,
+            "{name}: {:?}",
+            origin.tip
+        );
+    }
+    // One or two origin words: PS5457.
+    let m = builtin("trunnion-ac").expect("built in");
+    let (_, alarm) = run(&m, "G68.3 X1. Y2.\n");
+    assert_eq!(alarm.map(|a| a.code.to_string()).as_deref(), Some("PS5457"));
+}

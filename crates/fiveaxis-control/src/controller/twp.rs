@@ -56,6 +56,9 @@ impl Feature {
     }
 }
 
+/// Below this, the tool axis is taken as the vertical axis (G68.3).
+const VERTICAL_TOLERANCE: f64 = 1e-9;
+
 fn about(axis: Vec3, degrees: f64) -> Rotation3<f64> {
     Rotation3::from_axis_angle(&Unit::new_unchecked(axis), degrees.to_radians())
 }
@@ -92,6 +95,9 @@ impl Controller<'_> {
     pub(super) fn feature_command(&mut self, code: Code, span: Span) -> Result<(), Alarm> {
         let name = format!("G{code}");
         self.feature_allowed(span, &name)?;
+        if code.minor == 3 {
+            return self.feature_from_tool_axis(span);
+        }
         let form = match self.words.take(b'P') {
             Some(word) => self.words.integer(&word, 9)?,
             None => 0,
@@ -176,6 +182,59 @@ impl Controller<'_> {
             )),
             None => Ok(()),
         }
+    }
+
+    /// G68.3 X Y Z R: the feature frame whose +Z is the tool axis as the
+    /// rotary axes stand (FANUC 30i "tilted working plane based on the
+    /// tool axis direction", B-79976E): +X is normal to the plane of +Z and
+    /// the vertical axis direction (the machine's +Z, parameter No.12321),
+    /// `Xc = V × Zc`, `Yc = Zc × Xc` (+X of the workpiece when the tool
+    /// is vertical); R turns the frame about +Z. The origin is X, Y, Z
+    /// (absolute whatever G90 / G91), or the current position when all
+    /// three are left out; one or two left out is PS5457.
+    fn feature_from_tool_axis(&mut self, span: Span) -> Result<(), Alarm> {
+        let given: Vec<_> = [b'X', b'Y', b'Z']
+            .into_iter()
+            .map(|letter| self.words.take(letter))
+            .collect();
+        let origin = match given.iter().filter(|w| w.is_some()).count() {
+            0 => {
+                // Where the program stands, in workpiece coordinates.
+                self.state.feature = None;
+                let p = self.programmed(&self.state.joints);
+                Vec3::new(p[0], p[1], p[2])
+            }
+            3 => {
+                let mut o = Vec3::zeros();
+                for (i, word) in given.iter().enumerate() {
+                    if let Some(word) = word {
+                        o[i] = self.length(word);
+                    }
+                }
+                o
+            }
+            _ => {
+                return Err(self.alarm(
+                    Condition::FeatureOriginIncomplete,
+                    Some(span),
+                    "G68.3 gives the origin with all of X, Y, Z or none of them".into(),
+                ));
+            }
+        };
+        let turn = self.words.take(b'R').map_or(0.0, |w| self.angle(&w));
+        let dir = self.machine.forward(&self.state.joints, 0.0).dir;
+        let z = self.state.setup.inverse_vector(&dir).normalize();
+        let vertical = Vec3::z();
+        let mut x = vertical.cross(&z);
+        if x.norm() < VERTICAL_TOLERANCE {
+            x = Vec3::x();
+        }
+        let x = x.normalize();
+        let y = z.cross(&x);
+        let frame = Rotation3::from_matrix_unchecked(nalgebra::Matrix3::from_columns(&[x, y, z]));
+        let rotation = frame * about(Vec3::z(), turn);
+        self.state.feature = Some(Feature { origin, rotation });
+        Ok(())
     }
 
     /// The functions the tilted plane is not combined with (yet).
