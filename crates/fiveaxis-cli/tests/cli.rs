@@ -2,7 +2,8 @@
 //! rows go, and how unusable inputs are refused (exit status 2, with a
 //! message naming the file, the line and what is wrong).
 
-use std::io::Write as _;
+mod common;
+
 use std::path::Path;
 use std::process::{Command, Output, Stdio};
 
@@ -15,20 +16,7 @@ const PROGRAM: &str = "G0 X10. Y5.\nG1 Z-1. F100.\nM30\n";
 
 /// Runs the binary with `args` in `dir`, feeding `stdin` to it.
 fn fiveaxis_in(dir: &Path, args: &[&str], stdin: &str) -> Output {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_fiveaxis"))
-        .args(args)
-        .current_dir(dir)
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("the fiveaxis binary starts");
-    // Small inputs fit the pipe; a run that does not read its standard
-    // input (a program file) may close it first, which is not a failure.
-    let mut input = child.stdin.take().expect("piped stdin");
-    let _ = input.write_all(stdin.as_bytes());
-    drop(input);
-    child.wait_with_output().expect("fiveaxis runs to its end")
+    common::run_in(dir, args, stdin.as_bytes())
 }
 
 /// A scratch directory holding `files` (name, contents).
