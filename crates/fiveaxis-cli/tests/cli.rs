@@ -5,7 +5,7 @@
 mod common;
 
 use std::path::Path;
-use std::process::{Command, Output, Stdio};
+use std::process::Output;
 
 use fiveaxis_control::{RunError, RunOptions, Runner, SliceSource};
 use fiveaxis_machine::{DEFAULT_MACHINE, Offsets, builtin, builtin_names};
