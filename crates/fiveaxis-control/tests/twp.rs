@@ -159,7 +159,7 @@ fn g53_1_needs_a_frame_and_the_plane_refuses_what_it_does_not_combine() {
     let code = |program: &str| run(&m, program).1.map(|a| a.code.to_string());
     assert_eq!(code("G53.1\n").as_deref(), Some("FX0150"));
     assert_eq!(code("G68.2 P3 I10.\n").as_deref(), Some("FX0150"));
-    for inside in ["G55", "G43.4 H1", "G41 D1 X1.", "G54.4 P1"] {
+    for inside in ["G55", "G43.4 H1", "G41 D1 I0 J0 K1. X1.", "G54.4 P1"] {
         assert_eq!(
             code(&format!("G68.2 J10.\n{inside}\n")).as_deref(),
             Some("FX0150"),
@@ -289,4 +289,53 @@ fn g68_3_takes_the_tool_axis_as_the_frames_z() {
     let m = builtin("trunnion-ac").expect("built in");
     let (_, alarm) = run(&m, "G68.3 X1. Y2.\n");
     assert_eq!(alarm.map(|a| a.code.to_string()).as_deref(), Some("PS5457"));
+}
+
+#[test]
+fn cutter_compensation_c_runs_in_the_feature_plane() {
+    // The same compensated contour (lines, an arc, start-up and cancel),
+    // once in the workpiece plane and once in a tilted plane: every row of
+    // the tilted run is the frame's transform of the plain run's row.
+    let m = builtin("trunnion-bc").expect("built in");
+    let contour = "G0 X-20. Y-20. Z5.\nG41 G1 X0 Y0 D1 F300.\nY30.\nG2 X20. Y50. R20.\nG1 X40.\nY0\nX0\nG40 G0 X-20. Y-20.\n";
+    let mut offsets = offsets();
+    offsets.tools.insert(
+        1,
+        ToolOffset {
+            length: 100.0,
+            radius: 4.0,
+            ..ToolOffset::default()
+        },
+    );
+    let run_with = |program: &str| common::run_sampled(&m, offsets.clone(), program, &[0.5, 1.0]);
+    let (plain, alarm) = run_with(&format!("G43 H1 G0 Z250.\n{contour}"));
+    assert_eq!(alarm, None);
+    let (tilted, alarm) = run_with(&format!(
+        "G43 H1 G0 Z250.\nG68.2 X10. Y-5. Z3. I20. J35. K-10.\nG53.1\n{contour}"
+    ));
+    assert_eq!(alarm, None);
+    let r = mul(mul(rz(20.0), rx(35.0)), rz(-10.0));
+    // From the end of the first positioning on (its middle depends on
+    // where the tool came from).
+    let plain: Vec<&Row> = plain
+        .iter()
+        .filter(|r| r.line > 2 || (r.line == 2 && r.s == 1.0))
+        .collect();
+    let tilted: Vec<&Row> = tilted
+        .iter()
+        .filter(|r| r.line > 4 || (r.line == 4 && r.s == 1.0))
+        .collect();
+    assert_eq!(plain.len(), tilted.len());
+    for (a, b) in plain.iter().zip(&tilted) {
+        let v = apply(r, [a.tip.x, a.tip.y, a.tip.z]);
+        let want = [10.0 + v[0], -5.0 + v[1], 3.0 + v[2]];
+        for (x, y) in b.tip.iter().zip(want) {
+            assert!(
+                (x - y).abs() < 1e-9,
+                "line {}: {:?} vs {want:?}",
+                a.line,
+                b.tip
+            );
+        }
+    }
 }

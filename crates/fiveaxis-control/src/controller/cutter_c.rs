@@ -314,6 +314,35 @@ impl Controller<'_> {
             end[q] = e2.y;
             let end_joints = self.machine_at(block, &end);
             let path = match piece.element {
+                Some(Element::Arc { center, ccw, .. }) if self.feature().is_some() => {
+                    // The tilted plane: the circle of the feature plane,
+                    // carried into the machine frame.
+                    let mut c3 = block.from;
+                    c3[p] = center.x;
+                    c3[q] = center.y;
+                    let unit = |i: usize| {
+                        let mut v = Vec3::zeros();
+                        v[i] = 1.0;
+                        v
+                    };
+                    let r0 = (s2 - center).norm();
+                    let theta0 = (s2.y - center.y).atan2(s2.x - center.x);
+                    let theta1 = (e2.y - center.y).atan2(e2.x - center.x);
+                    let mut c = Vec3::new(c3[0], c3[1], c3[2]);
+                    c[block.plane[2]] = start_normal(block, &before, self);
+                    let programmed = TipPath::Arc {
+                        center: c,
+                        axes: [unit(p), unit(q), unit(block.plane[2])],
+                        radius: [r0, (e2 - center).norm()],
+                        theta0,
+                        sweep: super::arc_sweep(theta0, theta1, ccw, r0),
+                        rise: end[block.plane[2]] - start_normal(block, &before, self),
+                    };
+                    Path::Helix {
+                        circle: self.feature_circle(&before, &programmed),
+                        drift: Vec3::zeros(),
+                    }
+                }
                 Some(Element::Arc { center, ccw, .. })
                     if self.state.setup.rotation != SetupError::IDENTITY.rotation =>
                 {
@@ -402,10 +431,30 @@ impl Controller<'_> {
         for (i, v) in p.iter_mut().enumerate().skip(3) {
             *v -= self.state.axis_shift[i];
         }
-        let x = Vec3::new(joints[0], joints[1], joints[2]) - self.length_at(block, joints);
-        let lin = self.state.setup.inverse_point(&(x - block.work)) - block.vector;
+        let lin = if self.feature().is_some() {
+            // The tilted plane: the tip of the tool as it stands.
+            let tip = self
+                .machine
+                .forward(joints, self.feature_length_at(block))
+                .tip;
+            self.work_to_feature(
+                &(self.state.setup.inverse_point(&(tip - block.work)) - block.vector),
+            )
+        } else {
+            let x = Vec3::new(joints[0], joints[1], joints[2]) - self.length_at(block, joints);
+            self.state.setup.inverse_point(&(x - block.work)) - block.vector
+        };
         p[..3].copy_from_slice(lin.as_slice());
         p
+    }
+
+    /// The tool length along the tool of `block` in the tilted plane.
+    fn feature_length_at(&self, block: &Deferred) -> f64 {
+        match block.length_mode {
+            LengthMode::Plus | LengthMode::ToolAxis => block.tool_length,
+            LengthMode::Minus => -block.tool_length,
+            _ => 0.0,
+        }
     }
 
     /// The machine position of programmed position `p` with the offsets of
@@ -415,8 +464,13 @@ impl Controller<'_> {
         for (i, v) in joints.iter_mut().enumerate().skip(3) {
             *v += self.state.axis_shift[i];
         }
-        let lin =
-            self.real_at(block, &Vec3::new(p[0], p[1], p[2])) + self.length_at(block, &joints);
+        let real = self.real_at(block, &Vec3::new(p[0], p[1], p[2]));
+        let lin = if self.feature().is_some() {
+            self.machine
+                .gauge_for_tip(&joints, &real, self.feature_length_at(block))
+        } else {
+            real + self.length_at(block, &joints)
+        };
         joints[..3].copy_from_slice(lin.as_slice());
         joints
     }
@@ -424,7 +478,11 @@ impl Controller<'_> {
     /// A programmed point of `block` on the real workpiece, work offset
     /// included.
     fn real_at(&self, block: &Deferred, p: &Vec3) -> Vec3 {
-        block.work + self.state.setup.point(&(p + block.vector))
+        block.work
+            + self
+                .state
+                .setup
+                .point(&(self.feature_to_work(p) + block.vector))
     }
 
     fn length_at(&self, block: &Deferred, joints: &Joints) -> Vec3 {

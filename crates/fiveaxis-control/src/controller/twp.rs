@@ -20,11 +20,13 @@
 //!   the tool axis direction in this mode). Lines are straight in the
 //!   feature frame (the rotary axes stand, so a joint line is exact); arcs
 //!   are circles in the feature plane, carried into the machine frame.
-//!   Canned cycles drill along the feature Z.
+//!   Canned cycles drill along the feature Z; cutter compensation C
+//!   offsets in the feature plane (controller/cutter_c.rs maps its pieces
+//!   through the frame).
 //!
 //! Decisions where this kernel is stricter than the control (each alarm
-//! FX0150 naming the function): TCPC, cutter compensation C and 3-D tool
-//! compensation are not combined with the tilted plane yet; the work
+//! FX0150 naming the function): TCPC and 3-D tool compensation are not
+//! combined with the tilted plane yet; the work
 //! offset and G54.4 cannot change in the mode; `G68.2` in the mode
 //! replaces the frame (FANUC nests it with parameter No.11221; here the
 //! new frame is always relative to the workpiece).
@@ -157,10 +159,12 @@ impl Controller<'_> {
                 .length
                 .filter(|(c, _)| c.major == 43 && matches!(c.minor, 4 | 5))
                 .map(|(c, s)| (c, s, "tool centre point control")),
+            // Cutter compensation C works in the feature plane; 3-D tool
+            // compensation (G41 / G42 with all of I, J, K) does not.
             codes
                 .cutter
-                .filter(|(c, _)| matches!(c.major, 41 | 42))
-                .map(|(c, s)| (c, s, "tool radius compensation")),
+                .filter(|(c, _)| matches!(c.major, 41 | 42) && self.starts_comp3d(codes))
+                .map(|(c, s)| (c, s, "3-D tool compensation")),
             codes
                 .work
                 .map(|(c, s)| (c, s, "a change of the work offset")),
@@ -243,8 +247,6 @@ impl Controller<'_> {
             Some("tool centre point control (G43.4/G43.5)")
         } else if self.state.frames.active() {
             Some("a program transform (G68, G51, G51.1, G16)")
-        } else if self.cutter.side.is_some() {
-            Some("cutter compensation C (G41/G42)")
         } else if self.state.comp3d.active {
             Some("3-D tool compensation")
         } else {
