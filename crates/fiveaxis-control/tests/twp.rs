@@ -159,7 +159,7 @@ fn g53_1_needs_a_frame_and_the_plane_refuses_what_it_does_not_combine() {
     let code = |program: &str| run(&m, program).1.map(|a| a.code.to_string());
     assert_eq!(code("G53.1\n").as_deref(), Some("FX0150"));
     assert_eq!(code("G68.2 P3 I10.\n").as_deref(), Some("FX0150"));
-    for inside in ["G55", "G43.4 H1", "G41 D1 I0 J0 K1. X1.", "G54.4 P1"] {
+    for inside in ["G55", "G41 D1 I0 J0 K1. X1.", "G54.4 P1"] {
         assert_eq!(
             code(&format!("G68.2 J10.\n{inside}\n")).as_deref(),
             Some("FX0150"),
@@ -168,6 +168,21 @@ fn g53_1_needs_a_frame_and_the_plane_refuses_what_it_does_not_combine() {
     }
     assert_eq!(
         code("G43.4 H1 Z50.\nG68.2 J10.\n").as_deref(),
+        Some("FX0150")
+    );
+    // TCPC in the plane needs a programming frame turning with the table,
+    // and the plane stays while TCPC is on.
+    let mut wkp1 = m.clone();
+    wkp1.params.programming_frame = fiveaxis_machine::ProgrammingFrame::Workpiece;
+    assert_eq!(
+        run(&wkp1, "G68.2 J10.\nG43.4 H1\n")
+            .1
+            .map(|a| a.code.to_string())
+            .as_deref(),
+        Some("FX0150")
+    );
+    assert_eq!(
+        code("G68.2 J10.\nG43.4 H1\nG69\n").as_deref(),
         Some("FX0150")
     );
     // Not nested with the 2-D program transforms either way; G69 ends both.
@@ -336,6 +351,51 @@ fn cutter_compensation_c_runs_in_the_feature_plane() {
                 a.line,
                 b.tip
             );
+        }
+    }
+}
+
+#[test]
+fn tcpc_inside_the_tilted_plane_programs_in_the_feature_frame() {
+    // G43.5 in G68.2: the tip and the tool vector I J K are feature
+    // coordinates; every row is the frame's transform of them.
+    let r = mul(mul(rz(15.0), rx(30.0)), rz(0.0));
+    let o = [10.0, -5.0, 2.0];
+    let to_work = |q: [f64; 3]| {
+        let v = apply(r, q);
+        [o[0] + v[0], o[1] + v[1], o[2] + v[2]]
+    };
+    for name in MACHINES {
+        let m = builtin(name).expect("built in");
+        let program = "G43 H1 G0 Z250.\nG68.2 X10. Y-5. Z2. I15. J30.\nG53.1\nG49\n\
+                       G43.5 H1 X0 Y0 Z20.\nG1 X10. I0 J.2 K1. F500.\nG1 Y10. I.1 J0 K1.\nG49\nG69\n";
+        let (rows, alarm) = run(&m, program);
+        assert_eq!(alarm, None, "{name}");
+        for (line, p, v) in [
+            (6, [10.0, 0.0, 20.0], [0.0, 0.2, 1.0f64]),
+            (7, [10.0, 10.0, 20.0], [0.1, 0.0, 1.0]),
+        ] {
+            let row = rows
+                .iter()
+                .find(|r| r.line == line && r.s == 1.0)
+                .unwrap_or_else(|| panic!("{name}: line {line}"));
+            let want = to_work(p);
+            for (a, b) in row.tip.iter().zip(want) {
+                assert!(
+                    (a - b).abs() < 1e-9,
+                    "{name} line {line}: {:?} vs {want:?}",
+                    row.tip
+                );
+            }
+            let n = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+            let dir = apply(r, v.map(|x| x / n));
+            for (a, b) in row.dir.iter().zip(dir) {
+                assert!(
+                    (a - b).abs() < 1e-9,
+                    "{name} line {line}: {:?} vs {dir:?}",
+                    row.dir
+                );
+            }
         }
     }
 }

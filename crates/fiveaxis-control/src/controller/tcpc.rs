@@ -249,6 +249,10 @@ impl Controller<'_> {
             startup: true,
             last: None,
         };
+        if self.feature().is_some() {
+            // Inside G68.2 the tool vector is read in the feature frame.
+            self.state.tcpc.vector = self.tcpc_frame().rotation * dir_table;
+        }
         Ok(if self.dialect.tcpc_startup_controls_tip {
             // Mitsubishi: the start-up block moves under TCPC itself, and
             // without axis words does not move at all.
@@ -308,8 +312,16 @@ impl Controller<'_> {
         if self.state.tcpc.turning {
             self.machine.chain(Side::Table, joints)
         } else {
-            self.state.tcpc.frame
+            self.tcpc_frame()
         }
+    }
+
+    /// The programming frame of TCPC: the one fixed at start-up, or the
+    /// tilted working plane's feature frame when one is in force (G43.4 /
+    /// G43.5 inside G68.2 program in the feature frame).
+    fn tcpc_frame(&self) -> IsometryMatrix3<f64> {
+        self.feature_isometry(self.work() + self.state.comp3d.vector)
+            .unwrap_or(self.state.tcpc.frame)
     }
 
     /// A block in TCPC mode.
@@ -360,7 +372,7 @@ impl Controller<'_> {
             let v_table = self
                 .state
                 .setup
-                .vector(&tcpc.frame.rotation.inverse_transform_vector(&t));
+                .vector(&self.tcpc_frame().rotation.inverse_transform_vector(&t));
             let here = [current[i0], current[i1]];
             let chosen = if self.posture_controls_block() {
                 // Tool posture control: the axes follow the tool along the
@@ -812,7 +824,7 @@ impl Controller<'_> {
                 .coords;
             TipPath::Line([tip0, p1])
         } else {
-            let frame = &self.state.tcpc.frame;
+            let frame = &self.tcpc_frame();
             let table = |p: &Vec3| {
                 self.real_from_ideal(&frame.inverse_transform_point(&(*p).into()).coords)
             };
@@ -843,7 +855,7 @@ impl Controller<'_> {
         center[q] = geo.center[1] + shift[q];
         let mut axes = [unit(p), unit(q), unit(geo.normal)];
         if !self.state.tcpc.turning {
-            let frame = &self.state.tcpc.frame;
+            let frame = &self.tcpc_frame();
             center = frame.inverse_transform_point(&center.into()).coords;
             for axis in &mut axes {
                 *axis = frame.rotation.inverse_transform_vector(axis);

@@ -33,7 +33,7 @@
 
 use fiveaxis_gcode::{Code, Span};
 use fiveaxis_machine::{Joints, Vec3};
-use nalgebra::{Rotation3, Unit};
+use nalgebra::{IsometryMatrix3, Rotation3, Translation3, Unit};
 
 use super::Controller;
 use crate::alarm::{Alarm, Condition};
@@ -69,6 +69,17 @@ impl Controller<'_> {
     /// The feature frame in force, if any.
     pub(super) fn feature(&self) -> Option<&Feature> {
         self.state.feature.as_ref()
+    }
+
+    /// The feature frame as a map of TCPC programming coordinates: a point
+    /// `y = p + w` of the workpiece frame (w: work offset and what is
+    /// added to it) goes to `R^T (y - w - origin) + w`, so that a TCPC
+    /// programmed point p is read in the feature frame.
+    pub(super) fn feature_isometry(&self, w: Vec3) -> Option<IsometryMatrix3<f64>> {
+        let f = self.feature()?;
+        let back = f.rotation.inverse();
+        let shift = w - back * (w + f.origin);
+        Some(IsometryMatrix3::from_parts(Translation3::from(shift), back))
     }
 
     /// A programmed point in workpiece coordinates (through the feature
@@ -155,10 +166,33 @@ impl Controller<'_> {
             return Ok(());
         }
         let refused = [
+            // TCPC programs in the feature frame, on a programming frame
+            // that turns with the table (WKP = 0) only.
             codes
                 .length
-                .filter(|(c, _)| c.major == 43 && matches!(c.minor, 4 | 5))
-                .map(|(c, s)| (c, s, "tool centre point control")),
+                .filter(|(c, _)| {
+                    c.major == 43
+                        && matches!(c.minor, 4 | 5)
+                        && self.machine.params.programming_frame
+                            == fiveaxis_machine::ProgrammingFrame::Workpiece
+                })
+                .map(|(c, s)| {
+                    (
+                        c,
+                        s,
+                        "tool centre point control on the workpiece programming frame (WKP = 1)",
+                    )
+                }),
+            codes
+                .feature
+                .filter(|(c, _)| c.major == 69 && self.tcpc_type().is_some())
+                .map(|(c, s)| {
+                    (
+                        c,
+                        s,
+                        "the end of the tilted plane under TCPC: cancel TCPC first",
+                    )
+                }),
             // Cutter compensation C works in the feature plane; 3-D tool
             // compensation (G41 / G42 with all of I, J, K) does not.
             codes
@@ -244,7 +278,7 @@ impl Controller<'_> {
     /// The functions the tilted plane is not combined with (yet).
     pub(super) fn feature_allowed(&self, span: Span, what: &str) -> Result<(), Alarm> {
         let conflict = if self.tcpc_type().is_some() {
-            Some("tool centre point control (G43.4/G43.5)")
+            Some("tool centre point control (G43.4/G43.5): give G68.2 first")
         } else if self.state.frames.active() {
             Some("a program transform (G68, G51, G51.1, G16)")
         } else if self.state.comp3d.active {
