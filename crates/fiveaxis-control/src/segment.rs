@@ -101,6 +101,9 @@ pub struct Posture {
     /// so that every axis moves continuously. 0 when the block does not
     /// start at the singular direction.
     pub lead: f64,
+    /// The rotary angles at s = 0 exactly (the first knot holds them in
+    /// single precision): the block starts where the axes stand.
+    pub start: [f64; 2],
 }
 
 impl Posture {
@@ -128,9 +131,10 @@ impl Posture {
         } else {
             1.0
         };
+        let a = if k == 0 { self.start } else { a.map(f64::from) };
         [
-            lerp(f64::from(a[0]), f64::from(b[0]), t),
-            lerp(f64::from(a[1]), f64::from(b[1]), t),
+            lerp(a[0], f64::from(b[0]), t),
+            lerp(a[1], f64::from(b[1]), t),
         ]
     }
 }

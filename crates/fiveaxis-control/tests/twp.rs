@@ -72,7 +72,11 @@ fn close(a: &[f64], b: &[f64], what: &str) -> Result<(), TestCaseError> {
 }
 
 proptest! {
-    #![proptest_config(Config { cases: 96, ..Config::default() })]
+    #![proptest_config(Config {
+        cases: 96,
+        rng_seed: proptest::test_runner::RngSeed::Fixed(0x0068_0002),
+        ..Config::default()
+    })]
 
     #[test]
     fn rows_in_the_tilted_plane_are_the_frames_transform_of_the_program(

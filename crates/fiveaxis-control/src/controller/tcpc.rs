@@ -475,6 +475,8 @@ impl Controller<'_> {
                     knot[0] += turns[0];
                     knot[1] += turns[1];
                 }
+                posture.start[0] += f64::from(turns[0]);
+                posture.start[1] += f64::from(turns[1]);
                 posture.knots[POSTURE_KNOTS].1 = [end[i0] as f32, end[i1] as f32];
                 Some(posture)
             }
@@ -617,7 +619,15 @@ impl Controller<'_> {
             last = [0, 1].map(|k| end[k] + principal(target[k] - end[k]));
         }
         knots[POSTURE_KNOTS] = knot(1.0, last);
-        Ok((Posture { ends, knots, lead }, last))
+        Ok((
+            Posture {
+                ends,
+                knots,
+                lead,
+                start: from,
+            },
+            last,
+        ))
     }
 
     /// Follows the rotary axes from `from` along the great circle between
