@@ -1371,6 +1371,19 @@ impl<'m> Controller<'m> {
         };
         let r0 = (sp - center.0).hypot(sq - center.1);
         let r1 = (ep - center.0).hypot(eq - center.1);
+        if r0.max(r1) > MAX_ARC_RADIUS {
+            // A centre kilometres away: no machine makes that arc, and its
+            // points would drown in rounding (program it as a line).
+            let span = self.words.peek(b'R').map(|w| w.span);
+            return Err(self.alarm(
+                Condition::ValueOutOfRange,
+                span,
+                format!(
+                    "arc radius {} mm is beyond {MAX_ARC_RADIUS:e} mm: program a straight line",
+                    r0.max(r1)
+                ),
+            ));
+        }
         if (r1 - r0).abs() > ARC_RADIUS_TOLERANCE {
             return Err(self.alarm(
                 Condition::ArcRadiusTolerance,
@@ -1777,6 +1790,10 @@ impl<'m> Controller<'m> {
         Ok(())
     }
 }
+
+/// Largest arc radius, mm: the magnitude bound of every machine-file
+/// number (`MAX_FILE_MAGNITUDE`).
+pub const MAX_ARC_RADIUS: f64 = fiveaxis_machine::MAX_FILE_MAGNITUDE;
 
 /// Longest dwell, seconds (FANUC: G04 X or P up to 99999.999 s).
 pub const MAX_DWELL_SECONDS: f64 = 99_999.999;
