@@ -1231,23 +1231,7 @@ impl<'m> Controller<'m> {
         if self.feature().is_some() {
             // The circle of the feature plane, carried into the machine
             // frame with the rotary axes where they stand.
-            let unit = |i: usize| {
-                let mut v = Vec3::zeros();
-                v[i] = 1.0;
-                v
-            };
-            let mut center = Vec3::new(from[0], from[1], from[2]);
-            center[p] = geo.center[0];
-            center[q] = geo.center[1];
-            let programmed = TipPath::Arc {
-                center,
-                axes: [unit(p), unit(q), unit(geo.normal)],
-                radius: [geo.r0, geo.r1],
-                theta0: geo.theta0,
-                sweep: geo.sweep,
-                rise: end_p[geo.normal] - from[geo.normal],
-            };
-            let circle = self.feature_circle(&start, &programmed);
+            let circle = self.feature_circle(&start, &programmed_circle(&geo, from, end_p));
             let path = Path::Helix {
                 circle,
                 drift: Vec3::zeros(),
@@ -1292,28 +1276,8 @@ impl<'m> Controller<'m> {
     /// The circle of an arc block on the real workpiece, work offset
     /// included (before the length offset).
     fn real_circle(&self, geo: &ArcGeometry, from: &Joints, end_p: &Joints) -> TipPath {
-        let [p, q] = geo.axes;
-        let unit = |i: usize| {
-            let mut v = Vec3::zeros();
-            v[i] = 1.0;
-            v
-        };
-        let mut center = Vec3::new(from[0], from[1], from[2]);
-        center[p] = geo.center[0];
-        center[q] = geo.center[1];
-        let setup = &self.state.setup;
-        TipPath::Arc {
-            center: self.to_real(&center),
-            axes: [
-                setup.vector(&unit(p)),
-                setup.vector(&unit(q)),
-                setup.vector(&unit(geo.normal)),
-            ],
-            radius: [geo.r0, geo.r1],
-            theta0: geo.theta0,
-            sweep: geo.sweep,
-            rise: end_p[geo.normal] - from[geo.normal],
-        }
+        programmed_circle(geo, from, end_p)
+            .mapped(|p| self.to_real(p), |v| self.state.setup.vector(v))
     }
 
     /// The circle of a G02 / G03 block in programmed coordinates, from
@@ -1789,6 +1753,23 @@ impl<'m> Controller<'m> {
         }
         Ok(())
     }
+}
+
+/// The circle of an arc block in programmed coordinates: centre in the
+/// plane at the start's normal coordinate, rising to the end's.
+fn programmed_circle(geo: &ArcGeometry, from: &Joints, end_p: &Joints) -> TipPath {
+    let [p, q] = geo.axes;
+    let mut center = Vec3::new(from[0], from[1], from[2]);
+    center[p] = geo.center[0];
+    center[q] = geo.center[1];
+    TipPath::plane_arc(
+        [p, q, geo.normal],
+        center,
+        [geo.r0, geo.r1],
+        geo.theta0,
+        geo.sweep,
+        end_p[geo.normal] - from[geo.normal],
+    )
 }
 
 /// Largest arc radius, mm: the magnitude bound of every machine-file

@@ -185,10 +185,36 @@ impl TipPath {
         }
     }
 
+    /// A circle in the plane of coordinate axes `plane` (first, second,
+    /// normal) about `center`, rising along the normal by `rise`.
+    pub fn plane_arc(
+        plane: [usize; 3],
+        center: Vec3,
+        radius: [f64; 2],
+        theta0: f64,
+        sweep: f64,
+        rise: f64,
+    ) -> TipPath {
+        TipPath::Arc {
+            center,
+            axes: plane.map(unit),
+            radius,
+            theta0,
+            sweep,
+            rise,
+        }
+    }
+
     /// The same path moved by `offset`.
     pub fn shifted(&self, offset: &Vec3) -> TipPath {
+        self.mapped(|p| p + offset, |v| *v)
+    }
+
+    /// The path carried by a rigid map: `point` for its points, `vector`
+    /// (the map's rotation) for its directions. A circle stays a circle.
+    pub fn mapped(&self, point: impl Fn(&Vec3) -> Vec3, vector: impl Fn(&Vec3) -> Vec3) -> TipPath {
         match *self {
-            TipPath::Line([a, b]) => TipPath::Line([a + offset, b + offset]),
+            TipPath::Line([a, b]) => TipPath::Line([point(&a), point(&b)]),
             TipPath::Arc {
                 center,
                 axes,
@@ -197,13 +223,34 @@ impl TipPath {
                 sweep,
                 rise,
             } => TipPath::Arc {
-                center: center + offset,
-                axes,
+                center: point(&center),
+                axes: axes.map(|a| vector(&a)),
                 radius,
                 theta0,
                 sweep,
                 rise,
             },
+        }
+    }
+
+    /// Whether every number of the path is finite.
+    pub fn is_finite(&self) -> bool {
+        let all = |v: &[f64]| v.iter().all(|x| x.is_finite());
+        match self {
+            TipPath::Line([a, b]) => all(a.as_slice()) && all(b.as_slice()),
+            TipPath::Arc {
+                center,
+                axes,
+                radius,
+                theta0,
+                sweep,
+                rise,
+            } => {
+                all(center.as_slice())
+                    && axes.iter().all(|a| all(a.as_slice()))
+                    && all(radius)
+                    && all(&[*theta0, *sweep, *rise])
+            }
         }
     }
 
@@ -399,28 +446,15 @@ impl Segment {
     pub fn is_finite(&self) -> bool {
         let all = |v: &[f64]| v.iter().all(|x| x.is_finite());
         let vec = |v: &Vec3| all(v.as_slice());
-        let tip_path = |t: &TipPath| match t {
-            TipPath::Line([a, b]) => vec(a) && vec(b),
-            TipPath::Arc {
-                center,
-                axes,
-                radius,
-                theta0,
-                sweep,
-                rise,
-            } => {
-                vec(center) && axes.iter().all(vec) && all(radius) && all(&[*theta0, *sweep, *rise])
-            }
-        };
         let path = match &self.path {
             Path::Joint => true,
             Path::Arc(arc) => {
                 all(&arc.center) && all(&arc.drift) && all(&[arc.r0, arc.r1, arc.theta0, arc.sweep])
             }
             Path::Via(mid) => all(mid),
-            Path::Helix { circle, drift } => tip_path(circle) && vec(drift),
+            Path::Helix { circle, drift } => circle.is_finite() && vec(drift),
             Path::Tcpc(tcpc) => {
-                tip_path(&tcpc.tip)
+                tcpc.tip.is_finite()
                     && tcpc.posture.as_ref().is_none_or(|p| {
                         p.ends.iter().all(vec)
                             && p.knots
@@ -575,6 +609,13 @@ pub const MAX_STEPS: u32 = 1 << 20;
 
 /// Relative slack on the `--step` bound, for rounding.
 const STEP_SLACK: f64 = 1e-9;
+
+/// The unit vector along coordinate axis `i` (0 = X, 1 = Y, 2 = Z).
+pub fn unit(i: usize) -> Vec3 {
+    let mut v = Vec3::zeros();
+    v[i] = 1.0;
+    v
+}
 
 /// One output row.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -314,62 +314,41 @@ impl Controller<'_> {
             end[q] = e2.y;
             let end_joints = self.machine_at(block, &end);
             let path = match piece.element {
-                Some(Element::Arc { center, ccw, .. }) if self.feature().is_some() => {
-                    // The tilted plane: the circle of the feature plane,
-                    // carried into the machine frame.
-                    let mut c3 = block.from;
-                    c3[p] = center.x;
-                    c3[q] = center.y;
-                    let unit = |i: usize| {
-                        let mut v = Vec3::zeros();
-                        v[i] = 1.0;
-                        v
-                    };
-                    let r0 = (s2 - center).norm();
-                    let theta0 = (s2.y - center.y).atan2(s2.x - center.x);
-                    let theta1 = (e2.y - center.y).atan2(e2.x - center.x);
-                    let mut c = Vec3::new(c3[0], c3[1], c3[2]);
-                    c[block.plane[2]] = start_normal(block, &before, self);
-                    let programmed = TipPath::Arc {
-                        center: c,
-                        axes: [unit(p), unit(q), unit(block.plane[2])],
-                        radius: [r0, (e2 - center).norm()],
-                        theta0,
-                        sweep: super::arc_sweep(theta0, theta1, ccw, r0),
-                        rise: end[block.plane[2]] - start_normal(block, &before, self),
-                    };
-                    Path::Helix {
-                        circle: self.feature_circle(&before, &programmed),
-                        drift: Vec3::zeros(),
-                    }
-                }
                 Some(Element::Arc { center, ccw, .. })
-                    if self.state.setup.rotation != SetupError::IDENTITY.rotation =>
+                    if self.feature().is_some()
+                        || self.state.setup.rotation != SetupError::IDENTITY.rotation =>
                 {
-                    // A turned workpiece: the circle leaves the plane of
-                    // the machine axes.
-                    let mut c3 = block.from;
-                    c3[p] = center.x;
-                    c3[q] = center.y;
-                    let unit = |i: usize| {
-                        let mut v = Vec3::zeros();
-                        v[i] = 1.0;
-                        self.state.setup.vector(&v)
-                    };
+                    // The tilted plane or a turned workpiece: the circle
+                    // leaves the plane of the machine axes.
+                    let mut c = Vec3::new(block.from[0], block.from[1], block.from[2]);
+                    c[p] = center.x;
+                    c[q] = center.y;
                     let r0 = (s2 - center).norm();
                     let theta0 = (s2.y - center.y).atan2(s2.x - center.x);
                     let theta1 = (e2.y - center.y).atan2(e2.x - center.x);
-                    let circle = TipPath::Arc {
-                        center: self.real_at(block, &Vec3::new(c3[0], c3[1], c3[2]))
-                            + self.length_at(block, &before),
-                        axes: [unit(p), unit(q), unit(block.plane[2])],
-                        radius: [r0, (e2 - center).norm()],
+                    let programmed = TipPath::plane_arc(
+                        block.plane,
+                        c,
+                        [r0, (e2 - center).norm()],
                         theta0,
-                        sweep: super::arc_sweep(theta0, theta1, ccw, r0),
-                        rise: end[block.plane[2]] - start_normal(block, &before, self),
-                    };
-                    let drift = self.length_at(block, &end_joints) - self.length_at(block, &before);
-                    Path::Helix { circle, drift }
+                        super::arc_sweep(theta0, theta1, ccw, r0),
+                        end[block.plane[2]] - start_normal(block, &before, self),
+                    );
+                    if self.feature().is_some() {
+                        Path::Helix {
+                            circle: self.feature_circle(&before, &programmed),
+                            drift: Vec3::zeros(),
+                        }
+                    } else {
+                        let offset = self.length_at(block, &before);
+                        let circle = programmed.mapped(
+                            |x| self.real_at(block, x) + offset,
+                            |v| self.state.setup.vector(v),
+                        );
+                        let drift =
+                            self.length_at(block, &end_joints) - self.length_at(block, &before);
+                        Path::Helix { circle, drift }
+                    }
                 }
                 Some(Element::Arc { center, ccw, .. }) => {
                     let offset =

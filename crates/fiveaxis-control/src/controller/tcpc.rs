@@ -853,17 +853,12 @@ impl Controller<'_> {
         let Some(geo) = self.arc_geometry(mode, from, end_p)? else {
             return Ok(None);
         };
-        let unit = |i: usize| {
-            let mut v = Vec3::zeros();
-            v[i] = 1.0;
-            v
-        };
         let [p, q] = geo.axes;
         let shift = self.work() + self.state.comp3d.vector;
         let mut center = Vec3::new(from[0], from[1], from[2]) + shift;
         center[p] = geo.center[0] + shift[p];
         center[q] = geo.center[1] + shift[q];
-        let mut axes = [unit(p), unit(q), unit(geo.normal)];
+        let mut axes = [p, q, geo.normal].map(crate::segment::unit);
         if !self.state.tcpc.turning {
             let frame = &self.tcpc_frame();
             center = frame.inverse_transform_point(&center.into()).coords;

@@ -375,30 +375,14 @@ impl Controller<'_> {
         self.programmed_of_real(&tip)
     }
 
-    /// An arc of the feature plane carried into machine X, Y, Z with the
-    /// rotary axes at `joints`: the map is a rigid motion, so the circle
+    /// A path of the feature frame carried into machine X, Y, Z with the
+    /// rotary axes at `joints`: the map is a rigid motion, so a circle
     /// stays a circle.
     pub(super) fn feature_circle(&self, joints: &Joints, circle: &TipPath) -> TipPath {
-        let TipPath::Arc {
-            center,
-            axes,
-            radius,
-            theta0,
-            sweep,
-            rise,
-        } = *circle
-        else {
-            return *circle;
-        };
         let origin = self.feature_gauge(joints, &Vec3::zeros());
-        let carry = |v: &Vec3| self.feature_gauge(joints, v) - origin;
-        TipPath::Arc {
-            center: self.feature_gauge(joints, &center),
-            axes: axes.map(|a| carry(&a)),
-            radius,
-            theta0,
-            sweep,
-            rise,
-        }
+        circle.mapped(
+            |p| self.feature_gauge(joints, p),
+            |v| self.feature_gauge(joints, v) - origin,
+        )
     }
 }
