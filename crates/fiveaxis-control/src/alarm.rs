@@ -227,6 +227,10 @@ pub enum Condition {
     FeatureNotAllowed,
     /// G68.3 with one or two of the origin's X, Y, Z.
     FeatureOriginIncomplete,
+    /// A G68.2 / G68.4 definition the control refuses: no such P form,
+    /// three points on a line, a zero or oblique vector, blocks of a
+    /// P2 / P3 definition out of order or interrupted.
+    FeatureDefinition,
     /// G17 / G18 / G19 changes the plane in coordinate system rotation (G68).
     FramePlaneChange,
     /// A reference return or a coordinate system change (G27, G28, G30,
@@ -325,6 +329,7 @@ impl Condition {
         Condition::CycleNotAllowed,
         Condition::FeatureNotAllowed,
         Condition::FeatureOriginIncomplete,
+        Condition::FeatureDefinition,
         Condition::FramePlaneChange,
         Condition::FrameCommandForbidden,
         Condition::FrameNesting,
@@ -473,6 +478,9 @@ impl Condition {
             Condition::CycleDepthMissing => "G73 / G83 without Q, or with Q0",
             Condition::CycleReferenceReturn => "G27 to G30 in a canned cycle",
             Condition::FeatureOriginIncomplete => "G68.3 with one or two of the origin's X, Y, Z",
+            Condition::FeatureDefinition => {
+                "A G68.2 / G68.4 definition the control refuses: no such P form, three points on a line, a zero or oblique vector, P2 / P3 blocks out of order or interrupted"
+            }
             Condition::FeatureNotAllowed => {
                 "A tilted working plane (G68.2, G53.1) where the kernel does not combine it"
             }
@@ -537,6 +545,7 @@ impl Condition {
             C::TcpcOptionMissing => Some(10),
             C::TcpcIjkInStartBlock => Some(5421),
             C::FeatureOriginIncomplete => Some(5457),
+            C::FeatureDefinition => Some(5457),
             C::MacroOverflow => Some(111),
             C::MacroDivisionByZero => Some(112),
             C::MacroFormat => Some(114),
@@ -685,6 +694,7 @@ impl Condition {
             C::CycleNotAllowed => 133,
             C::FeatureNotAllowed => 150,
             C::FeatureOriginIncomplete => 151,
+            C::FeatureDefinition => 152,
             C::FramePlaneChange => 140,
             C::FrameCommandForbidden => 141,
             C::FrameNesting => 142,

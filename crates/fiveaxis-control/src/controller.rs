@@ -73,6 +73,8 @@ struct State {
     modal: Modal,
     /// The tilted working plane's feature frame (G68.2), if one is in force.
     feature: Option<twp::Feature>,
+    /// A G68.2 P2 / P3 definition whose blocks are still coming.
+    feature_pending: Option<twp::Pending>,
     /// Current machine position (rollover axes unwrapped).
     joints: Joints,
     /// Active H number (0: none).
@@ -168,6 +170,7 @@ impl<'m> Controller<'m> {
             state: State {
                 modal: Modal::power_on(),
                 feature: None,
+                feature_pending: None,
                 joints: machine.params.reference_1,
                 h: 0,
                 d: 0,

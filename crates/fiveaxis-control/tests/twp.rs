@@ -1,6 +1,7 @@
 //! Tilted working plane (G68.2, G53.1, G69) judged by forward kinematics:
 //! on every built-in 5-axis machine, for random feature frames of both
-//! forms (P0 Euler ZXZ, P1 roll-pitch-yaw), after G53.1 the reported tip
+//! forms (P0 Euler ZXZ, P1 roll-pitch-yaw, P2 three points, P3 two vectors,
+//! P4 projection angles), after G53.1 the reported tip
 //! of every row is the frame's transform of the programmed point and the
 //! tool direction is the frame's Z (within 1e-9). The frame is computed
 //! here from closed-form rotation matrices, not by the kernel's code.
@@ -36,6 +37,112 @@ fn mul(a: [[f64; 3]; 3], b: [[f64; 3]; 3]) -> [[f64; 3]; 3] {
 }
 fn apply(m: [[f64; 3]; 3], v: [f64; 3]) -> [f64; 3] {
     [0, 1, 2].map(|i| (0..3).map(|k| m[i][k] * v[k]).sum())
+}
+
+/// The rotation (as rows) whose +Z is along `z` and whose +X is `x` made
+/// normal to it: the frame of the P2 and P3 definitions.
+fn frame(x: [f64; 3], z: [f64; 3]) -> [[f64; 3]; 3] {
+    let unit = |v: [f64; 3]| {
+        let n = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+        v.map(|c| c / n)
+    };
+    let cross = |a: [f64; 3], b: [f64; 3]| {
+        [
+            a[1] * b[2] - a[2] * b[1],
+            a[2] * b[0] - a[0] * b[2],
+            a[0] * b[1] - a[1] * b[0],
+        ]
+    };
+    let z = unit(z);
+    let along = x[0] * z[0] + x[1] * z[1] + x[2] * z[2];
+    let x = unit([0, 1, 2].map(|i| x[i] - along * z[i]));
+    let y = cross(z, x);
+    [0, 1, 2].map(|i| [x[i], y[i], z[i]])
+}
+
+fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [0, 1, 2].map(|i| a[i] - b[i])
+}
+
+fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+
+/// A G68.2 definition of form `form` (one or more blocks, each ending in
+/// a newline) built from an origin and three angles, with the rotation
+/// and origin it defines, computed here from the forms' definitions.
+fn definition(form: u32, o: [f64; 3], [i, j, k]: [f64; 3]) -> (String, [[f64; 3]; 3], [f64; 3]) {
+    let round = |v: f64| (v * 1e4).round() / 1e4;
+    let base = mul(mul(rz(i), rx(j)), rz(k));
+    let [x, y, z] = [0, 1, 2].map(|c| [base[0][c], base[1][c], base[2][c]]);
+    match form {
+        0 => (
+            format!(
+                "G68.2 X{:?} Y{:?} Z{:?} I{i:?} J{j:?} K{k:?}\n",
+                o[0], o[1], o[2]
+            ),
+            base,
+            o,
+        ),
+        1 => (
+            format!(
+                "G68.2 P1 X{:?} Y{:?} Z{:?} I{i:?} J{j:?} K{k:?}\n",
+                o[0], o[1], o[2]
+            ),
+            mul(mul(rz(k), ry(j)), rx(i)),
+            o,
+        ),
+        2 => {
+            // Three points of the plane of `base`, an origin shift and a
+            // turn about the new Z.
+            let p2 = [0, 1, 2].map(|c| round(o[c] + 25.0 * x[c]));
+            let p3 = [0, 1, 2].map(|c| round(o[c] + 7.0 * x[c] + 15.0 * y[c]));
+            let m = frame(sub(p2, o), cross(sub(p2, o), sub(p3, o)));
+            let shift = [2.5, -3.0, 1.0];
+            let moved = apply(m, shift);
+            (
+                format!(
+                    "G68.2 P2 Q0 X2.5 Y-3. Z1. R20.\nG68.2 P2 Q1 X{:?} Y{:?} Z{:?}\n\
+                     G68.2 P2 Q2 X{:?} Y{:?} Z{:?}\nG68.2 P2 Q3 X{:?} Y{:?} Z{:?}\n",
+                    o[0], o[1], o[2], p2[0], p2[1], p2[2], p3[0], p3[1], p3[2]
+                ),
+                mul(m, rz(20.0)),
+                [0, 1, 2].map(|c| o[c] + moved[c]),
+            )
+        }
+        3 => {
+            // The X and Z directions of `base`, scaled, as the program
+            // writes them (not quite square after rounding).
+            let xv = x.map(|c| round(3.0 * c));
+            let zv = z.map(|c| round(0.5 * c));
+            (
+                format!(
+                    "G68.2 P3 Q1 X{:?} Y{:?} Z{:?} I{:?} J{:?} K{:?}\nG68.2 P3 Q2 I{:?} J{:?} K{:?}\n",
+                    o[0], o[1], o[2], xv[0], xv[1], xv[2], zv[0], zv[1], zv[2]
+                ),
+                frame(xv, zv),
+                o,
+            )
+        }
+        _ => {
+            // Projection angles: the plane's traces in Z-X (+X turned by J
+            // about Y) and Y-Z (+Y turned by I about X), then K about Z.
+            let xt = apply(ry(j), [1.0, 0.0, 0.0]);
+            let yt = apply(rx(i), [0.0, 1.0, 0.0]);
+            (
+                format!(
+                    "G68.2 P4 X{:?} Y{:?} Z{:?} I{i:?} J{j:?} K{k:?}\n",
+                    o[0], o[1], o[2]
+                ),
+                mul(frame(xt, cross(xt, yt)), rz(k)),
+                o,
+            )
+        }
+    }
 }
 
 fn offsets() -> Offsets {
@@ -80,7 +187,7 @@ proptest! {
 
     #[test]
     fn rows_in_the_tilted_plane_are_the_frames_transform_of_the_program(
-        form in 0u32..2,
+        form in 0u32..5,
         origin in prop::array::uniform3(-50.0..50.0f64),
         angles in prop::array::uniform3(-40.0..40.0f64),
         point in prop::array::uniform3(-30.0..30.0f64),
@@ -92,19 +199,18 @@ proptest! {
         let p = point.map(round);
         let o = origin.map(round);
         let radius = round(radius);
-        let r = if form == 0 {
-            mul(mul(rz(i), rx(j)), rz(k))
-        } else {
-            mul(mul(rz(k), ry(j)), rx(i))
-        };
+        let (definition, r, o) = definition(form, o, [i, j, k]);
         let x0 = round(p[0] + 10.0);
         let x1 = round(x0 + radius);
         let z4 = round(p[2] + 40.0);
+        let lines = definition.lines().count() as u32;
         let program = format!(
-            "G43 H1 G0 Z250.\nG68.2 P{form} X{:?} Y{:?} Z{:?} I{i:?} J{j:?} K{k:?}\nG53.1\n\
+            "G43 H1 G0 Z250.\n{definition}G53.1\n\
              G0 X{:?} Y{:?} Z{:?}\nG1 X{x0:?} F500.\nG3 X{:?} R{radius:?}\nG81 Z-5. R2.\nG80\nG69\n",
-            o[0], o[1], o[2], p[0], p[1], z4, x1,
+            p[0], p[1], z4, x1,
         );
+        // The motion lines after the definition (its blocks start at line 2).
+        let at_line = |n: u32| n + lines - 1;
         let z = apply(r, [0.0, 0.0, 1.0]);
         let to_work = |q: [f64; 3]| {
             let v = apply(r, q);
@@ -118,25 +224,25 @@ proptest! {
                 // the B/C trunnion (B +-120, C endless) reaches every frame
                 // of these angles, so it is checked in every case.
                 prop_assert!(
-                    name != "trunnion-bc" && a.line == 3 && a.code.to_string() == "FX0075",
+                    name != "trunnion-bc" && a.line == at_line(3) && a.code.to_string() == "FX0075",
                     "{name}: {a:?}\n{program}"
                 );
                 continue;
             }
             // Every row after G53.1: the tool along the frame's Z.
-            for row in rows.iter().filter(|r| r.line >= 4 && r.line <= 7) {
+            for row in rows.iter().filter(|r| r.line >= at_line(4) && r.line <= at_line(7)) {
                 close(row.dir.as_slice(), &z, &format!("{name} line {} direction", row.line))?;
             }
             let ends: Vec<&Row> = rows.iter().filter(|r| r.s == 1.0).collect();
             let at = |line: u32| ends.iter().find(|r| r.line == line).copied();
-            let end4 = at(4).expect("line 4 moves");
+            let end4 = at(at_line(4)).expect("line 4 moves");
             close(end4.tip.as_slice(), &to_work([p[0], p[1], z4]), &format!("{name} line 4"))?;
-            let end5 = at(5).expect("line 5 moves");
+            let end5 = at(at_line(5)).expect("line 5 moves");
             close(end5.tip.as_slice(), &to_work([x0, p[1], z4]), &format!("{name} line 5"))?;
             // The arc: its end, and its middle on the circle of the plane.
-            let end6 = at(6).expect("line 6 moves");
+            let end6 = at(at_line(6)).expect("line 6 moves");
             close(end6.tip.as_slice(), &to_work([x1, p[1], z4]), &format!("{name} arc end"))?;
-            let mid = rows.iter().find(|r| r.line == 6 && r.s == 0.5).expect("arc middle");
+            let mid = rows.iter().find(|r| r.line == at_line(6) && r.s == 0.5).expect("arc middle");
             // G3 from x0 to x1 (a chord c) with R r: the minor arc,
             // counter-clockwise, its centre left of the chord, its middle
             // r below the centre.
@@ -146,7 +252,7 @@ proptest! {
             // G81 drills along the frame's Z at the last position.
             let bottom = rows
                 .iter()
-                .filter(|r| r.line == 7 && r.s == 1.0)
+                .filter(|r| r.line == at_line(7) && r.s == 1.0)
                 .map(|r| r.tip)
                 .find(|t| {
                     let q = to_work([x1, p[1], -5.0]);
@@ -162,7 +268,6 @@ fn g53_1_needs_a_frame_and_the_plane_refuses_what_it_does_not_combine() {
     let m = builtin("trunnion-ac").expect("built in");
     let code = |program: &str| run(&m, program).1.map(|a| a.code.to_string());
     assert_eq!(code("G53.1\n").as_deref(), Some("FX0150"));
-    assert_eq!(code("G68.2 P3 I10.\n").as_deref(), Some("FX0150"));
     for inside in ["G55", "G41 D1 I0 J0 K1. X1.", "G54.4 P1"] {
         assert_eq!(
             code(&format!("G68.2 J10.\n{inside}\n")).as_deref(),
@@ -402,4 +507,101 @@ fn tcpc_inside_the_tilted_plane_programs_in_the_feature_frame() {
             }
         }
     }
+}
+
+/// The end tip of the last row of `line`.
+fn end_tip(rows: &[Row], line: u32) -> [f64; 3] {
+    let row = rows
+        .iter()
+        .rfind(|r| r.line == line && r.s == 1.0)
+        .expect("the line moves");
+    [row.tip.x, row.tip.y, row.tip.z]
+}
+
+#[test]
+fn g68_2_p2_three_points_by_hand() {
+    // Points (10,0,0), (10,5,0), (4,0,0): +X along the workpiece +Y, the
+    // third point on the side of the workpiece -X, so +Y is -X and +Z is
+    // +Z: a quarter turn about Z. Q0 shifts the origin by 1 along the new
+    // X (workpiece +Y). Program point (1, 2, 3) is then
+    // (10,1,0) + (-2, 1, 3) = (8, 2, 3).
+    let m = builtin("trunnion-ac").expect("built in");
+    let (rows, alarm) = run(
+        &m,
+        "G68.2 P2 Q0 X1.\nG68.2 P2 Q1 X10.\nG68.2 P2 Q2 X10. Y5.\nG68.2 P2 Q3 X4.\nG53.1\nG0 X1. Y2. Z3.\n",
+    );
+    assert_eq!(alarm, None);
+    let tip = end_tip(&rows, 6);
+    for (a, b) in tip.iter().zip([8.0, 2.0, 3.0]) {
+        assert!((a - b).abs() < 1e-9, "{tip:?}");
+    }
+    // Without Q0 the first point is the origin: (10,0,0) + (-2,1,3).
+    let (rows, alarm) = run(
+        &m,
+        "G68.2 P2 Q1 X10.\nG68.2 P2 Q2 X10. Y5.\nG68.2 P2 Q3 X4.\nG0 X1. Y2. Z3.\n",
+    );
+    assert_eq!(alarm, None);
+    let tip = end_tip(&rows, 4);
+    for (a, b) in tip.iter().zip([8.0, 1.0, 3.0]) {
+        assert!((a - b).abs() < 1e-9, "{tip:?}");
+    }
+}
+
+#[test]
+fn g68_2_p4_with_one_angle_is_that_rotation() {
+    // One projection angle alone is the rotation about that axis (the
+    // plane's other trace stays on its axis): P4 Ia = P1 Ia, P4 Jb = P1 Jb.
+    let m = builtin("trunnion-bc").expect("built in");
+    for (words, program_point) in [("I25.", [3.0, -4.0, 5.0]), ("J-35.", [-6.0, 2.0, 7.0])] {
+        let motion = format!(
+            "G53.1\nG0 X{:?} Y{:?} Z{:?}\n",
+            program_point[0], program_point[1], program_point[2]
+        );
+        let (p4, a4) = run(&m, &format!("G68.2 P4 X5. {words} K10.\n{motion}"));
+        let (p1, a1) = run(&m, &format!("G68.4 P1 X5. {words}\nG68.4 K10.\n{motion}"));
+        assert_eq!((a4, a1), (None, None));
+        let (a, b) = (end_tip(&p4, 3), end_tip(&p1, 4));
+        for (x, y) in a.iter().zip(b) {
+            assert!((x - y).abs() < 1e-9, "{words}: {a:?} vs {b:?}");
+        }
+    }
+}
+
+#[test]
+fn g68_2_definitions_the_control_refuses() {
+    let m = builtin("trunnion-ac").expect("built in");
+    let alarm = |program: &str| {
+        run(&m, program)
+            .1
+            .map(|a| (a.code.to_string(), a.line))
+            .unwrap_or_else(|| panic!("no alarm: {program}"))
+    };
+    let refused = |program: &str, line: u32| {
+        assert_eq!(alarm(program), ("PS5457".to_string(), line), "{program}");
+    };
+    // No such form.
+    refused("G68.2 P5 I10.\n", 1);
+    // Three points on one line; two the same.
+    refused("G68.2 P2 Q1\nG68.2 P2 Q2 X1.\nG68.2 P2 Q3 X3.\n", 3);
+    refused("G68.2 P2 Q1 X1.\nG68.2 P2 Q2 X1.\nG68.2 P2 Q3 Y3.\n", 3);
+    // Out of order, interrupted, without Q.
+    refused("G68.2 P2 Q2 X1.\n", 1);
+    refused("G68.2 P2 Q1\nG68.2 P2 Q3 X1.\n", 2);
+    refused("G68.2 P2 Q1\nG0 X1.\n", 2);
+    refused("G68.2 P2 Q1\nG68.2 P3 Q1 I1.\n", 2);
+    refused("G68.2 P2 X1.\n", 1);
+    refused("G68.2 P3 Q0 I1.\n", 1);
+    // Two vectors: zero, or more than 5 degrees from square.
+    refused("G68.2 P3 Q1 I0 J0 K0\n", 1);
+    refused("G68.2 P3 Q1 I1.\nG68.2 P3 Q2 I0.1 K1.\n", 2);
+    // Within 5 degrees of square: accepted (X made square to Z).
+    assert_eq!(run(&m, "G68.2 P3 Q1 I1.\nG68.2 P3 Q2 I0.08 K1.\n").1, None);
+    // Projection angles whose traces both run along Z.
+    refused("G68.2 P4 I90. J90.\n", 1);
+    // R belongs to P2 Q0 only.
+    assert_eq!(
+        alarm("G68.2 P2 Q1 R10.\n").0,
+        "FX0012".to_string(),
+        "R on Q1"
+    );
 }

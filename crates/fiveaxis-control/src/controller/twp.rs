@@ -10,6 +10,22 @@
 //!   of the workpiece, in that order: `R = Rz(K)·Ry(J)·Rx(I)`. A programmed
 //!   point p is the workpiece point `origin + R·p`. Words left out are 0;
 //!   X, Y, Z are absolute whatever G90 / G91 (the manual's definition).
+//! * `G68.2 P2` three points, one block each: `Q0 X Y Z R` (optional,
+//!   first) the origin's shift from the first point in the new frame and
+//!   a turn about the new Z; `Q1`, `Q2`, `Q3 X Y Z` the first point, a
+//!   point on +X, a point of the X-Y plane on the +Y side.
+//!   `G68.2 P3` two vectors: `Q1 X Y Z I J K` the origin and +X, `Q2 I J K`
+//!   +Z; square within 5° (the 30i-B's 85°–95°), +X then made normal to +Z.
+//!   The blocks of P2 / P3 follow each other with nothing between (PS5457
+//!   otherwise). Block order and words as FANUC post processors write
+//!   them (NX and open posts for the 30i); the FANUC manual pages
+//!   themselves were not at hand.
+//! * `G68.2 P4 X Y Z I J K` projection angles: the plane's trace in the
+//!   Y-Z plane is +Y turned by I about X, its trace in the Z-X plane is +X
+//!   turned by J about Y (that trace is the frame's +X); K turns the frame
+//!   about its Z. One angle alone is the rotation about that axis. The
+//!   FANUC figure was not at hand: this is the projection-angle definition
+//!   of Heidenhain's PLANE PROJECTED and Siemens' CYCLE800, which agree.
 //! * `G53.1`: the rotary axes turn (rapid, the linear axes stay) to the
 //!   position that points the tool along the feature Z, chosen among the
 //!   solutions by the control's rule (`rotary_choice`, as TCPC chooses).
@@ -56,6 +72,44 @@ impl Feature {
     fn feature_point(&self, x: &Vec3) -> Vec3 {
         self.rotation.inverse() * (x - self.origin)
     }
+}
+
+/// A definition given block by block (G68.2 P2 three points, P3 two
+/// vectors) while its blocks come: nothing else may come between them.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) struct Pending {
+    /// G68.2 or G68.4.
+    pub(super) code: Code,
+    /// 2 or 3.
+    pub(super) form: u32,
+    /// Whether a block of it has been read.
+    started: bool,
+    /// The Q of the last block read.
+    pub(super) last_q: u32,
+    /// P2 Q0: the origin's shift from the first point, in the new frame.
+    shift: Vec3,
+    /// P2 Q0: the turn about the new Z, degrees.
+    turn: f64,
+    /// P2: the three points; P3: origin, +X direction, +Z direction.
+    points: [Vec3; 3],
+}
+
+/// Below this, points coincide, lie on one line, or a vector is zero
+/// (a definition the control refuses), mm or unit vectors.
+const DEFINITION_TOLERANCE: f64 = 1e-9;
+
+/// How far from square the two vectors of G68.2 P3 may be, degrees (the
+/// 30i-B's 85 to 95 degrees, as read in the FANUC tilted working plane
+/// documentation).
+const SQUARE_TOLERANCE: f64 = 5.0;
+
+/// The rotation whose +Z is along `z` and whose +X is `x` made normal to
+/// it (`x` not along `z`).
+fn frame_of(x: Vec3, z: Vec3) -> Rotation3<f64> {
+    let z = z.normalize();
+    let x = (x - z * x.dot(&z)).normalize();
+    let y = z.cross(&x);
+    Rotation3::from_matrix_unchecked(nalgebra::Matrix3::from_columns(&[x, y, z]))
 }
 
 /// Below this, the tool axis is taken as the vertical axis (G68.3).
@@ -115,38 +169,40 @@ impl Controller<'_> {
             Some(word) => self.words.integer(&word, 9)?,
             None => 0,
         };
-        let mut origin = Vec3::zeros();
-        for (i, letter) in [b'X', b'Y', b'Z'].into_iter().enumerate() {
-            if let Some(word) = self.words.take(letter) {
-                origin[i] = self.length(&word);
-            }
+        if let Some(pending) = self.state.feature_pending
+            && (pending.code != code || pending.form != form)
+        {
+            return Err(self.alarm(
+                Condition::FeatureDefinition,
+                Some(span),
+                format!(
+                    "G{} P{} is being defined block by block: its next block must be G{} P{} Q{}",
+                    pending.code,
+                    pending.form,
+                    pending.code,
+                    pending.form,
+                    pending.last_q + 1
+                ),
+            ));
         }
-        let mut angle = |letter: u8| self.words.take(letter).map_or(0.0, |w| self.angle(&w));
-        let (i, j, k) = (angle(b'I'), angle(b'J'), angle(b'K'));
-        let rotation = match form {
-            0 => about(Vec3::z(), i) * about(Vec3::x(), j) * about(Vec3::z(), k),
-            1 => about(Vec3::z(), k) * about(Vec3::y(), j) * about(Vec3::x(), i),
+        let defined = match form {
+            0 | 1 | 4 => Some(self.feature_by_angles(form, &name, span)?),
+            2 => self.feature_by_points(code, &name, span)?,
+            3 => self.feature_by_vectors(code, &name, span)?,
             _ => {
                 return Err(self.alarm(
-                    Condition::FeatureNotAllowed,
+                    Condition::FeatureDefinition,
                     Some(span),
                     format!(
-                        "{name} P{form}: the kernel defines the feature frame by Euler angles (P0) or roll-pitch-yaw (P1)"
+                        "{name} P{form}: the forms are P0 (Euler angles), P1 (roll-pitch-yaw), P2 (three points), P3 (two vectors) and P4 (projection angles)"
                     ),
                 ));
             }
         };
-        if [origin.x, origin.y, origin.z, i, j, k]
-            .iter()
-            .any(|v| !v.is_finite())
-        {
-            return Err(self.alarm(
-                Condition::ValueOutOfRange,
-                Some(span),
-                format!("{name} with a value that is not a finite number"),
-            ));
-        }
-        let defined = Feature { origin, rotation };
+        // A multi-block definition not yet complete defines nothing yet.
+        let Some(defined) = defined else {
+            return Ok(());
+        };
         // G68.4: the new frame is given in the frame in force.
         let feature = match self.state.feature {
             Some(outer) if code.minor == 4 => Feature {
@@ -159,9 +215,249 @@ impl Controller<'_> {
         Ok(())
     }
 
+    /// The origin X, Y, Z of a definition block (absolute, 0 when left
+    /// out).
+    fn definition_point(&mut self) -> Vec3 {
+        let mut point = Vec3::zeros();
+        for (i, letter) in [b'X', b'Y', b'Z'].into_iter().enumerate() {
+            if let Some(word) = self.words.take(letter) {
+                point[i] = self.length(&word);
+            }
+        }
+        point
+    }
+
+    /// I, J, K of a definition block as angles (P0, P1, P4) or vector
+    /// components (P3): the decimal-point rule, no unit change; 0 when
+    /// left out.
+    fn definition_ijk(&mut self) -> Vec3 {
+        let mut v = Vec3::zeros();
+        for (i, letter) in [b'I', b'J', b'K'].into_iter().enumerate() {
+            if let Some(word) = self.words.take(letter) {
+                v[i] = self.angle(&word);
+            }
+        }
+        v
+    }
+
+    /// Alarms on a definition value that is not a finite number.
+    fn definition_finite(&self, values: &[f64], name: &str, span: Span) -> Result<(), Alarm> {
+        if values.iter().all(|v| v.is_finite()) {
+            return Ok(());
+        }
+        Err(self.alarm(
+            Condition::ValueOutOfRange,
+            Some(span),
+            format!("{name} with a value that is not a finite number"),
+        ))
+    }
+
+    /// The one-block forms: P0 Euler angles, P1 roll-pitch-yaw, P4
+    /// projection angles (see the module documentation).
+    fn feature_by_angles(&mut self, form: u32, name: &str, span: Span) -> Result<Feature, Alarm> {
+        let origin = self.definition_point();
+        let angles = self.definition_ijk();
+        let (i, j, k) = (angles.x, angles.y, angles.z);
+        self.definition_finite(&[origin.x, origin.y, origin.z, i, j, k], name, span)?;
+        let rotation = match form {
+            0 => about(Vec3::z(), i) * about(Vec3::x(), j) * about(Vec3::z(), k),
+            1 => about(Vec3::z(), k) * about(Vec3::y(), j) * about(Vec3::x(), i),
+            _ => {
+                // The plane's trace in the Y-Z plane is +Y turned by I about
+                // X; its trace in the Z-X plane is +X turned by J about Y.
+                let x = about(Vec3::y(), j) * Vec3::x();
+                let trace_yz = about(Vec3::x(), i) * Vec3::y();
+                let z = x.cross(&trace_yz);
+                if z.norm() < DEFINITION_TOLERANCE {
+                    return Err(self.alarm(
+                        Condition::FeatureDefinition,
+                        Some(span),
+                        format!("{name} P4 I{i} J{j}: both traces run along Z, which leaves the plane undefined"),
+                    ));
+                }
+                frame_of(x, z) * about(Vec3::z(), k)
+            }
+        };
+        Ok(Feature { origin, rotation })
+    }
+
+    /// P2, three points, one block each: `Q0 X Y Z R` (optional, first):
+    /// the origin's shift from the first point in the new frame, and a
+    /// turn about the new Z; `Q1`, `Q2`, `Q3 X Y Z`: the first point
+    /// (origin), the second (on +X), the third (in the X-Y plane on the +Y
+    /// side). The frame is defined at the Q3 block.
+    fn feature_by_points(
+        &mut self,
+        code: Code,
+        name: &str,
+        span: Span,
+    ) -> Result<Option<Feature>, Alarm> {
+        let q = self.definition_step(name, span, 3)?;
+        let mut pending = self.state.feature_pending.take().unwrap_or(Pending {
+            code,
+            form: 2,
+            started: false,
+            last_q: 0,
+            shift: Vec3::zeros(),
+            turn: 0.0,
+            points: [Vec3::zeros(); 3],
+        });
+        self.definition_order(&pending, q, name, span)?;
+        let point = self.definition_point();
+        let turn = if q == 0 {
+            self.words.take(b'R').map_or(0.0, |w| self.angle(&w))
+        } else {
+            0.0
+        };
+        self.definition_finite(&[point.x, point.y, point.z, turn], name, span)?;
+        if q == 0 {
+            pending.shift = point;
+            pending.turn = turn;
+        } else {
+            pending.points[q as usize - 1] = point;
+        }
+        pending.last_q = q;
+        pending.started = true;
+        if q < 3 {
+            self.state.feature_pending = Some(pending);
+            return Ok(None);
+        }
+        let [p1, p2, p3] = pending.points;
+        let x = p2 - p1;
+        let z = x.cross(&(p3 - p1));
+        if x.norm() < DEFINITION_TOLERANCE || z.norm() < DEFINITION_TOLERANCE * x.norm() {
+            return Err(self.alarm(
+                Condition::FeatureDefinition,
+                Some(span),
+                format!("{name} P2: the three points lie on one line (or two are the same point)"),
+            ));
+        }
+        let frame = frame_of(x, z);
+        Ok(Some(Feature {
+            origin: p1 + frame * pending.shift,
+            rotation: frame * about(Vec3::z(), pending.turn),
+        }))
+    }
+
+    /// P3, two vectors: `Q1 X Y Z I J K`: the origin and the direction of
+    /// +X; `Q2 I J K`: the direction of +Z. The two must be square within
+    /// [`SQUARE_TOLERANCE`]; +X is then made exactly normal to +Z.
+    fn feature_by_vectors(
+        &mut self,
+        code: Code,
+        name: &str,
+        span: Span,
+    ) -> Result<Option<Feature>, Alarm> {
+        let q = self.definition_step(name, span, 2)?;
+        let mut pending = self.state.feature_pending.take().unwrap_or(Pending {
+            code,
+            form: 3,
+            started: false,
+            last_q: 0,
+            shift: Vec3::zeros(),
+            turn: 0.0,
+            points: [Vec3::zeros(); 3],
+        });
+        self.definition_order(&pending, q, name, span)?;
+        if q == 1 {
+            pending.points[0] = self.definition_point();
+        }
+        let vector = self.definition_ijk();
+        pending.points[q as usize] = vector;
+        let [origin, x, z] = pending.points;
+        self.definition_finite(
+            &[origin.x, origin.y, origin.z, vector.x, vector.y, vector.z],
+            name,
+            span,
+        )?;
+        if vector.norm() < DEFINITION_TOLERANCE {
+            return Err(self.alarm(
+                Condition::FeatureDefinition,
+                Some(span),
+                format!("{name} P3 Q{q}: the direction is a zero vector"),
+            ));
+        }
+        pending.last_q = q;
+        pending.started = true;
+        if q < 2 {
+            self.state.feature_pending = Some(pending);
+            return Ok(None);
+        }
+        let angle = x.angle(&z).to_degrees();
+        if (angle - 90.0).abs() > SQUARE_TOLERANCE {
+            return Err(self.alarm(
+                Condition::FeatureDefinition,
+                Some(span),
+                format!(
+                    "{name} P3: the +X and +Z directions are {angle:.3} degrees apart; they must be square within {SQUARE_TOLERANCE} degrees"
+                ),
+            ));
+        }
+        Ok(Some(Feature {
+            origin,
+            rotation: frame_of(x, z),
+        }))
+    }
+
+    /// The Q of a multi-block definition block: required, 0 to `last`.
+    fn definition_step(&mut self, name: &str, span: Span, last: u32) -> Result<u32, Alarm> {
+        match self.words.take(b'Q') {
+            Some(word) => self.words.integer(&word, last),
+            None => Err(self.alarm(
+                Condition::FeatureDefinition,
+                Some(span),
+                format!("{name}: the block-by-block forms P2 and P3 number their blocks with Q"),
+            )),
+        }
+    }
+
+    /// Alarms on a definition block out of its order.
+    /// Alarms on a definition block out of its order: P2 starts with Q0
+    /// or Q1, P3 with Q1, and each block has the next Q.
+    fn definition_order(
+        &self,
+        pending: &Pending,
+        q: u32,
+        name: &str,
+        span: Span,
+    ) -> Result<(), Alarm> {
+        let expected = if pending.started {
+            pending.last_q + 1
+        } else {
+            1
+        };
+        let first_p2 = !pending.started && pending.form == 2 && q == 0;
+        if q == expected || first_p2 {
+            return Ok(());
+        }
+        Err(self.alarm(
+            Condition::FeatureDefinition,
+            Some(span),
+            format!(
+                "{name} P{} Q{q} out of order: Q{expected} comes next",
+                pending.form
+            ),
+        ))
+    }
+
     /// In the mode: a block may not start what the tilted plane is not
     /// combined with, nor change the work offset or the setup error.
     pub(super) fn feature_restrictions(&self, codes: &super::GCodes) -> Result<(), Alarm> {
+        if let Some(pending) = self.state.feature_pending
+            && codes.feature.is_none_or(|(c, _)| c != pending.code)
+        {
+            return Err(self.alarm(
+                Condition::FeatureDefinition,
+                None,
+                format!(
+                    "G{} P{} is defined block by block: the block after Q{} must be its Q{}",
+                    pending.code,
+                    pending.form,
+                    pending.last_q,
+                    pending.last_q + 1
+                ),
+            ));
+        }
         if self.feature().is_none() {
             return Ok(());
         }
