@@ -231,6 +231,9 @@ pub enum Condition {
     /// three points on a line, a zero or oblique vector, blocks of a
     /// P2 / P3 definition out of order or interrupted.
     FeatureDefinition,
+    /// A three-dimensional coordinate conversion (G68 with I, J, K) the
+    /// control refuses: a zero axis vector, a third nesting.
+    ConversionCommand,
     /// G17 / G18 / G19 changes the plane in coordinate system rotation (G68).
     FramePlaneChange,
     /// A reference return or a coordinate system change (G27, G28, G30,
@@ -330,6 +333,7 @@ impl Condition {
         Condition::FeatureNotAllowed,
         Condition::FeatureOriginIncomplete,
         Condition::FeatureDefinition,
+        Condition::ConversionCommand,
         Condition::FramePlaneChange,
         Condition::FrameCommandForbidden,
         Condition::FrameNesting,
@@ -478,6 +482,9 @@ impl Condition {
             Condition::CycleDepthMissing => "G73 / G83 without Q, or with Q0",
             Condition::CycleReferenceReturn => "G27 to G30 in a canned cycle",
             Condition::FeatureOriginIncomplete => "G68.3 with one or two of the origin's X, Y, Z",
+            Condition::ConversionCommand => {
+                "A three-dimensional coordinate conversion (G68 with I, J, K) with a zero axis vector, or nested a third time"
+            }
             Condition::FeatureDefinition => {
                 "A G68.2 / G68.4 definition the control refuses: no such P form, three points on a line, a zero or oblique vector, P2 / P3 blocks out of order or interrupted"
             }
@@ -546,6 +553,7 @@ impl Condition {
             C::TcpcIjkInStartBlock => Some(5421),
             C::FeatureOriginIncomplete => Some(5457),
             C::FeatureDefinition => Some(5457),
+            C::ConversionCommand => Some(49),
             C::MacroOverflow => Some(111),
             C::MacroDivisionByZero => Some(112),
             C::MacroFormat => Some(114),
@@ -695,6 +703,7 @@ impl Condition {
             C::FeatureNotAllowed => 150,
             C::FeatureOriginIncomplete => 151,
             C::FeatureDefinition => 152,
+            C::ConversionCommand => 153,
             C::FramePlaneChange => 140,
             C::FrameCommandForbidden => 141,
             C::FrameNesting => 142,

@@ -605,3 +605,107 @@ fn g68_2_definitions_the_control_refuses() {
         "R on Q1"
     );
 }
+
+/// Rodrigues: `v` turned by `deg` degrees about the unit vector `k`.
+fn rodrigues(k: [f64; 3], deg: f64, v: [f64; 3]) -> [f64; 3] {
+    let n = (k[0] * k[0] + k[1] * k[1] + k[2] * k[2]).sqrt();
+    let k = k.map(|c| c / n);
+    let (s, c) = deg.to_radians().sin_cos();
+    let kxv = cross(k, v);
+    let kv = k[0] * v[0] + k[1] * v[1] + k[2] * v[2];
+    [0, 1, 2].map(|i| v[i] * c + kxv[i] * s + k[i] * kv * (1.0 - c))
+}
+
+#[test]
+fn g68_three_dimensional_conversion_by_hand() {
+    let m = builtin("trunnion-ac").expect("built in");
+    let check = |program: &str, line: u32, want: [f64; 3]| {
+        let (rows, alarm) = run(&m, program);
+        assert_eq!(alarm, None, "{program}");
+        let tip = end_tip(&rows, line);
+        for (a, b) in tip.iter().zip(want) {
+            assert!((a - b).abs() < 1e-9, "{program}: {tip:?} vs {want:?}");
+        }
+    };
+    // A quarter turn about Z through (10, 0, 0): (11, 0, 0) is (10, 1, 0).
+    check(
+        "G68 X10. Y0 Z0 I0 J0 K1 R90.\nG0 X11. Y0 Z0\n",
+        2,
+        [10.0, 1.0, 0.0],
+    );
+    // 30 degrees about Y through the origin: (0, 0, 10) is (5, 0, 8.66).
+    let half3 = 10.0 * 30f64.to_radians().cos();
+    check(
+        "G68 X0 Y0 Z0 I0 J1. K0 R30.\nG0 X0 Y0 Z10.\n",
+        2,
+        [5.0, 0.0, half3],
+    );
+    // Centre words left out: where the program stands (here X20).
+    check(
+        "G0 X20. Y0 Z0\nG68 I0 J0 K1. R90.\nG0 X21.\n",
+        3,
+        [20.0, 1.0, 0.0],
+    );
+    // Nested: 90 about Z, then 90 about the converted X: (0, 0, 1) goes to
+    // (0, -1, 0) by the inner, then (1, 0, 0) by the outer.
+    check(
+        "G68 X0 Y0 Z0 K1. R90.\nG68 X0 Y0 Z0 I1. R90.\nG0 X0 Y0 Z1.\n",
+        3,
+        [1.0, 0.0, 0.0],
+    );
+    // G69 ends both levels; the plain 2-D rotation still works after it.
+    check(
+        "G68 X0 Y0 Z0 K1. R90.\nG68 X0 Y0 Z0 I1. R90.\nG69\nG68 X0 Y0 R90.\nG0 X1. Y0 Z0\n",
+        5,
+        [0.0, 1.0, 0.0],
+    );
+    let code = |program: &str| run(&m, program).1.map(|a| a.code.to_string());
+    assert_eq!(code("G68 I0 J0 K0 R10.\n").as_deref(), Some("PS0049"));
+    assert_eq!(
+        code("G68 K1. R1.\nG68 I1. R1.\nG68 J1. R1.\n").as_deref(),
+        Some("PS0049")
+    );
+    assert_eq!(
+        code("G68 K1. R10.\nG68.2 J10.\n").as_deref(),
+        Some("FX0150")
+    );
+    assert_eq!(
+        code("G68.2 J10.\nG68 K1. R10.\n").as_deref(),
+        Some("FX0150")
+    );
+    assert_eq!(code("G68 K1. R10.\nG53.1\n").as_deref(), Some("FX0150"));
+    assert_eq!(
+        code("G68 K1. R10.\nG68 X1. R10.\n").as_deref(),
+        Some("FX0150")
+    );
+}
+
+proptest! {
+    #![proptest_config(Config {
+        cases: 64,
+        rng_seed: proptest::test_runner::RngSeed::Fixed(0x0068_0003),
+        ..Config::default()
+    })]
+
+    #[test]
+    fn g68_conversion_rows_are_the_rodrigues_rotation_of_the_program(
+        center in prop::array::uniform3(-50.0..50.0f64),
+        axis in prop::array::uniform3(-1.0..1.0f64),
+        angle in -180.0..180.0f64,
+        point in prop::array::uniform3(-30.0..30.0f64),
+    ) {
+        let round = |v: f64| (v * 1e4).round() / 1e4;
+        let (c, k, p, r) = (center.map(round), axis.map(round), point.map(round), round(angle));
+        prop_assume!(k.iter().map(|v| v * v).sum::<f64>() > 0.01);
+        let program = format!(
+            "G68 X{:?} Y{:?} Z{:?} I{:?} J{:?} K{:?} R{r:?}\nG1 X{:?} Y{:?} Z{:?} F1000.\n",
+            c[0], c[1], c[2], k[0], k[1], k[2], p[0], p[1], p[2]
+        );
+        let turned = rodrigues(k, r, sub(p, c));
+        let want = [0, 1, 2].map(|i| c[i] + turned[i]);
+        let m = builtin("head-table-bc").expect("built in");
+        let (rows, alarm) = run(&m, &program);
+        prop_assert!(alarm.is_none(), "{alarm:?}");
+        close(&end_tip(&rows, 2), &want, "conversion")?;
+    }
+}

@@ -263,10 +263,16 @@ impl Controller<'_> {
             self.nesting(self.state.frames.rotation.is_some(), code, span, "G69")?;
             self.scaling_start(code, span, &here)?;
         }
-        if let Some((code, _)) = codes.frames[ROTATION]
+        if let Some((code, span)) = codes.frames[ROTATION]
             && code.major == 68
         {
-            self.rotation_start(&here);
+            if self.conversion_requested() {
+                // G68 with I, J, K: three-dimensional coordinate conversion
+                // (controller/twp.rs).
+                self.conversion_start(span, &here)?;
+            } else {
+                self.rotation_start(&here);
+            }
         }
         self.frames_restrictions(codes)?;
         let mirror = codes.frames[MIRROR].is_some();

@@ -62,6 +62,10 @@ use crate::segment::{Motion, Segment, TipPath};
 pub(super) struct Feature {
     origin: Vec3,
     rotation: Rotation3<f64>,
+    /// 0: a tilted working plane (G68.2 and its kin); 1 or 2: a
+    /// three-dimensional coordinate conversion (G68 with I, J, K) and how
+    /// many are nested.
+    conversions: u8,
 }
 
 impl Feature {
@@ -111,6 +115,9 @@ fn frame_of(x: Vec3, z: Vec3) -> Rotation3<f64> {
     let y = z.cross(&x);
     Rotation3::from_matrix_unchecked(nalgebra::Matrix3::from_columns(&[x, y, z]))
 }
+
+/// How many three-dimensional coordinate conversions nest (FANUC: two).
+const MAX_CONVERSIONS: u8 = 2;
 
 /// Below this, the tool axis is taken as the vertical axis (G68.3).
 const VERTICAL_TOLERANCE: f64 = 1e-9;
@@ -208,6 +215,7 @@ impl Controller<'_> {
             Some(outer) if code.minor == 4 => Feature {
                 origin: outer.work_point(&defined.origin),
                 rotation: outer.rotation * defined.rotation,
+                conversions: 0,
             },
             _ => defined,
         };
@@ -278,7 +286,11 @@ impl Controller<'_> {
                 frame_of(x, z) * about(Vec3::z(), k)
             }
         };
-        Ok(Feature { origin, rotation })
+        Ok(Feature {
+            origin,
+            rotation,
+            conversions: 0,
+        })
     }
 
     /// P2, three points, one block each: `Q0 X Y Z R` (optional, first):
@@ -336,6 +348,7 @@ impl Controller<'_> {
         Ok(Some(Feature {
             origin: p1 + frame * pending.shift,
             rotation: frame * about(Vec3::z(), pending.turn),
+            conversions: 0,
         }))
     }
 
@@ -396,6 +409,7 @@ impl Controller<'_> {
         Ok(Some(Feature {
             origin,
             rotation: frame_of(x, z),
+            conversions: 0,
         }))
     }
 
@@ -505,7 +519,13 @@ impl Controller<'_> {
                 .frames
                 .iter()
                 .flatten()
-                .find(|(c, _)| !matches!((c.major, c.minor), (69, 0) | (15, 0) | (50, 0) | (50, 1)))
+                .find(|(c, _)| {
+                    let nested_conversion = c.major == 68
+                        && self.conversion_requested()
+                        && self.feature().is_some_and(|f| f.conversions > 0);
+                    !nested_conversion
+                        && !matches!((c.major, c.minor), (69, 0) | (15, 0) | (50, 0) | (50, 1))
+                })
                 .map(|&(c, s)| (c, s, "a program transform")),
         ];
         match refused.into_iter().flatten().next() {
@@ -567,13 +587,96 @@ impl Controller<'_> {
         let y = z.cross(&x);
         let frame = Rotation3::from_matrix_unchecked(nalgebra::Matrix3::from_columns(&[x, y, z]));
         let rotation = frame * about(Vec3::z(), turn);
-        self.state.feature = Some(Feature { origin, rotation });
+        self.state.feature = Some(Feature {
+            origin,
+            rotation,
+            conversions: 0,
+        });
+        Ok(())
+    }
+
+    /// Whether a G68 block asks for a three-dimensional coordinate
+    /// conversion: one of I, J, K is given.
+    pub(super) fn conversion_requested(&self) -> bool {
+        [b'I', b'J', b'K']
+            .into_iter()
+            .any(|letter| self.words.peek(letter).is_some())
+    }
+
+    /// G68 X Y Z I J K R: three-dimensional coordinate conversion (FANUC
+    /// 16i/18i/30i): the program's coordinates turn by R degrees about the
+    /// axis (I, J, K) through the centre (X, Y, Z), right-handed about
+    /// the vector. Centre words left out are where the program stands; R
+    /// left out is 0 (No.5410). A second G68 nests inside the first (its
+    /// centre and axis in the converted coordinates); a third is PS0049.
+    /// In force, the conversion is a feature frame: points, arcs, cycles,
+    /// cutter compensation C and the tool length work in it as in the
+    /// tilted plane (tool length along the tool). G69 cancels every level.
+    pub(super) fn conversion_start(&mut self, span: Span, here: &Vec3) -> Result<(), Alarm> {
+        let outer = self.state.feature;
+        let depth = match outer {
+            Some(f) if f.conversions == 0 => {
+                return Err(self.alarm(
+                    Condition::FeatureNotAllowed,
+                    Some(span),
+                    "G68 with I, J, K (three-dimensional coordinate conversion) cannot be given in the tilted working plane (G68.2): cancel it with G69 first".into(),
+                ));
+            }
+            Some(f) if f.conversions >= MAX_CONVERSIONS => {
+                return Err(self.alarm(
+                    Condition::ConversionCommand,
+                    Some(span),
+                    format!("G68 three-dimensional coordinate conversion nests at most {MAX_CONVERSIONS} deep: give G69 first"),
+                ));
+            }
+            Some(f) => f.conversions + 1,
+            None => {
+                self.feature_allowed(span, "G68 with I, J, K")?;
+                1
+            }
+        };
+        let mut center = *here;
+        for (i, letter) in [b'X', b'Y', b'Z'].into_iter().enumerate() {
+            if let Some(word) = self.words.take(letter) {
+                center[i] = self.length(&word);
+            }
+        }
+        let axis = self.definition_ijk();
+        let angle = self.words.take(b'R').map_or(0.0, |w| self.angle(&w));
+        self.definition_finite(
+            &[center.x, center.y, center.z, axis.x, axis.y, axis.z, angle],
+            "G68",
+            span,
+        )?;
+        if axis.norm() < DEFINITION_TOLERANCE {
+            return Err(self.alarm(
+                Condition::ConversionCommand,
+                Some(span),
+                "G68 with I, J, K all 0: the rotation axis has no direction".into(),
+            ));
+        }
+        let rotation = Rotation3::from_axis_angle(&Unit::new_normalize(axis), angle.to_radians());
+        let defined = Feature {
+            origin: center - rotation * center,
+            rotation,
+            conversions: depth,
+        };
+        self.state.feature = Some(match outer {
+            Some(outer) => Feature {
+                origin: outer.work_point(&defined.origin),
+                rotation: outer.rotation * defined.rotation,
+                conversions: depth,
+            },
+            None => defined,
+        });
         Ok(())
     }
 
     /// The functions the tilted plane is not combined with (yet).
     pub(super) fn feature_allowed(&self, span: Span, what: &str) -> Result<(), Alarm> {
-        let conflict = if self.tcpc_type().is_some() {
+        let conflict = if self.feature().is_some_and(|f| f.conversions > 0) {
+            Some("three-dimensional coordinate conversion (G68 with I, J, K)")
+        } else if self.tcpc_type().is_some() {
             Some("tool centre point control (G43.4/G43.5): give G68.2 first")
         } else if self.state.frames.active() {
             Some("a program transform (G68, G51, G51.1, G16)")
@@ -603,7 +706,7 @@ impl Controller<'_> {
         out: &mut Vec<Segment>,
     ) -> Result<(), Alarm> {
         let name = if keep_tip { "G53.6" } else { "G53.1" };
-        let Some(feature) = self.state.feature else {
+        let Some(feature) = self.state.feature.filter(|f| f.conversions == 0) else {
             return Err(self.alarm(
                 Condition::FeatureNotAllowed,
                 Some(span),
