@@ -449,7 +449,12 @@ fn g92_cancels_the_local_shift_of_its_axes() {
 }
 
 #[test]
-fn g68_with_i_j_k_is_not_three_dimensional_conversion() {
-    let (code, _) = alarm(&program("G68 X0 Y0 Z0 I0 J0 K1 R10.\n"), "mill-3axis");
-    assert_eq!(code, "FX0012");
+fn g68_with_i_j_k_about_z_is_the_plane_rotation() {
+    // Three-dimensional conversion about +Z through (10, 0, 0) by 90°
+    // turns (20, 0, 5) as the 2-D G68 does, and keeps Z.
+    let rows = run(&program(
+        "G68 X10. Y0 Z0 I0 J0 K1. R90.\nG01 X20. Y0 Z5. F100.\n",
+    ));
+    near(tip(&rows, 3), [10.0, 10.0, 5.0]);
+    assert!(rows.iter().all(|r| r.line != 2));
 }
