@@ -268,7 +268,7 @@ fn g53_1_needs_a_frame_and_the_plane_refuses_what_it_does_not_combine() {
     let m = builtin("trunnion-ac").expect("built in");
     let code = |program: &str| run(&m, program).1.map(|a| a.code.to_string());
     assert_eq!(code("G53.1\n").as_deref(), Some("FX0150"));
-    for inside in ["G55", "G41 D1 I0 J0 K1. X1.", "G54.4 P1"] {
+    for inside in ["G55", "G54.4 P1"] {
         assert_eq!(
             code(&format!("G68.2 J10.\n{inside}\n")).as_deref(),
             Some("FX0150"),
@@ -279,17 +279,7 @@ fn g53_1_needs_a_frame_and_the_plane_refuses_what_it_does_not_combine() {
         code("G43.4 H1 Z50.\nG68.2 J10.\n").as_deref(),
         Some("FX0150")
     );
-    // TCPC in the plane needs a programming frame turning with the table,
-    // and the plane stays while TCPC is on.
-    let mut wkp1 = m.clone();
-    wkp1.params.programming_frame = fiveaxis_machine::ProgrammingFrame::Workpiece;
-    assert_eq!(
-        run(&wkp1, "G68.2 J10.\nG43.4 H1\n")
-            .1
-            .map(|a| a.code.to_string())
-            .as_deref(),
-        Some("FX0150")
-    );
+    // The plane stays while TCPC is on.
     assert_eq!(
         code("G68.2 J10.\nG43.4 H1\nG69\n").as_deref(),
         Some("FX0150")
@@ -707,5 +697,109 @@ proptest! {
         let (rows, alarm) = run(&m, &program);
         prop_assert!(alarm.is_none(), "{alarm:?}");
         close(&end_tip(&rows, 2), &want, "conversion")?;
+    }
+}
+
+#[test]
+fn tcpc_on_the_workpiece_frame_inside_the_tilted_plane() {
+    // WKP = 1: the programming frame does not turn with the table, and the
+    // feature frame is defined on it. Under G43.4 the tip of every row,
+    // turned from the table frame into that frame by forward kinematics,
+    // is the feature frame's transform of the programmed path, while the
+    // rotary axes turn.
+    let r = mul(mul(rz(15.0), rx(30.0)), rz(0.0));
+    let o = [10.0, -5.0, 2.0];
+    let to_work = |q: [f64; 3]| {
+        let v = apply(r, q);
+        [o[0] + v[0], o[1] + v[1], o[2] + v[2]]
+    };
+    for name in ["trunnion-ac", "trunnion-bc", "head-table-bc"] {
+        let mut m = builtin(name).expect("built in");
+        m.params.programming_frame = fiveaxis_machine::ProgrammingFrame::Workpiece;
+        let (r0, r1) = (m.rotary[0].name, m.rotary[1].name);
+        let program = format!(
+            "G43 H1 G0 Z250.\nG68.2 X10. Y-5. Z2. I15. J30.\nG43.4 H1 X0 Y3. Z20.\n\
+             G1 X5. {r0}10. {r1}20. F500.\nG2 X15. I5. J0\nG49\nG69\n"
+        );
+        let (rows, alarm) = run(&m, &program);
+        assert_eq!(alarm, None, "{name}");
+        let fixed = |row: &Row| {
+            let t = m
+                .chain(fiveaxis_machine::Side::Table, &row.joints)
+                .transform_point(&row.tip.into())
+                .coords;
+            [t.x, t.y, t.z]
+        };
+        // The arc G2 from (5, 3) to (15, 3) about (10, 3) (I J: a half
+        // circle by R would hang on a square root of rounding), clockwise,
+        // its middle at (10, 8).
+        for (line, s, p) in [
+            (4, 0.5, [2.5, 3.0, 20.0]),
+            (4, 1.0, [5.0, 3.0, 20.0]),
+            (5, 0.5, [10.0, 8.0, 20.0]),
+            (5, 1.0, [15.0, 3.0, 20.0]),
+        ] {
+            let row = rows
+                .iter()
+                .find(|row| row.line == line && row.s == s)
+                .unwrap_or_else(|| panic!("{name}: line {line} s {s}"));
+            let (got, want) = (fixed(row), to_work(p));
+            for (a, b) in got.iter().zip(want) {
+                assert!(
+                    (a - b).abs() < 1e-9,
+                    "{name} line {line} s {s}: {got:?} vs {want:?}"
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn three_dimensional_tool_compensation_inside_the_tilted_plane() {
+    // G41 with I J K in G68.2: the vector is read in the feature frame, so
+    // the compensated path is the frame's transform of the same program
+    // run untilted (radius 4, vectors not along the tool).
+    let mut offsets = offsets();
+    offsets.tools.insert(
+        2,
+        ToolOffset {
+            radius: 4.0,
+            ..ToolOffset::default()
+        },
+    );
+    let r = mul(mul(rz(20.0), rx(25.0)), rz(-10.0));
+    let o = [5.0, 8.0, -3.0];
+    let body = "G0 X10. Y0 Z20.\nG41 D2 G1 X12. Y1. Z18. I1. J0 K1. F300.\n\
+                X20. Y5. I0 J1. K0\nX25. Z15. I-1. J1. K1.\nG40 X30.\n";
+    for name in MACHINES {
+        let m = builtin(name).expect("built in");
+        let run_with =
+            |program: &str| common::run_sampled(&m, offsets.clone(), program, &[0.5, 1.0]);
+        let (flat, a0) = run_with(&format!("G43 H1 G0 Z250.\n{body}"));
+        let (tilted, a1) = run_with(&format!(
+            "G43 H1 G0 Z250.\nG68.2 X5. Y8. Z-3. I20. J25. K-10.\nG53.1\n{body}"
+        ));
+        if let Some(a) = &a1 {
+            // A frame the machine cannot tilt to (G53.1, line 3).
+            assert!(a.line == 3 && name != "trunnion-bc", "{name}: {a:?}");
+            continue;
+        }
+        assert_eq!(a0, None, "{name}");
+        let moves = |rows: &[Row], first: u32| -> Vec<[f64; 3]> {
+            rows.iter()
+                .filter(|r| r.line >= first)
+                .map(|r| [r.tip.x, r.tip.y, r.tip.z])
+                .collect()
+        };
+        let (flat, tilted) = (moves(&flat, 3), moves(&tilted, 5));
+        assert_eq!(flat.len(), tilted.len(), "{name}");
+        assert!(flat.len() >= 6, "{name}");
+        for (a, b) in flat.iter().zip(&tilted) {
+            let v = apply(r, *a);
+            let want = [o[0] + v[0], o[1] + v[1], o[2] + v[2]];
+            for (x, y) in b.iter().zip(want) {
+                assert!((x - y).abs() < 1e-9, "{name}: {b:?} vs {want:?}");
+            }
+        }
     }
 }

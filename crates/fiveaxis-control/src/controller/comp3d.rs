@@ -103,7 +103,11 @@ impl Controller<'_> {
         } else if arc {
             before
         } else {
-            comp.sign * self.tool_radius() * comp.ijk / self.comp3d_denominator(&comp.ijk)
+            // I, J, K are programmed coordinates: in a tilted plane (G68.2)
+            // or a 3-D coordinate conversion, those of the feature frame;
+            // the vector is kept in the work coordinate system.
+            let v = comp.sign * self.tool_radius() * comp.ijk / self.comp3d_denominator(&comp.ijk);
+            self.feature_vector(&v)
         };
         self.state.comp3d.vector = vector;
         Ok(vector != before)

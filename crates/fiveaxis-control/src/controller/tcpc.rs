@@ -251,7 +251,7 @@ impl Controller<'_> {
         };
         if self.feature().is_some() {
             // Inside G68.2 the tool vector is read in the feature frame.
-            self.state.tcpc.vector = self.tcpc_frame().rotation * dir_table;
+            self.state.tcpc.vector = self.programming_map(&joints).rotation * dir_table;
         }
         Ok(if self.dialect.tcpc_startup_controls_tip {
             // Mitsubishi: the start-up block moves under TCPC itself, and
@@ -308,9 +308,17 @@ impl Controller<'_> {
     }
 
     /// Table frame → programming frame (plus the work offset) at `joints`.
+    /// On a programming frame that does not turn with the table (WKP = 1)
+    /// the table's turn comes first, then the feature frame in force (a
+    /// tilted plane defined on the workpiece coordinate system that does
+    /// not turn).
     fn programming_map(&self, joints: &Joints) -> IsometryMatrix3<f64> {
         if self.state.tcpc.turning {
-            self.machine.chain(Side::Table, joints)
+            let turn = self.machine.chain(Side::Table, joints);
+            match self.feature_isometry(self.work() + self.state.comp3d.vector) {
+                Some(feature) => feature * turn,
+                None => turn,
+            }
         } else {
             self.tcpc_frame()
         }
@@ -814,7 +822,14 @@ impl Controller<'_> {
     /// The tip path of a straight TCPC block.
     fn tcpc_line(&self, end_p: &Joints, start: &Joints) -> TipPath {
         let shift = self.work() + self.state.comp3d.vector;
-        let p1 = Vec3::new(end_p[0], end_p[1], end_p[2]) + shift;
+        let programmed = Vec3::new(end_p[0], end_p[1], end_p[2]);
+        let p1 = if self.state.tcpc.turning {
+            // WKP = 1: a feature frame in force is defined on the work
+            // coordinate system that does not turn.
+            self.feature_to_work(&programmed) + shift
+        } else {
+            programmed + shift
+        };
         // The line starts where the tip really is: on the programmed start
         // when nothing changed, and off it when the block itself changes
         // what the programmed point means (the start-up block, a 3-D
@@ -859,6 +874,15 @@ impl Controller<'_> {
         center[p] = geo.center[0] + shift[p];
         center[q] = geo.center[1] + shift[q];
         let mut axes = [p, q, geo.normal].map(crate::segment::unit);
+        if self.state.tcpc.turning && self.feature().is_some() {
+            // WKP = 1: the circle of the feature plane in the work
+            // coordinate system that does not turn.
+            let origin = self.feature_to_work(&Vec3::zeros());
+            center = self.feature_to_work(&(center - shift)) + shift;
+            for axis in &mut axes {
+                *axis = self.feature_to_work(axis) - origin;
+            }
+        }
         if !self.state.tcpc.turning {
             let frame = &self.tcpc_frame();
             center = frame.inverse_transform_point(&center.into()).coords;

@@ -40,12 +40,16 @@
 //!   offsets in the feature plane (controller/cutter_c.rs maps its pieces
 //!   through the frame).
 //!
+//! TCPC inside the plane programs in the feature frame (on WKP = 1 the
+//! feature frame is defined on the frame that does not turn; see
+//! `tcpc.rs`), and a 3-D tool compensation vector I J K is read in it.
+//!
 //! Decisions where this kernel is stricter than the control (each alarm
-//! FX0150 naming the function): TCPC and 3-D tool compensation are not
-//! combined with the tilted plane yet; the work
-//! offset and G54.4 cannot change in the mode; `G68.2` in the mode
-//! replaces the frame (FANUC nests it with parameter No.11221; here the
-//! new frame is always relative to the workpiece).
+//! FX0150 naming the function): G68.2 is not started while TCPC or 3-D
+//! tool compensation is on; the work offset and G54.4 cannot change in
+//! the mode; `G68.2` in the mode replaces the frame (FANUC nests it with
+//! parameter No.11221; here the new frame is always relative to the
+//! workpiece).
 
 use fiveaxis_gcode::{Code, Span};
 use fiveaxis_machine::{Joints, Vec3};
@@ -147,6 +151,12 @@ impl Controller<'_> {
     /// frame in the mode).
     pub(super) fn feature_to_work(&self, p: &Vec3) -> Vec3 {
         self.feature().map_or(*p, |f| f.work_point(p))
+    }
+
+    /// A programmed vector in workpiece coordinates (turned by the feature
+    /// frame in the mode).
+    pub(super) fn feature_vector(&self, v: &Vec3) -> Vec3 {
+        self.feature().map_or(*v, |f| f.rotation * v)
     }
 
     /// The inverse of [`Controller::feature_to_work`].
@@ -476,23 +486,6 @@ impl Controller<'_> {
             return Ok(());
         }
         let refused = [
-            // TCPC programs in the feature frame, on a programming frame
-            // that turns with the table (WKP = 0) only.
-            codes
-                .length
-                .filter(|(c, _)| {
-                    c.major == 43
-                        && matches!(c.minor, 4 | 5)
-                        && self.machine.params.programming_frame
-                            == fiveaxis_machine::ProgrammingFrame::Workpiece
-                })
-                .map(|(c, s)| {
-                    (
-                        c,
-                        s,
-                        "tool centre point control on the workpiece programming frame (WKP = 1)",
-                    )
-                }),
             codes
                 .feature
                 .filter(|(c, _)| c.major == 69 && self.tcpc_type().is_some())
@@ -503,12 +496,6 @@ impl Controller<'_> {
                         "the end of the tilted plane under TCPC: cancel TCPC first",
                     )
                 }),
-            // Cutter compensation C works in the feature plane; 3-D tool
-            // compensation (G41 / G42 with all of I, J, K) does not.
-            codes
-                .cutter
-                .filter(|(c, _)| matches!(c.major, 41 | 42) && self.starts_comp3d(codes))
-                .map(|(c, s)| (c, s, "3-D tool compensation")),
             codes
                 .work
                 .map(|(c, s)| (c, s, "a change of the work offset")),
