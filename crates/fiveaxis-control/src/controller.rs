@@ -14,21 +14,19 @@ use crate::alarm::{Alarm, Condition};
 use crate::dialect::Dialect;
 use crate::modal::{
     ContourControl, CuttingMode, Distance, FeedMode, LengthMode, Modal, MotionMode, Plane,
-    TcpcType, Units, WorkSelect,
+    TcpcType, Units,
 };
 use crate::reach;
 use crate::segment::{Arc, Motion, Path, Segment, TipPath};
 use crate::words::Words;
 
 mod comp3d;
+mod coordinates;
 mod cutter_c;
 mod cycles;
-mod frames;
 mod m_codes;
-mod setup;
 mod system_vars;
 mod tcpc;
-mod twp;
 
 pub use cycles::{MAX_CYCLE_SEGMENTS, PECK_CLEARANCE, PECK_RETRACT};
 pub use m_codes::ProgramStop;
@@ -72,9 +70,9 @@ pub enum Flow {
 struct State {
     modal: Modal,
     /// The tilted working plane's feature frame (G68.2), if one is in force.
-    feature: Option<twp::Feature>,
+    feature: Option<coordinates::Feature>,
     /// A G68.2 P2 / P3 definition whose blocks are still coming.
-    feature_pending: Option<twp::Pending>,
+    feature_pending: Option<coordinates::Pending>,
     /// Current machine position (rollover axes unwrapped).
     joints: Joints,
     /// Active H number (0: none).
@@ -116,8 +114,8 @@ struct State {
     setup_angles: Option<[f64; 2]>,
     /// Canned cycle (groups 09, 10) and its drilling data.
     cycle: cycles::CycleState,
-    /// G52, G16, G51.1, G51, G68 (`controller/frames.rs`).
-    frames: frames::Frames,
+    /// G52, G16, G51.1, G51, G68 (`controller/coordinates/program_transforms.rs`).
+    frames: coordinates::Frames,
 }
 
 /// The controller of one run.
@@ -191,7 +189,7 @@ impl<'m> Controller<'m> {
                 setup_tilt_sign: 1.0,
                 setup_angles: None,
                 cycle: cycles::CycleState::default(),
-                frames: frames::Frames::default(),
+                frames: coordinates::Frames::default(),
             },
             words: Words::new(machine.control),
             block_posture: None,
@@ -463,7 +461,7 @@ impl<'m> Controller<'m> {
                 (40..=42, 0) => GKind::Cutter,
                 (73 | 74 | 76 | 80..=89, 0) => GKind::Cycle,
                 (98 | 99, 0) => GKind::CycleReturn,
-                // Program transforms (controller/frames.rs); G51 is
+                // Program transforms (controller/coordinates); G51 is
                 // refused in 3-D tool compensation (below).
                 (51, 0) if self.comp3d_forbidden(code).is_none() => GKind::Frame,
                 (15 | 16 | 50 | 68 | 69, 0) | (50 | 51, 1) => GKind::Frame,
@@ -525,7 +523,7 @@ impl<'m> Controller<'m> {
                     if code == Code::new(69, 0) {
                         codes.feature = Some((code, span));
                     }
-                    codes.frames[frames::slot(code)] = Some((code, span));
+                    codes.frames[coordinates::slot(code)] = Some((code, span));
                 }
                 GKind::Cancel => {}
             }
@@ -657,28 +655,6 @@ impl<'m> Controller<'m> {
             (_, _, v) => accuracy.look_ahead = v != 0,
         }
         Ok(())
-    }
-
-    fn work_select(&mut self, code: Code, span: Span) -> Result<WorkSelect, Alarm> {
-        let extended = code.minor == 1 || (code.major == 54 && self.words.has(b'P'));
-        if !extended {
-            return Ok(WorkSelect::Standard((code.major - 54) as u8));
-        }
-        let p = match self.words.take(b'P') {
-            Some(word) => self
-                .words
-                .integer(&word, fiveaxis_machine::MAX_EXTENDED_WORK)?,
-            // G54.1 without P selects P1 (as Mitsubishi documents).
-            None => 1,
-        };
-        if p == 0 {
-            return Err(self.alarm(
-                Condition::IllegalOffsetNumber,
-                Some(span),
-                "G54.1 P0 does not exist".into(),
-            ));
-        }
-        Ok(WorkSelect::Extended(p as u8))
     }
 
     /// F, S, T, D words: modal values.
@@ -920,42 +896,6 @@ impl<'m> Controller<'m> {
             }
         }
         targets
-    }
-
-    // ----- frames ---------------------------------------------------------
-
-    /// The active work offset W plus G92 and external shifts.
-    fn work(&self) -> Vec3 {
-        let base = match self.state.modal.work {
-            WorkSelect::Standard(i) => self.offsets.work[usize::from(i)],
-            WorkSelect::Extended(p) => self.offsets.extended_work[usize::from(p) - 1],
-        };
-        base + self.offsets.external + self.state.shift
-    }
-
-    /// A programmed point as a point of the real workpiece in work
-    /// coordinates at table position 0, work offset included: the 3-D
-    /// tool compensation vector is added, then the setup error (G54.4)
-    /// maps the ideal workpiece onto the real one.
-    fn to_real(&self, p: &Vec3) -> Vec3 {
-        self.work()
-            + self
-                .state
-                .setup
-                .point(&(self.feature_to_work(p) + self.local_vector()))
-    }
-
-    /// The inverse of [`Controller::to_real`]: a real point as programmed.
-    fn programmed_of_real(&self, x: &Vec3) -> Vec3 {
-        self.work_to_feature(
-            &(self.state.setup.inverse_point(&(x - self.work())) - self.local_vector()),
-        )
-    }
-
-    /// What is added to a programmed point before the setup error: the
-    /// 3-D compensation vector and the G52 local coordinate system.
-    fn local_vector(&self) -> Vec3 {
-        self.state.comp3d.vector + self.state.frames.local
     }
 
     /// The active H value (geometry + wear), mm.
@@ -1659,24 +1599,6 @@ impl<'m> Controller<'m> {
         self.push_line(Motion::Rapid, self.rollover_start(&end, &travel), end, out)
     }
 
-    /// G92: the current position gets the named coordinates (all work
-    /// coordinate systems shift).
-    fn set_coordinate_system(&mut self, from: &Joints) -> Result<(), Alarm> {
-        for (i, name) in self.machine.axis_names().enumerate() {
-            if let Some(word) = self.words.take(name as u8) {
-                let value = self.axis_value(i, &word);
-                if i < 3 {
-                    // G92 cancels the local coordinate system of its axes.
-                    self.state.shift[i] += from[i] - value + self.state.frames.local[i];
-                    self.state.frames.local[i] = 0.0;
-                } else {
-                    self.state.axis_shift[i] += from[i] - value;
-                }
-            }
-        }
-        Ok(())
-    }
-
     // ----- soft limits ----------------------------------------------------
 
     /// Alarms before a move that would leave the soft limits anywhere along
@@ -2029,6 +1951,6 @@ struct GCodes {
     cycle_return: Option<Code>,
     /// G68.2 or G69 (tilted working plane).
     feature: Option<(Code, Span)>,
-    /// G15/G16, G50.1/G51.1, G50/G51, G68/G69 (`frames::slot`).
+    /// G15/G16, G50.1/G51.1, G50/G51, G68/G69 (`coordinates::slot`).
     frames: [Option<(Code, Span)>; 4],
 }

@@ -55,15 +55,15 @@ use fiveaxis_gcode::{Code, Span};
 use fiveaxis_machine::{Joints, Vec3};
 use nalgebra::{IsometryMatrix3, Rotation3, Translation3, Unit};
 
-use super::Controller;
 use crate::alarm::{Alarm, Condition};
+use crate::controller::Controller;
 use crate::modal::LengthMode;
 use crate::segment::{Motion, Segment, TipPath};
 
 /// A feature coordinate system: a programmed point `p` is the workpiece
 /// point `origin + rotation·p`.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub(super) struct Feature {
+pub(in crate::controller) struct Feature {
     origin: Vec3,
     rotation: Rotation3<f64>,
     /// 0: a tilted working plane (G68.2 and its kin); 1 or 2: a
@@ -85,15 +85,15 @@ impl Feature {
 /// A definition given block by block (G68.2 P2 three points, P3 two
 /// vectors) while its blocks come: nothing else may come between them.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub(super) struct Pending {
+pub(in crate::controller) struct Pending {
     /// G68.2 or G68.4.
-    pub(super) code: Code,
+    pub(in crate::controller) code: Code,
     /// 2 or 3.
-    pub(super) form: u32,
+    pub(in crate::controller) form: u32,
     /// Whether a block of it has been read.
     started: bool,
     /// The Q of the last block read.
-    pub(super) last_q: u32,
+    pub(in crate::controller) last_q: u32,
     /// P2 Q0: the origin's shift from the first point, in the new frame.
     shift: Vec3,
     /// P2 Q0: the turn about the new Z, degrees.
@@ -132,7 +132,7 @@ fn about(axis: Vec3, degrees: f64) -> Rotation3<f64> {
 
 impl Controller<'_> {
     /// The feature frame in force, if any.
-    pub(super) fn feature(&self) -> Option<&Feature> {
+    pub(in crate::controller) fn feature(&self) -> Option<&Feature> {
         self.state.feature.as_ref()
     }
 
@@ -140,7 +140,7 @@ impl Controller<'_> {
     /// `y = p + w` of the workpiece frame (w: work offset and what is
     /// added to it) goes to `R^T (y - w - origin) + w`, so that a TCPC
     /// programmed point p is read in the feature frame.
-    pub(super) fn feature_isometry(&self, w: Vec3) -> Option<IsometryMatrix3<f64>> {
+    pub(in crate::controller) fn feature_isometry(&self, w: Vec3) -> Option<IsometryMatrix3<f64>> {
         let f = self.feature()?;
         let back = f.rotation.inverse();
         let shift = w - back * (w + f.origin);
@@ -149,24 +149,24 @@ impl Controller<'_> {
 
     /// A programmed point in workpiece coordinates (through the feature
     /// frame in the mode).
-    pub(super) fn feature_to_work(&self, p: &Vec3) -> Vec3 {
+    pub(in crate::controller) fn feature_to_work(&self, p: &Vec3) -> Vec3 {
         self.feature().map_or(*p, |f| f.work_point(p))
     }
 
     /// A programmed vector in workpiece coordinates (turned by the feature
     /// frame in the mode).
-    pub(super) fn feature_vector(&self, v: &Vec3) -> Vec3 {
+    pub(in crate::controller) fn feature_vector(&self, v: &Vec3) -> Vec3 {
         self.feature().map_or(*v, |f| f.rotation * v)
     }
 
     /// The inverse of [`Controller::feature_to_work`].
-    pub(super) fn work_to_feature(&self, x: &Vec3) -> Vec3 {
+    pub(in crate::controller) fn work_to_feature(&self, x: &Vec3) -> Vec3 {
         self.feature().map_or(*x, |f| f.feature_point(x))
     }
 
     /// The tool length along the tool in the mode: the H value with the
     /// sign of G43 / G44, 0 without length compensation.
-    pub(super) fn feature_tool_length(&self) -> f64 {
+    pub(in crate::controller) fn feature_tool_length(&self) -> f64 {
         match self.state.modal.length {
             LengthMode::Plus | LengthMode::ToolAxis => self.tool_length(),
             LengthMode::Minus => -self.tool_length(),
@@ -176,7 +176,11 @@ impl Controller<'_> {
 
     /// G68.2 (define the frame) or G68.4 (define it relative to the frame
     /// in force). G69 cancels it before the block's move (in `execute`).
-    pub(super) fn feature_command(&mut self, code: Code, span: Span) -> Result<(), Alarm> {
+    pub(in crate::controller) fn feature_command(
+        &mut self,
+        code: Code,
+        span: Span,
+    ) -> Result<(), Alarm> {
         let name = format!("G{code}");
         self.feature_allowed(span, &name)?;
         if code.minor == 3 {
@@ -466,7 +470,10 @@ impl Controller<'_> {
 
     /// In the mode: a block may not start what the tilted plane is not
     /// combined with, nor change the work offset or the setup error.
-    pub(super) fn feature_restrictions(&self, codes: &super::GCodes) -> Result<(), Alarm> {
+    pub(in crate::controller) fn feature_restrictions(
+        &self,
+        codes: &crate::controller::GCodes,
+    ) -> Result<(), Alarm> {
         if let Some(pending) = self.state.feature_pending
             && codes.feature.is_none_or(|(c, _)| c != pending.code)
         {
@@ -584,7 +591,7 @@ impl Controller<'_> {
 
     /// Whether a G68 block asks for a three-dimensional coordinate
     /// conversion: one of I, J, K is given.
-    pub(super) fn conversion_requested(&self) -> bool {
+    pub(in crate::controller) fn conversion_requested(&self) -> bool {
         [b'I', b'J', b'K']
             .into_iter()
             .any(|letter| self.words.peek(letter).is_some())
@@ -599,7 +606,11 @@ impl Controller<'_> {
     /// In force, the conversion is a feature frame: points, arcs, cycles,
     /// cutter compensation C and the tool length work in it as in the
     /// tilted plane (tool length along the tool). G69 cancels every level.
-    pub(super) fn conversion_start(&mut self, span: Span, here: &Vec3) -> Result<(), Alarm> {
+    pub(in crate::controller) fn conversion_start(
+        &mut self,
+        span: Span,
+        here: &Vec3,
+    ) -> Result<(), Alarm> {
         let outer = self.state.feature;
         let depth = match outer {
             Some(f) if f.conversions == 0 => {
@@ -660,7 +671,11 @@ impl Controller<'_> {
     }
 
     /// The functions the tilted plane is not combined with (yet).
-    pub(super) fn feature_allowed(&self, span: Span, what: &str) -> Result<(), Alarm> {
+    pub(in crate::controller) fn feature_allowed(
+        &self,
+        span: Span,
+        what: &str,
+    ) -> Result<(), Alarm> {
         let conflict = if self.feature().is_some_and(|f| f.conversions > 0) {
             Some("three-dimensional coordinate conversion (G68 with I, J, K)")
         } else if self.tcpc_type().is_some() {
@@ -686,7 +701,7 @@ impl Controller<'_> {
     /// feature Z; the linear axes stay. G53.6 (`keep_tip`): the same turn
     /// with the tool tip held where it is (the linear axes follow, as in
     /// TCPC).
-    pub(super) fn tool_axis_control(
+    pub(in crate::controller) fn tool_axis_control(
         &mut self,
         span: Span,
         keep_tip: bool,
@@ -716,7 +731,7 @@ impl Controller<'_> {
         let mut start = current;
         for (k, i) in [i0, i1].into_iter().enumerate() {
             if self.is_rollover(i) {
-                end[i] = super::normalize_360(chosen[k]);
+                end[i] = crate::controller::normalize_360(chosen[k]);
                 start[i] = end[i] - (chosen[k] - current[i]);
             } else {
                 end[i] = chosen[k];
@@ -749,14 +764,14 @@ impl Controller<'_> {
 
     /// Linear axes that put the tip on programmed point `p` (feature
     /// frame) with the rotary axes at `joints`.
-    pub(super) fn feature_gauge(&self, joints: &Joints, p: &Vec3) -> Vec3 {
+    pub(in crate::controller) fn feature_gauge(&self, joints: &Joints, p: &Vec3) -> Vec3 {
         let tip = self.to_real(p);
         self.machine
             .gauge_for_tip(joints, &tip, self.feature_tool_length())
     }
 
     /// The programmed point (feature frame) of the tip at `joints`.
-    pub(super) fn feature_programmed(&self, joints: &Joints) -> Vec3 {
+    pub(in crate::controller) fn feature_programmed(&self, joints: &Joints) -> Vec3 {
         let tip = self.machine.forward(joints, self.feature_tool_length()).tip;
         self.programmed_of_real(&tip)
     }
@@ -764,7 +779,11 @@ impl Controller<'_> {
     /// A path of the feature frame carried into machine X, Y, Z with the
     /// rotary axes at `joints`: the map is a rigid motion, so a circle
     /// stays a circle.
-    pub(super) fn feature_circle(&self, joints: &Joints, circle: &TipPath) -> TipPath {
+    pub(in crate::controller) fn feature_circle(
+        &self,
+        joints: &Joints,
+        circle: &TipPath,
+    ) -> TipPath {
         let origin = self.feature_gauge(joints, &Vec3::zeros());
         circle.mapped(
             |p| self.feature_gauge(joints, p),

@@ -22,22 +22,22 @@
 use fiveaxis_gcode::{Code, Span};
 use fiveaxis_machine::{Joints, Vec3};
 
-use super::{Controller, GCodes, Targets};
 use crate::alarm::{Alarm, Condition};
+use crate::controller::{Controller, GCodes, Targets};
 use crate::cutter::Side;
 use crate::modal::{Distance, MotionMode, Plane};
 
 /// Slots of [`GCodes::frames`]: one per modal group.
-pub(super) const POLAR: usize = 0;
+pub(in crate::controller) const POLAR: usize = 0;
 /// Group 22: G50.1 / G51.1.
-pub(super) const MIRROR: usize = 1;
+pub(in crate::controller) const MIRROR: usize = 1;
 /// Group 11: G50 / G51.
-pub(super) const SCALING: usize = 2;
+pub(in crate::controller) const SCALING: usize = 2;
 /// Group 16: G68 / G69.
-pub(super) const ROTATION: usize = 3;
+pub(in crate::controller) const ROTATION: usize = 3;
 
 /// The slot of a transform code.
-pub(super) fn slot(code: Code) -> usize {
+pub(in crate::controller) fn slot(code: Code) -> usize {
     match (code.major, code.minor) {
         (15 | 16, _) => POLAR,
         (50 | 51, 1) => MIRROR,
@@ -65,12 +65,12 @@ struct Rotation {
 
 /// The transforms in force.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub(super) struct Frames {
+pub(in crate::controller) struct Frames {
     /// G16: the plane's first axis word is a radius, the second an angle.
-    pub(super) polar: bool,
+    pub(in crate::controller) polar: bool,
     /// G52: the local coordinate system's zero in the work coordinate
     /// system.
-    pub(super) local: Vec3,
+    pub(in crate::controller) local: Vec3,
     /// G51.1: the mirror position of each linear axis.
     mirror: [Option<f64>; 3],
     scaling: Option<Scaling>,
@@ -91,17 +91,17 @@ impl Default for Frames {
 
 impl Frames {
     /// Whether a mirror image, scaling or rotation maps the points.
-    pub(super) fn maps(&self) -> bool {
+    pub(in crate::controller) fn maps(&self) -> bool {
         self.mirror.iter().any(Option::is_some) || self.scaling.is_some() || self.rotation.is_some()
     }
 
     /// Whether the programmed end point is not simply the axis words.
-    pub(super) fn active(&self) -> bool {
+    pub(in crate::controller) fn active(&self) -> bool {
         self.polar || self.maps()
     }
 
     /// A programmed point as the controller works with it.
-    pub(super) fn apply(&self, p: &Vec3) -> Vec3 {
+    pub(in crate::controller) fn apply(&self, p: &Vec3) -> Vec3 {
         let mut x = *p;
         for (i, m) in self.mirror.iter().enumerate() {
             if let Some(c) = m {
@@ -120,7 +120,7 @@ impl Frames {
     }
 
     /// The inverse of [`Frames::apply`].
-    pub(super) fn invert(&self, x: &Vec3) -> Vec3 {
+    pub(in crate::controller) fn invert(&self, x: &Vec3) -> Vec3 {
         let mut p = *x;
         if let Some(r) = &self.rotation {
             p = rotate(r.plane, &r.center, -r.angle, &p);
@@ -140,7 +140,7 @@ impl Frames {
 
     /// The G code of transform group `#4011` (11), `#4016` (16), `#4017`
     /// (17) or `#4022` (22).
-    pub(super) fn modal_g(&self, variable: u32) -> f64 {
+    pub(in crate::controller) fn modal_g(&self, variable: u32) -> f64 {
         match variable {
             4011 if self.scaling.is_some() => 51.0,
             4011 => 50.0,
@@ -155,14 +155,14 @@ impl Frames {
 
     /// The linear part of [`Frames::apply`]: how a programmed direction or
     /// increment turns.
-    pub(super) fn vector(&self, v: &Vec3) -> Vec3 {
+    pub(in crate::controller) fn vector(&self, v: &Vec3) -> Vec3 {
         self.apply(v) - self.apply(&Vec3::zeros())
     }
 
     /// Whether the transform reverses the sense of rotation in the plane
     /// with axes `p`, `q` (an odd number of mirrored axes, negative
     /// scaling factors included): G02 and G03 swap, so do G41 and G42.
-    pub(super) fn flips(&self, p: usize, q: usize) -> bool {
+    pub(in crate::controller) fn flips(&self, p: usize, q: usize) -> bool {
         let mut sign = 1.0;
         for i in [p, q] {
             if self.mirror[i].is_some() {
@@ -198,7 +198,11 @@ impl Controller<'_> {
     /// `from` is where the program stands (after the transforms in force).
     /// Returns whether the block's axis words were taken for a transform
     /// (G68, G51, G51.1, G50.1): such a block does not move.
-    pub(super) fn apply_frames(&mut self, codes: &GCodes, from: &Joints) -> Result<bool, Alarm> {
+    pub(in crate::controller) fn apply_frames(
+        &mut self,
+        codes: &GCodes,
+        from: &Joints,
+    ) -> Result<bool, Alarm> {
         let here = Vec3::new(from[0], from[1], from[2]);
         let starts: Vec<(Code, Span)> = codes
             .frames
@@ -268,7 +272,7 @@ impl Controller<'_> {
         {
             if self.conversion_requested() {
                 // G68 with I, J, K: three-dimensional coordinate conversion
-                // (controller/twp.rs).
+                // (feature_frame.rs).
                 self.conversion_start(span, &here)?;
             } else {
                 self.rotation_start(&here);
@@ -467,7 +471,7 @@ impl Controller<'_> {
     /// G52: the local coordinate system (absolute values in the work
     /// coordinate system; axes not named keep theirs; `G52 X0 Y0 Z0`
     /// cancels).
-    pub(super) fn local_coordinate_system(&mut self) -> Result<(), Alarm> {
+    pub(in crate::controller) fn local_coordinate_system(&mut self) -> Result<(), Alarm> {
         for (i, letter) in LINEAR.into_iter().enumerate() {
             if let Some(word) = self.words.take(letter) {
                 self.state.frames.local[i] = self.length(&word);
@@ -477,13 +481,17 @@ impl Controller<'_> {
     }
 
     /// Whether joint `axis` is read as the angle of a polar command.
-    pub(super) fn polar_angle_axis(&self, axis: usize) -> bool {
+    pub(in crate::controller) fn polar_angle_axis(&self, axis: usize) -> bool {
         self.state.frames.polar && axis == self.state.modal.plane.axes()[1]
     }
 
     /// [`Controller::end_point`] under polar coordinates or a transform:
     /// the end point in program coordinates, then mapped.
-    pub(super) fn framed_end_point(&self, from: &Joints, targets: &Targets) -> (Joints, Joints) {
+    pub(in crate::controller) fn framed_end_point(
+        &self,
+        from: &Joints,
+        targets: &Targets,
+    ) -> (Joints, Joints) {
         let f = &self.state.frames;
         let here = Vec3::new(from[0], from[1], from[2]);
         let program = f.invert(&here);
@@ -537,14 +545,14 @@ impl Controller<'_> {
 
     /// The sense of an arc after the transforms (G02 ↔ G03 under an odd
     /// mirror image).
-    pub(super) fn framed_ccw(&self, mode: MotionMode) -> bool {
+    pub(in crate::controller) fn framed_ccw(&self, mode: MotionMode) -> bool {
         let [p, q, _] = self.state.modal.plane.axes();
         (mode == MotionMode::Ccw) != self.state.frames.flips(p, q)
     }
 
     /// An arc's R after scaling; unequal factors on the plane's axes are
     /// refused.
-    pub(super) fn framed_radius(&self, r: f64, span: Span) -> Result<f64, Alarm> {
+    pub(in crate::controller) fn framed_radius(&self, r: f64, span: Span) -> Result<f64, Alarm> {
         let [p, q, _] = self.state.modal.plane.axes();
         let Some(s) = &self.state.frames.scaling else {
             return Ok(r);
@@ -564,7 +572,7 @@ impl Controller<'_> {
 
     /// The centre increments I, J of an arc (plane axes `p`, `q`) after the
     /// transforms.
-    pub(super) fn framed_center(
+    pub(in crate::controller) fn framed_center(
         &self,
         i: f64,
         j: f64,
@@ -583,7 +591,7 @@ impl Controller<'_> {
 
     /// The direction of an I, J type vector (cutter compensation C) after
     /// the transforms.
-    pub(super) fn framed_direction(
+    pub(in crate::controller) fn framed_direction(
         &self,
         v: crate::cutter::P2,
         plane: [usize; 3],
@@ -596,7 +604,7 @@ impl Controller<'_> {
     }
 
     /// The side of cutter compensation C after a mirror image.
-    pub(super) fn framed_side(&self, side: Side, plane: [usize; 3]) -> Side {
+    pub(in crate::controller) fn framed_side(&self, side: Side, plane: [usize; 3]) -> Side {
         if self.state.frames.flips(plane[0], plane[1]) {
             match side {
                 Side::Left => Side::Right,

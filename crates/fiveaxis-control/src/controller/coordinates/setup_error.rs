@@ -14,9 +14,9 @@
 use fiveaxis_gcode::Span;
 use fiveaxis_machine::{Control, Joints, SetupError, SetupErrorSet, Vec3};
 
-use super::Controller;
-use super::tcpc::Choice;
 use crate::alarm::{Alarm, Condition};
+use crate::controller::Controller;
+use crate::controller::tcpc::Choice;
 use crate::modal::{MotionMode, TcpcType};
 use crate::segment::{Motion, Path, Segment, TcpcPath, TipPath};
 
@@ -25,7 +25,7 @@ const MAX_SET: u32 = 7;
 
 impl Controller<'_> {
     /// The G54.4 block: alone in its block, P selects or cancels.
-    pub(super) fn select_setup_error(
+    pub(in crate::controller) fn select_setup_error(
         &mut self,
         span: Span,
         from: &Joints,

@@ -1,0 +1,116 @@
+//! The coordinate chain: how a programmed point becomes a point of the
+//! table frame, in the order the control applies the stages (each stage
+//! in one place):
+//!
+//! 1. **Program transforms** (`program_transforms.rs`): polar coordinates
+//!    G16, programmable mirror image G51.1, scaling G51, coordinate
+//!    rotation G68 in the plane (the manual's order), read on the program's
+//!    own coordinates.
+//! 2. **Feature frame** (`feature_frame.rs`): the tilted working plane
+//!    (G68.2 and its forms, G68.3, G68.4) or a three-dimensional
+//!    coordinate conversion (G68 with I J K): `origin + R·p`.
+//! 3. **Local shifts**: the G52 local coordinate system and the 3-D tool
+//!    compensation vector ([`Controller::local_vector`]).
+//! 4. **Setup error** (`setup_error.rs`): G54.4 maps the ideal workpiece
+//!    onto the real one about the work zero.
+//! 5. **Work offset** ([`Controller::work`]): G54–G59 / G54.1 P, the
+//!    external offset and the G92 shift ([`Controller::set_coordinate_system`]).
+//!
+//! [`Controller::to_real`] composes 2 to 5 (stage 1 acts on the block's
+//! end point before, in `end_point`), [`Controller::programmed_of_real`]
+//! is its inverse. Under TCPC the programming frame is the table's (or
+//! the workpiece frame that does not turn, WKP = 1), through the feature
+//! frame when one is in force (`feature_isometry`, used by `tcpc.rs`).
+//! The tool length is added after the chain (`length_vector`), along the
+//! tool in the feature frame.
+
+use fiveaxis_gcode::{Code, Span};
+use fiveaxis_machine::{Joints, Vec3};
+
+use super::Controller;
+use crate::alarm::{Alarm, Condition};
+use crate::modal::WorkSelect;
+
+mod feature_frame;
+mod program_transforms;
+mod setup_error;
+
+pub(super) use feature_frame::{Feature, Pending};
+pub(super) use program_transforms::{Frames, slot};
+
+impl Controller<'_> {
+    /// The active work offset W plus G92 and external shifts.
+    pub(super) fn work(&self) -> Vec3 {
+        let base = match self.state.modal.work {
+            WorkSelect::Standard(i) => self.offsets.work[usize::from(i)],
+            WorkSelect::Extended(p) => self.offsets.extended_work[usize::from(p) - 1],
+        };
+        base + self.offsets.external + self.state.shift
+    }
+
+    /// A programmed point (after the program transforms) as a point of
+    /// the real workpiece in the table frame at table position 0: stages 2
+    /// to 5 of the chain (feature frame, local shifts, setup error, work
+    /// offset).
+    pub(super) fn to_real(&self, p: &Vec3) -> Vec3 {
+        self.work()
+            + self
+                .state
+                .setup
+                .point(&(self.feature_to_work(p) + self.local_vector()))
+    }
+
+    /// The inverse of [`Controller::to_real`]: a real point as programmed.
+    pub(super) fn programmed_of_real(&self, x: &Vec3) -> Vec3 {
+        self.work_to_feature(
+            &(self.state.setup.inverse_point(&(x - self.work())) - self.local_vector()),
+        )
+    }
+
+    /// What is added to a programmed point before the setup error: the
+    /// 3-D compensation vector and the G52 local coordinate system.
+    pub(super) fn local_vector(&self) -> Vec3 {
+        self.state.comp3d.vector + self.state.frames.local
+    }
+
+    /// The work coordinate system a G54–G59 / G54.1 P block selects.
+    pub(super) fn work_select(&mut self, code: Code, span: Span) -> Result<WorkSelect, Alarm> {
+        let extended = code.minor == 1 || (code.major == 54 && self.words.has(b'P'));
+        if !extended {
+            return Ok(WorkSelect::Standard((code.major - 54) as u8));
+        }
+        let p = match self.words.take(b'P') {
+            Some(word) => self
+                .words
+                .integer(&word, fiveaxis_machine::MAX_EXTENDED_WORK)?,
+            // G54.1 without P selects P1 (as Mitsubishi documents).
+            None => 1,
+        };
+        if p == 0 {
+            return Err(self.alarm(
+                Condition::IllegalOffsetNumber,
+                Some(span),
+                "G54.1 P0 does not exist".into(),
+            ));
+        }
+        Ok(WorkSelect::Extended(p as u8))
+    }
+
+    /// G92: the current position gets the named coordinates (all work
+    /// coordinate systems shift).
+    pub(super) fn set_coordinate_system(&mut self, from: &Joints) -> Result<(), Alarm> {
+        for (i, name) in self.machine.axis_names().enumerate() {
+            if let Some(word) = self.words.take(name as u8) {
+                let value = self.axis_value(i, &word);
+                if i < 3 {
+                    // G92 cancels the local coordinate system of its axes.
+                    self.state.shift[i] += from[i] - value + self.state.frames.local[i];
+                    self.state.frames.local[i] = 0.0;
+                } else {
+                    self.state.axis_shift[i] += from[i] - value;
+                }
+            }
+        }
+        Ok(())
+    }
+}
