@@ -25,11 +25,13 @@ mod coordinates;
 mod cutter_c;
 mod cycles;
 mod m_codes;
+mod motion;
 mod system_vars;
 mod tcpc;
 
 pub use cycles::{MAX_CYCLE_SEGMENTS, PECK_CLEARANCE, PECK_RETRACT};
 pub use m_codes::ProgramStop;
+use motion::arc_sweep;
 pub use system_vars::SystemVarFault;
 pub use tcpc::inclined;
 
@@ -1037,314 +1039,6 @@ impl<'m> Controller<'m> {
             && self.machine.rotary[index - self.machine.linear.len()].rollover
     }
 
-    // ----- motion ---------------------------------------------------------
-
-    fn segment(&self, motion: Motion, start: Joints, end: Joints, path: Path) -> Segment {
-        Segment {
-            line: self.words.line,
-            motion,
-            feed: None,
-            start,
-            end,
-            path,
-            tool_length: self.tool_length(),
-            work: self.work(),
-            setup: self.state.setup,
-            rows: 1,
-        }
-    }
-
-    /// The feed at the tool tip for a cutting move, mm/min; `length` gives
-    /// how far the tip travels (needed for inverse time feed only).
-    fn cutting_feed(&self, length: impl FnOnce() -> f64) -> Result<f64, Alarm> {
-        let f = self.state.feed;
-        if f <= 0.0 {
-            let span = self.words.peek(b'F').map(|w| w.span);
-            return Err(self.alarm(
-                Condition::FeedZero,
-                span,
-                "cutting feed is zero: program F".into(),
-            ));
-        }
-        match self.state.modal.feed_mode {
-            FeedMode::PerMinute => Ok(f),
-            FeedMode::PerRevolution => {
-                if !self.state.spindle_on || self.state.spindle_speed <= 0.0 {
-                    return Err(self.alarm(
-                        Condition::NoSpindleForFeedPerRev,
-                        None,
-                        "feed per revolution (G95) with the spindle stopped".into(),
-                    ));
-                }
-                Ok(f * self.state.spindle_speed)
-            }
-            FeedMode::InverseTime => {
-                if !self.words.has(b'F') {
-                    return Err(self.alarm(
-                        Condition::FeedZero,
-                        None,
-                        "inverse time feed (G93) needs F in every cutting block".into(),
-                    ));
-                }
-                Ok(f * length())
-            }
-        }
-    }
-
-    /// Motion in the current mode: the block's axis words, or only a
-    /// change of the length offset (axes not named move by the change of
-    /// the offset vector alone).
-    fn motion(
-        &mut self,
-        from: &Joints,
-        length_changed: bool,
-        out: &mut Vec<Segment>,
-    ) -> Result<(), Alarm> {
-        if self.cutter.routing() {
-            return self.cutter_c_motion(from, length_changed, out);
-        }
-        if let Some(kind) = self.tcpc_type() {
-            return self.tcpc_motion(kind, from, length_changed, out);
-        }
-        let targets = self.axis_words();
-        let has_axes = targets.iter().any(Option::is_some);
-        let mode = self.state.modal.motion;
-        let is_arc = matches!(mode, MotionMode::Cw | MotionMode::Ccw);
-        let arc_words = is_arc && (self.words.has(b'R') || self.center_words_present());
-        if !has_axes && !arc_words && !length_changed {
-            return Ok(());
-        }
-        let (end_p, travel) = self.end_point(from, &targets);
-        let end = self.machine_position(&end_p);
-        let start = self.rollover_start(&end, &travel);
-        if is_arc && (has_axes || arc_words) {
-            return self.arc(mode, start, from, &end_p, end, out);
-        }
-        let motion = if mode == MotionMode::Rapid {
-            Motion::Rapid
-        } else {
-            Motion::Linear
-        };
-        self.push_line(motion, start, end, out)
-    }
-
-    /// A straight move in joint space (rapid or linear at the modal feed).
-    fn push_line(
-        &self,
-        motion: Motion,
-        start: Joints,
-        end: Joints,
-        out: &mut Vec<Segment>,
-    ) -> Result<(), Alarm> {
-        let mut seg = self.segment(motion, start, end, Path::Joint);
-        if !seg.moves() {
-            return Ok(());
-        }
-        if motion == Motion::Linear {
-            let machine = self.machine;
-            let length = || (seg.row(machine, 1.0).tip - seg.row(machine, 0.0).tip).norm();
-            seg.feed = Some(self.cutting_feed(length)?);
-        }
-        out.push(seg);
-        Ok(())
-    }
-
-    /// Whether the block has a centre word of the selected plane.
-    fn center_words_present(&self) -> bool {
-        let [p, q, _] = self.state.modal.plane.axes();
-        self.words.has(CENTER_LETTERS[p]) || self.words.has(CENTER_LETTERS[q])
-    }
-
-    /// G02 / G03: circle in the selected plane, helical on the normal axis,
-    /// other axes linear.
-    fn arc(
-        &mut self,
-        mode: MotionMode,
-        start: Joints,
-        from: &Joints,
-        end_p: &Joints,
-        end: Joints,
-        out: &mut Vec<Segment>,
-    ) -> Result<(), Alarm> {
-        let Some(geo) = self.arc_geometry(mode, from, end_p)? else {
-            // R with the end point on the start point: no arc.
-            return self.push_line(Motion::Linear, start, end, out);
-        };
-        let [p, q] = geo.axes;
-        if self.feature().is_some() {
-            // The circle of the feature plane, carried into the machine
-            // frame with the rotary axes where they stand.
-            let circle = self.feature_circle(&start, &programmed_circle(&geo, from, end_p));
-            let path = Path::Helix {
-                circle,
-                drift: Vec3::zeros(),
-            };
-            let mut seg = self.segment(geo.motion, start, end, path);
-            seg.feed = Some(self.cutting_feed(|| circle.length())?);
-            out.push(seg);
-            return Ok(());
-        }
-        if self.state.setup.rotation != SetupError::IDENTITY.rotation {
-            // The real workpiece is turned: the circle is no longer in a
-            // plane of the machine axes.
-            let circle = self.real_circle(&geo, from, end_p);
-            let drift = self.length_vector(&end) - self.length_vector(&start);
-            let offset = self.length_vector(&start);
-            let circle = circle.shifted(&offset);
-            let mut seg = self.segment(geo.motion, start, end, Path::Helix { circle, drift });
-            seg.feed = Some(self.cutting_feed(|| circle.length())?);
-            out.push(seg);
-            return Ok(());
-        }
-        // The centre in machine coordinates, and its drift when the offset
-        // vector changes over the block.
-        let offset0 = self.length_vector(&start) + self.to_real(&Vec3::zeros());
-        let offset1 = self.length_vector(&end) + self.to_real(&Vec3::zeros());
-        let arc = Arc {
-            axes: [p, q],
-            center: [geo.center[0] + offset0[p], geo.center[1] + offset0[q]],
-            r0: geo.r0,
-            r1: geo.r1,
-            theta0: geo.theta0,
-            sweep: geo.sweep,
-            drift: [offset1[p] - offset0[p], offset1[q] - offset0[q]],
-        };
-        let mut seg = self.segment(geo.motion, start, end, Path::Arc(arc));
-        let helix = end_p[geo.normal] - from[geo.normal];
-        seg.feed = Some(self.cutting_feed(|| arc.length().hypot(helix))?);
-        out.push(seg);
-        Ok(())
-    }
-
-    /// The circle of an arc block on the real workpiece, work offset
-    /// included (before the length offset).
-    fn real_circle(&self, geo: &ArcGeometry, from: &Joints, end_p: &Joints) -> TipPath {
-        programmed_circle(geo, from, end_p)
-            .mapped(|p| self.to_real(p), |v| self.state.setup.vector(v))
-    }
-
-    /// The circle of a G02 / G03 block in programmed coordinates, from
-    /// `from` to `end_p` in the selected plane; `None` for an R arc whose
-    /// end point is its start point (no arc).
-    fn arc_geometry(
-        &mut self,
-        mode: MotionMode,
-        from: &Joints,
-        end_p: &Joints,
-    ) -> Result<Option<ArcGeometry>, Alarm> {
-        let [p, q, normal] = self.state.modal.plane.axes();
-        let ccw = self.framed_ccw(mode);
-        let (sp, sq) = (from[p], from[q]);
-        let (ep, eq) = (end_p[p], end_p[q]);
-        let center = if let Some(r_word) = self.words.take(b'R') {
-            for letter in CENTER_LETTERS {
-                if let Some(word) = self.words.peek(letter) {
-                    return Err(self.alarm(
-                        Condition::GCodeConflict,
-                        Some(word.span),
-                        "an arc takes either R or I, J, K, not both".into(),
-                    ));
-                }
-            }
-            let r = self.framed_radius(self.length(&r_word), r_word.span)?;
-            match self.center_from_radius((sp, sq), (ep, eq), r, ccw, r_word.span)? {
-                Some(c) => c,
-                None => return Ok(None),
-            }
-        } else {
-            let i_word = self.words.take(CENTER_LETTERS[p]);
-            let j_word = self.words.take(CENTER_LETTERS[q]);
-            let given = i_word.is_some() || j_word.is_some();
-            let i = i_word.map_or(0.0, |w| self.length(&w));
-            let j = j_word.map_or(0.0, |w| self.length(&w));
-            if i == 0.0 && j == 0.0 {
-                let message = if given {
-                    format!(
-                        "the arc's centre words {}0 {}0 put the centre on the start point: the radius is 0",
-                        char::from(CENTER_LETTERS[p]),
-                        char::from(CENTER_LETTERS[q])
-                    )
-                } else {
-                    "arc needs R or the centre words of the selected plane".into()
-                };
-                return Err(self.alarm(
-                    Condition::ArcCenterMissing,
-                    i_word.or(j_word).map(|w| w.span),
-                    message,
-                ));
-            }
-            let (i, j) = self.framed_center(i, j, i_word.or(j_word).map(|w| w.span))?;
-            (sp + i, sq + j)
-        };
-        let r0 = (sp - center.0).hypot(sq - center.1);
-        let r1 = (ep - center.0).hypot(eq - center.1);
-        if r0.max(r1) > MAX_ARC_RADIUS {
-            // A centre kilometres away: no machine makes that arc, and its
-            // points would drown in rounding (program it as a line).
-            let span = self.words.peek(b'R').map(|w| w.span);
-            return Err(self.alarm(
-                Condition::ValueOutOfRange,
-                span,
-                format!(
-                    "arc radius {} mm is beyond {MAX_ARC_RADIUS:e} mm: program a straight line",
-                    r0.max(r1)
-                ),
-            ));
-        }
-        if (r1 - r0).abs() > ARC_RADIUS_TOLERANCE {
-            return Err(self.alarm(
-                Condition::ArcRadiusTolerance,
-                None,
-                format!("end point is not on the arc: start radius {r0}, end radius {r1}"),
-            ));
-        }
-        let theta0 = (sq - center.1).atan2(sp - center.0);
-        let theta1 = (eq - center.1).atan2(ep - center.0);
-        Ok(Some(ArcGeometry {
-            axes: [p, q],
-            normal,
-            center: [center.0, center.1],
-            r0,
-            r1,
-            theta0,
-            sweep: arc_sweep(theta0, theta1, ccw, r0),
-            motion: if ccw { Motion::Ccw } else { Motion::Cw },
-        }))
-    }
-
-    /// The centre of an R arc: of the two circles through both points, the
-    /// one whose arc is at most 180° for R > 0, more for R < 0.
-    fn center_from_radius(
-        &self,
-        (sp, sq): (f64, f64),
-        (ep, eq): (f64, f64),
-        r: f64,
-        ccw: bool,
-        span: Span,
-    ) -> Result<Option<(f64, f64)>, Alarm> {
-        let (dp, dq) = (ep - sp, eq - sq);
-        let chord = dp.hypot(dq);
-        if chord <= POSITION_TOLERANCE {
-            return Ok(None);
-        }
-        let half = chord / 2.0;
-        if r.abs() < half - ARC_RADIUS_TOLERANCE {
-            return Err(self.alarm(
-                Condition::ArcRadiusTolerance,
-                Some(span),
-                format!("radius {} is shorter than half the chord {half}", r.abs()),
-            ));
-        }
-        let h = (r * r - half * half).max(0.0).sqrt();
-        // Unit normal to the left of the chord.
-        let (np, nq) = (-dq / chord, dp / chord);
-        let side = if ccw == (r > 0.0) { 1.0 } else { -1.0 };
-        Ok(Some((
-            sp + dp / 2.0 + side * h * np,
-            sq + dq / 2.0 + side * h * nq,
-        )))
-    }
-
     // ----- group 00 -------------------------------------------------------
 
     fn one_shot(
@@ -1680,23 +1374,6 @@ impl<'m> Controller<'m> {
     }
 }
 
-/// The circle of an arc block in programmed coordinates: centre in the
-/// plane at the start's normal coordinate, rising to the end's.
-fn programmed_circle(geo: &ArcGeometry, from: &Joints, end_p: &Joints) -> TipPath {
-    let [p, q] = geo.axes;
-    let mut center = Vec3::new(from[0], from[1], from[2]);
-    center[p] = geo.center[0];
-    center[q] = geo.center[1];
-    TipPath::plane_arc(
-        [p, q, geo.normal],
-        center,
-        [geo.r0, geo.r1],
-        geo.theta0,
-        geo.sweep,
-        end_p[geo.normal] - from[geo.normal],
-    )
-}
-
 /// Largest arc radius, mm: the magnitude bound of every machine-file
 /// number (`MAX_FILE_MAGNITUDE`).
 pub const MAX_ARC_RADIUS: f64 = fiveaxis_machine::MAX_FILE_MAGNITUDE;
@@ -1833,22 +1510,6 @@ pub fn shortest_turn(from: f64, to: f64) -> f64 {
     d
 }
 
-/// Signed sweep from `theta0` to `theta1` in the arc's direction; a full
-/// circle when the two meet.
-fn arc_sweep(theta0: f64, theta1: f64, ccw: bool, radius: f64) -> f64 {
-    let tau = std::f64::consts::TAU;
-    let mut d = (theta1 - theta0).rem_euclid(tau);
-    if !ccw {
-        d = (theta0 - theta1).rem_euclid(tau);
-    }
-    // End point on the start point (within the position tolerance along
-    // the circle): a full circle.
-    if d * radius <= POSITION_TOLERANCE || (tau - d) * radius <= POSITION_TOLERANCE {
-        d = tau;
-    }
-    if ccw { d } else { -d }
-}
-
 /// The range an arc covers along its `k`-th plane axis (0 or 1).
 fn arc_extent(arc: &Arc, k: usize) -> (f64, f64) {
     let point = |theta: f64, s: f64| {
@@ -1879,21 +1540,6 @@ fn arc_extent(arc: &Arc, k: usize) -> (f64, f64) {
         hi = hi.max(v);
     }
     (lo, hi)
-}
-
-/// A G02 / G03 circle in programmed coordinates.
-#[derive(Clone, Copy, Debug)]
-struct ArcGeometry {
-    /// Indices of the plane's first and second axis.
-    axes: [usize; 2],
-    /// Index of the plane's normal axis.
-    normal: usize,
-    center: [f64; 2],
-    r0: f64,
-    r1: f64,
-    theta0: f64,
-    sweep: f64,
-    motion: Motion,
 }
 
 /// What a block did to the length offset vector.
