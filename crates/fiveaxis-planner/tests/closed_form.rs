@@ -260,3 +260,50 @@ fn exact_stop_stops_at_the_block_end() {
     // Two separate trapezoids.
     assert_close(stopped, 2.0 * trapezoid(50.0, 200.0, 3000.0), "G09");
 }
+
+#[test]
+fn bad_input_is_an_error_not_a_panic() {
+    use fiveaxis_planner::PlanError;
+    let good = axis(6000.0, 1000.0, None);
+    let bad = AxisLimits {
+        max_acceleration: 0.0,
+        ..good
+    };
+    assert!(matches!(
+        Planner::new(&[good, bad], Options::default(), &[0.0, 0.0]),
+        Err(PlanError::AxisLimit { axis: 1, .. })
+    ));
+    assert!(matches!(
+        Planner::new(&[], Options::default(), &[]),
+        Err(PlanError::AxisCount { count: 0 })
+    ));
+    assert!(matches!(
+        Planner::new(&[good], Options::default(), &[0.0, 1.0]),
+        Err(PlanError::Start { .. })
+    ));
+    let nan_tol = Options {
+        junction_tolerance: f64::NAN,
+        ..Options::default()
+    };
+    assert!(Planner::new(&[good], nan_tol, &[0.0]).is_err());
+    let mut planner = Planner::new(&[good], Options::default(), &[0.0]).expect("limits");
+    let nan = [Point::new(&[f64::NAN], 1.0)];
+    let block = |feed, points| Block {
+        feed,
+        exact_stop: false,
+        points,
+    };
+    assert!(matches!(
+        planner.push(&block(Feed::PerMinute(100.0), &nan)),
+        Err(PlanError::Point { index: 0, .. })
+    ));
+    let fine = [Point::new(&[10.0], 10.0)];
+    assert!(matches!(
+        planner.push(&block(Feed::PerMinute(-1.0), &fine)),
+        Err(PlanError::Feed { .. })
+    ));
+    assert!(planner.push(&block(Feed::InverseTime(f64::INFINITY), &fine)).is_err());
+    // The failed blocks left nothing behind: 10 mm at 100 mm/min.
+    planner.push(&block(Feed::PerMinute(100.0), &fine)).expect("block");
+    assert_close(planner.finish().time, trapezoid(10.0, 100.0 / 60.0, 1000.0), "after errors");
+}
