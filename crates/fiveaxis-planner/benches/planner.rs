@@ -47,7 +47,7 @@ fn helix() -> Vec<Vec<Point>> {
                 50.0 * a.sin(),
                 0.01 * k as f64,
                 30.0 * (0.1 * a).sin(),
-                a.to_degrees() % 360.0,
+                a.to_degrees(),
             ];
             let len = (0..3).map(|i| (q[i] - prev[i]).powi(2)).sum::<f64>().sqrt();
             points.push(Point::new(&q, len));
@@ -79,7 +79,11 @@ fn lines(count: usize) -> f64 {
     for k in 0..count {
         let x = if k % 2 == 0 { 100.0 } else { 0.0 };
         let y = k as f64 * 0.5;
-        let feed = if k % 10 == 9 { Feed::Rapid } else { Feed::PerMinute(3000.0) };
+        let feed = if k % 10 == 9 {
+            Feed::Rapid
+        } else {
+            Feed::PerMinute(3000.0)
+        };
         let points = [Point::new(&[x, y, 0.0, 0.0, 0.0], 100.0)];
         planner
             .push(&Block {

@@ -326,7 +326,11 @@ impl Planner {
 
     /// [`push`](Planner::push), appending the pieces of the motion
     /// committed meanwhile to `trace` (for tests and plots).
-    pub fn push_traced(&mut self, block: &Block<'_>, trace: &mut Vec<Piece>) -> Result<(), PlanError> {
+    pub fn push_traced(
+        &mut self,
+        block: &Block<'_>,
+        trace: &mut Vec<Piece>,
+    ) -> Result<(), PlanError> {
         self.push_block(block, Some(trace))
     }
 
@@ -464,14 +468,18 @@ impl Planner {
         };
         let mut stop = p.stop_before;
         if let Some(b) = p.front {
-            self.window
-                .push(Stretch::new(front, b.cap, b.dynamics, stop), trace.as_deref_mut());
+            self.window.push(
+                Stretch::new(front, b.cap, b.dynamics, stop),
+                trace.as_deref_mut(),
+            );
             stop = false;
         }
         let middle = p.len - front - back;
         if middle > 1e-12 * p.len {
-            self.window
-                .push(Stretch::new(middle, p.cap, p.dynamics, stop), trace.as_deref_mut());
+            self.window.push(
+                Stretch::new(middle, p.cap, p.dynamics, stop),
+                trace.as_deref_mut(),
+            );
             stop = false;
         }
         if let path::Joint::Blend(b) = joint {

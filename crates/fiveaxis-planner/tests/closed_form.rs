@@ -34,11 +34,10 @@ fn trapezoid(h: f64, v: f64, a: f64) -> f64 {
 /// (Biagiotti §3.4.1, v0 = v1 = 0; returns the case as well).
 fn double_s(h: f64, v: f64, a: f64, j: f64) -> (f64, &'static str) {
     // Case 1: the speed limit is reached.
-    let (tj, ta) = if v * j < a * a {
-        let tj = (v / j).sqrt();
-        (tj, 2.0 * tj)
+    let ta = if v * j < a * a {
+        2.0 * (v / j).sqrt()
     } else {
-        (a / j, a / j + v / a)
+        a / j + v / a
     };
     let tv = h / v - ta;
     if tv >= 0.0 {
@@ -47,7 +46,6 @@ fn double_s(h: f64, v: f64, a: f64, j: f64) -> (f64, &'static str) {
         } else {
             "v and a reached"
         };
-        let _ = tj;
         return (2.0 * ta + tv, case);
     }
     // Case 2: not reached; first assume a is.
@@ -172,7 +170,11 @@ fn rapid_is_linear_interpolation_type_positioning() {
             points: &points,
         })
         .expect("block");
-    assert_close(planner.finish().time, trapezoid(len, v, a), "rapid, other length");
+    assert_close(
+        planner.finish().time,
+        trapezoid(len, v, a),
+        "rapid, other length",
+    );
 }
 
 #[test]
@@ -240,7 +242,10 @@ fn a_corner_is_slower_than_going_straight() {
     let (straight, _) = two_blocks(false, false);
     let (corner, trace) = two_blocks(true, false);
     assert_close(straight, trapezoid(100.0, 200.0, 3000.0), "straight on");
-    assert!(corner > straight, "corner {corner} s, straight {straight} s");
+    assert!(
+        corner > straight,
+        "corner {corner} s, straight {straight} s"
+    );
     // The corner is taken at a speed above zero (rounded, not stopped) and
     // below the feed.
     let v = speed_at(&trace, 50.0);
@@ -256,7 +261,10 @@ fn exact_stop_stops_at_the_block_end() {
     // Locating s = 50 to 1e-10 mm near a stop at 3000 mm/s² leaves a speed
     // of up to √(2·3000·1e-10).
     let v = speed_at(&trace, 50.0);
-    assert!(v.abs() <= (2.0f64 * 3000.0 * 1e-10).sqrt(), "speed at the G09 block end: {v}");
+    assert!(
+        v.abs() <= (2.0f64 * 3000.0 * 1e-10).sqrt(),
+        "speed at the G09 block end: {v}"
+    );
     // Two separate trapezoids.
     assert_close(stopped, 2.0 * trapezoid(50.0, 200.0, 3000.0), "G09");
 }
@@ -302,8 +310,18 @@ fn bad_input_is_an_error_not_a_panic() {
         planner.push(&block(Feed::PerMinute(-1.0), &fine)),
         Err(PlanError::Feed { .. })
     ));
-    assert!(planner.push(&block(Feed::InverseTime(f64::INFINITY), &fine)).is_err());
+    assert!(
+        planner
+            .push(&block(Feed::InverseTime(f64::INFINITY), &fine))
+            .is_err()
+    );
     // The failed blocks left nothing behind: 10 mm at 100 mm/min.
-    planner.push(&block(Feed::PerMinute(100.0), &fine)).expect("block");
-    assert_close(planner.finish().time, trapezoid(10.0, 100.0 / 60.0, 1000.0), "after errors");
+    planner
+        .push(&block(Feed::PerMinute(100.0), &fine))
+        .expect("block");
+    assert_close(
+        planner.finish().time,
+        trapezoid(10.0, 100.0 / 60.0, 1000.0),
+        "after errors",
+    );
 }

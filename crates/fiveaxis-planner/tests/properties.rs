@@ -14,6 +14,8 @@
 //! over its window, so it never exceeds a bound the derivative keeps:
 //! only rounding needs a tolerance.
 
+#![allow(clippy::needless_range_loop)] // axis i of several position vectors
+
 use fiveaxis_planner::{AxisLimits, Block, Feed, Options, Piece, Planner, Point};
 use proptest::prelude::*;
 use proptest::test_runner::{Config, RngSeed, TestCaseError, TestRunner};
@@ -47,14 +49,18 @@ struct Case {
 }
 
 fn limits(jerk: bool) -> impl Strategy<Value = AxisLimits> {
-    (600.0..30_000.0f64, 1.0..2.0f64, 100.0..5000.0f64, 1000.0..100_000.0f64).prop_map(
-        move |(v, r, a, j)| AxisLimits {
+    (
+        600.0..30_000.0f64,
+        1.0..2.0f64,
+        100.0..5000.0f64,
+        1000.0..100_000.0f64,
+    )
+        .prop_map(move |(v, r, a, j)| AxisLimits {
             max_velocity: v,
             rapid: v * r,
             max_acceleration: a,
             max_jerk: jerk.then_some(j),
-        },
-    )
+        })
 }
 
 fn feed() -> impl Strategy<Value = Feed> {
@@ -67,10 +73,7 @@ fn feed() -> impl Strategy<Value = Feed> {
 
 fn case() -> impl Strategy<Value = Case> {
     (2..=5usize, any::<bool>()).prop_flat_map(|(n, jerk)| {
-        let step = prop::collection::vec(
-            prop_oneof![3 => -20.0..20.0f64, 1 => -0.5..0.5f64],
-            n,
-        );
+        let step = prop::collection::vec(prop_oneof![3 => -20.0..20.0f64, 1 => -0.5..0.5f64], n);
         let block = (
             feed(),
             prop::bool::weighted(0.3),
@@ -161,10 +164,8 @@ fn path(case: &Case) -> Path {
             }
             s += len;
         }
-        if rapid || *exact {
-            if let Some(last) = stop_after.last_mut() {
-                *last = true;
-            }
+        if let (true, Some(last)) = (rapid || *exact, stop_after.last_mut()) {
+            *last = true;
         }
     }
     let mut stops = vec![0.0, s];
@@ -176,7 +177,10 @@ fn path(case: &Case) -> Path {
         let jump = (0..n)
             .map(|i| (iv[k].u[i] - iv[k - 1].u[i]).abs())
             .fold(0.0, f64::max);
-        let b = iv[k - 1].len.min(iv[k].len).min(8.0 * case.tolerance / jump);
+        let b = iv[k - 1]
+            .len
+            .min(iv[k].len)
+            .min(8.0 * case.tolerance / jump);
         if b <= 0.0 {
             stops.push(iv[k].s0);
         }
@@ -258,7 +262,9 @@ fn plan(case: &Case) -> (f64, Vec<Piece>) {
             exact_stop: *exact,
             points: &points,
         };
-        planner.push_traced(&block, &mut trace).expect("valid block");
+        planner
+            .push_traced(&block, &mut trace)
+            .expect("valid block");
     }
     (planner.finish_traced(&mut trace).time, trace)
 }
@@ -277,17 +283,33 @@ fn check_case(case: Case) -> Result<(), TestCaseError> {
         let v = p.v + p.a * tau + p.j * tau * tau / 2.0;
         let a = p.a + p.j * tau;
         prop_assert!((p.t + tau - q.t).abs() <= 1e-9 * (1.0 + q.t));
-        prop_assert!((s - q.s).abs() <= 1e-9 * (1.0 + length), "s {s} then {}", q.s);
-        prop_assert!((v - q.v).abs() <= 1e-6 * (1.0 + v.abs()), "v {v} then {}", q.v);
+        prop_assert!(
+            (s - q.s).abs() <= 1e-9 * (1.0 + length),
+            "s {s} then {}",
+            q.s
+        );
+        prop_assert!(
+            (v - q.v).abs() <= 1e-6 * (1.0 + v.abs()),
+            "v {v} then {}",
+            q.v
+        );
         if case.axes[0].max_jerk.is_some() {
-            prop_assert!((a - q.a).abs() <= 1e-6 * (1.0 + a.abs()), "a {a} then {}", q.a);
+            prop_assert!(
+                (a - q.a).abs() <= 1e-6 * (1.0 + a.abs()),
+                "a {a} then {}",
+                q.a
+            );
         }
     }
     let last = trace.last().expect("a plan of a moving program has pieces");
     prop_assert!((last.t + last.duration - time).abs() <= 1e-9 * time);
 
     // Never faster than programmed, nor than the axes allow.
-    prop_assert!(time >= path.programmed * (1.0 - REL), "{time} < {}", path.programmed);
+    prop_assert!(
+        time >= path.programmed * (1.0 - REL),
+        "{time} < {}",
+        path.programmed
+    );
 
     // Zero speed at every stop.
     for &s in &path.stops {
@@ -314,7 +336,10 @@ fn check_case(case: Case) -> Result<(), TestCaseError> {
     let err = ROUNDING * scale;
     for k in 1..count {
         let range = touched(&path, s[k - 1], s[k + 1]);
-        let feed = path.iv[range.clone()].iter().map(|iv| iv.feed).fold(0.0, f64::max);
+        let feed = path.iv[range.clone()]
+            .iter()
+            .map(|iv| iv.feed)
+            .fold(0.0, f64::max);
         let speed = (s[k + 1] - s[k - 1]) / (2.0 * h);
         prop_assert!(
             speed <= feed * (1.0 + REL) + 2.0 * err / h,
@@ -340,12 +365,12 @@ fn check_case(case: Case) -> Result<(), TestCaseError> {
             );
         }
         // Jerk along the path: where the window lies on one straight part.
-        if let (true, Some(jmax)) = (k + 2 <= count, case.axes[0].max_jerk) {
-            let _ = jmax;
+        if k + 2 <= count && case.axes[0].max_jerk.is_some() {
             let (lo, hi) = (s[k - 1], s[k + 2]);
-            let straight = path.iv.iter().any(|iv| {
-                lo >= iv.s0 + iv.front / 2.0 && hi <= iv.s0 + iv.len - iv.back / 2.0
-            });
+            let straight = path
+                .iv
+                .iter()
+                .any(|iv| lo >= iv.s0 + iv.front / 2.0 && hi <= iv.s0 + iv.len - iv.back / 2.0);
             if straight {
                 for i in 0..n {
                     let limit = case.axes[i].max_jerk.unwrap_or(f64::INFINITY);
