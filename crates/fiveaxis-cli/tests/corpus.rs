@@ -418,10 +418,7 @@ fn check_positions(outcome: &Outcome, positions: &[Position]) -> Vec<String> {
     let mut problems = Vec::new();
     for p in positions {
         let row = outcome.picked.iter().skip(1).find(|row| {
-            row.split(',')
-                .next()
-                .and_then(|n| n.parse::<usize>().ok())
-                == Some(p.line)
+            row.split(',').next().and_then(|n| n.parse::<usize>().ok()) == Some(p.line)
         });
         let value = columns
             .iter()

@@ -957,7 +957,12 @@ impl<'m, S: Source> Runner<'m, S> {
             self.source.seek(start.offset)?;
             let mut line = start.line;
             while let Some(mark) = self.scan_line(&mut line)? {
-                let sequence = match parse_line_as(self.syntax, &self.scan_text, mark.line, &mut self.scan_block) {
+                let sequence = match parse_line_as(
+                    self.syntax,
+                    &self.scan_text,
+                    mark.line,
+                    &mut self.scan_block,
+                ) {
                     Ok(()) => self.scan_block.sequence,
                     Err(e) if e.kind == SyntaxErrorKind::Macro => {
                         fiveaxis_macro::parse_statement(&self.scan_text, mark.line)

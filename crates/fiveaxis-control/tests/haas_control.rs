@@ -125,7 +125,8 @@ fn haas_unbalanced_nested_comment_is_unclosed_where_fanuc_closes_it() {
 
 #[test]
 fn haas_nested_comment_hides_macro_characters_and_the_program_runs() {
-    let program = "(#508= (MILL_.25_PROFILE ))\n(#509= (UGTI0201_011 ))\nG0 X1. (A (#1) [2])\nM30\n";
+    let program =
+        "(#508= (MILL_.25_PROFILE ))\n(#509= (UGTI0201_011 ))\nG0 X1. (A (#1) [2])\nM30\n";
     let rows = run(&mill(Control::Haas), program);
     assert_tips(&tips(&rows), &[(3, Motion::Rapid, [1.0, 0.0, 0.0])]);
     // FANUC stops at the first of these lines.
@@ -138,7 +139,13 @@ fn haas_nested_comment_hides_macro_characters_and_the_program_runs() {
 #[test]
 fn haas_g04_p_is_seconds_with_a_decimal_point_and_milliseconds_without() {
     let haas = mill(Control::Haas);
-    for program in ["G04 P.5\n", "G04 P10.\n", "G04 P10\n", "G04 P0\n", "G4 P99999.999\n"] {
+    for program in [
+        "G04 P.5\n",
+        "G04 P10.\n",
+        "G04 P10\n",
+        "G04 P0\n",
+        "G4 P99999.999\n",
+    ] {
         run(&haas, program);
     }
     // P100000 is 100 s in milliseconds; P100000. is 100 000 s, beyond the
@@ -187,7 +194,10 @@ fn haas_dwell_cycles_take_p_in_seconds() {
     // G88 and G89 read P the same way.
     run(&haas, &format!("{start}G88 X10. Z-5. R2. P.5 F100.\nG80\n"));
     run(&haas, &format!("{start}G89 X10. Z-5. R2. P.6 F100.\nG80\n"));
-    run(&haas, &format!("{start}G89 X10. Z-5. R2. P600 F100.\nG80\n"));
+    run(
+        &haas,
+        &format!("{start}G89 X10. Z-5. R2. P600 F100.\nG80\n"),
+    );
     let a = alarm(&haas, &format!("{start}G82 X10. Z-5. R2. P-.05 F100.\n"));
     assert_eq!(a.condition, Condition::ValueOutOfRange);
     // FANUC: integer milliseconds only.
@@ -301,7 +311,10 @@ fn machine_file_input_unit_reads_writes_and_refuses_other_words() {
     assert_eq!(mm.params.input_unit, InputUnit::Millimetre);
     let error = Machine::from_toml(&with("\"cm\"")).expect_err("not a unit");
     let message = error.to_string();
-    let line = 1 + text.lines().position(|l| l.starts_with("input_unit")).expect("key");
+    let line = 1 + text
+        .lines()
+        .position(|l| l.starts_with("input_unit"))
+        .expect("key");
     assert!(
         message.contains(&format!("line {line},")) && message.contains("`mm` or `inch`"),
         "{message}"
