@@ -60,31 +60,69 @@ struct Outcome {
     status: Option<ExitStatus>,
     rows: usize,
     stderr: String,
+    /// The header and the first row of each line asked for (`pick`).
+    picked: Vec<String>,
+}
+
+/// What the binary reads: a corpus file as it is, or its text after an
+/// operator's edits, given on standard input (`-`).
+enum Input<'a> {
+    File(&'a Path),
+    Edited(&'a [u8]),
 }
 
 /// Runs the binary on `program`, counting output lines and keeping
 /// standard error, with a deadline.
 fn run(program: &Path, machine: &str) -> Outcome {
-    run_with(program, &["--machine", machine])
+    run_with(Input::File(program), &["--machine", machine], &[])
 }
 
-/// Runs the binary on `program` with `args`.
-fn run_with(program: &Path, args: &[&str]) -> Outcome {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_fiveaxis"))
-        .arg("run")
-        .arg(program)
+/// Runs the binary on `input` with `args`, keeping the header and the
+/// first row of each program line in `pick`.
+fn run_with(input: Input<'_>, args: &[&str], pick: &[usize]) -> Outcome {
+    let mut command = Command::new(env!("CARGO_BIN_EXE_fiveaxis"));
+    command.arg("run");
+    match input {
+        Input::File(path) => command.arg(path).stdin(Stdio::null()),
+        Input::Edited(_) => command.arg("-").stdin(Stdio::piped()),
+    };
+    let mut child = command
         .args(args)
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
         .spawn()
         .expect("the fiveaxis binary starts");
+    let feeder = match input {
+        Input::File(_) => None,
+        Input::Edited(text) => {
+            let mut stdin = child.stdin.take().expect("piped stdin");
+            let text = text.to_vec();
+            Some(thread::spawn(move || {
+                use std::io::Write;
+                let _ = stdin.write_all(&text);
+            }))
+        }
+    };
     let stdout = child.stdout.take().expect("piped stdout");
     let mut stderr = child.stderr.take().expect("piped stderr");
+    let pick = pick.to_vec();
     let rows = thread::spawn(move || {
-        BufReader::new(stdout)
-            .split(b'\n')
-            .count()
-            .saturating_sub(1)
+        let mut count: usize = 0;
+        let mut picked = Vec::new();
+        let mut seen = Vec::new();
+        for row in BufReader::new(stdout).split(b'\n') {
+            let Ok(row) = row else { break };
+            let row = String::from_utf8_lossy(&row).into_owned();
+            let line = row.split(',').next().and_then(|n| n.parse::<usize>().ok());
+            if count == 0 {
+                picked.push(row);
+            } else if let Some(n) = line.filter(|n| pick.contains(n) && !seen.contains(n)) {
+                seen.push(n);
+                picked.push(row);
+            }
+            count += 1;
+        }
+        (count.saturating_sub(1), picked)
     });
     let errors = thread::spawn(move || {
         let mut bytes = Vec::new();
@@ -92,10 +130,15 @@ fn run_with(program: &Path, args: &[&str]) -> Outcome {
         String::from_utf8_lossy(&bytes).into_owned()
     });
     let status = wait_until(&mut child, Instant::now() + DEADLINE);
+    if let Some(feeder) = feeder {
+        feeder.join().expect("stdin writer");
+    }
+    let (rows, picked) = rows.join().expect("stdout reader");
     Outcome {
         status,
-        rows: rows.join().expect("stdout reader"),
+        rows,
         stderr: errors.join().expect("stderr reader"),
+        picked,
     }
 }
 
@@ -140,8 +183,9 @@ fn renders_source_line(stderr: &str, source: &str, n: usize) -> bool {
         .any(|shown| words(shown) == expected)
 }
 
-/// What is wrong with how a run ended, if anything; and its summary.
-fn judge(program: &Path, outcome: &Outcome) -> (String, Option<String>) {
+/// What is wrong with how a run of `source` ended, if anything; and its
+/// summary.
+fn judge(source: &[u8], outcome: &Outcome) -> (String, Option<String>) {
     let Some(status) = outcome.status else {
         return (
             "timeout".into(),
@@ -165,8 +209,7 @@ fn judge(program: &Path, outcome: &Outcome) -> (String, Option<String>) {
                 outcome.stderr
             )),
             Some((_, n, _)) => {
-                let source = String::from_utf8_lossy(&std::fs::read(program).expect("corpus file"))
-                    .into_owned();
+                let source = String::from_utf8_lossy(source);
                 (!renders_source_line(&outcome.stderr, &source, n))
                     .then(|| format!("source line {n} is not rendered:\n{}", outcome.stderr))
             }
@@ -194,7 +237,8 @@ fn every_corpus_program_ends_cleanly_or_with_one_rendered_alarm() {
             .unwrap_or_default()
             .to_owned();
         let machine = machine_for(&name);
-        let (summary, problem) = judge(&program, &run(&program, machine));
+        let source = std::fs::read(&program).expect("corpus file");
+        let (summary, problem) = judge(&source, &run(&program, machine));
         println!("corpus: {name} on {machine}: {summary}");
         if let Some(problem) = problem {
             failures.push(format!("{name}: {problem}"));
@@ -224,36 +268,174 @@ fn alarm_lines_are_recognised_only_in_the_contract_form() {
     assert_eq!(parse_alarm_line("error: PS0010 line 3: x"), None);
 }
 
-/// The FANUC-family programs of the corpus, each on a machine that fits it
-/// (machine and offsets files in `tests/corpus-setups/`), and how each must
-/// end: at its end, or with the alarm a real control raises there too.
+/// The FANUC-family programs of the corpus (FANUC, and Haas's FANUC-like
+/// control), each on a machine that fits it (machine and offsets files in
+/// `tests/corpus-setups/`), and how each must end: at its end, or with the
+/// alarm a real control raises there too.
 struct Conformance {
     program: &'static str,
     machine: &'static str,
     offsets: &'static str,
+    /// Edits an operator makes before running the program on the control
+    /// (in memory; the corpus file is never changed), each with its reason.
+    edits: &'static [Edit],
     /// `None`: runs to its end; `Some((code, line, why))`: stops there.
     stop: Option<(&'static str, usize, &'static str)>,
+    /// Machine positions the run must reach, worked out by hand.
+    positions: &'static [Position],
 }
+
+/// One line of the program replaced, as an operator does at the control.
+struct Edit {
+    /// 1-based line number.
+    line: usize,
+    /// The line as the corpus has it (checked, so that an edit cannot
+    /// silently land on another line).
+    was: &'static str,
+    /// The line the operator writes instead.
+    now: &'static str,
+    /// Why a real control needs the edit.
+    why: &'static str,
+}
+
+/// A machine position in the first row of a program line, computed by hand.
+struct Position {
+    line: usize,
+    /// Output column (`X`, `Y`, `Z`, `feed`, …).
+    column: &'static str,
+    value: f64,
+    /// How the value was worked out.
+    why: &'static str,
+}
+
+/// Rows are printed in the shortest round-trip form of values computed in
+/// binary: a hand-computed millimetre value matches them to this.
+const POSITION_TOLERANCE: f64 = 1e-9;
+
+/// Millimetres in an inch (Haas Setting 9 = INCH: the corpus program's
+/// numbers are inches).
+const MM_PER_INCH: f64 = 25.4;
+
+/// The Haas setup's G54 (`haas-vf2tr-offsets.toml`), mm.
+const HAAS_G54: [f64; 3] = [-381.0, -203.0, -550.0];
+/// The length of tool 8 in the Haas setup, mm.
+const HAAS_TOOL_8: f64 = 140.0;
 
 const FANUC_FAMILY: &[Conformance] = &[
     Conformance {
         program: "fanuc_nx_nmv5000_mm.nc",
         machine: "nmv5000.toml",
         offsets: "nmv5000-offsets.toml",
+        edits: &[],
         stop: NMV5000_STOP,
+        positions: &[],
     },
     Conformance {
         program: "haas_nx_vf2tr_5T.nc",
         machine: "haas-vf2tr.toml",
         offsets: "haas-vf2tr-offsets.toml",
-        stop: Some((
-            "PS0009",
-            2,
-            "the post left its placeholder `O ENTER OP AND LAST 3 DIGITS` as the program \
-             number: the control refuses an O line that is neither a number nor a name",
-        )),
+        edits: &[
+            Edit {
+                line: 2,
+                was: "O ENTER OP AND LAST 3 DIGITS",
+                now: "O1201",
+                why: "the post leaves this placeholder for the operator, who writes the \
+                      program number it asks for (operation 1, part UGTI0201): a Haas \
+                      control refuses an O line without a number, and so does the kernel \
+                      (FX0004, `haas_control.rs`)",
+            },
+            Edit {
+                line: 977,
+                was: "G83 X.9879 Y-.9882 Z1.8504 R2.0866 F9.8 Q0.0",
+                now: "G83 X.9879 Y-.9882 Z1.8504 R2.0866 F9.8 Q.1",
+                why: "the post writes a peck depth of zero, with which no control can peck \
+                      (FANUC PS0045, the kernel's FX0131): the operator enters the peck \
+                      the operation needs, 0.1 inch for the 7 mm drill",
+            },
+        ],
+        stop: None,
+        positions: &[
+            Position {
+                line: 34,
+                column: "X",
+                value: HAAS_G54[0] - 0.2377 * MM_PER_INCH,
+                why: "`G90 G43 G00 X-.2377 … H008`: G54 X - 0.2377 in",
+            },
+            Position {
+                line: 34,
+                column: "Y",
+                value: HAAS_G54[1] + 0.2521 * MM_PER_INCH,
+                why: "`Y.2521`: G54 Y + 0.2521 in",
+            },
+            Position {
+                line: 34,
+                column: "Z",
+                value: HAAS_G54[2] + HAAS_TOOL_8 + 8.0 * MM_PER_INCH,
+                why: "`Z8. … H008`: G54 Z + tool 8 + 8 in",
+            },
+            Position {
+                line: 38,
+                column: "feed",
+                value: 9.8 * MM_PER_INCH,
+                why: "`G01 Z1.7224 F9.8`: 9.8 inch/min",
+            },
+            Position {
+                line: 1082,
+                column: "Y",
+                value: 0.0,
+                why: "`G90 G53 G00 Y0.0`, the last move before M30: machine Y 0",
+            },
+        ],
     },
 ];
+
+/// The program text after the operator's `edits`, or what is wrong with
+/// an edit.
+fn edited(source: &[u8], edits: &[Edit]) -> Result<Vec<u8>, String> {
+    let mut lines: Vec<&[u8]> = source.split(|&b| b == b'\n').collect();
+    for edit in edits {
+        let Some(line) = lines.get_mut(edit.line - 1) else {
+            return Err(format!("edit of line {}: no such line", edit.line));
+        };
+        let text = String::from_utf8_lossy(line);
+        if text.trim_end() != edit.was {
+            return Err(format!(
+                "edit of line {}: the line is `{text}`, not `{}`",
+                edit.line, edit.was
+            ));
+        }
+        *line = edit.now.as_bytes();
+    }
+    Ok(lines.join(&b'\n'))
+}
+
+/// What is wrong with the rows of `positions`, if anything.
+fn check_positions(outcome: &Outcome, positions: &[Position]) -> Vec<String> {
+    let Some(header) = outcome.picked.first() else {
+        return vec!["no output header".into()];
+    };
+    let columns: Vec<&str> = header.split(',').collect();
+    let mut problems = Vec::new();
+    for p in positions {
+        let row = outcome.picked.iter().skip(1).find(|row| {
+            row.split(',').next().and_then(|n| n.parse::<usize>().ok()) == Some(p.line)
+        });
+        let value = columns
+            .iter()
+            .position(|&c| c == p.column)
+            .zip(row)
+            .and_then(|(i, row)| row.split(',').nth(i))
+            .and_then(|v| v.parse::<f64>().ok());
+        match value {
+            Some(v) if (v - p.value).abs() <= POSITION_TOLERANCE => {}
+            other => problems.push(format!(
+                "line {} {}: {other:?}, expected {} ({})",
+                p.line, p.column, p.value, p.why
+            )),
+        }
+    }
+    problems
+}
 
 #[test]
 fn fanuc_family_programs_run_to_their_end_or_stop_where_the_control_would() {
@@ -270,19 +452,44 @@ fn fanuc_family_programs_run_to_their_end_or_stop_where_the_control_would() {
             failures.push(format!("{}: not in the corpus", case.program));
             continue;
         }
+        let source = std::fs::read(&program).expect("corpus file");
+        let text = match edited(&source, case.edits) {
+            Ok(text) => text,
+            Err(problem) => {
+                failures.push(format!("{}: {problem}", case.program));
+                continue;
+            }
+        };
+        let input = if case.edits.is_empty() {
+            Input::File(&program)
+        } else {
+            Input::Edited(&text)
+        };
         let machine = setups.join(case.machine);
         let offsets = setups.join(case.offsets);
+        let pick: Vec<usize> = case.positions.iter().map(|p| p.line).collect();
         let outcome = run_with(
-            &program,
+            input,
             &[
                 "--machine",
                 &machine.display().to_string(),
                 "--offsets",
                 &offsets.display().to_string(),
             ],
+            &pick,
         );
-        let (summary, _) = judge(&program, &outcome);
-        println!("conformance: {}: {summary}", case.program);
+        let (summary, _) = judge(&text, &outcome);
+        println!(
+            "conformance: {} ({} operator edits): {summary}",
+            case.program,
+            case.edits.len()
+        );
+        for edit in case.edits {
+            println!(
+                "  line {}: `{}` -> `{}`: {}",
+                edit.line, edit.was, edit.now, edit.why
+            );
+        }
         let first_alarm = outcome
             .stderr
             .lines()
@@ -301,6 +508,9 @@ fn fanuc_family_programs_run_to_their_end_or_stop_where_the_control_would() {
                     case.program
                 )),
             _ => {}
+        }
+        for problem in check_positions(&outcome, case.positions) {
+            failures.push(format!("{}: {problem}", case.program));
         }
     }
     assert!(failures.is_empty(), "{}", failures.join("\n"));

@@ -168,7 +168,7 @@ impl<'m> Controller<'m> {
             stop: None,
             dialect: Dialect::of(machine.control),
             state: State {
-                modal: Modal::power_on(),
+                modal: Modal::power_on(machine.params.input_unit),
                 feature: None,
                 feature_pending: None,
                 joints: machine.params.reference_1,
@@ -1068,7 +1068,8 @@ impl<'m> Controller<'m> {
         }
     }
 
-    /// G04: dwell, P in ms or X in s. No axis moves.
+    /// G04: dwell, P in ms (Haas: seconds with a decimal point) or X in
+    /// s. No axis moves.
     /// The seconds of a G04 X word: without a decimal point, in least
     /// input increments (as for lengths).
     fn dwell_seconds(&self, word: &Word) -> f64 {
@@ -1083,7 +1084,8 @@ impl<'m> Controller<'m> {
         let p = self.words.take(b'P');
         let x = self.words.peek(b'X');
         if let Some(word) = p {
-            self.words.integer(&word, 99_999_999)?;
+            self.words
+                .dwell_ms(&word, self.dialect.dwell_p_seconds_with_point)?;
         } else if let Some(word) = x {
             self.words.take(b'X');
             let seconds = self.dwell_seconds(&word);

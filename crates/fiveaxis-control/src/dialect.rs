@@ -1,5 +1,6 @@
 //! What differs between control families, as data.
 
+use fiveaxis_gcode::Syntax;
 use fiveaxis_machine::Control;
 
 /// Per-control facts the controller consults.
@@ -17,6 +18,17 @@ pub struct Dialect {
     /// at all without axis words (Mitsubishi); otherwise it moves with
     /// tool length compensation only (FANUC, seed 000).
     pub tcpc_startup_controls_tip: bool,
+    /// How the front end reads a line (comments).
+    pub syntax: Syntax,
+    /// P of G04 and of the dwell cycles (G82, G88, G89) is seconds when
+    /// written with a decimal point and milliseconds without (Haas mill
+    /// operator's manual, G04: `G04 P10.` is 10 s, `G04 P10` 10 ms).
+    /// Otherwise P is an integer of milliseconds and a decimal point is an
+    /// alarm (FANUC PS0007).
+    pub dwell_p_seconds_with_point: bool,
+    /// G87 is "bore in, manual retract" (Haas mill operator's manual,
+    /// G87; Haas's back boring is G77) instead of FANUC's back boring.
+    pub g87_manual_retract: bool,
 }
 
 impl Dialect {
@@ -27,6 +39,9 @@ impl Dialect {
             max_m_codes: 3,
             g44_cancels: false,
             tcpc_startup_controls_tip: false,
+            syntax: Syntax::FANUC,
+            dwell_p_seconds_with_point: false,
+            g87_manual_retract: false,
         };
         match control {
             Control::Fanuc30i => fanuc(10),
@@ -36,12 +51,26 @@ impl Dialect {
                 max_m_codes: 4,
                 g44_cancels: true,
                 tcpc_startup_controls_tip: true,
+                syntax: Syntax::FANUC,
+                dwell_p_seconds_with_point: false,
+                g87_manual_retract: false,
             },
             Control::Mazak => Self {
                 max_nesting: 8,
                 max_m_codes: 4,
                 g44_cancels: false,
                 tcpc_startup_controls_tip: false,
+                syntax: Syntax::FANUC,
+                dwell_p_seconds_with_point: false,
+                g87_manual_retract: false,
+            },
+            // Haas's reading rules; its nesting depth and M codes per
+            // block are not sourced yet (issue #15): FANUC 30i's stand in.
+            Control::Haas => Self {
+                syntax: Syntax::HAAS,
+                dwell_p_seconds_with_point: true,
+                g87_manual_retract: true,
+                ..fanuc(10)
             },
         }
     }

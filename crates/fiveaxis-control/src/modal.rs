@@ -1,5 +1,7 @@
 //! One typed value per modal group (FANUC group numbers in the docs).
 
+use fiveaxis_machine::InputUnit;
+
 /// Group 01: interpolation.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum MotionMode {
@@ -172,15 +174,19 @@ pub struct Modal {
 }
 
 impl Modal {
-    /// FANUC power-on state: G00 G17 G90 G94 G21 G49 G54 G64 (G40 group
-    /// 07), every accuracy mode off.
-    pub fn power_on() -> Self {
+    /// FANUC power-on state: G00 G17 G90 G94 G49 G54 G64 (G40 group
+    /// 07), every accuracy mode off, and G21 or G20 as the machine's input
+    /// unit says (FANUC No.0000#2 INI, Haas Setting 9).
+    pub fn power_on(input_unit: InputUnit) -> Self {
         Self {
             motion: MotionMode::Rapid,
             plane: Plane::Xy,
             distance: Distance::Absolute,
             feed_mode: FeedMode::PerMinute,
-            units: Units::Metric,
+            units: match input_unit {
+                InputUnit::Millimetre => Units::Metric,
+                InputUnit::Inch => Units::Inch,
+            },
             length: LengthMode::Off,
             work: WorkSelect::Standard(0),
             cutting: CuttingMode::Cutting,

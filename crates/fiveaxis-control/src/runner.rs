@@ -8,7 +8,7 @@
 
 use std::io::{self, BufRead, BufReader, Read, Seek, SeekFrom};
 
-use fiveaxis_gcode::{Block, SyntaxError, SyntaxErrorKind, parse_line};
+use fiveaxis_gcode::{Block, Syntax, SyntaxError, SyntaxErrorKind, parse_line_as};
 use fiveaxis_machine::{Machine, Offsets};
 
 use crate::alarm::{Alarm, Condition};
@@ -314,6 +314,8 @@ pub struct Runner<'m, S> {
     source: Sources<S>,
     options: RunOptions,
     max_nesting: usize,
+    /// How the control reads a line (its front-end dialect).
+    syntax: Syntax,
     text: Vec<u8>,
     /// Line and block buffers for searches (program and sequence
     /// numbers), so that the executing line stays intact for messages.
@@ -369,6 +371,7 @@ impl<'m, S: Source> Runner<'m, S> {
             source: Sources::new(source),
             options,
             max_nesting: Dialect::of(machine.control).max_nesting,
+            syntax: Dialect::of(machine.control).syntax,
             text: Vec::new(),
             scan_text: Vec::new(),
             scan_block: Block::default(),
@@ -604,7 +607,7 @@ impl<'m, S: Source> Runner<'m, S> {
         }
         // Plain lines take the front end's fast path; a line the front end
         // finds custom macro syntax in goes through the macro layer.
-        match parse_line(&self.text, here.line, &mut self.block) {
+        match parse_line_as(self.syntax, &self.text, here.line, &mut self.block) {
             Ok(()) => {}
             Err(error) if error.kind == SyntaxErrorKind::Macro => match self.macro_line(here)? {
                 MacroFlow::Done => return Ok(()),
@@ -726,7 +729,7 @@ impl<'m, S: Source> Runner<'m, S> {
             if is_program_name(text) {
                 break;
             }
-            match parse_line(text, mark.line, &mut self.scan_block) {
+            match parse_line_as(self.syntax, text, mark.line, &mut self.scan_block) {
                 Ok(()) if self.scan_block.is_empty() => {}
                 Ok(()) => break,
                 Err(e) if e.kind == SyntaxErrorKind::Macro => break,
@@ -954,7 +957,12 @@ impl<'m, S: Source> Runner<'m, S> {
             self.source.seek(start.offset)?;
             let mut line = start.line;
             while let Some(mark) = self.scan_line(&mut line)? {
-                let sequence = match parse_line(&self.scan_text, mark.line, &mut self.scan_block) {
+                let sequence = match parse_line_as(
+                    self.syntax,
+                    &self.scan_text,
+                    mark.line,
+                    &mut self.scan_block,
+                ) {
                     Ok(()) => self.scan_block.sequence,
                     Err(e) if e.kind == SyntaxErrorKind::Macro => {
                         fiveaxis_macro::parse_statement(&self.scan_text, mark.line)

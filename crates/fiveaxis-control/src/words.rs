@@ -209,7 +209,36 @@ impl Words {
         }
         Ok(word.value as u32)
     }
+
+    /// The dwell time of a P word (G04, G82, G88, G89), in milliseconds.
+    /// With `seconds_with_point` (Haas) a P written with a decimal point is
+    /// seconds, rounded to the millisecond (`P.05` is 50 ms), and one
+    /// without is milliseconds; otherwise (FANUC) P is an integer of
+    /// milliseconds and a decimal point is an alarm.
+    pub fn dwell_ms(&self, word: &Word, seconds_with_point: bool) -> Result<u32, Alarm> {
+        if !(seconds_with_point && word.decimal_point) {
+            return self.integer(word, MAX_DWELL_MS);
+        }
+        let ms = word.value * MS_PER_SECOND;
+        if !(0.0..=f64::from(MAX_DWELL_MS)).contains(&ms) {
+            return Err(self.alarm(
+                Condition::ValueOutOfRange,
+                Some(word.span),
+                format!(
+                    "dwell P{} s is out of range 0 to {} s",
+                    word.value,
+                    f64::from(MAX_DWELL_MS) / MS_PER_SECOND
+                ),
+            ));
+        }
+        Ok(ms.round() as u32)
+    }
 }
+
+/// Longest dwell, milliseconds (FANUC and Haas: 99 999.999 s).
+pub const MAX_DWELL_MS: u32 = 99_999_999;
+/// Milliseconds in a second.
+const MS_PER_SECOND: f64 = 1000.0;
 
 /// Whether `letter` is an address of the kernel on this machine.
 fn is_address(letter: u8, machine: &Machine) -> bool {

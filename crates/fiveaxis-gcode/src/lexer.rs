@@ -19,7 +19,7 @@
 //! has at most [`MAX_DIGITS`] digits, this is correctly rounded and so
 //! bit-identical to `str::parse::<f64>` on the same digits.
 
-use crate::{Block, Code, Span, SyntaxError, SyntaxErrorKind, UnknownWord, Word};
+use crate::{Block, Code, Span, Syntax, SyntaxError, SyntaxErrorKind, UnknownWord, Word};
 
 /// The most digits a number may have. The zeros written in front of the
 /// integer part do not count (`X007` has one digit, `G01` one); every other
@@ -90,13 +90,29 @@ const MAX_UTF8_LEN: usize = 4;
 ///
 /// A [`SyntaxError`] with the columns of the first text that cannot be read.
 pub fn parse_line(text: &[u8], line: u32, block: &mut Block) -> Result<(), SyntaxError> {
+    parse_line_as(Syntax::FANUC, text, line, block)
+}
+
+/// Reads one line of a program into `block` with the reading rules of
+/// `syntax` (a control's dialect of the tape format); otherwise as
+/// [`parse_line`].
+///
+/// # Errors
+///
+/// A [`SyntaxError`] with the columns of the first text that cannot be read.
+pub fn parse_line_as(
+    syntax: Syntax,
+    text: &[u8],
+    line: u32,
+    block: &mut Block,
+) -> Result<(), SyntaxError> {
     block.clear();
     block.line = line;
     let text = block_text(text);
-    read_block(text, block).map_err(|error| {
+    read_block(text, syntax, block).map_err(|error| {
         block.clear();
         block.line = line;
-        macro_line_error(text, error)
+        macro_line_error(text, syntax, error)
     })
 }
 
@@ -124,7 +140,7 @@ fn block_text(text: &[u8]) -> &[u8] {
 
 /// Reads the block: tape mark or block delete first, then words and
 /// comments up to the end.
-fn read_block(text: &[u8], block: &mut Block) -> Result<(), SyntaxError> {
+fn read_block(text: &[u8], syntax: Syntax, block: &mut Block) -> Result<(), SyntaxError> {
     let mut pos = skip_blanks(text, 0);
     match text.get(pos) {
         Some(&TAPE_MARK) => {
@@ -143,7 +159,7 @@ fn read_block(text: &[u8], block: &mut Block) -> Result<(), SyntaxError> {
             return Ok(());
         };
         pos = if byte == COMMENT_OPEN {
-            skip_comment(text, pos)?
+            skip_comment(text, pos, syntax)?
         } else if byte.is_ascii_alphabetic() {
             read_word(text, pos, block)?
         } else {
@@ -163,17 +179,35 @@ fn skip_block_delete(text: &[u8], pos: usize) -> usize {
 }
 
 /// Steps over the comment that opens at `pos`.
-fn skip_comment(text: &[u8], pos: usize) -> Result<usize, SyntaxError> {
-    comment_end(text, pos)
+fn skip_comment(text: &[u8], pos: usize, syntax: Syntax) -> Result<usize, SyntaxError> {
+    comment_end(text, pos, syntax)
         .ok_or_else(|| SyntaxError::new(SyntaxErrorKind::UnclosedComment, span(pos, text.len())))
 }
 
 /// The position after the `)` that closes the comment opened at `pos`.
-/// A `(` inside a comment is plain text: the first `)` closes it.
-fn comment_end(text: &[u8], pos: usize) -> Option<usize> {
+/// FANUC: a `(` inside a comment is plain text, the first `)` closes it.
+/// With [`Syntax::nested_comments`] each `(` inside opens a level that its
+/// own `)` closes, and the comment ends with the `)` that balances its
+/// opening one.
+fn comment_end(text: &[u8], pos: usize, syntax: Syntax) -> Option<usize> {
     let body = pos + 1;
-    let close = text.get(body..)?.iter().position(|&b| b == COMMENT_CLOSE)?;
-    Some(body + close + 1)
+    let rest = text.get(body..)?;
+    if !syntax.nested_comments {
+        let close = rest.iter().position(|&b| b == COMMENT_CLOSE)?;
+        return Some(body + close + 1);
+    }
+    let mut depth = 1_usize;
+    for (offset, &byte) in rest.iter().enumerate() {
+        if byte == COMMENT_OPEN {
+            depth += 1;
+        } else if byte == COMMENT_CLOSE {
+            depth -= 1;
+            if depth == 0 {
+                return Some(body + offset + 1);
+            }
+        }
+    }
+    None
 }
 
 /// Reads the word whose letter is at `start` and returns where it ends.
@@ -387,11 +421,11 @@ fn stray(text: &[u8], pos: usize) -> SyntaxError {
 /// outside comments), any error is the macro syntax's fault: it is reported
 /// as [`SyntaxErrorKind::Macro`] at the first of these characters. A macro
 /// keyword found first keeps its own span.
-fn macro_line_error(text: &[u8], error: SyntaxError) -> SyntaxError {
+fn macro_line_error(text: &[u8], syntax: Syntax, error: SyntaxError) -> SyntaxError {
     if error.kind == SyntaxErrorKind::Macro {
         return error;
     }
-    match first_macro_char(text) {
+    match first_macro_char(text, syntax) {
         Some(pos) => SyntaxError::new(SyntaxErrorKind::Macro, span(pos, pos + 1)),
         None => error,
     }
@@ -399,11 +433,11 @@ fn macro_line_error(text: &[u8], error: SyntaxError) -> SyntaxError {
 
 /// The first `#`, `[` or `]` outside comments, looked for up to an unclosed
 /// comment.
-fn first_macro_char(text: &[u8]) -> Option<usize> {
+fn first_macro_char(text: &[u8], syntax: Syntax) -> Option<usize> {
     let mut pos = 0;
     while let Some(&byte) = text.get(pos) {
         if byte == COMMENT_OPEN {
-            pos = comment_end(text, pos)?;
+            pos = comment_end(text, pos, syntax)?;
         } else if MACRO_CHARS.contains(&byte) {
             return Some(pos);
         } else {

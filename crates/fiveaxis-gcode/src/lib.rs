@@ -34,6 +34,9 @@
 //!   stray digit). A `/` anywhere else is an unexpected character.
 //! * Comments run from `(` to the first `)`; a `(` inside is plain text. A
 //!   comment ends the word before it: `X1(C)0` is `X1` then a stray `0`.
+//!   A control's dialect may read them otherwise ([`Syntax`],
+//!   [`parse_line_as`]): Haas counts nested parentheses, so `(A (B))` is
+//!   one comment.
 //! * Letters are case-insensitive; blanks (space, tab) may stand anywhere in
 //!   a word, so `G 1` is `G1` and `X1 .5` is `X1.5`.
 //! * Numbers are `[+|-] digits [. digits]` with at least one digit and at
@@ -58,7 +61,29 @@
 
 mod lexer;
 
-pub use lexer::{MAX_DIGITS, parse_line};
+pub use lexer::{MAX_DIGITS, parse_line, parse_line_as};
+
+/// The reading rules in which controls differ, as data: the front end's
+/// dialect. [`Syntax::FANUC`] is what [`parse_line`] reads.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub struct Syntax {
+    /// A `(` inside a comment opens a nested level, closed by its own `)`;
+    /// the comment ends at the `)` that balances the first `(` (Haas: the
+    /// NX post writes `(#508= (MILL_.25_PROFILE ))`). Off (FANUC): a `(`
+    /// inside a comment is text and the first `)` ends it.
+    pub nested_comments: bool,
+}
+
+impl Syntax {
+    /// FANUC tape format (also Mitsubishi and Mazak EIA/ISO).
+    pub const FANUC: Self = Self {
+        nested_comments: false,
+    };
+    /// The Haas control.
+    pub const HAAS: Self = Self {
+        nested_comments: true,
+    };
+}
 
 /// Columns of a piece of text inside its line: 1-based, `end` exclusive,
 /// counted in bytes.

@@ -72,6 +72,21 @@ pub enum Control {
     Mitsubishi,
     /// Mazak (Matrix / Smooth, EIA/ISO programs).
     Mazak,
+    /// Haas (classic and Next Generation control): FANUC-style G code with
+    /// Haas's reading rules (nested comments, dwell P in seconds with a
+    /// decimal point).
+    Haas,
+}
+
+/// The unit a program's lengths are read in until it gives G20 or G21
+/// (FANUC No.0000#2 INI; Haas Setting 9 "Dimensioning").
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum InputUnit {
+    /// Millimetres: power-on G21 (INI = 0, Setting 9 = MM).
+    #[default]
+    Millimetre,
+    /// Inches: power-on G20 (INI = 1, Setting 9 = INCH).
+    Inch,
 }
 
 /// A linear axis: a name and its soft limits in machine coordinates.
@@ -148,7 +163,7 @@ impl RotaryChoice {
     /// otherwise.
     pub fn default_for(control: Control) -> Self {
         match control {
-            Control::Fanuc30i | Control::Fanuc16 => RotaryChoice::Shortest,
+            Control::Fanuc30i | Control::Fanuc16 | Control::Haas => RotaryChoice::Shortest,
             Control::Mitsubishi => RotaryChoice::RotatingAxis,
             Control::Mazak => RotaryChoice::KeepTiltSign,
         }
@@ -173,6 +188,9 @@ pub struct Parameters {
     /// Least input increment in mm (IS-B: 0.001); inch programs use a
     /// tenth of it in inches.
     pub least_input_increment: f64,
+    /// The input unit at power-on and after reset, until the program gives
+    /// G20 or G21 (FANUC No.0000#2 INI; Haas Setting 9).
+    pub input_unit: InputUnit,
     /// Tool posture control (FANUC 19604#0 TPC): between block ends the
     /// tool vector turns on the great circle instead of the rotary axes
     /// moving linearly; G43.4 / G43.5 P1 turns it on for one mode.
@@ -204,6 +222,7 @@ impl Default for Parameters {
             reference_2: [0.0; MAX_AXES],
             decimal_point_input: false,
             least_input_increment: 0.001,
+            input_unit: InputUnit::Millimetre,
             tool_posture_control: false,
             rotary_choice: RotaryChoice::Shortest,
             singular_zone: 0.0,

@@ -28,7 +28,9 @@
 //!   (G17 +X, G18 +Z, G19 +Y).
 //! * G87 always returns to the initial level (its R point is below the
 //!   work); G88's manual retraction is taken as a rapid move to the R
-//!   point (then to the initial level in G98).
+//!   point (then to the initial level in G98). On Haas G87 is "bore in,
+//!   manual retract" ([`crate::dialect::Dialect::g87_manual_retract`]): G88
+//!   without the dwell.
 //! * Z and R are needed by the first block that drills after the cycle mode
 //!   begins (FX0130); G80 and group-01 codes clear Z, R, Q and P.
 //! * A block drills when it has an axis word or R (a block with only F, Q,
@@ -273,7 +275,9 @@ impl Controller<'_> {
             self.state.cycle.q = self.length(&word).abs();
         }
         if let Some(word) = self.words.take(b'P') {
-            self.state.cycle.p = self.words.integer(&word, 99_999_999)?;
+            self.state.cycle.p = self
+                .words
+                .dwell_ms(&word, self.dialect.dwell_p_seconds_with_point)?;
         }
         let repeats = match self.words.take(b'K').or_else(|| self.words.take(b'L')) {
             Some(word) => self.words.integer(&word, MAX_REPEATS)?,
@@ -345,7 +349,7 @@ impl Controller<'_> {
             }
             hole = end_p;
             cur = self.hole(cycle, &levels, pecks, &hole, cur, out)?;
-            hole[n] = if cycle == Cycle::G87 {
+            hole[n] = if cycle == Cycle::G87 && !self.dialect.g87_manual_retract {
                 levels.initial
             } else {
                 levels.back
@@ -443,7 +447,8 @@ impl Controller<'_> {
                 level
             }
         };
-        if cycle == Cycle::G87 {
+        let back_boring = cycle == Cycle::G87 && !self.dialect.g87_manual_retract;
+        if back_boring {
             let level = hole[n];
             go(rapid, level, true, out)?;
             go(rapid, lv.r, true, out)?;
@@ -486,7 +491,8 @@ impl Controller<'_> {
                 go(feed, lv.r, false, out)?;
                 go(rapid, lv.back, false, out)?;
             }
-            Cycle::G88 => {
+            // Haas's G87 is G88 without the dwell (bore in, manual retract).
+            Cycle::G88 | Cycle::G87 => {
                 go(feed, lv.bottom, false, out)?;
                 go(rapid, lv.r, false, out)?;
                 go(rapid, lv.back, false, out)?;
@@ -497,7 +503,6 @@ impl Controller<'_> {
                 go(rapid, lv.back, true, out)?;
                 go(rapid, lv.back, false, out)?;
             }
-            Cycle::G87 => {}
         }
         Ok(cur)
     }

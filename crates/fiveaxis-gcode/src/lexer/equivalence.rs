@@ -27,7 +27,7 @@ mod reference {
         read_block(text, block).map_err(|error| {
             block.clear();
             block.line = line;
-            macro_line_error(text, error)
+            macro_line_error(text, Syntax::FANUC, error)
         })
     }
 
@@ -50,7 +50,7 @@ mod reference {
                 return Ok(());
             };
             pos = if byte == COMMENT_OPEN {
-                skip_comment(text, pos)?
+                skip_comment(text, pos, Syntax::FANUC)?
             } else if byte.is_ascii_alphabetic() {
                 read_word(text, pos, block)?
             } else {

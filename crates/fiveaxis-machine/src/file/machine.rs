@@ -8,8 +8,9 @@ use toml::Spanned;
 
 use super::{FileError, Source, in_file_order};
 use crate::{
-    Control, Joints, LinearAxis, MAX_AXES, MAX_M_CODE, MCodes, MFunction, Machine, MachineType,
-    Parameters, ProgrammingFrame, RESERVED_M_CODES, RotaryAxis, RotaryChoice, Side, Vec3,
+    Control, InputUnit, Joints, LinearAxis, MAX_AXES, MAX_M_CODE, MCodes, MFunction, Machine,
+    MachineType, Parameters, ProgrammingFrame, RESERVED_M_CODES, RotaryAxis, RotaryChoice, Side,
+    Vec3,
 };
 
 /// The linear axes that must come first, in this order.
@@ -59,6 +60,7 @@ enum RawControl {
     Fanuc16,
     Mitsubishi,
     Mazak,
+    Haas,
 }
 
 #[derive(Clone, Copy, Deserialize)]
@@ -130,12 +132,29 @@ struct RawParameters {
     reference_2: RawPositions,
     decimal_point_input: Option<bool>,
     least_input_increment: Option<Spanned<f64>>,
+    input_unit: Option<RawInputUnit>,
     tool_posture_control: Option<bool>,
     rotary_choice: Option<RawChoice>,
     singular_zone: Option<Spanned<f64>>,
     tool_comp_3d_denominator: Option<Spanned<f64>>,
     cutter_startup: Option<RawStartup>,
     setup_error_choice: Option<RawSetupChoice>,
+}
+
+#[derive(Clone, Copy, Deserialize)]
+#[serde(rename_all = "lowercase")]
+enum RawInputUnit {
+    Mm,
+    Inch,
+}
+
+impl From<RawInputUnit> for InputUnit {
+    fn from(raw: RawInputUnit) -> Self {
+        match raw {
+            RawInputUnit::Mm => InputUnit::Millimetre,
+            RawInputUnit::Inch => InputUnit::Inch,
+        }
+    }
 }
 
 #[derive(Clone, Copy, Deserialize)]
@@ -194,6 +213,7 @@ impl From<RawControl> for Control {
             RawControl::Fanuc16 => Control::Fanuc16,
             RawControl::Mitsubishi => Control::Mitsubishi,
             RawControl::Mazak => Control::Mazak,
+            RawControl::Haas => Control::Haas,
         }
     }
 }
@@ -464,6 +484,7 @@ fn parameters(
             Some(v) => increment(src, v)?,
             None => defaults.least_input_increment,
         },
+        input_unit: raw.input_unit.map_or(defaults.input_unit, InputUnit::from),
         tool_posture_control: raw
             .tool_posture_control
             .unwrap_or(defaults.tool_posture_control),

@@ -7,8 +7,8 @@ use std::collections::BTreeSet;
 use std::fmt::Write as _;
 
 use crate::{
-    Control, Joints, LinearAxis, Machine, MachineType, ProgrammingFrame, RotaryAxis, RotaryChoice,
-    Side, Vec3,
+    Control, InputUnit, Joints, LinearAxis, Machine, MachineType, ProgrammingFrame, RotaryAxis,
+    RotaryChoice, Side, Vec3,
 };
 
 /// Column at which trailing comments start, when the line is short enough.
@@ -30,7 +30,7 @@ impl Machine {
         w.key(
             "control",
             &quote(control_name(self.control)),
-            "\"fanuc30i\", \"fanuc16\", \"mitsubishi\" or \"mazak\"",
+            "\"fanuc30i\", \"fanuc16\", \"mitsubishi\", \"mazak\" or \"haas\"",
         );
         w.key(
             "tool_direction",
@@ -88,6 +88,14 @@ impl Machine {
             "least_input_increment",
             &number(p.least_input_increment),
             "mm per unit of a number without a decimal point",
+        );
+        w.key(
+            "input_unit",
+            &quote(match p.input_unit {
+                InputUnit::Millimetre => "mm",
+                InputUnit::Inch => "inch",
+            }),
+            "unit until G20/G21: \"mm\" or \"inch\" (FANUC 0000#2 INI, Haas Setting 9)",
         );
         w.key(
             "tool_posture_control",
@@ -273,5 +281,6 @@ fn control_name(c: Control) -> &'static str {
         Control::Fanuc16 => "fanuc16",
         Control::Mitsubishi => "mitsubishi",
         Control::Mazak => "mazak",
+        Control::Haas => "haas",
     }
 }
