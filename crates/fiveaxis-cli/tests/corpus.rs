@@ -331,6 +331,21 @@ const FANUC_FAMILY: &[Conformance] = &[
         positions: &[],
     },
     Conformance {
+        program: "fanuc_nx_nmv5000_mm.nc",
+        machine: "nmv5000.toml",
+        offsets: "nmv5000-offsets.toml",
+        edits: &[Edit {
+            line: 630,
+            was: "G99 G83 Z-3. R3. F250. Q0.0",
+            now: "G99 G83 Z-3. R3. F250. Q1.",
+            why: "the post writes a peck depth of zero, with which a FANUC control \
+                  stops (PS0045, the case above): the operator enters the peck the \
+                  operation needs, 1 mm for the 6 mm from R to the bottom",
+        }],
+        stop: None,
+        positions: &[],
+    },
+    Conformance {
         program: "haas_nx_vf2tr_5T.nc",
         machine: "haas-vf2tr.toml",
         offsets: "haas-vf2tr-offsets.toml",
