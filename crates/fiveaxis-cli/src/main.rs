@@ -390,6 +390,7 @@ fn run(args: &RunArgs) -> Result<u8, InputError> {
         }),
         max_blocks: args.max_blocks,
         optional_stop: args.optional_stop,
+        lift_soft_limits: false,
     };
     let mut runner = Runner::new(&machine, offsets, source, options);
     if let Some(dir) = &args.programs {
