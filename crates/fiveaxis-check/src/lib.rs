@@ -293,10 +293,15 @@ impl<'m> Checker<'m> {
             || matches!(&seg.path, Path::Via(mid) if rotary.clone().any(|i| mid[i] != seg.start[i]))
             || matches!(&seg.path, Path::Tcpc(t) if t.posture.is_some());
         if turns {
-            self.singular_passage(seg);
-            self.rotary_flip(seg);
-            if seg.motion != Motion::Rapid && !matches!(seg.path, Path::Tcpc(_)) {
-                self.chord_error(seg);
+            // Positioning moves cut nothing: they are where a program
+            // turns its rotary axes, and how the tool passes the singular
+            // direction or leaves the chord there does not matter.
+            if seg.motion != Motion::Rapid {
+                self.rotary_flip(seg);
+                self.singular_passage(seg);
+                if !matches!(seg.path, Path::Tcpc(_)) {
+                    self.chord_error(seg);
+                }
             }
         }
     }
