@@ -451,12 +451,11 @@ fn axis_line(t: &mut String, axis: &fiveaxis_check::AxisRange) {
     let style = if over_lo || over_hi { RED } else { Style::new() };
     let _ = writeln!(
         t,
-        "    {}  {range}  {:>9} {}{style}{bar}{style:#}{} {:<9}",
+        "    {}  {range}  {:>9} {}{style}{bar}{style:#}{} {hi}",
         axis.name,
         format!("{lo}"),
         mark(over_lo),
         mark(over_hi),
-        format!("{hi}"),
     );
 }
 
