@@ -15,8 +15,8 @@
 //! the block exceeds it by more than the tolerance. The bound shrinks with
 //! the square of the piece, so a few dozen evaluations settle a block.
 
-use fiveaxis_machine::{Vec3, rotation};
 use fiveaxis_control::TipPath;
+use fiveaxis_machine::{Vec3, rotation};
 use nalgebra::Unit;
 
 /// How far the true maximum may lie above the value [`maximize`] returns

@@ -269,7 +269,14 @@ impl<'m> Checker<'m> {
         }
     }
 
-    fn push(&mut self, kind: Kind, line: u32, axis: Option<char>, value: Option<f64>, message: String) {
+    fn push(
+        &mut self,
+        kind: Kind,
+        line: u32,
+        axis: Option<char>,
+        value: Option<f64>,
+        message: String,
+    ) {
         self.findings.push(Finding {
             kind,
             line,
@@ -313,7 +320,12 @@ impl<'m> Checker<'m> {
             let limits = self.limits[i];
             for (side, sign) in [(0, -1.0), (1, 1.0)] {
                 // Signed: the highest of `sign · position`.
-                let reached = sign * if side == 1 { self.range[i].1 } else { self.range[i].0 };
+                let reached = sign
+                    * if side == 1 {
+                        self.range[i].1
+                    } else {
+                        self.range[i].0
+                    };
                 let limit = limits.map(|(lo, hi)| sign * if side == 1 { hi } else { lo });
                 let floor = limit.map_or(reached, |l| reached.min(l + LIMIT_TOLERANCE));
                 let found = axis_max(machine, seg, i, sign, floor);
@@ -360,7 +372,11 @@ impl<'m> Checker<'m> {
         };
         let name = self.machine.axis_names().nth(i).unwrap_or('?');
         let (sign, limit) = if side == 1 { ('+', hi) } else { ('-', lo) };
-        let unit = if i < self.machine.linear.len() { "mm" } else { "deg" };
+        let unit = if i < self.machine.linear.len() {
+            "mm"
+        } else {
+            "deg"
+        };
         let message = format!(
             "{name}{sign} over-travel: {name} reaches {} beyond the soft limit {limit} ({} {unit} too far)",
             round6(run.farthest),
@@ -389,34 +405,53 @@ impl<'m> Checker<'m> {
                 let vmax = if axis < machine.linear.len() {
                     machine.linear[axis].dynamics.max_velocity
                 } else {
-                    machine.rotary[axis - machine.linear.len()].dynamics.max_velocity
+                    machine.rotary[axis - machine.linear.len()]
+                        .dynamics
+                        .max_velocity
                 };
-                let unit = if axis < machine.linear.len() { "mm/min" } else { "deg/min" };
+                let unit = if axis < machine.linear.len() {
+                    "mm/min"
+                } else {
+                    "deg/min"
+                };
                 let message = format!(
                     "F{} needs {name} faster than its {} {unit}: the tip moves at {} mm/min at most",
                     round3(feed),
                     round3(vmax),
                     round3(allowed)
                 );
-                self.push(Kind::FeedLimited, seg.line, Some(name), Some(allowed), message);
+                self.push(
+                    Kind::FeedLimited,
+                    seg.line,
+                    Some(name),
+                    Some(allowed),
+                    message,
+                );
             }
         }
     }
 
     fn singular_passage(&mut self, seg: &Segment) {
-        let Some(singular) = self.singular else { return };
+        let Some(singular) = self.singular else {
+            return;
+        };
         let machine = self.machine;
         let angle = match &seg.path {
-            Path::Tcpc(t) if t.posture.is_some() => {
-                t.posture.as_deref().map_or(90.0, |p| singular.smallest_on_posture(p))
-            }
+            Path::Tcpc(t) if t.posture.is_some() => t
+                .posture
+                .as_deref()
+                .map_or(90.0, |p| singular.smallest_on_posture(p)),
             Path::Via(mid) => {
                 let tilt = singular.tilt();
                 let first = singular.smallest_on_tilt(machine, &seg.start, mid[tilt]).0;
                 let second = singular.smallest_on_tilt(machine, mid, seg.end[tilt]).0;
                 first.min(second)
             }
-            _ => singular.smallest_on_tilt(machine, &seg.start, seg.end[singular.tilt()]).0,
+            _ => {
+                singular
+                    .smallest_on_tilt(machine, &seg.start, seg.end[singular.tilt()])
+                    .0
+            }
         };
         let cone = machine.params.singular_cone;
         if angle <= cone {
@@ -439,7 +474,13 @@ impl<'m> Checker<'m> {
                     axis.name,
                     round6(turn)
                 );
-                self.push(Kind::RotaryFlip, seg.line, Some(axis.name), Some(turn), message);
+                self.push(
+                    Kind::RotaryFlip,
+                    seg.line,
+                    Some(axis.name),
+                    Some(turn),
+                    message,
+                );
             }
         }
     }

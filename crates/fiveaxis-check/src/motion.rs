@@ -176,7 +176,11 @@ fn peak_abs_trig(k: usize, theta0: f64, sweep: f64) -> f64 {
     let f = |t: f64| if k == 0 { t.sin().abs() } else { t.cos().abs() };
     let (from, to) = (theta0.min(theta0 + sweep), theta0.max(theta0 + sweep));
     // |sin| peaks at π/2 + nπ, |cos| at nπ.
-    let offset = if k == 0 { 0.5 * std::f64::consts::PI } else { 0.0 };
+    let offset = if k == 0 {
+        0.5 * std::f64::consts::PI
+    } else {
+        0.0
+    };
     let pi = std::f64::consts::PI;
     let first = offset + ((from - offset) / pi).ceil() * pi;
     if first <= to { 1.0 } else { f(from).max(f(to)) }

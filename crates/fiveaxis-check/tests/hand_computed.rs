@@ -10,7 +10,12 @@ fn check(machine: &Machine, offsets: &str, program: &str) -> Report {
         ..RunOptions::default()
     };
     let offsets = Offsets::from_toml(offsets).expect("offsets");
-    let mut runner = Runner::new(machine, offsets, SliceSource::new(program.as_bytes()), options);
+    let mut runner = Runner::new(
+        machine,
+        offsets,
+        SliceSource::new(program.as_bytes()),
+        options,
+    );
     let mut checker = Checker::new(machine);
     loop {
         match runner.next_segment() {
@@ -67,7 +72,12 @@ fn a_g43_5_path_passes_near_the_singular_direction_on_each_machine_type() {
         "G21 G90 G94\nG43.5 H1 X0 Y0 Z50.\nG1 X0 I{i:.15} J{:.15} K{k:.15} F500.\nG1 X10. I{i:.15} J{j:.15} K{k:.15}\nG49\nM30\n",
         -j
     );
-    for name in ["trunnion-ac", "trunnion-bc", "head-table-bc", "head-head-ca"] {
+    for name in [
+        "trunnion-ac",
+        "trunnion-bc",
+        "head-table-bc",
+        "head-head-ca",
+    ] {
         let mut machine = builtin(name).expect("built in");
         machine.params.tool_posture_control = true;
         let report = check(&machine, "[tools]\n1 = { length = 100.0 }\n", &program);
@@ -82,7 +92,10 @@ fn a_g43_5_path_passes_near_the_singular_direction_on_each_machine_type() {
         assert_eq!((found[0].0, found[1].0), (3, 4), "{name}");
         assert!(found[0].1 < 1e-9, "{name}");
         let value = found[1].1;
-        assert!((value - expected).abs() < 1e-7, "{name}: {value} vs {expected}");
+        assert!(
+            (value - expected).abs() < 1e-7,
+            "{name}: {value} vs {expected}"
+        );
     }
 }
 
@@ -93,7 +106,11 @@ fn a_table_c_turn_moves_the_tip_off_the_chord_by_the_sagitta() {
     // the C line in the table frame. Largest distance from the chord: the
     // sagitta 100·(1 − cos 45°).
     let machine = builtin("trunnion-ac").expect("built in");
-    let report = check(&machine, "", "G21 G90 G94\nG0 X100. Y0 Z0 A0 C0\nG1 C90. F1000.\nM30\n");
+    let report = check(
+        &machine,
+        "",
+        "G21 G90 G94\nG0 X100. Y0 Z0 A0 C0\nG1 C90. F1000.\nM30\n",
+    );
     let (line, value, _) = only(&report, Kind::ChordError);
     let sagitta = 100.0 * (1.0 - 45f64.to_radians().cos());
     assert_eq!(line, 3);
@@ -106,14 +123,22 @@ fn a_feed_the_c_axis_cannot_follow() {
     // the block takes 100·√2/20000 min and C needs 90/that deg/min, more
     // than its 7200. The tip feed C allows: 7200·100·√2/90 = 8000·√2.
     let machine = builtin("trunnion-ac").expect("built in");
-    let report = check(&machine, "", "G21 G90 G94\nG0 X100. Y0 Z0 A0 C0\nG1 C90. F20000.\nM30\n");
+    let report = check(
+        &machine,
+        "",
+        "G21 G90 G94\nG0 X100. Y0 Z0 A0 C0\nG1 C90. F20000.\nM30\n",
+    );
     let (line, value, axis) = only(&report, Kind::FeedLimited);
     assert_eq!((line, axis), (3, Some('C')));
     assert!((value - 8000.0 * 2f64.sqrt()).abs() < 1e-6, "{value}");
     // Programmed time: the rapid X100 at 30000 mm/min (0.2 s), then the
     // chord at F20000.
     let expected = 0.2 + 100.0 * 2f64.sqrt() / 20000.0 * 60.0;
-    assert!((report.time.programmed - expected).abs() < 1e-9, "{}", report.time.programmed);
+    assert!(
+        (report.time.programmed - expected).abs() < 1e-9,
+        "{}",
+        report.time.programmed
+    );
     assert_eq!(report.time.estimated, report.time.programmed);
 }
 
@@ -122,5 +147,9 @@ fn inverse_time_feed_takes_one_over_f_minutes() {
     let machine = builtin("trunnion-ac").expect("built in");
     let report = check(&machine, "", "G21 G90 G93\nG1 X30. Y40. F2.\nM30\n");
     // 1/2 min, whatever the length.
-    assert!((report.time.programmed - 30.0).abs() < 1e-9, "{}", report.time.programmed);
+    assert!(
+        (report.time.programmed - 30.0).abs() < 1e-9,
+        "{}",
+        report.time.programmed
+    );
 }

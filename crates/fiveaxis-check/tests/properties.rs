@@ -7,8 +7,8 @@ use fiveaxis_check::{Checker, Ending, Kind, Report};
 use fiveaxis_control::{Motion, RunError, RunOptions, Runner, Segment, SliceSource};
 use fiveaxis_machine::{Machine, Offsets, Vec3, builtin};
 use proptest::prelude::*;
-use std::sync::atomic::{AtomicUsize, Ordering};
 use proptest::test_runner::{Config, RngSeed, TestRunner};
+use std::sync::atomic::{AtomicUsize, Ordering};
 
 fn config(cases: u32) -> Config {
     Config {
@@ -19,7 +19,11 @@ fn config(cases: u32) -> Config {
     }
 }
 
-fn check<S: Strategy>(cases: u32, strategy: S, test: impl Fn(S::Value) -> Result<(), TestCaseError>) {
+fn check<S: Strategy>(
+    cases: u32,
+    strategy: S,
+    test: impl Fn(S::Value) -> Result<(), TestCaseError>,
+) {
     let mut runner = TestRunner::new(config(cases));
     if let Err(e) = runner.run(&strategy, test) {
         panic!("{e}");
@@ -38,7 +42,12 @@ fn run(machine: &Machine, program: &str) -> (Vec<Segment>, Report) {
         lift_soft_limits: true,
         ..RunOptions::default()
     };
-    let mut runner = Runner::new(machine, offsets(), SliceSource::new(program.as_bytes()), options);
+    let mut runner = Runner::new(
+        machine,
+        offsets(),
+        SliceSource::new(program.as_bytes()),
+        options,
+    );
     let mut checker = Checker::new(machine);
     let mut segments = Vec::new();
     let alarm = loop {
@@ -99,10 +108,18 @@ fn singular_line(machine: &Machine) -> Vec3 {
 fn singular_angle(machine: &Machine, seg: &Segment, s: f64) -> f64 {
     let dir = machine.forward(&seg.eval(machine, s), seg.tool_length).dir;
     let line = singular_line(machine);
-    line.cross(&dir).norm().atan2(line.dot(&dir).abs()).to_degrees()
+    line.cross(&dir)
+        .norm()
+        .atan2(line.dot(&dir).abs())
+        .to_degrees()
 }
 
-const FIVE_AXIS: [&str; 4] = ["trunnion-ac", "trunnion-bc", "head-table-bc", "head-head-ca"];
+const FIVE_AXIS: [&str; 4] = [
+    "trunnion-ac",
+    "trunnion-bc",
+    "head-table-bc",
+    "head-head-ca",
+];
 
 /// Random TCPC type 1 blocks (`G43.4`, rotary words) swinging the tilt
 /// axis across the singular direction, or type 2 (`G43.5`, tool vectors)
@@ -171,7 +188,11 @@ fn singular_passages_are_real_and_none_is_missed() {
                 SINGULAR_SEEN.fetch_add(1, Ordering::Relaxed);
                 let v = f.value.expect("value");
                 // Reached: the sampled minimum is the same angle.
-                prop_assert!((sampled - v).abs() <= 1e-6, "line {}: reported {v}, sampled {sampled}\n{program}", seg.line);
+                prop_assert!(
+                    (sampled - v).abs() <= 1e-6,
+                    "line {}: reported {v}, sampled {sampled}\n{program}",
+                    seg.line
+                );
             } else if rotary_moves
                 || matches!(&seg.path, fiveaxis_control::Path::Tcpc(t) if t.posture.is_some())
             {
@@ -184,7 +205,10 @@ fn singular_passages_are_real_and_none_is_missed() {
         }
         Ok(())
     });
-    assert!(SINGULAR_SEEN.load(Ordering::Relaxed) >= 10, "too few passages to judge");
+    assert!(
+        SINGULAR_SEEN.load(Ordering::Relaxed) >= 10,
+        "too few passages to judge"
+    );
 }
 
 static SINGULAR_SEEN: AtomicUsize = AtomicUsize::new(0);
@@ -226,24 +250,48 @@ fn overtravel_runs_are_real_and_none_is_missed() {
             let reported: Vec<(u32, f64)> = report
                 .findings
                 .iter()
-                .filter(|f| f.kind == Kind::Overtravel && f.axis == Some(name) && f.value.is_some_and(|v| v > 0.0))
+                .filter(|f| {
+                    f.kind == Kind::Overtravel
+                        && f.axis == Some(name)
+                        && f.value.is_some_and(|v| v > 0.0)
+                })
                 .map(|f| (f.line, f.value.unwrap_or(0.0)))
                 .collect();
-            prop_assert_eq!(reported.len(), runs.len(), "{} runs {:?} vs {:?}\n{}", name, reported, runs, program);
+            prop_assert_eq!(
+                reported.len(),
+                runs.len(),
+                "{} runs {:?} vs {:?}\n{}",
+                name,
+                reported,
+                runs,
+                program
+            );
             OVERTRAVEL_SEEN.fetch_add(reported.len(), Ordering::Relaxed);
             for ((line, value), (l, top)) in reported.iter().zip(&runs) {
                 prop_assert_eq!(line, l);
-                prop_assert!((value - top).abs() <= 1e-6, "{name} line {line}: reported {value}, sampled {top}\n{program}");
+                prop_assert!(
+                    (value - top).abs() <= 1e-6,
+                    "{name} line {line}: reported {value}, sampled {top}\n{program}"
+                );
             }
         }
         Ok(())
     });
-    assert!(OVERTRAVEL_SEEN.load(Ordering::Relaxed) >= 10, "too few over-travels to judge");
+    assert!(
+        OVERTRAVEL_SEEN.load(Ordering::Relaxed) >= 10,
+        "too few over-travels to judge"
+    );
 }
 
 /// Random machine-axis feed moves turning the rotary axes.
 fn machine_axis_program() -> impl Strategy<Value = (usize, String)> {
-    let block = (-50.0..50.0f64, -50.0..50.0f64, 0.0..50.0f64, -40.0..0.0f64, -60.0..60.0f64);
+    let block = (
+        -50.0..50.0f64,
+        -50.0..50.0f64,
+        0.0..50.0f64,
+        -40.0..0.0f64,
+        -60.0..60.0f64,
+    );
     (0..FIVE_AXIS.len(), proptest::collection::vec(block, 1..5)).prop_map(|(m, blocks)| {
         let machine = builtin(FIVE_AXIS[m]).expect("built in");
         let names: Vec<char> = machine.rotary.iter().map(|r| r.name).collect();
@@ -282,12 +330,23 @@ fn chord_errors_are_real_and_none_is_missed() {
                 Some(f) => {
                     CHORD_SEEN.fetch_add(1, Ordering::Relaxed);
                     let v = f.value.expect("value");
-                    prop_assert!((sampled - v).abs() <= 1e-6, "line {}: reported {v}, sampled {sampled}", seg.line);
+                    prop_assert!(
+                        (sampled - v).abs() <= 1e-6,
+                        "line {}: reported {v}, sampled {sampled}",
+                        seg.line
+                    );
                 }
-                None => prop_assert!(sampled <= tolerance + 1e-6, "line {}: missed {sampled} mm", seg.line),
+                None => prop_assert!(
+                    sampled <= tolerance + 1e-6,
+                    "line {}: missed {sampled} mm",
+                    seg.line
+                ),
             }
         }
         Ok(())
     });
-    assert!(CHORD_SEEN.load(Ordering::Relaxed) >= 10, "too few chord errors to judge");
+    assert!(
+        CHORD_SEEN.load(Ordering::Relaxed) >= 10,
+        "too few chord errors to judge"
+    );
 }

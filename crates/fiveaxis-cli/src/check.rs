@@ -114,7 +114,14 @@ pub fn check(args: &CheckArgs) -> Result<u8, InputError> {
         .programs
         .par_iter()
         .map(|program| {
-            let outcome = check_one(args, program, &machine, &offsets, variables.as_deref(), &progress);
+            let outcome = check_one(
+                args,
+                program,
+                &machine,
+                &offsets,
+                variables.as_deref(),
+                &progress,
+            );
             progress.program_done();
             outcome
         })
@@ -237,7 +244,8 @@ struct Progress {
 
 impl Progress {
     fn new(programs: usize) -> Self {
-        let bar = ProgressBar::with_draw_target(Some(programs as u64), ProgressDrawTarget::hidden());
+        let bar =
+            ProgressBar::with_draw_target(Some(programs as u64), ProgressDrawTarget::hidden());
         if let Ok(style) = ProgressStyle::with_template(
             "{spinner} checking [{bar:30}] {pos}/{len} programs, {msg} {elapsed}",
         ) {
@@ -284,7 +292,9 @@ fn number(x: f64) -> Value {
 pub fn json_line(program: &str, report: &Report) -> String {
     let mut axes = Map::new();
     for axis in &report.axes {
-        let (lo, hi) = axis.limits.map_or((Value::Null, Value::Null), |(lo, hi)| (number(lo), number(hi)));
+        let (lo, hi) = axis.limits.map_or((Value::Null, Value::Null), |(lo, hi)| {
+            (number(lo), number(hi))
+        });
         axes.insert(
             axis.name.to_string(),
             json!({"min": number(axis.min), "max": number(axis.max), "limit_min": lo, "limit_max": hi}),
@@ -308,9 +318,10 @@ pub fn json_line(program: &str, report: &Report) -> String {
             Value::Object(o)
         })
         .collect();
-    let alarm = report.alarm.as_ref().map_or(Value::Null, |a| {
-        json!({"code": a.code, "line": a.line, "message": a.message})
-    });
+    let alarm = report.alarm.as_ref().map_or(
+        Value::Null,
+        |a| json!({"code": a.code, "line": a.line, "message": a.message}),
+    );
     json!({
         "program": program,
         "machine": report.machine,
@@ -359,15 +370,27 @@ fn duration(seconds: f64) -> String {
 }
 
 fn plural(n: usize, word: &str) -> String {
-    if n == 1 { format!("1 {word}") } else { format!("{n} {word}s") }
+    if n == 1 {
+        format!("1 {word}")
+    } else {
+        format!("{n} {word}s")
+    }
 }
 
 /// A report for people: verdict, time, axis ranges as bars against their
 /// limits, findings grouped by kind with their lines and source text.
 fn text_report(t: &mut String, program: &str, report: &Report, source: &[u8]) {
     let (word, style) = verdict(report);
-    let errors = report.findings.iter().filter(|f| f.severity() == Severity::Error).count();
-    let warnings = report.findings.iter().filter(|f| f.severity() == Severity::Warning).count();
+    let errors = report
+        .findings
+        .iter()
+        .filter(|f| f.severity() == Severity::Error)
+        .count();
+    let warnings = report
+        .findings
+        .iter()
+        .filter(|f| f.severity() == Severity::Warning)
+        .count();
     let _ = writeln!(
         t,
         "{style}{word}{style:#}  {BOLD}{}{BOLD:#} on {}: {}, {}",
@@ -408,7 +431,11 @@ fn text_report(t: &mut String, program: &str, report: &Report, source: &[u8]) {
         if of_kind.is_empty() {
             continue;
         }
-        let style = if kind.severity() == Severity::Error { RED } else { YELLOW };
+        let style = if kind.severity() == Severity::Error {
+            RED
+        } else {
+            YELLOW
+        };
         let _ = writeln!(
             t,
             "  {style}{}{style:#} ({}, {})",
@@ -417,11 +444,21 @@ fn text_report(t: &mut String, program: &str, report: &Report, source: &[u8]) {
             of_kind.len()
         );
         for f in of_kind.iter().take(SHOWN_PER_KIND) {
-            let _ = writeln!(t, "    line {:<6} {}", f.line, diagnostic::escape(&f.message));
+            let _ = writeln!(
+                t,
+                "    line {:<6} {}",
+                f.line,
+                diagnostic::escape(&f.message)
+            );
             if let Some(text) = lines.get(f.line.saturating_sub(1) as usize) {
                 let text = String::from_utf8_lossy(text.strip_suffix(b"\r").unwrap_or(text));
                 let text: String = text.chars().take(100).collect();
-                let _ = writeln!(t, "    {DIM}{:>6} | {}{DIM:#}", f.line, diagnostic::escape(text.trim_end()));
+                let _ = writeln!(
+                    t,
+                    "    {DIM}{:>6} | {}{DIM:#}",
+                    f.line,
+                    diagnostic::escape(text.trim_end())
+                );
             }
         }
         if of_kind.len() > SHOWN_PER_KIND {
@@ -439,7 +476,11 @@ fn axis_line(t: &mut String, axis: &fiveaxis_check::AxisRange) {
         let _ = writeln!(t, "    {}  {range}  {DIM}(no limits){DIM:#}", axis.name);
         return;
     };
-    let cell = |x: f64| (((x - lo) / (hi - lo)) * BAR as f64).floor().clamp(0.0, BAR as f64 - 1.0) as usize;
+    let cell = |x: f64| {
+        (((x - lo) / (hi - lo)) * BAR as f64)
+            .floor()
+            .clamp(0.0, BAR as f64 - 1.0) as usize
+    };
     let (a, b) = (cell(axis.min), cell(axis.max));
     let mut bar = String::new();
     for k in 0..BAR {
@@ -447,8 +488,18 @@ fn axis_line(t: &mut String, axis: &fiveaxis_check::AxisRange) {
     }
     let over_lo = axis.min < lo - fiveaxis_check::LIMIT_TOLERANCE;
     let over_hi = axis.max > hi + fiveaxis_check::LIMIT_TOLERANCE;
-    let mark = |over: bool| if over { format!("{RED}!{RED:#}") } else { "|".into() };
-    let style = if over_lo || over_hi { RED } else { Style::new() };
+    let mark = |over: bool| {
+        if over {
+            format!("{RED}!{RED:#}")
+        } else {
+            "|".into()
+        }
+    };
+    let style = if over_lo || over_hi {
+        RED
+    } else {
+        Style::new()
+    };
     let _ = writeln!(
         t,
         "    {}  {range}  {:>9} {}{style}{bar}{style:#}{} {hi}",
@@ -461,7 +512,12 @@ fn axis_line(t: &mut String, axis: &fiveaxis_check::AxisRange) {
 
 /// The table after several programs.
 fn summary(t: &mut String, programs: &[String], outcomes: &[Outcome]) {
-    let width = programs.iter().map(|p| p.chars().count()).max().unwrap_or(7).clamp(7, 48);
+    let width = programs
+        .iter()
+        .map(|p| p.chars().count())
+        .max()
+        .unwrap_or(7)
+        .clamp(7, 48);
     let _ = writeln!(
         t,
         "{BOLD}{:<width$}  verdict  errors  warnings  time          blocks{BOLD:#}",
@@ -472,7 +528,8 @@ fn summary(t: &mut String, programs: &[String], outcomes: &[Outcome]) {
         match outcome {
             Ok((report, _)) => {
                 let (word, style) = verdict(report);
-                let count = |s: Severity| report.findings.iter().filter(|f| f.severity() == s).count();
+                let count =
+                    |s: Severity| report.findings.iter().filter(|f| f.severity() == s).count();
                 let _ = writeln!(
                     t,
                     "{name:<width$}  {style}{word:<7}{style:#}  {:>6}  {:>8}  {:<12}  {:>6}",
@@ -483,7 +540,11 @@ fn summary(t: &mut String, programs: &[String], outcomes: &[Outcome]) {
                 );
             }
             Err(_) => {
-                let _ = writeln!(t, "{name:<width$}  {RED}{:<7}{RED:#}  (could not be read)", "INPUT");
+                let _ = writeln!(
+                    t,
+                    "{name:<width$}  {RED}{:<7}{RED:#}  (could not be read)",
+                    "INPUT"
+                );
             }
         }
     }

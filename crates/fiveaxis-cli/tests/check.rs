@@ -40,13 +40,28 @@ const ALARM: &str = "G21\nG0 X1.\nG1 Q5.\nM30\n";
 #[test]
 fn json_has_the_contract_keys_in_program_order() {
     let dir = scratch(&[("clean.nc", CLEAN), ("over.nc", OVER), ("alarm.nc", ALARM)]);
-    let out = run(dir.path(), &["check", "over.nc", "clean.nc", "alarm.nc", "--format", "json"]);
-    assert_eq!(out.status.code(), Some(1), "{}", String::from_utf8_lossy(&out.stderr));
+    let out = run(
+        dir.path(),
+        &[
+            "check", "over.nc", "clean.nc", "alarm.nc", "--format", "json",
+        ],
+    );
+    assert_eq!(
+        out.status.code(),
+        Some(1),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let objects = json_lines(&out);
-    let programs: Vec<&str> = objects.iter().map(|o| o["program"].as_str().unwrap_or("")).collect();
+    let programs: Vec<&str> = objects
+        .iter()
+        .map(|o| o["program"].as_str().unwrap_or(""))
+        .collect();
     assert_eq!(programs, ["over.nc", "clean.nc", "alarm.nc"]);
     for o in &objects {
-        for key in ["program", "machine", "ended", "alarm", "blocks", "time", "axes", "findings"] {
+        for key in [
+            "program", "machine", "ended", "alarm", "blocks", "time", "axes", "findings",
+        ] {
             assert!(o.get(key).is_some(), "{key} missing in {o}");
         }
         assert!(o["time"]["programmed"].is_number() && o["time"]["estimated"].is_number());
@@ -74,7 +89,10 @@ fn json_has_the_contract_keys_in_program_order() {
             assert_eq!(f["kind"], "overtravel");
             assert_eq!(f["severity"], "error");
             assert_eq!(f["axis"], "X");
-            (f["line"].as_u64().unwrap_or(0), f["value"].as_f64().unwrap_or(0.0))
+            (
+                f["line"].as_u64().unwrap_or(0),
+                f["value"].as_f64().unwrap_or(0.0),
+            )
         })
         .collect();
     assert_eq!(over, [(2, 520.0), (6, 505.0)]);
@@ -94,11 +112,17 @@ fn exit_status_follows_fail_on() {
     let status = |args: &[&str]| run(dir.path(), args).status.code();
     assert_eq!(status(&["check", "clean.nc"]), Some(0));
     assert_eq!(status(&["check", "feed.nc"]), Some(0));
-    assert_eq!(status(&["check", "feed.nc", "--fail-on", "warning"]), Some(1));
+    assert_eq!(
+        status(&["check", "feed.nc", "--fail-on", "warning"]),
+        Some(1)
+    );
     assert_eq!(status(&["check", "over.nc"]), Some(1));
     assert_eq!(status(&["check", "over.nc", "--fail-on", "never"]), Some(0));
     assert_eq!(status(&["check", "clean.nc", "missing.nc"]), Some(2));
-    assert_eq!(status(&["check", "clean.nc", "--machine", "no-such-machine"]), Some(2));
+    assert_eq!(
+        status(&["check", "clean.nc", "--machine", "no-such-machine"]),
+        Some(2)
+    );
 }
 
 #[test]
@@ -109,7 +133,14 @@ fn golden_text_and_json_reports_of_the_examples() {
         ("examples/tcpc-vector.nc", "head-table-bc"),
         ("examples/tilted-holes.nc", "trunnion-ac"),
     ] {
-        let args = ["check", program, "--machine", machine, "--offsets", "examples/offsets.toml"];
+        let args = [
+            "check",
+            program,
+            "--machine",
+            machine,
+            "--offsets",
+            "examples/offsets.toml",
+        ];
         let text = run(&root, &args);
         let mut json_args = args.to_vec();
         json_args.extend(["--format", "json"]);

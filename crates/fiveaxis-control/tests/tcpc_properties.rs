@@ -43,8 +43,8 @@ use std::sync::OnceLock;
 use common::{Outcome, check, run};
 use fiveaxis_control::{Condition, Path, RunError, RunOptions, Runner, Segment, SliceSource};
 use fiveaxis_machine::{
-    Control, Dynamics, Joints, LinearAxis, MAX_AXES, MCodes, Machine, Offsets, Parameters, ProgrammingFrame,
-    RotaryAxis, RotaryChoice, Side, ToolOffset, Vec3, builtin, principal,
+    Control, Dynamics, Joints, LinearAxis, MAX_AXES, MCodes, Machine, Offsets, Parameters,
+    ProgrammingFrame, RotaryAxis, RotaryChoice, Side, ToolOffset, Vec3, builtin, principal,
 };
 use machine_gen::{direction, point};
 use nalgebra::{IsometryMatrix3, Unit};

@@ -3,8 +3,8 @@
 #![allow(dead_code)]
 
 use fiveaxis_machine::{
-    Control, Dynamics, Joints, LinearAxis, MAX_AXES, MAX_M_CODE, MCodes, MFunction, Machine, Parameters,
-    ProgrammingFrame, RESERVED_M_CODES, RotaryAxis, RotaryChoice, Side, Vec3,
+    Control, Dynamics, Joints, LinearAxis, MAX_AXES, MAX_M_CODE, MCodes, MFunction, Machine,
+    Parameters, ProgrammingFrame, RESERVED_M_CODES, RotaryAxis, RotaryChoice, Side, Vec3,
 };
 use nalgebra::Unit;
 use proptest::prelude::*;

@@ -643,18 +643,27 @@ fn dynamics_must_be_positive_and_bounded() {
         ("max_jerk", "1e12", "at most"),
         ("max_velocity", "nan", "finite"),
     ] {
-        let text = file(
-            "type = \"table\"\n",
-            &format!("{TABLE_C}{key} = {value}\n"),
+        let text = file("type = \"table\"\n", &format!("{TABLE_C}{key} = {value}\n"));
+        assert_error(
+            &fail(&text),
+            &text,
+            &format!("{key} = ^{value}"),
+            Some(key),
+            says,
         );
-        assert_error(&fail(&text), &text, &format!("{key} = ^{value}"), Some(key), says);
     }
 }
 
 #[test]
 fn dynamics_keys_are_known_by_name() {
     let text = file("type = \"table\"\n", &format!("{TABLE_C}max_speed = 1.0\n"));
-    assert_error(&fail(&text), &text, "max_speed", Some("max_speed"), "unknown field");
+    assert_error(
+        &fail(&text),
+        &text,
+        "max_speed",
+        Some("max_speed"),
+        "unknown field",
+    );
 }
 
 #[test]
@@ -669,6 +678,12 @@ fn check_parameters_are_bounded() {
             "type = \"none\"\n",
             &format!("[parameters]\n{key} = {value}\n"),
         );
-        assert_error(&fail(&text), &text, &format!("{key} = ^{value}"), Some(key), says);
+        assert_error(
+            &fail(&text),
+            &text,
+            &format!("{key} = ^{value}"),
+            Some(key),
+            says,
+        );
     }
 }

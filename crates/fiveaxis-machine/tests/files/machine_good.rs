@@ -343,11 +343,21 @@ fn builtin_machines_have_their_own_dynamics_and_write_them_back() {
     for name in builtin_names() {
         let m = builtin(name).expect("built in");
         for axis in &m.linear {
-            assert_ne!(axis.dynamics, Dynamics::LINEAR_DEFAULT, "{name} {}", axis.name);
+            assert_ne!(
+                axis.dynamics,
+                Dynamics::LINEAR_DEFAULT,
+                "{name} {}",
+                axis.name
+            );
             assert!(axis.dynamics.rapid >= axis.dynamics.max_velocity);
         }
         for axis in &m.rotary {
-            assert_ne!(axis.dynamics, Dynamics::ROTARY_DEFAULT, "{name} {}", axis.name);
+            assert_ne!(
+                axis.dynamics,
+                Dynamics::ROTARY_DEFAULT,
+                "{name} {}",
+                axis.name
+            );
         }
         assert_eq!(read(&m.to_toml()), m, "{name}");
     }
