@@ -398,36 +398,36 @@ impl<'m> Checker<'m> {
         let minutes = block_minutes(machine, seg);
         self.minutes += minutes;
         let Some(feed) = seg.feed else { return };
-        if let Some((allowed, axis)) = tip_feed_allowed(machine, seg, minutes) {
-            if allowed < feed {
-                self.limited_minutes += minutes * (feed / allowed - 1.0);
-                let name = machine.axis_names().nth(axis).unwrap_or('?');
-                let vmax = if axis < machine.linear.len() {
-                    machine.linear[axis].dynamics.max_velocity
-                } else {
-                    machine.rotary[axis - machine.linear.len()]
-                        .dynamics
-                        .max_velocity
-                };
-                let unit = if axis < machine.linear.len() {
-                    "mm/min"
-                } else {
-                    "deg/min"
-                };
-                let message = format!(
-                    "F{} needs {name} faster than its {} {unit}: the tip moves at {} mm/min at most",
-                    round3(feed),
-                    round3(vmax),
-                    round3(allowed)
-                );
-                self.push(
-                    Kind::FeedLimited,
-                    seg.line,
-                    Some(name),
-                    Some(allowed),
-                    message,
-                );
-            }
+        if let Some((allowed, axis)) = tip_feed_allowed(machine, seg, minutes)
+            && allowed < feed
+        {
+            self.limited_minutes += minutes * (feed / allowed - 1.0);
+            let name = machine.axis_names().nth(axis).unwrap_or('?');
+            let vmax = if axis < machine.linear.len() {
+                machine.linear[axis].dynamics.max_velocity
+            } else {
+                machine.rotary[axis - machine.linear.len()]
+                    .dynamics
+                    .max_velocity
+            };
+            let unit = if axis < machine.linear.len() {
+                "mm/min"
+            } else {
+                "deg/min"
+            };
+            let message = format!(
+                "F{} needs {name} faster than its {} {unit}: the tip moves at {} mm/min at most",
+                round3(feed),
+                round3(vmax),
+                round3(allowed)
+            );
+            self.push(
+                Kind::FeedLimited,
+                seg.line,
+                Some(name),
+                Some(allowed),
+                message,
+            );
         }
     }
 
