@@ -1,6 +1,7 @@
 //! `fiveaxis`: runs 5-axis G-code programs on a machine model and prints
 //! the machine-axis motion the control would command.
 
+mod check;
 mod diagnostic;
 mod library;
 mod number;
@@ -46,6 +47,9 @@ struct Cli {
 enum Command {
     /// Run a program on a machine and print every machine position.
     Run(RunArgs),
+    /// Check programs on a machine: over-travel, singular passages, flips,
+    /// feed limits, chord error, machining time.
+    Check(check::CheckArgs),
     /// List the built-in machines, or print one as a machine file.
     Machines {
         #[command(subcommand)]
@@ -183,6 +187,7 @@ fn main() -> ExitCode {
     };
     let status = match cli.command {
         Command::Run(args) => run(&args),
+        Command::Check(args) => check::check(&args),
         Command::Machines { action: None } => list_machines(),
         Command::Machines {
             action: Some(MachinesAction::Show { name }),
@@ -390,6 +395,7 @@ fn run(args: &RunArgs) -> Result<u8, InputError> {
         }),
         max_blocks: args.max_blocks,
         optional_stop: args.optional_stop,
+        lift_soft_limits: false,
     };
     let mut runner = Runner::new(&machine, offsets, source, options);
     if let Some(dir) = &args.programs {

@@ -142,6 +142,9 @@ pub struct Controller<'m> {
     /// The highest tool offset number of the offsets file, when it has
     /// tools: T numbers beyond it are an alarm.
     tool_memory: Option<u32>,
+    /// Soft limits lifted (`RunOptions::lift_soft_limits`): moves beyond
+    /// them raise no alarm; `fiveaxis check` reports them instead.
+    limits_lifted: bool,
 }
 
 /// Where the control point goes, for each axis: programmed value if the
@@ -164,6 +167,7 @@ impl<'m> Controller<'m> {
             machine,
             offsets,
             tool_memory,
+            limits_lifted: false,
             optional_stop: false,
             stop: None,
             dialect: Dialect::of(machine.control),
@@ -236,6 +240,12 @@ impl<'m> Controller<'m> {
     /// like M00: [`Controller::program_stop`] reports it; the run goes on.
     pub fn set_optional_stop(&mut self, on: bool) {
         self.optional_stop = on;
+    }
+
+    /// Lifts the soft limits: no move raises an over-travel alarm (a
+    /// verifier goes on and measures the excursions from the segments).
+    pub fn lift_soft_limits(&mut self, lifted: bool) {
+        self.limits_lifted = lifted;
     }
 
     /// Whether the last block executed would stop a real control (M00, M01
@@ -1300,6 +1310,9 @@ impl<'m> Controller<'m> {
     /// Alarms before a move that would leave the soft limits anywhere along
     /// it (end points, and the extremes of an arc).
     fn check_limits(&self, seg: &Segment) -> Result<(), Alarm> {
+        if self.limits_lifted {
+            return Ok(());
+        }
         let machine = self.machine;
         let mut lo = seg.end;
         let mut hi = seg.end;

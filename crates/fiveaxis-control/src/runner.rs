@@ -207,6 +207,9 @@ pub struct RunOptions {
     /// The optional-stop switch: M01 stops like M00 (noted; the run goes
     /// on).
     pub optional_stop: bool,
+    /// Soft limits lifted: no over-travel alarm, moves beyond the limits
+    /// go on (for verification, which measures the excursions itself).
+    pub lift_soft_limits: bool,
 }
 
 impl Default for RunOptions {
@@ -216,6 +219,7 @@ impl Default for RunOptions {
             interpolation: None,
             max_blocks: DEFAULT_MAX_BLOCKS,
             optional_stop: false,
+            lift_soft_limits: false,
         }
     }
 }
@@ -366,6 +370,7 @@ impl<'m, S: Source> Runner<'m, S> {
     pub fn new(machine: &'m Machine, offsets: Offsets, source: S, options: RunOptions) -> Self {
         let mut controller = Controller::new(machine, offsets);
         controller.set_optional_stop(options.optional_stop);
+        controller.lift_soft_limits(options.lift_soft_limits);
         Self {
             controller,
             source: Sources::new(source),
@@ -394,6 +399,12 @@ impl<'m, S: Source> Runner<'m, S> {
             blocks: 0,
             window: [(u32::MAX, 0); 2],
         }
+    }
+
+    /// Lines read so far: every block executed, each time it is executed
+    /// (in a loop, in a called program), as the block budget counts them.
+    pub fn blocks(&self) -> u64 {
+        self.blocks
     }
 
     /// The controller, for its state after the run.

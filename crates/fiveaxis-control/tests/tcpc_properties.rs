@@ -43,8 +43,8 @@ use std::sync::OnceLock;
 use common::{Outcome, check, run};
 use fiveaxis_control::{Condition, Path, RunError, RunOptions, Runner, Segment, SliceSource};
 use fiveaxis_machine::{
-    Control, Joints, LinearAxis, MAX_AXES, MCodes, Machine, Offsets, Parameters, ProgrammingFrame,
-    RotaryAxis, RotaryChoice, Side, ToolOffset, Vec3, builtin, principal,
+    Control, Dynamics, Joints, LinearAxis, MAX_AXES, MCodes, Machine, Offsets, Parameters,
+    ProgrammingFrame, RotaryAxis, RotaryChoice, Side, ToolOffset, Vec3, builtin, principal,
 };
 use machine_gen::{direction, point};
 use nalgebra::{IsometryMatrix3, Unit};
@@ -96,6 +96,7 @@ fn linear_axes(limit: f64) -> Vec<LinearAxis> {
             name,
             min: -limit,
             max: limit,
+            dynamics: Dynamics::LINEAR_DEFAULT,
         })
         .collect()
 }
@@ -115,6 +116,7 @@ fn tcpc_machine(frame: ProgrammingFrame) -> impl Strategy<Value = Machine> {
                 center,
                 limits: None,
                 rollover,
+                dynamics: Dynamics::ROTARY_DEFAULT,
             })
             .collect();
         Machine {
@@ -725,6 +727,7 @@ fn nutating_head() -> Machine {
         center: Vec3::new(0.0, 0.0, 150.0),
         limits: None,
         rollover: false,
+        dynamics: Dynamics::ROTARY_DEFAULT,
     };
     Machine {
         name: "nutating head".into(),
@@ -1234,6 +1237,7 @@ fn any_rotary(name: char, on: Side) -> impl Strategy<Value = RotaryAxis> {
             center,
             limits,
             rollover,
+            dynamics: Dynamics::ROTARY_DEFAULT,
         }
     })
 }

@@ -32,7 +32,10 @@ macro_rules! standard_m_codes {
 }
 
 /// Linear axes shared by every built-in machine. Reference position 1 is
-/// machine zero, inside every limit.
+/// machine zero, inside every limit. Dynamics are typical catalogue
+/// figures of a mid-size five-axis machining centre: 30 m/min rapid
+/// (FANUC No.1420), 20 m/min cutting feed (No.1430), 3 m/s² (about 0.3 g,
+/// No.1660), the acceleration reached in 60 ms (jerk 50 m/s³).
 macro_rules! linear_axes {
     () => {
         r#"
@@ -40,16 +43,28 @@ macro_rules! linear_axes {
 name = "X"
 min = -500.0
 max = 500.0
+max_velocity = 20000.0
+rapid = 30000.0
+max_acceleration = 3000.0
+max_jerk = 50000.0
 
 [[linear]]
 name = "Y"
 min = -400.0
 max = 400.0
+max_velocity = 20000.0
+rapid = 30000.0
+max_acceleration = 3000.0
+max_jerk = 50000.0
 
 [[linear]]
 name = "Z"
 min = -300.0
 max = 500.0
+max_velocity = 20000.0
+rapid = 30000.0
+max_acceleration = 3000.0
+max_jerk = 50000.0
 "#
     };
 }
@@ -69,6 +84,10 @@ axis = [-1, 0, 0]
 center = [0, 0, -100]
 min = -120.0
 max = 30.0
+max_velocity = 5400.0
+rapid = 9000.0
+max_acceleration = 1500.0
+max_jerk = 30000.0
 
 [[rotary]]
 name = "C"
@@ -76,6 +95,10 @@ on = "table"
 axis = [0, 0, -1]
 center = [0, 0, 0]
 rollover = true
+max_velocity = 7200.0
+rapid = 10800.0
+max_acceleration = 2000.0
+max_jerk = 40000.0
 "#,
     standard_m_codes!(),
     r#"
@@ -101,6 +124,10 @@ axis = [0, -1, 0]
 center = [0, 0, -100]
 min = -120.0
 max = 120.0
+max_velocity = 5400.0
+rapid = 9000.0
+max_acceleration = 1500.0
+max_jerk = 30000.0
 
 [[rotary]]
 name = "C"
@@ -108,6 +135,10 @@ on = "table"
 axis = [0, 0, -1]
 center = [0, 0, 0]
 rollover = true
+max_velocity = 7200.0
+rapid = 10800.0
+max_acceleration = 2000.0
+max_jerk = 40000.0
 "#,
     standard_m_codes!(),
     r#"
@@ -133,6 +164,10 @@ axis = [0, 1, 0]
 center = [0, 0, 150]
 min = -110.0
 max = 110.0
+max_velocity = 7200.0
+rapid = 10800.0
+max_acceleration = 3000.0
+max_jerk = 60000.0
 
 [[rotary]]
 name = "C"
@@ -140,6 +175,10 @@ on = "table"
 axis = [0, 0, -1]
 center = [0, 0, 0]
 rollover = true
+max_velocity = 7200.0
+rapid = 10800.0
+max_acceleration = 2000.0
+max_jerk = 40000.0
 "#,
     standard_m_codes!(),
     r#"
@@ -165,6 +204,10 @@ axis = [0, 0, 1]
 center = [0, 0, 150]
 min = -360.0
 max = 360.0
+max_velocity = 10800.0
+rapid = 14400.0
+max_acceleration = 3600.0
+max_jerk = 72000.0
 
 [[rotary]]
 name = "A"
@@ -173,6 +216,10 @@ axis = [1, 0, 0]
 center = [0, 0, 150]
 min = -110.0
 max = 110.0
+max_velocity = 7200.0
+rapid = 10800.0
+max_acceleration = 3000.0
+max_jerk = 60000.0
 "#,
     standard_m_codes!(),
     r#"

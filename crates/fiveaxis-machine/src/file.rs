@@ -8,6 +8,7 @@
 //! column of the offending text and, when there is one, the key at fault.
 
 mod machine;
+pub use machine::MAX_JERK;
 mod offsets;
 mod write;
 

@@ -17,6 +17,7 @@ mod offsets;
 mod setup_error;
 
 pub use builtin::{DEFAULT_MACHINE, builtin, builtin_names, builtin_source};
+pub use file::MAX_JERK;
 pub use file::{FileError, MAX_FILE_MAGNITUDE};
 pub use inverse::{Orientations, SINGULAR_TOLERANCE, principal, turn_angle};
 pub use kinematics::{Pose, rotation, sin_cos_degrees};
@@ -98,6 +99,8 @@ pub struct LinearAxis {
     pub min: f64,
     /// Upper soft limit, mm.
     pub max: f64,
+    /// How fast the axis moves.
+    pub dynamics: Dynamics,
 }
 
 impl LinearAxis {
@@ -132,6 +135,47 @@ pub struct RotaryAxis {
     /// Endless axis: positions shown modulo 360, absolute commands take the
     /// shorter way (FANUC 1008#0 ROA with 1260 = 360).
     pub rollover: bool,
+    /// How fast the axis turns.
+    pub dynamics: Dynamics,
+}
+
+/// How fast an axis can move (`machine-model.md`, "Axis dynamics"), in mm
+/// (linear axes) or degrees (rotary axes): used by the machining time and
+/// the feed checks of `fiveaxis check`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Dynamics {
+    /// Fastest cutting feed of the axis, per minute (FANUC No.1430; a
+    /// control that clamps every axis alike sets No.1422 instead).
+    pub max_velocity: f64,
+    /// Rapid traverse rate, per minute (FANUC No.1420).
+    pub rapid: f64,
+    /// Largest acceleration, per second squared (FANUC No.1660,
+    /// acceleration/deceleration before interpolation).
+    pub max_acceleration: f64,
+    /// Largest jerk, per second cubed; `None`: not limited (no bell-shaped
+    /// acceleration).
+    pub max_jerk: Option<f64>,
+}
+
+impl Dynamics {
+    /// A linear axis of a machine file that gives no dynamics: a small,
+    /// slow machining centre (10 m/min, 0.1 g), so that times err long and
+    /// feed warnings early rather than late.
+    pub const LINEAR_DEFAULT: Dynamics = Dynamics {
+        max_velocity: 10_000.0,
+        rapid: 10_000.0,
+        max_acceleration: 1_000.0,
+        max_jerk: None,
+    };
+
+    /// A rotary axis of a machine file that gives no dynamics: 10 rpm,
+    /// 360 deg/s² (a slow rotary table).
+    pub const ROTARY_DEFAULT: Dynamics = Dynamics {
+        max_velocity: 3_600.0,
+        rapid: 3_600.0,
+        max_acceleration: 360.0,
+        max_jerk: None,
+    };
 }
 
 /// Programming frame of TCPC (FANUC 19696#5 WKP).
@@ -211,6 +255,16 @@ pub struct Parameters {
     /// pair with the smaller table-axis motion instead of keeping the tilt
     /// axis on its side (Mazak F162 bit 1).
     pub setup_error_table_motion: bool,
+    /// Half-angle of the cone around the singular direction, degrees,
+    /// inside which `fiveaxis check` reports a singular passage.
+    pub singular_cone: f64,
+    /// Turn of one rotary axis inside one block, degrees, beyond which
+    /// `fiveaxis check` reports a rotary flip.
+    pub flip_angle: f64,
+    /// Largest distance, mm, the tool tip of a cutting block that turns a
+    /// rotary axis outside TCPC may leave the straight line between its
+    /// ends before `fiveaxis check` reports a chord error.
+    pub chord_tolerance: f64,
 }
 
 impl Default for Parameters {
@@ -229,6 +283,9 @@ impl Default for Parameters {
             tool_comp_3d_denominator: 0.0,
             cutter_startup_b: false,
             setup_error_table_motion: false,
+            singular_cone: 2.0,
+            flip_angle: 90.0,
+            chord_tolerance: 0.01,
         }
     }
 }

@@ -8,7 +8,7 @@ use toml::Spanned;
 
 use super::{FileError, Source, in_file_order};
 use crate::{
-    Control, InputUnit, Joints, LinearAxis, MAX_AXES, MAX_M_CODE, MCodes, MFunction, Machine,
+    Control, Dynamics, InputUnit, Joints, LinearAxis, MAX_AXES, MAX_M_CODE, MCodes, MFunction, Machine,
     MachineType, Parameters, ProgrammingFrame, RESERVED_M_CODES, RotaryAxis, RotaryChoice, Side,
     Vec3,
 };
@@ -102,6 +102,10 @@ struct RawLinear {
     name: Spanned<String>,
     min: Spanned<f64>,
     max: Spanned<f64>,
+    max_velocity: Option<Spanned<f64>>,
+    rapid: Option<Spanned<f64>>,
+    max_acceleration: Option<Spanned<f64>>,
+    max_jerk: Option<Spanned<f64>>,
 }
 
 #[derive(Deserialize)]
@@ -115,6 +119,10 @@ struct RawRotary {
     max: Option<Spanned<f64>>,
     #[serde(default)]
     rollover: bool,
+    max_velocity: Option<Spanned<f64>>,
+    rapid: Option<Spanned<f64>>,
+    max_acceleration: Option<Spanned<f64>>,
+    max_jerk: Option<Spanned<f64>>,
 }
 
 /// Axis name → position, as written in a reference position table.
@@ -139,6 +147,9 @@ struct RawParameters {
     tool_comp_3d_denominator: Option<Spanned<f64>>,
     cutter_startup: Option<RawStartup>,
     setup_error_choice: Option<RawSetupChoice>,
+    singular_cone: Option<Spanned<f64>>,
+    flip_angle: Option<Spanned<f64>>,
+    chord_tolerance: Option<Spanned<f64>>,
 }
 
 #[derive(Clone, Copy, Deserialize)]
@@ -253,7 +264,23 @@ fn linear_axes(
     for item in raw.get_ref() {
         let name = linear_name(src, &item.get_ref().name, &axes)?;
         let (min, max) = limits(src, &item.get_ref().min, &item.get_ref().max)?;
-        axes.push(LinearAxis { name, min, max });
+        let raw = item.get_ref();
+        let dynamics = dynamics(
+            src,
+            [
+                &raw.max_velocity,
+                &raw.rapid,
+                &raw.max_acceleration,
+                &raw.max_jerk,
+            ],
+            Dynamics::LINEAR_DEFAULT,
+        )?;
+        axes.push(LinearAxis {
+            name,
+            min,
+            max,
+            dynamics,
+        });
     }
     if axes.len() < PRINCIPAL.len() {
         let at = raw.get_ref().last().map_or(raw.span(), Spanned::span);
@@ -386,6 +413,16 @@ fn rotary_axis(
         center: src.vec3(&raw.center, "center")?,
         limits: rotary_limits(src, item, rollover)?,
         rollover,
+        dynamics: dynamics(
+            src,
+            [
+                &raw.max_velocity,
+                &raw.rapid,
+                &raw.max_acceleration,
+                &raw.max_jerk,
+            ],
+            Dynamics::ROTARY_DEFAULT,
+        )?,
     })
 }
 
@@ -505,6 +542,18 @@ fn parameters(
             raw.setup_error_choice,
             Some(RawSetupChoice::TableMotion)
         ),
+        singular_cone: match &raw.singular_cone {
+            Some(v) => cone(src, v)?,
+            None => defaults.singular_cone,
+        },
+        flip_angle: match &raw.flip_angle {
+            Some(v) => positive(src, v, "flip_angle")?,
+            None => defaults.flip_angle,
+        },
+        chord_tolerance: match &raw.chord_tolerance {
+            Some(v) => positive(src, v, "chord_tolerance")?,
+            None => defaults.chord_tolerance,
+        },
     })
 }
 
@@ -583,6 +632,74 @@ fn non_negative(src: &Source<'_>, value: &Spanned<f64>, key: &str) -> Result<f64
     } else {
         Err(src.at(value, key, format!("`{key}` must not be negative")))
     }
+}
+
+/// A number above 0 (and within the file bound).
+fn positive(src: &Source<'_>, value: &Spanned<f64>, key: &str) -> Result<f64, FileError> {
+    let v = src.finite(value, key)?;
+    if v > 0.0 {
+        Ok(v)
+    } else {
+        Err(src.at(value, key, format!("`{key}` must be greater than 0")))
+    }
+}
+
+fn cone(src: &Source<'_>, value: &Spanned<f64>) -> Result<f64, FileError> {
+    let key = "singular_cone";
+    let v = src.finite(value, key)?;
+    if (0.0..90.0).contains(&v) {
+        Ok(v)
+    } else {
+        Err(src.at(
+            value,
+            key,
+            format!("`{key}` must be at least 0 and below 90 degrees"),
+        ))
+    }
+}
+
+/// Largest jerk a file may give, per second cubed: jerks are large
+/// numbers (an acceleration reached in milliseconds), beyond the bound of
+/// lengths and angles.
+pub const MAX_JERK: f64 = 1e9;
+
+/// The dynamics keys of an axis (`max_velocity`, `rapid`,
+/// `max_acceleration`, `max_jerk`): each above 0; `rapid` defaults to
+/// `max_velocity`, the others to `default`'s.
+fn dynamics(
+    src: &Source<'_>,
+    [velocity, rapid, acceleration, jerk]: [&Option<Spanned<f64>>; 4],
+    default: Dynamics,
+) -> Result<Dynamics, FileError> {
+    let max_velocity = match velocity {
+        Some(v) => positive(src, v, "max_velocity")?,
+        None => default.max_velocity,
+    };
+    let max_jerk = match jerk {
+        Some(v) if v.get_ref().is_finite() && *v.get_ref() > 0.0 && *v.get_ref() <= MAX_JERK => {
+            Some(*v.get_ref())
+        }
+        Some(v) => {
+            return Err(src.at(
+                v,
+                "max_jerk",
+                format!("`max_jerk` must be greater than 0 and at most {MAX_JERK:e}"),
+            ));
+        }
+        None => default.max_jerk,
+    };
+    Ok(Dynamics {
+        max_velocity,
+        rapid: match rapid {
+            Some(v) => positive(src, v, "rapid")?,
+            None => max_velocity,
+        },
+        max_acceleration: match acceleration {
+            Some(v) => positive(src, v, "max_acceleration")?,
+            None => default.max_acceleration,
+        },
+        max_jerk,
+    })
 }
 
 fn zone(src: &Source<'_>, value: &Spanned<f64>) -> Result<f64, FileError> {

@@ -7,7 +7,7 @@ use std::collections::BTreeSet;
 use std::fmt::Write as _;
 
 use crate::{
-    Control, InputUnit, Joints, LinearAxis, Machine, MachineType, ProgrammingFrame, RotaryAxis,
+    Control, Dynamics, InputUnit, Joints, LinearAxis, Machine, MachineType, ProgrammingFrame, RotaryAxis,
     RotaryChoice, Side, Vec3,
 };
 
@@ -136,6 +136,21 @@ impl Machine {
             }),
             "G54.4 under TCPC: \"keep_tilt_sign\" or smaller \"table_motion\" (Mazak F162 bit 1)",
         );
+        w.key(
+            "singular_cone",
+            &number(p.singular_cone),
+            "check: degrees around the singular direction reported as a singular passage",
+        );
+        w.key(
+            "flip_angle",
+            &number(p.flip_angle),
+            "check: rotary turn inside one block reported as a flip, degrees",
+        );
+        w.key(
+            "chord_tolerance",
+            &number(p.chord_tolerance),
+            "check: tip off the chord outside TCPC reported as a chord error, mm",
+        );
     }
 
     fn write_m_codes(&self, w: &mut Writer) {
@@ -172,6 +187,29 @@ fn write_linear(w: &mut Writer, axis: &LinearAxis) {
     w.key("name", &quote(&axis.name.to_string()), "");
     w.key("min", &number(axis.min), "lower soft limit, mm");
     w.key("max", &number(axis.max), "upper soft limit, mm");
+    write_dynamics(w, &axis.dynamics, "mm");
+}
+
+fn write_dynamics(w: &mut Writer, d: &Dynamics, unit: &str) {
+    w.key(
+        "max_velocity",
+        &number(d.max_velocity),
+        &format!("fastest cutting feed, {unit}/min (FANUC No.1430)"),
+    );
+    w.key(
+        "rapid",
+        &number(d.rapid),
+        &format!("rapid traverse rate, {unit}/min (FANUC No.1420)"),
+    );
+    w.key(
+        "max_acceleration",
+        &number(d.max_acceleration),
+        &format!("{unit}/s^2 (FANUC No.1660)"),
+    );
+    match d.max_jerk {
+        Some(jerk) => w.key("max_jerk", &number(jerk), &format!("{unit}/s^3, optional")),
+        None => w.comment("No max_jerk: jerk not limited."),
+    }
 }
 
 fn write_rotary(w: &mut Writer, axis: &RotaryAxis) {
@@ -208,6 +246,7 @@ fn write_rotary(w: &mut Writer, axis: &RotaryAxis) {
         &axis.rollover.to_string(),
         "endless axis shown modulo 360 (then no min/max)",
     );
+    write_dynamics(w, &axis.dynamics, "deg");
 }
 
 /// Builds the text; comments a key only the first time it appears in a

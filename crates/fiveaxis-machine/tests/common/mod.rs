@@ -3,8 +3,8 @@
 #![allow(dead_code)]
 
 use fiveaxis_machine::{
-    Control, Joints, LinearAxis, MAX_AXES, MAX_M_CODE, MCodes, MFunction, Machine, Parameters,
-    ProgrammingFrame, RESERVED_M_CODES, RotaryAxis, RotaryChoice, Side, Vec3,
+    Control, Dynamics, Joints, LinearAxis, MAX_AXES, MAX_M_CODE, MCodes, MFunction, Machine,
+    Parameters, ProgrammingFrame, RESERVED_M_CODES, RotaryAxis, RotaryChoice, Side, Vec3,
 };
 use nalgebra::Unit;
 use proptest::prelude::*;
@@ -62,15 +62,34 @@ fn rotary_limits() -> impl Strategy<Value = (Option<(f64, f64)>, bool)> {
     ]
 }
 
+/// Axis dynamics: every key positive, jerk given or not.
+pub fn dynamics() -> impl Strategy<Value = Dynamics> {
+    (
+        1.0..1e6f64,
+        1.0..1e6f64,
+        1.0..1e6f64,
+        proptest::option::of(1.0..1e9f64),
+    )
+        .prop_map(
+            |(max_velocity, rapid, max_acceleration, max_jerk)| Dynamics {
+                max_velocity,
+                rapid,
+                max_acceleration,
+                max_jerk,
+            },
+        )
+}
+
 fn rotary(name: char, on: Side) -> impl Strategy<Value = RotaryAxis> {
-    (direction(), point(300.0), rotary_limits()).prop_map(
-        move |(axis, center, (limits, rollover))| RotaryAxis {
+    (direction(), point(300.0), rotary_limits(), dynamics()).prop_map(
+        move |(axis, center, (limits, rollover), dynamics)| RotaryAxis {
             name,
             on,
             axis,
             center,
             limits,
             rollover,
+            dynamics,
         },
     )
 }
@@ -81,11 +100,16 @@ fn linear_axes() -> impl Strategy<Value = Vec<LinearAxis>> {
     extra.prop_flat_map(|extra| {
         let names: Vec<char> = ['X', 'Y', 'Z'].into_iter().chain(extra).collect();
         let n = names.len();
-        proptest::collection::vec(limits(1000.0), n).prop_map(move |lims| {
+        proptest::collection::vec((limits(1000.0), dynamics()), n).prop_map(move |lims| {
             names
                 .iter()
                 .zip(lims)
-                .map(|(&name, (min, max))| LinearAxis { name, min, max })
+                .map(|(&name, ((min, max), dynamics))| LinearAxis {
+                    name,
+                    min,
+                    max,
+                    dynamics,
+                })
                 .collect()
         })
     })
@@ -181,6 +205,9 @@ fn parameters(count: usize) -> impl Strategy<Value = Parameters> {
                 // Inch input would change how the property tests' programs
                 // read; its file round trip has a test of its own.
                 input_unit: fiveaxis_machine::InputUnit::Millimetre,
+                singular_cone: singular_zone,
+                flip_angle: 1.0 + 100.0 * least_input_increment,
+                chord_tolerance: least_input_increment,
             },
         )
 }

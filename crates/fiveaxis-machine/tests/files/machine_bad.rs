@@ -632,3 +632,58 @@ fn m_code_value_of_the_wrong_type() {
         (pos(&text, "10 = 3").0, Some("10"))
     );
 }
+
+#[test]
+fn dynamics_must_be_positive_and_bounded() {
+    for (key, value, says) in [
+        ("max_velocity", "0.0", "greater than 0"),
+        ("rapid", "-1.0", "greater than 0"),
+        ("max_acceleration", "2e6", "beyond what a machine can have"),
+        ("max_jerk", "0.0", "greater than 0"),
+        ("max_jerk", "1e12", "at most"),
+        ("max_velocity", "nan", "finite"),
+    ] {
+        let text = file("type = \"table\"\n", &format!("{TABLE_C}{key} = {value}\n"));
+        assert_error(
+            &fail(&text),
+            &text,
+            &format!("{key} = ^{value}"),
+            Some(key),
+            says,
+        );
+    }
+}
+
+#[test]
+fn dynamics_keys_are_known_by_name() {
+    let text = file("type = \"table\"\n", &format!("{TABLE_C}max_speed = 1.0\n"));
+    assert_error(
+        &fail(&text),
+        &text,
+        "max_speed",
+        Some("max_speed"),
+        "unknown field",
+    );
+}
+
+#[test]
+fn check_parameters_are_bounded() {
+    for (key, value, says) in [
+        ("singular_cone", "90.0", "below 90"),
+        ("singular_cone", "-1.0", "at least 0"),
+        ("flip_angle", "0.0", "greater than 0"),
+        ("chord_tolerance", "-0.01", "greater than 0"),
+    ] {
+        let text = file(
+            "type = \"none\"\n",
+            &format!("[parameters]\n{key} = {value}\n"),
+        );
+        assert_error(
+            &fail(&text),
+            &text,
+            &format!("{key} = ^{value}"),
+            Some(key),
+            says,
+        );
+    }
+}

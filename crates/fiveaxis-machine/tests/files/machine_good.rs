@@ -289,3 +289,76 @@ fn no_m_codes_table_is_an_empty_table() {
     assert!(m.to_toml().contains("[m_codes]"));
     assert_eq!(read(&m.to_toml()), m);
 }
+
+#[test]
+fn dynamics_default_when_absent_and_rapid_follows_max_velocity() {
+    use fiveaxis_machine::Dynamics;
+    let m = read(&file("type = \"table\"\n", TABLE_C));
+    assert_eq!(m.linear[0].dynamics, Dynamics::LINEAR_DEFAULT);
+    assert_eq!(m.rotary[0].dynamics, Dynamics::ROTARY_DEFAULT);
+    let text = file(
+        "type = \"table\"\n",
+        &format!("{TABLE_C}max_velocity = 7200.0\nmax_acceleration = 900\nmax_jerk = 20000.0\n"),
+    );
+    let c = read(&text).rotary[0].dynamics;
+    assert_eq!(
+        c,
+        Dynamics {
+            max_velocity: 7200.0,
+            rapid: 7200.0,
+            max_acceleration: 900.0,
+            max_jerk: Some(20000.0),
+        }
+    );
+}
+
+#[test]
+fn check_parameters_read_and_default() {
+    let m = read(&file("type = \"none\"\n", ""));
+    assert_eq!(
+        (
+            m.params.singular_cone,
+            m.params.flip_angle,
+            m.params.chord_tolerance
+        ),
+        (2.0, 90.0, 0.01)
+    );
+    let m = read(&file(
+        "type = \"none\"\n",
+        "[parameters]\nsingular_cone = 5.0\nflip_angle = 170.0\nchord_tolerance = 0.002\n",
+    ));
+    assert_eq!(
+        (
+            m.params.singular_cone,
+            m.params.flip_angle,
+            m.params.chord_tolerance
+        ),
+        (5.0, 170.0, 0.002)
+    );
+}
+
+#[test]
+fn builtin_machines_have_their_own_dynamics_and_write_them_back() {
+    use fiveaxis_machine::{Dynamics, builtin, builtin_names};
+    for name in builtin_names() {
+        let m = builtin(name).expect("built in");
+        for axis in &m.linear {
+            assert_ne!(
+                axis.dynamics,
+                Dynamics::LINEAR_DEFAULT,
+                "{name} {}",
+                axis.name
+            );
+            assert!(axis.dynamics.rapid >= axis.dynamics.max_velocity);
+        }
+        for axis in &m.rotary {
+            assert_ne!(
+                axis.dynamics,
+                Dynamics::ROTARY_DEFAULT,
+                "{name} {}",
+                axis.name
+            );
+        }
+        assert_eq!(read(&m.to_toml()), m, "{name}");
+    }
+}

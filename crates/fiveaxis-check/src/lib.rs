@@ -1,0 +1,622 @@
+//! `fiveaxis check`: what a program does on a machine, as a verdict.
+//!
+//! A [`Checker`] is fed the segments a run produces (the `Runner` of
+//! `fiveaxis-control`, run with the soft limits lifted) and gives a
+//! [`Report`]: the axis ranges against their soft limits, the programmed
+//! machining time, and the findings of the `check` contract
+//! (`overtravel`, `alarm`, `singular_passage`, `rotary_flip`,
+//! `feed_limited`, `chord_error`). Pure: no I/O, the report is data.
+//!
+//! How each finding is found (exactly, not by coarse sampling):
+//!
+//! * positions over a block ([`extent`]): closed forms for joint moves,
+//!   circles and reference returns; for TCPC blocks and anything whose
+//!   law is not a circle, bound and refine ([`bound`]) on a proven bound
+//!   of the second derivative. Tool posture control, whose rotary angles
+//!   come from inverse kinematics, is sampled every
+//!   [`POSTURE_SAMPLE_ANGLE`] of rotary motion and refined (not a proof);
+//! * singular passages ([`singular`]): closed form;
+//! * chord error: bound and refine on the tool tip's law;
+//! * feed limits: closed forms for machine-axis moves; for TCPC blocks the
+//!   derivative bound decides, and a block it cannot clear is sampled.
+
+pub mod bound;
+mod extent;
+mod law;
+mod motion;
+pub mod singular;
+
+use fiveaxis_control::{Motion, Path, RunError, Runner, Segment, Source};
+use fiveaxis_machine::{MAX_AXES, Machine};
+
+pub use extent::axis_max;
+pub use motion::{block_minutes, tip_feed_allowed};
+
+/// How serious a finding is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+pub enum Severity {
+    /// Worth knowing.
+    Info,
+    /// The program runs, but not as written (slower, marked, risky).
+    Warning,
+    /// The program does not run on this machine.
+    Error,
+}
+
+impl Severity {
+    /// The contract's name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Severity::Info => "info",
+            Severity::Warning => "warning",
+            Severity::Error => "error",
+        }
+    }
+}
+
+/// The kinds of findings.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum Kind {
+    /// An axis beyond a soft limit.
+    Overtravel,
+    /// The program stopped with an alarm.
+    Alarm,
+    /// The tool direction passes near the singular direction.
+    SingularPassage,
+    /// A rotary axis turns more than `flip_angle` in one block.
+    RotaryFlip,
+    /// An axis cannot follow the programmed feed.
+    FeedLimited,
+    /// The tip leaves the straight line between block ends (outside TCPC).
+    ChordError,
+}
+
+impl Kind {
+    /// Every kind, in the order reports group them.
+    pub const ALL: [Kind; 6] = [
+        Kind::Alarm,
+        Kind::Overtravel,
+        Kind::SingularPassage,
+        Kind::RotaryFlip,
+        Kind::FeedLimited,
+        Kind::ChordError,
+    ];
+
+    /// The contract's name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Kind::Overtravel => "overtravel",
+            Kind::Alarm => "alarm",
+            Kind::SingularPassage => "singular_passage",
+            Kind::RotaryFlip => "rotary_flip",
+            Kind::FeedLimited => "feed_limited",
+            Kind::ChordError => "chord_error",
+        }
+    }
+
+    /// The contract's severity of this kind.
+    pub fn severity(self) -> Severity {
+        match self {
+            Kind::Overtravel | Kind::Alarm => Severity::Error,
+            _ => Severity::Warning,
+        }
+    }
+}
+
+/// One finding.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Finding {
+    /// What was found.
+    pub kind: Kind,
+    /// 1-based program line of the block (the first of a run of blocks).
+    pub line: u32,
+    /// In words.
+    pub message: String,
+    /// The axis it is about, when there is one.
+    pub axis: Option<char>,
+    /// The measure of the finding (see the contract), when there is one.
+    pub value: Option<f64>,
+    /// Position in the run, for program order.
+    order: u64,
+}
+
+impl Finding {
+    /// The severity of its kind.
+    pub fn severity(&self) -> Severity {
+        self.kind.severity()
+    }
+}
+
+/// The alarm that stopped a program.
+#[derive(Clone, Debug, PartialEq)]
+pub struct AlarmInfo {
+    /// The number the control shows.
+    pub code: String,
+    /// 1-based line.
+    pub line: u32,
+    /// In words.
+    pub message: String,
+}
+
+/// The range one axis covered, and its soft limits.
+#[derive(Clone, Debug, PartialEq)]
+pub struct AxisRange {
+    /// Address letter.
+    pub name: char,
+    /// Lowest position reached.
+    pub min: f64,
+    /// Highest position reached.
+    pub max: f64,
+    /// Soft limits; `None` for a rollover axis or an axis without limits.
+    pub limits: Option<(f64, f64)>,
+}
+
+/// Machining time, seconds.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Time {
+    /// Path length over feed for cutting moves, rapids at the rapid rates.
+    pub programmed: f64,
+    /// What the control would take ([`estimate_time`]).
+    pub estimated: f64,
+}
+
+/// How a run ended, as the caller saw it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Ending {
+    /// The program reached its end.
+    pub ended: bool,
+    /// The alarm that stopped it.
+    pub alarm: Option<AlarmInfo>,
+    /// Blocks executed.
+    pub blocks: u64,
+}
+
+/// The result of checking one program.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Report {
+    /// The machine's name.
+    pub machine: String,
+    /// The program ran to its end.
+    pub ended: bool,
+    /// The alarm that stopped it.
+    pub alarm: Option<AlarmInfo>,
+    /// Blocks executed.
+    pub blocks: u64,
+    /// Machining time.
+    pub time: Time,
+    /// Every axis, in machine order.
+    pub axes: Vec<AxisRange>,
+    /// Findings in program order.
+    pub findings: Vec<Finding>,
+    /// The time the feed-limited blocks lose, seconds: their cutting time
+    /// at the tip feed the axes allow less that at the programmed feed (not
+    /// part of `time.programmed`, which is the program's own figure).
+    pub feed_limited_seconds: f64,
+}
+
+impl Report {
+    /// Whether any finding is at or above `severity`.
+    pub fn fails(&self, severity: Severity) -> bool {
+        self.findings.iter().any(|f| f.severity() >= severity)
+    }
+
+    /// How many findings of a kind.
+    pub fn count(&self, kind: Kind) -> usize {
+        self.findings.iter().filter(|f| f.kind == kind).count()
+    }
+}
+
+/// Rotary motion between two samples of a posture-controlled block,
+/// degrees (as the controller's soft-limit check samples them).
+pub const POSTURE_SAMPLE_ANGLE: f64 = 0.5;
+
+/// How far past a soft limit rounding may carry a position before it
+/// counts as an over-travel, mm or degrees (the controller's tolerance).
+pub const LIMIT_TOLERANCE: f64 = 1e-9;
+
+/// An over-travel run in progress: consecutive segments beyond one limit.
+#[derive(Clone, Copy, Debug)]
+struct Run {
+    line: u32,
+    order: u64,
+    farthest: f64,
+}
+
+/// Checks the segments of one run.
+#[derive(Debug)]
+pub struct Checker<'m> {
+    machine: &'m Machine,
+    singular: Option<singular::Singular>,
+    /// Lowest and highest position of each axis so far.
+    range: [(f64, f64); MAX_AXES],
+    /// Soft limits by joint index.
+    limits: [Option<(f64, f64)>; MAX_AXES],
+    /// Over-travel runs in progress, below and above the limits.
+    runs: [[Option<Run>; 2]; MAX_AXES],
+    findings: Vec<Finding>,
+    /// Segments seen.
+    order: u64,
+    /// Programmed time so far, minutes.
+    minutes: f64,
+    /// Time lost to feed limits, minutes.
+    limited_minutes: f64,
+}
+
+impl<'m> Checker<'m> {
+    /// A check of a run on `machine` that starts at the controller's
+    /// power-on position (reference position 1).
+    pub fn new(machine: &'m Machine) -> Self {
+        let start = machine.params.reference_1;
+        let mut limits = [None; MAX_AXES];
+        for (i, axis) in machine.linear.iter().enumerate() {
+            limits[i] = Some((axis.min, axis.max));
+        }
+        for (k, axis) in machine.rotary.iter().enumerate() {
+            if !axis.rollover {
+                limits[machine.rotary_index(k)] = axis.limits;
+            }
+        }
+        Self {
+            machine,
+            singular: singular::Singular::of(machine),
+            range: std::array::from_fn(|i| (start[i], start[i])),
+            limits,
+            runs: [[None; 2]; MAX_AXES],
+            findings: Vec::new(),
+            order: 0,
+            minutes: 0.0,
+            limited_minutes: 0.0,
+        }
+    }
+
+    fn push(
+        &mut self,
+        kind: Kind,
+        line: u32,
+        axis: Option<char>,
+        value: Option<f64>,
+        message: String,
+    ) {
+        self.findings.push(Finding {
+            kind,
+            line,
+            message,
+            axis,
+            value,
+            order: self.order,
+        });
+    }
+
+    /// Checks one segment.
+    pub fn segment(&mut self, seg: &Segment) {
+        self.order += 1;
+        self.positions(seg);
+        if !seg.moves() {
+            return;
+        }
+        self.time(seg);
+        let rotary = self.machine.linear.len()..self.machine.axis_count();
+        let turns = rotary.clone().any(|i| seg.start[i] != seg.end[i])
+            || matches!(&seg.path, Path::Via(mid) if rotary.clone().any(|i| mid[i] != seg.start[i]))
+            || matches!(&seg.path, Path::Tcpc(t) if t.posture.is_some());
+        if turns {
+            // Positioning moves cut nothing: they are where a program
+            // turns its rotary axes, and how the tool passes the singular
+            // direction or leaves the chord there does not matter.
+            if seg.motion != Motion::Rapid {
+                self.rotary_flip(seg);
+                self.singular_passage(seg);
+                if !matches!(seg.path, Path::Tcpc(_)) {
+                    self.chord_error(seg);
+                }
+            }
+        }
+    }
+
+    /// Axis ranges and over-travel runs.
+    fn positions(&mut self, seg: &Segment) {
+        let machine = self.machine;
+        for i in 0..machine.axis_count() {
+            let limits = self.limits[i];
+            for (side, sign) in [(0, -1.0), (1, 1.0)] {
+                // Signed: the highest of `sign · position`.
+                let reached = sign
+                    * if side == 1 {
+                        self.range[i].1
+                    } else {
+                        self.range[i].0
+                    };
+                let limit = limits.map(|(lo, hi)| sign * if side == 1 { hi } else { lo });
+                let floor = limit.map_or(reached, |l| reached.min(l + LIMIT_TOLERANCE));
+                let found = axis_max(machine, seg, i, sign, floor);
+                if let Some(v) = found {
+                    let position = sign * v;
+                    if side == 1 {
+                        self.range[i].1 = self.range[i].1.max(position);
+                    } else {
+                        self.range[i].0 = self.range[i].0.min(position);
+                    }
+                }
+                let beyond = match (found, limit) {
+                    (Some(v), Some(l)) if v > l + LIMIT_TOLERANCE => Some(sign * v),
+                    _ => None,
+                };
+                match (beyond, &mut self.runs[i][side]) {
+                    (Some(p), Some(run)) => {
+                        if sign * p > sign * run.farthest {
+                            run.farthest = p;
+                        }
+                    }
+                    (Some(p), slot @ None) => {
+                        *slot = Some(Run {
+                            line: seg.line,
+                            order: self.order,
+                            farthest: p,
+                        });
+                    }
+                    (None, slot @ Some(_)) => {
+                        let run = slot.take();
+                        if let Some(run) = run {
+                            self.close_run(i, side, run);
+                        }
+                    }
+                    (None, None) => {}
+                }
+            }
+        }
+    }
+
+    fn close_run(&mut self, i: usize, side: usize, run: Run) {
+        let Some((lo, hi)) = self.limits[i] else {
+            return;
+        };
+        let name = self.machine.axis_names().nth(i).unwrap_or('?');
+        let (sign, limit) = if side == 1 { ('+', hi) } else { ('-', lo) };
+        let unit = if i < self.machine.linear.len() {
+            "mm"
+        } else {
+            "deg"
+        };
+        let message = format!(
+            "{name}{sign} over-travel: {name} reaches {} beyond the soft limit {limit} ({} {unit} too far)",
+            round6(run.farthest),
+            round6((run.farthest - limit).abs()),
+        );
+        self.findings.push(Finding {
+            kind: Kind::Overtravel,
+            line: run.line,
+            message,
+            axis: Some(name),
+            value: Some(run.farthest),
+            order: run.order,
+        });
+    }
+
+    /// Programmed time and feed limits.
+    fn time(&mut self, seg: &Segment) {
+        let machine = self.machine;
+        let minutes = block_minutes(machine, seg);
+        self.minutes += minutes;
+        let Some(feed) = seg.feed else { return };
+        if let Some((allowed, axis)) = tip_feed_allowed(machine, seg, minutes)
+            && allowed < feed
+        {
+            self.limited_minutes += minutes * (feed / allowed - 1.0);
+            let name = machine.axis_names().nth(axis).unwrap_or('?');
+            let vmax = if axis < machine.linear.len() {
+                machine.linear[axis].dynamics.max_velocity
+            } else {
+                machine.rotary[axis - machine.linear.len()]
+                    .dynamics
+                    .max_velocity
+            };
+            let unit = if axis < machine.linear.len() {
+                "mm/min"
+            } else {
+                "deg/min"
+            };
+            let message = format!(
+                "F{} needs {name} faster than its {} {unit}: the tip moves at {} mm/min at most",
+                round3(feed),
+                round3(vmax),
+                round3(allowed)
+            );
+            self.push(
+                Kind::FeedLimited,
+                seg.line,
+                Some(name),
+                Some(allowed),
+                message,
+            );
+        }
+    }
+
+    fn singular_passage(&mut self, seg: &Segment) {
+        let Some(singular) = self.singular else {
+            return;
+        };
+        let machine = self.machine;
+        let angle = match &seg.path {
+            Path::Tcpc(t) if t.posture.is_some() => t
+                .posture
+                .as_deref()
+                .map_or(90.0, |p| singular.smallest_on_posture(p)),
+            Path::Via(mid) => {
+                let tilt = singular.tilt();
+                let first = singular.smallest_on_tilt(machine, &seg.start, mid[tilt]).0;
+                let second = singular.smallest_on_tilt(machine, mid, seg.end[tilt]).0;
+                first.min(second)
+            }
+            _ => {
+                singular
+                    .smallest_on_tilt(machine, &seg.start, seg.end[singular.tilt()])
+                    .0
+            }
+        };
+        let cone = machine.params.singular_cone;
+        if angle <= cone {
+            let message = format!(
+                "the tool passes {}° from the singular direction (within {cone}°): the rotating axis may swing fast",
+                round6(angle)
+            );
+            self.push(Kind::SingularPassage, seg.line, None, Some(angle), message);
+        }
+    }
+
+    fn rotary_flip(&mut self, seg: &Segment) {
+        let machine = self.machine;
+        let limit = machine.params.flip_angle;
+        for (k, axis) in machine.rotary.iter().enumerate() {
+            let turn = motion::rotary_travel(machine, seg, k);
+            if turn > limit {
+                let message = format!(
+                    "{} turns {}° in one block (more than {limit}°)",
+                    axis.name,
+                    round6(turn)
+                );
+                self.push(
+                    Kind::RotaryFlip,
+                    seg.line,
+                    Some(axis.name),
+                    Some(turn),
+                    message,
+                );
+            }
+        }
+    }
+
+    fn chord_error(&mut self, seg: &Segment) {
+        let machine = self.machine;
+        let tolerance = machine.params.chord_tolerance;
+        if let Some(deviation) = chord_deviation(machine, seg, tolerance) {
+            let message = format!(
+                "the tip leaves the straight line between the block ends by {} mm (tolerance {tolerance} mm): the rotary axes move outside TCPC",
+                round6(deviation)
+            );
+            self.push(Kind::ChordError, seg.line, None, Some(deviation), message);
+        }
+    }
+
+    /// The report, once the run is over.
+    pub fn finish(mut self, ending: Ending) -> Report {
+        for i in 0..MAX_AXES {
+            for side in 0..2 {
+                if let Some(run) = self.runs[i][side].take() {
+                    self.close_run(i, side, run);
+                }
+            }
+        }
+        if let Some(alarm) = &ending.alarm {
+            self.order += 1;
+            let message = format!("{} {}", alarm.code, alarm.message);
+            self.push(Kind::Alarm, alarm.line, None, None, message);
+        }
+        self.findings.sort_by_key(|f| f.order);
+        let machine = self.machine;
+        let axes = machine
+            .axis_names()
+            .enumerate()
+            .map(|(i, name)| AxisRange {
+                name,
+                min: self.range[i].0,
+                max: self.range[i].1,
+                limits: self.limits[i],
+            })
+            .collect();
+        let programmed = self.minutes * 60.0;
+        Report {
+            machine: machine.name.clone(),
+            ended: ending.ended,
+            alarm: ending.alarm,
+            blocks: ending.blocks,
+            time: Time {
+                programmed,
+                estimated: estimate_time(machine, programmed),
+            },
+            axes,
+            findings: self.findings,
+            feed_limited_seconds: self.limited_minutes * 60.0,
+        }
+    }
+}
+
+/// Segments taken from the runner at a time.
+const BATCH: usize = 1024;
+
+/// Runs a program to its end or its alarm and checks every segment.
+/// The runner should lift the soft limits (`RunOptions::lift_soft_limits`)
+/// so that an over-travel is measured and the run goes on. `progress` is
+/// called after each batch of segments with the blocks run so far.
+///
+/// # Errors
+///
+/// The program cannot be read (`RunError::Io`, `RunError::LineTooLong`);
+/// an alarm is not an error here but part of the report.
+pub fn check_run<S: Source>(
+    runner: &mut Runner<'_, S>,
+    mut progress: impl FnMut(u64),
+) -> Result<Report, RunError> {
+    let machine = runner.controller().machine();
+    let mut checker = Checker::new(machine);
+    let mut segments = Vec::with_capacity(BATCH);
+    let alarm = loop {
+        segments.clear();
+        let filled = runner.fill(&mut segments, BATCH);
+        for seg in &segments {
+            checker.segment(seg);
+        }
+        progress(runner.blocks());
+        match filled {
+            Ok(true) => {}
+            Ok(false) => break None,
+            Err(RunError::Alarm { alarm, .. }) => break Some(alarm),
+            Err(other) => return Err(other),
+        }
+    };
+    Ok(checker.finish(Ending {
+        ended: alarm.is_none(),
+        alarm: alarm.map(|a| AlarmInfo {
+            code: a.code.to_string(),
+            line: a.line,
+            message: a.message,
+        }),
+        blocks: runner.blocks(),
+    }))
+}
+
+/// What the control would take, seconds: for now the programmed time.
+///
+/// This is the one place the velocity planner (`fiveaxis-planner`, built
+/// separately: look-ahead over the machine axes within their velocity,
+/// acceleration and jerk limits) replaces; it will then take the blocks'
+/// axis moves and feeds, collected by [`Checker::segment`].
+pub fn estimate_time(_machine: &Machine, programmed: f64) -> f64 {
+    programmed
+}
+
+/// The largest distance of the tool tip from the straight line between
+/// its positions at the block ends (the end point, when they coincide),
+/// if it exceeds `floor`: a machine-axis block whose rotary axes move
+/// linearly, bound and refine on the tip's law ([`law::machine_tip`]).
+pub fn chord_deviation(machine: &Machine, seg: &Segment, floor: f64) -> Option<f64> {
+    let law = law::machine_tip(machine, seg)?;
+    let tip = |s: f64| machine.forward(&seg.eval(machine, s), seg.tool_length).tip;
+    let (a, b) = (tip(0.0), tip(1.0));
+    let chord = b - a;
+    let length = chord.norm();
+    let along = if length > 0.0 { chord / length } else { chord };
+    let off = |s: f64| {
+        let d = tip(s) - a;
+        d - along * along.dot(&d)
+    };
+    let zero = fiveaxis_machine::Vec3::zeros();
+    bound::maximize(off, |v| v.norm(), law.curvature, floor, [zero, zero]).map(|(_, v)| v)
+}
+
+fn round6(x: f64) -> f64 {
+    (x * 1e6).round() / 1e6
+}
+
+fn round3(x: f64) -> f64 {
+    (x * 1e3).round() / 1e3
+}

@@ -1,0 +1,158 @@
+//! `fiveaxis check` through the binary: the contract's JSON keys, exit
+//! statuses, program order, and golden reports of the examples.
+
+mod common;
+
+use std::path::Path;
+use std::process::Output;
+
+use serde_json::Value;
+
+fn scratch(files: &[(&str, &str)]) -> tempfile::TempDir {
+    let dir = tempfile::tempdir().expect("a temporary directory");
+    for (name, text) in files {
+        std::fs::write(dir.path().join(name), text).expect("scratch file written");
+    }
+    dir
+}
+
+fn run(dir: &Path, args: &[&str]) -> Output {
+    common::run_in(dir, args, b"")
+}
+
+fn json_lines(output: &Output) -> Vec<Value> {
+    String::from_utf8_lossy(&output.stdout)
+        .lines()
+        .map(|l| serde_json::from_str(l).expect("one JSON object per line"))
+        .collect()
+}
+
+/// Clean: a short 3-axis move inside the limits.
+const CLEAN: &str = "G21 G90 G94\nG0 X10. Y5.\nG1 Z-1. F600.\nM30\n";
+/// X beyond +500 from line 2 to line 4 (which starts beyond it), inside
+/// on line 5, beyond again on line 6.
+const OVER: &str = "G21 G90\nG0 X510.\nG1 X520. F1000.\nG0 X0\nG0 X100.\nG0 X505.\nM30\n";
+/// A feed C cannot follow (warning only).
+const FEED: &str = "G21 G90 G94\nG0 X100. Y0 Z0 A0 C0\nG1 C20. F20000.\nM30\n";
+/// An alarm: an address the machine lacks.
+const ALARM: &str = "G21\nG0 X1.\nG1 Q5.\nM30\n";
+
+#[test]
+fn json_has_the_contract_keys_in_program_order() {
+    let dir = scratch(&[("clean.nc", CLEAN), ("over.nc", OVER), ("alarm.nc", ALARM)]);
+    let out = run(
+        dir.path(),
+        &[
+            "check", "over.nc", "clean.nc", "alarm.nc", "--format", "json",
+        ],
+    );
+    assert_eq!(
+        out.status.code(),
+        Some(1),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let objects = json_lines(&out);
+    let programs: Vec<&str> = objects
+        .iter()
+        .map(|o| o["program"].as_str().unwrap_or(""))
+        .collect();
+    assert_eq!(programs, ["over.nc", "clean.nc", "alarm.nc"]);
+    for o in &objects {
+        for key in [
+            "program", "machine", "ended", "alarm", "blocks", "time", "axes", "findings",
+        ] {
+            assert!(o.get(key).is_some(), "{key} missing in {o}");
+        }
+        assert!(o["time"]["programmed"].is_number() && o["time"]["estimated"].is_number());
+        assert!(o["time"]["estimated"].as_f64() >= o["time"]["programmed"].as_f64());
+        for axis in ["X", "Y", "Z", "A", "C"] {
+            let a = &o["axes"][axis];
+            for key in ["min", "max", "limit_min", "limit_max"] {
+                assert!(a.get(key).is_some(), "{axis}.{key} missing in {o}");
+            }
+        }
+        // C of the default machine rolls over: no limits.
+        assert!(o["axes"]["C"]["limit_min"].is_null());
+        for f in o["findings"].as_array().expect("list") {
+            for key in ["severity", "kind", "line", "message"] {
+                assert!(f.get(key).is_some(), "{key} missing in {f}");
+            }
+        }
+    }
+    // Two runs beyond X+500: lines 2-4 (farthest 520) and line 6 (505).
+    let over: Vec<(u64, f64)> = objects[0]["findings"]
+        .as_array()
+        .expect("list")
+        .iter()
+        .map(|f| {
+            assert_eq!(f["kind"], "overtravel");
+            assert_eq!(f["severity"], "error");
+            assert_eq!(f["axis"], "X");
+            (
+                f["line"].as_u64().unwrap_or(0),
+                f["value"].as_f64().unwrap_or(0.0),
+            )
+        })
+        .collect();
+    assert_eq!(over, [(2, 520.0), (6, 505.0)]);
+    assert_eq!(objects[0]["ended"], true);
+    assert_eq!(objects[0]["axes"]["X"]["max"], 520.0);
+    assert_eq!(objects[1]["findings"].as_array().map(Vec::len), Some(0));
+    assert_eq!(objects[1]["alarm"], Value::Null);
+    assert_eq!(objects[1]["blocks"], 4);
+    assert_eq!(objects[2]["ended"], false);
+    assert_eq!(objects[2]["alarm"]["line"], 3);
+    assert_eq!(objects[2]["findings"][0]["kind"], "alarm");
+}
+
+#[test]
+fn exit_status_follows_fail_on() {
+    let dir = scratch(&[("clean.nc", CLEAN), ("feed.nc", FEED), ("over.nc", OVER)]);
+    let status = |args: &[&str]| run(dir.path(), args).status.code();
+    assert_eq!(status(&["check", "clean.nc"]), Some(0));
+    assert_eq!(status(&["check", "feed.nc"]), Some(0));
+    assert_eq!(
+        status(&["check", "feed.nc", "--fail-on", "warning"]),
+        Some(1)
+    );
+    assert_eq!(status(&["check", "over.nc"]), Some(1));
+    assert_eq!(status(&["check", "over.nc", "--fail-on", "never"]), Some(0));
+    assert_eq!(status(&["check", "clean.nc", "missing.nc"]), Some(2));
+    assert_eq!(
+        status(&["check", "clean.nc", "--machine", "no-such-machine"]),
+        Some(2)
+    );
+}
+
+#[test]
+fn golden_text_and_json_reports_of_the_examples() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    for (program, machine) in [
+        ("examples/bracket.nc", "trunnion-ac"),
+        ("examples/tcpc-vector.nc", "head-table-bc"),
+        ("examples/tilted-holes.nc", "trunnion-ac"),
+    ] {
+        let args = [
+            "check",
+            program,
+            "--machine",
+            machine,
+            "--offsets",
+            "examples/offsets.toml",
+        ];
+        let text = run(&root, &args);
+        let mut json_args = args.to_vec();
+        json_args.extend(["--format", "json"]);
+        let json = run(&root, &json_args);
+        let name = program.trim_start_matches("examples/").replace('.', "_");
+        insta::assert_snapshot!(
+            format!("check_{name}"),
+            format!(
+                "{}\n{}",
+                String::from_utf8_lossy(&text.stdout),
+                String::from_utf8_lossy(&json.stdout)
+            )
+        );
+    }
+}
