@@ -25,6 +25,7 @@ mod extent;
 mod law;
 mod motion;
 pub mod singular;
+mod time;
 
 use fiveaxis_control::{Motion, Path, RunError, Runner, Segment, Source};
 use fiveaxis_machine::{MAX_AXES, Machine};
@@ -156,7 +157,8 @@ pub struct AxisRange {
 pub struct Time {
     /// Path length over feed for cutting moves, rapids at the rapid rates.
     pub programmed: f64,
-    /// What the control would take ([`estimate_time`]).
+    /// What the control would take: the velocity planner over the machine
+    /// axes (`fiveaxis-planner`, fed in `time.rs`), at least `programmed`.
     pub estimated: f64,
 }
 
@@ -240,6 +242,8 @@ pub struct Checker<'m> {
     minutes: f64,
     /// Time lost to feed limits, minutes.
     limited_minutes: f64,
+    /// The velocity planner's estimate of the time, fed block by block.
+    plan: time::TimePlan,
 }
 
 impl<'m> Checker<'m> {
@@ -266,6 +270,7 @@ impl<'m> Checker<'m> {
             order: 0,
             minutes: 0.0,
             limited_minutes: 0.0,
+            plan: time::TimePlan::new(machine),
         }
     }
 
@@ -295,6 +300,7 @@ impl<'m> Checker<'m> {
             return;
         }
         self.time(seg);
+        self.plan.segment(self.machine, seg);
         let rotary = self.machine.linear.len()..self.machine.axis_count();
         let turns = rotary.clone().any(|i| seg.start[i] != seg.end[i])
             || matches!(&seg.path, Path::Via(mid) if rotary.clone().any(|i| mid[i] != seg.start[i]))
@@ -531,7 +537,7 @@ impl<'m> Checker<'m> {
             blocks: ending.blocks,
             time: Time {
                 programmed,
-                estimated: estimate_time(machine, programmed),
+                estimated: self.plan.finish(programmed),
             },
             axes,
             findings: self.findings,
@@ -582,16 +588,6 @@ pub fn check_run<S: Source>(
         }),
         blocks: runner.blocks(),
     }))
-}
-
-/// What the control would take, seconds: for now the programmed time.
-///
-/// This is the one place the velocity planner (`fiveaxis-planner`, built
-/// separately: look-ahead over the machine axes within their velocity,
-/// acceleration and jerk limits) replaces; it will then take the blocks'
-/// axis moves and feeds, collected by [`Checker::segment`].
-pub fn estimate_time(_machine: &Machine, programmed: f64) -> f64 {
-    programmed
 }
 
 /// The largest distance of the tool tip from the straight line between

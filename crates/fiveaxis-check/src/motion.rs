@@ -92,7 +92,7 @@ pub fn block_minutes(machine: &Machine, seg: &Segment) -> f64 {
     }
 }
 
-fn dynamics(machine: &Machine, i: usize) -> fiveaxis_machine::Dynamics {
+pub(crate) fn dynamics(machine: &Machine, i: usize) -> fiveaxis_machine::Dynamics {
     if i < machine.linear.len() {
         machine.linear[i].dynamics
     } else {

@@ -139,7 +139,11 @@ fn a_feed_the_c_axis_cannot_follow() {
         "{}",
         report.time.programmed
     );
-    assert_eq!(report.time.estimated, report.time.programmed);
+    // Estimated: C turns 90° at no more than its 7200 deg/min (0.75 s)
+    // after the rapid (0.2 s at full speed), each with its accelerations:
+    // at least 0.95 s, and not much more.
+    let estimated = report.time.estimated;
+    assert!((0.95..1.6).contains(&estimated), "{estimated}");
 }
 
 #[test]

@@ -133,6 +133,8 @@ pub struct Controller<'m> {
     /// The tool posture law worked out for the block being executed (kept
     /// out of `state`, which is copied for every block).
     block_posture: Option<crate::segment::Posture>,
+    /// G09 in the block being executed (its segments end in an exact stop).
+    block_exact_stop: bool,
     /// Cutter compensation C: the engine and the blocks it holds.
     cutter: cutter_c::CutterC,
     /// The optional-stop switch: M01 stops like M00.
@@ -199,6 +201,7 @@ impl<'m> Controller<'m> {
             },
             words: Words::new(machine.control),
             block_posture: None,
+            block_exact_stop: false,
             cutter: cutter_c::CutterC::new(machine.params.cutter_startup_b),
             axis_letters: {
                 let mut letters = [0u8; MAX_AXES];
@@ -320,6 +323,7 @@ impl<'m> Controller<'m> {
         // A program-number line is a label.
         self.words.take(b'O');
         let mut codes = self.classify_g_codes()?;
+        self.block_exact_stop = codes.exact_stop;
         self.feature_restrictions(&codes)?;
         self.m_code_length(&mut codes)?;
         self.apply_modal(&codes)?;
@@ -469,7 +473,7 @@ impl<'m> Controller<'m> {
                 (5, 0) if self.comp3d_forbidden(code).is_none() => GKind::Accuracy,
                 (5, 1) | (8, 0) => GKind::Accuracy,
                 // Exact stop for one block: speed only.
-                (9, 0) => GKind::Cancel,
+                (9, 0) => GKind::ExactStop,
                 (40..=42, 0) => GKind::Cutter,
                 (73 | 74 | 76 | 80..=89, 0) => GKind::Cycle,
                 (98 | 99, 0) => GKind::CycleReturn,
@@ -537,7 +541,7 @@ impl<'m> Controller<'m> {
                     }
                     codes.frames[coordinates::slot(code)] = Some((code, span));
                 }
-                GKind::Cancel => {}
+                GKind::ExactStop => codes.exact_stop = true,
             }
         }
         // G04, G10 and G92 do not move; G53 moves at rapid whatever the
@@ -1586,7 +1590,8 @@ enum GKind {
     CycleReturn,
     Feature,
     Frame,
-    Cancel,
+    /// G09: exact stop for one block.
+    ExactStop,
 }
 
 /// The G codes of one block, by group; the last of a group wins.
@@ -1608,6 +1613,8 @@ struct GCodes {
     accuracy: Option<(Code, Span)>,
     /// G80: ends rigid tapping.
     canned_cancel: bool,
+    /// G09: exact stop at the end of this block.
+    exact_stop: bool,
     cycle: Option<(Code, Span)>,
     cycle_return: Option<Code>,
     /// G68.2 or G69 (tilted working plane).

@@ -363,6 +363,9 @@ pub struct Segment {
     /// Workpiece setup error in force (G54.4): rows report the tip and
     /// direction in the frame of the programmed (ideal) workpiece.
     pub setup: SetupError,
+    /// The control stops at the end of this segment (G61 exact stop mode,
+    /// or a G09 block): speed only, the path is the same.
+    pub exact_stop: bool,
     /// Rows the block is sampled into: 1 (its end row only) unless the run
     /// interpolates (`--step`), when the runner sets it from
     /// [`Segment::steps`].

@@ -393,6 +393,7 @@ impl Controller<'_> {
                 tool_length: block.tool_length,
                 work: block.work,
                 setup: self.state.setup,
+                exact_stop: self.state.modal.cutting == crate::modal::CuttingMode::ExactStop,
                 rows: 1,
             };
             if seg.moves() {

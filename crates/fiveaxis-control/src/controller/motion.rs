@@ -29,6 +29,8 @@ impl Controller<'_> {
             tool_length: self.tool_length(),
             work: self.work(),
             setup: self.state.setup,
+            exact_stop: self.block_exact_stop
+                || self.state.modal.cutting == crate::modal::CuttingMode::ExactStop,
             rows: 1,
         }
     }

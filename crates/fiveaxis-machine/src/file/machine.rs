@@ -8,9 +8,9 @@ use toml::Spanned;
 
 use super::{FileError, Source, in_file_order};
 use crate::{
-    Control, Dynamics, InputUnit, Joints, LinearAxis, MAX_AXES, MAX_M_CODE, MCodes, MFunction, Machine,
-    MachineType, Parameters, ProgrammingFrame, RESERVED_M_CODES, RotaryAxis, RotaryChoice, Side,
-    Vec3,
+    Control, Dynamics, InputUnit, Joints, LinearAxis, MAX_AXES, MAX_M_CODE, MCodes, MFunction,
+    Machine, MachineType, Parameters, ProgrammingFrame, RESERVED_M_CODES, RotaryAxis, RotaryChoice,
+    Side, Vec3,
 };
 
 /// The linear axes that must come first, in this order.

@@ -7,8 +7,8 @@ use std::collections::BTreeSet;
 use std::fmt::Write as _;
 
 use crate::{
-    Control, Dynamics, InputUnit, Joints, LinearAxis, Machine, MachineType, ProgrammingFrame, RotaryAxis,
-    RotaryChoice, Side, Vec3,
+    Control, Dynamics, InputUnit, Joints, LinearAxis, Machine, MachineType, ProgrammingFrame,
+    RotaryAxis, RotaryChoice, Side, Vec3,
 };
 
 /// Column at which trailing comments start, when the line is short enough.

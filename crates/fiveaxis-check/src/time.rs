@@ -1,0 +1,127 @@
+//! The estimated machining time: the segments of the run fed to the
+//! velocity planner (`fiveaxis-planner`) as polylines of machine-axis
+//! positions, with the path length the feed is measured along.
+
+use fiveaxis_control::{Motion, Path, Segment, TipPath};
+use fiveaxis_machine::{MAX_AXES, Machine};
+use fiveaxis_planner::{AxisLimits, Block, Feed, Options, Planner, Point};
+
+/// Largest turn, degrees, of a rotary axis or of a circle between two
+/// samples of a curved block: fine enough that the straight intervals
+/// carry the curve's direction changes to the planner.
+const SAMPLE_ANGLE: f64 = 5.0;
+
+/// Most samples of one block.
+const MAX_SAMPLES: usize = 72;
+
+/// A tip path shorter than this, mm, counts as none: the block turns
+/// rotary axes only, and its feed is in degrees per minute.
+const NO_TIP_MOTION: f64 = 1e-9;
+
+/// The planner of one run, with a buffer of samples reused block by block.
+#[derive(Debug)]
+pub struct TimePlan {
+    /// `None` when the machine's dynamics cannot be planned (the planner
+    /// refused them): the estimate is then the programmed time.
+    planner: Option<Planner>,
+    points: Vec<Point>,
+}
+
+impl TimePlan {
+    /// A plan starting where the run starts.
+    pub fn new(machine: &Machine) -> Self {
+        let limits: Vec<AxisLimits> = (0..machine.axis_count())
+            .map(|i| {
+                let d = crate::motion::dynamics(machine, i);
+                AxisLimits {
+                    max_velocity: d.max_velocity,
+                    rapid: d.rapid,
+                    max_acceleration: d.max_acceleration,
+                    max_jerk: d.max_jerk,
+                }
+            })
+            .collect();
+        let start = machine.params.reference_1;
+        let planner =
+            Planner::new(&limits, Options::default(), &start[..machine.axis_count()]).ok();
+        Self {
+            planner,
+            points: Vec::with_capacity(MAX_SAMPLES),
+        }
+    }
+
+    /// Adds a segment that moves.
+    pub fn segment(&mut self, machine: &Machine, seg: &Segment) {
+        let Some(planner) = self.planner.as_mut() else {
+            return;
+        };
+        let feed = match (seg.motion, seg.feed) {
+            (Motion::Rapid, _) | (_, None) => Feed::Rapid,
+            (_, Some(f)) if f > 0.0 && f.is_finite() => Feed::PerMinute(f),
+            _ => Feed::Rapid,
+        };
+        let n = samples(machine, seg);
+        let count = machine.axis_count().min(MAX_AXES);
+        self.points.clear();
+        let tip_at = |s: f64| machine.forward(&seg.eval(machine, s), seg.tool_length).tip;
+        let tip_moves = (tip_at(1.0) - tip_at(0.0)).norm() > NO_TIP_MOTION
+            || matches!(&seg.path, Path::Tcpc(t) if t.tip.length() > NO_TIP_MOTION)
+            || matches!(&seg.path, Path::Arc(_) | Path::Helix { .. } | Path::Via(_));
+        let mut previous = tip_at(0.0);
+        for k in 1..=n {
+            let s = k as f64 / n as f64;
+            let joints = seg.eval(machine, s);
+            let tip = machine.forward(&joints, seg.tool_length).tip;
+            // Rotary axes alone: length 0 lets the planner measure the
+            // composite axis distance (F in degrees per minute).
+            let length = if tip_moves {
+                (tip - previous).norm()
+            } else {
+                0.0
+            };
+            previous = tip;
+            self.points.push(Point::new(&joints[..count], length));
+        }
+        let block = Block {
+            feed,
+            exact_stop: seg.exact_stop,
+            points: &self.points,
+        };
+        if planner.push(&block).is_err() {
+            // Input the planner cannot take (it says what): the estimate
+            // falls back to the programmed time rather than a wrong one.
+            self.planner = None;
+        }
+    }
+
+    /// The estimated time, seconds, never below the programmed time.
+    pub fn finish(self, programmed: f64) -> f64 {
+        self.planner
+            .map_or(programmed, |p| p.finish().time.max(programmed))
+    }
+}
+
+/// How many samples a segment needs: one for a straight move in axis
+/// space (a joint line), more for circles and for TCPC blocks whose axes
+/// move on curves.
+fn samples(machine: &Machine, seg: &Segment) -> usize {
+    let rotary_span = (machine.linear.len()..machine.axis_count())
+        .map(|i| (seg.end[i] - seg.start[i]).abs())
+        .fold(0.0, f64::max);
+    let turns = |span_degrees: f64| (span_degrees / SAMPLE_ANGLE).ceil() as usize;
+    let n = match &seg.path {
+        Path::Joint => 1,
+        Path::Via(_) => 2,
+        Path::Arc(arc) => turns(arc.sweep.abs().to_degrees()),
+        Path::Helix { circle, .. } => turns(sweep_degrees(circle)),
+        Path::Tcpc(t) => turns(rotary_span).max(turns(sweep_degrees(&t.tip))),
+    };
+    n.clamp(1, MAX_SAMPLES)
+}
+
+fn sweep_degrees(tip: &TipPath) -> f64 {
+    match tip {
+        TipPath::Line(_) => 0.0,
+        TipPath::Arc { sweep, .. } => sweep.abs().to_degrees(),
+    }
+}
