@@ -154,6 +154,19 @@ pub fn maximize<V: Copy>(
     floor: f64,
     ends: [V; 2],
 ) -> Option<(f64, f64)> {
+    maximize_within(f, size, curvature, floor, ends, EXTREMUM_TOLERANCE)
+}
+
+/// [`maximize`] to a tolerance of the caller's: the true maximum lies at
+/// most `tolerance` above the value returned.
+pub fn maximize_within<V: Copy>(
+    f: impl Fn(f64) -> V,
+    size: impl Fn(&V) -> f64,
+    curvature: f64,
+    floor: f64,
+    ends: [V; 2],
+    tolerance: f64,
+) -> Option<(f64, f64)> {
     let mut level = floor;
     let mut best = None;
     for (s, v) in [(0.0, &ends[0]), (1.0, &ends[1])] {
@@ -174,7 +187,7 @@ pub fn maximize<V: Copy>(
         let (s0, x0, s1, x1) = stack[depth];
         let h = s1 - s0;
         let bound = x0.max(x1) + curvature * h * h / 8.0;
-        if bound <= level + EXTREMUM_TOLERANCE
+        if bound <= level + tolerance
             || h < MIN_PIECE
             || evaluations >= MAX_EVALUATIONS
             || depth + 2 > STACK

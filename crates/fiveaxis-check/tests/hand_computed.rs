@@ -114,7 +114,10 @@ fn a_table_c_turn_moves_the_tip_off_the_chord_by_the_sagitta() {
     let (line, value, _) = only(&report, Kind::ChordError);
     let sagitta = 100.0 * (1.0 - 45f64.to_radians().cos());
     assert_eq!(line, 3);
-    assert!((value - sagitta).abs() < 1e-9, "{value} vs {sagitta}");
+    assert!(
+        (value - sagitta).abs() <= fiveaxis_check::CHORD_PRECISION,
+        "{value} vs {sagitta}"
+    );
 }
 
 #[test]

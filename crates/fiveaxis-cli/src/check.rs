@@ -17,7 +17,6 @@ use fiveaxis_control::{DEFAULT_MAX_BLOCKS, ReaderSource, RunError, RunOptions, R
 use fiveaxis_machine::{DEFAULT_MACHINE, Machine, Offsets};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use rayon::prelude::*;
-use serde_json::{Map, Value, json};
 
 use crate::{
     EXIT_INPUT, EXIT_OK, InputError, MAX_LINE_BYTES, diagnostic, library, load_machine,
@@ -131,14 +130,17 @@ pub fn check(args: &CheckArgs) -> Result<u8, InputError> {
     let mut out = anstream::stdout().lock();
     let mut status = EXIT_OK;
     let mut text = String::new();
+    let mut json = Vec::new();
     for (program, outcome) in args.programs.iter().zip(&outcomes) {
         text.clear();
+        json.clear();
         match outcome {
             Ok((report, source)) => {
                 match args.format {
                     CheckFormat::Json => {
-                        text.push_str(&json_line(program, report));
-                        text.push('\n');
+                        json.clear();
+                        json_line(&mut json, program, report);
+                        json.push(b'\n');
                     }
                     CheckFormat::Text => text_report(&mut text, program, report, source),
                 }
@@ -156,7 +158,17 @@ pub fn check(args: &CheckArgs) -> Result<u8, InputError> {
                 status = EXIT_INPUT;
             }
         }
-        if let Err(e) = out.write_all(text.as_bytes()) {
+        // JSON has no colours: it goes to standard output as it is, past
+        // the stripping of escape sequences a pipe gets for text.
+        let written = if json.is_empty() {
+            out.write_all(text.as_bytes())
+        } else {
+            out.flush().and_then(|()| {
+                let mut raw = io::stdout().lock();
+                raw.write_all(&json).and_then(|()| raw.flush())
+            })
+        };
+        if let Err(e) = written {
             return broken_pipe_or(e, status);
         }
     }
@@ -284,55 +296,94 @@ impl Progress {
 
 // ----- JSON ------------------------------------------------------------------
 
-fn number(x: f64) -> Value {
-    serde_json::Number::from_f64(x).map_or(Value::Null, Value::Number)
+/// Writes `x` as JSON: a number, or `null` when it is not finite.
+fn number(w: &mut Vec<u8>, x: f64) {
+    if x.is_finite() {
+        // serde_json's shortest round-trip form, as the rows use.
+        let _ = serde_json::to_writer(&mut *w, &x);
+    } else {
+        w.extend_from_slice(b"null");
+    }
 }
 
-/// The contract's object for one program.
-pub fn json_line(program: &str, report: &Report) -> String {
-    let mut axes = Map::new();
-    for axis in &report.axes {
-        let (lo, hi) = axis.limits.map_or((Value::Null, Value::Null), |(lo, hi)| {
-            (number(lo), number(hi))
-        });
-        axes.insert(
-            axis.name.to_string(),
-            json!({"min": number(axis.min), "max": number(axis.max), "limit_min": lo, "limit_max": hi}),
-        );
+/// Writes `text` as a JSON string (quoted and escaped).
+fn string(w: &mut Vec<u8>, text: &str) {
+    let _ = serde_json::to_writer(&mut *w, text);
+}
+
+/// The contract's object for one program, appended to `w` as one line
+/// (without its newline). Written directly, keys in alphabetical order,
+/// with no tree of values in between: a report may hold hundreds of
+/// thousands of findings.
+pub fn json_line(w: &mut Vec<u8>, program: &str, report: &Report) {
+    w.extend_from_slice(b"{\"alarm\":");
+    match &report.alarm {
+        Some(a) => {
+            w.extend_from_slice(b"{\"code\":");
+            string(w, &a.code);
+            w.extend_from_slice(format!(",\"line\":{},\"message\":", a.line).as_bytes());
+            string(w, &a.message);
+            w.push(b'}');
+        }
+        None => w.extend_from_slice(b"null"),
     }
-    let findings: Vec<Value> = report
-        .findings
-        .iter()
-        .map(|f| {
-            let mut o = Map::new();
-            o.insert("severity".into(), f.severity().name().into());
-            o.insert("kind".into(), f.kind.name().into());
-            o.insert("line".into(), f.line.into());
-            o.insert("message".into(), f.message.clone().into());
-            if let Some(axis) = f.axis {
-                o.insert("axis".into(), axis.to_string().into());
-            }
-            if let Some(v) = f.value {
-                o.insert("value".into(), number(v));
-            }
-            Value::Object(o)
-        })
-        .collect();
-    let alarm = report.alarm.as_ref().map_or(
-        Value::Null,
-        |a| json!({"code": a.code, "line": a.line, "message": a.message}),
+    w.extend_from_slice(b",\"axes\":{");
+    let mut axes: Vec<&fiveaxis_check::AxisRange> = report.axes.iter().collect();
+    axes.sort_by_key(|a| a.name);
+    for (k, axis) in axes.into_iter().enumerate() {
+        if k > 0 {
+            w.push(b',');
+        }
+        string(w, &axis.name.to_string());
+        w.extend_from_slice(b":{\"limit_max\":");
+        let (lo, hi) = axis.limits.map_or((f64::NAN, f64::NAN), |l| l);
+        number(w, hi);
+        w.extend_from_slice(b",\"limit_min\":");
+        number(w, lo);
+        w.extend_from_slice(b",\"max\":");
+        number(w, axis.max);
+        w.extend_from_slice(b",\"min\":");
+        number(w, axis.min);
+        w.push(b'}');
+    }
+    w.extend_from_slice(
+        format!(
+            "}},\"blocks\":{},\"ended\":{},\"findings\":[",
+            report.blocks, report.ended
+        )
+        .as_bytes(),
     );
-    json!({
-        "program": program,
-        "machine": report.machine,
-        "ended": report.ended,
-        "alarm": alarm,
-        "blocks": report.blocks,
-        "time": {"programmed": number(report.time.programmed), "estimated": number(report.time.estimated)},
-        "axes": Value::Object(axes),
-        "findings": findings,
-    })
-    .to_string()
+    for (k, f) in report.findings.iter().enumerate() {
+        if k > 0 {
+            w.push(b',');
+        }
+        w.push(b'{');
+        if let Some(axis) = f.axis {
+            w.extend_from_slice(b"\"axis\":");
+            string(w, &axis.to_string());
+            w.push(b',');
+        }
+        w.extend_from_slice(b"\"kind\":");
+        string(w, f.kind.name());
+        w.extend_from_slice(format!(",\"line\":{},\"message\":", f.line).as_bytes());
+        string(w, &f.message);
+        w.extend_from_slice(b",\"severity\":");
+        string(w, f.severity().name());
+        if let Some(v) = f.value {
+            w.extend_from_slice(b",\"value\":");
+            number(w, v);
+        }
+        w.push(b'}');
+    }
+    w.extend_from_slice(b"],\"machine\":");
+    string(w, &report.machine);
+    w.extend_from_slice(b",\"program\":");
+    string(w, program);
+    w.extend_from_slice(b",\"time\":{\"estimated\":");
+    number(w, report.time.estimated);
+    w.extend_from_slice(b",\"programmed\":");
+    number(w, report.time.programmed);
+    w.extend_from_slice(b"}}");
 }
 
 // ----- text ------------------------------------------------------------------
