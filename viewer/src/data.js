@@ -86,6 +86,8 @@ export function derive(data) {
     const { tip, dir } = forward(machine, q, frame.tool_length);
     tips.set(tip, 3 * i);
     dirs.set(dir, 3 * i);
+    // The bounding box of the rows: the start position (vertex 0) is not one.
+    if (i === 0 && n > 1) continue;
     const p = toPart(frame.to_part, tip);
     for (let k = 0; k < 3; k++) {
       if (p[k] < lo[k]) lo[k] = p[k];

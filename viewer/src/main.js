@@ -50,10 +50,12 @@ function start() {
   const plots = new AxisPlots(ui.plots, data, (t) => seek(t));
 
   /** Moves everything to time `t`. */
-  function seek(t, { scrollText = true } = {}) {
+  function seek(t, { scrollText = true, block = -1 } = {}) {
     state.t = Math.min(Math.max(0, t), data.duration);
     jointsAt(data, state.t, joints);
-    const b = blockAt(data, state.t);
+    // Blocks that take no time share their end with the one before: the
+    // caller may say which one it means.
+    const b = block >= 0 && data.ends[block] === state.t ? block : blockAt(data, state.t);
     state.block = b;
     scene.pose(joints, frameOf(b));
     ui.slider.value = String(data.duration > 0 ? Math.round((state.t / data.duration) * SLIDER_STEPS) : 0);
@@ -80,7 +82,7 @@ function start() {
       }
     }
     scene.select(ranges);
-    if (ranges.length) seek(data.ends[order[first[line]]], { scrollText: false });
+    if (ranges.length) seek(data.ends[order[first[line]]], { scrollText: false, block: order[first[line]] });
     window.__viewer.selectedLine = line;
   }
 
@@ -111,7 +113,7 @@ function start() {
     const atEnd = b >= 0 && Math.abs(data.ends[b] - state.t) < 1e-9;
     const next = d > 0 ? (atEnd ? b + 1 : b) : atEnd ? b - 1 : b - 1;
     if (next < 0) seek(0);
-    else if (next < data.ends.length) seek(data.ends[next]);
+    else if (next < data.ends.length) seek(data.ends[next], { block: next });
   };
   ui.toggle.addEventListener('click', () => setPlaying(!state.playing));
   ui.start.addEventListener('click', () => seek(0));
@@ -161,11 +163,11 @@ function start() {
     },
     selectedLine: 0,
     seek: (t) => seek(t),
-    seekBlock: (b) => seek(data.ends[b]),
+    seekBlock: (b) => seek(data.ends[b], { block: b }),
     selectLine: (line) => selectLine(line),
     /** The machine position, the tool tip by the bodies and by forward kinematics. */
     probe() {
-      const b = blockAt(data, state.t);
+      const b = state.block;
       const frame = frameOf(b);
       const fk = forward(data.machine, joints, frame.tool_length);
       const bodies = scene.probe();
@@ -181,7 +183,23 @@ function start() {
       };
     },
     screenOfVertex: (i) => scene.screenOf(i),
+    blockEnds: () => Array.from(data.ends),
     vertexOfBlockEnd: (b) => lowerBound(data.times, data.ends[b]),
+    /** The lines of the blocks whose path segments are drawn within `px` pixels of a point. */
+    linesNear(x, y, px) {
+      const lines = new Set();
+      let a = scene.screenOf(0);
+      for (let i = 1; i < data.times.length; i++) {
+        const b = scene.screenOf(i);
+        const dx = b.x - a.x;
+        const dy = b.y - a.y;
+        const len2 = dx * dx + dy * dy;
+        const f = len2 > 0 ? Math.min(1, Math.max(0, ((x - a.x) * dx + (y - a.y) * dy) / len2)) : 0;
+        if (Math.hypot(a.x + f * dx - x, a.y + f * dy - y) <= px) lines.add(data.lines[data.vertexBlock[i]]);
+        a = b;
+      }
+      return [...lines];
+    },
     view: (name) => scene.view(name),
     renderedFrames: () => scene.frames || 0,
   };

@@ -414,7 +414,7 @@ export class MachineScene {
     this.requestRender();
   }
 
-  /** The path vertex nearest the pointer (client coordinates), or -1. */
+  /** The end vertex of the path segment under the pointer (client coordinates), or -1. */
   pick(clientX, clientY) {
     const rect = this.renderer.domElement.getBoundingClientRect();
     const ndc = new Vector2(((clientX - rect.left) / rect.width) * 2 - 1, -((clientY - rect.top) / rect.height) * 2 + 1);
@@ -424,14 +424,9 @@ export class MachineScene {
     this.raycaster.params.Line.threshold = PICK_PIXELS * worldPerPixel;
     const hits = this.raycaster.intersectObject(this.path, false);
     if (!hits.length) return -1;
-    const hit = hits[0];
-    // The nearer end of the hit segment.
-    const a = hit.index;
-    const pos = this.path.geometry.attributes.position;
-    const pa = new Vector3().fromBufferAttribute(pos, a).applyMatrix4(this.path.matrixWorld);
-    const pb = new Vector3().fromBufferAttribute(pos, a + 1).applyMatrix4(this.path.matrixWorld);
-    const k = hit.point.distanceTo(pa) <= hit.point.distanceTo(pb) ? a : a + 1;
-    return this.drawnToVertex[Math.min(k, this.drawnToVertex.length - 1)];
+    // The segment hit is drawn by the block of its end vertex.
+    const end = hits[0].index + 1;
+    return this.drawnToVertex[Math.min(end, this.drawnToVertex.length - 1)];
   }
 
   /** Client coordinates of path vertex `i` as drawn now. */

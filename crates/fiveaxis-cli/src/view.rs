@@ -312,19 +312,21 @@ fn gather<S: fiveaxis_control::Source>(
             // (none in practice): the vertex before stays.
             let corner = match last {
                 None => {
-                    push_point(&mut g, &start, time, false);
+                    // The start position: a vertex, not a row (not in the box).
+                    g.path.push(Point { joints: start.joints, tip: start.tip, time }, false);
                     false
                 }
                 Some((motion, frame, end)) => {
                     let jumped = end != seg.start;
                     if jumped {
-                        push_point(&mut g, &start, time, true);
+                        g.path.push(Point { joints: start.joints, tip: start.tip, time }, true);
                     }
                     motion != seg.motion || frame != frame_index || jumped
                 }
             };
             for (k, row) in rows.iter().enumerate() {
-                push_point(&mut g, row, time + seconds * row.s, corner && k == 0);
+                let first_row = last.is_none() && k == 0;
+                push_point(&mut g, row, time + seconds * row.s, corner && k == 0, first_row);
             }
             time += seconds;
             g.lines.push(seg.line);
@@ -352,15 +354,21 @@ fn gather<S: fiveaxis_control::Source>(
     Ok(g)
 }
 
-fn push_point(g: &mut Gathered, row: &Row, time: f64, corner: bool) {
-    g.path.push(
-        Point {
-            joints: row.joints,
-            tip: row.tip,
-            time,
-        },
-        corner,
-    );
+/// Adds a row to the path and to the bounding box of the rows.
+///
+/// The program's first row always stays, so that the rows' box is the
+/// kept vertices' box less the start position (vertex 0, not a row).
+fn push_point(g: &mut Gathered, row: &Row, time: f64, corner: bool, first_row: bool) {
+    let point = Point {
+        joints: row.joints,
+        tip: row.tip,
+        time,
+    };
+    if first_row {
+        g.path.push_kept(point);
+    } else {
+        g.path.push(point, corner);
+    }
     let tip = row.tip;
     g.bbox = Some(match g.bbox {
         None => (tip, tip),

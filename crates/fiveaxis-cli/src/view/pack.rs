@@ -90,6 +90,13 @@ impl PathPacker {
         self.pending.push(point);
     }
 
+    /// Adds the next point and keeps it whatever its neighbours (the one
+    /// before it stays too).
+    pub fn push_kept(&mut self, point: Point) {
+        self.keep_pending_end();
+        self.keep(point);
+    }
+
     /// Keeps the last point (call once after the last [`PathPacker::push`]).
     pub fn finish(&mut self) {
         self.keep_pending_end();
@@ -316,6 +323,17 @@ mod tests {
         let mut p = PathPacker::new(2, DEFAULT_TOLERANCE);
         for (x, t) in [(0.0, 0.0), (1.0, 1.0), (2.0, 2.0), (3.0, 4.0), (4.0, 6.0)] {
             p.push(point(x, 0.0, t), false);
+        }
+        p.finish();
+        assert_eq!(kept_x(&p), vec![0.0, 2.0, 4.0]);
+    }
+
+    #[test]
+    fn a_point_pushed_kept_stays() {
+        let mut p = PathPacker::new(2, DEFAULT_TOLERANCE);
+        for i in 0..5 {
+            let pt = point(f64::from(i), 0.0, f64::from(i));
+            if i == 2 { p.push_kept(pt) } else { p.push(pt, false) }
         }
         p.finish();
         assert_eq!(kept_x(&p), vec![0.0, 2.0, 4.0]);
