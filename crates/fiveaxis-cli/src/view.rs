@@ -313,20 +313,40 @@ fn gather<S: fiveaxis_control::Source>(
             let corner = match last {
                 None => {
                     // The start position: a vertex, not a row (not in the box).
-                    g.path.push(Point { joints: start.joints, tip: start.tip, time }, false);
+                    g.path.push(
+                        Point {
+                            joints: start.joints,
+                            tip: start.tip,
+                            time,
+                        },
+                        false,
+                    );
                     false
                 }
                 Some((motion, frame, end)) => {
                     let jumped = end != seg.start;
                     if jumped {
-                        g.path.push(Point { joints: start.joints, tip: start.tip, time }, true);
+                        g.path.push(
+                            Point {
+                                joints: start.joints,
+                                tip: start.tip,
+                                time,
+                            },
+                            true,
+                        );
                     }
                     motion != seg.motion || frame != frame_index || jumped
                 }
             };
             for (k, row) in rows.iter().enumerate() {
                 let first_row = last.is_none() && k == 0;
-                push_point(&mut g, row, time + seconds * row.s, corner && k == 0, first_row);
+                push_point(
+                    &mut g,
+                    row,
+                    time + seconds * row.s,
+                    corner && k == 0,
+                    first_row,
+                );
             }
             time += seconds;
             g.lines.push(seg.line);
@@ -430,7 +450,9 @@ fn meta(machine: &Machine, g: &Gathered, program: &str, tolerance: f64) -> Value
             })
         })
         .collect();
-    let bbox = g.bbox.map(|(lo, hi)| json!({ "min": vec(&lo), "max": vec(&hi) }));
+    let bbox = g
+        .bbox
+        .map(|(lo, hi)| json!({ "min": vec(&lo), "max": vec(&hi) }));
     json!({
         "format": 1,
         "program": program,
@@ -476,7 +498,9 @@ mod tests {
         let m = frame.to_json()["to_part"].clone();
         assert_eq!(
             m,
-            json!([1.0, 0.0, 0.0, -10.0, 0.0, 1.0, 0.0, 20.0, 0.0, 0.0, 1.0, -30.0])
+            json!([
+                1.0, 0.0, 0.0, -10.0, 0.0, 1.0, 0.0, 20.0, 0.0, 0.0, 1.0, -30.0
+            ])
         );
     }
 }

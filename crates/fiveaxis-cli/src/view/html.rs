@@ -167,7 +167,10 @@ mod tests {
         assert!(page.contains(&format!("id=\"{PROGRAM_ID}\">G0 X1.\n</script>")));
         assert!(page.contains(VIEWER_SCRIPT.get(..200).unwrap_or_default()));
         // Each script element ends where it should: as many ends as starts.
-        assert_eq!(page.matches("<script").count(), page.matches("</script>").count());
+        assert_eq!(
+            page.matches("<script").count(),
+            page.matches("</script>").count()
+        );
         for tag in ["<link", "src=\"http", "<iframe", "@import"] {
             assert!(!page.contains(tag), "{tag}");
         }

@@ -180,7 +180,12 @@ pub const TIMELINE_RAPID: f64 = 10_000.0;
 /// (FANUC); a rapid move takes its largest axis travel at
 /// [`TIMELINE_RAPID`]. `travel` holds each axis' travel (absolute), linear
 /// axes first; `first_rotary` is where the rotary axes start.
-pub fn block_seconds(feed: Option<f64>, tip_length: f64, travel: &[f64], first_rotary: usize) -> f64 {
+pub fn block_seconds(
+    feed: Option<f64>,
+    tip_length: f64,
+    travel: &[f64],
+    first_rotary: usize,
+) -> f64 {
     let longest = |t: &[f64]| t.iter().copied().fold(0.0, f64::max);
     match feed {
         Some(f) if f > 0.0 => {
@@ -333,7 +338,11 @@ mod tests {
         let mut p = PathPacker::new(2, DEFAULT_TOLERANCE);
         for i in 0..5 {
             let pt = point(f64::from(i), 0.0, f64::from(i));
-            if i == 2 { p.push_kept(pt) } else { p.push(pt, false) }
+            if i == 2 {
+                p.push_kept(pt)
+            } else {
+                p.push(pt, false)
+            }
         }
         p.finish();
         assert_eq!(kept_x(&p), vec![0.0, 2.0, 4.0]);
@@ -370,7 +379,11 @@ mod tests {
             p.push(point(i as f64, 0.0, i as f64), false);
         }
         p.finish();
-        assert!(p.vertex_count() <= n / MAX_DROPPED_RUN + 2, "{} kept", p.vertex_count());
+        assert!(
+            p.vertex_count() <= n / MAX_DROPPED_RUN + 2,
+            "{} kept",
+            p.vertex_count()
+        );
         assert!(p.vertex_count() >= 2);
         assert_eq!(p.times().last(), Some(&(n as f64)));
     }
@@ -378,9 +391,15 @@ mod tests {
     #[test]
     fn block_seconds_by_hand() {
         // 100 mm at F600: 10 s.
-        assert_eq!(block_seconds(Some(600.0), 100.0, &[60.0, 80.0, 0.0], 3), 10.0);
+        assert_eq!(
+            block_seconds(Some(600.0), 100.0, &[60.0, 80.0, 0.0], 3),
+            10.0
+        );
         // A turn of 90 degrees alone at F900 (deg/min): 6 s.
-        assert_eq!(block_seconds(Some(900.0), 0.0, &[0.0, 0.0, 0.0, 90.0, 30.0], 3), 6.0);
+        assert_eq!(
+            block_seconds(Some(900.0), 0.0, &[0.0, 0.0, 0.0, 90.0, 30.0], 3),
+            6.0
+        );
         // Rapid: the longest axis, 500 mm at the timeline rate.
         let rapid = block_seconds(None, 0.0, &[500.0, 20.0, 0.0], 3);
         assert_eq!(rapid, 500.0 / TIMELINE_RAPID * 60.0);
