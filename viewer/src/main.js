@@ -202,6 +202,7 @@ function start() {
     },
     view: (name) => scene.view(name),
     renderedFrames: () => scene.frames || 0,
+    renderNow: () => scene.renderNow(),
   };
   seek(0);
   scene.renderNow();

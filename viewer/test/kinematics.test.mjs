@@ -14,10 +14,10 @@ const close = (a, b, tol, what) => {
 };
 
 test('hand-computed: A/C trunnion, A = -90 turns the tip about the A line', () => {
-  // Table A about [-1,0,0] through (0,0,-100); tool length 0 at X0 Y0 Z0.
-  // T⁻¹ turns the gauge point by +90 deg about -X through the centre:
-  // (0,0,0) - c = (0,0,100) → turned by -(-90) = 90 about -X: (0,100,0)... by hand:
-  // R(-x, 90)·(0,0,100) = (0, 100·sin90·(+1), 0) = (0, 100, 0) → + c = (0, 100, -100).
+  // Table A about -X through (0,0,-100); tool length 0 at X0 Y0 Z0. T⁻¹
+  // turns the gauge point by +90 deg about -X about the centre:
+  // (0,0,0) - c = (0,0,100); about -X by 90: (0,0,100) → (0,100,0);
+  // + c = (0,100,-100). The direction (0,0,1) → (0,1,0).
   const m = prepareMachine({
     tool_direction: [0, 0, 1],
     linear: [{ name: 'X' }, { name: 'Y' }, { name: 'Z' }],

@@ -42,9 +42,9 @@ pub fn write_page(
          <title>fiveaxis view: {}</title>\n</head>\n<body>\n",
         escape_html(title)
     )?;
-    write!(
+    writeln!(
         out,
-        "<script type=\"application/json\" id=\"{META_ID}\">{}</script>\n",
+        "<script type=\"application/json\" id=\"{META_ID}\">{}</script>",
         json_for_script(meta)
     )?;
     let mut text = String::new();
