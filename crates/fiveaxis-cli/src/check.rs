@@ -87,8 +87,8 @@ pub struct CheckArgs {
     #[arg(long)]
     variables: Option<PathBuf>,
     /// The control's program memory: a folder of programs that M98 / G65
-    /// call by number.
-    #[arg(long)]
+    /// call by number (`--programs`, as for `run` and `view`).
+    #[arg(long = "programs", id = "program_memory", value_name = "DIR")]
     programs_dir: Option<PathBuf>,
 }
 

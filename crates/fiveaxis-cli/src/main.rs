@@ -8,6 +8,7 @@ mod number;
 mod output;
 mod signals;
 mod text;
+mod view;
 
 use std::fs::File;
 use std::io::{self, BufReader, Read, Seek, Write};
@@ -50,6 +51,9 @@ enum Command {
     /// Check programs on a machine: over-travel, singular passages, flips,
     /// feed limits, chord error, machining time.
     Check(check::CheckArgs),
+    /// Write a self-contained HTML page showing the program in 3-D on its
+    /// machine (tool path, machine moving, timeline, axis plots, findings).
+    View(view::ViewArgs),
     /// List the built-in machines, or print one as a machine file.
     Machines {
         #[command(subcommand)]
@@ -188,6 +192,7 @@ fn main() -> ExitCode {
     let status = match cli.command {
         Command::Run(args) => run(&args),
         Command::Check(args) => check::check(&args),
+        Command::View(args) => view::view(&args),
         Command::Machines { action: None } => list_machines(),
         Command::Machines {
             action: Some(MachinesAction::Show { name }),
@@ -530,6 +535,21 @@ fn write_output_file<S: Source>(
     program_name: &str,
 ) -> Result<u8, InputError> {
     let name = path.display().to_string();
+    write_whole(path, |file| {
+        finish(stream(runner, writer, file), program_name, &name)
+    })
+}
+
+/// Writes a file whole or not at all: `write` fills it and gives the exit
+/// status; the file then replaces `path` (on an `Err`, `path` is left as it
+/// was). A device or pipe (`/dev/null`, `/dev/stdout`) is written through;
+/// a symbolic link's target is replaced, the link stays; a replaced file
+/// keeps its permissions.
+fn write_whole(
+    path: &Path,
+    write: impl FnOnce(File) -> Result<u8, InputError>,
+) -> Result<u8, InputError> {
+    let name = path.display().to_string();
     // A device or pipe, also behind a link (`/dev/stdout`), is written
     // through.
     if std::fs::metadata(path).is_ok_and(|m| !m.is_file()) {
@@ -537,7 +557,7 @@ fn write_output_file<S: Source>(
             .write(true)
             .open(path)
             .map_err(|e| InputError::io(&name, &e))?;
-        return finish(stream(runner, writer, file), program_name, &name);
+        return write(file);
     }
     let link = std::fs::symlink_metadata(path).is_ok_and(|m| m.file_type().is_symlink());
     // A symbolic link is written through: its target is replaced, the
@@ -577,7 +597,7 @@ fn write_output_file<S: Source>(
     }
     let cleanup = signals::remove_on_signal(temp.path());
     let file = temp.reopen().map_err(|e| InputError::io(&name, &e))?;
-    let status = finish(stream(runner, writer, file), program_name, &name);
+    let status = write(file);
     cleanup.finish(|| match status {
         Ok(code) => temp
             .persist(&target)

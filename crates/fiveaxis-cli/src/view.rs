@@ -1,0 +1,528 @@
+//! `fiveaxis view`: runs a program on its machine and writes one
+//! self-contained HTML page that shows it in 3-D (the backplot): the tool
+//! tip path, the machine moving by forward kinematics, a timeline, the
+//! program text, plots of every axis and the findings.
+//!
+//! This module gathers the data (rows of every block, sampled as `run
+//! --step` does); [`pack`] packs it into typed arrays; [`html`] writes the
+//! page.
+
+pub mod html;
+pub mod pack;
+
+use std::io::{BufWriter, Cursor, Read, Write};
+use std::path::{Path, PathBuf};
+
+use fiveaxis_control::{
+    Alarm, Interpolation, Motion, ReaderSource, Row, RunError, RunOptions, Runner, Segment,
+};
+use fiveaxis_machine::{Machine, MachineType, SetupError, Side, Vec3};
+use serde_json::{Value, json};
+
+use crate::{
+    EXIT_ALARM, EXIT_OK, InputError, MAX_LINE_BYTES, diagnostic, library, load_machine,
+    load_offsets, load_variables, open_program, report, write_error, write_whole,
+};
+use pack::{PathPacker, Point};
+
+/// Options of `fiveaxis view`.
+#[derive(Debug, clap::Args)]
+pub struct ViewArgs {
+    /// Program file, or `-` for standard input.
+    program: String,
+    /// Built-in machine name or machine file (TOML).
+    #[arg(long, default_value = fiveaxis_machine::DEFAULT_MACHINE)]
+    machine: String,
+    /// Offsets file (TOML); default: all offsets zero.
+    #[arg(long)]
+    offsets: Option<PathBuf>,
+    /// Write the page here (whole or not at all); default: the program's
+    /// name with `.html` (`view.html` for standard input).
+    #[arg(short = 'o', long = "output")]
+    output: Option<PathBuf>,
+    /// Rows inside each block: tool tips at most this far apart (mm), so
+    /// arcs and TCPC blocks are drawn as the machine moves.
+    #[arg(long, default_value_t = 1.0, value_parser = crate::positive)]
+    step: f64,
+    /// Most rotary motion between rows (degrees).
+    #[arg(long, default_value_t = 1.0, value_parser = crate::positive)]
+    step_angle: f64,
+    /// No rows inside blocks: each block drawn from its end alone (for
+    /// very large programs whose blocks swing the rotary axes far).
+    #[arg(long)]
+    ends_only: bool,
+    /// Leave out rows closer than this to the straight line through their
+    /// neighbours (mm, and degrees for the axes).
+    #[arg(long, default_value_t = pack::DEFAULT_TOLERANCE, value_parser = crate::positive)]
+    tolerance: f64,
+    /// Block delete switch on: skip blocks that start with `/`.
+    #[arg(long)]
+    block_delete: bool,
+    /// Stop a program that has not ended after this many lines with alarm
+    /// FX0102.
+    #[arg(long, default_value_t = fiveaxis_control::DEFAULT_MAX_BLOCKS, value_parser = clap::value_parser!(u64).range(1..))]
+    max_blocks: u64,
+    /// Optional stop switch on.
+    #[arg(long)]
+    optional_stop: bool,
+    /// The control's program memory: a folder of programs that M98 / G65
+    /// call by number.
+    #[arg(long)]
+    programs: Option<PathBuf>,
+    /// Custom macro variables file (TOML, `500 = 1.25`).
+    #[arg(long)]
+    variables: Option<PathBuf>,
+    /// Say on standard error what was skipped and why.
+    #[arg(short, long)]
+    verbose: bool,
+}
+
+/// The findings of the program as the `check` contract has them
+/// (`check-contract.md`: `severity`, `kind`, `line`, `message`, and `axis`,
+/// `value` where they apply): the check report of the same run
+/// (`fiveaxis-check`, fed the segments the view draws), the alarm that
+/// stopped the program among them.
+pub fn program_findings(findings: &[fiveaxis_check::Finding]) -> Vec<Value> {
+    findings
+        .iter()
+        .map(|f| {
+            let mut o = json!({
+                "severity": f.severity().name(),
+                "kind": f.kind.name(),
+                "line": f.line,
+                "message": f.message,
+            });
+            if let Some(axis) = f.axis {
+                o["axis"] = json!(axis.to_string());
+            }
+            if let Some(value) = f.value.filter(|v| v.is_finite()) {
+                o["value"] = json!(value);
+            }
+            o
+        })
+        .collect()
+}
+
+/// Motion codes of the `motion` array (`viewer/src/data.js`).
+fn motion_code(motion: Motion) -> u8 {
+    match motion {
+        Motion::Rapid => 0,
+        Motion::Linear => 1,
+        Motion::Cw => 2,
+        Motion::Ccw => 3,
+    }
+}
+
+/// What turns machine coordinates into the reported tool tip for a run of
+/// blocks: the tool, the work offset and the setup error.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Frame {
+    tool_length: f64,
+    tool_radius: f64,
+    work: Vec3,
+    setup: SetupError,
+}
+
+impl Frame {
+    /// The frame as the viewer reads it: the tool, and the affine map from
+    /// table coordinates to the part frame as a 3×4 matrix, row by row
+    /// (`tip_part = setup⁻¹(tip_table − W)`, `machine-model.md` §3).
+    fn to_json(self) -> Value {
+        let origin = self.setup.inverse_point(&(-self.work));
+        let columns: Vec<Vec3> = (0..3)
+            .map(|i| {
+                let mut e = Vec3::zeros();
+                e[i] = 1.0;
+                self.setup.inverse_vector(&e)
+            })
+            .collect();
+        let matrix: Vec<f64> = (0..3)
+            .flat_map(|r| [columns[0][r], columns[1][r], columns[2][r], origin[r]])
+            .collect();
+        json!({
+            "tool_length": self.tool_length,
+            "tool_radius": self.tool_radius,
+            "to_part": matrix,
+        })
+    }
+}
+
+/// Tool radius drawn when the offsets give the tool none, mm.
+const DEFAULT_TOOL_RADIUS: f64 = 5.0;
+
+/// Everything gathered from the run.
+struct Gathered {
+    path: PathPacker,
+    lines: Vec<u32>,
+    ends: Vec<f64>,
+    motions: Vec<u8>,
+    frames: Vec<Frame>,
+    /// `[first block, frame index]` for each change of frame.
+    frame_runs: Vec<[usize; 2]>,
+    rows: u64,
+    alarm: Option<Alarm>,
+    bbox: Option<(Vec3, Vec3)>,
+    /// The check report's findings (over-travel, singular passages, …).
+    findings: Vec<fiveaxis_check::Finding>,
+}
+
+/// Runs `fiveaxis view`.
+pub fn view(args: &ViewArgs) -> Result<u8, InputError> {
+    let machine = load_machine(&args.machine)?;
+    let offsets = load_offsets(args.offsets.as_deref())?;
+    let program_name = if args.program == "-" {
+        "<stdin>"
+    } else {
+        args.program.as_str()
+    };
+    let mut bytes = Vec::new();
+    open_program(&args.program)?
+        .read_to_end(&mut bytes)
+        .map_err(|e| InputError::io(program_name, &e))?;
+    let options = RunOptions {
+        block_delete: args.block_delete,
+        interpolation: (!args.ends_only).then_some(Interpolation {
+            step: args.step,
+            step_angle: args.step_angle,
+        }),
+        max_blocks: args.max_blocks,
+        optional_stop: args.optional_stop,
+        // As `check`: an over-travel is a finding drawn on the path, and
+        // the program goes on.
+        lift_soft_limits: true,
+    };
+    let mut runner = Runner::new(
+        &machine,
+        offsets,
+        ReaderSource::new(Cursor::new(&bytes[..])),
+        options,
+    );
+    if let Some(dir) = &args.programs {
+        let library = library::DirLibrary::new(dir)
+            .map_err(|e| InputError::io(&dir.display().to_string(), &e))?;
+        runner = runner.with_library(Box::new(library));
+    }
+    if let Some(path) = &args.variables {
+        let name = path.display().to_string();
+        let values = load_variables(&name, path)?;
+        runner
+            .set_variables(&values)
+            .map_err(|e| InputError(format!("error: {name}: {e}")))?;
+    }
+
+    let gathered = gather(&mut runner, &machine, args.tolerance, program_name)?;
+    if args.verbose {
+        for note in runner.notes() {
+            report(&format!(
+                "note: {program_name}: {}",
+                diagnostic::escape(note)
+            ));
+        }
+    }
+    let status = if let Some(alarm) = &gathered.alarm {
+        report(&format!(
+            "ALARM {} line {}: {} (shown in the view)",
+            alarm.code,
+            alarm.line,
+            diagnostic::escape(&alarm.message)
+        ));
+        EXIT_ALARM
+    } else {
+        EXIT_OK
+    };
+
+    let output = args.output.clone().unwrap_or_else(|| {
+        if args.program == "-" {
+            PathBuf::from("view.html")
+        } else {
+            Path::new(&args.program).with_extension("html")
+        }
+    });
+    if output == Path::new(&args.program) {
+        return Err(InputError(format!(
+            "error: {}: the page would replace the program: give another -o",
+            output.display()
+        )));
+    }
+    let name = output.display().to_string();
+    let meta = meta(&machine, &gathered, program_name, args.tolerance);
+    let text = String::from_utf8_lossy(&bytes);
+    let arrays = [
+        ("joints", pack::f32_bytes(gathered.path.joints())),
+        ("times", pack::f64_bytes(gathered.path.times())),
+        ("lines", pack::u32_bytes(&gathered.lines)),
+        ("ends", pack::f64_bytes(&gathered.ends)),
+        ("motions", gathered.motions.clone()),
+    ];
+    let arrays: Vec<html::Array<'_>> = arrays
+        .iter()
+        .map(|(name, bytes)| html::Array { name, bytes })
+        .collect();
+    write_whole(&output, |file| {
+        let mut out = BufWriter::new(file);
+        html::write_page(&mut out, program_name, &meta, &arrays, &text)
+            .and_then(|()| out.flush())
+            .map_err(|e| write_error(&name, &e))?;
+        Ok(status)
+    })
+}
+
+/// Runs the program, sampling every segment into rows, packing the path.
+fn gather<S: fiveaxis_control::Source>(
+    runner: &mut Runner<'_, S>,
+    machine: &Machine,
+    tolerance: f64,
+    program_name: &str,
+) -> Result<Gathered, InputError> {
+    let axes = machine.axis_count();
+    let mut g = Gathered {
+        path: PathPacker::new(axes, tolerance),
+        lines: Vec::new(),
+        ends: Vec::new(),
+        motions: Vec::new(),
+        frames: Vec::new(),
+        frame_runs: Vec::new(),
+        rows: 0,
+        alarm: None,
+        bbox: None,
+        findings: Vec::new(),
+    };
+    let mut checker = fiveaxis_check::Checker::new(machine);
+    let mut segments = Vec::new();
+    let mut rows: Vec<Row> = Vec::new();
+    let mut time = 0.0;
+    let mut last: Option<(Motion, usize, fiveaxis_machine::Joints)> = None;
+    loop {
+        segments.clear();
+        // One block at a time, so that the controller's tool is the
+        // block's own.
+        let filled = runner.fill(&mut segments, 1);
+        let tool = runner.controller().spindle_tool();
+        let radius = runner.controller().offsets().tool(tool).radius;
+        for seg in &segments {
+            let frame = Frame {
+                tool_length: seg.tool_length,
+                tool_radius: if radius > 0.0 {
+                    radius
+                } else {
+                    DEFAULT_TOOL_RADIUS
+                },
+                work: seg.work,
+                setup: seg.setup,
+            };
+            if g.frames.last() != Some(&frame) {
+                g.frames.push(frame);
+                g.frame_runs.push([g.lines.len(), g.frames.len() - 1]);
+            }
+            let frame_index = g.frames.len() - 1;
+            checker.segment(seg);
+            sample(seg, machine, &mut rows);
+            let start = seg.row(machine, 0.0);
+            let seconds = seconds(seg, &start, &rows, machine);
+            // A new motion or frame, or a jump of the axes between blocks
+            // (none in practice): the vertex before stays.
+            let corner = match last {
+                None => {
+                    // The start position: a vertex, not a row (not in the box).
+                    g.path.push(
+                        Point {
+                            joints: start.joints,
+                            tip: start.tip,
+                            time,
+                        },
+                        false,
+                    );
+                    false
+                }
+                Some((motion, frame, end)) => {
+                    let jumped = end != seg.start;
+                    if jumped {
+                        g.path.push(
+                            Point {
+                                joints: start.joints,
+                                tip: start.tip,
+                                time,
+                            },
+                            true,
+                        );
+                    }
+                    motion != seg.motion || frame != frame_index || jumped
+                }
+            };
+            for (k, row) in rows.iter().enumerate() {
+                let first_row = last.is_none() && k == 0;
+                push_point(
+                    &mut g,
+                    row,
+                    time + seconds * row.s,
+                    corner && k == 0,
+                    first_row,
+                );
+            }
+            time += seconds;
+            g.lines.push(seg.line);
+            g.ends.push(time);
+            g.motions.push(motion_code(seg.motion));
+            g.rows += rows.len() as u64;
+            last = Some((seg.motion, frame_index, seg.end));
+        }
+        match filled {
+            Ok(true) => {}
+            Ok(false) => break,
+            Err(RunError::Alarm { alarm, .. }) => {
+                g.alarm = Some(alarm);
+                break;
+            }
+            Err(RunError::LineTooLong { line }) => {
+                return Err(InputError(format!(
+                    "error: {program_name}: line {line} is longer than {MAX_LINE_BYTES} bytes: this is not a program text"
+                )));
+            }
+            Err(RunError::Io(e)) => return Err(InputError::io(program_name, &e)),
+        }
+    }
+    g.path.finish();
+    g.findings = checker
+        .finish(fiveaxis_check::Ending {
+            ended: g.alarm.is_none(),
+            alarm: g.alarm.as_ref().map(|a| fiveaxis_check::AlarmInfo {
+                code: a.code.to_string(),
+                line: a.line,
+                message: a.message.clone(),
+            }),
+            blocks: runner.blocks(),
+        })
+        .findings;
+    Ok(g)
+}
+
+/// Adds a row to the path and to the bounding box of the rows.
+///
+/// The program's first row always stays, so that the rows' box is the
+/// kept vertices' box less the start position (vertex 0, not a row).
+fn push_point(g: &mut Gathered, row: &Row, time: f64, corner: bool, first_row: bool) {
+    let point = Point {
+        joints: row.joints,
+        tip: row.tip,
+        time,
+    };
+    if first_row {
+        g.path.push_kept(point);
+    } else {
+        g.path.push(point, corner);
+    }
+    let tip = row.tip;
+    g.bbox = Some(match g.bbox {
+        None => (tip, tip),
+        Some((lo, hi)) => (lo.inf(&tip), hi.sup(&tip)),
+    });
+}
+
+/// The rows of one segment as `run --step` gives them: inside it, then
+/// its end.
+fn sample(seg: &Segment, machine: &Machine, rows: &mut Vec<Row>) {
+    rows.clear();
+    let n = seg.rows.max(1);
+    rows.extend((1..=n).map(|i| seg.row(machine, f64::from(i) / f64::from(n))));
+}
+
+/// The programmed time of a segment from its rows ([`pack::block_seconds`]).
+fn seconds(seg: &Segment, start: &Row, rows: &[Row], machine: &Machine) -> f64 {
+    let axes = machine.axis_count();
+    let mut travel = [0.0; fiveaxis_machine::MAX_AXES];
+    let mut tip_length = 0.0;
+    let mut prev = start;
+    for row in rows {
+        tip_length += (row.tip - prev.tip).norm();
+        for (t, (a, b)) in travel.iter_mut().zip(prev.joints.iter().zip(&row.joints)) {
+            *t += (b - a).abs();
+        }
+        prev = row;
+    }
+    pack::block_seconds(seg.feed, tip_length, &travel[..axes], machine.linear.len())
+}
+
+/// The JSON description of the page: the machine, the frames, the counts,
+/// the findings.
+fn meta(machine: &Machine, g: &Gathered, program: &str, tolerance: f64) -> Value {
+    let kind = match machine.machine_type() {
+        MachineType::None => "none",
+        MachineType::Head => "head",
+        MachineType::Table => "table",
+        MachineType::Mixed => "mixed",
+    };
+    let vec = |v: &Vec3| json!([v.x, v.y, v.z]);
+    let linear: Vec<Value> = machine
+        .linear
+        .iter()
+        .map(|a| json!({ "name": a.name.to_string(), "min": a.min, "max": a.max }))
+        .collect();
+    let rotary: Vec<Value> = machine
+        .rotary
+        .iter()
+        .map(|r| {
+            json!({
+                "name": r.name.to_string(),
+                "on": if r.on == Side::Head { "head" } else { "table" },
+                "axis": vec(r.axis.as_ref()),
+                "center": vec(&r.center),
+                "min": r.limits.map(|l| l.0),
+                "max": r.limits.map(|l| l.1),
+                "rollover": r.rollover,
+            })
+        })
+        .collect();
+    let bbox = g
+        .bbox
+        .map(|(lo, hi)| json!({ "min": vec(&lo), "max": vec(&hi) }));
+    json!({
+        "format": 1,
+        "program": program,
+        "machine": {
+            "name": machine.name,
+            "type": kind,
+            "tool_direction": vec(machine.tool_direction.as_ref()),
+            "linear": linear,
+            "rotary": rotary,
+        },
+        "frames": g.frames.iter().map(|f| f.to_json()).collect::<Vec<_>>(),
+        "frame_runs": g.frame_runs,
+        "vertices": g.path.vertex_count(),
+        "blocks": g.lines.len(),
+        "rows": g.rows,
+        "bbox": bbox,
+        "duration": g.ends.last().copied().unwrap_or(0.0),
+        "tolerance": tolerance,
+        "timeline_rapid": pack::TIMELINE_RAPID,
+        "ended": g.alarm.is_none(),
+        "alarm": g.alarm.as_ref().map(|a| json!({ "code": a.code.to_string(), "line": a.line, "message": a.message })),
+        "findings": program_findings(&g.findings),
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn no_findings_is_an_empty_list() {
+        assert!(program_findings(&[]).is_empty());
+    }
+
+    #[test]
+    fn frame_matrix_is_the_work_offset_alone_without_setup_error() {
+        let frame = Frame {
+            tool_length: 100.0,
+            tool_radius: 5.0,
+            work: Vec3::new(10.0, -20.0, 30.0),
+            setup: SetupError::default(),
+        };
+        let m = frame.to_json()["to_part"].clone();
+        assert_eq!(
+            m,
+            json!([
+                1.0, 0.0, 0.0, -10.0, 0.0, 1.0, 0.0, 20.0, 0.0, 0.0, 1.0, -30.0
+            ])
+        );
+    }
+}

@@ -1,0 +1,102 @@
+// The data `fiveaxis view` embeds in the page (crates/fiveaxis-cli/src/
+// view/html.rs): a JSON description, typed arrays in base64, and the
+// program text.
+
+import { forward, prepareMachine, toPart } from './kinematics.js';
+import { frameOfBlock, lowerBound } from './timeline.js';
+
+const META_ID = 'fiveaxis-meta';
+const ARRAY_PREFIX = 'fiveaxis-array-';
+const PROGRAM_ID = 'fiveaxis-program';
+
+/** Motion codes of the `motions` array. */
+export const MOTIONS = ['rapid', 'linear', 'cw', 'ccw'];
+
+/** Bytes of a base64 text (the browser's own decoder where it has one). */
+export function decodeBase64(text) {
+  if (typeof Uint8Array.fromBase64 === 'function') return Uint8Array.fromBase64(text);
+  const binary = atob(text);
+  const bytes = new Uint8Array(binary.length);
+  for (let i = 0; i < binary.length; i++) bytes[i] = binary.charCodeAt(i);
+  return bytes;
+}
+
+function array(doc, name, Type) {
+  const element = doc.getElementById(ARRAY_PREFIX + name);
+  const bytes = decodeBase64(element.textContent.trim());
+  element.textContent = '';
+  return new Type(bytes.buffer, bytes.byteOffset, bytes.byteLength / Type.BYTES_PER_ELEMENT);
+}
+
+/** The program text as written (undoes the page's `&a;`, `&l;`, `&r;`). */
+export function unescapeProgram(text) {
+  if (!text.includes('&')) return text;
+  return text.replace(/&[alr];/g, (m) => (m === '&a;' ? '&' : m === '&l;' ? '<' : '\r'));
+}
+
+/** Program lines as the control counts them: LF, CR LF or a lone CR. */
+export function splitLines(text) {
+  const lines = text.split(/\r\n|\r|\n/);
+  if (lines.length > 1 && lines[lines.length - 1] === '') lines.pop();
+  return lines;
+}
+
+/** Reads everything from the page. */
+export function readPage(doc) {
+  const meta = JSON.parse(doc.getElementById(META_ID).textContent);
+  const machine = prepareMachine(meta.machine);
+  const program = doc.getElementById(PROGRAM_ID);
+  const text = unescapeProgram(program.textContent);
+  program.textContent = '';
+  const data = {
+    meta,
+    machine,
+    axes: machine.axisCount,
+    joints: array(doc, 'joints', Float32Array),
+    times: array(doc, 'times', Float64Array),
+    lines: array(doc, 'lines', Uint32Array),
+    ends: array(doc, 'ends', Float64Array),
+    motions: array(doc, 'motions', Uint8Array),
+    programLines: splitLines(text),
+  };
+  derive(data);
+  return data;
+}
+
+/**
+ * Per vertex: the block it ends in, the tip and direction in the table
+ * frame (forward kinematics of its machine position with its block's
+ * tool), and the bounding box of the tips in the part frame.
+ */
+export function derive(data) {
+  const { axes, joints, times, ends, machine, meta } = data;
+  const n = times.length;
+  const tips = new Float32Array(3 * n);
+  const dirs = new Float32Array(3 * n);
+  const blocks = new Uint32Array(n);
+  const q = new Array(axes).fill(0);
+  const lo = [Infinity, Infinity, Infinity];
+  const hi = [-Infinity, -Infinity, -Infinity];
+  for (let i = 0; i < n; i++) {
+    // The block a vertex belongs to: the first that ends at or after it.
+    const b = Math.min(lowerBound(ends, times[i]), Math.max(0, ends.length - 1));
+    blocks[i] = b;
+    const frame = meta.frames[frameOfBlock(data, b)] || { tool_length: 0, to_part: [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0] };
+    for (let a = 0; a < axes; a++) q[a] = joints[i * axes + a];
+    const { tip, dir } = forward(machine, q, frame.tool_length);
+    tips.set(tip, 3 * i);
+    dirs.set(dir, 3 * i);
+    // The bounding box of the rows: the start position (vertex 0) is not one.
+    if (i === 0 && n > 1) continue;
+    const p = toPart(frame.to_part, tip);
+    for (let k = 0; k < 3; k++) {
+      if (p[k] < lo[k]) lo[k] = p[k];
+      if (p[k] > hi[k]) hi[k] = p[k];
+    }
+  }
+  data.tips = tips;
+  data.dirs = dirs;
+  data.vertexBlock = blocks;
+  data.bbox = n ? { min: lo, max: hi } : null;
+  data.duration = ends.length ? ends[ends.length - 1] : 0;
+}

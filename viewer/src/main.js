@@ -1,0 +1,221 @@
+// `fiveaxis view`: the viewer's entry point. Reads the data the page
+// holds, builds the 3-D scene, the program text, the plots and the
+// controls, links them by time and by line, and exposes `window.__viewer`
+// (statistics and probes for tests and for people at the console).
+
+import { readPage } from './data.js';
+import { forward, toPart, toPartVector } from './kinematics.js';
+import { AxisPlots } from './plots.js';
+import { MachineScene } from './scene.js';
+import { blockAt, blockStart, blocksByLine, frameOfBlock, jointsAt, lowerBound } from './timeline.js';
+import { ProgramText, clock, escapeHtml, layout } from './ui.js';
+
+const SLIDER_STEPS = 1000000;
+
+function start() {
+  const data = readPage(document);
+  const ui = layout(document, data.meta);
+  const scene = new MachineScene(ui.view3d, data);
+  const lineIndex = blocksByLine(data.lines, data.programLines.length);
+  const joints = new Array(data.axes).fill(0);
+  const state = { t: 0, playing: false, speed: 1, selectedLine: 0, block: -1 };
+  const frameOf = (b) => data.meta.frames[frameOfBlock(data, Math.max(0, b))] || { tool_length: 0, tool_radius: 5, to_part: [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0] };
+
+  // Findings: markers on the path, entries in a list, marks in the text.
+  const findings = data.meta.findings || [];
+  const vertexOfLine = (line) => {
+    const { first, order } = lineIndex;
+    if (line >= 0 && line < first.length - 1 && first[line + 1] > first[line]) {
+      return lowerBound(data.times, data.ends[order[first[line]]]);
+    }
+    return data.times.length - 1; // not run (an alarm stops before its block): where the machine stopped
+  };
+  scene.setMarkers(
+    findings.map((f) => {
+      const i = Math.max(0, Math.min(vertexOfLine(f.line), data.times.length - 1));
+      return { at: [data.tips[3 * i], data.tips[3 * i + 1], data.tips[3 * i + 2]], severity: f.severity };
+    }),
+  );
+  ui.findingsTitle.textContent = findings.length ? `Findings (${findings.length})` : 'No findings';
+  ui.findings.innerHTML = findings
+    .map((f, k) => `<div class="${escapeHtml(f.severity)}" data-k="${k}">line ${f.line}: ${escapeHtml(f.kind)}: ${escapeHtml(f.message)}${f.axis ? ` (${escapeHtml(f.axis)} ${f.value})` : ''}</div>`)
+    .join('');
+  ui.findings.addEventListener('click', (e) => {
+    const el = e.target.closest('[data-k]');
+    if (el) selectLine(findings[Number(el.dataset.k)].line);
+  });
+
+  const text = new ProgramText(ui.text, ui.textInner, data.programLines, (line) => selectLine(line));
+  for (const f of findings) text.marked.add(f.line);
+  const plots = new AxisPlots(ui.plots, data, (t) => seek(t));
+
+  /** Moves everything to time `t`. */
+  function seek(t, { scrollText = true, block = -1 } = {}) {
+    state.t = Math.min(Math.max(0, t), data.duration);
+    jointsAt(data, state.t, joints);
+    // Blocks that take no time share their end with the one before: the
+    // caller may say which one it means.
+    const b = block >= 0 && data.ends[block] === state.t ? block : blockAt(data, state.t);
+    state.block = b;
+    scene.pose(joints, frameOf(b));
+    ui.slider.value = String(data.duration > 0 ? Math.round((state.t / data.duration) * SLIDER_STEPS) : 0);
+    ui.time.textContent = `${clock(state.t)} / ${clock(data.duration)}`;
+    const line = b >= 0 ? data.lines[b] : 0;
+    text.setCurrent(line, scrollText);
+    plots.setCursor(state.t);
+    const names = data.machine.axisNames;
+    ui.status.textContent = `block ${b + 1} / ${data.ends.length}  line ${line}\n` + names.map((n, i) => `${n} ${joints[i].toFixed(3).padStart(10)}`).join('\n');
+  }
+
+  /** Selects a program line: its blocks drawn in the selection colour, time at its first block. */
+  function selectLine(line) {
+    state.selectedLine = line;
+    text.setSelected(line);
+    const { first, order } = lineIndex;
+    const ranges = [];
+    if (line >= 0 && line < first.length - 1) {
+      for (let k = first[line]; k < first[line + 1]; k++) {
+        const b = order[k];
+        const from = Math.max(0, lowerBound(data.times, blockStart(data, b)));
+        const to = Math.min(data.times.length - 1, lowerBound(data.times, data.ends[b]));
+        ranges.push([from, to]);
+      }
+    }
+    scene.select(ranges);
+    if (ranges.length) seek(data.ends[order[first[line]]], { scrollText: false, block: order[first[line]] });
+    window.__viewer.selectedLine = line;
+  }
+
+  // Playback.
+  let last = 0;
+  function tick(now) {
+    if (!state.playing) return;
+    const dt = last ? (now - last) / 1000 : 0;
+    last = now;
+    seek(state.t + dt * state.speed);
+    if (state.t >= data.duration) {
+      setPlaying(false);
+      return;
+    }
+    requestAnimationFrame(tick);
+  }
+  function setPlaying(on) {
+    state.playing = on && data.duration > 0;
+    ui.toggle.textContent = state.playing ? '❚❚' : '▶';
+    if (state.playing) {
+      if (state.t >= data.duration) seek(0);
+      last = 0;
+      requestAnimationFrame(tick);
+    }
+  }
+  const stepBlock = (d) => {
+    const b = blockAt(data, state.t);
+    const atEnd = b >= 0 && Math.abs(data.ends[b] - state.t) < 1e-9;
+    const next = d > 0 ? (atEnd ? b + 1 : b) : atEnd ? b - 1 : b - 1;
+    if (next < 0) seek(0);
+    else if (next < data.ends.length) seek(data.ends[next], { block: next });
+  };
+  ui.toggle.addEventListener('click', () => setPlaying(!state.playing));
+  ui.start.addEventListener('click', () => seek(0));
+  ui.prev.addEventListener('click', () => stepBlock(-1));
+  ui.next.addEventListener('click', () => stepBlock(1));
+  ui.speed.addEventListener('change', () => (state.speed = Number(ui.speed.value)));
+  ui.slider.addEventListener('input', () => seek((Number(ui.slider.value) / SLIDER_STEPS) * data.duration));
+  ui.plotMode.addEventListener('change', () => plots.setMode(ui.plotMode.value));
+  ui.tools.addEventListener('click', (e) => {
+    const v = e.target.dataset && e.target.dataset.view;
+    if (v) scene.view(v);
+  });
+  ui.fit.addEventListener('click', () => scene.fit());
+  document.addEventListener('keydown', (e) => {
+    if (e.target.tagName === 'INPUT' || e.target.tagName === 'SELECT') return;
+    if (e.key === ' ') {
+      setPlaying(!state.playing);
+      e.preventDefault();
+    } else if (e.key === 'ArrowRight') stepBlock(1);
+    else if (e.key === 'ArrowLeft') stepBlock(-1);
+  });
+  // A click (not a drag) on the path selects its line.
+  let down = null;
+  scene.renderer.domElement.addEventListener('pointerdown', (e) => (down = [e.clientX, e.clientY]));
+  scene.renderer.domElement.addEventListener('pointerup', (e) => {
+    if (!down || Math.hypot(e.clientX - down[0], e.clientY - down[1]) > 4) return;
+    const i = scene.pick(e.clientX, e.clientY);
+    if (i >= 0) {
+      // The block the picked vertex ends (vertex 0: the first block).
+      const b = data.vertexBlock[i];
+      if (b < data.lines.length) selectLine(data.lines[b]);
+    }
+  });
+
+  // Statistics and probes (tests, and people at the console).
+  window.__viewer = {
+    ready: false,
+    stats: {
+      segments: data.ends.length,
+      vertices: data.times.length,
+      rows: data.meta.rows,
+      bbox: data.bbox,
+      findings: findings.length,
+      duration: data.duration,
+      machineType: data.machine.type,
+      programLines: data.programLines.length,
+    },
+    selectedLine: 0,
+    seek: (t) => seek(t),
+    seekBlock: (b) => seek(data.ends[b], { block: b }),
+    selectLine: (line) => selectLine(line),
+    /** The machine position, the tool tip by the bodies and by forward kinematics. */
+    probe() {
+      const b = state.block;
+      const frame = frameOf(b);
+      const fk = forward(data.machine, joints, frame.tool_length);
+      const bodies = scene.probe();
+      return {
+        t: state.t,
+        block: b,
+        line: b >= 0 ? data.lines[b] : 0,
+        joints: joints.slice(),
+        bodies,
+        bodiesTipPart: toPart(frame.to_part, bodies.table),
+        fkTipPart: toPart(frame.to_part, fk.tip),
+        fkDirPart: toPartVector(frame.to_part, fk.dir),
+      };
+    },
+    screenOfVertex: (i) => scene.screenOf(i),
+    blockEnds: () => Array.from(data.ends),
+    vertexOfBlockEnd: (b) => lowerBound(data.times, data.ends[b]),
+    /** The lines of the blocks whose path segments are drawn within `px` pixels of a point. */
+    linesNear(x, y, px) {
+      const lines = new Set();
+      let a = scene.screenOf(0);
+      for (let i = 1; i < data.times.length; i++) {
+        const b = scene.screenOf(i);
+        const dx = b.x - a.x;
+        const dy = b.y - a.y;
+        const len2 = dx * dx + dy * dy;
+        const f = len2 > 0 ? Math.min(1, Math.max(0, ((x - a.x) * dx + (y - a.y) * dy) / len2)) : 0;
+        if (Math.hypot(a.x + f * dx - x, a.y + f * dy - y) <= px) lines.add(data.lines[data.vertexBlock[i]]);
+        a = b;
+      }
+      return [...lines];
+    },
+    view: (name) => scene.view(name),
+    renderedFrames: () => scene.frames || 0,
+    renderNow: () => scene.renderNow(),
+  };
+  seek(0);
+  scene.renderNow();
+  plots.draw();
+  window.__viewer.openMs = performance.now();
+  window.__viewer.ready = true;
+  document.documentElement.dataset.ready = 'true';
+}
+
+try {
+  start();
+} catch (error) {
+  document.body.insertAdjacentHTML('afterbegin', `<pre style="color:#f85149;white-space:pre-wrap">fiveaxis view: ${String(error && error.stack ? error.stack : error).replace(/</g, '&lt;')}</pre>`);
+  window.__viewer = { ready: false, error: String(error) };
+  throw error;
+}

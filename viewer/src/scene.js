@@ -1,0 +1,462 @@
+// The 3-D scene, in the machine frame (Z up): a fixed bed; the table
+// chain (one group per table rotary axis, nested bed outwards) carrying the
+// table, the workpiece zero and the tool path; the head (translated by X,
+// Y, Z, one group per head rotary axis) carrying the spindle and the tool.
+// Every group turns about its axis' real line by the angle of its axis, so
+// the bodies move as forward kinematics says (machine-model.md §3).
+
+import {
+  AmbientLight,
+  AxesHelper,
+  BoxGeometry,
+  BufferAttribute,
+  BufferGeometry,
+  Color,
+  CylinderGeometry,
+  DirectionalLight,
+  Group,
+  Line,
+  LineBasicMaterial,
+  LineSegments,
+  Matrix4,
+  Mesh,
+  MeshLambertMaterial,
+  Object3D,
+  PerspectiveCamera,
+  Quaternion,
+  Raycaster,
+  Scene,
+  SphereGeometry,
+  Vector2,
+  Vector3,
+  WebGLRenderer,
+} from 'three';
+import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
+import { MOTIONS } from './data.js';
+
+/** Colours of the path by motion: rapid, linear feed, arcs. */
+export const MOTION_COLOURS = { rapid: '#e8554e', linear: '#3fb950', cw: '#58a6ff', ccw: '#58a6ff' };
+const SELECTED_COLOUR = '#ffd33d';
+/** Tool-axis ticks drawn along the path, at most. */
+const TOOL_AXIS_TICKS = 400;
+/** Path vertices the picking ray must come this close to, pixels. */
+const PICK_PIXELS = 6;
+
+const UP = new Vector3(0, 1, 0);
+
+/** A group turning about the line through `center` along `axis`. */
+function rotaryGroup(axis, center) {
+  const g = new Group();
+  g.matrixAutoUpdate = false;
+  g.userData = { axis: new Vector3(...axis).normalize(), center: new Vector3(...center) };
+  return g;
+}
+
+/** Sets a rotary group to `deg`: T(c)·R(a, deg)·T(−c). */
+function setRotary(g, deg) {
+  const { axis, center } = g.userData;
+  const r = new Matrix4().makeRotationAxis(axis, (deg * Math.PI) / 180);
+  const m = new Matrix4().makeTranslation(center.x, center.y, center.z);
+  m.multiply(r);
+  m.multiply(new Matrix4().makeTranslation(-center.x, -center.y, -center.z));
+  g.matrix.copy(m);
+  g.matrixWorldNeedsUpdate = true;
+}
+
+/** A cylinder from `from` along `dir` for `length`, radius `r`. */
+function cylinder(from, dir, length, r, material) {
+  const geometry = new CylinderGeometry(r, r, Math.max(length, 1e-3), 32);
+  const mesh = new Mesh(geometry, material);
+  const d = new Vector3(...dir).normalize();
+  mesh.quaternion.copy(new Quaternion().setFromUnitVectors(UP, d));
+  mesh.position.copy(new Vector3(...from).addScaledVector(d, length / 2));
+  return mesh;
+}
+
+/** A box of size `size` whose centre is `at`. */
+function box(size, at, material) {
+  const mesh = new Mesh(new BoxGeometry(...size), material);
+  mesh.position.set(...at);
+  return mesh;
+}
+
+export class MachineScene {
+  constructor(canvasParent, data) {
+    this.data = data;
+    const machine = data.machine;
+    this.renderer = new WebGLRenderer({ antialias: true, preserveDrawingBuffer: true });
+    this.renderer.setPixelRatio(window.devicePixelRatio || 1);
+    this.renderer.setClearColor(new Color('#161b22'));
+    canvasParent.appendChild(this.renderer.domElement);
+    this.parent = canvasParent;
+    this.scene = new Scene();
+    this.scene.add(new AmbientLight(0xffffff, 1.2));
+    const sun = new DirectionalLight(0xffffff, 1.8);
+    sun.position.set(1, -2, 3);
+    this.scene.add(sun);
+
+    const lin = machine.linear;
+    const span = (i) => (lin[i] ? Math.abs(lin[i].max - lin[i].min) : 500);
+    // The size of things: from the machine's strokes and the path.
+    const bb = data.bbox;
+    const pathSize = bb ? Math.max(bb.max[0] - bb.min[0], bb.max[1] - bb.min[1], bb.max[2] - bb.min[2], 1) : 100;
+    this.pathSize = pathSize;
+    const tableRadius = Math.min(Math.max(0.6 * pathSize, 50), Math.max(0.3 * Math.min(span(0), span(1)), 50));
+    this.sizes = { tableRadius, pathSize };
+
+    const mat = (c) => new MeshLambertMaterial({ color: c });
+    const bedMat = mat('#4a5361');
+    const tableMat = mat('#7a8ca3');
+    const cradleMat = mat('#6b7f99');
+    const headMat = mat('#d08c3c');
+    const spindleMat = mat('#b8bcc4');
+    this.toolMat = mat('#f2f2f2');
+
+    // Table chain, bed outwards.
+    this.tableGroups = [];
+    let carrier = this.scene;
+    const tables = machine.rotary.filter((r) => r.on === 'table');
+    for (const r of machine.rotary.filter((x) => x.on === 'table')) {
+      const g = rotaryGroup(r.axis, r.center);
+      g.userData.index = r.index;
+      g.name = `table-${r.name}`;
+      carrier.add(g);
+      carrier = g;
+      this.tableGroups.push(g);
+    }
+    this.tableInner = carrier === this.scene ? new Group() : carrier;
+    if (this.tableInner.parent == null) this.scene.add(this.tableInner);
+    this.tableInner.name = this.tableInner.name || 'table';
+
+    // The table top below the lowest point of the path.
+    const low = bb ? Math.min(bb.min[2], 0) : 0;
+    const topZ = this.pathLowZ(data, low) - 1;
+    const thick = 0.15 * tableRadius;
+    const table = cylinder([0, 0, topZ - thick], [0, 0, 1], thick, tableRadius, tableMat);
+    const tableCenter = tables.length ? tables[tables.length - 1].center : [0, 0, 0];
+    table.position.x += tableCenter[0];
+    table.position.y += tableCenter[1];
+    this.tableInner.add(table);
+    // The outer table axis of a trunnion: a cradle along its line.
+    if (tables.length === 2) {
+      const outer = tables[0];
+      const g = this.tableGroups[0];
+      const a = outer.axis;
+      const c = outer.center;
+      const half = tableRadius * 1.25;
+      for (const s of [-1, 1]) {
+        const end = [c[0] + s * half * a[0], c[1] + s * half * a[1], c[2] + s * half * a[2]];
+        g.add(cylinder(end, [s * a[0], s * a[1], s * a[2]], 0.2 * tableRadius, 0.35 * tableRadius, cradleMat));
+      }
+      const floor = topZ - thick - 0.6 * thick;
+      const along = new Vector3(...a).normalize();
+      const size = [
+        Math.abs(along.x) * 2 * half + (1 - Math.abs(along.x)) * 1.6 * tableRadius,
+        Math.abs(along.y) * 2 * half + (1 - Math.abs(along.y)) * 1.6 * tableRadius,
+        0.6 * thick,
+      ];
+      g.add(box(size, [c[0], c[1], floor], cradleMat));
+    }
+    // The workpiece zero of the first frame, and the path.
+    this.buildPath(data);
+    // The stock: the box the cutting moves span, seen through.
+    const cut = this.cutBox(data);
+    if (cut) {
+      const size = [0, 1, 2].map((k) => Math.max(cut.max[k] - cut.min[k], 0.5));
+      const stock = box(size, [0, 1, 2].map((k) => (cut.max[k] + cut.min[k]) / 2), new MeshLambertMaterial({ color: '#c9a86a', transparent: true, opacity: 0.18, depthWrite: false }));
+      stock.name = 'stock';
+      this.tableInner.add(stock);
+    }
+    // The bed: fixed, under everything.
+    const bedZ = topZ - thick - 2 * thick - (tables.length === 2 ? tableRadius : 0);
+    this.scene.add(box([Math.max(span(0), 2.5 * tableRadius), Math.max(span(1), 2.5 * tableRadius), thick], [tableCenter[0], tableCenter[1], bedZ], bedMat));
+
+    // Head: X, Y, Z move the gauge point; head axes turn about their lines.
+    this.carriage = new Group();
+    this.carriage.name = 'head';
+    this.scene.add(this.carriage);
+    this.headGroups = [];
+    carrier = this.carriage;
+    const t0 = machine.toolDirection;
+    for (const r of machine.rotary.filter((x) => x.on === 'head')) {
+      const g = rotaryGroup(r.axis, r.center);
+      g.userData.index = r.index;
+      g.name = `head-${r.name}`;
+      // The housing of the axis around its centre.
+      g.add(box([0.5 * tableRadius, 0.5 * tableRadius, 0.5 * tableRadius], r.center, headMat));
+      carrier.add(g);
+      carrier = g;
+      this.headGroups.push(g);
+    }
+    this.spindle = carrier;
+    const spindleR = Math.max(0.12 * tableRadius, 15);
+    this.spindle.add(cylinder([0, 0, 0], t0, 2.5 * spindleR, spindleR, spindleMat));
+    if (this.headGroups.length === 0) {
+      this.spindle.add(box([3 * spindleR, 3 * spindleR, 3 * spindleR], [t0[0] * 4 * spindleR, t0[1] * 4 * spindleR, t0[2] * 4 * spindleR], headMat));
+    }
+    this.tool = null;
+    this.toolTip = new Object3D();
+    this.toolTip.name = 'tool-tip';
+    this.spindle.add(this.toolTip);
+    this.tipMarker = new Mesh(new SphereGeometry(Math.max(0.008 * pathSize, 0.5), 16, 12), new MeshLambertMaterial({ color: '#ffffff' }));
+    this.scene.add(this.tipMarker);
+
+    this.camera = new PerspectiveCamera(40, 1, 0.1, 1e6);
+    this.camera.up.set(0, 0, 1);
+    this.controls = new OrbitControls(this.camera, this.renderer.domElement);
+    this.controls.addEventListener('change', () => this.requestRender());
+    this.raycaster = new Raycaster();
+    this.resize();
+    new ResizeObserver(() => this.resize()).observe(canvasParent);
+    this.view('iso');
+  }
+
+  /**
+   * The lowest table-frame Z of the cutting moves (the stock sits on the
+   * table), or of the whole path when nothing cuts, or `fallback`.
+   */
+  pathLowZ(data, fallback) {
+    const b = this.cutBox(data);
+    return b ? b.min[2] : fallback;
+  }
+
+  /** Table-frame box of the cutting (non-rapid) vertices, or of all. */
+  cutBox(data) {
+    const { tips, vertexBlock, motions } = data;
+    const n = tips.length / 3;
+    const lo = [Infinity, Infinity, Infinity];
+    const hi = [-Infinity, -Infinity, -Infinity];
+    for (const cutOnly of [true, false]) {
+      for (let i = 0; i < n; i++) {
+        if (cutOnly && motions[vertexBlock[i]] === 0) continue;
+        for (let k = 0; k < 3; k++) {
+          const v = tips[3 * i + k];
+          if (v < lo[k]) lo[k] = v;
+          if (v > hi[k]) hi[k] = v;
+        }
+      }
+      if (Number.isFinite(lo[0])) return { min: lo, max: hi };
+    }
+    return null;
+  }
+
+  /** The path in the table frame, coloured by motion, with tool-axis ticks. */
+  buildPath(data) {
+    const { tips, dirs, vertexBlock, motions } = data;
+    const n = tips.length / 3;
+    const colours = Object.fromEntries(MOTIONS.map((m) => [m, new Color(MOTION_COLOURS[m])]));
+    // The segment from vertex i−1 to i has the motion of vertex i's block;
+    // a vertex where the motion changes is drawn twice, once in each colour.
+    let extra = 0;
+    for (let i = 2; i < n; i++) if (motions[vertexBlock[i]] !== motions[vertexBlock[i - 1]]) extra++;
+    const count = n + extra;
+    const pos = new Float32Array(3 * count);
+    const col = new Float32Array(3 * count);
+    this.drawnToVertex = new Uint32Array(count);
+    let k = 0;
+    const put = (i, c) => {
+      pos[3 * k] = tips[3 * i];
+      pos[3 * k + 1] = tips[3 * i + 1];
+      pos[3 * k + 2] = tips[3 * i + 2];
+      col[3 * k] = c.r;
+      col[3 * k + 1] = c.g;
+      col[3 * k + 2] = c.b;
+      this.drawnToVertex[k] = i;
+      k++;
+    };
+    for (let i = 0; i < n; i++) {
+      const m = MOTIONS[motions[vertexBlock[Math.min(i + 1, n - 1)]]] || 'linear';
+      const here = MOTIONS[motions[vertexBlock[i]]] || 'linear';
+      put(i, colours[i === 0 ? m : here]);
+      if (i > 0 && i < n - 1 && m !== here) put(i, colours[m]);
+    }
+    const geometry = new BufferGeometry();
+    geometry.setAttribute('position', new BufferAttribute(pos, 3));
+    geometry.setAttribute('color', new BufferAttribute(col, 3));
+    geometry.computeBoundingSphere();
+    this.path = new Line(geometry, new LineBasicMaterial({ vertexColors: true }));
+    this.path.name = 'path';
+    this.tableInner.add(this.path);
+
+    // Tool-axis ticks at intervals.
+    const every = Math.max(1, Math.ceil(n / TOOL_AXIS_TICKS));
+    const len = 0.04 * this.pathSize;
+    const ticks = [];
+    for (let i = 0; i < n; i += every) {
+      const p = [tips[3 * i], tips[3 * i + 1], tips[3 * i + 2]];
+      ticks.push(...p, p[0] + len * dirs[3 * i], p[1] + len * dirs[3 * i + 1], p[2] + len * dirs[3 * i + 2]);
+    }
+    const tg = new BufferGeometry();
+    tg.setAttribute('position', new BufferAttribute(new Float32Array(ticks), 3));
+    this.ticks = new LineSegments(tg, new LineBasicMaterial({ color: '#8b949e', transparent: true, opacity: 0.7 }));
+    this.ticks.name = 'tool-axis';
+    this.tableInner.add(this.ticks);
+
+    // The selected line's blocks.
+    const sg = new BufferGeometry();
+    sg.setAttribute('position', new BufferAttribute(new Float32Array(0), 3));
+    this.selected = new LineSegments(sg, new LineBasicMaterial({ color: SELECTED_COLOUR, depthTest: false }));
+    this.selected.renderOrder = 2;
+    this.tableInner.add(this.selected);
+
+    // The workpiece zero of the first frame: the part frame's axes.
+    const f = data.meta.frames[0];
+    if (f) {
+      const m = f.to_part;
+      // Part origin in table coordinates: solve R·x + o = 0, R orthonormal.
+      const o = [m[3], m[7], m[11]];
+      const origin = [
+        -(m[0] * o[0] + m[4] * o[1] + m[8] * o[2]),
+        -(m[1] * o[0] + m[5] * o[1] + m[9] * o[2]),
+        -(m[2] * o[0] + m[6] * o[1] + m[10] * o[2]),
+      ];
+      const axes = new AxesHelper(0.15 * this.pathSize);
+      axes.position.set(...origin);
+      this.tableInner.add(axes);
+    }
+
+    this.markers = new Group();
+    this.markers.name = 'findings';
+    this.tableInner.add(this.markers);
+  }
+
+  /** Draws the blocks (vertex ranges `[from, to]`) of the selected line. */
+  select(ranges) {
+    const tips = this.data.tips;
+    const pts = [];
+    for (const [from, to] of ranges) {
+      for (let i = from + 1; i <= to; i++) {
+        pts.push(tips[3 * i - 3], tips[3 * i - 2], tips[3 * i - 1], tips[3 * i], tips[3 * i + 1], tips[3 * i + 2]);
+        if (pts.length > 6e6) break;
+      }
+    }
+    this.selected.geometry.setAttribute('position', new BufferAttribute(new Float32Array(pts), 3));
+    this.selected.geometry.computeBoundingSphere();
+    this.requestRender();
+  }
+
+  /** Finding markers at table-frame points. */
+  setMarkers(points) {
+    this.markers.clear();
+    const r = Math.max(0.015 * this.pathSize, 1);
+    for (const { at, severity } of points) {
+      const colour = severity === 'error' ? '#f85149' : severity === 'warning' ? '#d29922' : '#58a6ff';
+      const m = new Mesh(new SphereGeometry(r, 16, 12), new MeshLambertMaterial({ color: colour }));
+      m.position.set(...at);
+      this.markers.add(m);
+    }
+  }
+
+  /** Puts every body where the machine position `joints` and tool say. */
+  pose(joints, tool) {
+    for (const g of this.tableGroups) setRotary(g, joints[g.userData.index]);
+    this.carriage.position.set(joints[0], joints[1], joints[2]);
+    for (const g of this.headGroups) setRotary(g, joints[g.userData.index]);
+    const t0 = this.data.machine.toolDirection;
+    const key = `${tool.tool_length}/${tool.tool_radius}`;
+    if (this.toolKey !== key) {
+      if (this.tool) this.spindle.remove(this.tool);
+      const L = tool.tool_length;
+      this.tool = cylinder([-L * t0[0], -L * t0[1], -L * t0[2]], t0, Math.max(L, 1e-3), tool.tool_radius, this.toolMat);
+      this.tool.name = 'tool';
+      this.spindle.add(this.tool);
+      this.toolKey = key;
+    }
+    const L = tool.tool_length;
+    this.toolTip.position.set(-L * t0[0], -L * t0[1], -L * t0[2]);
+    this.scene.updateMatrixWorld(true);
+    this.tipMarker.position.setFromMatrixPosition(this.toolTip.matrixWorld);
+    this.requestRender();
+  }
+
+  /** The tool tip as the bodies stand: in the machine frame and in the table frame. */
+  probe() {
+    this.scene.updateMatrixWorld(true);
+    const world = new Vector3().setFromMatrixPosition(this.toolTip.matrixWorld);
+    const table = world.clone().applyMatrix4(new Matrix4().copy(this.tableInner.matrixWorld).invert());
+    const matrices = {};
+    for (const g of [...this.tableGroups, ...this.headGroups, this.carriage]) matrices[g.name] = Array.from(g.matrixWorld.elements);
+    return { world: world.toArray(), table: table.toArray(), matrices };
+  }
+
+  /** The path's world-frame bounding box as the table stands. */
+  pathBox() {
+    const g = this.path.geometry;
+    g.computeBoundingBox();
+    const b = g.boundingBox.clone().applyMatrix4(this.tableInner.matrixWorld);
+    return b;
+  }
+
+  /** Views along the axes (`+x`, `-x`, `+y`, `-y`, `+z`, `-z`) or `iso`, then fit. */
+  view(name) {
+    const dirs = {
+      '+x': [1, 0, 0], '-x': [-1, 0, 0], '+y': [0, 1, 0], '-y': [0, -1, 0],
+      '+z': [0, 0, 1], '-z': [0, 0, -1], iso: [1, -1.2, 0.9],
+    };
+    this.viewDir = new Vector3(...(dirs[name] || dirs.iso)).normalize();
+    this.camera.up.set(0, 0, 1);
+    if (Math.abs(this.viewDir.z) > 0.99) this.camera.up.set(0, 1, 0);
+    this.fit();
+  }
+
+  /** Fits the camera to the path, looking along the current view direction. */
+  fit() {
+    const b = this.pathBox();
+    const centre = b.getCenter(new Vector3());
+    const radius = Math.max(b.getSize(new Vector3()).length() / 2, 1);
+    const dist = radius / Math.sin((this.camera.fov * Math.PI) / 360) * 1.1;
+    this.camera.position.copy(centre).addScaledVector(this.viewDir, dist);
+    this.camera.near = dist / 1000;
+    this.camera.far = dist * 1000;
+    this.camera.updateProjectionMatrix();
+    this.controls.target.copy(centre);
+    this.controls.update();
+    this.requestRender();
+  }
+
+  /** The end vertex of the path segment under the pointer (client coordinates), or -1. */
+  pick(clientX, clientY) {
+    const rect = this.renderer.domElement.getBoundingClientRect();
+    const ndc = new Vector2(((clientX - rect.left) / rect.width) * 2 - 1, -((clientY - rect.top) / rect.height) * 2 + 1);
+    this.raycaster.setFromCamera(ndc, this.camera);
+    const dist = this.camera.position.distanceTo(this.controls.target);
+    const worldPerPixel = (2 * dist * Math.tan((this.camera.fov * Math.PI) / 360)) / rect.height;
+    this.raycaster.params.Line.threshold = PICK_PIXELS * worldPerPixel;
+    const hits = this.raycaster.intersectObject(this.path, false);
+    if (!hits.length) return -1;
+    // The segment hit is drawn by the block of its end vertex.
+    const end = hits[0].index + 1;
+    return this.drawnToVertex[Math.min(end, this.drawnToVertex.length - 1)];
+  }
+
+  /** Client coordinates of path vertex `i` as drawn now. */
+  screenOf(i) {
+    const p = new Vector3(this.data.tips[3 * i], this.data.tips[3 * i + 1], this.data.tips[3 * i + 2]);
+    p.applyMatrix4(this.tableInner.matrixWorld).project(this.camera);
+    const rect = this.renderer.domElement.getBoundingClientRect();
+    return { x: rect.left + ((p.x + 1) / 2) * rect.width, y: rect.top + ((1 - p.y) / 2) * rect.height };
+  }
+
+  resize() {
+    const w = Math.max(this.parent.clientWidth, 10);
+    const h = Math.max(this.parent.clientHeight, 10);
+    this.renderer.setSize(w, h);
+    this.camera.aspect = w / h;
+    this.camera.updateProjectionMatrix();
+    this.requestRender();
+  }
+
+  requestRender() {
+    if (this.pending) return;
+    this.pending = true;
+    requestAnimationFrame(() => {
+      this.pending = false;
+      this.renderNow();
+    });
+  }
+
+  renderNow() {
+    this.renderer.render(this.scene, this.camera);
+    this.frames = (this.frames || 0) + 1;
+  }
+}

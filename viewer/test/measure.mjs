@@ -1,0 +1,36 @@
+// Opens `fiveaxis view` pages in headless Chromium and prints, for each,
+// the file size and the time from navigation to the viewer's ready flag,
+// and how long a seek (slider move) and an orbit frame take there.
+//
+//   node test/measure.mjs PAGE.html...
+
+import { statSync } from 'node:fs';
+import { resolve } from 'node:path';
+import { launch, open } from './browser.mjs';
+
+const browser = await launch();
+for (const arg of process.argv.slice(2)) {
+  const file = resolve(arg);
+  const started = Date.now();
+  const { page, errors, openMs } = await open(browser, file, { timeout: 600000 });
+  const wall = Date.now() - started;
+  const timing = await page.evaluate(async () => {
+    const v = window.__viewer;
+    const t0 = performance.now();
+    for (let k = 1; k <= 20; k++) v.seek((v.stats.duration * k) / 21);
+    const seekMs = (performance.now() - t0) / 20;
+    // Frames drawn while orbiting: render on demand, measured over 20 frames.
+    const f0 = v.renderedFrames();
+    const t1 = performance.now();
+    for (let k = 0; k < 20; k++) {
+      v.view(k % 2 ? 'iso' : '+x');
+      await new Promise(requestAnimationFrame);
+    }
+    const frameMs = (performance.now() - t1) / Math.max(1, v.renderedFrames() - f0);
+    return { seekMs, frameMs, stats: v.stats };
+  });
+  const mb = statSync(file).size / 1e6;
+  console.log(JSON.stringify({ file: arg, megabytes: +mb.toFixed(1), openMs: Math.round(openMs), wallMs: wall, seekMs: +timing.seekMs.toFixed(2), frameMs: +timing.frameMs.toFixed(1), segments: timing.stats.segments, vertices: timing.stats.vertices, errors }));
+  await page.close();
+}
+await browser.close();

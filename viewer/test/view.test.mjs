@@ -1,0 +1,184 @@
+// `fiveaxis view` pages in a real browser (Debian's Chromium, headless,
+// WebGL on SwiftShader), driven by playwright-core: for the example
+// programs on each built-in machine type the page opens with no console
+// error and loads nothing but itself; the statistics the viewer exposes
+// match what `fiveaxis run` reports; moving the slider moves the machine
+// bodies as forward kinematics says (compared with the kernel's rows);
+// clicking the text or the path selects a line; a screenshot is saved.
+
+import assert from 'node:assert/strict';
+import { after, before, test } from 'node:test';
+import { join } from 'node:path';
+import { launch, open } from './browser.mjs';
+import { CASES, OUT, checkReport, makePage, runRows } from './cases.mjs';
+
+let browser;
+before(async () => {
+  browser = await launch();
+});
+after(async () => {
+  await browser?.close();
+});
+
+/** Millimetres: joints are packed as 32-bit floats. */
+const MM = 1e-3;
+
+function near(a, b, tol, what) {
+  assert.ok(Math.abs(a - b) <= tol, `${what}: ${a} vs ${b} (tolerance ${tol})`);
+}
+
+/** A rollover axis as `run` prints it. */
+const mod360 = (x) => ((x % 360) + 360) % 360;
+function angleNear(a, b, tol, what) {
+  const d = Math.abs(mod360(a) - mod360(b));
+  assert.ok(Math.min(d, 360 - d) <= tol, `${what}: ${a} vs ${b}`);
+}
+
+/** Programmed time of each block from `run --step` rows, as the viewer's timeline defines it. */
+function blockSeconds(rows, machine, rapid) {
+  const names = [...machine.linear.map((a) => a.name), ...machine.rotary.map((a) => a.name)];
+  const rollover = new Set(machine.rotary.filter((r) => r.rollover).map((r) => r.name));
+  const firstRotary = machine.linear.length;
+  const out = [];
+  let prev = null;
+  let block = null;
+  const close = () => {
+    if (!block) return;
+    const longest = (xs) => xs.reduce((m, x) => Math.max(m, x), 0);
+    let s;
+    if (block.feed) {
+      const len = block.tip > 1e-9 ? block.tip : longest(block.travel.slice(firstRotary));
+      s = (len / block.feed) * 60;
+    } else s = (longest(block.travel) / rapid) * 60;
+    out.push(s);
+  };
+  for (const row of rows) {
+    if (row.s <= 1e-12 || !block || block.done) {
+      close();
+      block = { feed: row.feed, tip: 0, travel: names.map(() => 0), done: false };
+    }
+    if (prev) {
+      block.tip += Math.hypot(row.tip_x - prev.tip_x, row.tip_y - prev.tip_y, row.tip_z - prev.tip_z);
+      names.forEach((n, i) => {
+        let d = Math.abs(row[n] - prev[n]);
+        if (rollover.has(n)) d = Math.min(d, 360 - d);
+        block.travel[i] += d;
+      });
+    }
+    if (row.s === 1) block.done = true;
+    prev = row;
+  }
+  close();
+  return out;
+}
+
+for (const c of CASES) {
+  const name = `${c.program} on ${c.machine}`;
+  test(`view: ${name}`, async () => {
+    const { file, status, meta } = makePage(c);
+    const plain = runRows(c);
+    const stepped = runRows(c, ['--step', '1', '--step-angle', '1']);
+    assert.equal(status, c.alarm ? 1 : 0, 'exit status as run');
+    assert.equal(plain.status, status);
+    const { page, errors, requests, openMs } = await open(browser, file);
+    try {
+      assert.deepEqual(errors, [], 'no console error');
+      assert.deepEqual(requests, [`file://${file}`], 'the page loads nothing but itself');
+      assert.ok(openMs > 0);
+      const stats = await page.evaluate(() => window.__viewer.stats);
+
+      // Statistics against `fiveaxis run`.
+      assert.equal(stats.segments, plain.rows.length, 'segments = rows of run without --step');
+      assert.equal(stats.rows, stepped.rows.length, 'rows sampled = rows of run --step 1');
+      // Findings: those of `fiveaxis check` on the same program, in order.
+      const report = checkReport(c);
+      assert.equal(stats.findings, report.findings.length, 'findings = check findings');
+      assert.deepEqual(
+        meta.findings.map((f) => [f.kind, f.line]),
+        report.findings.map((f) => [f.kind, f.line]),
+        'findings as check reports them',
+      );
+      if (plain.alarm) assert.equal(meta.findings.at(-1).line, plain.alarm.line);
+      if (stepped.rows.length) {
+        for (const [k, axis] of ['tip_x', 'tip_y', 'tip_z'].entries()) {
+          const values = stepped.rows.map((r) => r[axis]);
+          near(stats.bbox.min[k], Math.min(...values), MM + meta.tolerance, `bbox min ${axis}`);
+          near(stats.bbox.max[k], Math.max(...values), MM + meta.tolerance, `bbox max ${axis}`);
+        }
+      } else assert.equal(stats.bbox, null);
+      // Duration: block by block from the run's rows (the first block's
+      // start is not a row of run: compared from the second block on).
+      const ends = await page.evaluate(() => window.__viewer.blockEnds());
+      const seconds = blockSeconds(stepped.rows, meta.machine, meta.timeline_rapid);
+      assert.equal(seconds.length, ends.length);
+      for (let b = 1; b < ends.length; b++) near(ends[b] - ends[b - 1], seconds[b], 1e-6 * Math.max(1, seconds[b]), `block ${b + 1} seconds (line ${plain.rows[b].line})`);
+      near(stats.duration, ends.at(-1) ?? 0, 1e-9, 'duration = end of the last block');
+
+      // The slider moves the bodies; at each block end they stand where
+      // the kernel's row says.
+      if (plain.rows.length) {
+        const slider = page.locator('#fa-slider');
+        const moveSlider = (v) => slider.evaluate((el, v) => { el.value = String(v); el.dispatchEvent(new Event('input', { bubbles: true })); }, v);
+        await moveSlider(0);
+        const a = await page.evaluate(() => window.__viewer.probe());
+        await moveSlider(500000);
+        const b = await page.evaluate(() => window.__viewer.probe());
+        near(b.t, stats.duration / 2, stats.duration * 1e-5, 'slider time');
+        const moved = a.joints.some((x, i) => Math.abs(x - b.joints[i]) > 1e-6);
+        const bodiesMoved = Object.keys(a.bodies.matrices).some((k) => a.bodies.matrices[k].some((x, i) => Math.abs(x - b.bodies.matrices[k][i]) > 1e-9));
+        assert.equal(bodiesMoved, moved, 'bodies move when the axes do');
+        const axisNames = [...meta.machine.linear.map((x) => x.name), ...meta.machine.rotary.map((x) => x.name)];
+        const rollover = new Set(meta.machine.rotary.filter((r) => r.rollover).map((r) => r.name));
+        const every = Math.max(1, Math.floor(plain.rows.length / 40));
+        for (let k = 0; k < plain.rows.length; k += every) {
+          const row = plain.rows[k];
+          const p = await page.evaluate((k) => { window.__viewer.seekBlock(k); return window.__viewer.probe(); }, k);
+          assert.equal(p.line, row.line, `block ${k}: line`);
+          axisNames.forEach((n, i) => (rollover.has(n) ? angleNear : near)(p.joints[i], row[n], MM, `block ${k} (line ${row.line}): ${n}`));
+          const tip = [row.tip_x, row.tip_y, row.tip_z];
+          for (let j = 0; j < 3; j++) {
+            near(p.bodiesTipPart[j], tip[j], MM, `block ${k} (line ${row.line}): tool tip of the bodies [${j}]`);
+            near(p.fkDirPart[j], [row.tool_i, row.tool_j, row.tool_k][j], 1e-5, `block ${k}: tool direction [${j}]`);
+          }
+        }
+
+        // The text selects a line: the machine goes to its first block.
+        const line = plain.rows[Math.floor(plain.rows.length / 2)].line;
+        await page.evaluate((line) => {
+          const scroller = document.getElementById('fa-text');
+          scroller.scrollTop = (line - 3) * 18;
+          scroller.dispatchEvent(new Event('scroll'));
+        }, line);
+        await page.click(`#fa-text .ln[data-line="${line}"]`);
+        const sel = await page.evaluate(() => ({ line: window.__viewer.selectedLine, p: window.__viewer.probe() }));
+        assert.equal(sel.line, line, 'clicked text line selected');
+        assert.equal(sel.p.line, line, 'the machine stands at the selected line');
+
+        // The path selects a line: click on the end of a cutting block.
+        await page.evaluate(() => window.__viewer.view('iso'));
+        await page.waitForTimeout(50);
+        const cut = plain.rows.findIndex((r, i) => i > 0 && r.motion !== 'rapid');
+        if (cut >= 0) {
+          const target = await page.evaluate((b) => {
+            const v = window.__viewer;
+            const i = v.vertexOfBlockEnd(b);
+            const at = v.screenOfVertex(i);
+            // Every line whose path passes within the pick distance of that point.
+            return { at, lines: v.linesNear(at.x, at.y, 8) };
+          }, cut);
+          await page.mouse.click(target.at.x, target.at.y);
+          const picked = await page.evaluate(() => window.__viewer.selectedLine);
+          assert.ok(target.lines.includes(picked), `picked line ${picked} is one of the lines there: ${target.lines}`);
+          assert.ok(target.lines.includes(plain.rows[cut].line));
+        }
+        await page.evaluate(() => window.__viewer.view('iso'));
+        await moveSlider(600000);
+      }
+      await page.waitForTimeout(100);
+      await page.screenshot({ path: join(OUT, `${c.program.replace(/\.nc$/, '')}-${c.machine}.png`) });
+      assert.deepEqual(errors, [], 'no console error after use');
+    } finally {
+      await page.close();
+    }
+  });
+}
