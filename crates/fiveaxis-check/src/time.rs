@@ -63,24 +63,29 @@ impl TimePlan {
         let n = samples(machine, seg);
         let count = machine.axis_count().min(MAX_AXES);
         self.points.clear();
-        let tip_at = |s: f64| machine.forward(&seg.eval(machine, s), seg.tool_length).tip;
-        let tip_moves = (tip_at(1.0) - tip_at(0.0)).norm() > NO_TIP_MOTION
-            || matches!(&seg.path, Path::Tcpc(t) if t.tip.length() > NO_TIP_MOTION)
-            || matches!(&seg.path, Path::Arc(_) | Path::Helix { .. } | Path::Via(_));
-        let mut previous = tip_at(0.0);
+        // Tips first, then the lengths: a block whose tip stands (rotary
+        // axes alone) gives lengths of 0, so that the planner measures the
+        // composite axis distance (F in degrees per minute).
+        let mut previous = machine.forward(&seg.start, seg.tool_length).tip;
+        let mut tip_length = 0.0;
         for k in 1..=n {
-            let s = k as f64 / n as f64;
-            let joints = seg.eval(machine, s);
-            let tip = machine.forward(&joints, seg.tool_length).tip;
-            // Rotary axes alone: length 0 lets the planner measure the
-            // composite axis distance (F in degrees per minute).
-            let length = if tip_moves {
-                (tip - previous).norm()
+            let joints = if k == n {
+                seg.end
             } else {
-                0.0
+                seg.eval(machine, k as f64 / n as f64)
             };
+            let tip = machine.forward(&joints, seg.tool_length).tip;
+            let length = (tip - previous).norm();
+            tip_length += length;
             previous = tip;
             self.points.push(Point::new(&joints[..count], length));
+        }
+        let tip_moves = tip_length > NO_TIP_MOTION
+            || matches!(&seg.path, Path::Tcpc(t) if t.tip.length() > NO_TIP_MOTION);
+        if !tip_moves {
+            for point in &mut self.points {
+                point.length = 0.0;
+            }
         }
         let block = Block {
             feed,
