@@ -9,10 +9,10 @@ use fiveaxis_planner::{AxisLimits, Block, Feed, Options, Planner, Point};
 /// Largest turn, degrees, of a rotary axis or of a circle between two
 /// samples of a curved block: fine enough that the straight intervals
 /// carry the curve's direction changes to the planner.
-const SAMPLE_ANGLE: f64 = 5.0;
+const SAMPLE_ANGLE: f64 = 10.0;
 
 /// Most samples of one block.
-const MAX_SAMPLES: usize = 72;
+const MAX_SAMPLES: usize = 36;
 
 /// A tip path shorter than this, mm, counts as none: the block turns
 /// rotary axes only, and its feed is in degrees per minute.
