@@ -318,37 +318,7 @@ fn chord_errors_are_real_and_none_is_missed() {
     check(48, machine_axis_program(), |(m, program)| {
         let machine = builtin(FIVE_AXIS[m]).expect("built in");
         let (segments, report) = run(&machine, &program);
-        for seg in segments.iter().filter(|s| s.motion == Motion::Linear) {
-            let tip = |s: f64| machine.forward(&seg.eval(&machine, s), seg.tool_length).tip;
-            let (a, b) = (tip(0.0), tip(1.0));
-            let along = (b - a).normalize();
-            let off = |s: f64| {
-                let d = tip(s) - a;
-                (d - along * along.dot(&d)).norm()
-            };
-            let sampled = densest_max(off);
-            let found = report
-                .findings
-                .iter()
-                .find(|f| f.kind == Kind::ChordError && f.line == seg.line);
-            let tolerance = machine.params.chord_tolerance;
-            match found {
-                Some(f) => {
-                    CHORD_SEEN.fetch_add(1, Ordering::Relaxed);
-                    let v = f.value.expect("value");
-                    prop_assert!(
-                        (sampled - v).abs() <= 1e-6,
-                        "line {}: reported {v}, sampled {sampled}",
-                        seg.line
-                    );
-                }
-                None => prop_assert!(
-                    sampled <= tolerance + 1e-6,
-                    "line {}: missed {sampled} mm",
-                    seg.line
-                ),
-            }
-        }
+        judge_chord_errors(&machine, &segments, &report, &program, &CHORD_SEEN)?;
         Ok(())
     });
     assert!(
@@ -418,51 +388,66 @@ fn chord_errors_on_random_machines_are_real_and_none_is_missed() {
         };
         prop_assume!(runs);
         let (segments, report) = run(&machine, &program);
-        for seg in segments.iter().filter(|s| s.motion == Motion::Linear) {
-            let rotary_moves =
-                (machine.linear.len()..machine.axis_count()).any(|i| seg.start[i] != seg.end[i]);
-            if !rotary_moves {
-                continue;
-            }
-            let tip = |s: f64| machine.forward(&seg.eval(&machine, s), seg.tool_length).tip;
-            let (a, b) = (tip(0.0), tip(1.0));
-            let chord = b - a;
-            let along = if chord.norm() > 0.0 {
-                chord.normalize()
-            } else {
-                chord
-            };
-            let off = |s: f64| {
-                let d = tip(s) - a;
-                (d - along * along.dot(&d)).norm()
-            };
-            let sampled = densest_max(off);
-            let found = report
-                .findings
-                .iter()
-                .find(|f| f.kind == Kind::ChordError && f.line == seg.line);
-            let tolerance = machine.params.chord_tolerance;
-            match found {
-                Some(f) => {
-                    RANDOM_CHORD_SEEN.fetch_add(1, Ordering::Relaxed);
-                    let v = f.value.expect("value");
-                    prop_assert!(
-                        (sampled - v).abs() <= 1e-6 * v.max(1.0),
-                        "line {}: reported {v}, sampled {sampled}\n{program}",
-                        seg.line
-                    );
-                }
-                None => prop_assert!(
-                    sampled <= tolerance + 1e-6,
-                    "line {}: missed {sampled} mm (tolerance {tolerance})\n{program}",
-                    seg.line
-                ),
-            }
-        }
+        judge_chord_errors(&machine, &segments, &report, &program, &RANDOM_CHORD_SEEN)?;
         Ok(())
     });
     assert!(
         RANDOM_CHORD_SEEN.load(Ordering::Relaxed) >= 10,
         "too few chord errors to judge"
     );
+}
+
+/// Every chord error reported on a linear block that turns a rotary axis
+/// is reached (the dense sampling finds the same largest deviation, to
+/// 1e-6 relative) and none is missed (no sampled deviation above the
+/// tolerance goes unreported); `seen` counts the findings judged.
+fn judge_chord_errors(
+    machine: &Machine,
+    segments: &[Segment],
+    report: &Report,
+    program: &str,
+    seen: &AtomicUsize,
+) -> Result<(), TestCaseError> {
+    for seg in segments.iter().filter(|s| s.motion == Motion::Linear) {
+        let rotary_moves =
+            (machine.linear.len()..machine.axis_count()).any(|i| seg.start[i] != seg.end[i]);
+        if !rotary_moves {
+            continue;
+        }
+        let tip = |s: f64| machine.forward(&seg.eval(machine, s), seg.tool_length).tip;
+        let (a, b) = (tip(0.0), tip(1.0));
+        let chord = b - a;
+        let along = if chord.norm() > 0.0 {
+            chord.normalize()
+        } else {
+            chord
+        };
+        let off = |s: f64| {
+            let d = tip(s) - a;
+            (d - along * along.dot(&d)).norm()
+        };
+        let sampled = densest_max(off);
+        let found = report
+            .findings
+            .iter()
+            .find(|f| f.kind == Kind::ChordError && f.line == seg.line);
+        let tolerance = machine.params.chord_tolerance;
+        match found {
+            Some(f) => {
+                seen.fetch_add(1, Ordering::Relaxed);
+                let v = f.value.expect("value");
+                prop_assert!(
+                    (sampled - v).abs() <= 1e-6 * v.max(1.0),
+                    "line {}: reported {v}, sampled {sampled}\n{program}",
+                    seg.line
+                );
+            }
+            None => prop_assert!(
+                sampled <= tolerance + 1e-6,
+                "line {}: missed {sampled} mm (tolerance {tolerance})\n{program}",
+                seg.line
+            ),
+        }
+    }
+    Ok(())
 }

@@ -19,8 +19,8 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use rayon::prelude::*;
 
 use crate::{
-    EXIT_INPUT, EXIT_OK, InputError, MAX_LINE_BYTES, diagnostic, library, load_machine,
-    load_offsets, load_variables, open_program, write_error,
+    EXIT_INPUT, EXIT_OK, InputError, MAX_LINE_BYTES, diagnostic, load_machine, load_offsets,
+    load_variables, open_program, write_error,
 };
 
 /// Exit status: a finding at or above `--fail-on`.
@@ -212,17 +212,11 @@ fn check_one(
         optional_stop: args.optional_stop,
         lift_soft_limits: true,
     };
-    let mut runner = Runner::new(machine, offsets.clone(), ReaderSource::new(file), options);
-    if let Some(dir) = &args.programs_dir {
-        let library = library::DirLibrary::new(dir)
-            .map_err(|e| InputError::io(&dir.display().to_string(), &e))?;
-        runner = runner.with_library(Box::new(library));
-    }
-    if let Some(values) = variables {
-        runner
-            .set_variables(values)
-            .map_err(|e| InputError(format!("error: variables: {e}")))?;
-    }
+    let mut runner = crate::with_memory(
+        Runner::new(machine, offsets.clone(), ReaderSource::new(file), options),
+        args.programs_dir.as_deref(),
+        variables.map(|v| ("variables", v)),
+    )?;
     let mut last = 0;
     let report = check_run(&mut runner, |blocks| {
         progress.blocks(blocks - last);

@@ -402,19 +402,19 @@ fn run(args: &RunArgs) -> Result<u8, InputError> {
         optional_stop: args.optional_stop,
         lift_soft_limits: false,
     };
-    let mut runner = Runner::new(&machine, offsets, source, options);
-    if let Some(dir) = &args.programs {
-        let library = library::DirLibrary::new(dir)
-            .map_err(|e| InputError::io(&dir.display().to_string(), &e))?;
-        runner = runner.with_library(Box::new(library));
-    }
-    if let Some(path) = &args.variables {
-        let name = path.display().to_string();
-        let values = load_variables(&name, path)?;
-        runner
-            .set_variables(&values)
-            .map_err(|e| InputError(format!("error: {name}: {e}")))?;
-    }
+    let variables = match &args.variables {
+        Some(path) => {
+            let name = path.display().to_string();
+            let values = load_variables(&name, path)?;
+            Some((name, values))
+        }
+        None => None,
+    };
+    let mut runner = with_memory(
+        Runner::new(&machine, offsets, source, options),
+        args.programs.as_deref(),
+        variables.as_ref().map(|(n, v)| (n.as_str(), v.as_slice())),
+    )?;
     let writer = RowWriter::new(args.format, &machine);
 
     let status = match &args.output {
@@ -440,6 +440,26 @@ fn run(args: &RunArgs) -> Result<u8, InputError> {
 
 /// A variables file: `NUMBER = value` lines of TOML (`500 = 1.25`), the
 /// number with or without `#` in quotes (`"#500" = 1.25`).
+/// A runner given the control's program memory (`--programs DIR`) and the
+/// kept macro variables read from a variables file (`name`, its values).
+fn with_memory<'m, S: fiveaxis_control::Source>(
+    mut runner: Runner<'m, S>,
+    programs: Option<&Path>,
+    variables: Option<(&str, &[(u32, f64)])>,
+) -> Result<Runner<'m, S>, InputError> {
+    if let Some(dir) = programs {
+        let library = library::DirLibrary::new(dir)
+            .map_err(|e| InputError::io(&dir.display().to_string(), &e))?;
+        runner = runner.with_library(Box::new(library));
+    }
+    if let Some((name, values)) = variables {
+        runner
+            .set_variables(values)
+            .map_err(|e| InputError(format!("error: {name}: {e}")))?;
+    }
+    Ok(runner)
+}
+
 fn load_variables(name: &str, path: &Path) -> Result<Vec<(u32, f64)>, InputError> {
     let (bytes, text) = read_data_file(name, path)?;
     let table: toml::Table = text.parse().map_err(|e: toml::de::Error| {

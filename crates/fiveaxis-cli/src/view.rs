@@ -20,8 +20,8 @@ use fiveaxis_machine::{Machine, MachineType, SetupError, Side, Vec3};
 use serde_json::{Value, json};
 
 use crate::{
-    EXIT_ALARM, EXIT_OK, InputError, MAX_LINE_BYTES, diagnostic, library, load_machine,
-    load_offsets, load_variables, open_program, report, write_error, write_whole,
+    EXIT_ALARM, EXIT_OK, InputError, MAX_LINE_BYTES, diagnostic, load_machine, load_offsets,
+    load_variables, open_program, report, write_error, write_whole,
 };
 use pack::{PathPacker, Point};
 
@@ -197,18 +197,19 @@ pub fn view(args: &ViewArgs) -> Result<u8, InputError> {
         ReaderSource::new(Cursor::new(&bytes[..])),
         options,
     );
-    if let Some(dir) = &args.programs {
-        let library = library::DirLibrary::new(dir)
-            .map_err(|e| InputError::io(&dir.display().to_string(), &e))?;
-        runner = runner.with_library(Box::new(library));
-    }
-    if let Some(path) = &args.variables {
-        let name = path.display().to_string();
-        let values = load_variables(&name, path)?;
-        runner
-            .set_variables(&values)
-            .map_err(|e| InputError(format!("error: {name}: {e}")))?;
-    }
+    let variables = match &args.variables {
+        Some(path) => {
+            let name = path.display().to_string();
+            let values = load_variables(&name, path)?;
+            Some((name, values))
+        }
+        None => None,
+    };
+    runner = crate::with_memory(
+        runner,
+        args.programs.as_deref(),
+        variables.as_ref().map(|(n, v)| (n.as_str(), v.as_slice())),
+    )?;
 
     let gathered = gather(&mut runner, &machine, args.tolerance, program_name)?;
     if args.verbose {

@@ -102,6 +102,21 @@ pub(in crate::controller) struct Pending {
     points: [Vec3; 3],
 }
 
+impl Pending {
+    /// A definition of form `form` (2 or 3) by `code` before its first block.
+    fn new(code: Code, form: u32) -> Self {
+        Self {
+            code,
+            form,
+            started: false,
+            last_q: 0,
+            shift: Vec3::zeros(),
+            turn: 0.0,
+            points: [Vec3::zeros(); 3],
+        }
+    }
+}
+
 /// Below this, points coincide, lie on one line, or a vector is zero
 /// (a definition the control refuses), mm or unit vectors.
 const DEFINITION_TOLERANCE: f64 = 1e-9;
@@ -319,15 +334,11 @@ impl Controller<'_> {
         span: Span,
     ) -> Result<Option<Feature>, Alarm> {
         let q = self.definition_step(name, span, 3)?;
-        let mut pending = self.state.feature_pending.take().unwrap_or(Pending {
-            code,
-            form: 2,
-            started: false,
-            last_q: 0,
-            shift: Vec3::zeros(),
-            turn: 0.0,
-            points: [Vec3::zeros(); 3],
-        });
+        let mut pending = self
+            .state
+            .feature_pending
+            .take()
+            .unwrap_or_else(|| Pending::new(code, 2));
         self.definition_order(&pending, q, name, span)?;
         let point = self.definition_point();
         let turn = if q == 0 {
@@ -376,15 +387,11 @@ impl Controller<'_> {
         span: Span,
     ) -> Result<Option<Feature>, Alarm> {
         let q = self.definition_step(name, span, 2)?;
-        let mut pending = self.state.feature_pending.take().unwrap_or(Pending {
-            code,
-            form: 3,
-            started: false,
-            last_q: 0,
-            shift: Vec3::zeros(),
-            turn: 0.0,
-            points: [Vec3::zeros(); 3],
-        });
+        let mut pending = self
+            .state
+            .feature_pending
+            .take()
+            .unwrap_or_else(|| Pending::new(code, 3));
         self.definition_order(&pending, q, name, span)?;
         if q == 1 {
             pending.points[0] = self.definition_point();
