@@ -23,6 +23,8 @@ import {
   MeshLambertMaterial,
   Object3D,
   PerspectiveCamera,
+  Points,
+  PointsMaterial,
   Quaternion,
   Raycaster,
   Scene,
@@ -335,16 +337,28 @@ export class MachineScene {
     this.requestRender();
   }
 
-  /** Finding markers at table-frame points. */
-  setMarkers(points) {
+  /**
+   * Finding markers: one point each (a few pixels, whatever the zoom) at
+   * the table-frame points `at` (x, y, z each), coloured by severity
+   * (0 error, 1 warning, 2 info). One draw call for any number.
+   */
+  setMarkers(at, severities) {
     this.markers.clear();
-    const r = Math.max(0.015 * this.pathSize, 1);
-    for (const { at, severity } of points) {
-      const colour = severity === 'error' ? '#f85149' : severity === 'warning' ? '#d29922' : '#58a6ff';
-      const m = new Mesh(new SphereGeometry(r, 16, 12), new MeshLambertMaterial({ color: colour }));
-      m.position.set(...at);
-      this.markers.add(m);
+    if (!severities.length) return;
+    const palette = [new Color('#f85149'), new Color('#d29922'), new Color('#58a6ff')];
+    const col = new Float32Array(3 * severities.length);
+    for (let k = 0; k < severities.length; k++) {
+      const c = palette[severities[k]] || palette[1];
+      col[3 * k] = c.r;
+      col[3 * k + 1] = c.g;
+      col[3 * k + 2] = c.b;
     }
+    const g = new BufferGeometry();
+    g.setAttribute('position', new BufferAttribute(at, 3));
+    g.setAttribute('color', new BufferAttribute(col, 3));
+    const points = new Points(g, new PointsMaterial({ size: 9, sizeAttenuation: false, vertexColors: true }));
+    points.renderOrder = 1;
+    this.markers.add(points);
   }
 
   /** Puts every body where the machine position `joints` and tool say. */

@@ -27,10 +27,11 @@ for (const arg of process.argv.slice(2)) {
       await new Promise(requestAnimationFrame);
     }
     const frameMs = (performance.now() - t1) / Math.max(1, v.renderedFrames() - f0);
-    return { seekMs, frameMs, stats: v.stats };
+    const timings = Object.fromEntries(Object.entries(v.timings || {}).map(([k, x]) => [k, Math.round(x)]));
+    return { seekMs, frameMs, stats: v.stats, timings };
   });
   const mb = statSync(file).size / 1e6;
-  console.log(JSON.stringify({ file: arg, megabytes: +mb.toFixed(1), openMs: Math.round(openMs), wallMs: wall, seekMs: +timing.seekMs.toFixed(2), frameMs: +timing.frameMs.toFixed(1), segments: timing.stats.segments, vertices: timing.stats.vertices, errors }));
+  console.log(JSON.stringify({ file: arg, megabytes: +mb.toFixed(1), openMs: Math.round(openMs), wallMs: wall, seekMs: +timing.seekMs.toFixed(2), frameMs: +timing.frameMs.toFixed(1), segments: timing.stats.segments, vertices: timing.stats.vertices, timings: timing.timings, errors }));
   await page.close();
 }
 await browser.close();
