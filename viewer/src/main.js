@@ -226,6 +226,10 @@ function start() {
     view: (name) => scene.view(name),
     renderedFrames: () => scene.frames || 0,
     renderNow: () => scene.renderNow(),
+    /** Draws the whole path (`true`) or the coarse one (drawn while the camera moves). */
+    setDetail: (whole) => scene.setDetail(whole),
+    timeFrame: (whole) => scene.timeFrame(whole),
+    coarse: () => (scene.coarse ? scene.coarse.geometry.index.count : 0),
   };
   seek(0);
   mark('seek');
@@ -237,6 +241,8 @@ function start() {
   window.__viewer.openMs = performance.now();
   window.__viewer.ready = true;
   document.documentElement.dataset.ready = 'true';
+  // A big path opened coarse: the whole one follows when the page rests.
+  scene.rest();
 }
 
 try {
