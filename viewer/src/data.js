@@ -91,11 +91,20 @@ export function derive(data) {
   const q = new Array(axes).fill(0);
   const lo = [Infinity, Infinity, Infinity];
   const hi = [-Infinity, -Infinity, -Infinity];
+  const lastBlock = Math.max(0, ends.length - 1);
+  let b = 0;
+  let frameBlock = -1;
+  let frame = null;
   for (let i = 0; i < n; i++) {
-    // The block a vertex belongs to: the first that ends at or after it.
-    const b = Math.min(lowerBound(ends, times[i]), Math.max(0, ends.length - 1));
+    // The block a vertex belongs to: the first that ends at or after it
+    // (the times grow: a walk along the blocks, as a search would find).
+    if (i === 0 || times[i] < times[i - 1]) b = Math.min(lowerBound(ends, times[i]), lastBlock);
+    while (b < lastBlock && ends[b] < times[i]) b++;
     blocks[i] = b;
-    const frame = meta.frames[frameOfBlock(data, b)] || { tool_length: 0, to_part: [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0] };
+    if (b !== frameBlock) {
+      frame = meta.frames[frameOfBlock(data, b)] || { tool_length: 0, to_part: [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0] };
+      frameBlock = b;
+    }
     for (let a = 0; a < axes; a++) q[a] = joints[i * axes + a];
     const { tip, dir } = forward(machine, q, frame.tool_length);
     tips.set(tip, 3 * i);
