@@ -54,7 +54,8 @@ function start() {
       const type = findings.table[findings.kinds[k]];
       severities[k] = severityCodes[type && type.severity] ?? 1;
     }
-    scene.setMarkers(at, severities);
+    // No path (an alarm before the first move): no place to mark.
+    if (data.times.length) scene.setMarkers(at, severities);
   }
   mark('findings');
   ui.findingsTitle.textContent = findings.count ? `Findings (${findings.count})` : 'No findings';
