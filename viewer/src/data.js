@@ -23,6 +23,7 @@ export function decodeBase64(text) {
 
 function array(doc, name, Type) {
   const element = doc.getElementById(ARRAY_PREFIX + name);
+  if (!element) throw new Error(`the page has no array ${name}: written by another fiveaxis version?`);
   const bytes = decodeBase64(element.textContent.trim());
   element.textContent = '';
   return new Type(bytes.buffer, bytes.byteOffset, bytes.byteLength / Type.BYTES_PER_ELEMENT);
@@ -42,12 +43,13 @@ export function splitLines(text) {
 }
 
 /** Reads everything from the page. */
-export function readPage(doc) {
+export function readPage(doc, mark = () => {}) {
   const meta = JSON.parse(doc.getElementById(META_ID).textContent);
   const machine = prepareMachine(meta.machine);
   const program = doc.getElementById(PROGRAM_ID);
   const text = unescapeProgram(program.textContent);
   program.textContent = '';
+  mark('programText');
   const data = {
     meta,
     machine,
@@ -57,9 +59,21 @@ export function readPage(doc) {
     lines: array(doc, 'lines', Uint32Array),
     ends: array(doc, 'ends', Float64Array),
     motions: array(doc, 'motions', Uint8Array),
-    programLines: splitLines(text),
+    findings: {
+      lines: array(doc, 'finding_lines', Uint32Array),
+      kinds: array(doc, 'finding_kinds', Uint8Array),
+      axes: array(doc, 'finding_axes', Uint8Array),
+      values: array(doc, 'finding_values', Float64Array),
+      table: meta.finding_kinds || [],
+      messages: meta.finding_messages || [],
+    },
   };
+  data.findings.count = data.findings.lines.length;
+  mark('arrays');
+  data.programLines = splitLines(text);
+  mark('programLines');
   derive(data);
+  mark('derive');
   return data;
 }
 
@@ -77,11 +91,20 @@ export function derive(data) {
   const q = new Array(axes).fill(0);
   const lo = [Infinity, Infinity, Infinity];
   const hi = [-Infinity, -Infinity, -Infinity];
+  const lastBlock = Math.max(0, ends.length - 1);
+  let b = 0;
+  let frameBlock = -1;
+  let frame = null;
   for (let i = 0; i < n; i++) {
-    // The block a vertex belongs to: the first that ends at or after it.
-    const b = Math.min(lowerBound(ends, times[i]), Math.max(0, ends.length - 1));
+    // The block a vertex belongs to: the first that ends at or after it
+    // (the times grow: a walk along the blocks, as a search would find).
+    if (i === 0 || times[i] < times[i - 1]) b = Math.min(lowerBound(ends, times[i]), lastBlock);
+    while (b < lastBlock && ends[b] < times[i]) b++;
     blocks[i] = b;
-    const frame = meta.frames[frameOfBlock(data, b)] || { tool_length: 0, to_part: [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0] };
+    if (b !== frameBlock) {
+      frame = meta.frames[frameOfBlock(data, b)] || { tool_length: 0, to_part: [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0] };
+      frameBlock = b;
+    }
     for (let a = 0; a < axes; a++) q[a] = joints[i * axes + a];
     const { tip, dir } = forward(machine, q, frame.tool_length);
     tips.set(tip, 3 * i);
@@ -99,4 +122,18 @@ export function derive(data) {
   data.vertexBlock = blocks;
   data.bbox = n ? { min: lo, max: hi } : null;
   data.duration = ends.length ? ends[ends.length - 1] : 0;
+}
+
+/**
+ * Finding `k` as the `check` contract has it (`severity`, `kind`, `line`,
+ * `message`, and `axis`, `value` where they apply). The page holds the
+ * messages of the first findings only (`view.rs`, FINDING_MESSAGES):
+ * `message` is empty beyond them.
+ */
+export function findingAt(findings, k) {
+  const type = findings.table[findings.kinds[k]] || { kind: 'unknown', severity: 'warning' };
+  const f = { severity: type.severity, kind: type.kind, line: findings.lines[k], message: k < findings.messages.length ? findings.messages[k] : '' };
+  if (findings.axes[k]) f.axis = String.fromCharCode(findings.axes[k]);
+  if (!Number.isNaN(findings.values[k])) f.value = findings.values[k];
+  return f;
 }

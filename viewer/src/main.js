@@ -3,26 +3,32 @@
 // controls, links them by time and by line, and exposes `window.__viewer`
 // (statistics and probes for tests and for people at the console).
 
-import { readPage } from './data.js';
+import { findingAt, readPage } from './data.js';
 import { forward, toPart, toPartVector } from './kinematics.js';
 import { AxisPlots } from './plots.js';
 import { MachineScene } from './scene.js';
 import { blockAt, blockStart, blocksByLine, frameOfBlock, jointsAt, lowerBound } from './timeline.js';
-import { ProgramText, clock, escapeHtml, layout } from './ui.js';
+import { FindingsList, ProgramText, clock, layout } from './ui.js';
 
 const SLIDER_STEPS = 1000000;
 
+/** Milliseconds since navigation at each step of the opening (`window.__viewer.timings`). */
+const timings = { scriptStart: performance.now() };
+const mark = (name) => (timings[name] = performance.now());
+
 function start() {
-  const data = readPage(document);
+  const data = readPage(document, mark);
+  mark('readPage');
   const ui = layout(document, data.meta);
   const scene = new MachineScene(ui.view3d, data);
+  mark('scene');
   const lineIndex = blocksByLine(data.lines, data.programLines.length);
   const joints = new Array(data.axes).fill(0);
   const state = { t: 0, playing: false, speed: 1, selectedLine: 0, block: -1 };
   const frameOf = (b) => data.meta.frames[frameOfBlock(data, Math.max(0, b))] || { tool_length: 0, tool_radius: 5, to_part: [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0] };
 
   // Findings: markers on the path, entries in a list, marks in the text.
-  const findings = data.meta.findings || [];
+  const findings = data.findings;
   const vertexOfLine = (line) => {
     const { first, order } = lineIndex;
     if (line >= 0 && line < first.length - 1 && first[line + 1] > first[line]) {
@@ -30,23 +36,35 @@ function start() {
     }
     return data.times.length - 1; // not run (an alarm stops before its block): where the machine stopped
   };
-  scene.setMarkers(
-    findings.map((f) => {
-      const i = Math.max(0, Math.min(vertexOfLine(f.line), data.times.length - 1));
-      return { at: [data.tips[3 * i], data.tips[3 * i + 1], data.tips[3 * i + 2]], severity: f.severity };
-    }),
-  );
-  ui.findingsTitle.textContent = findings.length ? `Findings (${findings.length})` : 'No findings';
-  ui.findings.innerHTML = findings
-    .map((f, k) => `<div class="${escapeHtml(f.severity)}" data-k="${k}">line ${f.line}: ${escapeHtml(f.kind)}: ${escapeHtml(f.message)}${f.axis ? ` (${escapeHtml(f.axis)} ${f.value})` : ''}</div>`)
-    .join('');
-  ui.findings.addEventListener('click', (e) => {
-    const el = e.target.closest('[data-k]');
-    if (el) selectLine(findings[Number(el.dataset.k)].line);
-  });
+  {
+    const at = new Float32Array(3 * findings.count);
+    const severities = new Uint8Array(findings.count);
+    const severityCodes = { error: 0, warning: 1, info: 2 };
+    let lastLine = -1;
+    let i = 0;
+    for (let k = 0; k < findings.count; k++) {
+      const line = findings.lines[k];
+      if (line !== lastLine) {
+        i = Math.max(0, Math.min(vertexOfLine(line), data.times.length - 1));
+        lastLine = line;
+      }
+      at[3 * k] = data.tips[3 * i];
+      at[3 * k + 1] = data.tips[3 * i + 1];
+      at[3 * k + 2] = data.tips[3 * i + 2];
+      const type = findings.table[findings.kinds[k]];
+      severities[k] = severityCodes[type && type.severity] ?? 1;
+    }
+    // No path (an alarm before the first move): no place to mark.
+    if (data.times.length) scene.setMarkers(at, severities);
+  }
+  mark('findings');
+  ui.findingsTitle.textContent = findings.count ? `Findings (${findings.count})` : 'No findings';
+  new FindingsList(ui.findings, findings, (k) => selectLine(findings.lines[k]));
 
   const text = new ProgramText(ui.text, ui.textInner, data.programLines, (line) => selectLine(line));
-  for (const f of findings) text.marked.add(f.line);
+  for (let k = 0; k < findings.count; k++) text.mark(findings.lines[k]);
+  text.draw();
+  mark('text');
   const plots = new AxisPlots(ui.plots, data, (t) => seek(t));
 
   /** Moves everything to time `t`. */
@@ -156,12 +174,18 @@ function start() {
       vertices: data.times.length,
       rows: data.meta.rows,
       bbox: data.bbox,
-      findings: findings.length,
+      findings: findings.count,
       duration: data.duration,
       machineType: data.machine.type,
       programLines: data.programLines.length,
     },
     selectedLine: 0,
+    /** Findings `from` to `to` (all by default) as the check contract has them. */
+    findings: (from = 0, to = findings.count) => {
+      const out = [];
+      for (let k = Math.max(0, from); k < Math.min(to, findings.count); k++) out.push(findingAt(findings, k));
+      return out;
+    },
     seek: (t) => seek(t),
     seekBlock: (b) => seek(data.ends[b], { block: b }),
     selectLine: (line) => selectLine(line),
@@ -203,13 +227,23 @@ function start() {
     view: (name) => scene.view(name),
     renderedFrames: () => scene.frames || 0,
     renderNow: () => scene.renderNow(),
+    /** Draws the whole path (`true`) or the coarse one (drawn while the camera moves). */
+    setDetail: (whole) => scene.setDetail(whole),
+    timeFrame: (whole) => scene.timeFrame(whole),
+    coarse: () => (scene.coarse ? scene.coarse.geometry.index.count : 0),
   };
   seek(0);
+  mark('seek');
   scene.renderNow();
+  mark('render');
   plots.draw();
+  mark('plots');
+  window.__viewer.timings = timings;
   window.__viewer.openMs = performance.now();
   window.__viewer.ready = true;
   document.documentElement.dataset.ready = 'true';
+  // A big path opened coarse: the whole one follows when the page rests.
+  scene.rest();
 }
 
 try {

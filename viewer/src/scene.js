@@ -23,6 +23,8 @@ import {
   MeshLambertMaterial,
   Object3D,
   PerspectiveCamera,
+  Points,
+  PointsMaterial,
   Quaternion,
   Raycaster,
   Scene,
@@ -39,6 +41,15 @@ export const MOTION_COLOURS = { rapid: '#e8554e', linear: '#3fb950', cw: '#58a6f
 const SELECTED_COLOUR = '#ffd33d';
 /** Tool-axis ticks drawn along the path, at most. */
 const TOOL_AXIS_TICKS = 400;
+/**
+ * Drawn path vertices above which a coarser path (every k-th vertex, at
+ * most this many) is drawn while the camera moves and at the first frame;
+ * the whole path is drawn once the camera has rested `REST_MS`.
+ */
+export const COARSE_VERTICES = 10000;
+const REST_MS = 250;
+/** Finding markers drawn, at most, with the coarse path (every k-th). */
+export const COARSE_MARKERS = 3000;
 /** Path vertices the picking ray must come this close to, pixels. */
 const PICK_PIXELS = 6;
 
@@ -205,6 +216,9 @@ export class MachineScene {
     this.camera.up.set(0, 0, 1);
     this.controls = new OrbitControls(this.camera, this.renderer.domElement);
     this.controls.addEventListener('change', () => this.requestRender());
+    // Coarse while the camera moves, whole once it rests.
+    this.controls.addEventListener('start', () => this.moving());
+    this.controls.addEventListener('end', () => this.rest());
     this.raycaster = new Raycaster();
     this.resize();
     new ResizeObserver(() => this.resize()).observe(canvasParent);
@@ -277,6 +291,24 @@ export class MachineScene {
     this.path = new Line(geometry, new LineBasicMaterial({ vertexColors: true }));
     this.path.name = 'path';
     this.tableInner.add(this.path);
+    // The coarse path: the same vertex buffers, every k-th vertex by index.
+    this.coarse = null;
+    if (count > COARSE_VERTICES) {
+      const every = Math.ceil(count / COARSE_VERTICES);
+      const index = new Uint32Array(Math.ceil(count / every) + 1);
+      let m = 0;
+      for (let i = 0; i < count; i += every) index[m++] = i;
+      if (index[m - 1] !== count - 1) index[m++] = count - 1;
+      const cg = new BufferGeometry();
+      cg.setAttribute('position', geometry.getAttribute('position'));
+      cg.setAttribute('color', geometry.getAttribute('color'));
+      cg.setIndex(new BufferAttribute(index.subarray(0, m), 1));
+      cg.boundingSphere = geometry.boundingSphere;
+      this.coarse = new Line(cg, this.path.material);
+      this.coarse.name = 'path-coarse';
+      this.tableInner.add(this.coarse);
+    }
+    this.setDetail(!this.coarse);
 
     // Tool-axis ticks at intervals.
     const every = Math.max(1, Math.ceil(n / TOOL_AXIS_TICKS));
@@ -335,16 +367,44 @@ export class MachineScene {
     this.requestRender();
   }
 
-  /** Finding markers at table-frame points. */
-  setMarkers(points) {
+  /**
+   * Finding markers: one point each (a few pixels, whatever the zoom) at
+   * the table-frame points `at` (x, y, z each), coloured by severity
+   * (0 error, 1 warning, 2 info). One draw call for any number.
+   */
+  setMarkers(at, severities) {
     this.markers.clear();
-    const r = Math.max(0.015 * this.pathSize, 1);
-    for (const { at, severity } of points) {
-      const colour = severity === 'error' ? '#f85149' : severity === 'warning' ? '#d29922' : '#58a6ff';
-      const m = new Mesh(new SphereGeometry(r, 16, 12), new MeshLambertMaterial({ color: colour }));
-      m.position.set(...at);
-      this.markers.add(m);
+    if (!severities.length) return;
+    const palette = [new Color('#f85149'), new Color('#d29922'), new Color('#58a6ff')];
+    const col = new Float32Array(3 * severities.length);
+    for (let k = 0; k < severities.length; k++) {
+      const c = palette[severities[k]] || palette[1];
+      col[3 * k] = c.r;
+      col[3 * k + 1] = c.g;
+      col[3 * k + 2] = c.b;
     }
+    const g = new BufferGeometry();
+    g.setAttribute('position', new BufferAttribute(at, 3));
+    g.setAttribute('color', new BufferAttribute(col, 3));
+    const material = new PointsMaterial({ size: 9, sizeAttenuation: false, vertexColors: true });
+    this.markerPoints = new Points(g, material);
+    this.markerPoints.renderOrder = 1;
+    this.markers.add(this.markerPoints);
+    this.coarseMarkers = null;
+    const n = severities.length;
+    if (n > COARSE_MARKERS) {
+      const every = Math.ceil(n / COARSE_MARKERS);
+      const index = new Uint32Array(Math.ceil(n / every));
+      for (let k = 0, m = 0; k < n; k += every) index[m++] = k;
+      const cg = new BufferGeometry();
+      cg.setAttribute('position', g.getAttribute('position'));
+      cg.setAttribute('color', g.getAttribute('color'));
+      cg.setIndex(new BufferAttribute(index, 1));
+      this.coarseMarkers = new Points(cg, material);
+      this.coarseMarkers.renderOrder = 1;
+      this.markers.add(this.coarseMarkers);
+    }
+    this.setDetail(!!this.detail && !this.coarseMarkers);
   }
 
   /** Puts every body where the machine position `joints` and tool say. */
@@ -401,6 +461,9 @@ export class MachineScene {
 
   /** Fits the camera to the path, looking along the current view direction. */
   fit() {
+    // A jump of the camera: coarse at once, whole after the rest.
+    this.moving();
+    this.rest();
     const b = this.pathBox();
     const centre = b.getCenter(new Vector3());
     const radius = Math.max(b.getSize(new Vector3()).length() / 2, 1);
@@ -446,6 +509,43 @@ export class MachineScene {
     this.requestRender();
   }
 
+  /** Draws the whole path (`true`) or the coarse one; no change without a coarse path. */
+  setDetail(whole) {
+    this.detail = whole;
+    if (this.coarse) {
+      this.path.visible = whole;
+      this.coarse.visible = !whole;
+    }
+    if (this.coarseMarkers) {
+      this.markerPoints.visible = whole;
+      this.coarseMarkers.visible = !whole;
+    }
+  }
+
+  /** Whether the scene has a coarse version to draw while the camera moves. */
+  hasCoarse() {
+    return !!(this.coarse || this.coarseMarkers);
+  }
+
+  /** The camera starts moving: the coarse path until it rests. */
+  moving() {
+    clearTimeout(this.restTimer);
+    if (this.hasCoarse() && this.detail) {
+      this.setDetail(false);
+      this.requestRender();
+    }
+  }
+
+  /** The camera stopped: the whole path once it has rested a moment. */
+  rest() {
+    clearTimeout(this.restTimer);
+    if (!this.hasCoarse() || this.detail) return;
+    this.restTimer = setTimeout(() => {
+      this.setDetail(true);
+      this.requestRender();
+    }, REST_MS);
+  }
+
   requestRender() {
     if (this.pending) return;
     this.pending = true;
@@ -453,6 +553,21 @@ export class MachineScene {
       this.pending = false;
       this.renderNow();
     });
+  }
+
+  /** Milliseconds to draw one frame of the whole path (`true`) or the coarse one, to the last pixel. */
+  timeFrame(whole) {
+    const was = this.detail;
+    this.setDetail(whole);
+    const gl = this.renderer.getContext();
+    const pixel = new Uint8Array(4);
+    gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, pixel);
+    const t = performance.now();
+    this.renderNow();
+    gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, pixel);
+    const ms = performance.now() - t;
+    this.setDetail(was);
+    return ms;
   }
 
   renderNow() {

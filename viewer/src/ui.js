@@ -2,6 +2,8 @@
 // list: only the lines in sight are in the page, so two million lines
 // scroll as fast as twenty), the findings list and the playback controls.
 
+import { findingAt } from './data.js';
+
 export const STYLE = `
 *{box-sizing:border-box}
 html,body{margin:0;height:100%;background:#0d1117;color:#c9d1d9;font:13px/1.4 system-ui,sans-serif}
@@ -16,10 +18,11 @@ html,body{margin:0;height:100%;background:#0d1117;color:#c9d1d9;font:13px/1.4 sy
 #fa-text .ln.cur{background:#1f6feb55}
 #fa-text .ln.sel{outline:1px solid #ffd33d;outline-offset:-1px}
 #fa-text .ln.find{border-left:3px solid #f85149}
-#fa-findings{max-height:30%;overflow:auto;border-top:1px solid #30363d}
+#fa-findings{max-height:30%;display:flex;flex-direction:column;border-top:1px solid #30363d;min-height:0}
 #fa-findings h3{margin:4px 8px;font-size:12px;color:#8b949e}
-#fa-findings div{padding:2px 8px;cursor:pointer}
-#fa-findings div:hover{background:#161b22}
+#fa-findings-list{overflow:auto;min-height:0;position:relative}
+#fa-findings .fd{position:absolute;left:0;right:0;height:18px;padding:0 8px;white-space:nowrap;overflow:hidden;text-overflow:ellipsis;cursor:pointer}
+#fa-findings .fd:hover{background:#161b22}
 #fa-findings .error{color:#f85149}#fa-findings .warning{color:#d29922}#fa-findings .info{color:#58a6ff}
 #fa-right{display:grid;grid-template-rows:1fr auto auto;min-height:0;min-width:0}
 #fa-3d{position:relative;min-height:0;overflow:hidden}
@@ -118,7 +121,8 @@ export class ProgramText {
     this.lines = lines;
     this.current = 0;
     this.selected = 0;
-    this.marked = new Set();
+    /** Lines with a finding (1-based; 1 each). */
+    this.marked = new Uint8Array(lines.length + 2);
     inner.style.height = `${lines.length * LINE_HEIGHT}px`;
     inner.style.position = 'relative';
     scroller.addEventListener('scroll', () => this.draw());
@@ -128,6 +132,11 @@ export class ProgramText {
     });
     new ResizeObserver(() => this.draw()).observe(scroller);
     this.draw();
+  }
+
+  /** Marks `line` (1-based) as having a finding; `draw` shows it. */
+  mark(line) {
+    if (line < this.marked.length) this.marked[line] = 1;
   }
 
   /** Highlights `line` (1-based) as the running one, scrolling to it. */
@@ -162,8 +171,42 @@ export class ProgramText {
       const cls = ['ln'];
       if (n === this.current) cls.push('cur');
       if (n === this.selected) cls.push('sel');
-      if (this.marked.has(n)) cls.push('find');
+      if (this.marked[n]) cls.push('find');
       parts.push(`<div class="${cls.join(' ')}" data-line="${n}" style="top:${i * LINE_HEIGHT}px"><i>${n}</i>${escapeHtml(this.lines[i])}</div>`);
+    }
+    this.inner.innerHTML = parts.join('');
+  }
+}
+
+/** The findings, one element per finding in sight (a virtual list, as the text). */
+export class FindingsList {
+  constructor(scroller, findings, onClick) {
+    this.scroller = scroller;
+    this.findings = findings;
+    this.inner = scroller.ownerDocument.createElement('div');
+    this.inner.style.position = 'relative';
+    this.inner.style.height = `${findings.count * LINE_HEIGHT}px`;
+    scroller.appendChild(this.inner);
+    scroller.addEventListener('scroll', () => this.draw());
+    this.inner.addEventListener('click', (e) => {
+      const el = e.target.closest('[data-k]');
+      if (el) onClick(Number(el.dataset.k));
+    });
+    new ResizeObserver(() => this.draw()).observe(scroller);
+    this.draw();
+  }
+
+  draw() {
+    const top = this.scroller.scrollTop;
+    const h = this.scroller.clientHeight || 200;
+    const first = Math.max(0, Math.floor(top / LINE_HEIGHT) - 5);
+    const last = Math.min(this.findings.count, Math.ceil((top + h) / LINE_HEIGHT) + 5);
+    const parts = [];
+    for (let k = first; k < last; k++) {
+      const f = findingAt(this.findings, k);
+      const said = f.message ? `: ${escapeHtml(f.message)}` : '';
+      const measure = f.axis !== undefined || f.value !== undefined ? ` (${f.axis !== undefined ? escapeHtml(f.axis) : ''}${f.axis !== undefined && f.value !== undefined ? ' ' : ''}${f.value !== undefined ? f.value : ''})` : '';
+      parts.push(`<div class="fd ${escapeHtml(f.severity)}" data-k="${k}" style="top:${k * LINE_HEIGHT}px" title="${escapeHtml(f.message)}">line ${f.line}: ${escapeHtml(f.kind)}${said}${measure}</div>`);
     }
     this.inner.innerHTML = parts.join('');
   }

@@ -1,6 +1,7 @@
 // Opens `fiveaxis view` pages in headless Chromium and prints, for each,
 // the file size and the time from navigation to the viewer's ready flag,
-// and how long a seek (slider move) and an orbit frame take there.
+// how long a seek (slider move) takes, a frame while orbiting (a mouse
+// drag: the coarse path) and a frame of the whole path at rest.
 //
 //   node test/measure.mjs PAGE.html...
 
@@ -27,10 +28,29 @@ for (const arg of process.argv.slice(2)) {
       await new Promise(requestAnimationFrame);
     }
     const frameMs = (performance.now() - t1) / Math.max(1, v.renderedFrames() - f0);
-    return { seekMs, frameMs, stats: v.stats };
+    // One frame of the whole path and of the coarse one, drawn at once.
+    const restMs = v.timeFrame(true);
+    const coarseMs = v.timeFrame(false);
+    const timings = Object.fromEntries(Object.entries(v.timings || {}).map(([k, x]) => [k, Math.round(x)]));
+    return { seekMs, frameMs, restMs, coarseMs, coarse: v.coarse(), stats: v.stats, timings };
   });
+  // Orbiting: a left drag across the 3-D view, frames as the browser draws them.
+  const box = await page.locator('#fa-3d canvas').boundingBox();
+  const x = box.x + box.width / 2;
+  const y = box.y + box.height / 2;
+  const before = await page.evaluate(() => window.__viewer.renderedFrames());
+  const t0 = Date.now();
+  await page.mouse.move(x, y);
+  await page.mouse.down();
+  for (let k = 1; k <= 20; k++) {
+    await page.mouse.move(x + 8 * k, y + 3 * k);
+    await page.evaluate(() => new Promise((r) => requestAnimationFrame(() => requestAnimationFrame(r))));
+  }
+  const orbitFrames = (await page.evaluate(() => window.__viewer.renderedFrames())) - before;
+  const orbitMs = (Date.now() - t0) / Math.max(1, orbitFrames);
+  await page.mouse.up();
   const mb = statSync(file).size / 1e6;
-  console.log(JSON.stringify({ file: arg, megabytes: +mb.toFixed(1), openMs: Math.round(openMs), wallMs: wall, seekMs: +timing.seekMs.toFixed(2), frameMs: +timing.frameMs.toFixed(1), segments: timing.stats.segments, vertices: timing.stats.vertices, errors }));
+  console.log(JSON.stringify({ file: arg, megabytes: +mb.toFixed(1), openMs: Math.round(openMs), wallMs: wall, seekMs: +timing.seekMs.toFixed(2), frameMs: +timing.frameMs.toFixed(1), orbitMs: +orbitMs.toFixed(1), orbitFrames, restMs: Math.round(timing.restMs), coarseMs: Math.round(timing.coarseMs), coarseVertices: timing.coarse, segments: timing.stats.segments, vertices: timing.stats.vertices, timings: timing.timings, errors }));
   await page.close();
 }
 await browser.close();

@@ -93,12 +93,18 @@ for (const c of CASES) {
       // Findings: those of `fiveaxis check` on the same program, in order.
       const report = checkReport(c);
       assert.equal(stats.findings, report.findings.length, 'findings = check findings');
+      const shown = await page.evaluate(() => window.__viewer.findings());
       assert.deepEqual(
-        meta.findings.map((f) => [f.kind, f.line]),
+        shown.map((f) => [f.kind, f.line]),
         report.findings.map((f) => [f.kind, f.line]),
         'findings as check reports them',
       );
-      if (plain.alarm) assert.equal(meta.findings.at(-1).line, plain.alarm.line);
+      assert.deepEqual(
+        shown.map((f) => [f.severity, f.message, f.axis, f.value]),
+        report.findings.map((f) => [f.severity, f.message, f.axis, f.value]),
+        'severity, message, axis and value as check reports them',
+      );
+      if (plain.alarm) assert.equal(shown.at(-1).line, plain.alarm.line);
       if (stepped.rows.length) {
         for (const [k, axis] of ['tip_x', 'tip_y', 'tip_z'].entries()) {
           const values = stepped.rows.map((r) => r[axis]);

@@ -50,13 +50,19 @@ fn an_alarm_is_shown_and_exits_1_a_bad_input_leaves_the_target_alone() {
         common::stderr(&out)
     );
     let page = std::fs::read_to_string(dir.path().join("v.html")).expect("written");
+    // The findings as columns: lines 2 and 4 (u32, base64), kinds
+    // over-travel and alarm (their indices in `Kind::ALL`), and the messages.
     assert!(
-        page.contains("\"kind\":\"overtravel\",\"line\":2"),
-        "the over-travel as a finding"
+        page.contains("id=\"fiveaxis-array-finding_lines\">AgAAAAQAAAA=<"),
+        "the findings at lines 2 and 4"
     );
     assert!(
-        page.contains("\"kind\":\"alarm\",\"line\":4"),
-        "the alarm as a finding"
+        page.contains("id=\"fiveaxis-array-finding_kinds\">AQA=<"),
+        "an over-travel and an alarm"
+    );
+    assert!(
+        page.contains("\"finding_messages\":[\"X+ over-travel"),
+        "the messages"
     );
 
     std::fs::write(dir.path().join("keep.html"), "old").expect("written");
