@@ -161,23 +161,15 @@ pub fn write(machine: &Machine, post: &Post, options: &PostOptions, header: &Hea
             options.origin[0], options.origin[1], options.origin[2]
         ),
     );
-    out.push_str("G21 G17 G90 G40 G49 G69 G80 G54\n");
-    let mut inverse_time = false;
+    // G93 stays on throughout: positioning does not read F.
+    out.push_str("G21 G17 G90 G40 G49 G69 G80 G54 G93\n");
     for m in &post.moves {
         match m {
             Move::Rapid(to) => {
-                if inverse_time {
-                    out.push_str("G94\n");
-                    inverse_time = false;
-                }
                 out.push_str("G0");
                 axes(&mut out, machine, to, options, &quantum);
             }
             Move::Feed { to, minutes } => {
-                if !inverse_time {
-                    out.push_str("G93\n");
-                    inverse_time = true;
-                }
                 out.push_str("G1");
                 axes(&mut out, machine, to, options, &quantum);
                 out.push_str(" F");
@@ -186,9 +178,7 @@ pub fn write(machine: &Machine, post: &Post, options: &PostOptions, header: &Hea
         }
         out.push('\n');
     }
-    if inverse_time {
-        out.push_str("G94\n");
-    }
+    out.push_str("G94\n");
     out.push_str("M30\n%\n");
     out
 }

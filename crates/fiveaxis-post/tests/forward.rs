@@ -461,3 +461,38 @@ fn judge_refuses_a_coarser_output() {
     let verdict = judge_text(&machine, &offsets, source, &text, strict);
     assert!(verdict.is_err(), "a 0.1 mm output passed at 0.01 mm");
 }
+
+fn example_offsets() -> Offsets {
+    Offsets::from_toml(include_str!("../../../examples/offsets.toml")).expect("offsets")
+}
+
+/// Circles under TCPC (the rotary axes standing, as FANUC requires) and
+/// lines that turn the tool between them.
+#[test]
+fn tcpc_circles_within_tolerance() {
+    let machine = builtin("head-table-bc").expect("built-in");
+    let offsets = example_offsets();
+    let options = PostOptions {
+        origin: offsets.work[0],
+        ..PostOptions::default()
+    };
+    let w = judge(&machine, &offsets, include_str!("tcpc-arcs.nc"), options)
+        .unwrap_or_else(|e| panic!("{e}"));
+    eprintln!("tcpc-arcs: {w:?}");
+    assert!(w.rows > 1000, "the circles were sampled");
+}
+
+/// A tilted working plane (G68.2, G53.1) with length compensation and a
+/// canned cycle called by a macro: the same holes in machine axes.
+#[test]
+fn tilted_working_plane_example_within_tolerance() {
+    let machine = builtin("trunnion-ac").expect("built-in");
+    let offsets = example_offsets();
+    let options = PostOptions {
+        origin: offsets.work[0],
+        ..PostOptions::default()
+    };
+    let source = include_str!("../../../examples/tilted-holes.nc");
+    let w = judge(&machine, &offsets, source, options).unwrap_or_else(|e| panic!("{e}"));
+    eprintln!("tilted-holes: {w:?}");
+}
