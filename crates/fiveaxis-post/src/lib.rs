@@ -157,6 +157,14 @@ impl<'m> Converter<'m> {
     /// more than [`linearize::MAX_PIECE_TURN`] (a rollover axis would
     /// otherwise take the shorter way).
     fn rapid(&mut self, from: &Joints, to: &Joints) {
+        let last = match self.post.moves.last() {
+            Some(Move::Rapid(p) | Move::Feed { to: p, .. }) => Some(*p),
+            None => None,
+        };
+        if last.as_ref() == Some(to) {
+            // Already there (G28's intermediate point at the reference).
+            return;
+        }
         let turns = linearize::rollover_splits(self.machine, from, to);
         for k in 1..=turns {
             let t = f64::from(k) / f64::from(turns);
