@@ -41,6 +41,14 @@ pub struct PostArgs {
     /// call by number.
     #[arg(long)]
     programs: Option<PathBuf>,
+    /// Read the program as APT / CL data (`GOTO/x,y,z,i,j,k`, `FEDRAT`,
+    /// `CIRCLE`, ...); the default for files named `.apt`, `.cl`, `.cls`.
+    #[arg(long)]
+    apt: bool,
+    /// With APT / CL input: write the TCPC program (`G43.5` with tool
+    /// vectors) for a machine with the option, not machine axes.
+    #[arg(long)]
+    tcpc: bool,
 }
 
 /// Segments taken from the runner at once.
@@ -59,6 +67,29 @@ pub fn post(args: &PostArgs) -> Result<u8, InputError> {
     open_program(&args.program)?
         .read_to_end(&mut bytes)
         .map_err(|e| InputError::io(program_name, &e))?;
+    let is_apt = args.apt
+        || std::path::Path::new(&args.program)
+            .extension()
+            .and_then(|e| e.to_str())
+            .is_some_and(|e| ["apt", "cl", "cls"].contains(&e.to_ascii_lowercase().as_str()));
+    if args.tcpc && !is_apt {
+        return Err(InputError(
+            "error: --tcpc writes the TCPC program of APT / CL input: give --apt".into(),
+        ));
+    }
+    if is_apt {
+        let text = std::str::from_utf8(&bytes).map_err(|_| {
+            InputError(format!(
+                "error: {program_name}: APT / CL data must be text (UTF-8)"
+            ))
+        })?;
+        let tcpc = fiveaxis_post::apt::to_tcpc(text, program_name)
+            .map_err(|e| InputError(format!("error: {program_name}:{e}")))?;
+        if args.tcpc {
+            return emit(args.output.as_ref(), &tcpc);
+        }
+        bytes = tcpc.into_bytes();
+    }
     let options = PostOptions {
         tolerance: args.tolerance,
         angle_tolerance: args.angle_tolerance,
@@ -103,7 +134,12 @@ pub fn post(args: &PostArgs) -> Result<u8, InputError> {
         number: None,
     };
     let text = program::write(&machine, &post, &options, &header);
-    match &args.output {
+    emit(args.output.as_ref(), &text)
+}
+
+/// Writes `text` to `output` (whole or not at all), or standard output.
+fn emit(output: Option<&PathBuf>, text: &str) -> Result<u8, InputError> {
+    match output {
         None => print_out(&text),
         Some(path) => {
             let name = path.display().to_string();

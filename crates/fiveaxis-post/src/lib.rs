@@ -18,6 +18,7 @@
 //! * Rapid moves stay one positioning block (split only where a rollover
 //!   axis would otherwise take the other way round).
 
+pub mod apt;
 pub mod linearize;
 pub mod program;
 

@@ -50,7 +50,12 @@ fn run(
         options,
     );
     let mut out = Vec::new();
-    while runner.fill(&mut out, 1024)? {}
+    loop {
+        let want = out.len() + 1024;
+        if !runner.fill(&mut out, want)? {
+            break;
+        }
+    }
     Ok(out)
 }
 
