@@ -140,7 +140,7 @@ pub fn post(args: &PostArgs) -> Result<u8, InputError> {
 /// Writes `text` to `output` (whole or not at all), or standard output.
 fn emit(output: Option<&PathBuf>, text: &str) -> Result<u8, InputError> {
     match output {
-        None => print_out(&text),
+        None => print_out(text),
         Some(path) => {
             let name = path.display().to_string();
             write_whole(path, |mut file| {

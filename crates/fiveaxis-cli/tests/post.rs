@@ -116,3 +116,44 @@ fn a_tolerance_must_be_positive() {
         assert_eq!(out.status.code(), Some(2), "{bad}");
     }
 }
+
+#[test]
+fn apt_input_gives_a_tcpc_program_or_machine_axes_and_bad_records_their_line() {
+    let dir = tempfile::tempdir().expect("a temporary directory");
+    std::fs::write(
+        dir.path().join("p.apt"),
+        "LOAD/TOOL,1\nRAPID\nGOTO/0,0,10,0,0,1\nFEDRAT/500,MMPM\nGOTO/20,0,0,$\n0.5,0,0.866025\nFINI\n",
+    )
+    .expect("written");
+    let out = common::run_in(dir.path(), &["post", "p.apt", "--tcpc"], b"");
+    assert_eq!(out.status.code(), Some(0), "{}", common::stderr(&out));
+    let tcpc = common::stdout(&out);
+    assert!(tcpc.contains("G43.5 H1\nG0 X0.000000"), "{tcpc}");
+    let out = common::run_in(
+        dir.path(),
+        &[
+            "post",
+            "p.apt",
+            "--machine",
+            "head-table-bc",
+            "-o",
+            "axes.nc",
+        ],
+        b"",
+    );
+    assert_eq!(out.status.code(), Some(0), "{}", common::stderr(&out));
+    let axes = std::fs::read_to_string(dir.path().join("axes.nc")).expect("written");
+    assert!(
+        axes.contains("(SOURCE: P.APT)") && axes.contains("\nG1 X"),
+        "{axes}"
+    );
+    std::fs::write(dir.path().join("bad.apt"), "FEDRAT/100\nTLAXIS/0,0,1\n").expect("written");
+    let out = common::run_in(dir.path(), &["post", "bad.apt", "-o", "no.nc"], b"");
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        common::stderr(&out).contains("line 2"),
+        "{}",
+        common::stderr(&out)
+    );
+    assert!(!dir.path().join("no.nc").exists());
+}
