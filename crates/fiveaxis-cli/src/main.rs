@@ -6,6 +6,7 @@ mod diagnostic;
 mod library;
 mod number;
 mod output;
+mod post;
 mod signals;
 mod text;
 mod view;
@@ -54,6 +55,10 @@ enum Command {
     /// Write a self-contained HTML page showing the program in 3-D on its
     /// machine (tool path, machine moving, timeline, axis plots, findings).
     View(view::ViewArgs),
+    /// Turn a program that uses TCPC (G43.4 / G43.5) or the tilted working
+    /// plane into a machine-axis program for the same machine, within a
+    /// tolerance, with inverse time feed.
+    Post(post::PostArgs),
     /// List the built-in machines, or print one as a machine file.
     Machines {
         #[command(subcommand)]
@@ -193,6 +198,7 @@ fn main() -> ExitCode {
         Command::Run(args) => run(&args),
         Command::Check(args) => check::check(&args),
         Command::View(args) => view::view(&args),
+        Command::Post(args) => post::post(&args),
         Command::Machines { action: None } => list_machines(),
         Command::Machines {
             action: Some(MachinesAction::Show { name }),

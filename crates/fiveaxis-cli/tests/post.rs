@@ -1,0 +1,159 @@
+//! `fiveaxis post`: the output as a file (whole or not at all), the alarm
+//! of the source program stops it with nothing written, and the output is
+//! a program the kernel runs. (The tolerances themselves are judged by
+//! forward kinematics in `fiveaxis-post`'s tests.)
+
+mod common;
+
+use std::path::Path;
+
+/// The repository root.
+fn root() -> &'static Path {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .parent()
+        .and_then(Path::parent)
+        .expect("crates/fiveaxis-cli sits two levels down")
+}
+
+#[test]
+fn the_example_converts_and_the_output_runs_on_the_machine() {
+    let dir = tempfile::tempdir().expect("a temporary directory");
+    let examples = root().join("examples");
+    for name in ["tcpc-vector.nc", "offsets.toml"] {
+        std::fs::copy(examples.join(name), dir.path().join(name)).expect("copied");
+    }
+    let out = common::run_in(
+        dir.path(),
+        &[
+            "post",
+            "tcpc-vector.nc",
+            "--machine",
+            "head-table-bc",
+            "--offsets",
+            "offsets.toml",
+            "-o",
+            "out.nc",
+        ],
+        b"",
+    );
+    assert_eq!(out.status.code(), Some(0), "{}", common::stderr(&out));
+    assert!(common::stdout(&out).is_empty());
+    let text = std::fs::read_to_string(dir.path().join("out.nc")).expect("out.nc written");
+    assert!(text.starts_with("%\n(FIVEAXIS POST"), "{text}");
+    for needle in [
+        "(SOURCE: TCPC-VECTOR.NC)",
+        "(TOLERANCE: TIP 0.01 MM, DIRECTION 0.1 DEG)",
+        "TOOL LENGTH 120.0000 MM",
+        "G93",
+        "M30\n%\n",
+    ] {
+        assert!(text.contains(needle), "{needle} missing:\n{text}");
+    }
+    // The blocks (not the comments that say what was removed).
+    let blocks: String = text.lines().filter(|l| !l.starts_with('(')).collect();
+    for gone in ["G43", "G68.2", " I", " J", " K"] {
+        assert!(!blocks.contains(gone), "{gone} left in:\n{text}");
+    }
+    let run = common::run_in(
+        dir.path(),
+        &[
+            "run",
+            "out.nc",
+            "--machine",
+            "head-table-bc",
+            "--offsets",
+            "offsets.toml",
+        ],
+        b"",
+    );
+    assert_eq!(run.status.code(), Some(0), "{}", common::stderr(&run));
+    // Standard output without -o, the same text.
+    let again = common::run_in(
+        dir.path(),
+        &[
+            "post",
+            "tcpc-vector.nc",
+            "--machine",
+            "head-table-bc",
+            "--offsets",
+            "offsets.toml",
+        ],
+        b"",
+    );
+    assert_eq!(common::stdout(&again), text);
+}
+
+#[test]
+fn an_alarm_in_the_source_writes_nothing() {
+    let dir = tempfile::tempdir().expect("a temporary directory");
+    std::fs::write(
+        dir.path().join("p.nc"),
+        "G0 X10. Z50.\nG43.4 H1 X0 Y0 Z20.\nG1 Z10. F500.\nG1 X5. F0\nM30\n",
+    )
+    .expect("written");
+    std::fs::write(dir.path().join("kept.nc"), "old\n").expect("written");
+    let out = common::run_in(dir.path(), &["post", "p.nc", "-o", "kept.nc"], b"");
+    assert_eq!(out.status.code(), Some(1), "{}", common::stderr(&out));
+    assert!(
+        common::stderr(&out).contains(" line 4"),
+        "{}",
+        common::stderr(&out)
+    );
+    let kept = std::fs::read_to_string(dir.path().join("kept.nc")).expect("still there");
+    assert_eq!(kept, "old\n");
+    let out = common::run_in(dir.path(), &["post", "p.nc", "-o", "new.nc"], b"");
+    assert_eq!(out.status.code(), Some(1));
+    assert!(!dir.path().join("new.nc").exists());
+    assert!(common::stdout(&out).is_empty());
+}
+
+#[test]
+fn a_tolerance_must_be_positive() {
+    let dir = tempfile::tempdir().expect("a temporary directory");
+    std::fs::write(dir.path().join("p.nc"), "G0 X10.\nM30\n").expect("written");
+    for bad in ["0", "-1", "nan"] {
+        let out = common::run_in(dir.path(), &["post", "p.nc", "--tolerance", bad], b"");
+        assert_eq!(out.status.code(), Some(2), "{bad}");
+    }
+}
+
+#[test]
+fn apt_input_gives_a_tcpc_program_or_machine_axes_and_bad_records_their_line() {
+    let dir = tempfile::tempdir().expect("a temporary directory");
+    std::fs::write(
+        dir.path().join("p.apt"),
+        "LOAD/TOOL,1\nRAPID\nGOTO/0,0,10,0,0,1\nFEDRAT/500,MMPM\nGOTO/20,0,0,$\n0.5,0,0.866025\nFINI\n",
+    )
+    .expect("written");
+    let out = common::run_in(dir.path(), &["post", "p.apt", "--tcpc"], b"");
+    assert_eq!(out.status.code(), Some(0), "{}", common::stderr(&out));
+    let tcpc = common::stdout(&out);
+    assert!(tcpc.contains("G43.5 H1\nG0 X0.000000"), "{tcpc}");
+    let out = common::run_in(
+        dir.path(),
+        &[
+            "post",
+            "p.apt",
+            "--machine",
+            "head-table-bc",
+            "-o",
+            "axes.nc",
+        ],
+        b"",
+    );
+    assert_eq!(out.status.code(), Some(0), "{}", common::stderr(&out));
+    let axes = std::fs::read_to_string(dir.path().join("axes.nc")).expect("written");
+    assert!(
+        axes.contains("(SOURCE: P.APT)") && axes.contains("\nG1 X"),
+        "{axes}"
+    );
+    std::fs::write(dir.path().join("bad.apt"), "FEDRAT/100\nTLAXIS/0,0,1\n").expect("written");
+    let out = common::run_in(dir.path(), &["post", "bad.apt", "-o", "no.nc"], b"");
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        common::stderr(&out).contains("line 2"),
+        "{}",
+        common::stderr(&out)
+    );
+    assert!(!dir.path().join("no.nc").exists());
+}

@@ -1,0 +1,234 @@
+//! The output program: FANUC-style text (G93 inverse time feed, absolute
+//! machine positions in G54 with length compensation and TCPC off).
+//!
+//! Word formats: lengths in mm and angles in degrees with at least four
+//! decimals (the FANUC least input increment of IS-C is 0.0001 mm / deg;
+//! IS-B would be 0.001), more when the tolerance is finer; F of inverse
+//! time with at least six significant digits.
+
+use std::fmt::Write;
+
+use fiveaxis_machine::{Joints, Machine, Vec3};
+
+use crate::{Move, Post, PostOptions};
+
+/// Fewest decimals written for lengths and angles.
+pub const MIN_DECIMALS: u32 = 4;
+/// Most decimals written.
+pub const MAX_DECIMALS: u32 = 8;
+/// Share of the tip tolerance the rounding of the written words may use.
+pub const ROUNDING_SHARE: f64 = 0.05;
+/// Arm of the tool tip about the rotary axes assumed for the rounding of
+/// angles, mm (a turn of one quantum moves the tip by this times it).
+pub const ROUNDING_ARM: f64 = 1000.0;
+/// Significant digits of the inverse-time F.
+pub const FEED_DIGITS: i32 = 6;
+
+/// The last digit of the written words.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Quantum {
+    /// Decimals of lengths.
+    pub length_decimals: u32,
+    /// Decimals of angles.
+    pub angle_decimals: u32,
+}
+
+impl Quantum {
+    /// Digits that keep the rounding of every word within
+    /// [`ROUNDING_SHARE`] of the tip tolerance.
+    pub fn for_tolerance(tolerance: f64) -> Self {
+        let decimals = |step: f64| {
+            // Half a unit of the last digit must be at most `step`.
+            let d = (0.5 / step).log10().ceil();
+            if d.is_finite() {
+                (d.max(0.0) as u32).clamp(MIN_DECIMALS, MAX_DECIMALS)
+            } else {
+                MAX_DECIMALS
+            }
+        };
+        let share = tolerance * ROUNDING_SHARE;
+        Self {
+            length_decimals: decimals(share),
+            angle_decimals: decimals((share / ROUNDING_ARM).to_degrees()),
+        }
+    }
+
+    /// A machine position rounded as it will be written: linear axes
+    /// relative to `origin`, rotary axes as they are.
+    pub fn snap(&self, machine: &Machine, j: &Joints, origin: &Vec3) -> Joints {
+        let mut out = *j;
+        let round = |v: f64, d: u32| {
+            let scale = 10f64.powi(d as i32);
+            (v * scale).round() / scale
+        };
+        for (i, v) in out.iter_mut().enumerate().take(machine.axis_count()) {
+            *v = if i < machine.linear.len() {
+                round(*v - origin[i], self.length_decimals) + origin[i]
+            } else {
+                round(*v, self.angle_decimals)
+            };
+        }
+        out
+    }
+}
+
+/// What the header says besides the post's own figures.
+#[derive(Clone, Copy, Debug)]
+pub struct Header<'a> {
+    /// The source program, as named by the user.
+    pub source: &'a str,
+    /// Program number of the output (`O` word), if any.
+    pub number: Option<u32>,
+}
+
+/// Writes the whole program.
+pub fn write(machine: &Machine, post: &Post, options: &PostOptions, header: &Header<'_>) -> String {
+    let quantum = Quantum::for_tolerance(options.tolerance);
+    let mut out = String::with_capacity(64 * (post.moves.len() + 16));
+    let comment = |out: &mut String, text: &str| {
+        // Parentheses cannot nest in a FANUC comment.
+        let clean: String = text
+            .chars()
+            .map(|c| match c {
+                '(' | ')' | ';' | '%' => ' ',
+                c if c.is_ascii() && !c.is_ascii_control() => c.to_ascii_uppercase(),
+                _ => '?',
+            })
+            .collect();
+        let _ = writeln!(out, "({clean})");
+    };
+    out.push_str("%\n");
+    if let Some(n) = header.number {
+        let _ = writeln!(out, "O{n:04}");
+    }
+    comment(
+        &mut out,
+        "fiveaxis post: machine-axis program, TCPC removed",
+    );
+    comment(&mut out, &format!("source: {}", header.source));
+    comment(&mut out, &format!("machine: {}", machine.name));
+    comment(
+        &mut out,
+        &format!(
+            "tolerance: tip {} mm, direction {} deg",
+            options.tolerance, options.angle_tolerance
+        ),
+    );
+    let lengths: Vec<String> = post
+        .tool_lengths
+        .iter()
+        .map(|l| format!("{l:.4}"))
+        .collect();
+    comment(
+        &mut out,
+        &format!(
+            "for tool length {} mm only: G43.4/G43.5, G68.2 and G43 removed, G49",
+            if lengths.is_empty() {
+                "-".to_owned()
+            } else {
+                lengths.join(", ")
+            }
+        ),
+    );
+    comment(
+        &mut out,
+        &format!(
+            "largest deviation reached: tip {:.5} mm, direction {:.5} deg",
+            post.deviation.tip, post.deviation.angle
+        ),
+    );
+    if post.unresolved > 0 {
+        comment(
+            &mut out,
+            &format!(
+                "warning: {} pieces miss the tolerances at the shortest piece",
+                post.unresolved
+            ),
+        );
+    }
+    comment(
+        &mut out,
+        &format!(
+            "{} cutting blocks in, {} blocks out, feed G93 inverse time, tip feed kept",
+            post.source_blocks,
+            post.moves.len()
+        ),
+    );
+    comment(
+        &mut out,
+        &format!(
+            "positions: machine axes minus G54 X{:.4} Y{:.4} Z{:.4}",
+            options.origin[0], options.origin[1], options.origin[2]
+        ),
+    );
+    // G93 stays on throughout: positioning does not read F.
+    out.push_str("G21 G17 G90 G40 G49 G69 G80 G54 G93\n");
+    for m in &post.moves {
+        match m {
+            Move::Rapid(to) => {
+                out.push_str("G0");
+                axes(&mut out, machine, to, options, &quantum);
+            }
+            Move::Feed { to, minutes } => {
+                out.push_str("G1");
+                axes(&mut out, machine, to, options, &quantum);
+                out.push_str(" F");
+                feed(&mut out, 1.0 / minutes);
+            }
+        }
+        out.push('\n');
+    }
+    out.push_str("G94\n");
+    out.push_str("M30\n%\n");
+    out
+}
+
+/// Every axis word of a machine position.
+fn axes(out: &mut String, machine: &Machine, to: &Joints, options: &PostOptions, q: &Quantum) {
+    for (i, name) in machine.axis_names().enumerate() {
+        let linear = machine.linear.len();
+        let (value, decimals) = if i < linear {
+            (to[i] - options.origin[i], q.length_decimals)
+        } else {
+            let axis = &machine.rotary[i - linear];
+            let v = if axis.rollover {
+                to[i].rem_euclid(360.0)
+            } else {
+                to[i]
+            };
+            (v, q.angle_decimals)
+        };
+        let _ = write!(out, " {name}");
+        number(out, value, decimals as usize);
+    }
+}
+
+/// A number with `decimals` decimals, no `-0`.
+fn number(out: &mut String, value: f64, decimals: usize) {
+    let text = format!("{value:.decimals$}");
+    if text
+        .trim_start_matches('-')
+        .bytes()
+        .all(|b| b == b'0' || b == b'.')
+    {
+        let _ = write!(out, "{:.decimals$}", 0.0);
+    } else {
+        out.push_str(&text);
+    }
+}
+
+/// An inverse-time F with [`FEED_DIGITS`] significant digits.
+fn feed(out: &mut String, f: f64) {
+    let before = if f >= 1.0 {
+        f.log10().floor() as i32 + 1
+    } else {
+        0
+    };
+    let decimals = (FEED_DIGITS - before).max(0) as usize;
+    let decimals = if f < 1.0 && f > 0.0 {
+        (FEED_DIGITS - f.log10().floor() as i32 - 1).max(0) as usize
+    } else {
+        decimals
+    };
+    let _ = write!(out, "{f:.decimals$}");
+}

@@ -1,0 +1,145 @@
+//! APT / CL input: the corpus's SolidWorks CAM file converted to a TCPC
+//! program and run by the kernel; every `GOTO` point and tool vector of the
+//! file (read here by a separate minimal scan) is reached, in order, at the
+//! end of a block (`Segment::row`, forward kinematics). Bad records give
+//! their line.
+
+use fiveaxis_control::{RunOptions, Runner, SliceSource};
+use fiveaxis_machine::{Offsets, ToolOffset, Vec3, builtin};
+use fiveaxis_post::apt::to_tcpc;
+
+/// How close a block end must be to the GOTO point, mm (the program is
+/// written with 6 decimals).
+const POINT_EPS: f64 = 1e-5;
+/// How close the tool direction must be, as a vector difference.
+const DIR_EPS: f64 = 1e-6;
+
+const CORPUS: &str = "/work/shared/corpus/cl_solidworks_boss.apt";
+
+/// GOTO points and vectors of the APT text, the vector kept between them.
+fn gotos(text: &str) -> Vec<(Vec3, Vec3)> {
+    let mut dir = Vec3::z();
+    let mut out = Vec::new();
+    for line in text.lines() {
+        let Some(args) = line.trim().strip_prefix("GOTO/") else {
+            continue;
+        };
+        let v: Vec<f64> = args
+            .split(',')
+            .map(|a| a.trim().parse().expect("number"))
+            .collect();
+        if v.len() == 6 {
+            dir = Vec3::new(v[3], v[4], v[5]).normalize();
+        }
+        out.push((Vec3::new(v[0], v[1], v[2]), dir));
+    }
+    out
+}
+
+#[test]
+fn the_corpus_cl_file_converts_and_every_point_is_reached() {
+    let Ok(text) = std::fs::read_to_string(CORPUS) else {
+        eprintln!("{CORPUS} not here: skipped");
+        return;
+    };
+    let program = to_tcpc(&text, "cl_solidworks_boss.apt").expect("converts");
+    let machine = builtin("head-table-bc").expect("built-in");
+    let mut offsets = Offsets::default();
+    for (n, length) in [(1, 76.0), (5, 90.0)] {
+        offsets.tools.insert(
+            n,
+            ToolOffset {
+                length,
+                ..ToolOffset::default()
+            },
+        );
+    }
+    let options = RunOptions {
+        lift_soft_limits: true,
+        ..RunOptions::default()
+    };
+    let mut runner = Runner::new(
+        &machine,
+        offsets,
+        SliceSource::new(program.as_bytes()),
+        options,
+    );
+    let mut segments = Vec::new();
+    loop {
+        let want = segments.len() + 4096;
+        if !runner.fill(&mut segments, want).expect("runs") {
+            break;
+        }
+    }
+    let targets = gotos(&text);
+    assert_eq!(targets.len(), 9814);
+    let mut next = 0;
+    for seg in &segments {
+        let row = seg.row(&machine, 1.0);
+        if let Some((p, d)) = targets.get(next)
+            && (row.tip - p).norm() <= POINT_EPS
+            && (row.dir - d).norm() <= DIR_EPS
+        {
+            next += 1;
+        }
+    }
+    assert_eq!(
+        next,
+        targets.len(),
+        "GOTO {} not reached: {:?}",
+        next + 1,
+        targets.get(next)
+    );
+}
+
+#[test]
+fn records_continue_with_dollar_and_circles_turn_about_their_axis() {
+    let text = "UNIT/MM\nLOAD/TOOL,2\nRAPID\nGOTO/10,0,5,$\n0,0,1\nFEDRAT/600,MMPM\nGOTO/10,0,0\n\
+                CIRCLE/0,0,0,0,0,1\nGOTO/0,10,0\nCIRCLE/0,0,0,0,0,-1.\nGOTO/10,0,0\n\
+                CIRCLE/0,0,0,0,0,1\nGOTO/0,-10,0\nFINI\n";
+    let program = to_tcpc(text, "t").expect("converts");
+    // A quarter counter-clockwise about +Z, a quarter back clockwise
+    // (counter-clockwise about -Z), then three quarters counter-clockwise
+    // (R negative: more than half a turn).
+    assert!(
+        program.contains("T2 M6\nG43.5 H2\nG0 X10.000000 Y0.000000 Z5.000000"),
+        "{program}"
+    );
+    assert!(
+        program.contains("G17 G3 X0.000000 Y10.000000 Z0.000000 R10.000000"),
+        "{program}"
+    );
+    assert!(
+        program.contains("G17 G2 X10.000000 Y0.000000 Z0.000000 R10.000000"),
+        "{program}"
+    );
+    assert!(
+        program.contains("G17 G3 X0.000000 Y-10.000000 Z0.000000 R-10.000000"),
+        "{program}"
+    );
+    assert!(program.ends_with("G49\nM30\n%\n"));
+}
+
+#[test]
+fn bad_records_name_their_line() {
+    for (text, line, needle) in [
+        ("GOTO/1,2,3\n", 1, "before any FEDRAT"),
+        ("FEDRAT/100\nGOTO/1,2\n", 2, "3 to 6 numbers"),
+        ("FEDRAT/100\nTLAXIS/0,0,1\n", 2, "not read"),
+        (
+            "FEDRAT/100\nGOTO/1,2,3\nFINI\nGOTO/1,2,4\n",
+            4,
+            "after the end",
+        ),
+        (
+            "FEDRAT/100\nGOTO/10,0,0\nCIRCLE/0,0,0,0.6,0,0.8\nGOTO/0,10,0\n",
+            3,
+            "not along",
+        ),
+        ("FEDRAT/100\nGOTO/10,0,0,$\n", 2, "continued on no line"),
+    ] {
+        let e = to_tcpc(text, "t").expect_err(text);
+        assert_eq!(e.line, line, "{text}: {e}");
+        assert!(e.message.contains(needle), "{text}: {e}");
+    }
+}
