@@ -231,37 +231,13 @@ pub fn sampled_max(f: impl Fn(f64) -> f64, n: u32) -> (f64, f64) {
         }
     }
     let h = 1.0 / f64::from(n);
-    let (mut a, mut b) = ((best.0 - h).max(0.0), (best.0 + h).min(1.0));
-    let ratio = 0.5 * (5f64.sqrt() - 1.0);
-    let mut c = b - ratio * (b - a);
-    let mut d = a + ratio * (b - a);
-    let (mut fc, mut fd) = (f(c), f(d));
-    for _ in 0..GOLDEN_STEPS {
-        if fc > fd {
-            b = d;
-            d = c;
-            fd = fc;
-            c = b - ratio * (b - a);
-            fc = f(c);
-        } else {
-            a = c;
-            c = d;
-            fc = fd;
-            d = a + ratio * (b - a);
-            fd = f(d);
-        }
-    }
-    for (s, v) in [(c, fc), (d, fd)] {
-        if v > best.1 {
-            best = (s, v);
-        }
+    let (a, b) = ((best.0 - h).max(0.0), (best.0 + h).min(1.0));
+    let (low, s) = fiveaxis_control::search::golden_minimum(|s| -f(s), a, b);
+    if -low > best.1 {
+        best = (s, -low);
     }
     best
 }
-
-/// Golden-section steps of [`sampled_max`]: the interval shrinks to
-/// 0.618⁶⁰ ≈ 3e-13 of two samples' spacing.
-const GOLDEN_STEPS: u32 = 60;
 
 #[cfg(test)]
 mod tests {

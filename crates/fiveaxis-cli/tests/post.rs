@@ -5,20 +5,11 @@
 
 mod common;
 
-use std::path::Path;
-
-/// The repository root.
-fn root() -> &'static Path {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .parent()
-        .and_then(Path::parent)
-        .expect("crates/fiveaxis-cli sits two levels down")
-}
 
 #[test]
 fn the_example_converts_and_the_output_runs_on_the_machine() {
     let dir = tempfile::tempdir().expect("a temporary directory");
-    let examples = root().join("examples");
+    let examples = common::root().join("examples");
     for name in ["tcpc-vector.nc", "offsets.toml"] {
         std::fs::copy(examples.join(name), dir.path().join(name)).expect("copied");
     }

@@ -4,16 +4,7 @@
 
 mod common;
 
-use std::path::Path;
 use std::process::Command;
-
-/// The repository root.
-fn root() -> &'static Path {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .parent()
-        .and_then(Path::parent)
-        .expect("crates/fiveaxis-cli sits two levels down")
-}
 
 #[test]
 fn the_page_is_one_file_with_the_data_and_the_viewer() {
@@ -93,7 +84,7 @@ fn viewer_in_a_real_browser() {
         eprintln!("FIVEAXIS_NO_BROWSER is set: the browser tests are left out");
         return;
     }
-    let viewer = root().join("viewer");
+    let viewer = common::root().join("viewer");
     assert!(
         viewer.join("node_modules/playwright-core").exists(),
         "run `npm ci` in viewer/ first (and install Chromium: apt-get install chromium), or set FIVEAXIS_NO_BROWSER=1"

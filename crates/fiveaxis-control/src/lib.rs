@@ -15,6 +15,7 @@ mod dialect;
 mod modal;
 mod reach;
 mod runner;
+pub mod search;
 mod segment;
 mod words;
 

@@ -687,8 +687,11 @@ impl Controller<'_> {
                 && margins[1] < POSTURE_REFINE_BELOW
             {
                 let step = 1.0 / steps as f64;
-                let (dip, at) =
-                    minimize(|t| machine.reach_margin(&direction(t)), s - 2.0 * step, s);
+                let (dip, at) = crate::search::golden_minimum(
+                    |t| machine.reach_margin(&direction(t)),
+                    (s - 2.0 * step).max(0.0),
+                    s.min(1.0),
+                );
                 if dip < -POSTURE_REACH_TOLERANCE {
                     return Err(unreachable(&direction(at)));
                 }
@@ -1024,32 +1027,6 @@ impl Controller<'_> {
             _ => None,
         }
     }
-}
-
-/// The smallest value of `f` on [a, b] and where, by golden-section search
-/// (f is smooth with one dip there).
-fn minimize(f: impl Fn(f64) -> f64, a: f64, b: f64) -> (f64, f64) {
-    let ratio = (5f64.sqrt() - 1.0) / 2.0;
-    let (mut a, mut b) = (a.max(0.0), b.min(1.0));
-    let mut c = b - ratio * (b - a);
-    let mut d = a + ratio * (b - a);
-    let (mut fc, mut fd) = (f(c), f(d));
-    for _ in 0..60 {
-        if fc < fd {
-            b = d;
-            d = c;
-            fd = fc;
-            c = b - ratio * (b - a);
-            fc = f(c);
-        } else {
-            a = c;
-            c = d;
-            fc = fd;
-            d = a + ratio * (b - a);
-            fd = f(d);
-        }
-    }
-    if fc < fd { (fc, c) } else { (fd, d) }
 }
 
 /// Which rule picks the rotary pair.
