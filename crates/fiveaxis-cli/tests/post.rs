@@ -5,7 +5,6 @@
 
 mod common;
 
-
 #[test]
 fn the_example_converts_and_the_output_runs_on_the_machine() {
     let dir = tempfile::tempdir().expect("a temporary directory");
