@@ -1,8 +1,9 @@
 // The data `fiveaxis view` embeds in the page (crates/fiveaxis-cli/src/
-// view/html.rs): a JSON description, typed arrays in base64, and the
-// program text.
+// view/html.rs): a JSON description, and the typed arrays and the program
+// text, each with its bytes regrouped by byte position, deflated (zlib)
+// and in base64.
 
-import { forward, prepareMachine, toPart } from './kinematics.js';
+import { forwardInto, prepareMachine } from './kinematics.js';
 import { frameOfBlock, lowerBound } from './timeline.js';
 
 const META_ID = 'fiveaxis-meta';
@@ -21,18 +22,37 @@ export function decodeBase64(text) {
   return bytes;
 }
 
-function array(doc, name, Type) {
-  const element = doc.getElementById(ARRAY_PREFIX + name);
-  if (!element) throw new Error(`the page has no array ${name}: written by another fiveaxis version?`);
-  const bytes = decodeBase64(element.textContent.trim());
-  element.textContent = '';
-  return new Type(bytes.buffer, bytes.byteOffset, bytes.byteLength / Type.BYTES_PER_ELEMENT);
+/** Bytes inflated by the browser's own zlib reader. */
+async function inflate(bytes) {
+  const stream = new Blob([bytes]).stream().pipeThrough(new DecompressionStream('deflate'));
+  return new Uint8Array(await new Response(stream).arrayBuffer());
 }
 
-/** The program text as written (undoes the page's `&a;`, `&l;`, `&r;`). */
-export function unescapeProgram(text) {
-  if (!text.includes('&')) return text;
-  return text.replace(/&[alr];/g, (m) => (m === '&a;' ? '&' : m === '&l;' ? '<' : '\r'));
+/** Undoes the page's regrouping of `width`-byte elements by byte position. */
+export function unshuffle(bytes, width) {
+  if (width <= 1) return bytes;
+  const n = bytes.length / width;
+  const out = new Uint8Array(bytes.length);
+  for (let b = 0; b < width; b++) {
+    const from = b * n;
+    for (let i = 0, o = b; i < n; i++, o += width) out[o] = bytes[from + i];
+  }
+  return out;
+}
+
+/** The bytes of a packed element of the page (and its text let go). */
+async function unpack(doc, id) {
+  const element = doc.getElementById(id);
+  if (!element) throw new Error(`the page has no element ${id}: written by another fiveaxis version?`);
+  const width = Number(element.dataset.width || 1);
+  const packed = decodeBase64(element.textContent.trim());
+  element.textContent = '';
+  return unshuffle(await inflate(packed), width);
+}
+
+async function array(doc, name, Type) {
+  const bytes = await unpack(doc, ARRAY_PREFIX + name);
+  return new Type(bytes.buffer, bytes.byteOffset, bytes.byteLength / Type.BYTES_PER_ELEMENT);
 }
 
 /** Program lines as the control counts them: LF, CR LF or a lone CR. */
@@ -43,33 +63,36 @@ export function splitLines(text) {
 }
 
 /** Reads everything from the page. */
-export function readPage(doc, mark = () => {}) {
+export async function readPage(doc, mark = () => {}) {
   const meta = JSON.parse(doc.getElementById(META_ID).textContent);
   const machine = prepareMachine(meta.machine);
-  const program = doc.getElementById(PROGRAM_ID);
-  const text = unescapeProgram(program.textContent);
-  program.textContent = '';
-  mark('programText');
+  const names = ['joints', 'times', 'lines', 'ends', 'motions', 'finding_lines', 'finding_kinds', 'finding_axes', 'finding_values'];
+  const types = [Float32Array, Float64Array, Uint32Array, Float64Array, Uint8Array, Uint32Array, Uint8Array, Uint8Array, Float64Array];
+  const [text, ...arrays] = await Promise.all([
+    unpack(doc, PROGRAM_ID).then((bytes) => new TextDecoder().decode(bytes)),
+    ...names.map((name, k) => array(doc, name, types[k])),
+  ]);
+  mark('arrays');
+  const [joints, times, lines, ends, motions, findingLines, findingKinds, findingAxes, findingValues] = arrays;
   const data = {
     meta,
     machine,
     axes: machine.axisCount,
-    joints: array(doc, 'joints', Float32Array),
-    times: array(doc, 'times', Float64Array),
-    lines: array(doc, 'lines', Uint32Array),
-    ends: array(doc, 'ends', Float64Array),
-    motions: array(doc, 'motions', Uint8Array),
+    joints,
+    times,
+    lines,
+    ends,
+    motions,
     findings: {
-      lines: array(doc, 'finding_lines', Uint32Array),
-      kinds: array(doc, 'finding_kinds', Uint8Array),
-      axes: array(doc, 'finding_axes', Uint8Array),
-      values: array(doc, 'finding_values', Float64Array),
+      lines: findingLines,
+      kinds: findingKinds,
+      axes: findingAxes,
+      values: findingValues,
       table: meta.finding_kinds || [],
       messages: meta.finding_messages || [],
     },
   };
   data.findings.count = data.findings.lines.length;
-  mark('arrays');
   data.programLines = splitLines(text);
   mark('programLines');
   derive(data);
@@ -88,7 +111,8 @@ export function derive(data) {
   const tips = new Float32Array(3 * n);
   const dirs = new Float32Array(3 * n);
   const blocks = new Uint32Array(n);
-  const q = new Array(axes).fill(0);
+  const q = new Float64Array(axes);
+  const fk = new Float64Array(6);
   const lo = [Infinity, Infinity, Infinity];
   const hi = [-Infinity, -Infinity, -Infinity];
   const lastBlock = Math.max(0, ends.length - 1);
@@ -106,15 +130,18 @@ export function derive(data) {
       frameBlock = b;
     }
     for (let a = 0; a < axes; a++) q[a] = joints[i * axes + a];
-    const { tip, dir } = forward(machine, q, frame.tool_length);
-    tips.set(tip, 3 * i);
-    dirs.set(dir, 3 * i);
+    forwardInto(machine, q, frame.tool_length, fk);
+    for (let k = 0; k < 3; k++) {
+      tips[3 * i + k] = fk[k];
+      dirs[3 * i + k] = fk[3 + k];
+    }
     // The bounding box of the rows: the start position (vertex 0) is not one.
     if (i === 0 && n > 1) continue;
-    const p = toPart(frame.to_part, tip);
+    const m = frame.to_part;
     for (let k = 0; k < 3; k++) {
-      if (p[k] < lo[k]) lo[k] = p[k];
-      if (p[k] > hi[k]) hi[k] = p[k];
+      const p = m[4 * k] * fk[0] + m[4 * k + 1] * fk[1] + m[4 * k + 2] * fk[2] + m[4 * k + 3];
+      if (p < lo[k]) lo[k] = p;
+      if (p > hi[k]) hi[k] = p;
     }
   }
   data.tips = tips;

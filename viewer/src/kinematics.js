@@ -5,28 +5,6 @@
 // the spindle gauge point, table axes on machine coordinates; both chains
 // are listed from the bed outwards.
 
-/** `v` turned about the unit vector `k` by `deg` degrees (Rodrigues). */
-export function turn(k, v, deg) {
-  const a = (deg * Math.PI) / 180;
-  const s = Math.sin(a);
-  const c = Math.cos(a);
-  const kv = k[0] * v[0] + k[1] * v[1] + k[2] * v[2];
-  const x = k[1] * v[2] - k[2] * v[1];
-  const y = k[2] * v[0] - k[0] * v[2];
-  const z = k[0] * v[1] - k[1] * v[0];
-  return [
-    v[0] * c + x * s + k[0] * kv * (1 - c),
-    v[1] * c + y * s + k[1] * kv * (1 - c),
-    v[2] * c + z * s + k[2] * kv * (1 - c),
-  ];
-}
-
-/** The point `p` turned about the line through `c` along `k`. */
-export function turnAbout(k, c, p, deg) {
-  const r = turn(k, [p[0] - c[0], p[1] - c[1], p[2] - c[2]], deg);
-  return [c[0] + r[0], c[1] + r[1], c[2] + r[2]];
-}
-
 function unit(v) {
   const n = Math.hypot(v[0], v[1], v[2]);
   return [v[0] / n, v[1] / n, v[2] / n];
@@ -55,33 +33,66 @@ export function prepareMachine(description) {
 }
 
 /**
+ * Turns `s[o..o+3]` in place about the unit vector `k` by `deg` degrees
+ * (Rodrigues), about the point `c` when given.
+ */
+function turnInPlace(s, o, k, deg, c) {
+  const a = (deg * Math.PI) / 180;
+  const sn = Math.sin(a);
+  const cs = Math.cos(a);
+  const vx = c ? s[o] - c[0] : s[o];
+  const vy = c ? s[o + 1] - c[1] : s[o + 1];
+  const vz = c ? s[o + 2] - c[2] : s[o + 2];
+  const kv = (k[0] * vx + k[1] * vy + k[2] * vz) * (1 - cs);
+  const x = vx * cs + (k[1] * vz - k[2] * vy) * sn + k[0] * kv;
+  const y = vy * cs + (k[2] * vx - k[0] * vz) * sn + k[1] * kv;
+  const z = vz * cs + (k[0] * vy - k[1] * vx) * sn + k[2] * kv;
+  s[o] = c ? x + c[0] : x;
+  s[o + 1] = c ? y + c[1] : y;
+  s[o + 2] = c ? z + c[2] : z;
+}
+
+/**
  * Tool tip and direction in the table frame for machine positions `joints`
- * (X, Y, Z first, then the rotary axes bed outwards) and tool length `L`:
+ * (X, Y, Z first, then the rotary axes bed outwards) and tool length `L`,
+ * written into `out` (tip x y z, then direction x y z) with no allocation:
  * tip_machine = XYZ + H(−L·t0), dir = R_H·t0, then T⁻¹ of both.
  */
-export function forward(machine, joints, L) {
+export function forwardInto(machine, joints, L, out) {
   const t0 = machine.toolDirection;
-  let tip = [-L * t0[0], -L * t0[1], -L * t0[2]];
-  let dir = t0;
+  out[0] = -L * t0[0];
+  out[1] = -L * t0[1];
+  out[2] = -L * t0[2];
+  out[3] = t0[0];
+  out[4] = t0[1];
+  out[5] = t0[2];
   const rot = machine.rotary;
   for (let k = rot.length - 1; k >= 0; k--) {
     const r = rot[k];
     if (r.on === 'head') {
       const deg = joints[r.index];
-      tip = turnAbout(r.axis, r.center, tip, deg);
-      dir = turn(r.axis, dir, deg);
+      turnInPlace(out, 0, r.axis, deg, r.center);
+      turnInPlace(out, 3, r.axis, deg, null);
     }
   }
-  tip = [tip[0] + joints[0], tip[1] + joints[1], tip[2] + joints[2]];
+  out[0] += joints[0];
+  out[1] += joints[1];
+  out[2] += joints[2];
   for (let k = 0; k < rot.length; k++) {
     const r = rot[k];
     if (r.on === 'table') {
       const deg = -joints[r.index];
-      tip = turnAbout(r.axis, r.center, tip, deg);
-      dir = turn(r.axis, dir, deg);
+      turnInPlace(out, 0, r.axis, deg, r.center);
+      turnInPlace(out, 3, r.axis, deg, null);
     }
   }
-  return { tip, dir };
+  return out;
+}
+
+/** Tool tip and direction as arrays ([`forwardInto`]). */
+export function forward(machine, joints, L) {
+  const out = forwardInto(machine, joints, L, new Float64Array(6));
+  return { tip: [out[0], out[1], out[2]], dir: [out[3], out[4], out[5]] };
 }
 
 /** A table-frame point in the part frame: the frame's 3×4 matrix `m`. */

@@ -16,8 +16,8 @@ const SLIDER_STEPS = 1000000;
 const timings = { scriptStart: performance.now() };
 const mark = (name) => (timings[name] = performance.now());
 
-function start() {
-  const data = readPage(document, mark);
+async function start() {
+  const data = await readPage(document, mark);
   mark('readPage');
   const ui = layout(document, data.meta);
   const scene = new MachineScene(ui.view3d, data);
@@ -246,10 +246,8 @@ function start() {
   scene.rest();
 }
 
-try {
-  start();
-} catch (error) {
+start().catch((error) => {
   document.body.insertAdjacentHTML('afterbegin', `<pre style="color:#f85149;white-space:pre-wrap">fiveaxis view: ${String(error && error.stack ? error.stack : error).replace(/</g, '&lt;')}</pre>`);
   window.__viewer = { ready: false, error: String(error) };
   throw error;
-}
+});

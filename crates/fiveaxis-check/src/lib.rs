@@ -503,6 +503,31 @@ impl<'m> Checker<'m> {
         }
     }
 
+    /// Hands over, in report order, the findings no later segment can
+    /// precede: all of them but those after the start of an over-travel
+    /// run still open (its finding is written when the run ends, in the
+    /// place of its first block). A caller that drains as it goes holds
+    /// only those instead of every finding of the program; the findings
+    /// drained and then those of [`Checker::finish`] are the report's, in
+    /// its order.
+    pub fn drain_settled(&mut self, mut take: impl FnMut(Finding)) {
+        let open = self
+            .runs
+            .iter()
+            .flatten()
+            .flatten()
+            .map(|run| run.order)
+            .min()
+            .unwrap_or(u64::MAX);
+        // Findings are pushed in segment order but for closed runs, which
+        // arrive late: a stable sort puts them in place.
+        self.findings.sort_by_key(|f| f.order);
+        let settled = self.findings.partition_point(|f| f.order < open);
+        for finding in self.findings.drain(..settled) {
+            take(finding);
+        }
+    }
+
     /// The report, once the run is over.
     pub fn finish(mut self, ending: Ending) -> Report {
         for i in 0..MAX_AXES {

@@ -42,7 +42,9 @@ fn offsets() -> Offsets {
 }
 
 /// Runs a program with the soft limits lifted: its segments and the
-/// check's report.
+/// check's report. A second checker drains its settled findings after
+/// every segment: what it hands over, then what its `finish` gives, must
+/// be the report's findings in the report's order.
 fn run(machine: &Machine, program: &str) -> (Vec<Segment>, Report) {
     let options = RunOptions {
         lift_soft_limits: true,
@@ -55,11 +57,15 @@ fn run(machine: &Machine, program: &str) -> (Vec<Segment>, Report) {
         options,
     );
     let mut checker = Checker::new(machine);
+    let mut draining = Checker::new(machine);
+    let mut drained = Vec::new();
     let mut segments = Vec::new();
     let alarm = loop {
         match runner.next_segment() {
             Ok(Some(seg)) => {
                 checker.segment(&seg);
+                draining.segment(&seg);
+                draining.drain_settled(|f| drained.push(f));
                 segments.push(seg);
             }
             Ok(None) => break None,
@@ -67,11 +73,14 @@ fn run(machine: &Machine, program: &str) -> (Vec<Segment>, Report) {
             Err(e) => panic!("{e}"),
         }
     };
-    let report = checker.finish(Ending {
+    let ending = Ending {
         ended: alarm.is_none(),
         alarm: None,
         blocks: runner.blocks(),
-    });
+    };
+    let report = checker.finish(ending.clone());
+    drained.extend(draining.finish(ending).findings);
+    assert_eq!(drained, report.findings, "drained findings\n{program}");
     (segments, report)
 }
 

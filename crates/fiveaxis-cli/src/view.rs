@@ -105,25 +105,23 @@ pub struct FindingColumns {
     pub messages: Vec<String>,
 }
 
-/// The columns of `findings` (see [`FindingColumns`]).
-pub fn program_findings(findings: &[fiveaxis_check::Finding]) -> FindingColumns {
-    let mut c = FindingColumns::default();
-    for f in findings {
-        c.lines.push(f.line);
+impl FindingColumns {
+    /// Adds the next finding of the report.
+    pub fn push(&mut self, f: fiveaxis_check::Finding) {
+        self.lines.push(f.line);
         let kind = fiveaxis_check::Kind::ALL
             .iter()
             .position(|k| *k == f.kind)
             .unwrap_or_default();
-        c.kinds.push(u8::try_from(kind).unwrap_or_default());
-        c.axes
+        self.kinds.push(u8::try_from(kind).unwrap_or_default());
+        self.axes
             .push(f.axis.filter(char::is_ascii).map_or(0, |a| a as u8));
-        c.values
+        self.values
             .push(f.value.filter(|v| v.is_finite()).unwrap_or(f64::NAN));
-        if c.messages.len() < FINDING_MESSAGES {
-            c.messages.push(f.message.clone());
+        if self.messages.len() < FINDING_MESSAGES {
+            self.messages.push(f.message);
         }
     }
-    c
 }
 
 /// The kinds of findings as the page names them, in the order of the
@@ -194,8 +192,10 @@ struct Gathered {
     rows: u64,
     alarm: Option<Alarm>,
     bbox: Option<(Vec3, Vec3)>,
-    /// The check report's findings (over-travel, singular passages, …).
-    findings: Vec<fiveaxis_check::Finding>,
+    /// The check report's findings (over-travel, singular passages, …),
+    /// taken from the checker as they settle: a program with millions of
+    /// findings is held as these columns, not as millions of messages.
+    findings: FindingColumns,
 }
 
 /// Runs `fiveaxis view`.
@@ -278,23 +278,27 @@ pub fn view(args: &ViewArgs) -> Result<u8, InputError> {
         )));
     }
     let name = output.display().to_string();
-    let findings = program_findings(&gathered.findings);
-    let meta = meta(&machine, &gathered, &findings, program_name, args.tolerance);
+    let findings = &gathered.findings;
+    let meta = meta(&machine, &gathered, findings, program_name, args.tolerance);
     let text = String::from_utf8_lossy(&bytes);
     let arrays = [
-        ("joints", pack::f32_bytes(gathered.path.joints())),
-        ("times", pack::f64_bytes(gathered.path.times())),
-        ("lines", pack::u32_bytes(&gathered.lines)),
-        ("ends", pack::f64_bytes(&gathered.ends)),
-        ("motions", gathered.motions.clone()),
-        ("finding_lines", pack::u32_bytes(&findings.lines)),
-        ("finding_kinds", findings.kinds.clone()),
-        ("finding_axes", findings.axes.clone()),
-        ("finding_values", pack::f64_bytes(&findings.values)),
+        ("joints", pack::f32_bytes(gathered.path.joints()), 4),
+        ("times", pack::f64_bytes(gathered.path.times()), 8),
+        ("lines", pack::u32_bytes(&gathered.lines), 4),
+        ("ends", pack::f64_bytes(&gathered.ends), 8),
+        ("motions", gathered.motions.clone(), 1),
+        ("finding_lines", pack::u32_bytes(&findings.lines), 4),
+        ("finding_kinds", findings.kinds.clone(), 1),
+        ("finding_axes", findings.axes.clone(), 1),
+        ("finding_values", pack::f64_bytes(&findings.values), 8),
     ];
     let arrays: Vec<html::Array<'_>> = arrays
         .iter()
-        .map(|(name, bytes)| html::Array { name, bytes })
+        .map(|(name, bytes, width)| html::Array {
+            name,
+            bytes,
+            width: *width,
+        })
         .collect();
     write_whole(&output, |file| {
         let mut out = BufWriter::new(file);
@@ -323,7 +327,7 @@ fn gather<S: fiveaxis_control::Source>(
         rows: 0,
         alarm: None,
         bbox: None,
-        findings: Vec::new(),
+        findings: FindingColumns::default(),
     };
     let mut checker = fiveaxis_check::Checker::new(machine);
     let mut segments = Vec::new();
@@ -354,6 +358,7 @@ fn gather<S: fiveaxis_control::Source>(
             }
             let frame_index = g.frames.len() - 1;
             checker.segment(seg);
+            checker.drain_settled(|f| g.findings.push(f));
             sample(seg, machine, &mut rows);
             let start = seg.row(machine, 0.0);
             let seconds = seconds(seg, &start, &rows, machine);
@@ -420,17 +425,18 @@ fn gather<S: fiveaxis_control::Source>(
         }
     }
     g.path.finish();
-    g.findings = checker
-        .finish(fiveaxis_check::Ending {
-            ended: g.alarm.is_none(),
-            alarm: g.alarm.as_ref().map(|a| fiveaxis_check::AlarmInfo {
-                code: a.code.to_string(),
-                line: a.line,
-                message: a.message.clone(),
-            }),
-            blocks: runner.blocks(),
-        })
-        .findings;
+    let report = checker.finish(fiveaxis_check::Ending {
+        ended: g.alarm.is_none(),
+        alarm: g.alarm.as_ref().map(|a| fiveaxis_check::AlarmInfo {
+            code: a.code.to_string(),
+            line: a.line,
+            message: a.message.clone(),
+        }),
+        blocks: runner.blocks(),
+    });
+    for f in report.findings {
+        g.findings.push(f);
+    }
     Ok(g)
 }
 
@@ -548,12 +554,6 @@ fn meta(
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn no_findings_is_an_empty_list() {
-        let c = program_findings(&[]);
-        assert!(c.lines.is_empty() && c.kinds.is_empty() && c.messages.is_empty());
-    }
 
     #[test]
     fn frame_matrix_is_the_work_offset_alone_without_setup_error() {

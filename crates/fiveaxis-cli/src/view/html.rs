@@ -1,10 +1,18 @@
 //! The page `fiveaxis view` writes: one self-contained HTML file holding
-//! the data (a JSON description, base64 typed arrays, the program text)
-//! and the viewer script (`assets/viewer.js`, bundled from `viewer/` and
-//! committed, so that building fiveaxis never needs Node). Nothing in the
-//! page refers to the network.
+//! the data (a JSON description, typed arrays and the program text, each
+//! compressed and in base64) and the viewer script (`assets/viewer.js`,
+//! bundled from `viewer/` and committed, so that building fiveaxis never
+//! needs Node). Nothing in the page refers to the network.
+//!
+//! The browser's time to open a big page grows with its size (the HTML
+//! parser reads every byte), so the data is packed small: each array's
+//! bytes regrouped by byte position ([`pack::shuffle`]), then deflated
+//! ([`pack::deflate`], zlib format), then base64; the viewer undoes it with
+//! the browser's own `DecompressionStream`.
 
 use std::io::{self, Write};
+
+use super::pack;
 
 /// The viewer: `viewer/src/*.js` with three.js, bundled by esbuild into one
 /// IIFE (`npm run build` in `viewer/`).
@@ -24,6 +32,23 @@ pub struct Array<'a> {
     pub name: &'a str,
     /// The bytes (`pack::f32_bytes` and the like).
     pub bytes: &'a [u8],
+    /// Bytes per element (1, 4 or 8): how they are regrouped before
+    /// compression.
+    pub width: usize,
+}
+
+/// The element holding `bytes`, deflated and in base64: `id`, and the
+/// element width the viewer regroups the bytes by.
+fn write_packed(out: &mut dyn Write, id: &str, bytes: &[u8], width: usize) -> io::Result<()> {
+    let packed = pack::deflate(&pack::shuffle(bytes, width));
+    let mut text = String::new();
+    pack::base64_into(&packed, &mut text);
+    write!(
+        out,
+        "<script type=\"application/octet-stream\" id=\"{id}\" data-width=\"{width}\">"
+    )?;
+    out.write_all(text.as_bytes())?;
+    out.write_all(b"</script>\n")
 }
 
 /// Writes the page: `meta` (a JSON object), the arrays, the program text
@@ -47,21 +72,16 @@ pub fn write_page(
         "<script type=\"application/json\" id=\"{META_ID}\">{}</script>",
         json_for_script(meta)
     )?;
-    let mut text = String::new();
     for array in arrays {
-        text.clear();
-        crate::view::pack::base64_into(array.bytes, &mut text);
-        write!(
+        write_packed(
             out,
-            "<script type=\"application/octet-stream\" id=\"{ARRAY_ID_PREFIX}{}\">",
-            array.name
+            &format!("{ARRAY_ID_PREFIX}{}", array.name),
+            array.bytes,
+            array.width,
         )?;
-        out.write_all(text.as_bytes())?;
-        out.write_all(b"</script>\n")?;
     }
-    write!(out, "<script type=\"text/plain\" id=\"{PROGRAM_ID}\">")?;
-    write_program_text(out, program)?;
-    out.write_all(b"</script>\n<script>\n")?;
+    write_packed(out, PROGRAM_ID, program.as_bytes(), 1)?;
+    out.write_all(b"<script>\n")?;
     out.write_all(script_safe(VIEWER_SCRIPT).as_bytes())?;
     out.write_all(b"\n</script>\n</body>\n</html>\n")
 }
@@ -71,26 +91,6 @@ pub fn write_page(
 /// `<`), so no `</script>` can end the element early.
 pub fn json_for_script(value: &serde_json::Value) -> String {
     value.to_string().replace('<', "\\u003c")
-}
-
-/// The program text inside a `<script type="text/plain">` element, which
-/// the browser reads raw: `&` as `&a;`, `<` as `&l;` (so no `</script>`
-/// ends it) and a carriage return as `&r;` (the HTML parser would turn a
-/// lone one into a line feed). The viewer undoes this (`viewer/src/data.js`).
-pub fn write_program_text(out: &mut dyn Write, text: &str) -> io::Result<()> {
-    let mut from = 0;
-    for (at, c) in text.char_indices() {
-        let escape: &[u8] = match c {
-            '&' => b"&a;",
-            '<' => b"&l;",
-            '\r' => b"&r;",
-            _ => continue,
-        };
-        out.write_all(&text.as_bytes()[from..at])?;
-        out.write_all(escape)?;
-        from = at + 1;
-    }
-    out.write_all(&text.as_bytes()[from..])
 }
 
 /// Text for an HTML element's content.
@@ -115,27 +115,6 @@ fn script_safe(script: &str) -> std::borrow::Cow<'_, str> {
 mod tests {
     use super::*;
 
-    fn program_text(text: &str) -> String {
-        let mut out = Vec::new();
-        write_program_text(&mut out, text).expect("writes to a Vec");
-        String::from_utf8(out).expect("UTF-8 in, UTF-8 out")
-    }
-
-    #[test]
-    fn program_text_cannot_end_its_element() {
-        let text = "G1 X1.\r\n(</script><b>&amp;)\rM30\n";
-        let escaped = program_text(text);
-        assert!(!escaped.contains('<'));
-        assert!(!escaped.contains('\r'));
-        assert_eq!(escaped, "G1 X1.&r;\n(&l;/script>&l;b>&a;amp;)&r;M30\n");
-        // Undone as the viewer does it.
-        let back = escaped
-            .replace("&l;", "<")
-            .replace("&r;", "\r")
-            .replace("&a;", "&");
-        assert_eq!(back, text);
-    }
-
     #[test]
     fn json_cannot_end_its_element() {
         let meta = serde_json::json!({ "message": "</script><script>alert(1)</script>" });
@@ -148,7 +127,11 @@ mod tests {
     #[test]
     fn page_holds_everything_and_no_network_address() {
         let meta = serde_json::json!({ "vertices": 2 });
-        let bytes = [1u8, 2, 3, 4];
+        let times: Vec<u8> = [0.5f64, 1.25, 3.0]
+            .iter()
+            .flat_map(|v| v.to_le_bytes())
+            .collect();
+        let program = "G0 X1.\r\n(</script><b>&amp;)\rM30\n";
         let mut out = Vec::new();
         write_page(
             &mut out,
@@ -156,15 +139,18 @@ mod tests {
             &meta,
             &[Array {
                 name: "time",
-                bytes: &bytes,
+                bytes: &times,
+                width: 8,
             }],
-            "G0 X1.\n",
+            program,
         )
         .expect("writes to a Vec");
         let page = String::from_utf8(out).expect("UTF-8");
         assert!(page.contains("<title>fiveaxis view: a&lt;b&gt;.nc</title>"));
-        assert!(page.contains(&format!("id=\"{ARRAY_ID_PREFIX}time\">AQIDBA==</script>")));
-        assert!(page.contains(&format!("id=\"{PROGRAM_ID}\">G0 X1.\n</script>")));
+        // Packed (the CLI's tests read them back as the viewer does).
+        assert!(page.contains(&format!("id=\"{ARRAY_ID_PREFIX}time\" data-width=\"8\">")));
+        assert!(page.contains(&format!("id=\"{PROGRAM_ID}\" data-width=\"1\">")));
+        assert!(!page.contains("</b>"), "the program text is packed");
         assert!(page.contains(VIEWER_SCRIPT.get(..200).unwrap_or_default()));
         // Each script element ends where it should: as many ends as starts.
         assert_eq!(

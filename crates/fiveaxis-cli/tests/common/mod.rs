@@ -46,3 +46,50 @@ pub fn root() -> &'static Path {
         .and_then(Path::parent)
         .expect("crates/fiveaxis-cli sits two levels down")
 }
+
+/// Standard base64 read back.
+fn from_base64(text: &str) -> Vec<u8> {
+    let value = |c: u8| match c {
+        b'A'..=b'Z' => u32::from(c - b'A'),
+        b'a'..=b'z' => u32::from(c - b'a') + 26,
+        b'0'..=b'9' => u32::from(c - b'0') + 52,
+        b'+' => 62,
+        _ => 63,
+    };
+    let mut out = Vec::new();
+    for quad in text.as_bytes().chunks(4) {
+        let pad = quad.iter().filter(|c| **c == b'=').count();
+        let v = quad
+            .iter()
+            .fold(0, |v, c| (v << 6) | if *c == b'=' { 0 } else { value(*c) });
+        out.extend(&v.to_be_bytes()[1..4 - pad]);
+    }
+    out
+}
+
+/// The bytes of a packed element of a `fiveaxis view` page, read as the
+/// viewer reads them (`viewer/src/data.js`): base64, inflated (zlib), the
+/// bytes regrouped from byte position order into elements of `data-width`.
+pub fn page_element(page: &str, id: &str) -> Vec<u8> {
+    let start = page
+        .find(&format!("id=\"{id}\""))
+        .unwrap_or_else(|| panic!("no element {id} in the page"));
+    let rest = &page[start..];
+    let width: usize = rest
+        .split("data-width=\"")
+        .nth(1)
+        .and_then(|w| w.split('"').next())
+        .and_then(|w| w.parse().ok())
+        .expect("data-width");
+    let text = &rest[rest.find('>').expect("tag end") + 1..rest.find("</script>").expect("end")];
+    let mut bytes = Vec::new();
+    std::io::Read::read_to_end(
+        &mut flate2::read::ZlibDecoder::new(&from_base64(text)[..]),
+        &mut bytes,
+    )
+    .expect("inflates");
+    let n = bytes.len() / width;
+    (0..bytes.len())
+        .map(|k| bytes[(k % width) * n + k / width])
+        .collect()
+}
