@@ -41,6 +41,12 @@ def main() -> int:
         help="write a 2-D contour (a polygon of BLOCKS sides, radius 200 mm) for the 3-axis mill:"
         " plain, with cutter compensation C (G41 D1), or with 3-D tool compensation (G41 I J K D1)",
     )
+    parser.add_argument(
+        "--finish",
+        action="store_true",
+        help="write a G43.5 finishing raster (zig-zag over a sphere cap of radius 250 mm, 200 x 200 mm,"
+        " the tool along the surface normal, up to 34 degrees): a smooth path of BLOCKS short blocks",
+    )
     args = parser.parse_args()
     if args.blocks < 1:
         parser.error("blocks must be at least 1")
@@ -49,6 +55,9 @@ def main() -> int:
     uniform = rng.uniform
     if args.contour:
         write_contour(args.blocks, args.output, args.contour)
+        return 0
+    if args.finish:
+        write_finish(args.blocks, args.output)
         return 0
     with open(args.output, "w", encoding="ascii", newline="\n") as out:
         out.write("G21 G90 G94 G17\nG0 X0 Y0 Z0\nF1000.\n")
@@ -87,6 +96,33 @@ def main() -> int:
         out.writelines(lines)
         out.write("M30\n")
     return 0
+
+
+def write_finish(blocks: int, output: str) -> None:
+    """A zig-zag raster in X over a sphere cap, passes stepped in Y."""
+    radius, top = 250.0, 50.0
+    passes = max(1, round(math.sqrt(blocks) / 2.0))
+    per_pass = max(1, blocks // passes)
+    with open(output, "w", encoding="ascii", newline="\n") as out:
+        out.write("G21 G90 G94 G17\nG0 X0 Y0 Z0\nF2000.\nG43.5 H0 X-100. Y-100. Z100.\n")
+        lines = []
+        written = 0
+        for p in range(passes):
+            y = -100.0 + 200.0 * p / max(1, passes - 1)
+            for k in range(per_pass):
+                if written == blocks:
+                    break
+                f = k / max(1, per_pass - 1)
+                x = -100.0 + 200.0 * (f if p % 2 == 0 else 1.0 - f)
+                z = math.sqrt(radius * radius - x * x - y * y) - radius + top
+                i, j, kk = x / radius, y / radius, (z - top + radius) / radius
+                lines.append("G1 X%.4f Y%.4f Z%.4f I%.6f J%.6f K%.6f\n" % (x, y, z, i, j, kk))
+                written += 1
+                if len(lines) == 10000:
+                    out.writelines(lines)
+                    lines.clear()
+        out.writelines(lines)
+        out.write("G49\nM30\n")
 
 
 def write_contour(blocks: int, output: str, kind: str) -> None:

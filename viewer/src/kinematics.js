@@ -33,13 +33,10 @@ export function prepareMachine(description) {
 }
 
 /**
- * Turns `s[o..o+3]` in place about the unit vector `k` by `deg` degrees
- * (Rodrigues), about the point `c` when given.
+ * Turns `s[o..o+3]` in place about the unit vector `k` by the angle of
+ * sine `sn` and cosine `cs` (Rodrigues), about the point `c` when given.
  */
-function turnInPlace(s, o, k, deg, c) {
-  const a = (deg * Math.PI) / 180;
-  const sn = Math.sin(a);
-  const cs = Math.cos(a);
+function turnInPlace(s, o, k, sn, cs, c) {
   const vx = c ? s[o] - c[0] : s[o];
   const vy = c ? s[o + 1] - c[1] : s[o + 1];
   const vz = c ? s[o + 2] - c[2] : s[o + 2];
@@ -50,6 +47,15 @@ function turnInPlace(s, o, k, deg, c) {
   s[o] = c ? x + c[0] : x;
   s[o + 1] = c ? y + c[1] : y;
   s[o + 2] = c ? z + c[2] : z;
+}
+
+/** Turns the tip `out[0..3]` and the direction `out[3..6]` by `deg` about rotary axis `r`. */
+function turnBoth(out, r, deg) {
+  const a = (deg * Math.PI) / 180;
+  const sn = Math.sin(a);
+  const cs = Math.cos(a);
+  turnInPlace(out, 0, r.axis, sn, cs, r.center);
+  turnInPlace(out, 3, r.axis, sn, cs, null);
 }
 
 /**
@@ -70,9 +76,7 @@ export function forwardInto(machine, joints, L, out) {
   for (let k = rot.length - 1; k >= 0; k--) {
     const r = rot[k];
     if (r.on === 'head') {
-      const deg = joints[r.index];
-      turnInPlace(out, 0, r.axis, deg, r.center);
-      turnInPlace(out, 3, r.axis, deg, null);
+      turnBoth(out, r, joints[r.index]);
     }
   }
   out[0] += joints[0];
@@ -81,9 +85,7 @@ export function forwardInto(machine, joints, L, out) {
   for (let k = 0; k < rot.length; k++) {
     const r = rot[k];
     if (r.on === 'table') {
-      const deg = -joints[r.index];
-      turnInPlace(out, 0, r.axis, deg, r.center);
-      turnInPlace(out, 3, r.axis, deg, null);
+      turnBoth(out, r, -joints[r.index]);
     }
   }
   return out;

@@ -231,6 +231,9 @@ async function start() {
     setDetail: (whole) => scene.setDetail(whole),
     timeFrame: (whole) => scene.timeFrame(whole),
     coarse: () => (scene.coarse ? scene.coarse.geometry.index.count : 0),
+    /** Path vertices in the last frame drawn, and in the whole path. */
+    drawn: () => ({ drawn: scene.drawnVertices, total: scene.path.geometry.getAttribute('position').count }),
+    zoomBy: (f) => scene.zoomBy(f),
   };
   seek(0);
   mark('seek');

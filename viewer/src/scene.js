@@ -35,6 +35,7 @@ import {
 } from 'three';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 import { MOTIONS } from './data.js';
+import { simplifyToSpacing } from './simplify.js';
 
 /** Colours of the path by motion: rapid, linear feed, arcs. */
 export const MOTION_COLOURS = { rapid: '#e8554e', linear: '#3fb950', cw: '#58a6ff', ccw: '#58a6ff' };
@@ -48,6 +49,19 @@ const TOOL_AXIS_TICKS = 400;
  */
 export const COARSE_VERTICES = 10000;
 const REST_MS = 250;
+/**
+ * The path at rest is drawn simplified to the pixel: levels whose points
+ * are at least `pathSize / PIXEL_LEVEL_FINEST · 2^k` apart (k = 0, 1, …,
+ * `PIXEL_LEVELS − 1`, each made from the one before, so a level's drawing
+ * is within twice its spacing of the whole path), and the one drawn is the
+ * coarsest whose spacing is below half a pixel at the camera's target:
+ * within a pixel of the whole path. A level is kept only where it leaves
+ * out at least `PIXEL_LEVEL_GAIN` of the finer one's vertices.
+ */
+const PIXEL_LEVEL_FINEST = 8192;
+const PIXEL_LEVELS = 6;
+const PIXEL_LEVEL_GAIN = 0.2;
+
 /** Finding markers drawn, at most, with the coarse path (every k-th). */
 export const COARSE_MARKERS = 3000;
 /** Path vertices the picking ray must come this close to, pixels. */
@@ -291,6 +305,30 @@ export class MachineScene {
     this.path = new Line(geometry, new LineBasicMaterial({ vertexColors: true }));
     this.path.name = 'path';
     this.tableInner.add(this.path);
+    // The path to the pixel: levels over the same vertex buffers, by index.
+    this.pixelLevels = [];
+    if (count > 2) {
+      let from = new Uint32Array(count);
+      for (let i = 0; i < count; i++) from[i] = i;
+      let kept = count;
+      for (let k = 0; k < PIXEL_LEVELS; k++) {
+        const spacing = (this.pathSize / PIXEL_LEVEL_FINEST) * 2 ** k;
+        const index = simplifyToSpacing(pos, col, from, spacing);
+        from = index;
+        if (index.length > (1 - PIXEL_LEVEL_GAIN) * kept) continue;
+        kept = index.length;
+        const lg = new BufferGeometry();
+        lg.setAttribute('position', geometry.getAttribute('position'));
+        lg.setAttribute('color', geometry.getAttribute('color'));
+        lg.setIndex(new BufferAttribute(index, 1));
+        lg.boundingSphere = geometry.boundingSphere;
+        const line = new Line(lg, this.path.material);
+        line.name = `path-pixel-${k}`;
+        line.visible = false;
+        this.tableInner.add(line);
+        this.pixelLevels.push({ spacing, line, vertices: index.length });
+      }
+    }
     // The coarse path: the same vertex buffers, every k-th vertex by index.
     this.coarse = null;
     if (count > COARSE_VERTICES) {
@@ -570,7 +608,37 @@ export class MachineScene {
     return ms;
   }
 
+  /** Moves the camera towards its target to `f` times its distance. */
+  zoomBy(f) {
+    const t = this.controls.target;
+    this.camera.position.sub(t).multiplyScalar(f).add(t);
+    this.controls.update();
+    this.requestRender();
+  }
+
+  /** World length of a pixel at the camera's target. */
+  worldPerPixel() {
+    const height = Math.max(this.renderer.domElement.clientHeight, 1);
+    const dist = this.camera.position.distanceTo(this.controls.target);
+    return (2 * dist * Math.tan((this.camera.fov * Math.PI) / 360)) / height;
+  }
+
+  /**
+   * The whole path as drawn: the coarsest pixel level whose spacing is
+   * below half a pixel, else every vertex.
+   */
+  choosePixelLevel() {
+    const half = 0.5 * this.worldPerPixel();
+    let chosen = null;
+    for (const level of this.pixelLevels) if (level.spacing <= half) chosen = level;
+    const whole = !!this.detail || !this.coarse;
+    this.path.visible = whole && !chosen;
+    for (const level of this.pixelLevels) level.line.visible = whole && level === chosen;
+    this.drawnVertices = whole ? (chosen ? chosen.vertices : this.path.geometry.getAttribute('position').count) : this.coarse.geometry.index.count;
+  }
+
   renderNow() {
+    this.choosePixelLevel();
     this.renderer.render(this.scene, this.camera);
     this.frames = (this.frames || 0) + 1;
   }

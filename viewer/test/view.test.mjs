@@ -180,6 +180,22 @@ for (const c of CASES) {
         await page.evaluate(() => window.__viewer.view('iso'));
         await moveSlider(600000);
       }
+      // The path to the pixel: at the fitted view no more than the whole
+      // path is drawn; close up, every vertex.
+      const lod = await page.evaluate(() => {
+        const v = window.__viewer;
+        v.view('iso');
+        v.setDetail(true);
+        v.renderNow();
+        const fit = v.drawn();
+        v.zoomBy(1 / 4096);
+        v.renderNow();
+        const near = v.drawn();
+        v.view('iso');
+        return { fit, near };
+      });
+      assert.ok(lod.fit.drawn <= lod.fit.total, `drawn ${lod.fit.drawn} of ${lod.fit.total}`);
+      assert.equal(lod.near.drawn, lod.near.total, 'close up, every vertex is drawn');
       await page.waitForTimeout(100);
       await page.screenshot({ path: join(OUT, `${c.program.replace(/\.nc$/, '')}-${c.machine}.png`) });
       assert.deepEqual(errors, [], 'no console error after use');

@@ -95,7 +95,12 @@ fn viewer_in_a_real_browser() {
         "run `npm ci` in viewer/ first (and install Chromium: apt-get install chromium), or set FIVEAXIS_NO_BROWSER=1"
     );
     let out = Command::new("node")
-        .args(["--test", "test/kinematics.test.mjs", "test/view.test.mjs"])
+        .args([
+            "--test",
+            "test/kinematics.test.mjs",
+            "test/simplify.test.mjs",
+            "test/view.test.mjs",
+        ])
         .current_dir(&viewer)
         .env("FIVEAXIS", env!("CARGO_BIN_EXE_fiveaxis"))
         .output()
