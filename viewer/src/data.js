@@ -1,7 +1,7 @@
 // The data `fiveaxis view` embeds in the page (crates/fiveaxis-cli/src/
 // view/html.rs): a JSON description, and the typed arrays and the program
 // text, each with its bytes regrouped by byte position, deflated (zlib)
-// and in base64.
+// where that halves them (`data-encoding`), and in base64.
 
 import { forwardInto, prepareMachine } from './kinematics.js';
 import { frameOfBlock, lowerBound } from './timeline.js';
@@ -47,7 +47,7 @@ async function unpack(doc, id) {
   const width = Number(element.dataset.width || 1);
   const packed = decodeBase64(element.textContent.trim());
   element.textContent = '';
-  return unshuffle(await inflate(packed), width);
+  return unshuffle(element.dataset.encoding === 'deflate' ? await inflate(packed) : packed, width);
 }
 
 async function array(doc, name, Type) {

@@ -30,9 +30,10 @@ for (const arg of process.argv.slice(2)) {
     const frameMs = (performance.now() - t1) / Math.max(1, v.renderedFrames() - f0);
     // One frame of the whole path and of the coarse one, drawn at once.
     const restMs = v.timeFrame(true);
+    const drawn = v.drawn();
     const coarseMs = v.timeFrame(false);
     const timings = Object.fromEntries(Object.entries(v.timings || {}).map(([k, x]) => [k, Math.round(x)]));
-    return { seekMs, frameMs, restMs, coarseMs, coarse: v.coarse(), stats: v.stats, timings };
+    return { seekMs, frameMs, restMs, coarseMs, coarse: v.coarse(), drawn, stats: v.stats, timings };
   });
   // Orbiting: a left drag across the 3-D view, frames as the browser draws them.
   const box = await page.locator('#fa-3d canvas').boundingBox();
@@ -50,7 +51,7 @@ for (const arg of process.argv.slice(2)) {
   const orbitMs = (Date.now() - t0) / Math.max(1, orbitFrames);
   await page.mouse.up();
   const mb = statSync(file).size / 1e6;
-  console.log(JSON.stringify({ file: arg, megabytes: +mb.toFixed(1), openMs: Math.round(openMs), wallMs: wall, seekMs: +timing.seekMs.toFixed(2), frameMs: +timing.frameMs.toFixed(1), orbitMs: +orbitMs.toFixed(1), orbitFrames, restMs: Math.round(timing.restMs), coarseMs: Math.round(timing.coarseMs), coarseVertices: timing.coarse, segments: timing.stats.segments, vertices: timing.stats.vertices, timings: timing.timings, errors }));
+  console.log(JSON.stringify({ file: arg, megabytes: +mb.toFixed(1), openMs: Math.round(openMs), wallMs: wall, seekMs: +timing.seekMs.toFixed(2), frameMs: +timing.frameMs.toFixed(1), orbitMs: +orbitMs.toFixed(1), orbitFrames, restMs: Math.round(timing.restMs), restVertices: timing.drawn.drawn, coarseMs: Math.round(timing.coarseMs), coarseVertices: timing.coarse, segments: timing.stats.segments, vertices: timing.stats.vertices, timings: timing.timings, errors }));
   await page.close();
 }
 await browser.close();

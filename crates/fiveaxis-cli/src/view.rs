@@ -281,25 +281,19 @@ pub fn view(args: &ViewArgs) -> Result<u8, InputError> {
     let findings = &gathered.findings;
     let meta = meta(&machine, &gathered, findings, program_name, args.tolerance);
     let text = String::from_utf8_lossy(&bytes);
+    use pack::Column;
     let arrays = [
-        ("joints", pack::f32_bytes(gathered.path.joints()), 4),
-        ("times", pack::f64_bytes(gathered.path.times()), 8),
-        ("lines", pack::u32_bytes(&gathered.lines), 4),
-        ("ends", pack::f64_bytes(&gathered.ends), 8),
-        ("motions", gathered.motions.clone(), 1),
-        ("finding_lines", pack::u32_bytes(&findings.lines), 4),
-        ("finding_kinds", findings.kinds.clone(), 1),
-        ("finding_axes", findings.axes.clone(), 1),
-        ("finding_values", pack::f64_bytes(&findings.values), 8),
-    ];
-    let arrays: Vec<html::Array<'_>> = arrays
-        .iter()
-        .map(|(name, bytes, width)| html::Array {
-            name,
-            bytes,
-            width: *width,
-        })
-        .collect();
+        ("joints", Column::F32(gathered.path.joints())),
+        ("times", Column::F64(gathered.path.times())),
+        ("lines", Column::U32(&gathered.lines)),
+        ("ends", Column::F64(&gathered.ends)),
+        ("motions", Column::U8(&gathered.motions)),
+        ("finding_lines", Column::U32(&findings.lines)),
+        ("finding_kinds", Column::U8(&findings.kinds)),
+        ("finding_axes", Column::U8(&findings.axes)),
+        ("finding_values", Column::F64(&findings.values)),
+    ]
+    .map(|(name, column)| html::Array { name, column });
     write_whole(&output, |file| {
         let mut out = BufWriter::new(file);
         html::write_page(&mut out, program_name, &meta, &arrays, &text)

@@ -6,9 +6,9 @@
 //!
 //! The browser's time to open a big page grows with its size (the HTML
 //! parser reads every byte), so the data is packed small: each array's
-//! bytes regrouped by byte position ([`pack::shuffle`]), then deflated
-//! ([`pack::deflate`], zlib format), then base64; the viewer undoes it with
-//! the browser's own `DecompressionStream`.
+//! bytes regrouped by byte position, then deflated (zlib format) where
+//! that halves them, then base64 ([`pack::write_packed`]); the viewer
+//! undoes it with the browser's own `DecompressionStream`.
 
 use std::io::{self, Write};
 
@@ -25,29 +25,26 @@ pub const ARRAY_ID_PREFIX: &str = "fiveaxis-array-";
 /// Id of the program text.
 pub const PROGRAM_ID: &str = "fiveaxis-program";
 
-/// One typed array for the page: its name and little-endian bytes.
+/// One typed array for the page.
 #[derive(Debug)]
 pub struct Array<'a> {
     /// Name the viewer looks it up by.
     pub name: &'a str,
-    /// The bytes (`pack::f32_bytes` and the like).
-    pub bytes: &'a [u8],
-    /// Bytes per element (1, 4 or 8): how they are regrouped before
-    /// compression.
-    pub width: usize,
+    /// Its values.
+    pub column: pack::Column<'a>,
 }
 
-/// The element holding `bytes`, deflated and in base64: `id`, and the
+/// The element holding `column`, packed ([`pack::write_packed`]), with the
 /// element width the viewer regroups the bytes by.
-fn write_packed(out: &mut dyn Write, id: &str, bytes: &[u8], width: usize) -> io::Result<()> {
-    let packed = pack::deflate(&pack::shuffle(bytes, width));
-    let mut text = String::new();
-    pack::base64_into(&packed, &mut text);
-    write!(
-        out,
-        "<script type=\"application/octet-stream\" id=\"{id}\" data-width=\"{width}\">"
-    )?;
-    out.write_all(text.as_bytes())?;
+fn write_element(out: &mut dyn Write, id: &str, column: pack::Column<'_>) -> io::Result<()> {
+    pack::write_packed(out, column, |out, encoding| {
+        write!(
+            out,
+            "<script type=\"application/octet-stream\" id=\"{id}\" data-width=\"{}\" data-encoding=\"{}\">",
+            column.width(),
+            encoding.name()
+        )
+    })?;
     out.write_all(b"</script>\n")
 }
 
@@ -73,14 +70,13 @@ pub fn write_page(
         json_for_script(meta)
     )?;
     for array in arrays {
-        write_packed(
+        write_element(
             out,
             &format!("{ARRAY_ID_PREFIX}{}", array.name),
-            array.bytes,
-            array.width,
+            array.column,
         )?;
     }
-    write_packed(out, PROGRAM_ID, program.as_bytes(), 1)?;
+    write_element(out, PROGRAM_ID, pack::Column::U8(program.as_bytes()))?;
     out.write_all(b"<script>\n")?;
     out.write_all(script_safe(VIEWER_SCRIPT).as_bytes())?;
     out.write_all(b"\n</script>\n</body>\n</html>\n")
@@ -127,10 +123,7 @@ mod tests {
     #[test]
     fn page_holds_everything_and_no_network_address() {
         let meta = serde_json::json!({ "vertices": 2 });
-        let times: Vec<u8> = [0.5f64, 1.25, 3.0]
-            .iter()
-            .flat_map(|v| v.to_le_bytes())
-            .collect();
+        let times = [0.5f64, 1.25, 3.0];
         let program = "G0 X1.\r\n(</script><b>&amp;)\rM30\n";
         let mut out = Vec::new();
         write_page(
@@ -139,8 +132,7 @@ mod tests {
             &meta,
             &[Array {
                 name: "time",
-                bytes: &times,
-                width: 8,
+                column: crate::view::pack::Column::F64(&times),
             }],
             program,
         )
@@ -148,9 +140,13 @@ mod tests {
         let page = String::from_utf8(out).expect("UTF-8");
         assert!(page.contains("<title>fiveaxis view: a&lt;b&gt;.nc</title>"));
         // Packed (the CLI's tests read them back as the viewer does).
-        assert!(page.contains(&format!("id=\"{ARRAY_ID_PREFIX}time\" data-width=\"8\">")));
-        assert!(page.contains(&format!("id=\"{PROGRAM_ID}\" data-width=\"1\">")));
-        assert!(!page.contains("</b>"), "the program text is packed");
+        assert!(page.contains(&format!(
+            "id=\"{ARRAY_ID_PREFIX}time\" data-width=\"8\" data-encoding=\""
+        )));
+        assert!(page.contains(&format!(
+            "id=\"{PROGRAM_ID}\" data-width=\"1\" data-encoding=\""
+        )));
+        assert!(!page.contains("</script><b>"), "the program text is packed");
         assert!(page.contains(VIEWER_SCRIPT.get(..200).unwrap_or_default()));
         // Each script element ends where it should: as many ends as starts.
         assert_eq!(

@@ -21,7 +21,11 @@
 //! straight stretch go; a corner, an arc, a change of speed or of colour
 //! always stays.
 
+use std::borrow::Cow;
+use std::io::{self, Write};
+
 use fiveaxis_machine::{Joints, Vec3};
+use flate2::Compression;
 
 /// Default simplification tolerance, mm (and degrees): a micrometre, far
 /// below a pixel at any zoom that shows a whole part, so nothing visible
@@ -203,86 +207,194 @@ pub fn block_seconds(
 /// Tip travel below which a cutting block is a rotary move alone, mm.
 pub const TIP_AT_REST: f64 = 1e-9;
 
-/// The bytes of `values` as the browser's typed arrays read them
-/// (little-endian).
-pub fn f32_bytes(values: &[f32]) -> Vec<u8> {
-    values.iter().flat_map(|v| v.to_le_bytes()).collect()
+/// A typed array for the page: its values, as the browser's typed arrays
+/// read them (little-endian).
+#[derive(Clone, Copy, Debug)]
+pub enum Column<'a> {
+    /// `Uint8Array`.
+    U8(&'a [u8]),
+    /// `Uint32Array`.
+    U32(&'a [u32]),
+    /// `Float32Array`.
+    F32(&'a [f32]),
+    /// `Float64Array`.
+    F64(&'a [f64]),
 }
 
-/// See [`f32_bytes`].
-pub fn f64_bytes(values: &[f64]) -> Vec<u8> {
-    values.iter().flat_map(|v| v.to_le_bytes()).collect()
-}
-
-/// See [`f32_bytes`].
-pub fn u32_bytes(values: &[u32]) -> Vec<u8> {
-    values.iter().flat_map(|v| v.to_le_bytes()).collect()
-}
-
-/// The bytes of `n`-byte elements regrouped by byte position: every
-/// element's first byte, then every second byte, and so on. Neighbouring
-/// values of a path share their high bytes, so grouped they compress far
-/// better (the viewer regroups them, `viewer/src/data.js`).
-pub fn shuffle(bytes: &[u8], width: usize) -> Vec<u8> {
-    if width <= 1 || !bytes.len().is_multiple_of(width) {
-        return bytes.to_vec();
+impl<'a> Column<'a> {
+    /// Bytes per element.
+    pub fn width(self) -> usize {
+        match self {
+            Column::U8(_) => 1,
+            Column::U32(_) | Column::F32(_) => 4,
+            Column::F64(_) => 8,
+        }
     }
-    let n = bytes.len() / width;
-    let mut out = vec![0; bytes.len()];
-    for (i, element) in bytes.chunks_exact(width).enumerate() {
-        for (b, byte) in element.iter().enumerate() {
-            out[b * n + i] = *byte;
+
+    /// The little-endian bytes of the values regrouped by byte position:
+    /// every element's first byte, then every second byte, and so on.
+    /// Neighbouring values of a path share their high bytes, so grouped
+    /// they compress far better (the viewer regroups them back,
+    /// `viewer/src/data.js`).
+    pub fn shuffled(self) -> Cow<'a, [u8]> {
+        match self {
+            Column::U8(v) => Cow::Borrowed(v),
+            Column::U32(v) => Cow::Owned(regroup(v, |x| x.to_le_bytes())),
+            Column::F32(v) => Cow::Owned(regroup(v, |x| x.to_le_bytes())),
+            Column::F64(v) => Cow::Owned(regroup(v, |x| x.to_le_bytes())),
+        }
+    }
+}
+
+fn regroup<const W: usize, T: Copy>(values: &[T], le: impl Fn(T) -> [u8; W]) -> Vec<u8> {
+    let n = values.len();
+    let mut out = vec![0; n * W];
+    for (i, v) in values.iter().enumerate() {
+        for (b, byte) in le(*v).into_iter().enumerate() {
+            out[b * n + i] = byte;
         }
     }
     out
 }
 
-/// `bytes` compressed in the zlib format (RFC 1950), which the browser's
-/// `DecompressionStream("deflate")` reads. The fast level: a large page is
-/// written in a fraction of the time the run takes, and most of the gain
-/// is there already.
-pub fn deflate(bytes: &[u8]) -> Vec<u8> {
-    use std::io::Write as _;
-    let mut encoder = flate2::write::ZlibEncoder::new(
-        Vec::with_capacity(bytes.len() / 2),
-        flate2::Compression::fast(),
-    );
-    // Writing into a Vec cannot fail.
-    let _ = encoder.write_all(bytes);
-    encoder.finish().unwrap_or_default()
+/// Compressed size, as a share of the raw size, above which an array is
+/// written raw: the browser inflates about as slowly per byte as it parses
+/// the page, so compressing pays where it halves the bytes (program text,
+/// line numbers, motions, times), not for random-looking values.
+pub const DEFLATE_WORTH: f64 = 0.6;
+
+/// How a packed array is encoded in the page.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Encoding {
+    /// Base64 of the regrouped bytes.
+    Raw,
+    /// Base64 of the regrouped bytes compressed in the zlib format.
+    Deflate,
+}
+
+impl Encoding {
+    /// As the page names it (`data-encoding`).
+    pub fn name(self) -> &'static str {
+        match self {
+            Encoding::Raw => "raw",
+            Encoding::Deflate => "deflate",
+        }
+    }
+}
+
+/// Writes `column` packed for the page: its regrouped bytes
+/// ([`Column::shuffled`]), compressed in the zlib format (RFC 1950, which
+/// the browser's `DecompressionStream("deflate")` reads) at the fast level
+/// where that leaves at most [`DEFLATE_WORTH`] of them, in base64. Returns
+/// the encoding chosen; `head` is called with it before the data.
+pub fn write_packed(
+    out: &mut dyn Write,
+    column: Column<'_>,
+    head: impl FnOnce(&mut dyn Write, Encoding) -> io::Result<()>,
+) -> io::Result<Encoding> {
+    let bytes = column.shuffled();
+    let mut zlib =
+        flate2::write::ZlibEncoder::new(Vec::with_capacity(bytes.len() / 4), Compression::fast());
+    zlib.write_all(&bytes)?;
+    let packed = zlib.finish()?;
+    #[allow(clippy::cast_precision_loss)] // a ratio
+    let (encoding, data) = if (packed.len() as f64) <= DEFLATE_WORTH * bytes.len() as f64 {
+        (Encoding::Deflate, &packed[..])
+    } else {
+        (Encoding::Raw, &bytes[..])
+    };
+    head(out, encoding)?;
+    let mut base64 = Base64Writer::new(out);
+    base64.write_all(data)?;
+    base64.finish()?;
+    Ok(encoding)
 }
 
 const BASE64_ALPHABET: &[u8; 64] =
     b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
 
-/// Standard base64 with padding (RFC 4648 §4), appended to `out`.
-pub fn base64_into(bytes: &[u8], out: &mut String) {
-    out.reserve(bytes.len().div_ceil(3) * 4);
-    let sym = |v: u32, shift: u32| BASE64_ALPHABET[((v >> shift) & 63) as usize] as char;
-    let mut chunks = bytes.chunks_exact(3);
-    for c in &mut chunks {
-        let v = (u32::from(c[0]) << 16) | (u32::from(c[1]) << 8) | u32::from(c[2]);
-        out.extend([sym(v, 18), sym(v, 12), sym(v, 6), sym(v, 0)]);
+/// Bytes encoded at a time.
+const BASE64_CHUNK: usize = 3 * 1024;
+
+/// A writer that writes standard base64 with padding (RFC 4648 §4) of
+/// everything written to it; [`Base64Writer::finish`] writes the end.
+#[derive(Debug)]
+pub struct Base64Writer<W: Write> {
+    out: W,
+    /// Bytes not yet encoded (fewer than three at rest).
+    pending: Vec<u8>,
+    text: Vec<u8>,
+}
+
+impl<W: Write> Base64Writer<W> {
+    /// Writes to `out`.
+    pub fn new(out: W) -> Self {
+        Self {
+            out,
+            pending: Vec::with_capacity(BASE64_CHUNK),
+            text: Vec::with_capacity(BASE64_CHUNK / 3 * 4),
+        }
     }
-    match *chunks.remainder() {
-        [a] => {
-            let v = u32::from(a) << 16;
-            out.extend([sym(v, 18), sym(v, 12), '=', '=']);
+
+    fn encode_whole_groups(&mut self) -> io::Result<()> {
+        let whole = self.pending.len() / 3 * 3;
+        self.text.clear();
+        for c in self.pending[..whole].chunks_exact(3) {
+            let v = (u32::from(c[0]) << 16) | (u32::from(c[1]) << 8) | u32::from(c[2]);
+            self.text
+                .extend([sym(v, 18), sym(v, 12), sym(v, 6), sym(v, 0)]);
         }
-        [a, b] => {
-            let v = (u32::from(a) << 16) | (u32::from(b) << 8);
-            out.extend([sym(v, 18), sym(v, 12), sym(v, 6), '=']);
+        self.pending.drain(..whole);
+        self.out.write_all(&self.text)
+    }
+
+    /// Encodes what is left, with its padding.
+    pub fn finish(mut self) -> io::Result<()> {
+        self.encode_whole_groups()?;
+        let end = match *self.pending {
+            [a] => {
+                let v = u32::from(a) << 16;
+                [sym(v, 18), sym(v, 12), b'=', b'=']
+            }
+            [a, b] => {
+                let v = (u32::from(a) << 16) | (u32::from(b) << 8);
+                [sym(v, 18), sym(v, 12), sym(v, 6), b'=']
+            }
+            _ => return self.out.flush(),
+        };
+        self.out.write_all(&end)?;
+        self.out.flush()
+    }
+}
+
+fn sym(v: u32, shift: u32) -> u8 {
+    BASE64_ALPHABET[((v >> shift) & 63) as usize]
+}
+
+impl<W: Write> Write for Base64Writer<W> {
+    fn write(&mut self, buf: &[u8]) -> io::Result<usize> {
+        let room = BASE64_CHUNK - self.pending.len();
+        let n = buf.len().min(room);
+        self.pending.extend_from_slice(&buf[..n]);
+        if self.pending.len() == BASE64_CHUNK {
+            self.encode_whole_groups()?;
         }
-        _ => {}
+        Ok(n)
+    }
+
+    fn flush(&mut self) -> io::Result<()> {
+        self.out.flush()
     }
 }
 
 /// Standard base64 of `bytes`.
 #[cfg(test)]
 pub fn base64(bytes: &[u8]) -> String {
-    let mut out = String::new();
-    base64_into(bytes, &mut out);
-    out
+    let mut out = Vec::new();
+    let mut w = Base64Writer::new(&mut out);
+    w.write_all(bytes).expect("a Vec takes it");
+    w.finish().expect("a Vec takes it");
+    String::from_utf8(out).expect("ASCII")
 }
 
 #[cfg(test)]
@@ -325,10 +437,58 @@ mod tests {
     }
 
     #[test]
-    fn typed_array_bytes_are_little_endian() {
-        assert_eq!(f32_bytes(&[1.0]), vec![0x00, 0x00, 0x80, 0x3f]);
-        assert_eq!(u32_bytes(&[0x0102_0304]), vec![4, 3, 2, 1]);
-        assert_eq!(f64_bytes(&[-2.0]), vec![0, 0, 0, 0, 0, 0, 0, 0xc0]);
+    fn base64_written_in_any_pieces_is_the_same() {
+        let bytes: Vec<u8> = (0..10_000u32).map(|i| (i * 7919 % 251) as u8).collect();
+        let whole = base64(&bytes);
+        for piece in [1, 2, 5, 1000, 3071, 3072, 3073] {
+            let mut out = Vec::new();
+            let mut w = Base64Writer::new(&mut out);
+            for chunk in bytes.chunks(piece) {
+                w.write_all(chunk).expect("a Vec takes it");
+            }
+            w.finish().expect("a Vec takes it");
+            assert_eq!(
+                String::from_utf8(out).expect("ASCII"),
+                whole,
+                "pieces of {piece}"
+            );
+        }
+    }
+
+    #[test]
+    fn what_compresses_is_deflated_what_does_not_is_written_raw() {
+        let encoding = |column: Column<'_>| {
+            let mut out = Vec::new();
+            write_packed(&mut out, column, |_, _| Ok(())).expect("a Vec takes it")
+        };
+        let lines: Vec<u32> = (1..=10_000).collect();
+        assert_eq!(encoding(Column::U32(&lines)), Encoding::Deflate);
+        // Values of no pattern (xorshift).
+        let mut x = 0x2545_f491_u32;
+        let noise: Vec<u8> = (0..10_000)
+            .map(|_| {
+                x ^= x << 13;
+                x ^= x >> 17;
+                x ^= x << 5;
+                x.to_le_bytes()[1]
+            })
+            .collect();
+        assert_eq!(encoding(Column::U8(&noise)), Encoding::Raw);
+    }
+
+    #[test]
+    fn typed_array_bytes_are_little_endian_regrouped_by_byte() {
+        assert_eq!(*Column::F32(&[1.0]).shuffled(), [0x00, 0x00, 0x80, 0x3f]);
+        assert_eq!(*Column::U32(&[0x0102_0304]).shuffled(), [4, 3, 2, 1]);
+        assert_eq!(
+            *Column::F64(&[-2.0]).shuffled(),
+            [0, 0, 0, 0, 0, 0, 0, 0xc0]
+        );
+        assert_eq!(
+            *Column::U32(&[0x0102_0304, 0x0506_0708]).shuffled(),
+            [4, 8, 3, 7, 2, 6, 1, 5]
+        );
+        assert_eq!(*Column::U8(&[9, 8]).shuffled(), [9, 8]);
     }
 
     #[test]

@@ -68,8 +68,8 @@ fn from_base64(text: &str) -> Vec<u8> {
 }
 
 /// The bytes of a packed element of a `fiveaxis view` page, read as the
-/// viewer reads them (`viewer/src/data.js`): base64, inflated (zlib), the
-/// bytes regrouped from byte position order into elements of `data-width`.
+/// viewer reads them (`viewer/src/data.js`): base64, inflated (zlib) when
+/// `data-encoding` says `deflate`, the bytes regrouped from byte position order into elements of `data-width`.
 pub fn page_element(page: &str, id: &str) -> Vec<u8> {
     let start = page
         .find(&format!("id=\"{id}\""))
@@ -81,13 +81,18 @@ pub fn page_element(page: &str, id: &str) -> Vec<u8> {
         .and_then(|w| w.split('"').next())
         .and_then(|w| w.parse().ok())
         .expect("data-width");
+    let deflated = rest
+        .split('>')
+        .next()
+        .expect("tag")
+        .contains("data-encoding=\"deflate\"");
     let text = &rest[rest.find('>').expect("tag end") + 1..rest.find("</script>").expect("end")];
-    let mut bytes = Vec::new();
-    std::io::Read::read_to_end(
-        &mut flate2::read::ZlibDecoder::new(&from_base64(text)[..]),
-        &mut bytes,
-    )
-    .expect("inflates");
+    let mut bytes = from_base64(text);
+    if deflated {
+        let packed = std::mem::take(&mut bytes);
+        std::io::Read::read_to_end(&mut flate2::read::ZlibDecoder::new(&packed[..]), &mut bytes)
+            .expect("inflates");
+    }
     let n = bytes.len() / width;
     (0..bytes.len())
         .map(|k| bytes[(k % width) * n + k / width])
