@@ -30,7 +30,7 @@ for (const arg of process.argv.slice(2)) {
     const frameMs = (performance.now() - t1) / Math.max(1, v.renderedFrames() - f0);
     // One frame of the whole path and of the coarse one, drawn at once.
     const restMs = v.timeFrame(true);
-    const drawn = v.drawn();
+    const drawn = v.drawn ? v.drawn() : { drawn: null };
     const coarseMs = v.timeFrame(false);
     const timings = Object.fromEntries(Object.entries(v.timings || {}).map(([k, x]) => [k, Math.round(x)]));
     return { seekMs, frameMs, restMs, coarseMs, coarse: v.coarse(), drawn, stats: v.stats, timings };

@@ -35,10 +35,12 @@ function angleNear(a, b, tol, what) {
 }
 
 /** Programmed time of each block from `run --step` rows, as the viewer's timeline defines it. */
-function blockSeconds(rows, machine, rapid) {
+function blockSeconds(rows, machine) {
   const names = [...machine.linear.map((a) => a.name), ...machine.rotary.map((a) => a.name)];
   const rollover = new Set(machine.rotary.filter((r) => r.rollover).map((r) => r.name));
   const firstRotary = machine.linear.length;
+  // Rapids: the slowest axis at its own rate (all axes arrive together).
+  const rapids = [...machine.linear.map((a) => a.rapid), ...machine.rotary.map((a) => a.rapid)];
   const out = [];
   let prev = null;
   let block = null;
@@ -49,7 +51,7 @@ function blockSeconds(rows, machine, rapid) {
     if (block.feed) {
       const len = block.tip > 1e-9 ? block.tip : longest(block.travel.slice(firstRotary));
       s = (len / block.feed) * 60;
-    } else s = (longest(block.travel) / rapid) * 60;
+    } else s = longest(block.travel.map((t, i) => t / rapids[i])) * 60;
     out.push(s);
   };
   for (const row of rows) {
@@ -115,7 +117,7 @@ for (const c of CASES) {
       // Duration: block by block from the run's rows (the first block's
       // start is not a row of run: compared from the second block on).
       const ends = await page.evaluate(() => window.__viewer.blockEnds());
-      const seconds = blockSeconds(stepped.rows, meta.machine, meta.timeline_rapid);
+      const seconds = blockSeconds(stepped.rows, meta.machine);
       assert.equal(seconds.length, ends.length);
       for (let b = 1; b < ends.length; b++) near(ends[b] - ends[b - 1], seconds[b], 1e-6 * Math.max(1, seconds[b]), `block ${b + 1} seconds (line ${plain.rows[b].line})`);
       near(stats.duration, ends.at(-1) ?? 0, 1e-9, 'duration = end of the last block');

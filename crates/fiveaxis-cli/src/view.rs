@@ -477,7 +477,23 @@ fn seconds(seg: &Segment, start: &Row, rows: &[Row], machine: &Machine) -> f64 {
         }
         prev = row;
     }
-    pack::block_seconds(seg.feed, tip_length, &travel[..axes], machine.linear.len())
+    let mut rapids = [0.0; fiveaxis_machine::MAX_AXES];
+    for (r, axis) in rapids.iter_mut().zip(
+        machine
+            .linear
+            .iter()
+            .map(|a| a.dynamics.rapid)
+            .chain(machine.rotary.iter().map(|a| a.dynamics.rapid)),
+    ) {
+        *r = axis;
+    }
+    pack::block_seconds(
+        seg.feed,
+        tip_length,
+        &travel[..axes],
+        &rapids[..axes],
+        machine.linear.len(),
+    )
 }
 
 /// The JSON description of the page: the machine, the frames, the counts,
@@ -499,7 +515,7 @@ fn meta(
     let linear: Vec<Value> = machine
         .linear
         .iter()
-        .map(|a| json!({ "name": a.name.to_string(), "min": a.min, "max": a.max }))
+        .map(|a| json!({ "name": a.name.to_string(), "min": a.min, "max": a.max, "rapid": a.dynamics.rapid }))
         .collect();
     let rotary: Vec<Value> = machine
         .rotary
@@ -513,6 +529,7 @@ fn meta(
                 "min": r.limits.map(|l| l.0),
                 "max": r.limits.map(|l| l.1),
                 "rollover": r.rollover,
+                "rapid": r.dynamics.rapid,
             })
         })
         .collect();
@@ -537,7 +554,6 @@ fn meta(
         "bbox": bbox,
         "duration": g.ends.last().copied().unwrap_or(0.0),
         "tolerance": tolerance,
-        "timeline_rapid": pack::TIMELINE_RAPID,
         "ended": g.alarm.is_none(),
         "alarm": g.alarm.as_ref().map(|a| json!({ "code": a.code.to_string(), "line": a.line, "message": a.message })),
         "finding_kinds": finding_kinds(),

@@ -173,21 +173,19 @@ pub fn distance_to_segment(p: &Vec3, a: &Vec3, b: &Vec3) -> f64 {
     (a + ab * t - p).norm()
 }
 
-/// Rapid traverse rate used for the timeline, mm/min (deg/min for rotary
-/// axes), until the machine model gives each axis its own (`rapid` in the
-/// machine file, `machine-model.md` "Axis dynamics").
-pub const TIMELINE_RAPID: f64 = 10_000.0;
-
 /// Programmed time of one block, seconds: a cutting move takes its tool-tip
 /// path length at the programmed feed, or, when the tip does not move (a
 /// rotary axis alone), its largest rotary turn at the feed read as deg/min
-/// (FANUC); a rapid move takes its largest axis travel at
-/// [`TIMELINE_RAPID`]. `travel` holds each axis' travel (absolute), linear
-/// axes first; `first_rotary` is where the rotary axes start.
+/// (FANUC); a rapid move takes as long as its slowest axis at that axis'
+/// rapid rate (`rapids`, per minute: linear-interpolation positioning, all
+/// axes arrive together; `machine-model.md` "Axis dynamics", as `check`
+/// times rapids). `travel` holds each axis' travel (absolute), linear axes
+/// first; `first_rotary` is where the rotary axes start.
 pub fn block_seconds(
     feed: Option<f64>,
     tip_length: f64,
     travel: &[f64],
+    rapids: &[f64],
     first_rotary: usize,
 ) -> f64 {
     let longest = |t: &[f64]| t.iter().copied().fold(0.0, f64::max);
@@ -200,7 +198,14 @@ pub fn block_seconds(
             };
             length / f * 60.0
         }
-        _ => longest(travel) / TIMELINE_RAPID * 60.0,
+        _ => {
+            travel
+                .iter()
+                .zip(rapids)
+                .map(|(t, r)| t / r)
+                .fold(0.0, f64::max)
+                * 60.0
+        }
     }
 }
 
@@ -585,18 +590,23 @@ mod tests {
     #[test]
     fn block_seconds_by_hand() {
         // 100 mm at F600: 10 s.
+        let rapids = [30_000.0, 30_000.0, 20_000.0, 9_000.0, 18_000.0];
         assert_eq!(
-            block_seconds(Some(600.0), 100.0, &[60.0, 80.0, 0.0], 3),
+            block_seconds(Some(600.0), 100.0, &[60.0, 80.0, 0.0], &rapids, 3),
             10.0
         );
         // A turn of 90 degrees alone at F900 (deg/min): 6 s.
         assert_eq!(
-            block_seconds(Some(900.0), 0.0, &[0.0, 0.0, 0.0, 90.0, 30.0], 3),
+            block_seconds(Some(900.0), 0.0, &[0.0, 0.0, 0.0, 90.0, 30.0], &rapids, 3),
             6.0
         );
-        // Rapid: the longest axis, 500 mm at the timeline rate.
-        let rapid = block_seconds(None, 0.0, &[500.0, 20.0, 0.0], 3);
-        assert_eq!(rapid, 500.0 / TIMELINE_RAPID * 60.0);
+        // Rapid: the slowest axis at its rate: Z's 300 mm at 20 m/min
+        // (0.9 s) outlasts X's 400 mm at 30 m/min (0.8 s).
+        let rapid = block_seconds(None, 0.0, &[400.0, 20.0, 300.0], &rapids, 3);
+        assert!((rapid - 0.9).abs() < 1e-12, "{rapid}");
+        // A rotary axis the slowest: A's 90 degrees at 9,000 deg/min, 0.6 s.
+        let rapid = block_seconds(None, 0.0, &[10.0, 0.0, 0.0, 90.0, 0.0], &rapids, 3);
+        assert!((rapid - 0.6).abs() < 1e-12, "{rapid}");
     }
 
     proptest! {
