@@ -178,6 +178,7 @@ async function start() {
       duration: data.duration,
       machineType: data.machine.type,
       programLines: data.programLines.length,
+      softwareRenderer: scene.software,
     },
     selectedLine: 0,
     /** Findings `from` to `to` (all by default) as the check contract has them. */

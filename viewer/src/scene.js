@@ -105,11 +105,27 @@ function box(size, at, material) {
   return mesh;
 }
 
+/**
+ * Whether the browser draws WebGL in software (SwiftShader, llvmpipe: no
+ * GPU, as in a virtual machine or a headless test): there antialiasing
+ * multiplies the cost of every frame, so the scene goes without it.
+ */
+export function softwareRenderer() {
+  const gl = document.createElement('canvas').getContext('webgl');
+  if (!gl) return false;
+  const info = gl.getExtension('WEBGL_debug_renderer_info');
+  const name = String(gl.getParameter(info ? info.UNMASKED_RENDERER_WEBGL : gl.RENDERER));
+  const lose = gl.getExtension('WEBGL_lose_context');
+  if (lose) lose.loseContext();
+  return /swiftshader|llvmpipe|softpipe|software/i.test(name);
+}
+
 export class MachineScene {
   constructor(canvasParent, data) {
     this.data = data;
     const machine = data.machine;
-    this.renderer = new WebGLRenderer({ antialias: true, preserveDrawingBuffer: true });
+    this.software = softwareRenderer();
+    this.renderer = new WebGLRenderer({ antialias: !this.software, preserveDrawingBuffer: true });
     this.renderer.setPixelRatio(window.devicePixelRatio || 1);
     this.renderer.setClearColor(new Color('#161b22'));
     canvasParent.appendChild(this.renderer.domElement);
