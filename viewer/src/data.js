@@ -1,7 +1,7 @@
 // The data `fiveaxis view` embeds in the page (crates/fiveaxis-cli/src/
-// view/html.rs): a JSON description, and the typed arrays and the program
-// text, each with its bytes regrouped by byte position, deflated (zlib)
-// where that halves them (`data-encoding`), and in base64.
+// view/html.rs): a JSON description, the typed arrays (their bytes
+// regrouped by byte position, deflated (zlib) where that pays,
+// `data-encoding`, and in base64) and the program text.
 
 import { forwardInto, prepareMachine } from './kinematics.js';
 import { frameOfBlock, lowerBound } from './timeline.js';
@@ -55,6 +55,12 @@ async function array(doc, name, Type) {
   return new Type(bytes.buffer, bytes.byteOffset, bytes.byteLength / Type.BYTES_PER_ELEMENT);
 }
 
+/** The program text as written (undoes the page's `&a;`, `&l;`, `&r;`). */
+export function unescapeProgram(text) {
+  if (!text.includes('&')) return text;
+  return text.replace(/&[alr];/g, (m) => (m === '&a;' ? '&' : m === '&l;' ? '<' : '\r'));
+}
+
 /** Program lines as the control counts them: LF, CR LF or a lone CR. */
 export function splitLines(text) {
   const lines = text.split(/\r\n|\r|\n/);
@@ -68,10 +74,11 @@ export async function readPage(doc, mark = () => {}) {
   const machine = prepareMachine(meta.machine);
   const names = ['joints', 'times', 'lines', 'ends', 'motions', 'finding_lines', 'finding_kinds', 'finding_axes', 'finding_values'];
   const types = [Float32Array, Float64Array, Uint32Array, Float64Array, Uint8Array, Uint32Array, Uint8Array, Uint8Array, Float64Array];
-  const [text, ...arrays] = await Promise.all([
-    unpack(doc, PROGRAM_ID).then((bytes) => new TextDecoder().decode(bytes)),
-    ...names.map((name, k) => array(doc, name, types[k])),
-  ]);
+  const program = doc.getElementById(PROGRAM_ID);
+  const text = unescapeProgram(program.textContent);
+  program.textContent = '';
+  mark('programText');
+  const arrays = await Promise.all(names.map((name, k) => array(doc, name, types[k])));
   mark('arrays');
   const [joints, times, lines, ends, motions, findingLines, findingKinds, findingAxes, findingValues] = arrays;
   const data = {

@@ -15,10 +15,7 @@ fn the_page_is_one_file_with_the_data_and_the_viewer() {
     let page = std::fs::read_to_string(dir.path().join("p.html")).expect("p.html written beside");
     assert!(page.starts_with("<!DOCTYPE html>"));
     assert!(page.contains("\"blocks\":2"));
-    assert_eq!(
-        common::page_element(&page, "fiveaxis-program"),
-        b"G0 X10. Y5.\nG1 Z-1. F100.\nM30\n"
-    );
+    assert!(page.contains("id=\"fiveaxis-program\">G0 X10. Y5.\nG1 Z-1. F100.\nM30\n</script>"));
     // Nothing loaded from elsewhere (the browser test also watches the
     // requests the page makes: none but the file itself).
     for tag in ["<link", "<script src", "<img", "<iframe"] {

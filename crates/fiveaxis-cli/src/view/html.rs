@@ -1,14 +1,16 @@
 //! The page `fiveaxis view` writes: one self-contained HTML file holding
-//! the data (a JSON description, typed arrays and the program text, each
-//! compressed and in base64) and the viewer script (`assets/viewer.js`,
+//! the data (a JSON description, typed arrays in base64, compressed where
+//! that pays, and the program text) and the viewer script (`assets/viewer.js`,
 //! bundled from `viewer/` and committed, so that building fiveaxis never
 //! needs Node). Nothing in the page refers to the network.
 //!
 //! The browser's time to open a big page grows with its size (the HTML
-//! parser reads every byte), so the data is packed small: each array's
+//! parser reads every byte), so the arrays are packed small: each array's
 //! bytes regrouped by byte position, then deflated (zlib format) where
-//! that halves them, then base64 ([`pack::write_packed`]); the viewer
-//! undoes it with the browser's own `DecompressionStream`.
+//! that leaves a quarter of them, then base64 ([`pack::write_packed`]);
+//! the viewer undoes it with the browser's own `DecompressionStream`. The
+//! program text stays text: the browser inflates about as slowly per byte
+//! as it parses, and base64 would add a third.
 
 use std::io::{self, Write};
 
@@ -76,8 +78,9 @@ pub fn write_page(
             array.column,
         )?;
     }
-    write_element(out, PROGRAM_ID, pack::Column::U8(program.as_bytes()))?;
-    out.write_all(b"<script>\n")?;
+    write!(out, "<script type=\"text/plain\" id=\"{PROGRAM_ID}\">")?;
+    write_program_text(out, program)?;
+    out.write_all(b"</script>\n<script>\n")?;
     out.write_all(script_safe(VIEWER_SCRIPT).as_bytes())?;
     out.write_all(b"\n</script>\n</body>\n</html>\n")
 }
@@ -87,6 +90,26 @@ pub fn write_page(
 /// `<`), so no `</script>` can end the element early.
 pub fn json_for_script(value: &serde_json::Value) -> String {
     value.to_string().replace('<', "\\u003c")
+}
+
+/// The program text inside a `<script type="text/plain">` element, which
+/// the browser reads raw: `&` as `&a;`, `<` as `&l;` (so no `</script>`
+/// ends it) and a carriage return as `&r;` (the HTML parser would turn a
+/// lone one into a line feed). The viewer undoes this (`viewer/src/data.js`).
+pub fn write_program_text(out: &mut dyn Write, text: &str) -> io::Result<()> {
+    let mut from = 0;
+    for (at, c) in text.char_indices() {
+        let escape: &[u8] = match c {
+            '&' => b"&a;",
+            '<' => b"&l;",
+            '\r' => b"&r;",
+            _ => continue,
+        };
+        out.write_all(&text.as_bytes()[from..at])?;
+        out.write_all(escape)?;
+        from = at + 1;
+    }
+    out.write_all(&text.as_bytes()[from..])
 }
 
 /// Text for an HTML element's content.
@@ -110,6 +133,27 @@ fn script_safe(script: &str) -> std::borrow::Cow<'_, str> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    fn program_text(text: &str) -> String {
+        let mut out = Vec::new();
+        write_program_text(&mut out, text).expect("writes to a Vec");
+        String::from_utf8(out).expect("UTF-8 in, UTF-8 out")
+    }
+
+    #[test]
+    fn program_text_cannot_end_its_element() {
+        let text = "G1 X1.\r\n(</script><b>&amp;)\rM30\n";
+        let escaped = program_text(text);
+        assert!(!escaped.contains('<'));
+        assert!(!escaped.contains('\r'));
+        assert_eq!(escaped, "G1 X1.&r;\n(&l;/script>&l;b>&a;amp;)&r;M30\n");
+        // Undone as the viewer does it.
+        let back = escaped
+            .replace("&l;", "<")
+            .replace("&r;", "\r")
+            .replace("&a;", "&");
+        assert_eq!(back, text);
+    }
 
     #[test]
     fn json_cannot_end_its_element() {
@@ -139,14 +183,14 @@ mod tests {
         .expect("writes to a Vec");
         let page = String::from_utf8(out).expect("UTF-8");
         assert!(page.contains("<title>fiveaxis view: a&lt;b&gt;.nc</title>"));
-        // Packed (the CLI's tests read them back as the viewer does).
+        // Packed (the CLI's tests read them back as the viewer does), and
+        // the program text escaped.
         assert!(page.contains(&format!(
             "id=\"{ARRAY_ID_PREFIX}time\" data-width=\"8\" data-encoding=\""
         )));
         assert!(page.contains(&format!(
-            "id=\"{PROGRAM_ID}\" data-width=\"1\" data-encoding=\""
+            "id=\"{PROGRAM_ID}\">G0 X1.&r;\n(&l;/script>&l;b>&a;amp;)&r;M30\n</script>"
         )));
-        assert!(!page.contains("</script><b>"), "the program text is packed");
         assert!(page.contains(VIEWER_SCRIPT.get(..200).unwrap_or_default()));
         // Each script element ends where it should: as many ends as starts.
         assert_eq!(

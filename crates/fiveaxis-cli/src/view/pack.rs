@@ -264,9 +264,10 @@ fn regroup<const W: usize, T: Copy>(values: &[T], le: impl Fn(T) -> [u8; W]) -> 
 
 /// Compressed size, as a share of the raw size, above which an array is
 /// written raw: the browser inflates about as slowly per byte as it parses
-/// the page, so compressing pays where it halves the bytes (program text,
-/// line numbers, motions, times), not for random-looking values.
-pub const DEFLATE_WORTH: f64 = 0.6;
+/// the page, so compressing pays where it leaves a small part of the
+/// bytes (line numbers, motions, finding kinds: a hundredth), not for
+/// times or positions (half or more).
+pub const DEFLATE_WORTH: f64 = 0.25;
 
 /// How a packed array is encoded in the page.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
