@@ -74,10 +74,6 @@ export async function readPage(doc, mark = () => {}) {
   const machine = prepareMachine(meta.machine);
   const names = ['joints', 'times', 'lines', 'ends', 'motions', 'finding_lines', 'finding_kinds', 'finding_axes', 'finding_values'];
   const types = [Float32Array, Float64Array, Uint32Array, Float64Array, Uint8Array, Uint32Array, Uint8Array, Uint8Array, Float64Array];
-  const program = doc.getElementById(PROGRAM_ID);
-  const text = unescapeProgram(program.textContent);
-  program.textContent = '';
-  mark('programText');
   const arrays = await Promise.all(names.map((name, k) => array(doc, name, types[k])));
   mark('arrays');
   const [joints, times, lines, ends, motions, findingLines, findingKinds, findingAxes, findingValues] = arrays;
@@ -100,11 +96,24 @@ export async function readPage(doc, mark = () => {}) {
     },
   };
   data.findings.count = data.findings.lines.length;
-  data.programLines = splitLines(text);
-  mark('programLines');
+  data.programLines = [];
   derive(data);
   mark('derive');
   return data;
+}
+
+/**
+ * The program's lines. The page holds the text after the viewer script,
+ * so that the viewer draws the path and the machine while the browser is
+ * still reading a long text: this waits for the whole page.
+ */
+export async function readProgramLines(doc) {
+  if (doc.readyState === 'loading') await new Promise((resolve) => doc.addEventListener('DOMContentLoaded', resolve, { once: true }));
+  const program = doc.getElementById(PROGRAM_ID);
+  if (!program) throw new Error('the page has no program text: written by another fiveaxis version?');
+  const text = unescapeProgram(program.textContent);
+  program.textContent = '';
+  return splitLines(text);
 }
 
 /**

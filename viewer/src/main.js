@@ -3,7 +3,7 @@
 // controls, links them by time and by line, and exposes `window.__viewer`
 // (statistics and probes for tests and for people at the console).
 
-import { findingAt, readPage } from './data.js';
+import { findingAt, readPage, readProgramLines } from './data.js';
 import { forward, toPart, toPartVector } from './kinematics.js';
 import { AxisPlots } from './plots.js';
 import { MachineScene } from './scene.js';
@@ -22,7 +22,8 @@ async function start() {
   const ui = layout(document, data.meta);
   const scene = new MachineScene(ui.view3d, data);
   mark('scene');
-  const lineIndex = blocksByLine(data.lines, data.programLines.length);
+  // Blocks by line, up to the last line that has one (the text comes later).
+  const lineIndex = blocksByLine(data.lines, data.lines.reduce((m, l) => Math.max(m, l), 0));
   const joints = new Array(data.axes).fill(0);
   const state = { t: 0, playing: false, speed: 1, selectedLine: 0, block: -1 };
   const frameOf = (b) => data.meta.frames[frameOfBlock(data, Math.max(0, b))] || { tool_length: 0, tool_radius: 5, to_part: [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0] };
@@ -61,10 +62,7 @@ async function start() {
   ui.findingsTitle.textContent = findings.count ? `Findings (${findings.count})` : 'No findings';
   new FindingsList(ui.findings, findings, (k) => selectLine(findings.lines[k]));
 
-  const text = new ProgramText(ui.text, ui.textInner, data.programLines, (line) => selectLine(line));
-  for (let k = 0; k < findings.count; k++) text.mark(findings.lines[k]);
-  text.draw();
-  mark('text');
+  const text = new ProgramText(ui.text, ui.textInner, [], (line) => selectLine(line));
   const plots = new AxisPlots(ui.plots, data, (t) => seek(t));
 
   /** Moves everything to time `t`. */
@@ -242,12 +240,22 @@ async function start() {
   mark('render');
   plots.draw();
   mark('plots');
+  // The path and the machine are drawn and move: the text follows (the
+  // page holds it last, so a long one is still being read).
+  window.__viewer.interactiveMs = performance.now();
+  // A big path opened coarse: the whole one follows when the page rests.
+  scene.rest();
+  data.programLines = await readProgramLines(document);
+  mark('programLines');
+  text.setLines(data.programLines);
+  for (let k = 0; k < findings.count; k++) text.mark(findings.lines[k]);
+  text.setCurrent(state.block >= 0 ? data.lines[state.block] : 0);
+  window.__viewer.stats.programLines = data.programLines.length;
+  mark('text');
   window.__viewer.timings = timings;
   window.__viewer.openMs = performance.now();
   window.__viewer.ready = true;
   document.documentElement.dataset.ready = 'true';
-  // A big path opened coarse: the whole one follows when the page rests.
-  scene.rest();
 }
 
 start().catch((error) => {

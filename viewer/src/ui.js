@@ -134,6 +134,14 @@ export class ProgramText {
     this.draw();
   }
 
+  /** Shows `lines` (the program's, once the page has read them), no marks. */
+  setLines(lines) {
+    this.lines = lines;
+    this.marked = new Uint8Array(lines.length + 2);
+    this.inner.style.height = `${lines.length * LINE_HEIGHT}px`;
+    this.draw();
+  }
+
   /** Marks `line` (1-based) as having a finding; `draw` shows it. */
   mark(line) {
     if (line < this.marked.length) this.marked[line] = 1;

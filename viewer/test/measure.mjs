@@ -1,5 +1,6 @@
 // Opens `fiveaxis view` pages in headless Chromium and prints, for each,
-// the file size and the time from navigation to the viewer's ready flag,
+// the file size and the time from navigation to the viewer's ready flag
+// (and to the path and machine drawn, before the program text is read),
 // how long a seek (slider move) takes, a frame while orbiting (a mouse
 // drag: the coarse path) and a frame of the whole path at rest.
 //
@@ -33,7 +34,7 @@ for (const arg of process.argv.slice(2)) {
     const drawn = v.drawn ? v.drawn() : { drawn: null };
     const coarseMs = v.timeFrame(false);
     const timings = Object.fromEntries(Object.entries(v.timings || {}).map(([k, x]) => [k, Math.round(x)]));
-    return { seekMs, frameMs, restMs, coarseMs, coarse: v.coarse(), drawn, stats: v.stats, timings };
+    return { interactiveMs: v.interactiveMs, seekMs, frameMs, restMs, coarseMs, coarse: v.coarse(), drawn, stats: v.stats, timings };
   });
   // Orbiting: a left drag across the 3-D view, frames as the browser draws them.
   const box = await page.locator('#fa-3d canvas').boundingBox();
@@ -51,7 +52,7 @@ for (const arg of process.argv.slice(2)) {
   const orbitMs = (Date.now() - t0) / Math.max(1, orbitFrames);
   await page.mouse.up();
   const mb = statSync(file).size / 1e6;
-  console.log(JSON.stringify({ file: arg, megabytes: +mb.toFixed(1), openMs: Math.round(openMs), wallMs: wall, seekMs: +timing.seekMs.toFixed(2), frameMs: +timing.frameMs.toFixed(1), orbitMs: +orbitMs.toFixed(1), orbitFrames, restMs: Math.round(timing.restMs), restVertices: timing.drawn.drawn, coarseMs: Math.round(timing.coarseMs), coarseVertices: timing.coarse, segments: timing.stats.segments, vertices: timing.stats.vertices, timings: timing.timings, errors }));
+  console.log(JSON.stringify({ file: arg, megabytes: +mb.toFixed(1), openMs: Math.round(openMs), interactiveMs: Math.round(timing.interactiveMs || openMs), wallMs: wall, seekMs: +timing.seekMs.toFixed(2), frameMs: +timing.frameMs.toFixed(1), orbitMs: +orbitMs.toFixed(1), orbitFrames, restMs: Math.round(timing.restMs), restVertices: timing.drawn.drawn, coarseMs: Math.round(timing.coarseMs), coarseVertices: timing.coarse, segments: timing.stats.segments, vertices: timing.stats.vertices, timings: timing.timings, errors }));
   await page.close();
 }
 await browser.close();

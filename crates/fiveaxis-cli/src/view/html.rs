@@ -50,8 +50,8 @@ fn write_element(out: &mut dyn Write, id: &str, column: pack::Column<'_>) -> io:
     out.write_all(b"</script>\n")
 }
 
-/// Writes the page: `meta` (a JSON object), the arrays, the program text
-/// and the viewer script.
+/// Writes the page: `meta` (a JSON object), the arrays, the viewer script
+/// and then the program text.
 pub fn write_page(
     out: &mut dyn Write,
     title: &str,
@@ -78,11 +78,14 @@ pub fn write_page(
             array.column,
         )?;
     }
+    // The viewer before the program text: it draws the path and the
+    // machine while the browser still reads a long text.
+    out.write_all(b"<script>\n")?;
+    out.write_all(script_safe(VIEWER_SCRIPT).as_bytes())?;
+    out.write_all(b"\n</script>\n")?;
     write!(out, "<script type=\"text/plain\" id=\"{PROGRAM_ID}\">")?;
     write_program_text(out, program)?;
-    out.write_all(b"</script>\n<script>\n")?;
-    out.write_all(script_safe(VIEWER_SCRIPT).as_bytes())?;
-    out.write_all(b"\n</script>\n</body>\n</html>\n")
+    out.write_all(b"</script>\n</body>\n</html>\n")
 }
 
 /// JSON text that can stand inside a `<script>` element: `<` written as
