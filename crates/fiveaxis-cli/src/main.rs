@@ -748,13 +748,9 @@ impl RowBatch {
 /// its end. `false` when the writer has stopped.
 fn sample(segment: &Segment, machine: &Machine, batch: &mut RowBatch) -> bool {
     // The runner has divided the block for `--step` (1 without).
-    let n = segment.rows;
-    for i in 1..n {
-        if !batch.push(segment.row(machine, f64::from(i) / f64::from(n))) {
-            return false;
-        }
-    }
-    batch.push(segment.row(machine, 1.0))
+    segment
+        .row_fractions()
+        .all(|s| batch.push(segment.row(machine, s)))
 }
 
 /// Reports how the run ended and gives its exit status.
