@@ -66,6 +66,14 @@ fn to_toml(value: &Bound<'_, PyAny>, path: &str, depth: usize) -> Result<toml::V
             .collect::<Result<Vec<_>, _>>()
             .map(toml::Value::Array);
     }
+    // A numpy array (or anything with `tolist` and `ndim`): its nested
+    // lists.
+    if value.hasattr("ndim").unwrap_or(false) && value.hasattr("tolist").unwrap_or(false) {
+        let list = value.call_method0("tolist").map_err(|e| e.to_string())?;
+        if !list.is(value) {
+            return to_toml(&list, path, depth + 1);
+        }
+    }
     if value.is_instance_of::<PyString>() {
         return value
             .extract::<String>()
