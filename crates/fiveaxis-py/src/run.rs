@@ -195,6 +195,79 @@ fn fill_columns<S: Source>(
     Ok(true)
 }
 
+/// Rows reserved at the start of a run: one per 12 bytes of program (a
+/// short block), so that a program of short blocks fills its columns
+/// without moving them; the pages are only touched as rows come.
+fn row_capacity(path: Option<&std::path::Path>, code_len: Option<usize>) -> usize {
+    let bytes = match (path, code_len) {
+        (Some(p), _) => std::fs::metadata(p).map_or(0, |m| m.len()),
+        (None, Some(n)) => n as u64,
+        (None, None) => 0,
+    };
+    usize::try_from(bytes / 12)
+        .unwrap_or(usize::MAX)
+        .clamp(1024, 1 << 26)
+}
+
+/// One batch of segments from the runner thread, and the error that
+/// ended the run after them.
+type Batch = (Vec<Segment>, Option<RunError>);
+
+/// Runs a program on two threads, as the command line does: a thread of
+/// its own reads, parses and executes the program into batches of
+/// segments; this one samples them into rows (forward kinematics) and
+/// fills the columns. Batches travel back for reuse. `Err`: a refused
+/// variable, or a thread that failed.
+fn pipelined(
+    machine: &Machine,
+    offsets: fiveaxis_machine::Offsets,
+    source: ProgramSource,
+    options: RunOptions,
+    variables: &[(u32, f64)],
+    capacity: usize,
+) -> Result<(Columns, Result<(), RunError>), String> {
+    std::thread::scope(|scope| {
+        let (full_tx, full_rx) = mpsc::sync_channel::<Batch>(4);
+        let (empty_tx, empty_rx) = mpsc::channel::<Vec<Segment>>();
+        let producer = scope.spawn(move || -> Result<(), String> {
+            let mut runner = Runner::new(machine, offsets, source, options);
+            runner.set_variables(variables)?;
+            loop {
+                let mut batch = empty_rx
+                    .try_recv()
+                    .unwrap_or_else(|_| Vec::with_capacity(BATCH));
+                batch.clear();
+                let (more, error) = match runner.fill(&mut batch, BATCH) {
+                    Ok(more) => (more, None),
+                    Err(e) => (false, Some(e)),
+                };
+                // The consumer only leaves at the last batch.
+                if full_tx.send((batch, error)).is_err() || !more {
+                    return Ok(());
+                }
+            }
+        });
+        let mut columns = Columns::new(machine.axis_count(), capacity);
+        let mut outcome = Ok(());
+        for (batch, error) in full_rx.iter() {
+            for seg in &batch {
+                columns.push_segment(machine, seg);
+            }
+            // The producer may have finished; then the buffer is dropped.
+            let _ = empty_tx.send(batch);
+            if let Some(e) = error {
+                outcome = Err(e);
+                break;
+            }
+        }
+        drop(full_rx);
+        producer
+            .join()
+            .map_err(|_| "the run thread panicked".to_owned())??;
+        Ok((columns, outcome))
+    })
+}
+
 /// Runs a program to its end: a dict of columns, or the exception of its
 /// alarm with the rows before it (`rows` attribute, as a dict).
 #[pyfunction]
@@ -224,24 +297,17 @@ pub fn run<'py>(
         max_blocks,
         false,
     )?;
+    let capacity = row_capacity(
+        program.as_deref(),
+        code.as_ref().map(|c| c.as_bytes().len()),
+    );
     let (source, name) = open_program(py, program.as_deref(), code.map(|c| c.as_bytes().to_vec()))?;
     let machine = &machine.get().machine;
     let variables = variables.unwrap_or_default();
-    let axis_count = machine.axis_count();
-    let (columns, outcome) = with_runner(
-        py,
-        machine,
-        offsets.get(),
-        source,
-        options,
-        &variables,
-        |runner| {
-            let mut columns = Columns::new(axis_count, 4096);
-            let mut segments = Vec::with_capacity(BATCH);
-            let outcome = fill_columns(runner, &mut columns, &mut segments, usize::MAX);
-            (columns, outcome)
-        },
-    )?;
+    let offsets = offsets.get().offsets.clone();
+    let (columns, outcome) = py
+        .detach(|| pipelined(machine, offsets, source, options, &variables, capacity))
+        .map_err(|m| input_error(py, m, Some("variables"), None, None, None))?;
     let dict = columns.into_dict(py)?;
     match outcome {
         Ok(_) => Ok(dict),

@@ -73,7 +73,7 @@ POSTED = [
     (EXAMPLES / "tcpc-vector.nc", "head-table-bc", EXAMPLES / "offsets.toml", {}),
     (EXAMPLES / "tilted-holes.nc", "trunnion-ac", EXAMPLES / "offsets.toml", {}),
     (EXAMPLES / "tcpc-vector.nc", "head-table-bc", EXAMPLES / "offsets.toml", {"tolerance": 0.002, "angle_tolerance": 0.05}),
-    (REPO / "crates" / "fiveaxis-post" / "tests" / "tcpc-arcs.nc", "trunnion-ac", EXAMPLES / "offsets.toml", {}),
+    (REPO / "crates" / "fiveaxis-post" / "tests" / "tcpc-arcs.nc", "head-table-bc", EXAMPLES / "offsets.toml", {}),
 ]
 
 
