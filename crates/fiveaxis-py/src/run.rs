@@ -195,6 +195,10 @@ fn fill_columns<S: Source>(
     Ok(true)
 }
 
+/// Most rows reserved ahead (4 Mi rows, 32 MiB per column): beyond it the
+/// columns grow as rows come.
+const MAX_RESERVED_ROWS: usize = 1 << 22;
+
 /// Rows reserved at the start of a run: one per 12 bytes of program (a
 /// short block), so that a program of short blocks fills its columns
 /// without moving them; the pages are only touched as rows come.
@@ -209,6 +213,15 @@ fn row_capacity(path: Option<&std::path::Path>, code_len: Option<usize>) -> usiz
         .clamp(1024, 1 << 26)
 }
 
+/// Why a two-thread run gave no columns.
+#[derive(Debug)]
+enum Failure {
+    /// A variable was refused.
+    Variables(String),
+    /// The runner thread failed.
+    Thread,
+}
+
 /// One batch of segments from the runner thread, and the error that
 /// ended the run after them.
 type Batch = (Vec<Segment>, Option<RunError>);
@@ -216,8 +229,7 @@ type Batch = (Vec<Segment>, Option<RunError>);
 /// Runs a program on two threads, as the command line does: a thread of
 /// its own reads, parses and executes the program into batches of
 /// segments; this one samples them into rows (forward kinematics) and
-/// fills the columns. Batches travel back for reuse. `Err`: a refused
-/// variable, or a thread that failed.
+/// fills the columns. Batches travel back for reuse.
 fn pipelined(
     machine: &Machine,
     offsets: fiveaxis_machine::Offsets,
@@ -225,13 +237,15 @@ fn pipelined(
     options: RunOptions,
     variables: &[(u32, f64)],
     capacity: usize,
-) -> Result<(Columns, Result<(), RunError>), String> {
+) -> Result<(Columns, Result<(), RunError>), Failure> {
     std::thread::scope(|scope| {
         let (full_tx, full_rx) = mpsc::sync_channel::<Batch>(4);
         let (empty_tx, empty_rx) = mpsc::channel::<Vec<Segment>>();
-        let producer = scope.spawn(move || -> Result<(), String> {
+        let producer = scope.spawn(move || -> Result<(), Failure> {
             let mut runner = Runner::new(machine, offsets, source, options);
-            runner.set_variables(variables)?;
+            runner
+                .set_variables(variables)
+                .map_err(Failure::Variables)?;
             loop {
                 let mut batch = empty_rx
                     .try_recv()
@@ -261,9 +275,7 @@ fn pipelined(
             }
         }
         drop(full_rx);
-        producer
-            .join()
-            .map_err(|_| "the run thread panicked".to_owned())??;
+        producer.join().map_err(|_| Failure::Thread)??;
         Ok((columns, outcome))
     })
 }
@@ -307,7 +319,10 @@ pub fn run<'py>(
     let offsets = offsets.get().offsets.clone();
     let (columns, outcome) = py
         .detach(|| pipelined(machine, offsets, source, options, &variables, capacity))
-        .map_err(|m| input_error(py, m, Some("variables"), None, None, None))?;
+        .map_err(|m| match m {
+            Failure::Variables(m) => input_error(py, m, Some("variables"), None, None, None),
+            Failure::Thread => invalid(py, "the run thread stopped unexpectedly"),
+        })?;
     let dict = columns.into_dict(py)?;
     match outcome {
         Ok(_) => Ok(dict),
@@ -329,6 +344,8 @@ enum Message {
         program: Option<String>,
     },
     Failed(String),
+    /// The program ended.
+    Done,
 }
 
 /// A run in a thread of its own, handing chunks of rows over as Python
@@ -386,10 +403,14 @@ impl RunStream {
                 *guard = None;
                 Err(input_error(py, message, Some(&self.name), None, None, None))
             }
-            // The program ended: the thread has gone.
-            Err(_) => {
+            Ok(Message::Done) => {
                 *guard = None;
                 Ok(None)
+            }
+            // The thread went without a word: it failed.
+            Err(_) => {
+                *guard = None;
+                Err(invalid(py, "the run thread stopped unexpectedly"))
             }
         }
     }
@@ -456,7 +477,8 @@ pub fn run_stream(
             }
             let mut segments = Vec::with_capacity(BATCH);
             loop {
-                let mut columns = Columns::new(machine.axis_count(), chunk_rows + BATCH);
+                let reserve = chunk_rows.min(MAX_RESERVED_ROWS) + BATCH;
+                let mut columns = Columns::new(machine.axis_count(), reserve);
                 let outcome = fill_columns(&mut runner, &mut columns, &mut segments, chunk_rows);
                 if columns.len() > 0 && sender.send(Message::Rows(columns)).is_err() {
                     // Python let go of the stream.
@@ -464,7 +486,7 @@ pub fn run_stream(
                 }
                 let last = match outcome {
                     Ok(true) => continue,
-                    Ok(false) => return,
+                    Ok(false) => Message::Done,
                     Err(RunError::Alarm {
                         alarm,
                         text,
