@@ -20,7 +20,7 @@ def find_cli() -> Path | None:
     """The `fiveaxis` binary: $FIVEAXIS_BIN, else a cargo build of it."""
     given = os.environ.get("FIVEAXIS_BIN")
     if given:
-        return Path(given)
+        return Path(given).resolve()
     targets = [Path(os.environ["CARGO_TARGET_DIR"])] if os.environ.get("CARGO_TARGET_DIR") else []
     targets.append(REPO / "target")
     for target in targets:
