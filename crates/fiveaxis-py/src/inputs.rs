@@ -6,6 +6,7 @@ use std::io::{Cursor, Read, Seek};
 use std::path::Path;
 
 use fiveaxis_control::ReaderSource;
+use fiveaxis_machine::FileError;
 use pyo3::prelude::*;
 
 use crate::errors::input_error;
@@ -34,24 +35,17 @@ pub fn read_data_file(py: Python<'_>, path: &Path) -> PyResult<String> {
             None,
         ));
     }
-    String::from_utf8(bytes).map_err(|e| {
-        let bytes = e.as_bytes();
-        let at = e.utf8_error().valid_up_to();
-        let line = bytes[..at].iter().filter(|&&b| b == b'\n').count() + 1;
-        let start = bytes[..at]
-            .iter()
-            .rposition(|&b| b == b'\n')
-            .map_or(0, |i| i + 1);
-        let column = String::from_utf8_lossy(&bytes[start..at]).chars().count() + 1;
-        input_error(
+    match FileError::utf8(&bytes) {
+        Ok(text) => Ok(text.to_owned()),
+        Err(e) => Err(input_error(
             py,
-            "not UTF-8 text: the file must be saved as UTF-8",
+            e.message,
             Some(&name),
-            u32::try_from(line).ok(),
-            u32::try_from(column).ok(),
+            Some(e.line),
+            Some(e.column),
             None,
-        )
-    })
+        )),
+    }
 }
 
 /// A readable, seekable program.

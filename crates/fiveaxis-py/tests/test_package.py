@@ -56,3 +56,19 @@ def test_machines_read_back_their_file(name: str) -> None:
     again = fx.Machine.from_toml(m.to_toml())
     assert again.to_toml() == m.to_toml()
     assert repr(m).startswith("Machine(")
+
+
+def test_stubs_type_check_the_examples(tmp_path: Path) -> None:
+    """The stubs are valid (mypy --strict) and the examples use the API as
+    they declare it."""
+    pytest.importorskip("mypy")
+    import subprocess
+
+    from conftest import PY_EXAMPLES
+
+    for args in (["--strict", "-p", "fiveaxis"], ["--ignore-missing-imports", *map(str, sorted(PY_EXAMPLES.glob("*.py")))]):
+        done = subprocess.run(
+            [sys.executable, "-m", "mypy", "--cache-dir", str(tmp_path / "cache"), *args],
+            capture_output=True, cwd=tmp_path, timeout=600,
+        )
+        assert done.returncode == 0, done.stdout.decode() + done.stderr.decode()
