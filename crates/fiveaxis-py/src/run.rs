@@ -220,7 +220,12 @@ enum Failure {
     Variables(String),
     /// The runner thread failed.
     Thread,
+    /// Python asked to stop (Ctrl-C): the exception it raised.
+    Interrupted(PyErr),
 }
+
+/// Batches between two looks at Python's signals (Ctrl-C) during a run.
+const SIGNAL_BATCHES: usize = 64;
 
 /// One batch of segments from the runner thread, and the error that
 /// ended the run after them.
@@ -263,9 +268,16 @@ fn pipelined(
         });
         let mut columns = Columns::new(machine.axis_count(), capacity);
         let mut outcome = Ok(());
-        for (batch, error) in full_rx.iter() {
+        let mut interrupted = None;
+        for (k, (batch, error)) in full_rx.iter().enumerate() {
             for seg in &batch {
                 columns.push_segment(machine, seg);
+            }
+            if k % SIGNAL_BATCHES == SIGNAL_BATCHES - 1
+                && let Err(e) = Python::attach(|py| py.check_signals())
+            {
+                interrupted = Some(e);
+                break;
             }
             // The producer may have finished; then the buffer is dropped.
             let _ = empty_tx.send(batch);
@@ -274,9 +286,13 @@ fn pipelined(
                 break;
             }
         }
+        // The runner thread stops at its next batch once no one listens.
         drop(full_rx);
         producer.join().map_err(|_| Failure::Thread)??;
-        Ok((columns, outcome))
+        match interrupted {
+            Some(e) => Err(Failure::Interrupted(e)),
+            None => Ok((columns, outcome)),
+        }
     })
 }
 
@@ -322,6 +338,7 @@ pub fn run<'py>(
         .map_err(|m| match m {
             Failure::Variables(m) => input_error(py, m, Some("variables"), None, None, None),
             Failure::Thread => invalid(py, "the run thread stopped unexpectedly"),
+            Failure::Interrupted(e) => e,
         })?;
     let dict = columns.into_dict(py)?;
     match outcome {

@@ -199,3 +199,38 @@ def test_text_and_file_give_the_same_rows(tmp_path: Path) -> None:
     for name in a.names:
         assert np.array_equal(bits(a[name] * 1.0), bits(b[name] * 1.0)), name
         assert np.array_equal(bits(a[name] * 1.0), bits(c[name] * 1.0)), name
+
+
+def test_structured_array_holds_the_columns() -> None:
+    rows = fx.run(EXAMPLES / "bracket.nc", offsets=EXAMPLES / "offsets.toml")
+    table = rows.structured()
+    assert table.dtype.names == rows.names and len(table) == len(rows)
+    for name in rows.names:
+        assert np.array_equal(table[name], rows[name], equal_nan=name == "feed"), name
+
+
+INTERRUPT = r"""
+import os, signal, sys, threading, time
+import fiveaxis as fx
+# An endless loop: only the block budget or Ctrl-C ends it.
+code = "#1=0\nWHILE[#1 LT 1]DO1\nG0 X1.\nG0 X2.\nEND1\nM30\n"
+threading.Timer(1.0, lambda: os.kill(os.getpid(), signal.SIGINT)).start()
+start = time.monotonic()
+try:
+    fx.run(code=code, max_blocks=10**12)
+except KeyboardInterrupt:
+    print("interrupted after", round(time.monotonic() - start, 1))
+    sys.exit(0)
+print("not interrupted")
+sys.exit(1)
+"""
+
+
+def test_ctrl_c_stops_a_long_run() -> None:
+    import subprocess
+    import sys
+
+    done = subprocess.run([sys.executable, "-c", INTERRUPT], capture_output=True, timeout=120)
+    assert done.returncode == 0, done.stdout + done.stderr
+    seconds = float(done.stdout.split()[-1])
+    assert seconds < 10

@@ -443,6 +443,16 @@ class Rows:
         """Every column by its CSV name, in the CSV's order."""
         return {name: self[name] for name in self.names}
 
+    def structured(self) -> np.ndarray:
+        """The rows as one numpy structured array, a field per CSV column
+        (``motion`` as its code)."""
+        types = {"line": np.uint32, "motion": np.uint8}
+        dtype = [(name, types.get(name, np.float64)) for name in self.names]
+        out = np.empty(len(self), dtype=dtype)
+        for name in self.names:
+            out[name] = self[name]
+        return out
+
     @staticmethod
     def concatenate(parts: Sequence["Rows"]) -> "Rows":
         """Chunks of one run joined into one."""
