@@ -8,6 +8,7 @@
 mod errors;
 mod inputs;
 mod kinematics;
+mod library;
 mod machine;
 mod offsets;
 mod report;

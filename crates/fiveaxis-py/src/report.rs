@@ -11,6 +11,7 @@ use pyo3::types::{PyBytes, PyDict};
 
 use crate::errors::{input_error, invalid, run_error};
 use crate::inputs::{ReadSeek, open_program, read_program};
+use crate::library::Programs;
 use crate::machine::PyMachine;
 use crate::offsets::PyOffsets;
 use crate::run::with_runner;
@@ -22,7 +23,7 @@ use crate::run::with_runner;
 #[pyfunction]
 #[pyo3(signature = (machine, offsets, program = None, code = None, *,
     block_delete = false, optional_stop = false, max_blocks = DEFAULT_MAX_BLOCKS,
-    variables = None))]
+    variables = None, programs = None))]
 #[allow(clippy::too_many_arguments)]
 pub fn check<'py>(
     py: Python<'py>,
@@ -34,7 +35,9 @@ pub fn check<'py>(
     optional_stop: bool,
     max_blocks: u64,
     variables: Option<Vec<(u32, f64)>>,
+    programs: Option<Programs>,
 ) -> PyResult<Bound<'py, PyDict>> {
+    let programs = programs.unwrap_or_default();
     if max_blocks == 0 {
         return Err(invalid(py, "max_blocks must be at least 1"));
     }
@@ -55,6 +58,7 @@ pub fn check<'py>(
         source,
         options,
         &variables,
+        &programs,
         |runner| check_run(runner, |_| {}),
     )?
     .map_err(|e| run_error(py, &e, &name))?;
@@ -118,7 +122,7 @@ pub fn apt_to_tcpc(py: Python<'_>, text: &str, name: &str) -> PyResult<String> {
 #[pyfunction]
 #[pyo3(signature = (machine, offsets, program = None, code = None, *,
     tolerance = fiveaxis_post::DEFAULT_TOLERANCE,
-    angle_tolerance = fiveaxis_post::DEFAULT_ANGLE_TOLERANCE, apt = false))]
+    angle_tolerance = fiveaxis_post::DEFAULT_ANGLE_TOLERANCE, apt = false, programs = None))]
 #[allow(clippy::too_many_arguments)]
 pub fn post<'py>(
     py: Python<'py>,
@@ -129,7 +133,9 @@ pub fn post<'py>(
     tolerance: f64,
     angle_tolerance: f64,
     apt: bool,
+    programs: Option<Programs>,
 ) -> PyResult<Bound<'py, PyDict>> {
+    let programs = programs.unwrap_or_default();
     let positive = |x: f64| x > 0.0 && x.is_finite();
     if !positive(tolerance) || !positive(angle_tolerance) {
         return Err(invalid(
@@ -170,6 +176,7 @@ pub fn post<'py>(
         source,
         RunOptions::default(),
         &[],
+        &programs,
         |runner| fiveaxis_post::convert(runner, options),
     )?
     .map_err(|e| run_error(py, &e, &name))?;

@@ -18,6 +18,7 @@ use pyo3::types::{PyBytes, PyDict};
 
 use crate::errors::{input_error, invalid, run_error};
 use crate::inputs::{ProgramSource, open_program};
+use crate::library::{Programs, with_programs};
 use crate::machine::PyMachine;
 use crate::offsets::PyOffsets;
 
@@ -152,6 +153,7 @@ fn run_options(
 /// Runs `work` on a runner of the program with its variables set, with
 /// the interpreter free for other threads meanwhile (the runner is built
 /// inside: it does not cross threads). `Err` holds a refused variable.
+#[allow(clippy::too_many_arguments)]
 pub fn with_runner<T: Send>(
     py: Python<'_>,
     machine: &Machine,
@@ -159,11 +161,12 @@ pub fn with_runner<T: Send>(
     source: ProgramSource,
     options: RunOptions,
     variables: &[(u32, f64)],
+    programs: &Programs,
     work: impl FnOnce(&mut Runner<'_, ProgramSource>) -> T + Send,
 ) -> PyResult<T> {
     let offsets = offsets.offsets.clone();
     let outcome = py.detach(move || {
-        let mut runner = Runner::new(machine, offsets, source, options);
+        let mut runner = with_programs(Runner::new(machine, offsets, source, options), programs);
         runner.set_variables(variables)?;
         Ok(work(&mut runner))
     });
@@ -241,13 +244,15 @@ fn pipelined(
     source: ProgramSource,
     options: RunOptions,
     variables: &[(u32, f64)],
+    programs: &Programs,
     capacity: usize,
 ) -> Result<(Columns, Result<(), RunError>), Failure> {
     std::thread::scope(|scope| {
         let (full_tx, full_rx) = mpsc::sync_channel::<Batch>(4);
         let (empty_tx, empty_rx) = mpsc::channel::<Vec<Segment>>();
         let producer = scope.spawn(move || -> Result<(), Failure> {
-            let mut runner = Runner::new(machine, offsets, source, options);
+            let mut runner =
+                with_programs(Runner::new(machine, offsets, source, options), programs);
             runner
                 .set_variables(variables)
                 .map_err(Failure::Variables)?;
@@ -301,7 +306,7 @@ fn pipelined(
 #[pyfunction]
 #[pyo3(signature = (machine, offsets, program = None, code = None, *, step = None,
     step_angle = 1.0, block_delete = false, optional_stop = false,
-    max_blocks = DEFAULT_MAX_BLOCKS, variables = None))]
+    max_blocks = DEFAULT_MAX_BLOCKS, variables = None, programs = None))]
 #[allow(clippy::too_many_arguments)]
 pub fn run<'py>(
     py: Python<'py>,
@@ -315,7 +320,9 @@ pub fn run<'py>(
     optional_stop: bool,
     max_blocks: u64,
     variables: Option<Vec<(u32, f64)>>,
+    programs: Option<Programs>,
 ) -> PyResult<Bound<'py, PyDict>> {
+    let programs = programs.unwrap_or_default();
     let options = run_options(
         py,
         step,
@@ -334,7 +341,11 @@ pub fn run<'py>(
     let variables = variables.unwrap_or_default();
     let offsets = offsets.get().offsets.clone();
     let (columns, outcome) = py
-        .detach(|| pipelined(machine, offsets, source, options, &variables, capacity))
+        .detach(|| {
+            pipelined(
+                machine, offsets, source, options, &variables, &programs, capacity,
+            )
+        })
         .map_err(|m| match m {
             Failure::Variables(m) => input_error(py, m, Some("variables"), None, None, None),
             Failure::Thread => invalid(py, "the run thread stopped unexpectedly"),
@@ -438,7 +449,7 @@ impl RunStream {
 #[pyfunction]
 #[pyo3(signature = (machine, offsets, program = None, code = None, *, step = None,
     step_angle = 1.0, block_delete = false, optional_stop = false,
-    max_blocks = DEFAULT_MAX_BLOCKS, variables = None, chunk_rows = 65536))]
+    max_blocks = DEFAULT_MAX_BLOCKS, variables = None, programs = None, chunk_rows = 65536))]
 #[allow(clippy::too_many_arguments)]
 pub fn run_stream(
     py: Python<'_>,
@@ -452,8 +463,10 @@ pub fn run_stream(
     optional_stop: bool,
     max_blocks: u64,
     variables: Option<Vec<(u32, f64)>>,
+    programs: Option<Programs>,
     chunk_rows: usize,
 ) -> PyResult<RunStream> {
+    let programs = programs.unwrap_or_default();
     let options = run_options(
         py,
         step,
@@ -487,7 +500,8 @@ pub fn run_stream(
     std::thread::Builder::new()
         .name("fiveaxis-run".into())
         .spawn(move || {
-            let mut runner = Runner::new(&machine, offsets, source, options);
+            let mut runner =
+                with_programs(Runner::new(&machine, offsets, source, options), &programs);
             if let Err(m) = runner.set_variables(&variables) {
                 let _ = sender.send(Message::Failed(m));
                 return;

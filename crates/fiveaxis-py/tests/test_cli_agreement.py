@@ -234,3 +234,29 @@ def test_ctrl_c_stops_a_long_run() -> None:
     assert done.returncode == 0, done.stdout + done.stderr
     seconds = float(done.stdout.split()[-1])
     assert seconds < 10
+
+
+def test_program_memory_is_the_cli_programs_folder(cli: Path, tmp_path: Path) -> None:
+    memory = tmp_path / "memory"
+    memory.mkdir()
+    drill = "%\nO9010 (DRILL)\nG0 X#24 Y#25\nG1 Z-#26 F100.\nG0 Z0\nM99\n%\n"
+    (memory / "O9010.nc").write_text(drill)
+    (memory / "O0042.nc").write_text("O0042\nG0 X99.\nM99\n")
+    main = tmp_path / "main.nc"
+    main.write_text("G65 P9010 X10. Y20. Z5.\nM98 P42\nG0 X0\nM30\n")
+    status, expected, stderr = cli_rows(cli, main, ["--programs", "memory"])
+    assert status == 0, stderr
+    for programs in ({9010: drill, 42: memory / "O0042.nc"}, {"O9010": drill.encode(), "42": memory / "O0042.nc"}):
+        rows = fx.run(main, programs=programs)
+        assert_same(rows, expected, "main.nc")
+        assert len(list(fx.run_chunks(main, programs=programs, chunk_rows=2))) >= 2
+        assert fx.check(main, programs=programs).ended
+    with pytest.raises(fx.Alarm) as info:
+        fx.run(main, programs={9010: drill})
+    assert info.value.code == "PS0078" and info.value.line == 2
+    with pytest.raises(fx.InputError):
+        fx.run(main, programs={"drill": drill})
+    with pytest.raises(fx.InputError):
+        fx.run(main, programs={42: tmp_path / "missing.nc"})
+    with pytest.raises(TypeError):
+        fx.run(main, programs={42: 3.5})  # type: ignore[dict-item]

@@ -374,6 +374,36 @@ def _variables(variables: Optional[Mapping[int, float]]) -> Optional[List[Tuple[
     return out
 
 
+ProgramsLike = Optional[Mapping[int, Union[str, bytes, "os.PathLike[str]"]]]
+
+
+def _programs(programs: ProgramsLike) -> Optional[List[Tuple[int, bytes]]]:
+    """The control's program memory: program texts (or files) by number."""
+    if programs is None:
+        return None
+    if not isinstance(programs, Mapping):
+        raise TypeError(f"programs are a dict of number: text or path, not {type(programs).__name__}")
+    out = []
+    for k, v in programs.items():
+        key = str(k).upper().lstrip("O")
+        if not key.isdigit() or len(key) > 8:
+            raise InputError(f"program `{k}`: a program number, as 9010 or 'O9010'")
+        if isinstance(v, str):
+            text = v.encode("utf-8")
+        elif isinstance(v, (bytes, bytearray)):
+            text = bytes(v)
+        elif isinstance(v, os.PathLike):
+            try:
+                with open(v, "rb") as f:
+                    text = f.read()
+            except OSError as e:
+                raise InputError(str(e.strerror or e), file=os.fspath(v)) from None
+        else:
+            raise TypeError(f"program {k}: text, bytes or a path, not {type(v).__name__}")
+        out.append((int(key), text))
+    return out
+
+
 # ----- run ------------------------------------------------------------------
 
 
@@ -483,13 +513,15 @@ def run(
     optional_stop: bool = False,
     max_blocks: int = DEFAULT_MAX_BLOCKS,
     variables: Optional[Mapping[int, float]] = None,
+    programs: ProgramsLike = None,
 ) -> Rows:
     """Runs a program (a file path, or its text as ``code=``) on a machine
     (built-in name, machine file or ``Machine``; default ``trunnion-ac``)
     with offsets (``Offsets``, dict or offsets file) and returns every row
     as numpy columns, as ``fiveaxis run`` (``--step``, ``--step-angle``,
     ``--block-delete``, ``--optional-stop``, ``--max-blocks``, variables
-    ``{500: 1.25}``).
+    ``{500: 1.25}``; `programs`: the control's program memory that ``M98`` /
+    ``G65`` call, ``{9010: text or path}``, as ``--programs``).
 
     An alarm raises ``Alarm`` with ``code``, ``line``, ``column``,
     ``message``, and ``rows``: the rows before the failing block."""
@@ -500,7 +532,7 @@ def run(
             m, _offsets(offsets), path, text,
             step=step, step_angle=float(step_angle), block_delete=bool(block_delete),
             optional_stop=bool(optional_stop), max_blocks=_count(max_blocks, "max_blocks"),
-            variables=_variables(variables),
+            variables=_variables(variables), programs=_programs(programs),
         )
     except Alarm as alarm:
         if isinstance(alarm.rows, dict):
@@ -527,6 +559,7 @@ def run_chunks(
     optional_stop: bool = False,
     max_blocks: int = DEFAULT_MAX_BLOCKS,
     variables: Optional[Mapping[int, float]] = None,
+    programs: ProgramsLike = None,
     chunk_rows: int = 65536,
 ) -> Iterator[Rows]:
     """``run`` for programs too large for memory: yields ``Rows`` of about
@@ -539,7 +572,8 @@ def run_chunks(
         m, _offsets(offsets), path, text,
         step=step, step_angle=float(step_angle), block_delete=bool(block_delete),
         optional_stop=bool(optional_stop), max_blocks=_count(max_blocks, "max_blocks"),
-        variables=_variables(variables), chunk_rows=_count(chunk_rows, "chunk_rows"),
+        variables=_variables(variables), programs=_programs(programs),
+        chunk_rows=_count(chunk_rows, "chunk_rows"),
     )
     names = m.axes
 
@@ -646,6 +680,7 @@ def check(
     optional_stop: bool = False,
     max_blocks: int = DEFAULT_MAX_BLOCKS,
     variables: Optional[Mapping[int, float]] = None,
+    programs: ProgramsLike = None,
 ) -> CheckReport:
     """Checks a program as ``fiveaxis check`` does: the soft limits lifted,
     every over-travel, singular passage, rotary flip, feed limit and chord
@@ -656,6 +691,7 @@ def check(
         _machine(machine), _offsets(offsets), path, text,
         block_delete=bool(block_delete), optional_stop=bool(optional_stop),
         max_blocks=_count(max_blocks, "max_blocks"), variables=_variables(variables),
+        programs=_programs(programs),
     )
     alarm = AlarmInfo(**d["alarm"]) if d["alarm"] is not None else None
     return CheckReport(
@@ -708,6 +744,7 @@ def post(
     tolerance: float = 0.01,
     angle_tolerance: float = 0.1,
     apt: Optional[bool] = None,
+    programs: ProgramsLike = None,
 ) -> PostResult:
     """Converts a program that uses TCPC (G43.4 / G43.5) or the tilted
     working plane into a machine-axis program for the same machine without
@@ -721,5 +758,6 @@ def post(
     d = _native.post(
         _machine(machine), _offsets(offsets), path, text,
         tolerance=float(tolerance), angle_tolerance=float(angle_tolerance), apt=bool(apt),
+        programs=_programs(programs),
     )
     return PostResult(**d)

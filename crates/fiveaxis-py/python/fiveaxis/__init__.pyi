@@ -21,6 +21,7 @@ _Array = npt.ArrayLike
 _MachineLike = Union["Machine", str, os.PathLike[str], None]
 _OffsetsLike = Union["Offsets", Mapping[Any, Any], str, os.PathLike[str], None]
 _Program = Union[str, os.PathLike[str], bytes, None]
+_Programs = Optional[Mapping[int, Union[str, bytes, os.PathLike[str]]]]
 
 def machines() -> List[str]: ...
 
@@ -110,6 +111,7 @@ def run(
     optional_stop: bool = ...,
     max_blocks: int = ...,
     variables: Optional[Mapping[int, float]] = ...,
+    programs: _Programs = ...,
 ) -> Rows: ...
 def run_chunks(
     program: _Program = ...,
@@ -123,6 +125,7 @@ def run_chunks(
     optional_stop: bool = ...,
     max_blocks: int = ...,
     variables: Optional[Mapping[int, float]] = ...,
+    programs: _Programs = ...,
     chunk_rows: int = ...,
 ) -> Iterator[Rows]: ...
 
@@ -183,6 +186,7 @@ def check(
     optional_stop: bool = ...,
     max_blocks: int = ...,
     variables: Optional[Mapping[int, float]] = ...,
+    programs: _Programs = ...,
 ) -> CheckReport: ...
 
 @dataclass(frozen=True)
@@ -205,4 +209,5 @@ def post(
     tolerance: float = ...,
     angle_tolerance: float = ...,
     apt: Optional[bool] = ...,
+    programs: _Programs = ...,
 ) -> PostResult: ...
