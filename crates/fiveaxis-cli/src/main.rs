@@ -281,30 +281,12 @@ fn read_data_file(name: &str, path: &Path) -> Result<(Vec<u8>, String), InputErr
             MAX_DATA_FILE_BYTES
         )));
     }
-    match std::str::from_utf8(&bytes) {
+    match FileError::utf8(&bytes) {
         Ok(text) => {
             let text = text.to_owned();
             Ok((bytes, text))
         }
-        Err(e) => {
-            let at = e.valid_up_to();
-            let line = bytes[..at].iter().filter(|&&b| b == b'\n').count() + 1;
-            let line_start = bytes[..at]
-                .iter()
-                .rposition(|&b| b == b'\n')
-                .map_or(0, |i| i + 1);
-            let column = String::from_utf8_lossy(&bytes[line_start..at])
-                .chars()
-                .count()
-                + 1;
-            let error = FileError {
-                line: u32::try_from(line).unwrap_or(u32::MAX),
-                column: u32::try_from(column).unwrap_or(u32::MAX),
-                key: None,
-                message: "not UTF-8 text: the file must be saved as UTF-8".into(),
-            };
-            Err(InputError::file(name, &bytes, &error))
-        }
+        Err(error) => Err(InputError::file(name, &bytes, &error)),
     }
 }
 
@@ -748,13 +730,9 @@ impl RowBatch {
 /// its end. `false` when the writer has stopped.
 fn sample(segment: &Segment, machine: &Machine, batch: &mut RowBatch) -> bool {
     // The runner has divided the block for `--step` (1 without).
-    let n = segment.rows;
-    for i in 1..n {
-        if !batch.push(segment.row(machine, f64::from(i) / f64::from(n))) {
-            return false;
-        }
-    }
-    batch.push(segment.row(machine, 1.0))
+    segment
+        .row_fractions()
+        .all(|s| batch.push(segment.row(machine, s)))
 }
 
 /// Reports how the run ended and gives its exit status.

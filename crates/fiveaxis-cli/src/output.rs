@@ -1,7 +1,7 @@
 //! Row writers for `fiveaxis run`: CSV and JSON Lines, exactly as the
 //! `run` contract fixes them.
 
-use fiveaxis_control::{Alarm, Row};
+use fiveaxis_control::{Alarm, Row, displayed};
 use fiveaxis_machine::Machine;
 
 use crate::number::{write_f64, write_u64};
@@ -23,31 +23,16 @@ pub struct RowWriter<'m> {
     machine: &'m Machine,
     /// Column names of the machine axes, in order.
     axes: Vec<String>,
-    /// Which axes are shown modulo 360.
-    rollover: Vec<bool>,
-}
-
-/// A rollover axis position in [0, 360).
-fn modulo_360(x: f64) -> f64 {
-    let r = x.rem_euclid(360.0);
-    if r >= 360.0 { 0.0 } else { r }
 }
 
 impl<'m> RowWriter<'m> {
     /// A writer for rows of `machine`.
     pub fn new(format: Format, machine: &'m Machine) -> Self {
         let axes = machine.axis_names().map(String::from).collect();
-        let rollover = machine
-            .linear
-            .iter()
-            .map(|_| false)
-            .chain(machine.rotary.iter().map(|r| r.rollover))
-            .collect();
         Self {
             format,
             machine,
             axes,
-            rollover,
         }
     }
 
@@ -67,10 +52,8 @@ impl<'m> RowWriter<'m> {
     pub fn row(&self, out: &mut Text, row: &Row) {
         out.make_room();
         let axis_count = self.machine.axis_count();
-        let values = row.joints[..axis_count]
-            .iter()
-            .zip(&self.rollover)
-            .map(|(&x, &roll)| if roll { modulo_360(x) } else { x });
+        let shown = displayed(self.machine, &row.joints);
+        let values = shown[..axis_count].iter().copied();
         let pose = [
             row.tip.x, row.tip.y, row.tip.z, row.dir.x, row.dir.y, row.dir.z,
         ];

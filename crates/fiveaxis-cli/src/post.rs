@@ -7,7 +7,7 @@ use std::io::{Read, Write};
 use std::path::PathBuf;
 
 use fiveaxis_control::{ReaderSource, RunOptions, Runner};
-use fiveaxis_post::{Converter, PostOptions, program};
+use fiveaxis_post::{PostOptions, program};
 
 use crate::{
     EXIT_OK, InputError, Stop, finish, library, load_machine, load_offsets, open_program,
@@ -51,9 +51,6 @@ pub struct PostArgs {
     tcpc: bool,
 }
 
-/// Segments taken from the runner at once.
-const BATCH: usize = 1024;
-
 /// Runs `fiveaxis post`.
 pub fn post(args: &PostArgs) -> Result<u8, InputError> {
     let machine = load_machine(&args.machine)?;
@@ -94,7 +91,7 @@ pub fn post(args: &PostArgs) -> Result<u8, InputError> {
         tolerance: args.tolerance,
         angle_tolerance: args.angle_tolerance,
         // The output is written in G54 (with the external offset).
-        origin: offsets.work[0] + offsets.external,
+        origin: fiveaxis_post::g54_origin(&offsets),
     };
     let mut runner = Runner::new(
         &machine,
@@ -107,28 +104,17 @@ pub fn post(args: &PostArgs) -> Result<u8, InputError> {
             .map_err(|e| InputError::io(&dir.display().to_string(), &e))?;
         runner = runner.with_library(Box::new(library));
     }
-    let mut converter = Converter::new(&machine, options);
-    let mut segments = Vec::with_capacity(BATCH);
-    loop {
-        segments.clear();
-        let filled = runner.fill(&mut segments, BATCH);
-        for seg in &segments {
-            converter.push(seg);
+    let post = match fiveaxis_post::convert(&mut runner, options) {
+        Ok(post) => post,
+        // An alarm: nothing is written.
+        Err(error) => {
+            let output = args
+                .output
+                .as_ref()
+                .map_or("standard output".to_owned(), |p| p.display().to_string());
+            return finish(Err(Stop::Alarm(Box::new(error))), program_name, &output);
         }
-        match filled {
-            Ok(true) => {}
-            Ok(false) => break,
-            // An alarm: nothing is written.
-            Err(error) => {
-                let output = args
-                    .output
-                    .as_ref()
-                    .map_or("standard output".to_owned(), |p| p.display().to_string());
-                return finish(Err(Stop::Alarm(Box::new(error))), program_name, &output);
-            }
-        }
-    }
-    let post = converter.finish();
+    };
     let header = program::Header {
         source: program_name,
         number: None,

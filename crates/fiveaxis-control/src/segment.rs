@@ -502,6 +502,20 @@ impl Segment {
         }
     }
 
+    /// The positions `s` of the block's rows, in order: with
+    /// interpolation (`rows` > 1) the ones inside it, `i / rows`, then
+    /// always its end, exactly 1.
+    pub fn row_fractions(&self) -> impl Iterator<Item = f64> + use<> {
+        let n = self.rows.max(1);
+        (1..=n).map(move |i| {
+            if i == n {
+                1.0
+            } else {
+                f64::from(i) / f64::from(n)
+            }
+        })
+    }
+
     /// How many equal steps in `s` keep consecutive tips at most `step` mm
     /// apart and every rotary axis within `step_angle` degrees per step.
     ///
@@ -618,6 +632,22 @@ pub fn unit(i: usize) -> Vec3 {
     let mut v = Vec3::zeros();
     v[i] = 1.0;
     v
+}
+
+/// A machine position as the control displays it: rollover axes reduced
+/// to [0, 360) (exactly when already in range), every other axis as it is.
+/// Entries past [`Machine::axis_count`] are 0.
+pub fn displayed(machine: &Machine, joints: &Joints) -> Joints {
+    let mut shown = [0.0; fiveaxis_machine::MAX_AXES];
+    let n = machine.axis_count();
+    shown[..n].copy_from_slice(&joints[..n]);
+    for (k, axis) in machine.rotary.iter().enumerate() {
+        if axis.rollover {
+            let i = machine.rotary_index(k);
+            shown[i] = crate::normalize_360(shown[i]);
+        }
+    }
+    shown
 }
 
 /// One output row.

@@ -35,6 +35,43 @@ pub struct FileError {
     pub message: String,
 }
 
+impl FileError {
+    /// The bytes of a machine or offsets file as text: UTF-8, or the error
+    /// at the first byte that is not (its line, and its column counted in
+    /// characters).
+    pub fn utf8(bytes: &[u8]) -> Result<&str, FileError> {
+        std::str::from_utf8(bytes).map_err(|e| {
+            let at = e.valid_up_to();
+            let line = bytes[..at].iter().filter(|&&b| b == b'\n').count() + 1;
+            let start = bytes[..at]
+                .iter()
+                .rposition(|&b| b == b'\n')
+                .map_or(0, |i| i + 1);
+            let column = String::from_utf8_lossy(&bytes[start..at]).chars().count() + 1;
+            FileError {
+                line: u32::try_from(line).unwrap_or(u32::MAX),
+                column: u32::try_from(column).unwrap_or(u32::MAX),
+                key: None,
+                message: "not UTF-8 text: the file must be saved as UTF-8".into(),
+            }
+        })
+    }
+}
+
+#[cfg(test)]
+mod utf8_tests {
+    use super::FileError;
+
+    #[test]
+    fn the_first_bad_byte_is_named() {
+        assert_eq!(FileError::utf8(b"a = 1\n").ok(), Some("a = 1\n"));
+        let e = FileError::utf8(b"a = 1\nb = \"\xc3\xa9\xff\"\n").err();
+        let e = e.expect("not UTF-8");
+        assert_eq!((e.line, e.column, e.key), (2, 7, None));
+        assert!(e.message.contains("UTF-8"));
+    }
+}
+
 /// The text of a file being read, to turn byte offsets into positions.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct Source<'a> {

@@ -22,7 +22,7 @@ pub mod apt;
 pub mod linearize;
 pub mod program;
 
-use fiveaxis_control::{Motion, Path, Segment};
+use fiveaxis_control::{Motion, Path, RunError, Runner, Segment, Source};
 use fiveaxis_machine::{Joints, Machine, Vec3};
 
 pub use linearize::Deviation;
@@ -191,6 +191,37 @@ impl<'m> Converter<'m> {
     pub fn finish(self) -> Post {
         self.post
     }
+}
+
+/// Segments taken from the runner at once by [`convert`].
+const BATCH: usize = 1024;
+
+/// Runs a program to its end and converts every segment: the machine-axis
+/// program of the run, or the error that stopped it (an alarm: then no
+/// program, as the control would not have run it through).
+pub fn convert<S: Source>(
+    runner: &mut Runner<'_, S>,
+    options: PostOptions,
+) -> Result<Post, RunError> {
+    let machine = runner.controller().machine();
+    let mut converter = Converter::new(machine, options);
+    let mut segments = Vec::with_capacity(BATCH);
+    loop {
+        segments.clear();
+        let more = runner.fill(&mut segments, BATCH);
+        for seg in &segments {
+            converter.push(seg);
+        }
+        if !more? {
+            return Ok(converter.finish());
+        }
+    }
+}
+
+/// The origin a post writes in for these offsets: G54 plus the external
+/// work offset (machine coordinates).
+pub fn g54_origin(offsets: &fiveaxis_machine::Offsets) -> Vec3 {
+    offsets.work[0] + offsets.external
 }
 
 /// Time of a cutting block at its programmed tip feed, minutes: the length

@@ -909,6 +909,26 @@ impl Controller<'_> {
         }))
     }
 
+    /// The rotary angles TCPC would command to point the tool along `dir`
+    /// (a unit vector in the table frame) from the rotary positions
+    /// `current` (machine order, degrees), in the controller's present
+    /// state: the machine's `rotary_choice` among the solutions and their
+    /// 360° repeats inside the soft limits. An alarm when no position
+    /// reaches `dir`, or when the machine has not two rotary axes.
+    pub fn rotary_position_for(&self, dir: &Vec3, current: [f64; 2]) -> Result<[f64; 2], Alarm> {
+        if self.machine.rotary.len() != 2 {
+            return Err(self.alarm(
+                Condition::ToolDirectionUnreachable,
+                None,
+                format!(
+                    "the machine has {} rotary axes: only a machine with two chooses a tool direction",
+                    self.machine.rotary.len()
+                ),
+            ));
+        }
+        self.choose_rotaries(dir, current)
+    }
+
     /// The rotary angles (machine, unwrapped near `current`) that point the
     /// tool along `dir` (table frame), chosen by the control's rule among
     /// the solutions and their 360° repeats inside the soft limits.

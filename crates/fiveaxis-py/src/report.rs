@@ -1,0 +1,197 @@
+//! `check` and `post`: the reports of `fiveaxis check` and `fiveaxis
+//! post` as Python dicts (the Python side makes objects of them).
+
+use std::path::PathBuf;
+
+use fiveaxis_check::check_run;
+use fiveaxis_control::{DEFAULT_MAX_BLOCKS, ReaderSource, RunOptions};
+use fiveaxis_post::{PostOptions, program};
+use pyo3::prelude::*;
+use pyo3::types::{PyBytes, PyDict};
+
+use crate::errors::{input_error, invalid, run_error};
+use crate::inputs::{ReadSeek, open_program, read_program};
+use crate::library::Programs;
+use crate::machine::PyMachine;
+use crate::offsets::PyOffsets;
+use crate::run::with_runner;
+
+/// Checks a program as `fiveaxis check` does (soft limits lifted, every
+/// excursion measured): the report as a dict with the check contract's
+/// keys, findings as tuples `(kind, severity, line, axis, value,
+/// message)`.
+#[pyfunction]
+#[pyo3(signature = (machine, offsets, program = None, code = None, *,
+    block_delete = false, optional_stop = false, max_blocks = DEFAULT_MAX_BLOCKS,
+    variables = None, programs = None))]
+#[allow(clippy::too_many_arguments)]
+pub fn check<'py>(
+    py: Python<'py>,
+    machine: &Bound<'py, PyMachine>,
+    offsets: &Bound<'py, PyOffsets>,
+    program: Option<PathBuf>,
+    code: Option<Bound<'_, PyBytes>>,
+    block_delete: bool,
+    optional_stop: bool,
+    max_blocks: u64,
+    variables: Option<Vec<(u32, f64)>>,
+    programs: Option<Programs>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let programs = programs.unwrap_or_default();
+    if max_blocks == 0 {
+        return Err(invalid(py, "max_blocks must be at least 1"));
+    }
+    let options = RunOptions {
+        block_delete,
+        interpolation: None,
+        max_blocks,
+        optional_stop,
+        lift_soft_limits: true,
+    };
+    let (source, name) = open_program(py, program.as_deref(), code.map(|c| c.as_bytes().to_vec()))?;
+    let machine = &machine.get().machine;
+    let variables = variables.unwrap_or_default();
+    let report = with_runner(
+        py,
+        machine,
+        offsets.get(),
+        source,
+        options,
+        &variables,
+        &programs,
+        |runner| check_run(runner, |_| {}),
+    )?
+    .map_err(|e| run_error(py, &e, &name))?;
+
+    let d = PyDict::new(py);
+    d.set_item("program", &name)?;
+    d.set_item("machine", &report.machine)?;
+    d.set_item("ended", report.ended)?;
+    d.set_item("blocks", report.blocks)?;
+    let alarm = match &report.alarm {
+        Some(a) => {
+            let ad = PyDict::new(py);
+            ad.set_item("code", &a.code)?;
+            ad.set_item("line", a.line)?;
+            ad.set_item("message", &a.message)?;
+            Some(ad)
+        }
+        None => None,
+    };
+    d.set_item("alarm", alarm)?;
+    let time = PyDict::new(py);
+    time.set_item("programmed", report.time.programmed)?;
+    time.set_item("estimated", report.time.estimated)?;
+    d.set_item("time", time)?;
+    d.set_item("feed_limited_seconds", report.feed_limited_seconds)?;
+    let axes: Vec<_> = report
+        .axes
+        .iter()
+        .map(|a| (a.name.to_string(), a.min, a.max, a.limits))
+        .collect();
+    d.set_item("axes", axes)?;
+    let findings: Vec<_> = report
+        .findings
+        .iter()
+        .map(|f| {
+            (
+                f.kind.name(),
+                f.severity().name(),
+                f.line,
+                f.axis.map(String::from),
+                f.value,
+                f.message.as_str(),
+            )
+        })
+        .collect();
+    d.set_item("findings", findings)?;
+    Ok(d)
+}
+
+/// APT / CL text to a TCPC program (`G43.5` with tool vectors).
+#[pyfunction]
+#[pyo3(signature = (text, name = "<string>"))]
+pub fn apt_to_tcpc(py: Python<'_>, text: &str, name: &str) -> PyResult<String> {
+    fiveaxis_post::apt::to_tcpc(text, name)
+        .map_err(|e| input_error(py, e.message, Some(name), Some(e.line), None, None))
+}
+
+/// Converts a TCPC / tilted-plane program (or APT / CL data with `apt`)
+/// into a machine-axis program, as `fiveaxis post`: its text, the largest
+/// deviation reached and its counts.
+#[pyfunction]
+#[pyo3(signature = (machine, offsets, program = None, code = None, *,
+    tolerance = fiveaxis_post::DEFAULT_TOLERANCE,
+    angle_tolerance = fiveaxis_post::DEFAULT_ANGLE_TOLERANCE, apt = false, programs = None))]
+#[allow(clippy::too_many_arguments)]
+pub fn post<'py>(
+    py: Python<'py>,
+    machine: &Bound<'py, PyMachine>,
+    offsets: &Bound<'py, PyOffsets>,
+    program: Option<PathBuf>,
+    code: Option<Bound<'_, PyBytes>>,
+    tolerance: f64,
+    angle_tolerance: f64,
+    apt: bool,
+    programs: Option<Programs>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let programs = programs.unwrap_or_default();
+    let positive = |x: f64| x > 0.0 && x.is_finite();
+    if !positive(tolerance) || !positive(angle_tolerance) {
+        return Err(invalid(
+            py,
+            format!(
+                "tolerance and angle_tolerance must be positive numbers, not {tolerance} and {angle_tolerance}"
+            ),
+        ));
+    }
+    let (mut bytes, name) =
+        read_program(py, program.as_deref(), code.map(|c| c.as_bytes().to_vec()))?;
+    if apt {
+        let text = std::str::from_utf8(&bytes).map_err(|_| {
+            input_error(
+                py,
+                "APT / CL data must be text (UTF-8)",
+                Some(&name),
+                None,
+                None,
+                None,
+            )
+        })?;
+        bytes = apt_to_tcpc(py, text, &name)?.into_bytes();
+    }
+    let machine = &machine.get().machine;
+    let offsets_py = offsets;
+    let offsets = &offsets.get().offsets;
+    let options = PostOptions {
+        tolerance,
+        angle_tolerance,
+        origin: fiveaxis_post::g54_origin(offsets),
+    };
+    let source = ReaderSource::new(Box::new(std::io::Cursor::new(bytes)) as Box<dyn ReadSeek>);
+    let post = with_runner(
+        py,
+        machine,
+        offsets_py.get(),
+        source,
+        RunOptions::default(),
+        &[],
+        &programs,
+        |runner| fiveaxis_post::convert(runner, options),
+    )?
+    .map_err(|e| run_error(py, &e, &name))?;
+    let header = program::Header {
+        source: &name,
+        number: None,
+    };
+    let text = program::write(machine, &post, &options, &header);
+    let d = PyDict::new(py);
+    d.set_item("text", text)?;
+    d.set_item("deviation_tip", post.deviation.tip)?;
+    d.set_item("deviation_angle", post.deviation.angle)?;
+    d.set_item("source_blocks", post.source_blocks)?;
+    d.set_item("blocks", post.moves.len())?;
+    d.set_item("unresolved", post.unresolved)?;
+    d.set_item("tool_lengths", post.tool_lengths.clone())?;
+    Ok(d)
+}

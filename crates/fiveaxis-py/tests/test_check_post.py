@@ -1,0 +1,130 @@
+"""`check` and `post` give what `fiveaxis check --format json` and
+`fiveaxis post` give: every finding, axis range and time exactly, and
+the same program text."""
+
+from __future__ import annotations
+
+import json
+import math
+import subprocess
+from pathlib import Path
+from typing import Any, List, Optional
+
+import numpy as np
+import pytest
+
+import fiveaxis as fx
+
+from conftest import EXAMPLES, FIXTURES, REPO
+
+CHECKED = [
+    (EXAMPLES / "tcpc-vector.nc", "head-table-bc", EXAMPLES / "offsets.toml"),
+    (EXAMPLES / "bracket.nc", "trunnion-ac", EXAMPLES / "offsets.toml"),
+    (EXAMPLES / "tilted-holes.nc", "trunnion-ac", EXAMPLES / "offsets.toml"),
+    (FIXTURES / "alarm_ot0500_overtravel_plus.nc", "trunnion-ac", None),
+    (FIXTURES / "machine_head_head_ca_tool_axis_jsonl.nc", "head-head-ca", FIXTURES / "offsets.toml"),
+]
+
+
+def cli_args(machine: str, offsets: Optional[Path]) -> List[str]:
+    return ["--machine", machine] + (["--offsets", str(offsets)] if offsets else [])
+
+
+def same(a: Optional[float], b: Optional[float]) -> bool:
+    if a is None or b is None:
+        return a is None and b is None
+    return a == b and math.copysign(1, a) == math.copysign(1, b)
+
+
+@pytest.mark.parametrize("program, machine, offsets", CHECKED, ids=lambda v: getattr(v, "name", str(v)))
+def test_check_is_the_cli_report(cli: Path, program: Path, machine: str, offsets: Optional[Path]) -> None:
+    done = subprocess.run(
+        [str(cli), "check", str(program), *cli_args(machine, offsets), "--format", "json", "--fail-on", "never"],
+        capture_output=True, timeout=300,
+    )
+    assert done.returncode == 0, done.stderr
+    want: dict[str, Any] = json.loads(done.stdout)
+    got = fx.check(program, machine, offsets)
+    assert got.program == want["program"] and got.machine == want["machine"]
+    assert got.ended == want["ended"] and got.blocks == want["blocks"]
+    assert same(got.time.programmed, want["time"]["programmed"])
+    assert same(got.time.estimated, want["time"]["estimated"])
+    if want["alarm"] is None:
+        assert got.alarm is None
+    else:
+        assert got.alarm is not None
+        assert (got.alarm.code, got.alarm.line, got.alarm.message) == (
+            want["alarm"]["code"], want["alarm"]["line"], want["alarm"]["message"])
+    assert sorted(a.name for a in got.axes) == sorted(want["axes"])
+    for a in got.axes:
+        w = want["axes"][a.name]
+        assert same(a.min, w["min"]) and same(a.max, w["max"]), a
+        lo, hi = a.limits if a.limits is not None else (None, None)
+        assert same(lo, w["limit_min"]) and same(hi, w["limit_max"]), a
+    assert len(got.findings) == len(want["findings"])
+    for f, w in zip(got.findings, want["findings"]):
+        assert (f.kind, f.severity, f.line, f.message) == (w["kind"], w["severity"], w["line"], w["message"])
+        assert f.axis == w.get("axis")
+        assert same(f.value, w.get("value"))
+    assert got.counts()[want["findings"][0]["kind"]] >= 1 if want["findings"] else got.verdict == "PASS"
+
+
+POSTED = [
+    (EXAMPLES / "tcpc-vector.nc", "head-table-bc", EXAMPLES / "offsets.toml", {}),
+    (EXAMPLES / "tilted-holes.nc", "trunnion-ac", EXAMPLES / "offsets.toml", {}),
+    (EXAMPLES / "tcpc-vector.nc", "head-table-bc", EXAMPLES / "offsets.toml", {"tolerance": 0.002, "angle_tolerance": 0.05}),
+    (REPO / "crates" / "fiveaxis-post" / "tests" / "tcpc-arcs.nc", "head-table-bc", EXAMPLES / "offsets.toml", {}),
+]
+
+
+@pytest.mark.parametrize("program, machine, offsets, kw", POSTED, ids=lambda v: getattr(v, "name", str(v)))
+def test_post_is_the_cli_program(cli: Path, program: Path, machine: str, offsets: Path, kw: dict) -> None:
+    extra = []
+    if "tolerance" in kw:
+        extra = ["--tolerance", str(kw["tolerance"]), "--angle-tolerance", str(kw["angle_tolerance"])]
+    done = subprocess.run(
+        [str(cli), "post", str(program), *cli_args(machine, offsets), *extra], capture_output=True, timeout=300,
+    )
+    assert done.returncode == 0, done.stderr
+    got = fx.post(program, machine, offsets, **kw)
+    assert got.text == done.stdout.decode()
+    assert 0 <= got.deviation_tip <= kw.get("tolerance", 0.01)
+    assert 0 <= got.deviation_angle <= kw.get("angle_tolerance", 0.1)
+    assert got.blocks > 0 and got.source_blocks > 0 and got.unresolved == 0
+
+
+APT = """PARTNO/TEST
+UNIT/MM
+LOADTL/1
+FEDRAT/500.0,MMPM
+RAPID
+GOTO/0.0,0.0,50.0,0.0,0.0,1.0
+RAPID
+GOTO/0.0,0.0,5.0,0.0,0.0,1.0
+GOTO/40.0,0.0,5.0,0.3420201,0.0,0.9396926
+GOTO/40.0,30.0,5.0,0.0,0.3420201,0.9396926
+GOTO/0.0,30.0,5.0,0.0,0.0,1.0
+FINI
+"""
+
+
+def test_apt_converts_and_posts(tmp_path: Path, cli: Path) -> None:
+    tcpc = fx.apt_to_tcpc(APT)
+    assert "G43.5" in tcpc
+    path = tmp_path / "part.apt"
+    path.write_text(APT)
+    offsets = {"tools": {1: {"length": 100.0}}}
+    got = fx.post(path, "head-table-bc", offsets)
+    assert got.deviation_tip <= 0.01
+    # The posted program, run without TCPC, passes through every GOTO point.
+    machine = fx.Machine("head-table-bc")
+    rows = fx.run(code=got.text, machine=machine, offsets=offsets)
+    # Run without length compensation (G49): the tip is forward
+    # kinematics of the axes with the posted tool length.
+    tips, _ = machine.forward(rows.joints, 100.0)
+    points = np.array([[40.0, 0.0, 5.0], [40.0, 30.0, 5.0], [0.0, 30.0, 5.0]])
+    for p in points:
+        assert np.linalg.norm(tips - p, axis=1).min() < 1e-3, p
+    with pytest.raises(fx.InputError) as info:
+        fx.apt_to_tcpc("GOTO/1,2\nFOO/BAR\n")
+    assert info.value.line is not None
