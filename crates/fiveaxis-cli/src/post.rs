@@ -7,7 +7,7 @@ use std::io::{Read, Write};
 use std::path::PathBuf;
 
 use fiveaxis_control::{ReaderSource, RunOptions, Runner};
-use fiveaxis_post::{Converter, PostOptions, program};
+use fiveaxis_post::{Axes, Converter, PostOptions, program};
 
 use crate::{
     EXIT_OK, InputError, Stop, finish, library, load_machine, load_offsets, open_program,
@@ -49,6 +49,35 @@ pub struct PostArgs {
     /// vectors) for a machine with the option, not machine axes.
     #[arg(long)]
     tcpc: bool,
+    /// Retract of a flip along the tool axis (mm): where the rotary axes
+    /// must jump, the tool backs off this far, the axes turn, and it comes
+    /// back to the same tip.
+    #[arg(long, default_value_t = fiveaxis_post::DEFAULT_RETRACT, value_parser = crate::positive)]
+    retract: f64,
+    /// Feed style: `inverse-time` (G93), `dpm` (G94, F per block from the
+    /// composite travel, degrees as mm) or `programmed` (G94, F kept; the
+    /// header states the tip feed error).
+    #[arg(long, default_value = "inverse-time", value_parser = feed_style)]
+    feed: fiveaxis_post::FeedStyle,
+    /// Whose rotary solution: `source` (the control's, as TCPC would move
+    /// the axes; the default for G-code on the same machine) or `post`
+    /// (the post's own: continuous, flips with a retract, the singular
+    /// cone; the default for APT / CL input and retargeting).
+    #[arg(long, value_parser = ["source", "post"])]
+    axes: Option<String>,
+    /// The machine the program was written for (built-in name or machine
+    /// file): its axes are turned into the same tool path on `--machine`.
+    #[arg(long)]
+    from_machine: Option<String>,
+    /// Offsets file of `--from-machine` (default: `--offsets`).
+    #[arg(long, requires = "from_machine")]
+    from_offsets: Option<PathBuf>,
+}
+
+/// A feed style by name.
+fn feed_style(name: &str) -> Result<fiveaxis_post::FeedStyle, String> {
+    fiveaxis_post::FeedStyle::parse(name)
+        .ok_or_else(|| format!("`{name}`: expected inverse-time, dpm or programmed"))
 }
 
 /// Segments taken from the runner at once.
@@ -58,6 +87,14 @@ const BATCH: usize = 1024;
 pub fn post(args: &PostArgs) -> Result<u8, InputError> {
     let machine = load_machine(&args.machine)?;
     let offsets = load_offsets(args.offsets.as_deref())?;
+    let source_machine = match &args.from_machine {
+        Some(name) => Some(load_machine(name)?),
+        None => None,
+    };
+    let source_offsets = match (&args.from_machine, &args.from_offsets) {
+        (Some(_), Some(path)) => load_offsets(Some(path))?,
+        _ => offsets.clone(),
+    };
     let program_name = if args.program == "-" {
         "<stdin>"
     } else {
@@ -90,15 +127,31 @@ pub fn post(args: &PostArgs) -> Result<u8, InputError> {
         }
         bytes = tcpc.into_bytes();
     }
+    let axes = match (args.axes.as_deref(), is_apt || source_machine.is_some()) {
+        (Some("source"), _) if source_machine.is_some() => {
+            return Err(InputError(
+                "error: --axes source keeps the source's axes: not with --from-machine".into(),
+            ));
+        }
+        (Some("source"), _) | (None, false) => Axes::Source,
+        _ => Axes::Post {
+            great_circle: is_apt,
+        },
+    };
     let options = PostOptions {
         tolerance: args.tolerance,
         angle_tolerance: args.angle_tolerance,
         // The output is written in G54 (with the external offset).
         origin: offsets.work[0] + offsets.external,
+        axes,
+        retract: args.retract,
+        feed: args.feed,
     };
+    let carried = program::carried_words(&String::from_utf8_lossy(&bytes));
+    let run_on = source_machine.as_ref().unwrap_or(&machine);
     let mut runner = Runner::new(
-        &machine,
-        offsets,
+        run_on,
+        source_offsets,
         ReaderSource::new(std::io::Cursor::new(&bytes[..])),
         RunOptions::default(),
     );
@@ -107,7 +160,7 @@ pub fn post(args: &PostArgs) -> Result<u8, InputError> {
             .map_err(|e| InputError::io(&dir.display().to_string(), &e))?;
         runner = runner.with_library(Box::new(library));
     }
-    let mut converter = Converter::new(&machine, options);
+    let mut converter = Converter::retarget(run_on, &machine, options);
     let mut segments = Vec::with_capacity(BATCH);
     loop {
         segments.clear();
@@ -132,6 +185,8 @@ pub fn post(args: &PostArgs) -> Result<u8, InputError> {
     let header = program::Header {
         source: program_name,
         number: None,
+        source_machine: source_machine.as_ref().map(|m| m.name.as_str()),
+        carried: &carried,
     };
     let text = program::write(&machine, &post, &options, &header);
     emit(args.output.as_ref(), &text)

@@ -10,7 +10,8 @@ use std::fmt::Write;
 
 use fiveaxis_machine::{Joints, Machine, Vec3};
 
-use crate::{Move, Post, PostOptions};
+use crate::feed::tip_feed_error;
+use crate::{Axes, FeedStyle, Move, Note, Post, PostOptions};
 
 /// Fewest decimals written for lengths and angles.
 pub const MIN_DECIMALS: u32 = 4;
@@ -73,12 +74,71 @@ impl Quantum {
 }
 
 /// What the header says besides the post's own figures.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, Default)]
 pub struct Header<'a> {
     /// The source program, as named by the user.
     pub source: &'a str,
     /// Program number of the output (`O` word), if any.
     pub number: Option<u32>,
+    /// The machine the source was written for, when it is not the
+    /// output's (retargeting).
+    pub source_machine: Option<&'a str>,
+    /// Words of the source carried into the output, by source line
+    /// ([`carried_words`]).
+    pub carried: &'a [(u32, String)],
+}
+
+/// M codes carried from the source into the output: stops, spindle, tool
+/// change, coolant.
+pub const CARRIED_M: [u32; 9] = [0, 1, 3, 4, 5, 6, 7, 8, 9];
+
+/// The `M`, `S` and `T` words of each line of a G-code text that the
+/// output carries (M in [`CARRIED_M`], S and T with a number), joined per
+/// line, with the line number (1-based). Comments are skipped; words
+/// whose value is not a plain number (macro expressions) are not carried.
+pub fn carried_words(text: &str) -> Vec<(u32, String)> {
+    let mut out = Vec::new();
+    for (index, line) in text.lines().enumerate() {
+        let mut words = Vec::new();
+        let mut chars = line.char_indices().peekable();
+        let bytes = line.as_bytes();
+        while let Some((i, c)) = chars.next() {
+            match c {
+                '(' => {
+                    // To the closing parenthesis.
+                    for (_, d) in chars.by_ref() {
+                        if d == ')' {
+                            break;
+                        }
+                    }
+                }
+                ';' => break,
+                'M' | 'm' | 'S' | 's' | 'T' | 't' => {
+                    let letter = c.to_ascii_uppercase();
+                    let mut end = i + 1;
+                    while end < bytes.len() && (bytes[end].is_ascii_digit() || bytes[end] == b'.') {
+                        end += 1;
+                    }
+                    let digits = &line[i + 1..end];
+                    if let Ok(v) = digits.parse::<f64>()
+                        && v >= 0.0
+                        && v.fract() == 0.0
+                        && (letter != 'M' || CARRIED_M.contains(&(v as u32)))
+                    {
+                        words.push(format!("{letter}{}", v as u64));
+                    }
+                }
+                _ => {}
+            }
+        }
+        if !words.is_empty() {
+            out.push((
+                u32::try_from(index + 1).unwrap_or(u32::MAX),
+                words.join(" "),
+            ));
+        }
+    }
+    out
 }
 
 /// Writes the whole program.
@@ -97,6 +157,29 @@ pub fn write(machine: &Machine, post: &Post, options: &PostOptions, header: &Hea
             .collect();
         let _ = writeln!(out, "({clean})");
     };
+    // The F words and what they do to the tip feed.
+    let mut words = Vec::with_capacity(post.moves.len());
+    let mut feed_error = 0.0f64;
+    let mut at = post
+        .start
+        .or_else(|| post.moves.iter().find_map(Move::to).copied());
+    for m in &post.moves {
+        let mut word = None;
+        if let Move::Feed {
+            to, minutes, feed, ..
+        } = m
+        {
+            let from = at.unwrap_or(*to);
+            word = options.feed.f_word(machine, &from, to, *minutes, *feed);
+            if let (FeedStyle::Programmed, Some(f)) = (options.feed, word) {
+                feed_error = feed_error.max(tip_feed_error(machine, &from, to, *minutes, f));
+            }
+        }
+        if let Some(to) = m.to() {
+            at = Some(*to);
+        }
+        words.push(word);
+    }
     out.push_str("%\n");
     if let Some(n) = header.number {
         let _ = writeln!(out, "O{n:04}");
@@ -106,6 +189,9 @@ pub fn write(machine: &Machine, post: &Post, options: &PostOptions, header: &Hea
         "fiveaxis post: machine-axis program, TCPC removed",
     );
     comment(&mut out, &format!("source: {}", header.source));
+    if let Some(from) = header.source_machine {
+        comment(&mut out, &format!("written for: {from}, retargeted"));
+    }
     comment(&mut out, &format!("machine: {}", machine.name));
     comment(
         &mut out,
@@ -137,6 +223,33 @@ pub fn write(machine: &Machine, post: &Post, options: &PostOptions, header: &Hea
             post.deviation.tip, post.deviation.angle
         ),
     );
+    if let Axes::Post { .. } = options.axes {
+        comment(
+            &mut out,
+            &format!(
+                "rotary axes: the post's own, continuous, {} flips: retract {} mm along the tool axis, turn, re-engage",
+                post.flips, options.retract
+            ),
+        );
+        if post.singular_blocks > 0 {
+            comment(
+                &mut out,
+                &format!(
+                    "singular passages: {} blocks, rotating axis linear within the {} deg cone, direction within {:.4} deg of the programmed there",
+                    post.singular_blocks, machine.params.singular_cone, post.singular_error
+                ),
+            );
+        }
+        if post.out_of_limits > 0 {
+            comment(
+                &mut out,
+                &format!(
+                    "warning: {} blocks leave the rotary soft limits on every solution",
+                    post.out_of_limits
+                ),
+            );
+        }
+    }
     if post.unresolved > 0 {
         comment(
             &mut out,
@@ -146,10 +259,20 @@ pub fn write(machine: &Machine, post: &Post, options: &PostOptions, header: &Hea
             ),
         );
     }
+    let feed_text = match options.feed {
+        FeedStyle::InverseTime => "feed G93 inverse time, tip feed kept".to_owned(),
+        FeedStyle::DegreesPerMinute => {
+            "feed G94 per block from the composite travel, degrees as mm, tip feed kept".to_owned()
+        }
+        FeedStyle::Programmed => format!(
+            "feed G94 as programmed: tip feed error up to {:.2} percent",
+            100.0 * feed_error
+        ),
+    };
     comment(
         &mut out,
         &format!(
-            "{} cutting blocks in, {} blocks out, feed G93 inverse time, tip feed kept",
+            "{} cutting blocks in, {} blocks out, {feed_text}",
             post.source_blocks,
             post.moves.len()
         ),
@@ -161,24 +284,62 @@ pub fn write(machine: &Machine, post: &Post, options: &PostOptions, header: &Hea
             options.origin[0], options.origin[1], options.origin[2]
         ),
     );
-    // G93 stays on throughout: positioning does not read F.
-    out.push_str("G21 G17 G90 G40 G49 G69 G80 G54 G93\n");
-    for m in &post.moves {
+    // The feed mode stays on throughout: positioning does not read F.
+    let _ = writeln!(
+        out,
+        "G21 G17 G90 G40 G49 G69 G80 G54 {}",
+        options.feed.g_code()
+    );
+    let mut carried = header.carried.iter().peekable();
+    for (m, word) in post.moves.iter().zip(&words) {
+        let line = match m {
+            Move::Rapid { line, .. } | Move::Feed { line, .. } => Some(*line),
+            Move::Note(_) => None,
+        };
+        if let Some(line) = line {
+            while let Some((_, w)) = carried.next_if(|(l, _)| *l <= line) {
+                out.push_str(w);
+                out.push('\n');
+            }
+        }
         match m {
-            Move::Rapid(to) => {
+            Move::Rapid { to, .. } => {
                 out.push_str("G0");
                 axes(&mut out, machine, to, options, &quantum);
             }
-            Move::Feed { to, minutes } => {
+            Move::Feed { to, .. } => {
+                let Some(f) = word else {
+                    // No axis moves (G94 styles): nothing to write.
+                    continue;
+                };
                 out.push_str("G1");
                 axes(&mut out, machine, to, options, &quantum);
                 out.push_str(" F");
-                feed(&mut out, 1.0 / minutes);
+                feed(&mut out, *f);
+            }
+            Move::Note(Note::FlipStart { line, retract }) => {
+                comment(
+                    &mut out,
+                    &format!(
+                        "flip before source line {line}: retract {retract} mm along the tool axis, turn the rotary axes, re-engage"
+                    ),
+                );
+                continue;
+            }
+            Move::Note(Note::FlipEnd) => {
+                comment(&mut out, "flip end: re-engaged at the same tip");
+                continue;
             }
         }
         out.push('\n');
     }
-    out.push_str("G94\n");
+    for (_, w) in carried {
+        out.push_str(w);
+        out.push('\n');
+    }
+    if options.feed == FeedStyle::InverseTime {
+        out.push_str("G94\n");
+    }
     out.push_str("M30\n%\n");
     out
 }
