@@ -72,6 +72,26 @@ pub struct PostArgs {
     /// Offsets file of `--from-machine` (default: `--offsets`).
     #[arg(long, requires = "from_machine")]
     from_offsets: Option<PathBuf>,
+    /// The tool length (mm) a machine-axis source was written for, whose
+    /// tip the output follows where no length compensation is in force;
+    /// default: the length the header of a `fiveaxis post` output names.
+    #[arg(long, value_parser = crate::positive)]
+    tool_length: Option<f64>,
+}
+
+/// The tool length a `fiveaxis post` output was made for (its header's
+/// `(FOR TOOL LENGTH L MM ONLY ...)`, the first length when it names
+/// several).
+fn header_tool_length(text: &str) -> Option<f64> {
+    let line = text
+        .lines()
+        .take(32)
+        .find_map(|l| l.strip_prefix("(FOR TOOL LENGTH "))?;
+    line.split([' ', ','])
+        .next()?
+        .parse()
+        .ok()
+        .filter(|l: &f64| l.is_finite())
 }
 
 /// A feed style by name.
@@ -146,6 +166,9 @@ pub fn post(args: &PostArgs) -> Result<u8, InputError> {
         axes,
         retract: args.retract,
         feed: args.feed,
+        source_tool_length: args
+            .tool_length
+            .or_else(|| header_tool_length(&String::from_utf8_lossy(&bytes))),
     };
     let carried = program::carried_words(&String::from_utf8_lossy(&bytes));
     let run_on = source_machine.as_ref().unwrap_or(&machine);

@@ -65,8 +65,9 @@ impl FeedStyle {
 
     /// The F word of a cutting block from `from` to `to` that must last
     /// `minutes`, the source block programmed at `programmed` mm/min;
-    /// `None` for a block whose axes do not move in a `G94` style (it is
-    /// left out: F would be 0).
+    /// `None` for a block whose axes do not move (it is left out: in
+    /// `G94` its F would be 0, and a block of no motion takes no time on
+    /// the control).
     pub fn f_word(
         self,
         machine: &Machine,
@@ -77,8 +78,8 @@ impl FeedStyle {
     ) -> Option<f64> {
         let travel = composite_travel(machine, from, to);
         match self {
-            FeedStyle::InverseTime => Some(1.0 / minutes),
             _ if travel <= 0.0 => None,
+            FeedStyle::InverseTime => Some(1.0 / minutes),
             FeedStyle::DegreesPerMinute => Some(travel / minutes),
             FeedStyle::Programmed => Some(programmed),
         }

@@ -71,25 +71,38 @@ pub struct Source<'a> {
     /// circle (programmed tool vectors: APT / CL data), not as the source's
     /// axes turn. Only for TCPC blocks.
     pub great_circle: bool,
+    /// The tool length of the tip (the block's own, or the one a
+    /// machine-axis source was written for).
+    pub tool_length: f64,
 }
 
 impl Source<'_> {
     /// Tool tip and direction in the part frame at `s`.
     pub fn pose(&self, s: f64) -> (Vec3, Vec3) {
-        let row = self.seg.row(self.machine, s);
+        let (tip, dir) = self.row(s);
         match self.ends() {
-            Some([a, b]) => (row.tip, slerp(&a, &b, s)),
-            None => (row.tip, row.dir),
+            Some([a, b]) => (tip, slerp(&a, &b, s)),
+            None => (tip, dir),
         }
+    }
+
+    /// Tip (of [`Source::tool_length`]) and direction of the source's
+    /// axes at `s`, part frame (as `Segment::row`).
+    fn row(&self, s: f64) -> (Vec3, Vec3) {
+        let seg = self.seg;
+        let pose = self
+            .machine
+            .forward(&seg.eval(self.machine, s), self.tool_length);
+        (
+            seg.setup.inverse_point(&(pose.tip - seg.work)),
+            seg.setup.inverse_vector(&pose.dir),
+        )
     }
 
     /// The end directions when the tool turns on the great circle.
     fn ends(&self) -> Option<[Vec3; 2]> {
         match (&self.seg.path, self.great_circle) {
-            (Path::Tcpc(_), true) => Some([
-                self.seg.row(self.machine, 0.0).dir,
-                self.seg.row(self.machine, 1.0).dir,
-            ]),
+            (Path::Tcpc(_), true) => Some([self.row(0.0).1, self.row(1.0).1]),
             _ => None,
         }
     }
@@ -123,28 +136,42 @@ impl<'a> Law<'a> {
     /// `start` (where they stand; its direction must be the block's start
     /// direction) and tracked from there.
     pub fn new(source: Source<'a>, target: &'a Machine, origin: Vec3, start: [f64; 2]) -> Self {
+        Self::with_exit(source, target, origin, start, 0)
+    }
+
+    /// [`Law::new`], leaving each singular passage by the exit solution
+    /// of rank `exit` (0: the one whose rotating axis is nearest its
+    /// entry angle; 1: the other branch, for a block whose first choice
+    /// leaves the soft limits).
+    pub fn with_exit(
+        source: Source<'a>,
+        target: &'a Machine,
+        origin: Vec3,
+        start: [f64; 2],
+        exit: usize,
+    ) -> Self {
         let mut law = Self {
             source,
             target,
             origin,
-            tool_length: source.seg.tool_length,
+            tool_length: source.tool_length,
             rotating: rotating_axis(target),
             knots: Vec::new(),
             passages: Vec::new(),
             ends: source.ends(),
         };
-        law.track(start);
+        law.track(start, exit);
         law
     }
 
     /// Programmed tip (target table frame) and direction at `s`.
     pub fn reference(&self, s: f64) -> (Vec3, Vec3) {
-        let row = self.source.seg.row(self.source.machine, s);
+        let (tip, dir) = self.source.row(s);
         let dir = match &self.ends {
             Some([a, b]) => slerp(a, b, s),
-            None => row.dir,
+            None => dir,
         };
-        (row.tip + self.origin, dir)
+        (tip + self.origin, dir)
     }
 
     /// The programmed direction at `s` (for a great-circle block without
@@ -152,11 +179,11 @@ impl<'a> Law<'a> {
     fn direction(&self, s: f64) -> Vec3 {
         match &self.ends {
             Some([a, b]) => slerp(a, b, s),
-            None => self.source.seg.row(self.source.machine, s).dir,
+            None => self.source.row(s).1,
         }
     }
 
-    fn track(&mut self, start: [f64; 2]) {
+    fn track(&mut self, start: [f64; 2], exit_rank: usize) {
         let machine = self.target;
         let cone = machine.params.singular_cone;
         let mut turn = 0.0;
@@ -183,7 +210,7 @@ impl<'a> Law<'a> {
             let q = match entered.take() {
                 Some(a) => {
                     let held = self.knots[a].1;
-                    let exit = exit_solution(machine, &d, held, rot);
+                    let exit = exit_solution(machine, &d, held, rot, exit_rank);
                     let passage = Passage {
                         s: [self.knots[a].0, s],
                         rotating: [held[rot], exit[rot]],
@@ -347,11 +374,18 @@ pub fn start_candidates(machine: &Machine, dir: &Vec3, near: [f64; 2]) -> Vec<[f
     out
 }
 
-/// The solution of `dir` whose rotating axis is nearest `held`'s (then the
-/// tilt axis nearest), each axis unwrapped near `held`.
-fn exit_solution(machine: &Machine, dir: &Vec3, held: [f64; 2], rot: usize) -> [f64; 2] {
+/// The solutions of `dir`, each axis unwrapped near `held`, ranked by the
+/// motion of the rotating axis from `held`'s (then the tilt axis'): the
+/// one of rank `rank` (the last when there are fewer).
+fn exit_solution(
+    machine: &Machine,
+    dir: &Vec3,
+    held: [f64; 2],
+    rot: usize,
+    rank: usize,
+) -> [f64; 2] {
     let found = machine.orientations(dir, held);
-    found
+    let mut ranked: Vec<((f64, f64), [f64; 2])> = found
         .pairs()
         .iter()
         .map(|p| {
@@ -365,8 +399,11 @@ fn exit_solution(machine: &Machine, dir: &Vec3, held: [f64; 2], rot: usize) -> [
             );
             (key, q)
         })
-        .min_by(|x, y| x.0.partial_cmp(&y.0).unwrap_or(std::cmp::Ordering::Equal))
-        .map_or(held, |(_, q)| q)
+        .collect();
+    ranked.sort_by(|x, y| x.0.partial_cmp(&y.0).unwrap_or(std::cmp::Ordering::Equal));
+    ranked
+        .get(rank.min(ranked.len().saturating_sub(1)))
+        .map_or(held, |(_, q)| *q)
 }
 
 /// The tilt angle (degrees, unwrapped near `guide`) that brings the tool

@@ -40,6 +40,10 @@ pub const DEFAULT_ANGLE_TOLERANCE: f64 = 0.1;
 /// millimetres) and short enough not to leave the machine's travel.
 pub const DEFAULT_RETRACT: f64 = 5.0;
 
+/// Tip travel of a cutting block below which it is a rotary move alone,
+/// mm.
+pub const TIP_AT_REST: f64 = 1e-9;
+
 /// Duration given to a cutting block that has no length to feed over,
 /// minutes.
 pub const MIN_BLOCK_MINUTES: f64 = 1e-6;
@@ -83,6 +87,10 @@ pub struct PostOptions {
     pub retract: f64,
     /// How the feed is written.
     pub feed: FeedStyle,
+    /// The tool length a machine-axis source (no length compensation in
+    /// force) was written for, mm: its tool tip is what the output
+    /// follows. `None`: the gauge point (length 0).
+    pub source_tool_length: Option<f64>,
 }
 
 impl Default for PostOptions {
@@ -94,6 +102,7 @@ impl Default for PostOptions {
             axes: Axes::Source,
             retract: DEFAULT_RETRACT,
             feed: FeedStyle::InverseTime,
+            source_tool_length: None,
         }
     }
 }
@@ -262,7 +271,7 @@ impl<'m> Converter<'m> {
                 self.rapid(&seg.start, &e, seg.line);
             }
             _ => {
-                self.cutting_bookkeeping(seg);
+                self.cutting_bookkeeping(seg.tool_length);
                 let minutes = block_minutes(self.source, seg);
                 let feed = seg.feed.unwrap_or(0.0);
                 let machine = self.machine;
@@ -282,11 +291,11 @@ impl<'m> Converter<'m> {
         }
     }
 
-    fn cutting_bookkeeping(&mut self, seg: &Segment) {
+    fn cutting_bookkeeping(&mut self, length: f64) {
         // Positions are exact for any tool; the tool length matters where
         // the tip must follow the path.
-        if !self.post.tool_lengths.contains(&seg.tool_length) {
-            self.post.tool_lengths.push(seg.tool_length);
+        if !self.post.tool_lengths.contains(&length) {
+            self.post.tool_lengths.push(length);
         }
         self.post.source_blocks += 1;
     }
@@ -322,10 +331,15 @@ impl<'m> Converter<'m> {
     }
 
     fn push_post(&mut self, seg: &Segment, great_circle: bool) {
+        let length = match (seg.tool_length, self.options.source_tool_length) {
+            (l, Some(given)) if l == 0.0 => given,
+            (l, _) => l,
+        };
         let source = follow::Source {
             machine: self.source,
             seg,
             great_circle,
+            tool_length: length,
         };
         let origin = self.options.origin;
         if seg.motion == Motion::Rapid {
@@ -337,7 +351,7 @@ impl<'m> Converter<'m> {
             for &s in targets {
                 let (tip, dir) = source.pose(s);
                 let q = self.nearest_angles(&dir, seg);
-                let to = self.pose_joints(q, &(tip + origin), seg.tool_length);
+                let to = self.pose_joints(q, &(tip + origin), length);
                 if self.post.start.is_none() {
                     self.post.start = Some(to);
                 }
@@ -348,15 +362,29 @@ impl<'m> Converter<'m> {
             }
             return;
         }
-        self.cutting_bookkeeping(seg);
+        self.cutting_bookkeeping(length);
         let (tip0, dir0) = source.pose(0.0);
+        // The axes go on from where they stand if they point the tool
+        // along the block's start direction, or, inside the singular cone
+        // (a passage goes on), within its angle to the singular line.
+        let cone = self.machine.params.singular_cone;
         let standing = self.angles.filter(|q| {
-            let j = self.pose_joints(*q, &(tip0 + origin), seg.tool_length);
-            let d = self.machine.forward(&j, seg.tool_length).dir;
-            follow::angle(&d, &dir0) <= 1e-6
+            let j = self.pose_joints(*q, &(tip0 + origin), length);
+            let d = self.machine.forward(&j, length).dir;
+            let off = follow::singular_angle(self.machine, &dir0);
+            let allowed = if off < cone { off + 1e-9 } else { 1e-6 };
+            follow::angle(&d, &dir0) <= allowed
         });
         let start = standing.unwrap_or_else(|| self.nearest_angles(&dir0, seg));
         let mut law = follow::Law::new(source, self.machine, origin, start);
+        if !law.within_limits() && law.has_passage() {
+            // Leaving the singular cone on the other branch may keep the
+            // limits without a flip.
+            let other = follow::Law::with_exit(source, self.machine, origin, start, 1);
+            if other.within_limits() {
+                law = other;
+            }
+        }
         if !law.within_limits() {
             let other = follow::start_candidates(self.machine, &dir0, start)
                 .into_iter()
@@ -370,21 +398,29 @@ impl<'m> Converter<'m> {
                 None => self.post.out_of_limits += 1,
             }
         }
-        let begin = self.pose_joints(start, &(tip0 + origin), seg.tool_length);
+        let begin = self.pose_joints(start, &(tip0 + origin), length);
         if self.post.start.is_none() {
             self.post.start = Some(begin);
         }
         let feed = seg.feed.unwrap_or(0.0);
         let law_start = law.angles(0.0);
         if law_start != start {
-            self.flip(seg, start, law_start, &(tip0 + origin), &dir0, feed);
+            self.flip(
+                seg.line,
+                length,
+                start,
+                law_start,
+                &(tip0 + origin),
+                &dir0,
+                feed,
+            );
         } else if standing.is_none() {
             // The axes stood elsewhere (the first block, a tool change):
             // move to the block's start at its feed.
             let from = self.at(&begin);
             let to = self.snap(&begin);
             if from != to {
-                let length = (self.machine.forward(&from, seg.tool_length).tip - tip0 - origin)
+                let length = (self.machine.forward(&from, length).tip - tip0 - origin)
                     .norm()
                     .max(linearize::max_turn(self.machine, &from, &to));
                 self.post.moves.push(Move::Feed {
@@ -433,9 +469,11 @@ impl<'m> Converter<'m> {
     /// rotary axes from `from` to `to` with the tip held there, and
     /// re-engage to `tip` (target table frame) along the same axis
     /// (`dir`: both solutions point the tool along it).
+    #[allow(clippy::too_many_arguments)]
     fn flip(
         &mut self,
-        seg: &Segment,
+        line: u32,
+        length: f64,
         from: [f64; 2],
         to: [f64; 2],
         tip: &Vec3,
@@ -444,11 +482,9 @@ impl<'m> Converter<'m> {
     ) {
         self.post.flips += 1;
         let retract = self.options.retract;
-        let length = seg.tool_length;
-        self.post.moves.push(Move::Note(Note::FlipStart {
-            line: seg.line,
-            retract,
-        }));
+        self.post
+            .moves
+            .push(Move::Note(Note::FlipStart { line, retract }));
         let clear = tip + dir * retract;
         let minutes = |travel: f64| {
             if feed > 0.0 {
@@ -462,7 +498,7 @@ impl<'m> Converter<'m> {
             to: up,
             minutes: minutes(retract),
             feed,
-            line: seg.line,
+            line,
         });
         // The turn: the tip held at the clear point, the rotary axes
         // linear; F read as degrees per minute of the largest turn.
@@ -489,7 +525,7 @@ impl<'m> Converter<'m> {
                     to: j,
                     minutes: total * share,
                     feed,
-                    line: seg.line,
+                    line,
                 });
             },
         );
@@ -500,7 +536,7 @@ impl<'m> Converter<'m> {
             to: down,
             minutes: minutes(retract),
             feed,
-            line: seg.line,
+            line,
         });
         self.post.moves.push(Move::Note(Note::FlipEnd));
     }
@@ -553,7 +589,7 @@ pub fn block_minutes(machine: &Machine, seg: &Segment) -> f64 {
     // A block that only turns the tool about a standing tip: F is read as
     // degrees per minute of the largest rotary travel, as FANUC does for
     // rotary-only moves.
-    let length = if length > 0.0 {
+    let length = if length > TIP_AT_REST {
         length
     } else {
         (0..machine.rotary.len())
@@ -564,7 +600,7 @@ pub fn block_minutes(machine: &Machine, seg: &Segment) -> f64 {
             .fold(0.0, f64::max)
     };
     match seg.feed {
-        Some(f) if f > 0.0 && length > 0.0 => length / f,
+        Some(f) if f > 0.0 && length > 0.0 => (length / f).max(MIN_BLOCK_MINUTES),
         // No time to keep: the shortest block the writer can state.
         _ => MIN_BLOCK_MINUTES,
     }

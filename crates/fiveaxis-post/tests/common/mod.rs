@@ -26,6 +26,8 @@ pub const ROW_STEP: f64 = 0.05;
 const LENGTH_SAMPLES: u32 = 400;
 /// Share of a block's time within which its end must be kept.
 pub const TIME_SHARE: f64 = 0.01;
+/// Source blocks shorter than this (minutes) have no end to keep in time.
+const MIN_MINUTES: f64 = 1e-7;
 /// Rounding of the comparison itself, mm / deg.
 const SLACK: f64 = 1e-6;
 
@@ -107,6 +109,8 @@ pub struct Rules {
     /// this margin (degrees) of the output machine's singular line, the
     /// direction may be off by its angle to that line.
     pub singular_margin: Option<f64>,
+    /// The tool length of a machine-axis source (its blocks have none).
+    pub source_tool_length: Option<f64>,
 }
 
 impl Rules {
@@ -117,6 +121,7 @@ impl Rules {
             origin: options.origin,
             great_circle: false,
             singular_margin: None,
+            source_tool_length: options.source_tool_length,
         }
     }
 }
@@ -194,7 +199,20 @@ fn block_time(side: &Side<'_>, seg: &Segment, inverse_time: bool) -> f64 {
     match line_f(side.text, seg.line) {
         // A machine-axis G94 block (the post's output): composite travel.
         Some(word) if is_post_output(side.text) => composite(side.machine, seg) / word,
-        _ => tip_length(side.machine, seg) / f,
+        _ => {
+            let length = tip_length(side.machine, seg);
+            if length > 1e-9 {
+                length / f
+            } else {
+                // The tool turns about a standing tip: F in degrees per
+                // minute of the largest rotary travel (FANUC).
+                let m = side.machine;
+                (m.linear.len()..m.axis_count())
+                    .map(|i| (seg.end[i] - seg.start[i]).abs())
+                    .fold(0.0, f64::max)
+                    / f
+            }
+        }
     }
 }
 
@@ -217,15 +235,29 @@ pub fn flip_ranges(text: &str) -> Vec<(u32, u32)> {
     out
 }
 
+/// The tool length of a source segment's tip.
+fn length_of(seg: &Segment, rules: &Rules) -> f64 {
+    match rules.source_tool_length {
+        Some(l) if seg.tool_length == 0.0 => l,
+        _ => seg.tool_length,
+    }
+}
+
 /// The programmed pose of a source segment at `s` (part frame).
-fn source_pose(machine: &Machine, seg: &Segment, s: f64, great_circle: bool) -> (Vec3, Vec3) {
-    let row = seg.row(machine, s);
-    if great_circle && matches!(seg.path, Path::Tcpc(_)) {
-        let a = seg.row(machine, 0.0).dir;
-        let b = seg.row(machine, 1.0).dir;
-        (row.tip, fiveaxis_control::slerp(&a, &b, s))
+fn source_pose(machine: &Machine, seg: &Segment, s: f64, rules: &Rules) -> (Vec3, Vec3) {
+    let length = length_of(seg, rules);
+    let row = |s: f64| {
+        let p = machine.forward(&seg.eval(machine, s), length);
+        (
+            seg.setup.inverse_point(&(p.tip - seg.work)),
+            seg.setup.inverse_vector(&p.dir),
+        )
+    };
+    let (tip, dir) = row(s);
+    if rules.great_circle && matches!(seg.path, Path::Tcpc(_)) {
+        (tip, fiveaxis_control::slerp(&row(0.0).1, &row(1.0).1, s))
     } else {
-        (row.tip, row.dir)
+        (tip, dir)
     }
 }
 
@@ -292,9 +324,9 @@ pub fn judge(src: Side<'_>, out: Side<'_>, rules: &Rules) -> Result<Worst, Strin
     }
     // Rapids end where the source's do (tip of the source's tool).
     for r in &s_rapids {
-        let tip = r.row(src.machine, 1.0).tip;
+        let tip = source_pose(src.machine, r, 1.0, rules).0;
         let found = o_rapids.iter().any(|o| {
-            let t = out.machine.forward(&o.end, r.tool_length).tip - rules.origin;
+            let t = out.machine.forward(&o.end, length_of(r, rules)).tip - rules.origin;
             (t - tip).norm() <= rules.tolerance
         });
         if !found {
@@ -319,7 +351,7 @@ pub fn judge(src: Side<'_>, out: Side<'_>, rules: &Rules) -> Result<Worst, Strin
             t += d;
             out_ends.push(t);
         }
-        for (end, d) in &ends {
+        for (end, d) in ends.iter().filter(|(_, d)| *d > MIN_MINUTES) {
             let nearest = out_ends
                 .iter()
                 .map(|e| (e - end).abs())
@@ -341,10 +373,10 @@ pub fn judge(src: Side<'_>, out: Side<'_>, rules: &Rules) -> Result<Worst, Strin
                 let (src_seg, dur) = (&s[at].0, s[at].1);
                 let start = ends[at].0 - dur;
                 let sv = ((time - start) / dur).clamp(0.0, 1.0);
-                let (tip_p, dir_p) = source_pose(src.machine, src_seg, sv, rules.great_circle);
+                let (tip_p, dir_p) = source_pose(src.machine, src_seg, sv, rules);
                 let got = out
                     .machine
-                    .forward(&seg.eval(out.machine, u), src_seg.tool_length);
+                    .forward(&seg.eval(out.machine, u), length_of(src_seg, rules));
                 let tip = (got.tip - rules.origin - tip_p).norm();
                 let a = angle(&got.dir, &dir_p);
                 let mut allowed = rules.angle_tolerance;
@@ -485,4 +517,73 @@ pub fn offsets(length: f64, work: Vec3) -> Offsets {
     );
     o.work[0] = work;
     o
+}
+
+/// A G43.5 program through `points` (tip, tilt from +Z and azimuth in
+/// degrees, part frame), at `feed`.
+pub fn vector_program(points: &[(Vec3, f64, f64)], feed: f64) -> String {
+    let mut p = String::from("G21 G17 G90 G94 G54\nG0 X0 Y0 Z150.\n");
+    let first = points[0].0;
+    p.push_str(&format!(
+        "G43.5 H1 X{:.4} Y{:.4} Z{:.4}\n",
+        first.x,
+        first.y,
+        first.z + 20.0
+    ));
+    for (k, (tip, tilt, az)) in points.iter().enumerate() {
+        let (t, a) = (tilt.to_radians(), az.to_radians());
+        let d = Vec3::new(t.sin() * a.cos(), t.sin() * a.sin(), t.cos());
+        p.push_str(&format!(
+            "G1 X{:.4} Y{:.4} Z{:.4} I{:.6} J{:.6} K{:.6}{}\n",
+            tip.x,
+            tip.y,
+            tip.z,
+            d.x,
+            d.y,
+            d.z,
+            if k == 0 {
+                format!(" F{feed:.1}")
+            } else {
+                String::new()
+            }
+        ));
+    }
+    p.push_str("G0 Z150.\nG49\nM30\n");
+    p
+}
+
+/// Random points for [`vector_program`]: tips within ±40 mm, tilts 10° to
+/// 40°, azimuths a walk of steps within ±60°.
+pub fn points() -> impl proptest::strategy::Strategy<Value = Vec<(Vec3, f64, f64)>> {
+    use proptest::prelude::*;
+    prop::collection::vec(
+        (
+            -40.0..40.0f64,
+            -40.0..40.0f64,
+            -10.0..10.0f64,
+            10.0..40.0f64,
+            -60.0..60.0f64,
+        ),
+        2..6,
+    )
+    .prop_map(|v| {
+        let mut az = 0.0;
+        v.into_iter()
+            .map(|(x, y, z, tilt, step)| {
+                az += step;
+                (Vec3::new(x, y, z), tilt, az)
+            })
+            .collect()
+    })
+}
+
+/// The fixed-seed proptest configuration of these tests.
+pub fn config(cases: u32) -> proptest::test_runner::Config {
+    proptest::test_runner::Config {
+        cases,
+        rng_seed: proptest::test_runner::RngSeed::Fixed(0x9057_0013),
+        failure_persistence: None,
+        max_shrink_iters: 64,
+        ..Default::default()
+    }
 }
