@@ -332,7 +332,7 @@ impl<'m> Converter<'m> {
 
     fn push_post(&mut self, seg: &Segment, great_circle: bool) {
         let length = match (seg.tool_length, self.options.source_tool_length) {
-            (l, Some(given)) if l == 0.0 => given,
+            (0.0, Some(given)) => given,
             (l, _) => l,
         };
         let source = follow::Source {
