@@ -20,7 +20,7 @@
 //!   `sqrt(ΣΔ²) / F`, so the tip feed is off by the ratio of that to the
 //!   block's time; the header states the largest error.
 
-use fiveaxis_machine::{Joints, Machine};
+use fiveaxis_machine::{Joints, Machine, principal};
 
 /// How the feed is written.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
@@ -88,9 +88,15 @@ impl FeedStyle {
 
 /// The composite travel of a move as a FANUC control feeds it in `G94`:
 /// the length of the vector of every axis' travel, degrees as mm.
+/// A rollover axis travels the shorter way to its absolute target.
 pub fn composite_travel(machine: &Machine, from: &Joints, to: &Joints) -> f64 {
+    let first_rotary = machine.linear.len();
     (0..machine.axis_count())
-        .map(|i| (to[i] - from[i]).powi(2))
+        .map(|i| {
+            let d = to[i] - from[i];
+            let rollover = i >= first_rotary && machine.rotary[i - first_rotary].rollover;
+            if rollover { principal(d) } else { d }.powi(2)
+        })
         .sum::<f64>()
         .sqrt()
 }
