@@ -333,12 +333,12 @@ pub fn write(machine: &Machine, post: &Post, options: &PostOptions, header: &Hea
         }
         out.push('\n');
     }
+    if options.feed == FeedStyle::InverseTime {
+        out.push_str("G94\n");
+    }
     for (_, w) in carried {
         out.push_str(w);
         out.push('\n');
-    }
-    if options.feed == FeedStyle::InverseTime {
-        out.push_str("G94\n");
     }
     out.push_str("M30\n%\n");
     out
