@@ -31,10 +31,12 @@ use fiveaxis_machine::{Joints, MAX_AXES, Machine, Side, Vec3, principal};
 
 /// Largest turn of the programmed tool direction between knots, degrees.
 pub const KNOT_TURN: f64 = 0.5;
+/// Fewest knots of one block.
+pub const MIN_KNOTS: usize = 2;
 /// Most knots of one block.
 pub const MAX_KNOTS: usize = 8192;
 /// Samples of a block's direction path that estimate its turn.
-const TURN_SAMPLES: u32 = 32;
+const TURN_SAMPLES: u32 = 16;
 /// Slack on the soft limits, degrees (rounding).
 pub const LIMIT_SLACK: f64 = 1e-6;
 
@@ -186,14 +188,21 @@ impl<'a> Law<'a> {
     fn track(&mut self, start: [f64; 2], exit_rank: usize) {
         let machine = self.target;
         let cone = machine.params.singular_cone;
-        let mut turn = 0.0;
-        let mut last = self.direction(0.0);
-        for k in 1..=TURN_SAMPLES {
-            let d = self.direction(f64::from(k) / f64::from(TURN_SAMPLES));
-            turn += angle(&last, &d);
-            last = d;
-        }
-        let n = ((turn / KNOT_TURN).ceil() as usize).clamp(4, MAX_KNOTS);
+        let turn = match &self.ends {
+            // On the great circle: the angle between the ends.
+            Some([a, b]) => angle(a, b),
+            None => {
+                let mut turn = 0.0;
+                let mut last = self.direction(0.0);
+                for k in 1..=TURN_SAMPLES {
+                    let d = self.direction(f64::from(k) / f64::from(TURN_SAMPLES));
+                    turn += angle(&last, &d);
+                    last = d;
+                }
+                turn
+            }
+        };
+        let n = ((turn / KNOT_TURN).ceil() as usize).clamp(MIN_KNOTS, MAX_KNOTS);
         let (rot, tilt) = (self.rotating, 1 - self.rotating);
         self.knots.push((0.0, start));
         // Knot index where the current singular passage was entered.

@@ -366,15 +366,11 @@ fn axes(out: &mut String, machine: &Machine, to: &Joints, options: &PostOptions,
 
 /// A number with `decimals` decimals, no `-0`.
 fn number(out: &mut String, value: f64, decimals: usize) {
-    let text = format!("{value:.decimals$}");
-    if text
-        .trim_start_matches('-')
-        .bytes()
-        .all(|b| b == b'0' || b == b'.')
-    {
-        let _ = write!(out, "{:.decimals$}", 0.0);
-    } else {
-        out.push_str(&text);
+    let at = out.len();
+    let _ = write!(out, "{value:.decimals$}");
+    let text = &out[at..];
+    if text.starts_with('-') && text[1..].bytes().all(|b| b == b'0' || b == b'.') {
+        out.remove(at);
     }
 }
 
