@@ -40,6 +40,26 @@ pub const DEFAULT_ANGLE_TOLERANCE: f64 = 0.1;
 /// millimetres) and short enough not to leave the machine's travel.
 pub const DEFAULT_RETRACT: f64 = 5.0;
 
+/// Most rotary turn between the samples of a straight block's tip path,
+/// degrees.
+pub const LENGTH_STEP: f64 = 0.05;
+
+/// Length of the tip path of a block by forward kinematics: the chord
+/// when no rotary axis turns, else the sum of chords of samples at most
+/// [`LENGTH_STEP`] of rotary turn apart (at most 65,536).
+pub fn tip_path_length(machine: &Machine, seg: &Segment) -> f64 {
+    let turn = linearize::max_turn(machine, &seg.start, &seg.end);
+    let n = ((turn / LENGTH_STEP).ceil() as u32).clamp(1, 1 << 16);
+    let mut last = seg.row(machine, 0.0).tip;
+    let mut sum = 0.0;
+    for k in 1..=n {
+        let tip = seg.row(machine, f64::from(k) / f64::from(n)).tip;
+        sum += (tip - last).norm();
+        last = tip;
+    }
+    sum
+}
+
 /// Tip travel of a cutting block below which it is a rotary move alone,
 /// mm.
 pub const TIP_AT_REST: f64 = 1e-9;
@@ -574,17 +594,19 @@ impl<'m> Converter<'m> {
 }
 
 /// Time of a cutting block at its programmed tip feed, minutes: the length
-/// of the tip path (the law's own length for TCPC blocks and circles, the
-/// chord of the tips otherwise, as the control measures inverse time
-/// blocks) over the feed.
+/// of the tip path (the law's own length for TCPC blocks and circles; for
+/// a block of straight axis motion, the tip path by forward kinematics,
+/// or in inverse time the chord of the tips, as the kernel measures the
+/// tip feed of a G93 block, which gives back 1/F) over the feed.
 pub fn block_minutes(machine: &Machine, seg: &Segment) -> f64 {
     let length = match &seg.path {
         Path::Tcpc(tcpc) => tcpc.tip.length(),
         Path::Helix { circle, .. } => circle.length(),
         Path::Arc(arc) => arc.length(),
-        Path::Joint | Path::Via(_) => {
+        Path::Joint | Path::Via(_) if seg.inverse_time => {
             (seg.row(machine, 1.0).tip - seg.row(machine, 0.0).tip).norm()
         }
+        Path::Joint | Path::Via(_) => tip_path_length(machine, seg),
     };
     // A block that only turns the tool about a standing tip: F is read as
     // degrees per minute of the largest rotary travel, as FANUC does for

@@ -22,7 +22,7 @@ use crate::PostOptions;
 use crate::program::Quantum;
 
 /// Fractions of a piece where the deviation is checked.
-pub const CHECK_POINTS: [f64; 7] = [0.125, 0.25, 0.375, 0.5, 0.625, 0.75, 0.875];
+pub const CHECK_POINTS: [f64; 9] = [0.0625, 0.125, 0.25, 0.375, 0.5, 0.625, 0.75, 0.875, 0.9375];
 
 /// Share of the tolerances a piece may use at its check points.
 pub const ACCEPT_SHARE: f64 = 0.8;

@@ -10,7 +10,7 @@ use std::fmt::Write;
 
 use fiveaxis_machine::{Joints, Machine, Vec3};
 
-use crate::feed::tip_feed_error;
+use crate::feed::{composite_travel, tip_feed_error};
 use crate::{Axes, FeedStyle, Move, Note, Post, PostOptions};
 
 /// Fewest decimals written for lengths and angles.
@@ -64,13 +64,20 @@ impl Quantum {
         };
         for (i, v) in out.iter_mut().enumerate().take(machine.axis_count()) {
             *v = if i < machine.linear.len() {
-                round(*v - origin[i], self.length_decimals) + origin[i]
+                let o = work_offset(origin, i);
+                round(*v - o, self.length_decimals) + o
             } else {
                 round(*v, self.angle_decimals)
             };
         }
         out
     }
+}
+
+/// The work offset of linear axis `i`: X, Y, Z have one; additional
+/// linear axes (U, V, W) are written as machine positions.
+fn work_offset(origin: &Vec3, i: usize) -> f64 {
+    if i < 3 { origin[i] } else { 0.0 }
 }
 
 /// What the header says besides the post's own figures.
@@ -158,8 +165,13 @@ pub fn write(machine: &Machine, post: &Post, options: &PostOptions, header: &Hea
         let _ = writeln!(out, "({clean})");
     };
     // The F words and what they do to the tip feed.
-    let mut words = Vec::with_capacity(post.moves.len());
+    // The F words, and what they do to the tip feed. Time-keeping styles
+    // carry the rounding of each F into the next block's (the written
+    // times add up to the intended ones within one rounding, however many
+    // blocks a stretch has).
+    let mut words: Vec<Option<String>> = Vec::with_capacity(post.moves.len());
     let mut feed_error = 0.0f64;
+    let mut drift = 0.0f64;
     let mut at = post
         .start
         .or_else(|| post.moves.iter().find_map(Move::to).copied());
@@ -170,9 +182,27 @@ pub fn write(machine: &Machine, post: &Post, options: &PostOptions, header: &Hea
         } = m
         {
             let from = at.unwrap_or(*to);
-            word = options.feed.f_word(machine, &from, to, *minutes, *feed);
-            if let (FeedStyle::Programmed, Some(f)) = (options.feed, word) {
-                feed_error = feed_error.max(tip_feed_error(machine, &from, to, *minutes, f));
+            let keeps_time = options.feed != FeedStyle::Programmed;
+            let wanted = if keeps_time && minutes + drift > 0.0 {
+                minutes + drift
+            } else {
+                *minutes
+            };
+            if let Some(f) = options.feed.f_word(machine, &from, to, wanted, *feed) {
+                let mut text = String::new();
+                feed_text(&mut text, f);
+                let written: f64 = text.parse().unwrap_or(f);
+                let taken = match options.feed {
+                    FeedStyle::InverseTime => 1.0 / written,
+                    _ => composite_travel(machine, &from, to) / written,
+                };
+                if keeps_time {
+                    drift = wanted - taken;
+                } else {
+                    feed_error =
+                        feed_error.max(tip_feed_error(machine, &from, to, *minutes, written));
+                }
+                word = Some(text);
             }
         }
         if let Some(to) = m.to() {
@@ -315,7 +345,7 @@ pub fn write(machine: &Machine, post: &Post, options: &PostOptions, header: &Hea
                 out.push_str("G1");
                 axes(&mut out, machine, to, options, &quantum);
                 out.push_str(" F");
-                feed(&mut out, *f);
+                out.push_str(f);
             }
             Move::Note(Note::FlipStart { line, retract }) => {
                 comment(
@@ -349,7 +379,7 @@ fn axes(out: &mut String, machine: &Machine, to: &Joints, options: &PostOptions,
     for (i, name) in machine.axis_names().enumerate() {
         let linear = machine.linear.len();
         let (value, decimals) = if i < linear {
-            (to[i] - options.origin[i], q.length_decimals)
+            (to[i] - work_offset(&options.origin, i), q.length_decimals)
         } else {
             let axis = &machine.rotary[i - linear];
             let v = if axis.rollover {
@@ -375,7 +405,7 @@ fn number(out: &mut String, value: f64, decimals: usize) {
 }
 
 /// An inverse-time F with [`FEED_DIGITS`] significant digits.
-fn feed(out: &mut String, f: f64) {
+fn feed_text(out: &mut String, f: f64) {
     let before = if f >= 1.0 {
         f.log10().floor() as i32 + 1
     } else {

@@ -111,6 +111,8 @@ pub struct Rules {
     pub singular_margin: Option<f64>,
     /// The tool length of a machine-axis source (its blocks have none).
     pub source_tool_length: Option<f64>,
+    /// The output is run with the soft limits on.
+    pub output_limits: bool,
 }
 
 impl Rules {
@@ -122,6 +124,7 @@ impl Rules {
             great_circle: false,
             singular_margin: None,
             source_tool_length: options.source_tool_length,
+            output_limits: true,
         }
     }
 }
@@ -178,12 +181,16 @@ pub fn composite(machine: &Machine, seg: &Segment) -> f64 {
 
 /// Tip path length of a segment by forward kinematics, mm.
 fn tip_length(machine: &Machine, seg: &Segment) -> f64 {
+    // At least one sample per 0.02° of rotary turn: long turns far from
+    // the axis need them for a length good to 1e-6.
+    let turn = (machine.linear.len()..machine.axis_count())
+        .map(|i| (seg.end[i] - seg.start[i]).abs())
+        .fold(0.0, f64::max);
+    let n = LENGTH_SAMPLES.max((turn / 0.02).ceil() as u32);
     let mut last = seg.row(machine, 0.0).tip;
     let mut sum = 0.0;
-    for k in 1..=LENGTH_SAMPLES {
-        let tip = seg
-            .row(machine, f64::from(k) / f64::from(LENGTH_SAMPLES))
-            .tip;
+    for k in 1..=n {
+        let tip = seg.row(machine, f64::from(k) / f64::from(n)).tip;
         sum += (tip - last).norm();
         last = tip;
     }
@@ -281,8 +288,14 @@ pub fn judge(src: Side<'_>, out: Side<'_>, rules: &Rules) -> Result<Worst, Strin
     let text = out.text;
     let original =
         run(src.machine, src.offsets, src.text, None, false).map_err(|e| format!("source: {e}"))?;
-    let output = run(out.machine, out.offsets, text, Some(ROW_STEP), true)
-        .map_err(|e| format!("output: {e}\n{text}"))?;
+    let output = run(
+        out.machine,
+        out.offsets,
+        text,
+        Some(ROW_STEP),
+        rules.output_limits,
+    )
+    .map_err(|e| format!("output: {e}\n{text}"))?;
     let flips = flip_ranges(text);
     let in_flip = |line: u32| flips.iter().position(|(a, b)| line > *a && line < *b);
     let src_g93 = is_inverse_time(src.text);
@@ -364,15 +377,36 @@ pub fn judge(src: Side<'_>, out: Side<'_>, rules: &Rules) -> Result<Worst, Strin
                 ));
             }
         }
+        // Each source block's end matched to the nearest output block end
+        // (kept within 1 % above): a row is compared at the same share of
+        // its block's time between matched ends, so that the rounding of
+        // many F words (6 digits) does not add up along a stretch.
+        let matched: Vec<f64> = ends
+            .iter()
+            .map(|(end, _)| {
+                out_ends
+                    .iter()
+                    .copied()
+                    .min_by(|a, b| (a - end).abs().total_cmp(&(b - end).abs()))
+                    .unwrap_or(*end)
+            })
+            .collect();
         let mut t0 = 0.0;
         for (seg, d) in o {
             for k in 0..=seg.rows {
                 let u = f64::from(k) / f64::from(seg.rows);
                 let time = t0 + u * d;
-                let at = ends.partition_point(|(e, _)| *e < time).min(ends.len() - 1);
-                let (src_seg, dur) = (&s[at].0, s[at].1);
-                let start = ends[at].0 - dur;
-                let sv = ((time - start) / dur).clamp(0.0, 1.0);
+                let at = matched
+                    .partition_point(|e| *e < time - 1e-12)
+                    .min(ends.len() - 1);
+                let src_seg = &s[at].0;
+                let from = if at == 0 { 0.0 } else { matched[at - 1] };
+                let span = matched[at] - from;
+                let sv = if span > 0.0 {
+                    ((time - from) / span).clamp(0.0, 1.0)
+                } else {
+                    1.0
+                };
                 let (tip_p, dir_p) = source_pose(src.machine, src_seg, sv, rules);
                 let got = out
                     .machine
@@ -396,8 +430,8 @@ pub fn judge(src: Side<'_>, out: Side<'_>, rules: &Rules) -> Result<Worst, Strin
                 worst.rows += 1;
                 if tip > rules.tolerance + SLACK || a > allowed + SLACK {
                     return Err(format!(
-                        "row at {time} min (source line {}, s {sv}): tip off by {tip} mm, direction by {a} deg (allowed {allowed})\n{text}",
-                        src_seg.line
+                        "row at {time} min (source line {}, s {sv}; output line {}, u {u}): tip off by {tip} mm, direction by {a} deg (allowed {allowed})\n{text}",
+                        src_seg.line, seg.line
                     ));
                 }
             }
