@@ -1,20 +1,24 @@
-//! The post: a program run with tool centre point control (G43.4 / G43.5)
-//! or in a tilted working plane (G68.2), turned into a program in machine
-//! axes for the same machine with those options off.
+//! The post: a program run with tool centre point control (G43.4 / G43.5),
+//! in a tilted working plane (G68.2), made from APT / CL data, or written
+//! in the machine axes of another machine, turned into a program in
+//! machine axes for a machine without those options.
 //!
 //! Pure computation, no I/O: segments in (from the controller, which knows
 //! every machine axis at every `s` of a block), moves out ([`Post`]), and
 //! the program text from [`program::write`].
 //!
 //! * Each cutting block becomes straight moves of the machine axes between
-//!   points of the block's own law ([`fiveaxis_control::Segment::eval`]),
-//!   as many as needed: a piece is split in two while linear interpolation
-//!   of the axes over it carries the tool tip further than the tip
-//!   tolerance from the block's path, or the tool direction further than
-//!   the angle tolerance ([`linearize`]).
-//! * The feed is inverse time (G93): each piece lasts its share of the
-//!   original block's time (tip length over the programmed tip feed), so
-//!   the tip keeps the programmed feed.
+//!   points of a law, as many as needed: a piece is split in two while
+//!   linear interpolation of the axes over it carries the tool tip further
+//!   than the tip tolerance from the law's, or the tool direction further
+//!   than the angle tolerance ([`linearize`]). The law is the block's own
+//!   ([`fiveaxis_control::Segment::eval`], [`Axes::Source`]) or the
+//!   post's own rotary solution for the block's tool path ([`follow`],
+//!   [`Axes::Post`]: continuous, singular passages inside the cone, flips
+//!   with a retract where the soft limits demand one), on the same
+//!   machine or another ([`retarget`]).
+//! * Each piece lasts its share of the source block's time (tip length
+//!   over the programmed tip feed), written as [`FeedStyle`] says.
 //! * Rapid moves stay one positioning block (split only where a rollover
 //!   axis would otherwise take the other way round).
 

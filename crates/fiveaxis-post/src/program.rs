@@ -230,9 +230,13 @@ pub fn write(machine: &Machine, post: &Post, options: &PostOptions, header: &Hea
             options.tolerance, options.angle_tolerance
         ),
     );
+    // A block without length compensation (the move of a G49 cancel)
+    // names no tool when others do.
+    let any_tool = post.tool_lengths.iter().any(|l| *l != 0.0);
     let lengths: Vec<String> = post
         .tool_lengths
         .iter()
+        .filter(|l| !any_tool || **l != 0.0)
         .map(|l| format!("{l:.4}"))
         .collect();
     comment(
