@@ -64,6 +64,7 @@ fn own_axes_on_random_machines_within_tolerance() {
     let offsets = Offsets::from_toml("[tools]\n1 = { length = 120.0 }\n").expect("offsets");
     let mut runner = TestRunner::new(common::config(48));
     let judged = std::cell::Cell::new(0u32);
+    let worst = std::cell::Cell::new(common::Worst::default());
     runner
         .run(&random_machine_program(), |(machine, program)| {
             // The program must run on this machine (a random control may
@@ -107,11 +108,13 @@ fn own_axes_on_random_machines_within_tolerance() {
                 offsets: &offsets,
                 text,
             };
-            judge(side(&program), side(&text), &rules)
+            let w = judge(side(&program), side(&text), &rules)
                 .map_err(|e| TestCaseError::fail(format!("{machine:?}\n{program}\n{e}")))?;
+            worst.set(worst.get().max(w));
             judged.set(judged.get() + 1);
             Ok(())
         })
         .unwrap_or_else(|e| panic!("{e}"));
+    eprintln!("{} random machines judged: {:?}", judged.get(), worst.get());
     assert!(judged.get() >= 20, "only {} programs judged", judged.get());
 }
