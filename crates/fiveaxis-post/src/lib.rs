@@ -210,6 +210,10 @@ pub struct Post {
     /// Source blocks where no rotary solution stays inside the soft
     /// limits (kept as tracked).
     pub out_of_limits: u64,
+    /// On a target without two rotary axes (the tip followed, the rotary
+    /// axes standing): the largest angle between its tool direction and
+    /// the programmed one, degrees.
+    pub fixed_direction_error: f64,
 }
 
 /// Turns segments into moves, one segment at a time.
@@ -365,6 +369,10 @@ impl<'m> Converter<'m> {
             great_circle,
             tool_length: length,
         };
+        if self.machine.rotary.len() != 2 {
+            self.push_tip_only(seg, &source, length);
+            return;
+        }
         let origin = self.options.origin;
         if seg.motion == Motion::Rapid {
             let targets: &[f64] = if matches!(seg.path, Path::Via(_)) {
@@ -487,6 +495,61 @@ impl<'m> Converter<'m> {
         self.post.deviation = self.post.deviation.max(outcome.deviation);
         self.post.unresolved += outcome.unresolved;
         self.angles = Some(law.end_angles());
+    }
+
+    /// A target without two rotary axes: its rotary axes (if any) stand
+    /// where they are, the linear axes put the tip on the path; the
+    /// direction error is recorded.
+    fn push_tip_only(&mut self, seg: &Segment, source: &follow::Source<'_>, length: f64) {
+        let m = self.machine;
+        let origin = self.options.origin;
+        let held = self.at(&[0.0; MAX_AXES]);
+        let joints = |s: f64| {
+            let (tip, _) = source.pose(s);
+            let mut j = held;
+            let gauge = m.gauge_for_tip(&j, &(tip + origin), length);
+            j[..3].copy_from_slice(gauge.as_slice());
+            j
+        };
+        if self.post.start.is_none() {
+            self.post.start = Some(joints(0.0));
+        }
+        if seg.motion == Motion::Rapid {
+            let targets: &[f64] = if matches!(seg.path, Path::Via(_)) {
+                &[0.5, 1.0]
+            } else {
+                &[1.0]
+            };
+            for &s in targets {
+                let from = self.at(&joints(0.0));
+                let to = self.snap(&joints(s));
+                self.rapid(&from, &to, seg.line);
+            }
+            return;
+        }
+        self.cutting_bookkeeping(length);
+        for k in 0..=8 {
+            let s = f64::from(k) / 8.0;
+            let got = m.forward(&joints(s), length).dir;
+            let error = follow::angle(&got, &source.pose(s).1);
+            self.post.fixed_direction_error = self.post.fixed_direction_error.max(error);
+        }
+        let minutes = block_minutes(self.source, seg);
+        let feed = seg.feed.unwrap_or(0.0);
+        let at = self.at(&joints(0.0));
+        let (options, quantum) = (self.options, self.quantum);
+        let moves = &mut self.post.moves;
+        let outcome =
+            linearize::pieces_of(m, &joints, &at, length, &options, &quantum, |to, share| {
+                moves.push(Move::Feed {
+                    to,
+                    minutes: minutes * share,
+                    feed,
+                    line: seg.line,
+                });
+            });
+        self.post.deviation = self.post.deviation.max(outcome.deviation);
+        self.post.unresolved += outcome.unresolved;
     }
 
     /// Retract along the tool axis by the retract distance, turn the

@@ -274,6 +274,15 @@ pub fn write(machine: &Machine, post: &Post, options: &PostOptions, header: &Hea
                 ),
             );
         }
+        if post.fixed_direction_error > options.angle_tolerance {
+            comment(
+                &mut out,
+                &format!(
+                    "warning: the machine cannot turn the tool, direction off by up to {:.4} deg",
+                    post.fixed_direction_error
+                ),
+            );
+        }
         if post.out_of_limits > 0 {
             comment(
                 &mut out,
