@@ -342,3 +342,28 @@ fn retargeting_to_a_three_axis_mill_keeps_the_tip() {
     );
     assert_eq!(out.status.code(), Some(1), "{}", common::stderr(&out));
 }
+
+/// The README's retargeting example: three flips, and the output runs on
+/// the limited machine.
+#[test]
+fn the_readme_winding_example_flips_three_times() {
+    let root = common::root();
+    let out = common::run_in(
+        root,
+        &[
+            "post",
+            "examples/tcpc-winding.nc",
+            "--from-machine",
+            "head-table-bc",
+            "--machine",
+            "examples/head-table-bc-limited.toml",
+            "--offsets",
+            "examples/offsets.toml",
+        ],
+        b"",
+    );
+    assert_eq!(out.status.code(), Some(0), "{}", common::stderr(&out));
+    let text = common::stdout(&out);
+    assert!(text.contains(", 3 FLIPS: RETRACT 5 MM"), "{text}");
+    assert_eq!(text.matches("(FLIP END").count(), 3);
+}
