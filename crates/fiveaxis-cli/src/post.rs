@@ -7,7 +7,7 @@ use std::io::{Read, Write};
 use std::path::PathBuf;
 
 use fiveaxis_control::{ReaderSource, RunOptions, Runner};
-use fiveaxis_post::{PostOptions, program};
+use fiveaxis_post::{Axes, PostOptions, program};
 
 use crate::{
     EXIT_OK, InputError, Stop, finish, library, load_machine, load_offsets, open_program,
@@ -49,12 +49,69 @@ pub struct PostArgs {
     /// vectors) for a machine with the option, not machine axes.
     #[arg(long)]
     tcpc: bool,
+    /// Retract of a flip along the tool axis (mm): where the rotary axes
+    /// must jump, the tool backs off this far, the axes turn, and it comes
+    /// back to the same tip.
+    #[arg(long, default_value_t = fiveaxis_post::DEFAULT_RETRACT, value_parser = crate::positive)]
+    retract: f64,
+    /// Feed style: `inverse-time` (G93), `dpm` (G94, F per block from the
+    /// composite travel, degrees as mm) or `programmed` (G94, F kept; the
+    /// header states the tip feed error).
+    #[arg(long, default_value = "inverse-time", value_parser = feed_style)]
+    feed: fiveaxis_post::FeedStyle,
+    /// Whose rotary solution: `source` (the control's, as TCPC would move
+    /// the axes; the default for G-code on the same machine) or `post`
+    /// (the post's own: continuous, flips with a retract, the singular
+    /// cone; the default for APT / CL input and retargeting).
+    #[arg(long, value_parser = ["source", "post"])]
+    axes: Option<String>,
+    /// The machine the program was written for (built-in name or machine
+    /// file): its axes are turned into the same tool path on `--machine`.
+    #[arg(long)]
+    from_machine: Option<String>,
+    /// Offsets file of `--from-machine` (default: `--offsets`).
+    #[arg(long, requires = "from_machine")]
+    from_offsets: Option<PathBuf>,
+    /// The tool length (mm) a machine-axis source was written for, whose
+    /// tip the output follows where no length compensation is in force;
+    /// default: the length the header of a `fiveaxis post` output names.
+    #[arg(long, value_parser = crate::positive)]
+    tool_length: Option<f64>,
+}
+
+/// The tool length a `fiveaxis post` output was made for (its header's
+/// `(FOR TOOL LENGTH L MM ONLY ...)`, the first length when it names
+/// several).
+fn header_tool_length(text: &str) -> Option<f64> {
+    let line = text
+        .lines()
+        .take(32)
+        .find_map(|l| l.strip_prefix("(FOR TOOL LENGTH "))?;
+    line.split([' ', ','])
+        .next()?
+        .parse()
+        .ok()
+        .filter(|l: &f64| l.is_finite())
+}
+
+/// A feed style by name.
+fn feed_style(name: &str) -> Result<fiveaxis_post::FeedStyle, String> {
+    fiveaxis_post::FeedStyle::parse(name)
+        .ok_or_else(|| format!("`{name}`: expected inverse-time, dpm or programmed"))
 }
 
 /// Runs `fiveaxis post`.
 pub fn post(args: &PostArgs) -> Result<u8, InputError> {
     let machine = load_machine(&args.machine)?;
     let offsets = load_offsets(args.offsets.as_deref())?;
+    let source_machine = match &args.from_machine {
+        Some(name) => Some(load_machine(name)?),
+        None => None,
+    };
+    let source_offsets = match (&args.from_machine, &args.from_offsets) {
+        (Some(_), Some(path)) => load_offsets(Some(path))?,
+        _ => offsets.clone(),
+    };
     let program_name = if args.program == "-" {
         "<stdin>"
     } else {
@@ -87,15 +144,35 @@ pub fn post(args: &PostArgs) -> Result<u8, InputError> {
         }
         bytes = tcpc.into_bytes();
     }
+    let axes = match args.axes.as_deref() {
+        Some("source") if source_machine.is_some() => {
+            return Err(InputError(
+                "error: --axes source keeps the source's axes: not with --from-machine".into(),
+            ));
+        }
+        Some("source") => Axes::Source,
+        Some(_) => Axes::Post {
+            great_circle: is_apt,
+        },
+        None => fiveaxis_post::default_axes(is_apt, source_machine.is_some()),
+    };
     let options = PostOptions {
         tolerance: args.tolerance,
         angle_tolerance: args.angle_tolerance,
         // The output is written in G54 (with the external offset).
         origin: fiveaxis_post::g54_origin(&offsets),
+        axes,
+        retract: args.retract,
+        feed: args.feed,
+        source_tool_length: args
+            .tool_length
+            .or_else(|| header_tool_length(&String::from_utf8_lossy(&bytes))),
     };
+    let carried = program::carried_words(&String::from_utf8_lossy(&bytes));
+    let run_on = source_machine.as_ref().unwrap_or(&machine);
     let mut runner = Runner::new(
-        &machine,
-        offsets,
+        run_on,
+        source_offsets,
         ReaderSource::new(std::io::Cursor::new(&bytes[..])),
         RunOptions::default(),
     );
@@ -104,7 +181,7 @@ pub fn post(args: &PostArgs) -> Result<u8, InputError> {
             .map_err(|e| InputError::io(&dir.display().to_string(), &e))?;
         runner = runner.with_library(Box::new(library));
     }
-    let post = match fiveaxis_post::convert(&mut runner, options) {
+    let post = match fiveaxis_post::convert(&mut runner, &machine, options) {
         Ok(post) => post,
         // An alarm: nothing is written.
         Err(error) => {
@@ -118,6 +195,8 @@ pub fn post(args: &PostArgs) -> Result<u8, InputError> {
     let header = program::Header {
         source: program_name,
         number: None,
+        source_machine: source_machine.as_ref().map(|m| m.name.as_str()),
+        carried: &carried,
     };
     let text = program::write(&machine, &post, &options, &header);
     emit(args.output.as_ref(), &text)

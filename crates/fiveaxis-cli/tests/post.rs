@@ -147,3 +147,223 @@ fn apt_input_gives_a_tcpc_program_or_machine_axes_and_bad_records_their_line() {
     );
     assert!(!dir.path().join("no.nc").exists());
 }
+
+/// A G43.5 program that turns the tool around the vertical twice (the
+/// rotating axis winds through 720°), with spindle, coolant and a tool
+/// change to carry.
+fn winding_program() -> String {
+    let mut p = String::from(
+        "G21 G17 G90 G94 G54\nT1 M6\nS5000 M3\nM8\nG0 X0 Y0 Z150.\nG43.5 H1 X30. Y0 Z20.\n",
+    );
+    for k in 0..=48 {
+        let az = (f64::from(k) * 15.0).to_radians();
+        let t = 30f64.to_radians();
+        p.push_str(&format!(
+            "G1 X{:.4} Y{:.4} Z-5. I{:.6} J{:.6} K{:.6}{}\n",
+            30.0 * az.cos(),
+            30.0 * az.sin(),
+            t.sin() * az.cos(),
+            t.sin() * az.sin(),
+            t.cos(),
+            if k == 0 { " F800." } else { "" }
+        ));
+    }
+    p.push_str("G0 Z150.\nG49\nM9\nM5\nM30\n");
+    p
+}
+
+#[test]
+fn retargeting_with_flips_feed_styles_and_carried_words() {
+    let dir = tempfile::tempdir().expect("a temporary directory");
+    std::fs::write(dir.path().join("wind.nc"), winding_program()).expect("written");
+    std::fs::write(
+        dir.path().join("o.toml"),
+        "[tools]\n1 = { length = 100.0 }\n[work]\nG54 = [0.0, 0.0, 20.0]\n",
+    )
+    .expect("written");
+    // The same machine with its C table limited to ±200°.
+    let show = common::run_in(dir.path(), &["machines", "show", "head-table-bc"], b"");
+    let machine = common::stdout(&show);
+    let at = machine
+        .rfind("rollover = true")
+        .expect("the C axis rolls over");
+    let limited = format!(
+        "{}rollover = false\nmin = -200.0\nmax = 200.0{}",
+        &machine[..at],
+        &machine[at + "rollover = true".len()..]
+    );
+    std::fs::write(dir.path().join("limited.toml"), limited).expect("written");
+    let out = common::run_in(
+        dir.path(),
+        &[
+            "post",
+            "wind.nc",
+            "--from-machine",
+            "head-table-bc",
+            "--machine",
+            "limited.toml",
+            "--offsets",
+            "o.toml",
+            "--retract",
+            "3",
+            "-o",
+            "wind-limited.nc",
+        ],
+        b"",
+    );
+    assert_eq!(out.status.code(), Some(0), "{}", common::stderr(&out));
+    let text = std::fs::read_to_string(dir.path().join("wind-limited.nc")).expect("written");
+    for needle in [
+        "(WRITTEN FOR: SWIVEL HEAD B WITH ROTARY TABLE C, RETARGETED)",
+        "RETRACT 3 MM ALONG THE TOOL AXIS",
+        "(FLIP END: RE-ENGAGED AT THE SAME TIP)",
+        "\nT1 M6\nS5000 M3\nM8\n",
+        "\nM9\nM5\nM30\n",
+    ] {
+        assert!(text.contains(needle), "{needle} missing:\n{text}");
+    }
+    // The output keeps the limits: the kernel runs it with them.
+    let run = common::run_in(
+        dir.path(),
+        &[
+            "run",
+            "wind-limited.nc",
+            "--machine",
+            "limited.toml",
+            "--offsets",
+            "o.toml",
+        ],
+        b"",
+    );
+    assert_eq!(run.status.code(), Some(0), "{}", common::stderr(&run));
+    // Feed styles.
+    for (feed, needle, gone) in [
+        ("dpm", "G54 G94\n", "G93"),
+        ("programmed", "TIP FEED ERROR UP TO ", "G93"),
+        ("inverse-time", "G54 G93\n", "G54 G94"),
+    ] {
+        let out = common::run_in(
+            dir.path(),
+            &[
+                "post",
+                "wind.nc",
+                "--machine",
+                "head-table-bc",
+                "--offsets",
+                "o.toml",
+                "--feed",
+                feed,
+            ],
+            b"",
+        );
+        assert_eq!(out.status.code(), Some(0), "{}", common::stderr(&out));
+        let text = common::stdout(&out);
+        assert!(
+            text.contains(needle) && !text.contains(gone),
+            "{feed}:\n{text}"
+        );
+    }
+    let out = common::run_in(dir.path(), &["post", "wind.nc", "--feed", "fast"], b"");
+    assert_eq!(out.status.code(), Some(2));
+    // A machine-axis program back to TCPC-free axes of another machine:
+    // the tool length comes from the first output's header.
+    let out = common::run_in(
+        dir.path(),
+        &[
+            "post",
+            "wind-limited.nc",
+            "--from-machine",
+            "limited.toml",
+            "--machine",
+            "head-head-ca",
+            "--offsets",
+            "o.toml",
+        ],
+        b"",
+    );
+    assert_eq!(out.status.code(), Some(0), "{}", common::stderr(&out));
+    let text = common::stdout(&out);
+    assert!(text.contains("TOOL LENGTH 100.0000 MM"), "{text}");
+    let out = common::run_in(
+        dir.path(),
+        &[
+            "post",
+            "wind.nc",
+            "--from-machine",
+            "head-table-bc",
+            "--axes",
+            "source",
+        ],
+        b"",
+    );
+    assert_eq!(out.status.code(), Some(2));
+}
+
+/// A machine without two rotary axes cannot take the post's own rotary
+/// solution: the tip is followed, the header says how far the direction
+/// is off, and nothing panics.
+#[test]
+fn retargeting_to_a_three_axis_mill_keeps_the_tip() {
+    let dir = tempfile::tempdir().expect("a temporary directory");
+    std::fs::write(
+        dir.path().join("p.nc"),
+        "G0 X0 Y0 Z50. B0 C0\nG1 X10. B20. F100.\nG1 X20. B0\nM30\n",
+    )
+    .expect("written");
+    let machine = "mill-3axis";
+    let out = common::run_in(
+        dir.path(),
+        &[
+            "post",
+            "p.nc",
+            "--from-machine",
+            "head-table-bc",
+            "--machine",
+            machine,
+            "-o",
+            "out.nc",
+        ],
+        b"",
+    );
+    assert_eq!(out.status.code(), Some(0), "{}", common::stderr(&out));
+    let text = std::fs::read_to_string(dir.path().join("out.nc")).expect("written");
+    assert!(
+        text.contains(
+            "(WARNING: THE MACHINE CANNOT TURN THE TOOL, DIRECTION OFF BY UP TO 20.0000 DEG)"
+        ),
+        "{text}"
+    );
+    let run = common::run_in(dir.path(), &["run", "out.nc", "--machine", machine], b"");
+    assert_eq!(run.status.code(), Some(0), "{}", common::stderr(&run));
+    let out = common::run_in(
+        dir.path(),
+        &["post", "p.nc", "--machine", "mill-3axis", "--axes", "post"],
+        b"",
+    );
+    assert_eq!(out.status.code(), Some(1), "{}", common::stderr(&out));
+}
+
+/// The README's retargeting example: three flips, and the output runs on
+/// the limited machine.
+#[test]
+fn the_readme_winding_example_flips_three_times() {
+    let root = common::root();
+    let out = common::run_in(
+        root,
+        &[
+            "post",
+            "examples/tcpc-winding.nc",
+            "--from-machine",
+            "head-table-bc",
+            "--machine",
+            "examples/head-table-bc-limited.toml",
+            "--offsets",
+            "examples/offsets.toml",
+        ],
+        b"",
+    );
+    assert_eq!(out.status.code(), Some(0), "{}", common::stderr(&out));
+    let text = common::stdout(&out);
+    assert!(text.contains(", 3 FLIPS: RETRACT 5 MM"), "{text}");
+    assert_eq!(text.matches("(FLIP END").count(), 3);
+}

@@ -36,5 +36,5 @@ pub use runner::{
 };
 pub use segment::{
     Arc, MAX_STEPS, Motion, POSTURE_KNOTS, Path, Posture, Row, Segment, TcpcPath, TipPath,
-    displayed,
+    displayed, posture_angles, slerp,
 };

@@ -366,6 +366,9 @@ pub struct Segment {
     /// The control stops at the end of this segment (G61 exact stop mode,
     /// or a G09 block): speed only, the path is the same.
     pub exact_stop: bool,
+    /// The block was fed in inverse time (G93): it lasts 1/F, and `feed`
+    /// is its tip chord over that time.
+    pub inverse_time: bool,
     /// Rows the block is sampled into: 1 (its end row only) unless the run
     /// interpolates (`--step`), when the runner sets it from
     /// [`Segment::steps`].

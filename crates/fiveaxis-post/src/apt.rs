@@ -9,18 +9,30 @@
 //!   vector (kept until the next one); a cutting move, or positioning after
 //!   `RAPID`.
 //! * `RAPID`: the next `GOTO` is positioning.
-//! * `FEDRAT/f[,MMPM]`: feed, mm/min (`IPM` in inch units).
+//! * `FEDRAT/f[,MMPM]` (NX: `FEDRAT/MMPM,f`): feed, mm/min (`IPM` in
+//!   inch units).
+//! * `MULTAX/ON|OFF`: with `OFF` (3-axis data) a `GOTO/x,y,z` has the tool
+//!   along +Z (of the MSYS frame); with `ON`, and before any `MULTAX`, it
+//!   keeps the last vector (initially +Z).
+//! * `MSYS/x,y,z,xi,xj,xk,yi,yj,yk` (NX CLSF): the following points,
+//!   vectors and circles are in the frame with that origin and those X
+//!   and Y axes (Z = X × Y), turned into the absolute frame.
 //! * `CIRCLE/xc,yc,zc,i,j,k[,...]`: the next `GOTO` ends an arc about that
 //!   centre, counter-clockwise about the axis vector (right-hand rule, as
 //!   the record's axis is the arc's normal); written `G2`/`G3` with `R` in
 //!   the plane the axis is normal to (G17 / G18 / G19), the tool standing.
 //! * `LOAD/TOOL,n` (`LOADTL/n`): `Tn M6`, then TCPC with `Hn`.
-//! * `SPINDL/s,RPM,CLW|CCLW`, `SPINDL/OFF`; `COOLNT/ON|FLOOD|MIST|OFF`.
+//! * `SPINDL/s,RPM,CLW|CCLW` (NX: `SPINDL/RPM,s,CLW`): `S s M3|M4`;
+//!   `SPINDL/OFF`: `M5`; `COOLNT/ON|FLOOD`: `M8`, `COOLNT/MIST`: `M7`,
+//!   `COOLNT/OFF`: `M9`. The machine-axis output carries these words.
 //! * `UNIT/MM|INCH`; `END`, `FINI`: the end.
 //! * Kept as comments (no motion): `PARTNO`, `INSERT`, `CUTTER`, `SELECT`,
 //!   `TRNTYP/WORLD` and `CSYS` (the points are in the world frame),
-//!   `CUTCOM` (the path is the tool path the CAM computed: no G41/G42), and
-//!   vendor records `CSI_...`.
+//!   `CUTCOM` (as a comment, never G41/G42: the CL points are the tool
+//!   tip path the CAM has already offset; compensating again at the
+//!   control would offset it twice), `TLDATA` (the tool's shape; its
+//!   length is the offsets file's), NX's `TOOL PATH`, `END-OF-PATH`,
+//!   `PAINT` (display) and `$$` lines, and vendor records `CSI_...`.
 //!
 //! Anything else is an error with its line: a record that might move the
 //! tool is never dropped silently.
@@ -61,6 +73,12 @@ struct State {
     tool: Option<u32>,
     tcpc: bool,
     ended: bool,
+    /// `MULTAX/OFF` in force: a GOTO without a vector has the tool along
+    /// +Z (of the MSYS frame).
+    three_axis: bool,
+    /// `MSYS` in force: origin and rotation (columns: the frame's X, Y,
+    /// Z in the absolute frame).
+    msys: Option<(Vec3, nalgebra::Matrix3<f64>)>,
 }
 
 /// Converts APT CL text into a TCPC program; `name` goes into the header.
@@ -76,6 +94,8 @@ pub fn to_tcpc(text: &str, name: &str) -> Result<String, AptError> {
         tool: None,
         tcpc: false,
         ended: false,
+        three_axis: false,
+        msys: None,
     };
     st.out.push_str("%\n");
     let _ = writeln!(
@@ -164,6 +184,10 @@ impl State {
         if r.is_empty() {
             return Ok(());
         }
+        if let Some(text) = r.strip_prefix("$$") {
+            let _ = writeln!(self.out, "({})", comment_text(text.trim()));
+            return Ok(());
+        }
         let (word, args) = match r.split_once('/') {
             Some((w, a)) => (w.trim().to_ascii_uppercase(), a.trim()),
             None => (r.trim().to_ascii_uppercase(), ""),
@@ -176,12 +200,21 @@ impl State {
                 Ok(())
             }
             "FEDRAT" => {
-                let mut parts = args.split(',');
-                let value = parts.next().unwrap_or("");
-                let unit = parts.next().map(|u| u.trim().to_ascii_uppercase());
-                let f = numbers(value, line, 1..=1)?[0];
-                match unit.as_deref() {
-                    None | Some("MMPM") | Some("IPM") if f > 0.0 => {
+                // `FEDRAT/f[,MMPM|IPM]` or NX's `FEDRAT/MMPM,f`.
+                let mut value = None;
+                let mut unit_ok = true;
+                for part in args.split(',').map(str::trim) {
+                    match part.to_ascii_uppercase().as_str() {
+                        "MMPM" | "IPM" => {}
+                        "" => unit_ok = false,
+                        p if p.parse::<f64>().is_ok() && value.is_none() => {
+                            value = p.parse::<f64>().ok();
+                        }
+                        _ => unit_ok = false,
+                    }
+                }
+                match value {
+                    Some(f) if unit_ok && f > 0.0 && f.is_finite() => {
                         self.feed = Some(f);
                         self.feed_written = false;
                         Ok(())
@@ -191,13 +224,51 @@ impl State {
                     ))),
                 }
             }
+            "MULTAX" => match args.trim().to_ascii_uppercase().as_str() {
+                "ON" | "" => {
+                    self.three_axis = false;
+                    Ok(())
+                }
+                "OFF" => {
+                    self.three_axis = true;
+                    Ok(())
+                }
+                _ => Err(err(format!("MULTAX/{args}: ON or OFF"))),
+            },
+            "MSYS" => {
+                let v = numbers(args, line, 9..=9)?;
+                let x = Vec3::new(v[3], v[4], v[5]);
+                let y = Vec3::new(v[6], v[7], v[8]);
+                if x.norm() < MIN_VECTOR
+                    || y.norm() < MIN_VECTOR
+                    || x.normalize().dot(&y.normalize()).abs() > 1e-4
+                {
+                    return Err(err(
+                        "MSYS: the X and Y vectors must be non-zero and at right angles".into(),
+                    ));
+                }
+                let (x, y) = (x.normalize(), y.normalize());
+                let z = x.cross(&y);
+                let _ = writeln!(self.out, "({})", comment_text(r));
+                let identity = (x - Vec3::x()).norm() < 1e-12
+                    && (y - Vec3::y()).norm() < 1e-12
+                    && Vec3::new(v[0], v[1], v[2]).norm() == 0.0;
+                self.msys = (!identity).then(|| {
+                    (
+                        Vec3::new(v[0], v[1], v[2]),
+                        nalgebra::Matrix3::from_columns(&[x, y, z]),
+                    )
+                });
+                Ok(())
+            }
             "CIRCLE" => {
                 let v = numbers(args, line, 6..=11)?;
                 let axis = Vec3::new(v[3], v[4], v[5]);
                 if axis.norm() < MIN_VECTOR {
                     return Err(err("CIRCLE with a zero axis vector".into()));
                 }
-                self.circle = Some((Vec3::new(v[0], v[1], v[2]), axis.normalize(), line));
+                let center = self.point(&Vec3::new(v[0], v[1], v[2]));
+                self.circle = Some((center, self.direction(&axis.normalize()), line));
                 Ok(())
             }
             "LOAD" | "LOADTL" => {
@@ -222,19 +293,33 @@ impl State {
                     self.out.push_str("M5\n");
                     return Ok(());
                 }
-                let mut parts = upper.split(',').map(str::trim);
-                let s = numbers(parts.next().unwrap_or(""), line, 1..=1)?[0];
-                let rest: Vec<&str> = parts.collect();
-                let m = if rest.contains(&"CCLW") { 4 } else { 3 };
-                if rest.iter().any(|p| !matches!(*p, "RPM" | "CLW" | "CCLW")) {
-                    return Err(err(format!("SPINDL/{args}: only RPM, CLW, CCLW are read")));
+                // `SPINDL/s,RPM,CLW` or NX's `SPINDL/RPM,s,CLW`.
+                let mut speed = None;
+                let mut m = 3;
+                for part in upper.split(',').map(str::trim) {
+                    match part {
+                        "RPM" | "CLW" | "ON" => {}
+                        "CCLW" => m = 4,
+                        p if speed.is_none() && p.parse::<f64>().is_ok_and(f64::is_finite) => {
+                            speed = p.parse::<f64>().ok();
+                        }
+                        _ => {
+                            return Err(err(format!(
+                                "SPINDL/{args}: only a speed in RPM, CLW, CCLW are read"
+                            )));
+                        }
+                    }
                 }
+                let s = speed
+                    .filter(|s| *s >= 0.0)
+                    .ok_or_else(|| err(format!("SPINDL/{args}: no speed")))?;
                 let _ = writeln!(self.out, "S{} M{m}", s.round());
                 Ok(())
             }
             "COOLNT" => {
                 let m = match args.trim().to_ascii_uppercase().as_str() {
-                    "ON" | "FLOOD" | "MIST" => 8,
+                    "ON" | "FLOOD" => 8,
+                    "MIST" => 7,
                     "OFF" => 9,
                     _ => return Err(err(format!("COOLNT/{args}: not read"))),
                 };
@@ -256,7 +341,8 @@ impl State {
             "TRNTYP" if !args.to_ascii_uppercase().starts_with("WORLD") => Err(err(format!(
                 "TRNTYP/{args}: only WORLD (points in the world frame) is read"
             ))),
-            "PARTNO" | "INSERT" | "CUTTER" | "SELECT" | "TRNTYP" | "CSYS" | "CUTCOM" => {
+            "PARTNO" | "INSERT" | "CUTTER" | "SELECT" | "TRNTYP" | "CSYS" | "CUTCOM" | "TLDATA"
+            | "TOOL PATH" | "END-OF-PATH" | "PAINT" => {
                 let _ = writeln!(self.out, "({})", comment_text(r));
                 Ok(())
             }
@@ -268,15 +354,35 @@ impl State {
         }
     }
 
+    /// A point of the MSYS frame in the absolute frame.
+    fn point(&self, p: &Vec3) -> Vec3 {
+        match &self.msys {
+            Some((origin, r)) => origin + r * p,
+            None => *p,
+        }
+    }
+
+    /// A direction of the MSYS frame in the absolute frame.
+    fn direction(&self, d: &Vec3) -> Vec3 {
+        match &self.msys {
+            Some((_, r)) => r * d,
+            None => *d,
+        }
+    }
+
     fn goto(&mut self, v: &[f64], line: u32) -> Result<(), AptError> {
         let err = |message: String| AptError { line, message };
-        let p = Vec3::new(v[0], v[1], v[2]);
+        let p = self.point(&Vec3::new(v[0], v[1], v[2]));
+        if v.len() == 3 && self.three_axis {
+            // MULTAX/OFF: the tool along +Z of the frame.
+            self.vector = self.direction(&Vec3::z());
+        }
         if v.len() == 6 {
             let d = Vec3::new(v[3], v[4], v[5]);
             if d.norm() < MIN_VECTOR {
                 return Err(err("GOTO with a zero tool vector".into()));
             }
-            let d = d.normalize();
+            let d = self.direction(&d.normalize());
             if self.circle.is_some() && (d - self.vector).norm() > AXIS_ALIGNMENT {
                 return Err(err(
                     "the tool vector changes along an arc: not converted (TCPC arcs keep the tool standing)"

@@ -22,7 +22,7 @@ use crate::PostOptions;
 use crate::program::Quantum;
 
 /// Fractions of a piece where the deviation is checked.
-pub const CHECK_POINTS: [f64; 7] = [0.125, 0.25, 0.375, 0.5, 0.625, 0.75, 0.875];
+pub const CHECK_POINTS: [f64; 9] = [0.0625, 0.125, 0.25, 0.375, 0.5, 0.625, 0.75, 0.875, 0.9375];
 
 /// Share of the tolerances a piece may use at its check points.
 pub const ACCEPT_SHARE: f64 = 0.8;
@@ -75,6 +75,30 @@ pub fn pieces(
     seg: &Segment,
     options: &PostOptions,
     quantum: &Quantum,
+    emit: impl FnMut(Joints, f64),
+) -> Outcome {
+    let law = |s: f64| seg.eval(machine, s);
+    pieces_of(
+        machine,
+        &law,
+        &seg.start,
+        seg.tool_length,
+        options,
+        quantum,
+        emit,
+    )
+}
+
+/// [`pieces`] of any law of the machine axes in `s`, from `start` (where
+/// the axes stand, `law(0)` to rounding): the output holds the tool tip of
+/// `tool_length` and the direction of the law within the tolerances.
+pub fn pieces_of(
+    machine: &Machine,
+    law: &dyn Fn(f64) -> Joints,
+    start: &Joints,
+    tool_length: f64,
+    options: &PostOptions,
+    quantum: &Quantum,
     mut emit: impl FnMut(Joints, f64),
 ) -> Outcome {
     let snap = |j: &Joints| quantum.snap(machine, j, &options.origin);
@@ -86,13 +110,13 @@ pub fn pieces(
         0.0,
         [0.0; fiveaxis_machine::MAX_AXES],
     ); STACK];
-    stack[0] = (0.0, seg.start, 1.0, snap(&seg.end));
+    stack[0] = (0.0, *start, 1.0, snap(&law(1.0)));
     let mut depth = 1;
     while depth > 0 {
         depth -= 1;
         let (s0, a, s1, b) = stack[depth];
         let h = s1 - s0;
-        let found = piece_deviation(machine, seg, s0, &a, s1, &b);
+        let found = piece_deviation(machine, law, tool_length, s0, &a, s1, &b);
         let within = found.tip <= ACCEPT_SHARE * options.tolerance
             && found.angle <= ACCEPT_SHARE * options.angle_tolerance
             && max_turn(machine, &a, &b) <= MAX_PIECE_TURN;
@@ -105,7 +129,7 @@ pub fn pieces(
             continue;
         }
         let mid = 0.5 * (s0 + s1);
-        let m = snap(&seg.eval(machine, mid));
+        let m = snap(&law(mid));
         stack[depth] = (mid, m, s1, b);
         stack[depth + 1] = (s0, a, mid, m);
         depth += 2;
@@ -117,7 +141,8 @@ pub fn pieces(
 /// `s1`) from the block's law, at the check points.
 pub fn piece_deviation(
     machine: &Machine,
-    seg: &Segment,
+    law: &dyn Fn(f64) -> Joints,
+    tool_length: f64,
     s0: f64,
     a: &Joints,
     s1: f64,
@@ -130,8 +155,8 @@ pub fn piece_deviation(
         for i in 0..n {
             j[i] = a[i] + (b[i] - a[i]) * t;
         }
-        let out = machine.forward(&j, seg.tool_length);
-        let law = machine.forward(&seg.eval(machine, s0 + (s1 - s0) * t), seg.tool_length);
+        let out = machine.forward(&j, tool_length);
+        let law = machine.forward(&law(s0 + (s1 - s0) * t), tool_length);
         found = found.max(Deviation {
             tip: (out.tip - law.tip).norm(),
             angle: angle_between(&out.dir, &law.dir),
@@ -146,7 +171,7 @@ pub fn angle_between(u: &fiveaxis_machine::Vec3, v: &fiveaxis_machine::Vec3) -> 
 }
 
 /// Largest turn of any rotary axis between two positions, degrees.
-fn max_turn(machine: &Machine, a: &Joints, b: &Joints) -> f64 {
+pub fn max_turn(machine: &Machine, a: &Joints, b: &Joints) -> f64 {
     (0..machine.rotary.len())
         .map(|k| {
             let i = machine.rotary_index(k);

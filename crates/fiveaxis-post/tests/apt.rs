@@ -137,9 +137,123 @@ fn bad_records_name_their_line() {
             "not along",
         ),
         ("FEDRAT/100\nGOTO/10,0,0,$\n", 2, "continued on no line"),
+        ("MSYS/0,0,0,1,0,0,1,1,0\n", 1, "right angles"),
+        ("MULTAX/SOMETIMES\n", 1, "ON or OFF"),
+        ("SPINDL/RPM,CLW\n", 1, "no speed"),
+        ("SPINDL/SFM,200\n", 1, "RPM"),
     ] {
         let e = to_tcpc(text, "t").expect_err(text);
         assert_eq!(e.line, line, "{text}: {e}");
         assert!(e.message.contains(needle), "{text}: {e}");
     }
+}
+
+/// An NX CLSF: `MSYS` (a frame turned 30° about X, moved), 3-axis data
+/// under `MULTAX/OFF` (the tool along the frame's Z), `FEDRAT/MMPM,f`,
+/// `SPINDL/RPM,s,CLW`, `COOLNT/MIST`, `TLDATA`, `PAINT`, `$$` and then
+/// 5-axis data under `MULTAX/ON`. Every GOTO, turned into the absolute
+/// frame here by hand, is reached in order by the TCPC program; the
+/// machine-axis program carries the tool change, spindle and coolant.
+#[test]
+fn nx_clsf_with_msys_and_multax() {
+    let text = "TOOL PATH/VARIABLE_CONTOUR,TOOL,MILL\n\
+                TLDATA/MILL,10.0000,0.0000,75.0000,0.0000,0.0000\n\
+                MSYS/10.0000,20.0000,5.0000,1.0000000,0.0000000,0.0000000,$\n\
+                0.0000000,0.8660254,0.5000000\n\
+                $$ centerline data\n\
+                PAINT/PATH\n\
+                LOAD/TOOL,3\n\
+                SPINDL/RPM,8000,CLW\n\
+                COOLNT/MIST\n\
+                MULTAX/OFF\n\
+                RAPID\n\
+                GOTO/0.0000,0.0000,20.0000\n\
+                FEDRAT/MMPM,250.0000\n\
+                GOTO/0.0000,0.0000,0.0000\n\
+                GOTO/30.0000,0.0000,0.0000\n\
+                GOTO/30.0000,15.0000,0.0000\n\
+                MULTAX/ON\n\
+                GOTO/20.0000,15.0000,0.0000,0.0000000,0.2588190,0.9659258\n\
+                GOTO/20.0000,5.0000,0.0000\n\
+                COOLNT/OFF\n\
+                SPINDL/OFF\n\
+                END-OF-PATH\n";
+    let program = to_tcpc(text, "nx.cls").expect("converts");
+    let origin = Vec3::new(10.0, 20.0, 5.0);
+    let (c, s) = (30f64.to_radians().cos(), 30f64.to_radians().sin());
+    let turn = |v: Vec3| Vec3::new(v.x, c * v.y - s * v.z, s * v.y + c * v.z);
+    let z = turn(Vec3::z());
+    let tilted = turn(Vec3::new(0.0, 0.258819, 0.9659258).normalize());
+    let targets = [
+        (Vec3::new(0.0, 0.0, 20.0), z),
+        (Vec3::new(0.0, 0.0, 0.0), z),
+        (Vec3::new(30.0, 0.0, 0.0), z),
+        (Vec3::new(30.0, 15.0, 0.0), z),
+        (Vec3::new(20.0, 15.0, 0.0), tilted),
+        (Vec3::new(20.0, 5.0, 0.0), tilted),
+    ]
+    .map(|(p, d)| (origin + turn(p), d));
+    let machine = builtin("head-table-bc").expect("built-in");
+    let mut offsets = Offsets::default();
+    offsets.tools.insert(
+        3,
+        ToolOffset {
+            length: 75.0,
+            ..ToolOffset::default()
+        },
+    );
+    let mut runner = Runner::new(
+        &machine,
+        offsets.clone(),
+        SliceSource::new(program.as_bytes()),
+        RunOptions::default(),
+    );
+    let mut segments = Vec::new();
+    while runner.fill(&mut segments, 1 << 20).expect("runs") {}
+    let mut next = 0;
+    for seg in &segments {
+        let row = seg.row(&machine, 1.0);
+        if let Some((p, d)) = targets.get(next)
+            && (row.tip - p).norm() <= POINT_EPS
+            && (row.dir - d).norm() <= DIR_EPS
+        {
+            next += 1;
+        }
+    }
+    assert_eq!(
+        next,
+        targets.len(),
+        "GOTO {} not reached\n{program}",
+        next + 1
+    );
+    // Machine axes: the words carried, in their place.
+    let options = fiveaxis_post::PostOptions {
+        axes: fiveaxis_post::Axes::Post { great_circle: true },
+        ..Default::default()
+    };
+    let mut converter = fiveaxis_post::Converter::new(&machine, options);
+    for seg in &segments {
+        converter.push(seg);
+    }
+    let carried = fiveaxis_post::program::carried_words(&program);
+    let out = fiveaxis_post::program::write(
+        &machine,
+        &converter.finish(),
+        &options,
+        &fiveaxis_post::program::Header {
+            source: "nx.cls",
+            carried: &carried,
+            ..Default::default()
+        },
+    );
+    let at = |needle: &str| {
+        out.find(needle)
+            .unwrap_or_else(|| panic!("{needle}\n{out}"))
+    };
+    assert!(at("T3 M6") < at("S8000 M3"));
+    assert!(at("S8000 M3") < at("M7\n"));
+    assert!(at("M7\n") < at("\nG0 "));
+    assert!(at("\nG1 ") < at("M9\n"));
+    assert!(at("M9\n") < at("M5\n"));
+    assert!(at("M5\n") < at("M30\n"));
 }

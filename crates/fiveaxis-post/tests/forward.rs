@@ -76,7 +76,7 @@ fn post(
         &options,
         &program::Header {
             source: "test",
-            number: None,
+            ..Default::default()
         },
     );
     (text, post)
@@ -456,6 +456,7 @@ fn judge_refuses_a_coarser_output() {
         tolerance: 0.1,
         angle_tolerance: 1.0,
         origin,
+        ..PostOptions::default()
     };
     let (text, _) = post(&machine, &original, coarse);
     // Judged at 0.01 mm: run the coarse text through the same comparison.

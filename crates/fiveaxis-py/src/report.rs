@@ -167,7 +167,10 @@ pub fn post<'py>(
         tolerance,
         angle_tolerance,
         origin: fiveaxis_post::g54_origin(offsets),
+        axes: fiveaxis_post::default_axes(apt, false),
+        ..PostOptions::default()
     };
+    let carried = program::carried_words(&String::from_utf8_lossy(&bytes));
     let source = ReaderSource::new(Box::new(std::io::Cursor::new(bytes)) as Box<dyn ReadSeek>);
     let post = with_runner(
         py,
@@ -177,12 +180,14 @@ pub fn post<'py>(
         RunOptions::default(),
         &[],
         &programs,
-        |runner| fiveaxis_post::convert(runner, options),
+        |runner| fiveaxis_post::convert(runner, machine, options),
     )?
     .map_err(|e| run_error(py, &e, &name))?;
     let header = program::Header {
         source: &name,
         number: None,
+        source_machine: None,
+        carried: &carried,
     };
     let text = program::write(machine, &post, &options, &header);
     let d = PyDict::new(py);

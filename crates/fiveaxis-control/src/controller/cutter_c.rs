@@ -394,6 +394,7 @@ impl Controller<'_> {
                 work: block.work,
                 setup: self.state.setup,
                 exact_stop: self.state.modal.cutting == crate::modal::CuttingMode::ExactStop,
+                inverse_time: self.state.modal.feed_mode == crate::modal::FeedMode::InverseTime,
                 rows: 1,
             };
             if seg.moves() {

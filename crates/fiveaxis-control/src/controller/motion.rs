@@ -31,6 +31,7 @@ impl Controller<'_> {
             setup: self.state.setup,
             exact_stop: self.block_exact_stop
                 || self.state.modal.cutting == crate::modal::CuttingMode::ExactStop,
+            inverse_time: self.state.modal.feed_mode == FeedMode::InverseTime,
             rows: 1,
         }
     }
