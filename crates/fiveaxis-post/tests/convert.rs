@@ -39,7 +39,7 @@ fn convert_is_the_segments_converted_one_by_one() {
             RunOptions::default(),
         )
     };
-    let converted = convert(&mut runner(PROGRAM), options).expect("the example runs");
+    let converted = convert(&mut runner(PROGRAM), &machine, options).expect("the example runs");
 
     let mut by_hand = Converter::new(&machine, options);
     let mut r = runner(PROGRAM);
@@ -60,7 +60,7 @@ fn convert_gives_the_source_alarm() {
         SliceSource::new(b"G43.5 H1\nG1 X10. I0 J0 K1. F100.\nG500\n"),
         RunOptions::default(),
     );
-    match convert(&mut runner, PostOptions::default()) {
+    match convert(&mut runner, &machine, PostOptions::default()) {
         Err(RunError::Alarm { alarm, .. }) => assert_eq!(alarm.line, 3),
         other => panic!("expected the alarm of line 3, got {other:?}"),
     }
