@@ -36,6 +36,10 @@ for (const arg of process.argv.slice(2)) {
     const timings = Object.fromEntries(Object.entries(v.timings || {}).map(([k, x]) => [k, Math.round(x)]));
     return { interactiveMs: v.interactiveMs, seekMs, frameMs, restMs, coarseMs, coarse: v.coarse(), drawn, stats: v.stats, timings };
   });
+  // Let the whole path drawn at rest after the view changes above pass
+  // first (it would fall inside the drag).
+  await page.waitForTimeout(400);
+  await page.evaluate(() => new Promise((r) => requestAnimationFrame(() => requestAnimationFrame(r))));
   // Orbiting: a left drag across the 3-D view, frames as the browser draws them.
   const box = await page.locator('#fa-3d canvas').boundingBox();
   const x = box.x + box.width / 2;
