@@ -79,21 +79,6 @@ pub struct PostArgs {
     tool_length: Option<f64>,
 }
 
-/// The tool length a `fiveaxis post` output was made for (its header's
-/// `(FOR TOOL LENGTH L MM ONLY ...)`, the first length when it names
-/// several).
-fn header_tool_length(text: &str) -> Option<f64> {
-    let line = text
-        .lines()
-        .take(32)
-        .find_map(|l| l.strip_prefix("(FOR TOOL LENGTH "))?;
-    line.split([' ', ','])
-        .next()?
-        .parse()
-        .ok()
-        .filter(|l: &f64| l.is_finite())
-}
-
 /// A feed style by name.
 fn feed_style(name: &str) -> Result<fiveaxis_post::FeedStyle, String> {
     fiveaxis_post::FeedStyle::parse(name)
@@ -166,7 +151,7 @@ pub fn post(args: &PostArgs) -> Result<u8, InputError> {
         feed: args.feed,
         source_tool_length: args
             .tool_length
-            .or_else(|| header_tool_length(&String::from_utf8_lossy(&bytes))),
+            .or_else(|| program::header_tool_length(&String::from_utf8_lossy(&bytes))),
     };
     let carried = program::carried_words(&String::from_utf8_lossy(&bytes));
     let run_on = source_machine.as_ref().unwrap_or(&machine);

@@ -432,3 +432,18 @@ fn feed_text(out: &mut String, f: f64) {
     };
     let _ = write!(out, "{f:.decimals$}");
 }
+
+/// The tool length a `fiveaxis post` output was made for (its header's
+/// `(FOR TOOL LENGTH L MM ONLY ...)`, the first length when it names
+/// several).
+pub fn header_tool_length(text: &str) -> Option<f64> {
+    let line = text
+        .lines()
+        .take(32)
+        .find_map(|l| l.strip_prefix("(FOR TOOL LENGTH "))?;
+    line.split([' ', ','])
+        .next()?
+        .parse()
+        .ok()
+        .filter(|l: &f64| l.is_finite())
+}

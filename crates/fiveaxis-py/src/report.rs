@@ -122,7 +122,9 @@ pub fn apt_to_tcpc(py: Python<'_>, text: &str, name: &str) -> PyResult<String> {
 #[pyfunction]
 #[pyo3(signature = (machine, offsets, program = None, code = None, *,
     tolerance = fiveaxis_post::DEFAULT_TOLERANCE,
-    angle_tolerance = fiveaxis_post::DEFAULT_ANGLE_TOLERANCE, apt = false, programs = None))]
+    angle_tolerance = fiveaxis_post::DEFAULT_ANGLE_TOLERANCE, apt = false, programs = None,
+    feed = "inverse-time", retract = fiveaxis_post::DEFAULT_RETRACT, from_machine = None,
+    from_offsets = None, tool_length = None))]
 #[allow(clippy::too_many_arguments)]
 pub fn post<'py>(
     py: Python<'py>,
@@ -134,6 +136,11 @@ pub fn post<'py>(
     angle_tolerance: f64,
     apt: bool,
     programs: Option<Programs>,
+    feed: &str,
+    retract: f64,
+    from_machine: Option<Bound<'py, PyMachine>>,
+    from_offsets: Option<Bound<'py, PyOffsets>>,
+    tool_length: Option<f64>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let programs = programs.unwrap_or_default();
     let positive = |x: f64| x > 0.0 && x.is_finite();
@@ -145,6 +152,21 @@ pub fn post<'py>(
             ),
         ));
     }
+    if !(retract >= 0.0 && retract.is_finite()) {
+        return Err(invalid(
+            py,
+            format!("retract must be a number of mm, 0 or more, not {retract}"),
+        ));
+    }
+    if tool_length.is_some_and(|l| !l.is_finite()) {
+        return Err(invalid(py, "tool_length must be a finite number of mm"));
+    }
+    let feed = fiveaxis_post::FeedStyle::parse(feed).ok_or_else(|| {
+        invalid(
+            py,
+            format!("feed `{feed}`: expected inverse-time, dpm or programmed"),
+        )
+    })?;
     let (mut bytes, name) =
         read_program(py, program.as_deref(), code.map(|c| c.as_bytes().to_vec()))?;
     if apt {
@@ -163,19 +185,29 @@ pub fn post<'py>(
     let machine = &machine.get().machine;
     let offsets_py = offsets;
     let offsets = &offsets.get().offsets;
+    // Retargeting: the source runs on its own machine (and offsets).
+    let source_machine = from_machine.as_ref().map(|m| &m.get().machine);
+    let run_on = source_machine.unwrap_or(machine);
+    let run_offsets = match (&from_machine, &from_offsets) {
+        (Some(_), Some(o)) => o.get(),
+        _ => offsets_py.get(),
+    };
+    let text = String::from_utf8_lossy(&bytes);
     let options = PostOptions {
         tolerance,
         angle_tolerance,
         origin: fiveaxis_post::g54_origin(offsets),
-        axes: fiveaxis_post::default_axes(apt, false),
-        ..PostOptions::default()
+        axes: fiveaxis_post::default_axes(apt, source_machine.is_some()),
+        retract,
+        feed,
+        source_tool_length: tool_length.or_else(|| program::header_tool_length(&text)),
     };
-    let carried = program::carried_words(&String::from_utf8_lossy(&bytes));
+    let carried = program::carried_words(&text);
     let source = ReaderSource::new(Box::new(std::io::Cursor::new(bytes)) as Box<dyn ReadSeek>);
     let post = with_runner(
         py,
-        machine,
-        offsets_py.get(),
+        run_on,
+        run_offsets,
         source,
         RunOptions::default(),
         &[],
@@ -186,7 +218,7 @@ pub fn post<'py>(
     let header = program::Header {
         source: &name,
         number: None,
-        source_machine: None,
+        source_machine: source_machine.map(|m| m.name.as_str()),
         carried: &carried,
     };
     let text = program::write(machine, &post, &options, &header);

@@ -77,11 +77,25 @@ POSTED = [
 ]
 
 
+POSTED += [
+    (EXAMPLES / "tcpc-vector.nc", "head-table-bc", EXAMPLES / "offsets.toml", {"feed": "dpm"}),
+    (EXAMPLES / "tcpc-vector.nc", "head-table-bc", EXAMPLES / "offsets.toml", {"feed": "programmed"}),
+    (EXAMPLES / "tcpc-winding.nc", str(EXAMPLES / "head-table-bc-limited.toml"), EXAMPLES / "offsets.toml",
+     {"from_machine": "head-table-bc", "retract": 8.0}),
+]
+
+
 @pytest.mark.parametrize("program, machine, offsets, kw", POSTED, ids=lambda v: getattr(v, "name", str(v)))
 def test_post_is_the_cli_program(cli: Path, program: Path, machine: str, offsets: Path, kw: dict) -> None:
     extra = []
     if "tolerance" in kw:
         extra = ["--tolerance", str(kw["tolerance"]), "--angle-tolerance", str(kw["angle_tolerance"])]
+    if "feed" in kw:
+        extra += ["--feed", kw["feed"]]
+    if "retract" in kw:
+        extra += ["--retract", str(kw["retract"])]
+    if "from_machine" in kw:
+        extra += ["--from-machine", kw["from_machine"]]
     done = subprocess.run(
         [str(cli), "post", str(program), *cli_args(machine, offsets), *extra], capture_output=True, timeout=300,
     )

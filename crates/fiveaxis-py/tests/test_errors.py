@@ -61,6 +61,13 @@ def test_post_raises_the_source_alarm() -> None:
         fx.post(code="G43.5 H1\nG1 X10. I1. J0 K0 F100.\nG500\n", machine="head-table-bc")
 
 
+@pytest.mark.parametrize("kw", [{"feed": "fast"}, {"retract": -1.0}, {"retract": float("nan")},
+                                {"tool_length": float("inf")}, {"tolerance": 0.0}])
+def test_post_refuses_bad_options(kw: dict) -> None:
+    with pytest.raises(fx.InputError):
+        fx.post(code="G43.5 H1\nG1 X10. I0 J0 K1. F100.\nM30\n", machine="head-table-bc", **kw)
+
+
 def test_bad_machine_toml_names_line_column_key() -> None:
     with pytest.raises(fx.InputError) as info:
         fx.Machine.from_toml('name = "m"\ntype = "table"\n[[linear]]\nname = "X"\nmin = "low"\n', "m.toml")

@@ -745,19 +745,31 @@ def post(
     angle_tolerance: float = 0.1,
     apt: Optional[bool] = None,
     programs: ProgramsLike = None,
+    feed: str = "inverse-time",
+    retract: float = 5.0,
+    from_machine: MachineLike = None,
+    from_offsets: OffsetsLike = None,
+    tool_length: Optional[float] = None,
 ) -> PostResult:
     """Converts a program that uses TCPC (G43.4 / G43.5) or the tilted
     working plane into a machine-axis program for the same machine without
     those options, within `tolerance` (mm) and `angle_tolerance` (degrees),
     as ``fiveaxis post``. APT / CL input (``apt=True``, default for files
-    named ``.apt``, ``.cl``, ``.cls``) is converted first. An alarm in the
-    source raises ``Alarm``."""
+    named ``.apt``, ``.cl``, ``.cls``) is converted first. ``feed``:
+    ``"inverse-time"`` (G93), ``"dpm"`` or ``"programmed"``; ``retract``:
+    mm along the tool axis at a flip; ``from_machine`` (with
+    ``from_offsets``, ``tool_length``): a machine-axis program written for
+    that machine, retargeted to ``machine``, as ``--from-machine``. An
+    alarm in the source raises ``Alarm``."""
     path, text = _program(program, code)
     if apt is None:
         apt = path is not None and os.path.splitext(path)[1].lower() in (".apt", ".cl", ".cls")
     d = _native.post(
         _machine(machine), _offsets(offsets), path, text,
         tolerance=float(tolerance), angle_tolerance=float(angle_tolerance), apt=bool(apt),
-        programs=_programs(programs),
+        programs=_programs(programs), feed=str(feed), retract=float(retract),
+        from_machine=None if from_machine is None else _machine(from_machine),
+        from_offsets=None if from_offsets is None else _offsets(from_offsets),
+        tool_length=None if tool_length is None else float(tool_length),
     )
     return PostResult(**d)

@@ -210,4 +210,9 @@ def post(
     angle_tolerance: float = ...,
     apt: Optional[bool] = ...,
     programs: _Programs = ...,
+    feed: str = ...,
+    retract: float = ...,
+    from_machine: _MachineLike = ...,
+    from_offsets: _OffsetsLike = ...,
+    tool_length: Optional[float] = ...,
 ) -> PostResult: ...
