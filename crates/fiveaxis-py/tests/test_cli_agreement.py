@@ -141,6 +141,7 @@ EXAMPLE_OPTIONS = {
     "bracket.nc": ["--offsets", "offsets.toml"],
     "subprogram.nc": ["--offsets", "offsets.toml"],
     "tcpc-vector.nc": ["--machine", "head-table-bc", "--offsets", "offsets.toml", "--step", "10"],
+    "tcpc-winding.nc": ["--machine", "head-table-bc", "--offsets", "offsets.toml", "--step", "10"],
     "tilted-holes.nc": ["--offsets", "offsets.toml"],
 }
 
