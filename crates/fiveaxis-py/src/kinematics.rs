@@ -55,6 +55,30 @@ fn check_lengths(py: Python<'_>, a: &ArrayView1<'_, f64>, n: usize) -> PyResult<
     Ok(())
 }
 
+/// Tips and directions `(n, 3)` and tool lengths for the same `n` poses:
+/// `n`, or the error that says what does not fit.
+fn check_poses(
+    py: Python<'_>,
+    tips: &ArrayView2<'_, f64>,
+    dirs: &ArrayView2<'_, f64>,
+    lengths: &ArrayView1<'_, f64>,
+) -> PyResult<usize> {
+    check_2d(py, "tips", tips, 3)?;
+    check_2d(py, "directions", dirs, 3)?;
+    let n = tips.nrows();
+    if dirs.nrows() != n {
+        return Err(invalid(
+            py,
+            format!(
+                "tips has {n} rows and directions {}: they must match",
+                dirs.nrows()
+            ),
+        ));
+    }
+    check_lengths(py, lengths, n)?;
+    Ok(n)
+}
+
 fn row3(a: &ArrayView2<'_, f64>, i: usize) -> Vec3 {
     Vec3::new(a[[i, 0]], a[[i, 1]], a[[i, 2]])
 }
@@ -193,19 +217,7 @@ pub fn inverse<'py>(
         directions.as_array(),
         tool_length.as_array(),
     );
-    check_2d(py, "tips", &tips, 3)?;
-    check_2d(py, "directions", &dirs, 3)?;
-    let n = tips.nrows();
-    if dirs.nrows() != n {
-        return Err(invalid(
-            py,
-            format!(
-                "tips has {n} rows and directions {}: they must match",
-                dirs.nrows()
-            ),
-        ));
-    }
-    check_lengths(py, &lengths, n)?;
+    let n = check_poses(py, &tips, &dirs, &lengths)?;
     if !(held.0.is_finite() && held.1.is_finite()) {
         return Err(invalid(py, "held angles must be finite"));
     }
@@ -266,19 +278,7 @@ pub fn inverse_choice<'py>(
         directions.as_array(),
         tool_length.as_array(),
     );
-    check_2d(py, "tips", &tips, 3)?;
-    check_2d(py, "directions", &dirs, 3)?;
-    let n = tips.nrows();
-    if dirs.nrows() != n {
-        return Err(invalid(
-            py,
-            format!(
-                "tips has {n} rows and directions {}: they must match",
-                dirs.nrows()
-            ),
-        ));
-    }
-    check_lengths(py, &lengths, n)?;
+    let n = check_poses(py, &tips, &dirs, &lengths)?;
     if !(start.0.is_finite() && start.1.is_finite()) {
         return Err(invalid(py, "start angles must be finite"));
     }
