@@ -68,7 +68,7 @@ pub fn block_minutes(machine: &Machine, seg: &Segment) -> f64 {
                     Path::Via(mid) => (mid[i] - seg.start[i]).abs() + (seg.end[i] - mid[i]).abs(),
                     _ => (seg.end[i] - seg.start[i]).abs(),
                 };
-                travel / dynamics(machine, i).rapid
+                travel / machine.dynamics(i).rapid
             })
             .fold(0.0, f64::max)
     };
@@ -89,14 +89,6 @@ pub fn block_minutes(machine: &Machine, seg: &Segment) -> f64 {
                 }
             }
         }
-    }
-}
-
-pub(crate) fn dynamics(machine: &Machine, i: usize) -> fiveaxis_machine::Dynamics {
-    if i < machine.linear.len() {
-        machine.linear[i].dynamics
-    } else {
-        machine.rotary[i - machine.linear.len()].dynamics
     }
 }
 
@@ -197,7 +189,7 @@ pub fn tip_feed_allowed(machine: &Machine, seg: &Segment, minutes: f64) -> Optio
     }
     let mut worst: Option<(f64, usize)> = None;
     for i in 0..machine.axis_count() {
-        let vmax = dynamics(machine, i).max_velocity;
+        let vmax = machine.dynamics(i).max_velocity;
         let budget = vmax * minutes;
         let rate = axis_rate(machine, seg, i, budget);
         if rate > budget * (1.0 + FEED_SLACK) {

@@ -32,7 +32,7 @@ impl TimePlan {
     pub fn new(machine: &Machine) -> Self {
         let limits: Vec<AxisLimits> = (0..machine.axis_count())
             .map(|i| {
-                let d = crate::motion::dynamics(machine, i);
+                let d = machine.dynamics(i);
                 AxisLimits {
                     max_velocity: d.max_velocity,
                     rapid: d.rapid,

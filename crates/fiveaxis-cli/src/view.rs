@@ -324,6 +324,7 @@ fn gather<S: fiveaxis_control::Source>(
         findings: FindingColumns::default(),
     };
     let mut checker = fiveaxis_check::Checker::new(machine);
+    let rapids: Vec<f64> = (0..axes).map(|i| machine.dynamics(i).rapid).collect();
     let mut segments = Vec::new();
     let mut rows: Vec<Row> = Vec::new();
     let mut time = 0.0;
@@ -355,7 +356,7 @@ fn gather<S: fiveaxis_control::Source>(
             checker.drain_settled(|f| g.findings.push(f));
             sample(seg, machine, &mut rows);
             let start = seg.row(machine, 0.0);
-            let seconds = seconds(seg, &start, &rows, machine);
+            let seconds = seconds(seg, &start, &rows, machine, &rapids);
             // A new motion or frame, or a jump of the axes between blocks
             // (none in practice): the vertex before stays.
             let corner = match last {
@@ -465,7 +466,8 @@ fn sample(seg: &Segment, machine: &Machine, rows: &mut Vec<Row>) {
 }
 
 /// The programmed time of a segment from its rows ([`pack::block_seconds`]).
-fn seconds(seg: &Segment, start: &Row, rows: &[Row], machine: &Machine) -> f64 {
+/// `rapids`: each axis' rapid rate, per minute.
+fn seconds(seg: &Segment, start: &Row, rows: &[Row], machine: &Machine, rapids: &[f64]) -> f64 {
     let axes = machine.axis_count();
     let mut travel = [0.0; fiveaxis_machine::MAX_AXES];
     let mut tip_length = 0.0;
@@ -477,21 +479,11 @@ fn seconds(seg: &Segment, start: &Row, rows: &[Row], machine: &Machine) -> f64 {
         }
         prev = row;
     }
-    let mut rapids = [0.0; fiveaxis_machine::MAX_AXES];
-    for (r, axis) in rapids.iter_mut().zip(
-        machine
-            .linear
-            .iter()
-            .map(|a| a.dynamics.rapid)
-            .chain(machine.rotary.iter().map(|a| a.dynamics.rapid)),
-    ) {
-        *r = axis;
-    }
     pack::block_seconds(
         seg.feed,
         tip_length,
         &travel[..axes],
-        &rapids[..axes],
+        rapids,
         machine.linear.len(),
     )
 }

@@ -327,6 +327,16 @@ impl Machine {
         })
     }
 
+    /// The dynamics of the axis at index `i` of [`Joints`] (linear axes
+    /// first, then the rotary ones).
+    pub fn dynamics(&self, i: usize) -> Dynamics {
+        if i < self.linear.len() {
+            self.linear[i].dynamics
+        } else {
+            self.rotary[i - self.linear.len()].dynamics
+        }
+    }
+
     /// Index in [`Joints`] of rotary axis `k` (0-based, bed outwards).
     pub fn rotary_index(&self, k: usize) -> usize {
         self.linear.len() + k

@@ -13,74 +13,19 @@
 //! Random TCPC programs (fixed seed) on every built-in machine type, and
 //! hand examples (the README's, an arc, a tilted working plane).
 
-use fiveaxis_control::{Interpolation, Motion, RunError, RunOptions, Runner, Segment, SliceSource};
-use fiveaxis_machine::{Machine, Offsets, ToolOffset, Vec3, builtin};
-use fiveaxis_post::{Converter, PostOptions, program};
+mod common;
+
+use common::{ROW_STEP, TIME_SHARE, offsets};
+use fiveaxis_control::{Motion, Segment};
+use fiveaxis_machine::{Machine, Offsets, Vec3, builtin};
+use fiveaxis_post::PostOptions;
 use proptest::prelude::*;
 use proptest::test_runner::{Config, RngSeed, TestCaseError, TestRunner};
 
-/// Interpolation of the output run: rows this close (mm, degrees).
-const ROW_STEP: f64 = 0.05;
 /// Samples of a source block for its tip length.
 const LENGTH_SAMPLES: u32 = 400;
-/// Share of a block's time within which its end must be kept.
-const TIME_SHARE: f64 = 0.01;
 /// Rounding of the comparison itself (time matching of rows), mm / deg.
 const SLACK: f64 = 1e-6;
-
-/// Runs `text` and returns its segments, or the run error.
-fn run(
-    machine: &Machine,
-    offsets: &Offsets,
-    text: &str,
-    step: Option<f64>,
-) -> Result<Vec<Segment>, RunError> {
-    let options = RunOptions {
-        interpolation: step.map(|s| Interpolation {
-            step: s,
-            step_angle: s,
-        }),
-        lift_soft_limits: true,
-        ..RunOptions::default()
-    };
-    let mut runner = Runner::new(
-        machine,
-        offsets.clone(),
-        SliceSource::new(text.as_bytes()),
-        options,
-    );
-    let mut out = Vec::new();
-    loop {
-        let want = out.len() + 1024;
-        if !runner.fill(&mut out, want)? {
-            break;
-        }
-    }
-    Ok(out)
-}
-
-/// The output program of `segments`.
-fn post(
-    machine: &Machine,
-    segments: &[Segment],
-    options: PostOptions,
-) -> (String, fiveaxis_post::Post) {
-    let mut converter = Converter::new(machine, options);
-    for seg in segments {
-        converter.push(seg);
-    }
-    let post = converter.finish();
-    let text = program::write(
-        machine,
-        &post,
-        &options,
-        &program::Header {
-            source: "test",
-            ..Default::default()
-        },
-    );
-    (text, post)
-}
 
 /// Tip path length of a segment by forward kinematics, mm.
 fn tip_length(machine: &Machine, seg: &Segment) -> f64 {
@@ -147,8 +92,9 @@ fn judge(
     source: &str,
     options: PostOptions,
 ) -> Result<Worst, String> {
-    let original = run(machine, offsets, source, None).map_err(|e| format!("source: {e}"))?;
-    let (text, _) = post(machine, &original, options);
+    let original =
+        common::run(machine, offsets, source, None, false).map_err(|e| format!("source: {e}"))?;
+    let (text, _) = common::post(machine, machine, &original, options);
     judge_text(machine, offsets, source, &text, options)
 }
 
@@ -160,9 +106,10 @@ fn judge_text(
     text: &str,
     options: PostOptions,
 ) -> Result<Worst, String> {
-    let original = run(machine, offsets, source, None).map_err(|e| format!("source: {e}"))?;
-    let output =
-        run(machine, offsets, text, Some(ROW_STEP)).map_err(|e| format!("output: {e}\n{text}"))?;
+    let original =
+        common::run(machine, offsets, source, None, false).map_err(|e| format!("source: {e}"))?;
+    let output = common::run(machine, offsets, text, Some(ROW_STEP), false)
+        .map_err(|e| format!("output: {e}\n{text}"))?;
     let (src, src_rapids) = stretches(&original, |s| {
         tip_length(machine, s) / s.feed.unwrap_or(f64::NAN)
     });
@@ -251,19 +198,6 @@ fn judge_text(
         }
     }
     Ok(worst)
-}
-
-fn offsets(length: f64, work: Vec3) -> Offsets {
-    let mut o = Offsets::default();
-    o.tools.insert(
-        1,
-        ToolOffset {
-            length,
-            ..ToolOffset::default()
-        },
-    );
-    o.work[0] = work;
-    o
 }
 
 /// A random TCPC program on `machine`: G43.4 with the rotary angles, or
@@ -451,14 +385,14 @@ fn judge_refuses_a_coarser_output() {
         fiveaxis_machine::Offsets::from_toml(include_str!("../../../examples/offsets.toml"))
             .expect("offsets");
     let origin = offsets.work[0] + offsets.external;
-    let original = run(&machine, &offsets, source, None).expect("source runs");
+    let original = common::run(&machine, &offsets, source, None, false).expect("source runs");
     let coarse = PostOptions {
         tolerance: 0.1,
         angle_tolerance: 1.0,
         origin,
         ..PostOptions::default()
     };
-    let (text, _) = post(&machine, &original, coarse);
+    let (text, _) = common::post(&machine, &machine, &original, coarse);
     // Judged at 0.01 mm: run the coarse text through the same comparison.
     let strict = PostOptions {
         origin,
