@@ -739,6 +739,7 @@ pub fn alarm_reference() -> String {
         Control::Mitsubishi,
         Control::Mazak,
         Control::Haas,
+        Control::LinuxCnc,
     ];
     let mut text = String::from(
         "# Alarm reference\n\n\
@@ -748,8 +749,8 @@ pub fn alarm_reference() -> String {
          not mapped yet: the haas column holds the kernel's codes). This file is generated from\n\
          `crates/fiveaxis-control/src/alarm.rs`; a test keeps it in step\n\
          (`FIVEAXIS_BLESS=1 cargo test -p fiveaxis-control alarm_reference` rewrites it).\n\n\
-         | condition | fanuc30i | fanuc16 | mitsubishi | mazak | haas |\n\
-         |---|---|---|---|---|---|\n",
+         | condition | fanuc30i | fanuc16 | mitsubishi | mazak | haas | linuxcnc |\n\
+         |---|---|---|---|---|---|---|\n",
     );
     for condition in Condition::ALL {
         text.push_str(&format!("| {} |", condition.describe()));

@@ -72,6 +72,11 @@ impl Dialect {
                 g87_manual_retract: true,
                 ..fanuc(10)
             },
+            // LinuxCNC's interpreter: subroutine nesting (O-word calls) is
+            // bounded by its call stack, 10 levels in rs274ngc's context
+            // array; no limit on M codes per block beyond one per modal
+            // group (issue #15 refines the reading rules).
+            Control::LinuxCnc => fanuc(10),
         }
     }
 }

@@ -77,6 +77,9 @@ pub enum Control {
     /// Haas's reading rules (nested comments, dwell P in seconds with a
     /// decimal point).
     Haas,
+    /// LinuxCNC 2.9 / 2.10: the RS274/NGC language (O-word control flow,
+    /// named parameters) and its kinematics modules' machines.
+    LinuxCnc,
 }
 
 /// The unit a program's lengths are read in until it gives G20 or G21
@@ -207,7 +210,9 @@ impl RotaryChoice {
     /// otherwise.
     pub fn default_for(control: Control) -> Self {
         match control {
-            Control::Fanuc30i | Control::Fanuc16 | Control::Haas => RotaryChoice::Shortest,
+            Control::Fanuc30i | Control::Fanuc16 | Control::Haas | Control::LinuxCnc => {
+                RotaryChoice::Shortest
+            }
             Control::Mitsubishi => RotaryChoice::RotatingAxis,
             Control::Mazak => RotaryChoice::KeepTiltSign,
         }

@@ -28,6 +28,7 @@ fn control_name(control: Control) -> &'static str {
         Control::Mitsubishi => "mitsubishi",
         Control::Mazak => "mazak",
         Control::Haas => "haas",
+        Control::LinuxCnc => "linuxcnc",
     }
 }
 

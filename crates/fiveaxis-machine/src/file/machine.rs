@@ -61,6 +61,8 @@ enum RawControl {
     Mitsubishi,
     Mazak,
     Haas,
+    #[serde(rename = "linuxcnc")]
+    LinuxCnc,
 }
 
 #[derive(Clone, Copy, Deserialize)]
@@ -225,6 +227,7 @@ impl From<RawControl> for Control {
             RawControl::Mitsubishi => Control::Mitsubishi,
             RawControl::Mazak => Control::Mazak,
             RawControl::Haas => Control::Haas,
+            RawControl::LinuxCnc => Control::LinuxCnc,
         }
     }
 }

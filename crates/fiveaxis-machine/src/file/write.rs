@@ -321,5 +321,6 @@ fn control_name(c: Control) -> &'static str {
         Control::Mitsubishi => "mitsubishi",
         Control::Mazak => "mazak",
         Control::Haas => "haas",
+        Control::LinuxCnc => "linuxcnc",
     }
 }
