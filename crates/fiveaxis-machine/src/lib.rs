@@ -270,6 +270,14 @@ pub struct Parameters {
     /// rotary axis outside TCPC may leave the straight line between its
     /// ends before `fiveaxis check` reports a chord error.
     pub chord_tolerance: f64,
+    /// Folders searched, in order, for the file `NAME.ngc` of a LinuxCNC
+    /// `o<NAME> call` (LinuxCNC `[RS274NGC] SUBROUTINE_PATH`); a relative
+    /// folder is relative to the machine file's folder.
+    pub subroutine_path: Vec<String>,
+    /// A LinuxCNC tool table (`.tbl`, LinuxCNC `[EMCIO] TOOL_TABLE`) read
+    /// as the offsets when a run is given no offsets file; relative to the
+    /// machine file's folder.
+    pub tool_table: Option<String>,
 }
 
 impl Default for Parameters {
@@ -291,6 +299,8 @@ impl Default for Parameters {
             singular_cone: 2.0,
             flip_angle: 90.0,
             chord_tolerance: 0.01,
+            subroutine_path: Vec::new(),
+            tool_table: None,
         }
     }
 }

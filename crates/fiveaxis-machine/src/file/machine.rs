@@ -152,6 +152,9 @@ struct RawParameters {
     singular_cone: Option<Spanned<f64>>,
     flip_angle: Option<Spanned<f64>>,
     chord_tolerance: Option<Spanned<f64>>,
+    #[serde(default)]
+    subroutine_path: Vec<String>,
+    tool_table: Option<String>,
 }
 
 #[derive(Clone, Copy, Deserialize)]
@@ -557,6 +560,8 @@ fn parameters(
             Some(v) => positive(src, v, "chord_tolerance")?,
             None => defaults.chord_tolerance,
         },
+        subroutine_path: raw.subroutine_path.clone(),
+        tool_table: raw.tool_table.clone(),
     })
 }
 

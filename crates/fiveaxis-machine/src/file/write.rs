@@ -151,6 +151,21 @@ impl Machine {
             &number(p.chord_tolerance),
             "check: tip off the chord outside TCPC reported as a chord error, mm",
         );
+        if !p.subroutine_path.is_empty() {
+            let folders: Vec<String> = p.subroutine_path.iter().map(|f| quote(f)).collect();
+            w.key(
+                "subroutine_path",
+                &format!("[{}]", folders.join(", ")),
+                "folders searched for o<name> call files (LinuxCNC SUBROUTINE_PATH)",
+            );
+        }
+        if let Some(table) = &p.tool_table {
+            w.key(
+                "tool_table",
+                &quote(table),
+                "LinuxCNC tool table read when no offsets file is given",
+            );
+        }
     }
 
     fn write_m_codes(&self, w: &mut Writer) {

@@ -208,6 +208,12 @@ fn parameters(count: usize) -> impl Strategy<Value = Parameters> {
                 singular_cone: singular_zone,
                 flip_angle: 1.0 + 100.0 * least_input_increment,
                 chord_tolerance: least_input_increment,
+                subroutine_path: if singular_zone > 3.0 {
+                    vec!["subs".into(), "/opt/shared subs".into()]
+                } else {
+                    Vec::new()
+                },
+                tool_table: (tool_comp_3d_denominator > 2.0).then(|| "tools \"a\".tbl".into()),
             },
         )
 }
