@@ -1,0 +1,707 @@
+//! Differential test against LinuxCNC's own interpreter.
+//!
+//! `rs274 -g` (Debian package `linuxcnc-uspace`) reads an RS274/NGC
+//! program and prints the canonical machining calls it makes of it; its
+//! `STRAIGHT_TRAVERSE`, `STRAIGHT_FEED` and `ARC_FEED` calls carry the end
+//! point of every move, to four decimals. On a machine whose axes are the
+//! positions rs274 prints (three linear axes, no rotaries, work offsets 0,
+//! no tool length), `fiveaxis run` under `control = "linuxcnc"` must give
+//! the same sequence of move end points.
+//!
+//! Two sources of programs:
+//!
+//! * random programs (seeded, [`Generator`]) that use what LinuxCNC's
+//!   language has beyond plain G code: O-word loops (`repeat`, `while`,
+//!   `do … while`) and conditions (`if/elseif/else`), subroutines with
+//!   arguments and `return`, numbered and named parameters (local and
+//!   global), expressions with LinuxCNC's operators and functions, G90 and
+//!   G91, arcs in the three planes given by centre or radius, canned
+//!   cycles with G98/G99 and `L` repeats;
+//! * the LinuxCNC programs of the shared corpus whose motion rs274 can
+//!   print without the configuration's remaps (see [`CORPUS`]).
+//!
+//! Consecutive equal end points are merged on both sides (a move of zero
+//! length is a canonical call for rs274 and no segment for the kernel).
+//! When `rs274` is not installed the test says so and passes, unless `CI`
+//! is set: `.ci/run` installs it, so there its absence is a failure.
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+
+/// rs274 prints four decimals: a position agrees when it is within half a
+/// unit of the last printed digit (plus the kernel's own rounding).
+const PRINT_TOLERANCE: f64 = 0.5e-4 + 1e-9;
+
+/// Random programs per run.
+const PROGRAMS: u64 = 120;
+
+/// A machine whose axes are rs274's positions: X Y Z with travels no
+/// random program reaches, read as LinuxCNC reads programs.
+const MACHINE: &str = r#"
+name = "LinuxCNC differential mill"
+type = "none"
+control = "linuxcnc"
+
+[[linear]]
+name = "X"
+min = -100000.0
+max = 100000.0
+
+[[linear]]
+name = "Y"
+min = -100000.0
+max = 100000.0
+
+[[linear]]
+name = "Z"
+min = -100000.0
+max = 100000.0
+"#;
+
+/// Whether `rs274` can be run; `None` with the reason when it cannot.
+fn rs274_available() -> Result<(), String> {
+    match Command::new("rs274")
+        .arg("-h")
+        .stdin(Stdio::null())
+        .output()
+    {
+        Ok(_) => Ok(()),
+        Err(e) => Err(format!(
+            "rs274 cannot be run ({e}): install linuxcnc-uspace"
+        )),
+    }
+}
+
+/// Skips (returns false) when rs274 is missing outside CI; fails in CI.
+fn require_rs274() -> bool {
+    match rs274_available() {
+        Ok(()) => true,
+        Err(why) if std::env::var_os("CI").is_some() => panic!("{why}"),
+        Err(why) => {
+            eprintln!("skipped: {why}");
+            false
+        }
+    }
+}
+
+/// One move's end point, X Y Z.
+type Point = [f64; 3];
+
+/// The move end points rs274 prints for `program`, or its error message.
+fn rs274_moves(program: &Path) -> Result<Vec<Point>, String> {
+    let dir = program.parent().expect("the program is in a folder");
+    let output = Command::new("rs274")
+        .arg("-g")
+        .arg(program)
+        .current_dir(dir)
+        .stdin(Stdio::null())
+        .output()
+        .map_err(|e| format!("rs274 did not start: {e}"))?;
+    // rs274 reports an error on standard error, not always in its exit
+    // status; it writes nothing else there but "executing".
+    let errors = String::from_utf8_lossy(&output.stderr);
+    let errors = errors.trim().trim_start_matches("executing").trim();
+    if !output.status.success() || !errors.is_empty() {
+        return Err(format!("rs274 exit {}: {errors}", output.status));
+    }
+    let text = String::from_utf8_lossy(&output.stdout);
+    let mut plane = Plane::Xy;
+    let mut moves = Vec::new();
+    for line in text.lines() {
+        let trimmed = line.trim_start();
+        // Canonical calls are numbered: "   12 N..... CALL(args)".
+        let Some(call) = canonical_call(trimmed) else {
+            if !trimmed.is_empty() && trimmed != "executing" {
+                return Err(format!("rs274: {trimmed}"));
+            }
+            continue;
+        };
+        let (name, args) = call;
+        match name {
+            "SELECT_PLANE" => {
+                plane = match args.trim() {
+                    "CANON_PLANE_XY" => Plane::Xy,
+                    "CANON_PLANE_YZ" => Plane::Yz,
+                    "CANON_PLANE_XZ" => Plane::Xz,
+                    other => return Err(format!("rs274: unknown plane {other}")),
+                }
+            }
+            "STRAIGHT_TRAVERSE" | "STRAIGHT_FEED" => {
+                let v = numbers(args)?;
+                moves.push([v[0], v[1], v[2]]);
+            }
+            "ARC_FEED" => {
+                // first_end, second_end, first_axis, second_axis, rotation,
+                // axis_end_point, a, b, c, u, v, w.
+                let v = numbers(args)?;
+                let (first, second, axis) = (v[0], v[1], v[5]);
+                moves.push(match plane {
+                    Plane::Xy => [first, second, axis],
+                    Plane::Yz => [axis, first, second],
+                    Plane::Xz => [second, axis, first],
+                });
+            }
+            _ => {}
+        }
+    }
+    Ok(moves)
+}
+
+#[derive(Clone, Copy)]
+enum Plane {
+    Xy,
+    Yz,
+    Xz,
+}
+
+/// `NAME` and the text between its parentheses, of a numbered canonical
+/// call line.
+fn canonical_call(line: &str) -> Option<(&str, &str)> {
+    let (number, rest) = line.split_once(' ')?;
+    if number.is_empty() || !number.bytes().all(|b| b.is_ascii_digit()) {
+        return None;
+    }
+    let rest = rest.trim_start();
+    let rest = rest
+        .strip_prefix('N')?
+        .trim_start_matches(|c: char| c == '.' || c.is_ascii_digit());
+    let rest = rest.trim_start();
+    let open = rest.find('(')?;
+    let close = rest.rfind(')')?;
+    Some((&rest[..open], &rest[open + 1..close]))
+}
+
+fn numbers(args: &str) -> Result<Vec<f64>, String> {
+    args.split(',')
+        .map(|a| a.trim())
+        .filter(|a| !a.is_empty())
+        .map(|a| {
+            a.parse::<f64>()
+                .map_err(|_| format!("rs274: not a number `{a}`"))
+        })
+        .collect::<Result<Vec<_>, _>>()
+        .and_then(|v| {
+            if v.len() >= 6 {
+                Ok(v)
+            } else {
+                Err(format!("rs274: {} arguments in `{args}`", v.len()))
+            }
+        })
+}
+
+/// The move end points `fiveaxis run` gives for `program` on `machine`
+/// (one row per segment end), or its error output.
+fn fiveaxis_moves(program: &Path, machine: &Path) -> Result<Vec<Point>, String> {
+    let output = Command::new(env!("CARGO_BIN_EXE_fiveaxis"))
+        .arg("run")
+        .arg(program)
+        .arg("--machine")
+        .arg(machine)
+        .stdin(Stdio::null())
+        .output()
+        .expect("the fiveaxis binary starts");
+    if !output.status.success() {
+        return Err(String::from_utf8_lossy(&output.stderr).into_owned());
+    }
+    let text = String::from_utf8_lossy(&output.stdout);
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().unwrap_or_default().split(',').collect();
+    let column = |name: &str| {
+        header
+            .iter()
+            .position(|h| *h == name)
+            .unwrap_or_else(|| panic!("no {name} column in {header:?}"))
+    };
+    let (x, y, z) = (column("X"), column("Y"), column("Z"));
+    Ok(lines
+        .map(|row| {
+            let cells: Vec<&str> = row.split(',').collect();
+            let value = |i: usize| cells[i].parse::<f64>().expect("a number");
+            [value(x), value(y), value(z)]
+        })
+        .collect())
+}
+
+/// The points with runs of equal neighbours (within the print tolerance)
+/// merged.
+fn merged(points: Vec<Point>, start: Point) -> Vec<Point> {
+    let mut out: Vec<Point> = Vec::with_capacity(points.len());
+    let mut last = start;
+    for p in points {
+        if !same(p, last) {
+            out.push(p);
+            last = p;
+        }
+    }
+    out
+}
+
+fn same(a: Point, b: Point) -> bool {
+    (0..3).all(|i| (a[i] - b[i]).abs() <= PRINT_TOLERANCE)
+}
+
+/// Where the two sequences first disagree, in words; `None` when they
+/// agree.
+fn difference(expected: &[Point], got: &[Point]) -> Option<String> {
+    for (i, (e, g)) in expected.iter().zip(got).enumerate() {
+        if !same(*e, *g) {
+            return Some(format!(
+                "move {} (1-based): rs274 {e:?}, fiveaxis {g:?}",
+                i + 1
+            ));
+        }
+    }
+    (expected.len() != got.len()).then(|| {
+        format!(
+            "rs274 has {} moves, fiveaxis {} (first extra: {:?})",
+            expected.len(),
+            got.len(),
+            expected.get(got.len()).or(got.get(expected.len()))
+        )
+    })
+}
+
+/// Runs `text` through both and compares; the failure names the program
+/// file kept for reading.
+fn compare(dir: &Path, name: &str, text: &str) -> Result<usize, String> {
+    let program = dir.join(format!("{name}.ngc"));
+    std::fs::write(&program, text).expect("program written");
+    let machine = dir.join("machine.toml");
+    if !machine.exists() {
+        std::fs::write(&machine, MACHINE).expect("machine written");
+    }
+    let expected = rs274_moves(&program)
+        .map_err(|e| format!("{}: rs274 refused it: {e}", program.display()))?;
+    let got = fiveaxis_moves(&program, &machine)
+        .map_err(|e| format!("{}: fiveaxis stopped:\n{e}", program.display()))?;
+    let (expected, got) = (merged(expected, [0.0; 3]), merged(got, [0.0; 3]));
+    match difference(&expected, &got) {
+        None => Ok(expected.len()),
+        Some(why) => Err(format!("{}: {why}", program.display())),
+    }
+}
+
+/// A folder that outlives a failing test (so the program can be read),
+/// under the target directory.
+fn work_dir(name: &str) -> PathBuf {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(name);
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("work folder");
+    dir
+}
+
+#[test]
+fn random_programs_move_as_rs274_moves_them() {
+    if !require_rs274() {
+        return;
+    }
+    let dir = work_dir("lcnc_differential");
+    let mut failures = Vec::new();
+    let mut moves = 0;
+    for seed in 1..=PROGRAMS {
+        let text = Generator::new(seed).program();
+        match compare(&dir, &format!("random_{seed}"), &text) {
+            Ok(n) => moves += n,
+            Err(why) => failures.push(why),
+        }
+    }
+    eprintln!(
+        "{} of {PROGRAMS} random programs agree with rs274 ({moves} moves)",
+        PROGRAMS as usize - failures.len()
+    );
+    assert!(
+        failures.is_empty(),
+        "{} programs differ:\n{}",
+        failures.len(),
+        failures.join("\n")
+    );
+}
+
+/// Random RS274/NGC programs: each seed gives one program, the same on
+/// every machine.
+struct Generator {
+    state: u64,
+    text: String,
+    /// Next O-word number for a loop or condition.
+    label: u32,
+    /// Named local parameters defined so far (the main program's).
+    names: Vec<&'static str>,
+    depth: u32,
+}
+
+/// Named parameters the programs define, in order.
+const NAMES: [&str; 4] = ["a", "b", "depth", "step"];
+
+impl Generator {
+    fn new(seed: u64) -> Self {
+        Self {
+            state: seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) ^ 0xD1B5_4A32_D192_ED03,
+            text: String::new(),
+            label: 100,
+            names: Vec::new(),
+            depth: 0,
+        }
+    }
+
+    /// SplitMix64.
+    fn next(&mut self) -> u64 {
+        self.state = self.state.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.state;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^ (z >> 31)
+    }
+
+    fn below(&mut self, n: u64) -> u64 {
+        self.next() % n
+    }
+
+    /// A value in [lo, hi) with three decimals.
+    fn value(&mut self, lo: f64, hi: f64) -> f64 {
+        let unit = (self.next() >> 11) as f64 / (1u64 << 53) as f64;
+        ((lo + (hi - lo) * unit) * 1000.0).round() / 1000.0
+    }
+
+    fn line(&mut self, text: &str) {
+        for _ in 0..self.depth {
+            self.text.push_str("  ");
+        }
+        self.text.push_str(text);
+        self.text.push('\n');
+    }
+
+    fn program(mut self) -> String {
+        let _ = writeln!(self.text, "(random program for the differential test)");
+        self.line("G21 G90 G17 G94 G40 G49 G80");
+        self.line("#<_scale> = 1.5 (a global)");
+        self.line("#101 = 4");
+        self.subroutines();
+        self.line("F600");
+        self.line("G0 X0 Y0 Z20");
+        for name in NAMES {
+            let v = self.value(-20.0, 20.0);
+            self.line(&format!("#<{name}> = {v}"));
+            self.names.push(name);
+        }
+        let statements = 12 + self.below(14);
+        for _ in 0..statements {
+            self.statement();
+        }
+        self.line("G90 G0 Z30");
+        self.line("M2");
+        self.text
+    }
+
+    /// `o<shift>`: moves by its two arguments (incremental), returns to
+    /// G90; `o<corner>`: a square of side #1 at the current height with a
+    /// conditional return.
+    fn subroutines(&mut self) {
+        self.line("o<shift> sub");
+        self.line("  G91 G1 X#1 Y#2");
+        self.line("  G90");
+        self.line("o<shift> endsub");
+        self.line("o<corner> sub");
+        self.line("  #<half> = [#1 / 2]");
+        self.line("  o11 if [#1 LT 0.5]");
+        self.line("    o<corner> return");
+        self.line("  o11 endif");
+        self.line("  G91 G1 X#<half>");
+        self.line("  Y#<half>");
+        self.line("  X-#<half>");
+        self.line("  Y-#<half>");
+        self.line("  G90");
+        self.line("o<corner> endsub");
+    }
+
+    /// A random expression over the defined names, in brackets.
+    fn expression(&mut self, depth: u32) -> String {
+        let leaf = depth >= 2 || self.below(3) == 0;
+        if leaf {
+            return match self.below(4) {
+                0 => format!("{}", self.value(-30.0, 30.0)),
+                1 => "#<_scale>".to_string(),
+                2 => "#101".to_string(),
+                _ => {
+                    let i = self.below(self.names.len() as u64) as usize;
+                    format!("#<{}>", self.names[i])
+                }
+            };
+        }
+        let a = self.expression(depth + 1);
+        let b = self.expression(depth + 1);
+        match self.below(12) {
+            0 => format!("[{a} + {b}]"),
+            1 => format!("[{a} - {b}]"),
+            2 => format!("[{a} * {b} / 10]"),
+            3 => format!("[{a} / [ABS[{b}] + 1]]"),
+            4 => format!("[[ABS[{a}] + 1] MOD 7]"),
+            5 => format!("[SIN[{a} * 10] * 5]"),
+            6 => format!("[COS[{b}] * {a}]"),
+            7 => format!("[ATAN[{a}]/[ABS[{b}] + 1]]"),
+            8 => format!("[SQRT[ABS[{a}]] * 2]"),
+            9 => format!("[ROUND[{a}] + FIX[{b}] - FUP[{b}]]"),
+            10 => format!("[[ABS[{a}] MOD 3] ** 2]"),
+            _ => format!("[{a} + {b} * 0.5]"),
+        }
+    }
+
+    /// A coordinate word's value: a number or an expression kept in a
+    /// range that keeps programs finite.
+    fn coordinate(&mut self) -> String {
+        if self.below(3) == 0 {
+            format!("{}", self.value(-60.0, 60.0))
+        } else {
+            let e = self.expression(0);
+            // Bounded whatever the parameters hold.
+            format!("[[{e}] MOD 80]")
+        }
+    }
+
+    fn statement(&mut self) {
+        let choice = if self.depth >= 2 {
+            self.below(6)
+        } else {
+            self.below(13)
+        };
+        match choice {
+            0 | 1 => self.absolute_move(),
+            2 => self.incremental_move(),
+            3 => self.arc(),
+            4 => self.assign(),
+            5 => self.call(),
+            6 => self.repeat(),
+            7 => self.while_loop(),
+            8 => self.do_while(),
+            9 => self.condition(),
+            10 => self.cycle(),
+            11 => self.absolute_move(),
+            _ => self.arc(),
+        }
+    }
+
+    fn absolute_move(&mut self) {
+        let g = if self.below(3) == 0 { "G0" } else { "G1" };
+        let mut words = format!("G90 {g}");
+        let mut any = false;
+        for axis in ["X", "Y", "Z"] {
+            if self.below(3) != 0 {
+                let v = self.coordinate();
+                let _ = write!(words, " {axis}{v}");
+                any = true;
+            }
+        }
+        if !any {
+            let v = self.coordinate();
+            let _ = write!(words, " X{v}");
+        }
+        self.line(&words);
+    }
+
+    fn incremental_move(&mut self) {
+        let (x, y, z) = (
+            self.value(-15.0, 15.0),
+            self.value(-15.0, 15.0),
+            self.value(-5.0, 5.0),
+        );
+        let words = match self.below(3) {
+            0 => format!("G91 G1 X{x} Y{y}"),
+            1 => format!("G91 G1 X{x} Z{z}"),
+            _ => format!("G91 G0 Y{y} Z{z}"),
+        };
+        self.line(&words);
+        self.line("G90");
+    }
+
+    /// An arc written incrementally: start at the current point, centre
+    /// at (I, J) from it, swept by a random angle, so the end is on the
+    /// circle wherever the program stands. Or by radius R.
+    fn arc(&mut self) {
+        let plane = self.below(3);
+        let (p, first, second, i_word, j_word) = match plane {
+            0 => ("G17", "X", "Y", "I", "J"),
+            1 => ("G18", "Z", "X", "K", "I"),
+            _ => ("G19", "Y", "Z", "J", "K"),
+        };
+        let i = self.value(-12.0, 12.0);
+        let j = self.value(-12.0, 12.0);
+        let (i, j) = if i.abs() + j.abs() < 1.0 {
+            (i + 3.0, j)
+        } else {
+            (i, j)
+        };
+        let sweep = self.value(10.0, 340.0).to_radians();
+        let clockwise = self.below(2) == 0;
+        let turn = if clockwise { -sweep } else { sweep };
+        // Start relative to the centre, turned.
+        let (sx, sy) = (-i, -j);
+        let (c, s) = (turn.cos(), turn.sin());
+        let (ex, ey) = (c * sx - s * sy, s * sx + c * sy);
+        let (dx, dy) = (i + ex, j + ey);
+        let g = if clockwise { "G2" } else { "G3" };
+        let helix = if self.below(4) == 0 {
+            let axis = ["Z", "Y", "X"][plane as usize];
+            format!(" {axis}{}", self.value(-3.0, 3.0))
+        } else {
+            String::new()
+        };
+        if self.below(4) == 0 && sweep < std::f64::consts::PI {
+            // Radius form: the shorter arc (R > 0).
+            let r = (i * i + j * j).sqrt();
+            self.line(&format!(
+                "{p} G91 {g} {first}{dx:.6} {second}{dy:.6}{helix} R{r:.6}"
+            ));
+        } else {
+            self.line(&format!(
+                "{p} G91 {g} {first}{dx:.6} {second}{dy:.6}{helix} {i_word}{i} {j_word}{j}"
+            ));
+        }
+        self.line("G90 G17");
+    }
+
+    fn assign(&mut self) {
+        let i = self.below(self.names.len() as u64) as usize;
+        let name = self.names[i];
+        let e = self.expression(0);
+        // Kept bounded.
+        self.line(&format!("#<{name}> = [[{e}] MOD 50]"));
+        if self.below(3) == 0 {
+            let e = self.expression(1);
+            self.line(&format!("#101 = [[{e}] MOD 9]"));
+        }
+    }
+
+    fn call(&mut self) {
+        if self.below(2) == 0 {
+            let (a, b) = (self.value(-10.0, 10.0), self.value(-10.0, 10.0));
+            self.line(&format!("o<shift> call [{a}] [{b}]"));
+        } else {
+            let e = self.expression(1);
+            self.line(&format!("o<corner> call [[ABS[{e}] MOD 12]]"));
+        }
+    }
+
+    fn body(&mut self) {
+        self.depth += 1;
+        let n = 1 + self.below(3);
+        for _ in 0..n {
+            self.statement();
+        }
+        self.depth -= 1;
+    }
+
+    fn next_label(&mut self) -> u32 {
+        self.label += 1;
+        self.label
+    }
+
+    fn repeat(&mut self) {
+        let o = self.next_label();
+        let n = 1 + self.below(3);
+        self.line(&format!("o{o} repeat [{n}]"));
+        self.body();
+        self.line(&format!("o{o} endrepeat"));
+    }
+
+    fn while_loop(&mut self) {
+        let o = self.next_label();
+        let n = 1 + self.below(3);
+        self.line(&format!("#<i{o}> = 0"));
+        self.line(&format!("o{o} while [#<i{o}> LT {n}]"));
+        self.body();
+        self.depth += 1;
+        if self.below(4) == 0 {
+            let inner = self.next_label();
+            self.line(&format!("o{inner} if [#<i{o}> EQ 1]"));
+            self.line(&format!("  #<i{o}> = [#<i{o}> + 1]"));
+            self.line(&format!("  o{o} continue"));
+            self.line(&format!("o{inner} endif"));
+        }
+        self.line(&format!("#<i{o}> = [#<i{o}> + 1]"));
+        self.depth -= 1;
+        self.line(&format!("o{o} endwhile"));
+    }
+
+    fn do_while(&mut self) {
+        let o = self.next_label();
+        let n = 1 + self.below(3);
+        self.line(&format!("#<k{o}> = 0"));
+        self.line(&format!("o{o} do"));
+        self.body();
+        self.depth += 1;
+        self.line(&format!("#<k{o}> = [#<k{o}> + 1]"));
+        if self.below(3) == 0 {
+            let inner = self.next_label();
+            self.line(&format!("o{inner} if [#<k{o}> GE 2]"));
+            self.line(&format!("  o{o} break"));
+            self.line(&format!("o{inner} endif"));
+        }
+        self.depth -= 1;
+        self.line(&format!("o{o} while [#<k{o}> LT {n}]"));
+    }
+
+    fn condition(&mut self) {
+        let o = self.next_label();
+        let a = self.expression(1);
+        let b = self.expression(1);
+        let op = ["EQ", "NE", "GT", "GE", "LT", "LE"][self.below(6) as usize];
+        let join = ["AND", "OR", "XOR"][self.below(3) as usize];
+        let c = self.expression(2);
+        self.line(&format!("o{o} if [[{a} {op} {b}] {join} [{c} GT 0]]"));
+        self.body();
+        if self.below(2) == 0 {
+            let d = self.expression(1);
+            self.line(&format!("o{o} elseif [{d} LT 5]"));
+            self.body();
+        }
+        if self.below(2) == 0 {
+            self.line(&format!("o{o} else"));
+            self.body();
+        }
+        self.line(&format!("o{o} endif"));
+    }
+
+    /// A drilling cycle from a safe height: R above the bottom, the
+    /// initial level above R (LinuxCNC refuses R below Z).
+    fn cycle(&mut self) {
+        let top = self.value(10.0, 20.0);
+        self.line(&format!("G90 G0 Z{top}"));
+        let retract = ["G98", "G99"][self.below(2) as usize];
+        let r = self.value(1.0, 5.0);
+        let z = self.value(-12.0, -1.0);
+        let (x, y) = (self.value(-40.0, 40.0), self.value(-40.0, 40.0));
+        let cycle = match self.below(4) {
+            0 => "G81".to_string(),
+            1 => format!("G82 P{}", self.value(0.1, 1.0)),
+            2 => format!("G83 Q{}", self.value(1.0, 4.0)),
+            _ => format!("G73 Q{}", self.value(1.0, 4.0)),
+        };
+        self.line(&format!("{retract} {cycle} X{x} Y{y} Z{z} R{r}"));
+        if self.below(2) == 0 {
+            let (dx, dy) = (self.value(-10.0, 10.0), self.value(-10.0, 10.0));
+            let l = 2 + self.below(3);
+            self.line(&format!("G91 X{dx} Y{dy} L{l}"));
+            self.line("G90");
+        } else {
+            let (x2, y2) = (self.value(-40.0, 40.0), self.value(-40.0, 40.0));
+            self.line(&format!("X{x2} Y{y2}"));
+        }
+        self.line("G80");
+    }
+}
+
+#[test]
+fn every_random_program_is_accepted_by_rs274() {
+    // The generator's own check: a program rs274 refuses tests nothing.
+    if !require_rs274() {
+        return;
+    }
+    let dir = work_dir("lcnc_generator");
+    for seed in 1..=PROGRAMS {
+        let text = Generator::new(seed).program();
+        let program = dir.join(format!("random_{seed}.ngc"));
+        std::fs::write(&program, &text).expect("program written");
+        let moves = rs274_moves(&program).unwrap_or_else(|e| panic!("seed {seed}: {e}\n{text}"));
+        assert!(moves.len() >= 3, "seed {seed} moves too little");
+    }
+}
