@@ -85,15 +85,41 @@ fn require_rs274() -> bool {
     }
 }
 
-/// One move's end point, X Y Z.
-type Point = [f64; 3];
+/// One move's end point: X Y Z A B C U V W (an axis the machine does not
+/// have stays 0).
+type Point = [f64; 9];
 
-/// The move end points rs274 prints for `program`, or its error message.
-fn rs274_moves(program: &Path) -> Result<Vec<Point>, String> {
-    let dir = program.parent().expect("the program is in a folder");
-    let output = Command::new("rs274")
+/// The axis letters of a [`Point`], in order.
+const AXES: [&str; 9] = ["X", "Y", "Z", "A", "B", "C", "U", "V", "W"];
+
+/// Held while rs274 runs.
+static RS274: std::sync::Mutex<()> = std::sync::Mutex::new(());
+
+/// How rs274 is run: the program, and the INI and tool table if any.
+struct Rs274<'a> {
+    program: &'a Path,
+    ini: Option<&'a Path>,
+    tool_table: Option<&'a Path>,
+}
+
+/// The move end points rs274 prints, or its error message.
+fn rs274_moves(run: &Rs274<'_>) -> Result<Vec<Point>, String> {
+    let dir = run.program.parent().expect("the program is in a folder");
+    let mut command = Command::new("rs274");
+    if let Some(ini) = run.ini {
+        command.arg("-i").arg(ini);
+    }
+    if let Some(table) = run.tool_table {
+        command.arg("-t").arg(table);
+    }
+    // Two rs274 at once share its tool data memory and crash (SIGBUS):
+    // one at a time.
+    let _one = RS274
+        .lock()
+        .unwrap_or_else(std::sync::PoisonError::into_inner);
+    let output = command
         .arg("-g")
-        .arg(program)
+        .arg(run.program)
         .current_dir(dir)
         .stdin(Stdio::null())
         .output()
@@ -112,7 +138,7 @@ fn rs274_moves(program: &Path) -> Result<Vec<Point>, String> {
         let trimmed = line.trim_start();
         // Canonical calls are numbered: "   12 N..... CALL(args)".
         let Some(call) = canonical_call(trimmed) else {
-            if !trimmed.is_empty() && trimmed != "executing" {
+            if !trimmed.is_empty() {
                 return Err(format!("rs274: {trimmed}"));
             }
             continue;
@@ -128,19 +154,27 @@ fn rs274_moves(program: &Path) -> Result<Vec<Point>, String> {
                 }
             }
             "STRAIGHT_TRAVERSE" | "STRAIGHT_FEED" => {
-                let v = numbers(args)?;
-                moves.push([v[0], v[1], v[2]]);
+                // x, y, z, a, b, c[, u, v, w].
+                let v = numbers(args, 6)?;
+                let mut p = [0.0; 9];
+                p[..v.len().min(9)].copy_from_slice(&v[..v.len().min(9)]);
+                moves.push(p);
             }
             "ARC_FEED" => {
                 // first_end, second_end, first_axis, second_axis, rotation,
-                // axis_end_point, a, b, c, u, v, w.
-                let v = numbers(args)?;
+                // axis_end_point, a, b, c[, u, v, w].
+                let v = numbers(args, 9)?;
                 let (first, second, axis) = (v[0], v[1], v[5]);
-                moves.push(match plane {
+                let [x, y, z] = match plane {
                     Plane::Xy => [first, second, axis],
                     Plane::Yz => [axis, first, second],
                     Plane::Xz => [second, axis, first],
-                });
+                };
+                let mut p = [x, y, z, v[6], v[7], v[8], 0.0, 0.0, 0.0];
+                for (i, w) in v.iter().skip(9).take(3).enumerate() {
+                    p[6 + i] = *w;
+                }
+                moves.push(p);
             }
             _ => {}
         }
@@ -172,22 +206,22 @@ fn canonical_call(line: &str) -> Option<(&str, &str)> {
     Some((&rest[..open], &rest[open + 1..close]))
 }
 
-fn numbers(args: &str) -> Result<Vec<f64>, String> {
-    args.split(',')
+/// The numbers of a call's arguments, at least `least` of them.
+fn numbers(args: &str, least: usize) -> Result<Vec<f64>, String> {
+    let v = args
+        .split(',')
         .map(|a| a.trim())
         .filter(|a| !a.is_empty())
         .map(|a| {
             a.parse::<f64>()
                 .map_err(|_| format!("rs274: not a number `{a}`"))
         })
-        .collect::<Result<Vec<_>, _>>()
-        .and_then(|v| {
-            if v.len() >= 6 {
-                Ok(v)
-            } else {
-                Err(format!("rs274: {} arguments in `{args}`", v.len()))
-            }
-        })
+        .collect::<Result<Vec<_>, _>>()?;
+    if v.len() >= least {
+        Ok(v)
+    } else {
+        Err(format!("rs274: {} arguments in `{args}`", v.len()))
+    }
 }
 
 /// The move end points `fiveaxis run` gives for `program` on `machine`
@@ -207,27 +241,29 @@ fn fiveaxis_moves(program: &Path, machine: &Path) -> Result<Vec<Point>, String> 
     let text = String::from_utf8_lossy(&output.stdout);
     let mut lines = text.lines();
     let header: Vec<&str> = lines.next().unwrap_or_default().split(',').collect();
-    let column = |name: &str| {
-        header
-            .iter()
-            .position(|h| *h == name)
-            .unwrap_or_else(|| panic!("no {name} column in {header:?}"))
-    };
-    let (x, y, z) = (column("X"), column("Y"), column("Z"));
+    // Machine-axis columns come between `motion` and `tip_x`.
+    let columns: Vec<(usize, usize)> = AXES
+        .iter()
+        .enumerate()
+        .filter_map(|(i, axis)| header.iter().position(|h| h == axis).map(|c| (i, c)))
+        .collect();
     Ok(lines
         .map(|row| {
             let cells: Vec<&str> = row.split(',').collect();
-            let value = |i: usize| cells[i].parse::<f64>().expect("a number");
-            [value(x), value(y), value(z)]
+            let mut p = [0.0; 9];
+            for &(i, c) in &columns {
+                p[i] = cells[c].parse::<f64>().expect("a number");
+            }
+            p
         })
         .collect())
 }
 
 /// The points with runs of equal neighbours (within the print tolerance)
 /// merged.
-fn merged(points: Vec<Point>, start: Point) -> Vec<Point> {
+fn merged(points: Vec<Point>) -> Vec<Point> {
     let mut out: Vec<Point> = Vec::with_capacity(points.len());
-    let mut last = start;
+    let mut last = [0.0; 9];
     for p in points {
         if !same(p, last) {
             out.push(p);
@@ -238,7 +274,17 @@ fn merged(points: Vec<Point>, start: Point) -> Vec<Point> {
 }
 
 fn same(a: Point, b: Point) -> bool {
-    (0..3).all(|i| (a[i] - b[i]).abs() <= PRINT_TOLERANCE)
+    (0..9).all(|i| (a[i] - b[i]).abs() <= PRINT_TOLERANCE)
+}
+
+fn show(p: &Point) -> String {
+    let mut text = String::new();
+    for (axis, v) in AXES.iter().zip(p) {
+        if *v != 0.0 || text.is_empty() {
+            let _ = write!(text, "{axis}{v:.4} ");
+        }
+    }
+    text.trim_end().to_string()
 }
 
 /// Where the two sequences first disagree, in words; `None` when they
@@ -247,8 +293,10 @@ fn difference(expected: &[Point], got: &[Point]) -> Option<String> {
     for (i, (e, g)) in expected.iter().zip(got).enumerate() {
         if !same(*e, *g) {
             return Some(format!(
-                "move {} (1-based): rs274 {e:?}, fiveaxis {g:?}",
-                i + 1
+                "move {} (1-based): rs274 {}, fiveaxis {}",
+                i + 1,
+                show(e),
+                show(g)
             ));
         }
     }
@@ -257,7 +305,10 @@ fn difference(expected: &[Point], got: &[Point]) -> Option<String> {
             "rs274 has {} moves, fiveaxis {} (first extra: {:?})",
             expected.len(),
             got.len(),
-            expected.get(got.len()).or(got.get(expected.len()))
+            expected
+                .get(got.len())
+                .or(got.get(expected.len()))
+                .map(show)
         )
     })
 }
@@ -271,11 +322,21 @@ fn compare(dir: &Path, name: &str, text: &str) -> Result<usize, String> {
     if !machine.exists() {
         std::fs::write(&machine, MACHINE).expect("machine written");
     }
-    let expected = rs274_moves(&program)
-        .map_err(|e| format!("{}: rs274 refused it: {e}", program.display()))?;
-    let got = fiveaxis_moves(&program, &machine)
+    let run = Rs274 {
+        program: &program,
+        ini: None,
+        tool_table: None,
+    };
+    compare_runs(&run, &machine)
+}
+
+fn compare_runs(run: &Rs274<'_>, machine: &Path) -> Result<usize, String> {
+    let program = run.program;
+    let expected =
+        rs274_moves(run).map_err(|e| format!("{}: rs274 refused it: {e}", program.display()))?;
+    let got = fiveaxis_moves(program, machine)
         .map_err(|e| format!("{}: fiveaxis stopped:\n{e}", program.display()))?;
-    let (expected, got) = (merged(expected, [0.0; 3]), merged(got, [0.0; 3]));
+    let (expected, got) = (merged(expected), merged(got));
     match difference(&expected, &got) {
         None => Ok(expected.len()),
         Some(why) => Err(format!("{}: {why}", program.display())),
@@ -701,7 +762,252 @@ fn every_random_program_is_accepted_by_rs274() {
         let text = Generator::new(seed).program();
         let program = dir.join(format!("random_{seed}.ngc"));
         std::fs::write(&program, &text).expect("program written");
-        let moves = rs274_moves(&program).unwrap_or_else(|e| panic!("seed {seed}: {e}\n{text}"));
+        let run = Rs274 {
+            program: &program,
+            ini: None,
+            tool_table: None,
+        };
+        let moves = rs274_moves(&run).unwrap_or_else(|e| panic!("seed {seed}: {e}\n{text}"));
         assert!(moves.len() >= 3, "seed {seed} moves too little");
     }
+}
+
+/// How a corpus file is run.
+#[derive(Clone, Copy)]
+enum Kind {
+    /// A main program, run as it is.
+    Main,
+    /// A file holding one subroutine `o<NAME> sub … endsub` (an NGCGUI
+    /// subfile): run by `o<NAME> call` with the defaults its NGCGUI
+    /// comments give (`#<zmax> = #1 (=10)`) and `M2`, followed by the
+    /// file (the call finds the subroutine further on), as NGCGUI runs it.
+    Subfile(&'static str),
+}
+
+/// The LinuxCNC programs of the shared corpus rs274 runs to their end
+/// when M428 / M429 / M430 (switch kinematics; no motion) are remapped to
+/// empty subroutines: file, how it runs, its rotary axes.
+///
+/// Left out: the `lcnc_trsrn_*` tilted-work-plane demos and
+/// `lcnc_suite_twp_simple_example.ngc` (their `G68.2`, `G53.x`, `G69` are
+/// Python remaps of the configuration, which rs274 runs only inside
+/// LinuxCNC's task), and `lcnc_xyzab-tdr-demo.ngc` (it reads
+/// `#<_hal[…]>` pins, which only a running HAL has), and
+/// `lcnc_bridgemill_5axisgui.ngc` (it moves W: rs274 outside LinuxCNC's
+/// task takes X Y Z A B C only, "Bad character 'w' used").
+const CORPUS: &[(&str, Kind, &str)] = &[
+    ("lcnc_boat-xyzac.ngc", Kind::Main, "AC"),
+    ("lcnc_boat-xyzbc.ngc", Kind::Main, "BC"),
+    ("lcnc_impeller-7bl-xyzac.ngc", Kind::Main, "AC"),
+    ("lcnc_xyzac_switchkins_test_1.ngc", Kind::Main, "AC"),
+    ("lcnc_xyzac_switchkins_test_2.ngc", Kind::Main, "AC"),
+    ("lcnc_xyzac_switchkins_test_3.ngc", Kind::Main, "AC"),
+    ("lcnc_helix_ac.ngc", Kind::Subfile("helix_ac"), "AC"),
+    ("lcnc_helix_bc.ngc", Kind::Subfile("helix_bc"), "BC"),
+    ("lcnc_centering.ngc", Kind::Subfile("centering"), "AC"),
+    (
+        "lcnc_xyzac_switchkins_sub.ngc",
+        Kind::Subfile("xyzac_switchkins_sub"),
+        "AC",
+    ),
+    (
+        "lcnc_xyzbc_switchkins_sub.ngc",
+        Kind::Subfile("xyzbc_switchkins_sub"),
+        "BC",
+    ),
+    (
+        "lcnc_gmoccapy_test-xyzac.ngc",
+        Kind::Subfile("test-xyzac"),
+        "AC",
+    ),
+    (
+        "lcnc_gmoccapy_test-xyzbc.ngc",
+        Kind::Subfile("test-xyzbc"),
+        "BC",
+    ),
+    (
+        "lcnc_trsrn_circular_pocket.ngc",
+        Kind::Subfile("circular_pocket"),
+        "AC",
+    ),
+    ("lcnc_trsrn_square.ngc", Kind::Subfile("square"), "AC"),
+];
+
+/// A machine whose axes are rs274's positions, with the table rotary
+/// axes `rotary`; the switch-kinematics M codes move nothing (rs274's
+/// empty remaps).
+fn corpus_machine(rotary: &str) -> String {
+    let mut text = String::from(
+        "name = \"LinuxCNC differential machine\"\ncontrol = \"linuxcnc\"\ntype = \"table\"\n",
+    );
+    for axis in ["X", "Y", "Z"] {
+        let _ = writeln!(
+            text,
+            "\n[[linear]]\nname = \"{axis}\"\nmin = -100000.0\nmax = 100000.0"
+        );
+    }
+    for axis in rotary.chars() {
+        let direction = match axis {
+            'A' => "[1, 0, 0]",
+            'B' => "[0, 1, 0]",
+            _ => "[0, 0, 1]",
+        };
+        let _ = writeln!(
+            text,
+            "\n[[rotary]]\nname = \"{axis}\"\non = \"table\"\naxis = {direction}\ncenter = [0, 0, 0]\nmin = -100000.0\nmax = 100000.0"
+        );
+    }
+    let _ = writeln!(
+        text,
+        "\n[parameters]\nsubroutine_path = [{:?}]",
+        config_subroutines().display().to_string()
+    );
+    text.push_str("\n[m_codes]\n428 = \"signal\"\n429 = \"signal\"\n430 = \"signal\"\n");
+    text
+}
+
+/// Where the corpus' switch-kinematics configuration keeps the
+/// subroutines its programs call (`o<helix_ac> call`).
+fn config_subroutines() -> PathBuf {
+    corpus_dir().join("linuxcnc-configs/axis/vismach/5axis/table-rotary-tilting/remap_subs")
+}
+
+/// The INI rs274 reads: subroutines from `dir` and the configuration's
+/// folder, M428–M430 remapped to the empty subroutines written in `dir`.
+fn corpus_ini(dir: &Path) -> PathBuf {
+    for m in [428, 429, 430] {
+        std::fs::write(
+            dir.join(format!("m{m}noop.ngc")),
+            format!("o<m{m}noop> sub\no<m{m}noop> endsub\nM2\n"),
+        )
+        .expect("remap written");
+    }
+    let ini = dir.join("rs274.ini");
+    let mut text = format!(
+        "[RS274NGC]\nSUBROUTINE_PATH = {}:{}\n",
+        dir.display(),
+        config_subroutines().display()
+    );
+    for m in [428, 429, 430] {
+        let _ = writeln!(text, "REMAP = M{m} modalgroup=10 ngc=m{m}noop");
+    }
+    std::fs::write(&ini, text).expect("INI written");
+    ini
+}
+
+/// A tool table with tools 1–200 of length and diameter 0 (the kernel
+/// runs without offsets: every length 0).
+fn zero_tool_table(dir: &Path) -> PathBuf {
+    let mut text = String::new();
+    for t in 1..=200 {
+        let _ = writeln!(text, "T{t} P{t} Z0 D0 ;");
+    }
+    let path = dir.join("zero.tbl");
+    std::fs::write(&path, text).expect("tool table written");
+    path
+}
+
+/// `o<name> call [..]` with the NGCGUI defaults of `text`: the values of
+/// `(=value …)` comments on `#<…> = #n` lines, by n (0 where none).
+fn ngcgui_call(name: &str, text: &str) -> String {
+    let mut defaults: Vec<(usize, String)> = Vec::new();
+    for line in text.lines() {
+        let Some((_, rest)) = line.split_once('=') else {
+            continue;
+        };
+        let rest = rest.trim_start();
+        let Some(number) = rest.strip_prefix('#') else {
+            continue;
+        };
+        let digits: String = number.chars().take_while(char::is_ascii_digit).collect();
+        let Ok(n) = digits.parse::<usize>() else {
+            continue;
+        };
+        let Some((_, comment)) = rest.split_once("(=") else {
+            continue;
+        };
+        let value: String = comment
+            .trim_start()
+            .chars()
+            .take_while(|c| c.is_ascii_digit() || *c == '.' || *c == '-')
+            .collect();
+        if !value.is_empty() {
+            defaults.push((n, value));
+        }
+    }
+    let count = defaults.iter().map(|(n, _)| *n).max().unwrap_or(0);
+    let mut call = format!("o<{name}> call");
+    for n in 1..=count {
+        let value = defaults
+            .iter()
+            .find(|(k, _)| *k == n)
+            .map_or("0", |(_, v)| v.as_str());
+        let _ = write!(call, " [{value}]");
+    }
+    call
+}
+
+fn corpus_dir() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/corpus")
+}
+
+#[test]
+fn corpus_programs_move_as_rs274_moves_them() {
+    if !require_rs274() {
+        return;
+    }
+    let corpus = corpus_dir();
+    if !corpus.is_dir() {
+        eprintln!("skipped: no corpus at {}", corpus.display());
+        return;
+    }
+    let dir = work_dir("lcnc_corpus");
+    let ini = corpus_ini(&dir);
+    let tools = zero_tool_table(&dir);
+    let mut failures = Vec::new();
+    let mut moves = 0;
+    for (file, kind, rotary) in CORPUS {
+        let source = std::fs::read_to_string(corpus.join(file)).expect("corpus file");
+        let text = match kind {
+            Kind::Main => source,
+            Kind::Subfile(name) => {
+                let call = ngcgui_call(name, &source);
+                format!("{call}\nM2\n{source}")
+            }
+        };
+        let program = dir.join(file);
+        std::fs::write(&program, &text).expect("program written");
+        let machine = dir.join(format!("machine-{rotary}.toml"));
+        std::fs::write(&machine, corpus_machine(rotary)).expect("machine written");
+        let run = Rs274 {
+            program: &program,
+            ini: Some(&ini),
+            tool_table: Some(&tools),
+        };
+        match compare_runs(&run, &machine) {
+            Ok(n) => {
+                eprintln!("{file}: {n} moves agree");
+                moves += n;
+            }
+            Err(why) => failures.push(why),
+        }
+    }
+    eprintln!(
+        "{} of {} corpus programs agree with rs274 ({moves} moves)",
+        CORPUS.len() - failures.len(),
+        CORPUS.len()
+    );
+    assert!(
+        failures.is_empty(),
+        "{} corpus programs differ:\n{}",
+        failures.len(),
+        failures.join("\n")
+    );
+}
+
+#[test]
+fn ngcgui_defaults_make_the_call() {
+    let text =
+        "o<h>sub\n #<zmax> = #1 (=10)\n #<r> = #3 (= -2.5 radius)\n#<x> = #<zmax>\no<h>endsub\n";
+    assert_eq!(ngcgui_call("h", text), "o<h> call [10] [0] [-2.5]");
 }
