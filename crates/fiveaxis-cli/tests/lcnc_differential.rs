@@ -391,6 +391,10 @@ struct Generator {
     depth: u32,
 }
 
+/// Longest generated block (LinuxCNC refuses lines over 255 characters:
+/// "Command too long"), leaving room for the indent.
+const MAX_LINE: usize = 200;
+
 /// Named parameters the programs define, in order.
 const NAMES: [&str; 4] = ["a", "b", "depth", "step"];
 
@@ -473,16 +477,57 @@ impl Generator {
         self.line("  Y-#<half>");
         self.line("  G90");
         self.line("o<corner> endsub");
+        self.line("o<mid> sub");
+        self.line("  o<mid> return [[#1 + #2] / 2]");
+        self.line("o<mid> endsub");
+    }
+
+    /// A subroutine's value (`return [e]`) read from `#<_value>`.
+    fn valued_call(&mut self) {
+        let a = self.expression(1);
+        let b = self.value(-40.0, 40.0);
+        self.line(&format!("o<mid> call [[{a}] MOD 60] [{b}]"));
+        self.line("G90 G1 Y#<_value>");
+    }
+
+    /// Work offsets and G92: G10 L2 / L20 (the current system, P0, or
+    /// G54–G56), a change of system, G92 and its cancel, a G53 move.
+    fn offsets(&mut self) {
+        let (x, y, z) = (
+            self.value(-30.0, 30.0),
+            self.value(-30.0, 30.0),
+            self.value(-10.0, 10.0),
+        );
+        match self.below(6) {
+            0 => {
+                let p = self.below(4);
+                self.line(&format!("G10 L2 P{p} X{x} Y{y} Z{z}"));
+            }
+            1 => self.line(&format!("G10 L20 P0 X{x} Y{y}")),
+            2 => {
+                let g = ["G54", "G55", "G56"][self.below(3) as usize];
+                let p = self.below(3) + 1;
+                self.line(&format!("G10 L2 P{p} X{x} Y{y}"));
+                self.line(g);
+            }
+            3 => self.line(&format!("G92 X{x} Z{z}")),
+            4 => self.line("G92.1"),
+            _ => self.line(&format!("G53 G0 X{x} Y{y}")),
+        }
     }
 
     /// A random expression over the defined names, in brackets.
     fn expression(&mut self, depth: u32) -> String {
         let leaf = depth >= 2 || self.below(3) == 0;
         if leaf {
-            return match self.below(4) {
+            return match self.below(6) {
                 0 => format!("{}", self.value(-30.0, 30.0)),
                 1 => "#<_scale>".to_string(),
                 2 => "#101".to_string(),
+                // The current position, as predefined named and numbered
+                // parameters give it.
+                3 => ["#<_x>", "#<_y>", "#<_z>", "#5420", "#5421", "#5422"][self.below(6) as usize]
+                    .to_string(),
                 _ => {
                     let i = self.below(self.names.len() as u64) as usize;
                     format!("#<{}>", self.names[i])
@@ -526,7 +571,12 @@ impl Generator {
             self.below(13)
         };
         match choice {
-            0 | 1 => self.absolute_move(),
+            0 => self.absolute_move(),
+            1 => match self.below(6) {
+                0 => self.offsets(),
+                1 => self.valued_call(),
+                _ => self.absolute_move(),
+            },
             2 => self.incremental_move(),
             3 => self.arc(),
             4 => self.assign(),
@@ -555,6 +605,11 @@ impl Generator {
         if !any {
             let v = self.coordinate();
             let _ = write!(words, " X{v}");
+        }
+        if words.len() > MAX_LINE {
+            // LinuxCNC reads at most 256 characters a line.
+            let v = self.value(-60.0, 60.0);
+            words = format!("G90 {g} X{v}");
         }
         self.line(&words);
     }
