@@ -3,7 +3,12 @@
 //! `rs274 -g` (Debian package `linuxcnc-uspace`) reads an RS274/NGC
 //! program and prints the canonical machining calls it makes of it; its
 //! `STRAIGHT_TRAVERSE`, `STRAIGHT_FEED` and `ARC_FEED` calls carry the end
-//! point of every move, to four decimals. On a machine whose axes are the
+//! point of every move, to four decimals, in the coordinates the program
+//! stands in; `SET_G5X_OFFSET`, `SET_G92_OFFSET` and
+//! `USE_TOOL_LENGTH_OFFSET` give the offsets that LinuxCNC's canonical
+//! layer adds to make them machine positions (machine = point + G92
+//! offset + G5x offset + tool offset; an XY rotation, `G10 L2 R`, is
+//! refused by the test: the programs do not use it). On a machine whose axes are the
 //! positions rs274 prints (three linear axes, no rotaries, work offsets 0,
 //! no tool length), `fiveaxis run` under `control = "linuxcnc"` must give
 //! the same sequence of move end points.
@@ -134,6 +139,17 @@ fn rs274_moves(run: &Rs274<'_>) -> Result<Vec<Point>, String> {
     let text = String::from_utf8_lossy(&output.stdout);
     let mut plane = Plane::Xy;
     let mut moves = Vec::new();
+    // Offsets the canonical layer adds: G5x, G92, tool.
+    let mut g5x = [0.0; 9];
+    let mut g92 = [0.0; 9];
+    let mut tool = [0.0; 9];
+    let machine = |p: Point, g5x: &Point, g92: &Point, tool: &Point| {
+        let mut m = p;
+        for i in 0..9 {
+            m[i] += g5x[i] + g92[i] + tool[i];
+        }
+        m
+    };
     for line in text.lines() {
         let trimmed = line.trim_start();
         // Canonical calls are numbered: "   12 N..... CALL(args)".
@@ -153,12 +169,25 @@ fn rs274_moves(run: &Rs274<'_>) -> Result<Vec<Point>, String> {
                     other => return Err(format!("rs274: unknown plane {other}")),
                 }
             }
+            "SET_G5X_OFFSET" => {
+                // index, x, y, z, a, b, c[, u, v, w].
+                let v = numbers(args, 7)?;
+                g5x = axes(&v[1..]);
+            }
+            "SET_G92_OFFSET" => g92 = axes(&numbers(args, 6)?),
+            "USE_TOOL_LENGTH_OFFSET" => {
+                // "x y z, a b c, u v w".
+                tool = axes(&numbers(&args.replace(' ', ","), 3)?);
+            }
+            "SET_XY_ROTATION" => {
+                if numbers(args, 1)?[0] != 0.0 {
+                    return Err(format!("rs274: XY rotation {args} (not modelled here)"));
+                }
+            }
             "STRAIGHT_TRAVERSE" | "STRAIGHT_FEED" => {
                 // x, y, z, a, b, c[, u, v, w].
-                let v = numbers(args, 6)?;
-                let mut p = [0.0; 9];
-                p[..v.len().min(9)].copy_from_slice(&v[..v.len().min(9)]);
-                moves.push(p);
+                let p = axes(&numbers(args, 6)?);
+                moves.push(machine(p, &g5x, &g92, &tool));
             }
             "ARC_FEED" => {
                 // first_end, second_end, first_axis, second_axis, rotation,
@@ -174,7 +203,7 @@ fn rs274_moves(run: &Rs274<'_>) -> Result<Vec<Point>, String> {
                 for (i, w) in v.iter().skip(9).take(3).enumerate() {
                     p[6 + i] = *w;
                 }
-                moves.push(p);
+                moves.push(machine(p, &g5x, &g92, &tool));
             }
             _ => {}
         }
@@ -204,6 +233,14 @@ fn canonical_call(line: &str) -> Option<(&str, &str)> {
     let open = rest.find('(')?;
     let close = rest.rfind(')')?;
     Some((&rest[..open], &rest[open + 1..close]))
+}
+
+/// A point of the first nine of `values` (X Y Z A B C U V W).
+fn axes(values: &[f64]) -> Point {
+    let mut p = [0.0; 9];
+    let n = values.len().min(9);
+    p[..n].copy_from_slice(&values[..n]);
+    p
 }
 
 /// The numbers of a call's arguments, at least `least` of them.
