@@ -179,10 +179,8 @@ fn rs274_moves(run: &Rs274<'_>) -> Result<Vec<Point>, String> {
                 // "x y z, a b c, u v w".
                 tool = axes(&numbers(&args.replace(' ', ","), 3)?);
             }
-            "SET_XY_ROTATION" => {
-                if numbers(args, 1)?[0] != 0.0 {
-                    return Err(format!("rs274: XY rotation {args} (not modelled here)"));
-                }
+            "SET_XY_ROTATION" if numbers(args, 1)?[0] != 0.0 => {
+                return Err(format!("rs274: XY rotation {args} (not modelled here)"));
             }
             "STRAIGHT_TRAVERSE" | "STRAIGHT_FEED" => {
                 // x, y, z, a, b, c[, u, v, w].
