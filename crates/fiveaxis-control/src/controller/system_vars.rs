@@ -86,6 +86,15 @@ fn work_variable(n: u32) -> Option<(Option<WorkSelect>, usize)> {
                 ((n - 7001) % 20) as usize,
             ))
         }
+        // FANUC 30i G54.1 P1 … and Haas G154 P1 … P99 alike: 20 numbers
+        // an offset from #14001 (the memory holds P1 … P99).
+        14001..=15980 => {
+            let p = (n - 14001) / 20 + 1;
+            Some((
+                Some(WorkSelect::Extended(u8::try_from(p).ok()?)),
+                ((n - 14001) % 20) as usize,
+            ))
+        }
         _ => None,
     }
 }
@@ -155,7 +164,7 @@ impl Controller<'_> {
             let slot = match select {
                 None => Some(&mut self.offsets.external),
                 Some(WorkSelect::Standard(i)) => self.offsets.work.get_mut(usize::from(i)),
-                Some(WorkSelect::Extended(p)) => self
+                Some(WorkSelect::Extended(p) | WorkSelect::Haas(p)) => self
                     .offsets
                     .extended_work
                     .get_mut(usize::from(p).wrapping_sub(1)),
@@ -176,7 +185,7 @@ impl Controller<'_> {
         match select {
             None => Some(self.offsets.external),
             Some(WorkSelect::Standard(i)) => self.offsets.work.get(usize::from(i)).copied(),
-            Some(WorkSelect::Extended(p)) => self
+            Some(WorkSelect::Extended(p) | WorkSelect::Haas(p)) => self
                 .offsets
                 .extended_work
                 .get(usize::from(p).wrapping_sub(1))
@@ -241,6 +250,7 @@ impl Controller<'_> {
             4014 => match m.work {
                 WorkSelect::Standard(i) => 54.0 + f64::from(i),
                 WorkSelect::Extended(_) => 54.1,
+                WorkSelect::Haas(_) => 154.0,
             },
             4011 | 4016 | 4017 | 4022 => self.state.frames.modal_g(n),
             4107 => f64::from(self.state.d),
