@@ -33,7 +33,7 @@
 //!   the other switching codes as signals.
 
 use fiveaxis_gcode::{Code, Span};
-use fiveaxis_machine::{MAX_HAAS_WORK, Machine, MFunction};
+use fiveaxis_machine::{MAX_HAAS_WORK, MFunction, Machine};
 
 use super::Controller;
 use super::coordinates::Feature;
@@ -162,7 +162,9 @@ impl Controller<'_> {
                     return Err(self.alarm(
                         Condition::ValueOutOfRange,
                         Some(word.span),
-                        format!("G187 P{p}: the smoothness is P1 (rough), P2 (medium) or P3 (finish)"),
+                        format!(
+                            "G187 P{p}: the smoothness is P1 (rough), P2 (medium) or P3 (finish)"
+                        ),
                     ));
                 }
                 p as u8
@@ -176,7 +178,10 @@ impl Controller<'_> {
                     return Err(self.alarm(
                         Condition::ValueOutOfRange,
                         Some(word.span),
-                        format!("G187 E{}: the corner rounding must be more than 0", word.value),
+                        format!(
+                            "G187 E{}: the corner rounding must be more than 0",
+                            word.value
+                        ),
                     ));
                 }
                 Some(e)

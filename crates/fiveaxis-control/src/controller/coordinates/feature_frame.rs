@@ -802,11 +802,7 @@ impl Controller<'_> {
         out: &mut Vec<Segment>,
     ) -> Result<(), Alarm> {
         let name = if keep_tip { "G53.6" } else { "G53.1" };
-        let Some(feature) = self
-            .state
-            .feature
-            .filter(|f| f.conversions == 0 && !f.dwo)
-        else {
+        let Some(feature) = self.state.feature.filter(|f| f.conversions == 0 && !f.dwo) else {
             return Err(self.alarm(
                 Condition::FeatureNotAllowed,
                 Some(span),
