@@ -176,6 +176,70 @@ fn g234_tip_follows_the_part_turned_with_the_table() {
     assert_close(&end_of(&rows, 3).joints[..3], &expected, "FANUC");
 }
 
+/// The row halfway along the last segment of line `line`.
+fn halfway(machine: &Machine, program: &str, line: u32) -> Row {
+    let mut runner = Runner::new(
+        machine,
+        offsets(),
+        SliceSource::new(program.as_bytes()),
+        RunOptions::default(),
+    );
+    let mut found = None;
+    while let Some(seg) = runner.next_segment().expect("no alarm") {
+        if seg.line == line {
+            found = Some(seg.row(machine, 0.5));
+        }
+    }
+    found.unwrap_or_else(|| panic!("no segment of line {line}"))
+}
+
+#[test]
+fn g234_and_g254_lines_keep_the_tip_on_the_part_s_line() {
+    let m = umc();
+    // G234: B turns from 0 to 90 while the tip runs from (10, 5, 150) to
+    // (10, 5, 20) on the part: halfway, by forward kinematics, it is at
+    // (10, 5, 85) whatever the axes do.
+    let program = "G21 G90 G54\nG234 H1 G0 X10. Y5. Z150.\nG1 B90. Z20. F500.\n";
+    let row = halfway(&m, program, 3);
+    assert_close(&tip(&m, &row), &work([10.0, 5.0, 85.0]), "G234 halfway");
+    assert!(
+        (row.joints[3] - 45.0).abs() < EPS,
+        "B halfway: {:?}",
+        row.joints
+    );
+    // G254 at B90: the line X10 → X30 of the part, halfway at X20.
+    let program =
+        "G21 G90 G54 G43 H1 X0. Y0. Z150.\nG0 B90.\nG254\nG0 X10. Y5. Z20.\nG1 X30. F500.\n";
+    let row = halfway(&m, program, 5);
+    assert_close(&tip(&m, &row), &work([20.0, 5.0, 20.0]), "G254 halfway");
+}
+
+#[test]
+fn g234_on_the_vf2_with_tr160_turns_the_part_about_the_a_axis() {
+    let m = builtin("haas-vf2-tr160").expect("built-in");
+    // G54 on the platter's centre line, 40 mm above the A axis (which
+    // runs through Y −203, Z −440). +A turns the part about −X: a point d
+    // from the A axis goes at A90 to (d.x, d.z, −d.y).
+    let mut o = offsets();
+    o.work[0] = Vec3::new(-381.0, -203.0, -400.0);
+    let program = "G21 G90 G54\nG234 H1 G0 X10. Y5. Z150.\nG0 A90. X10. Y5. Z20.\n";
+    let mut runner = Runner::new(
+        &m,
+        o,
+        SliceSource::new(program.as_bytes()),
+        RunOptions::default(),
+    );
+    let mut last = None;
+    while let Some(seg) = runner.next_segment().expect("no alarm") {
+        last = Some(seg.row(&m, 1.0));
+    }
+    let row = last.expect("rows");
+    // The part point (−371, −198, −380); d = (10, 5, 60) → (10, 60, −5).
+    let t = [-371.0, -203.0 + 60.0, -440.0 - 5.0];
+    assert_close(&row.joints[..5], &[t[0], t[1], t[2] + L, 90.0, 0.0], "axes");
+    assert_close(&tip(&m, &row), &[-371.0, -198.0, -380.0], "tip");
+}
+
 #[test]
 fn g234_is_group_08_and_ended_by_g49_and_g43() {
     let m = umc();
