@@ -26,6 +26,8 @@ const L: f64 = 100.0;
 /// G54 on the UMC: on the C axis, 30 mm above the B axis (table frame at
 /// B0 C0).
 const G54: [f64; 3] = [-381.0, -254.0, -400.0];
+/// G55 on the UMC: 40 mm off the C line in +X.
+const G55: [f64; 3] = [-341.0, -254.0, -400.0];
 /// The UMC's B centre.
 const B_CENTER: [f64; 3] = [-381.0, -254.0, -430.0];
 
@@ -43,6 +45,7 @@ fn offsets() -> Offsets {
         },
     );
     o.work[0] = Vec3::from(G54);
+    o.work[1] = Vec3::from(G55);
     o.extended_work[0] = Vec3::new(1.0, 0.0, 0.0);
     o.extended_work[6] = Vec3::new(7.0, 0.0, 0.0);
     o.extended_work[98] = Vec3::new(99.0, 0.0, 0.0);
@@ -207,11 +210,12 @@ fn g234_and_g254_lines_keep_the_tip_on_the_part_s_line() {
         "B halfway: {:?}",
         row.joints
     );
-    // G254 at B90: the line X10 → X30 of the part, halfway at X20.
+    // G254 at B90: the line X10 → X30, halfway at X20, which is the
+    // part point (−20, 5, 20) from the work zero (turned back by B90).
     let program =
         "G21 G90 G54 G43 H1 X0. Y0. Z150.\nG0 B90.\nG254\nG0 X10. Y5. Z20.\nG1 X30. F500.\n";
     let row = halfway(&m, program, 5);
-    assert_close(&tip(&m, &row), &work([20.0, 5.0, 20.0]), "G254 halfway");
+    assert_close(&tip(&m, &row), &work([-20.0, 5.0, 20.0]), "G254 halfway");
 }
 
 #[test]
@@ -292,29 +296,73 @@ fn g254_work_zero_follows_the_tilted_table() {
     let m = umc();
     let program = "G21 G90 G54 G43 H1 X0. Y0. Z150.\nG0 B90. C0.\nG254\nG0 X10. Y5.\nZ20.\nG1 X30. F500.\nG255\nG0 B0.\n";
     let rows = run(&m, program);
+    // The work zero G54, 30 mm above the B centre, turns by B90 to
+    // (−351, −254, −430); X Y Z are taken from it along the machine's
+    // axes, the tool along Z.
+    let zero = b90(G54);
+    assert_close(&zero, &[-351.0, -254.0, -430.0], "turned work zero");
     for (line, p) in [(5, [10.0, 5.0, 20.0]), (6, [30.0, 5.0, 20.0])] {
         let row = end_of(&rows, line);
-        let t = b90(work(p));
-        let expected = [t[0], t[1], t[2] + L, 90.0, 0.0];
+        let expected = [
+            zero[0] + p[0],
+            zero[1] + p[1],
+            zero[2] + p[2] + L,
+            90.0,
+            0.0,
+        ];
         assert_close(&row.joints[..5], &expected, &format!("line {line} axes"));
-        assert_close(&tip(&m, row), &work(p), &format!("line {line} tip"));
+        // On the part: turned back by B90, (x, y, z) is (−z, y, x) from
+        // the work zero.
+        let on_part = work([-p[2], p[1], p[0]]);
+        assert_close(&tip(&m, row), &on_part, &format!("line {line} tip"));
     }
+    // X of the program is the machine's X: line 6 moves X only.
+    let (a, b) = (end_of(&rows, 5), end_of(&rows, 6));
+    assert!((b.joints[0] - a.joints[0] - 20.0).abs() < EPS);
+    assert!((b.joints[2] - a.joints[2]).abs() < EPS);
     // After G255 the rotary axes move again.
     assert!((end_of(&rows, 8).joints[3]).abs() < EPS);
 }
 
 #[test]
-fn g254_work_zero_follows_the_turned_platter() {
+fn g254_canned_cycle_drills_along_the_tool() {
     let m = umc();
     let rows = run(
         &m,
-        "G21 G90 G54 G43 H1 X0. Y0. Z150.\nG0 B0. C90.\nG254\nG0 X10. Y5. Z20.\nG255\n",
+        "G21 G90 G54 G43 H1 X0. Y0. Z150.\nG0 B90.\nG254\nG0 X10. Y5. Z20.\nG98 G81 X10. Y5. Z-5. R2. F100.\nG80\n",
     );
-    // C90 turns the part point (10, 5) from the C line to (−5, 10).
+    let zero = b90(G54);
+    let feeds: Vec<&Row> = rows
+        .iter()
+        .filter(|r| r.line == 5 && r.motion == fiveaxis_control::Motion::Linear)
+        .collect();
+    assert_eq!(feeds.len(), 1, "{rows:#?}");
+    // The bottom of the hole: the turned work zero + (10, 5, −5), the
+    // feed straight down the machine's Z from R.
+    let expected = [zero[0] + 10.0, zero[1] + 5.0, zero[2] - 5.0 + L, 90.0, 0.0];
+    assert_close(&feeds[0].joints[..5], &expected, "bottom");
+    let last = rows.last().expect("rows");
+    assert_close(
+        &last.joints[..3],
+        &[zero[0] + 10.0, zero[1] + 5.0, zero[2] + 20.0 + L],
+        "back at the initial level",
+    );
+}
+
+#[test]
+fn g254_work_zero_follows_the_turned_platter() {
+    let m = umc();
+    // G55 is 40 mm off the C line in X; C90 turns it to (−381, −214).
+    let rows = run(
+        &m,
+        "G21 G90 G55 G43 H1 X0. Y0. Z150.\nG0 B0. C90.\nG254\nG0 X10. Y5. Z20.\nG255\n",
+    );
     let row = end_of(&rows, 4);
-    let expected = [G54[0] - 5.0, G54[1] + 10.0, G54[2] + 20.0 + L, 0.0, 90.0];
+    let expected = [-381.0 + 10.0, -214.0 + 5.0, G55[2] + 20.0 + L, 0.0, 90.0];
     assert_close(&row.joints[..5], &expected, "axes");
-    assert_close(&tip(&m, row), &work([10.0, 5.0, 20.0]), "tip");
+    // On the part: turned back by C90, (x, y) is (y, −x) from G55.
+    let on_part = [G55[0] + 5.0, G55[1] - 10.0, G55[2] + 20.0];
+    assert_close(&tip(&m, row), &on_part, "tip");
 }
 
 #[test]

@@ -9,11 +9,13 @@
 //!   end it, as do M02 / M30 (the end of the run). H is the block's or
 //!   the one in force; with none the block is an alarm.
 //! * `G254` dynamic work offset (DWO, group 23) is a feature frame
-//!   (`coordinates/feature_frame.rs`) that is the workpiece frame itself:
-//!   a programmed X Y Z is the point of the work coordinate system
-//!   (work offset measured at rotary position 0) turned with the table as
-//!   the rotary axes stand; the linear axes put the tool tip there with
-//!   the tool along its own axis (`gauge_for_tip`). `G255` cancels. The
+//!   (`coordinates/feature_frame.rs`, `Feature::dwo`): the work zero (the
+//!   work offset, measured at rotary position 0) follows the table as the
+//!   rotary axes stand at G254, the axes stay the machine's, so that a
+//!   3+2 program posted for the part at the centre of rotation (tool
+//!   along Z, X and Y the machine's) runs on the part where it is: the
+//!   tip goes to the turned work zero + (X, Y, Z), the tool length along
+//!   the tool; canned cycles drill along the tool. `G255` cancels. The
 //!   manual's rules: rotary motion is complete before G254 and G254 is
 //!   cancelled before any rotary motion (an axis word of a rotary axis in
 //!   DWO is an alarm here); the work offset is applied before G254 (a
@@ -33,7 +35,7 @@
 //!   the other switching codes as signals.
 
 use fiveaxis_gcode::{Code, Span};
-use fiveaxis_machine::{MAX_HAAS_WORK, MFunction, Machine};
+use fiveaxis_machine::{MAX_HAAS_WORK, MFunction, Machine, Side};
 
 use super::Controller;
 use super::coordinates::Feature;
@@ -123,7 +125,8 @@ impl Controller<'_> {
             ));
         }
         self.feature_allowed(span, "G254")?;
-        self.state.feature = Some(Feature::dwo());
+        let turn = self.machine.chain(Side::Table, &self.state.joints).rotation;
+        self.state.feature = Some(Feature::dwo(turn));
         Ok(())
     }
 

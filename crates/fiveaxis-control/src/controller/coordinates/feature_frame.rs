@@ -70,19 +70,21 @@ pub(in crate::controller) struct Feature {
     /// three-dimensional coordinate conversion (G68 with I, J, K) and how
     /// many are nested.
     conversions: u8,
-    /// Haas G254 dynamic work offset: the workpiece frame itself (origin
-    /// 0, no turn) carried with the table as the rotary axes stand.
+    /// Haas G254 dynamic work offset: origin the work zero, axes those of
+    /// the machine as the table stands (`Feature::dwo`).
     dwo: bool,
 }
 
 impl Feature {
-    /// Haas G254: programmed points are the workpiece's, turned with the
-    /// table (the linear axes come from `gauge_for_tip` at the standing
-    /// rotary axes, as in every feature frame).
-    pub(in crate::controller) fn dwo() -> Self {
+    /// Haas G254 with the table turned by `turn` (the rotation of the
+    /// table's map at the standing rotary axes): the work zero follows the
+    /// table, the axes stay those of the machine, so a programmed point p
+    /// is the workpiece point `turn⁻¹·p` from the work zero (the machine
+    /// sees p from the turned work zero, the tool along its Z).
+    pub(in crate::controller) fn dwo(turn: Rotation3<f64>) -> Self {
         Self {
             origin: Vec3::zeros(),
-            rotation: Rotation3::identity(),
+            rotation: turn.inverse(),
             conversions: 0,
             dwo: true,
         }
