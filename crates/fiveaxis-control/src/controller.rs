@@ -61,6 +61,14 @@ pub enum Flow {
         /// How many times.
         repeats: u32,
     },
+    /// Haas M97: call the blocks from sequence number `sequence` of the
+    /// running program, `repeats` times, up to their M99.
+    LocalCall {
+        /// The sequence (N) number the subprogram starts at.
+        sequence: u32,
+        /// How many times.
+        repeats: u32,
+    },
     /// M99: return to the caller, at sequence number `sequence` if given.
     Return {
         /// `M99 P…`: the sequence number to return to.

@@ -561,3 +561,29 @@ fn haas_standard_m_codes_run_and_others_are_refused() {
     let a = alarm(&m, "M29\n");
     assert_eq!(a.condition, Condition::UnsupportedMCode);
 }
+
+#[test]
+fn haas_m97_calls_a_local_subprogram_by_sequence_number() {
+    // The manual's pattern: M97 P1000 L… runs N1000 up to its M99, L
+    // times, then the block after the call.
+    let mut m = builtin("mill-3axis").expect("built-in");
+    m.control = Control::Haas;
+    let program = "G21 G53 G0 X0. Y0. Z0.\nM97 P1000 L3\nG53 G0 X-5.\nM30\nN1000 G91 G1 X1. F100.\nG90\nM99\n";
+    let rows = run(&m, program);
+    let path: Vec<(u32, f64)> = rows.iter().map(|r| (r.line, r.joints[0])).collect();
+    assert_eq!(path, [(5, 1.0), (5, 2.0), (5, 3.0), (3, -5.0)]);
+    // L left out is once.
+    let rows = run(
+        &m,
+        "G21 G53 G0 X0. Y0. Z0.\nM97 P20\nM30\nN20 G91 G1 X1. F100.\nG90\nM99\n",
+    );
+    assert_eq!(rows.len(), 1);
+    let a = alarm(&m, "M97\n");
+    assert_eq!(a.condition, Condition::SubprogramNumberMissing);
+    let a = alarm(&m, "M97 P2000\nM30\n");
+    assert_eq!(a.condition, Condition::ProgramNotFound);
+    // FANUC has no M97.
+    m.control = Control::Fanuc30i;
+    let a = alarm(&m, "M97 P1000\nM30\nN1000 M99\n");
+    assert_eq!(a.condition, Condition::UnsupportedMCode);
+}

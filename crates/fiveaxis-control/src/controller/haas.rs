@@ -29,6 +29,9 @@
 //!   kept in the modal state and reported (`#4xxx` nothing).
 //! * `G154 P1`–`P99` and `G110`–`G129` (P1–P20) select the additional
 //!   work offsets, the memory FANUC's `G54.1 P` uses.
+//! * `M97 P… L…`: a local subprogram call, to the blocks from sequence
+//!   number P of the running program up to their M99, L times
+//!   (`Flow::LocalCall`, carried out by the runner as an M98 call).
 //! * M codes: Haas's standard set (`standard_m_code`): M10 / M11 clamp /
 //!   unclamp the fourth axis brake, M12 / M13 the fifth (the machine's
 //!   first and second rotary axes), M88 / M89 through-spindle coolant and
@@ -37,8 +40,8 @@
 use fiveaxis_gcode::{Code, Span};
 use fiveaxis_machine::{MAX_HAAS_WORK, MFunction, Machine, Side};
 
-use super::Controller;
 use super::coordinates::Feature;
+use super::{Controller, Flow};
 use crate::alarm::{Alarm, Condition};
 use crate::modal::{TcpcType, WorkSelect};
 
@@ -195,6 +198,24 @@ impl Controller<'_> {
         accuracy.smoothness = level;
         accuracy.corner_rounding = rounding;
         Ok(())
+    }
+
+    /// M97 P… L…: a local subprogram call to sequence number P of the
+    /// running program, L times (1 when left out).
+    pub(super) fn local_call(&mut self, span: Span) -> Result<Flow, Alarm> {
+        let Some(p) = self.words.take(b'P') else {
+            return Err(self.alarm(
+                Condition::SubprogramNumberMissing,
+                Some(span),
+                "M97 needs P, the sequence number (N) of the local subprogram".into(),
+            ));
+        };
+        let sequence = self.words.integer(&p, 99_999)?;
+        let repeats = match self.words.take(b'L') {
+            Some(l) => self.words.integer(&l, 9999)?,
+            None => 1,
+        };
+        Ok(Flow::LocalCall { sequence, repeats })
     }
 
     /// G154 P1–P99, G110–G129 (G154 P1–P20).

@@ -111,6 +111,7 @@ impl Controller<'_> {
             let (code, span) = self.words.m[i];
             match (code.major, code.minor) {
                 (98, 0) => flow = self.call()?,
+                (97, 0) if self.dialect.haas_codes => flow = self.local_call(span)?,
                 (99, 0) => {
                     let sequence = match self.words.take(b'P') {
                         Some(word) => Some(self.words.integer(&word, 99_999)?),
