@@ -1160,6 +1160,8 @@ impl<'m> Controller<'m> {
     fn data_setting(&mut self, span: Span) -> Result<(), Alarm> {
         let l = self.words.take(b'L');
         let l_value = match l {
+            // Haas: L1 is L11, the length wear.
+            Some(l) if self.dialect.haas_codes && self.words.integer(&l, 99)? == 1 => 11,
             Some(l) => self.words.integer(&l, 99)?,
             // Tool offset memory A format, `G10 P R`: the offset value of
             // number P, which is what H reads: the length geometry.
@@ -1181,6 +1183,9 @@ impl<'m> Controller<'m> {
                 let n = self.words.integer(&p, 9999)?;
                 let max = if l_value == 2 {
                     6
+                } else if self.dialect.haas_codes {
+                    // Haas: G154 P1-P99 (G110-G129 are P1-P20).
+                    fiveaxis_machine::MAX_HAAS_WORK
                 } else {
                     fiveaxis_machine::MAX_EXTENDED_WORK
                 };

@@ -587,3 +587,32 @@ fn haas_m97_calls_a_local_subprogram_by_sequence_number() {
     let a = alarm(&m, "M97 P1000\nM30\nN1000 M99\n");
     assert_eq!(a.condition, Condition::UnsupportedMCode);
 }
+
+#[test]
+fn haas_tool_variables_and_g10_follow_haas_s_numbering() {
+    let mut m = builtin("mill-3axis").expect("built-in");
+    m.control = Control::Haas;
+    let x = |p: &'static str| run(&m, p)[0].joints[0];
+    // #2001 + n - 1: length (tool 1 = 100 mm); #2201: length wear.
+    assert!((x("G21\n#1=#2001\nG53 G0 X#1\n") - L).abs() < EPS);
+    // G10 L1 (Haas: as L11) writes the wear that #2201 reads.
+    assert!((x("G21 G10 L1 P1 R0.5\n#1=#2201\nG53 G0 X#1\n") - 0.5).abs() < EPS);
+    assert!((x("G21 G10 L11 P1 R0.25\n#1=#2201\nG53 G0 X#1\n") - 0.25).abs() < EPS);
+    // #2401: the radius, #2601 its wear.
+    assert!((x("G21 G10 L12 P1 R4.\n#1=#2401\nG53 G0 X#1\n") - 4.0).abs() < EPS);
+    assert!((x("G21 G10 L13 P1 R0.1\n#1=#2601\nG53 G0 X#1\n") - 0.1).abs() < EPS);
+    // G10 L20 P1-P99: G154 P1-P99.
+    assert!((x("G21 G10 L20 P50 X12.\nG154 P50 G0 X0.\n") - 12.0).abs() < EPS);
+    let a = alarm(&m, "G21 G10 L20 P100 X1.\n");
+    assert_eq!(a.condition, Condition::IllegalG10P);
+    // FANUC: #2001 is the length wear (0 here), #2201 the length.
+    let mut m = m.clone();
+    m.control = Control::Fanuc30i;
+    let x = |p: &'static str| run(&m, p)[0].joints[0];
+    assert!((x("G21\n#1=#2001+1.\nG53 G0 X#1\n") - 1.0).abs() < EPS);
+    assert!((x("G21\n#1=#2201\nG53 G0 X#1\n") - L).abs() < EPS);
+    assert_eq!(
+        alarm(&m, "G21 G10 L20 P49 X1.\n").condition,
+        Condition::IllegalG10P
+    );
+}
