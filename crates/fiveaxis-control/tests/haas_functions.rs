@@ -616,3 +616,168 @@ fn haas_tool_variables_and_g10_follow_haas_s_numbering() {
         Condition::IllegalG10P
     );
 }
+
+// ----- random cases, judged by forward kinematics -------------------------
+
+/// The rotation of `deg` degrees about unit axis `k` (0 X, 1 Y, 2 Z),
+/// right-hand rule, as a matrix written out by hand.
+fn about(k: usize, deg: f64) -> [[f64; 3]; 3] {
+    let (s, c) = deg.to_radians().sin_cos();
+    match k {
+        0 => [[1.0, 0.0, 0.0], [0.0, c, -s], [0.0, s, c]],
+        1 => [[c, 0.0, s], [0.0, 1.0, 0.0], [-s, 0.0, c]],
+        _ => [[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]],
+    }
+}
+
+fn mul(a: &[[f64; 3]; 3], b: &[[f64; 3]; 3]) -> [[f64; 3]; 3] {
+    let mut m = [[0.0; 3]; 3];
+    for (i, row) in m.iter_mut().enumerate() {
+        for (j, v) in row.iter_mut().enumerate() {
+            *v = (0..3).map(|k| a[i][k] * b[k][j]).sum();
+        }
+    }
+    m
+}
+
+fn apply(a: &[[f64; 3]; 3], v: [f64; 3]) -> [f64; 3] {
+    [0, 1, 2].map(|i| (0..3).map(|k| a[i][k] * v[k]).sum())
+}
+
+fn transpose(a: &[[f64; 3]; 3]) -> [[f64; 3]; 3] {
+    [0, 1, 2].map(|i| [0, 1, 2].map(|j| a[j][i]))
+}
+
+/// Rows of a program run with the soft limits lifted (the random cases
+/// test positions, not travels).
+fn run_lifted(machine: &Machine, program: &str) -> Result<Vec<Row>, Alarm> {
+    let mut runner = Runner::new(
+        machine,
+        offsets(),
+        SliceSource::new(program.as_bytes()),
+        RunOptions {
+            lift_soft_limits: true,
+            ..RunOptions::default()
+        },
+    );
+    let mut rows = Vec::new();
+    loop {
+        match runner.next_segment() {
+            Ok(Some(seg)) => rows.push(seg.row(machine, 1.0)),
+            Ok(None) => return Ok(rows),
+            Err(RunError::Alarm { alarm, .. }) => return Err(alarm),
+            Err(e) => panic!("{e}"),
+        }
+    }
+}
+
+/// Distance of two points.
+fn gap(a: [f64; 3], b: [f64; 3]) -> f64 {
+    (0..3).map(|i| (a[i] - b[i]).powi(2)).sum::<f64>().sqrt()
+}
+
+/// Rounding of the random cases (values printed with 4 decimals), mm.
+const RANDOM_EPS: f64 = 1e-7;
+
+#[test]
+fn random_g254_g234_and_g268_points_land_where_the_manual_puts_them() {
+    use proptest::prelude::*;
+    use proptest::test_runner::{Config, RngSeed, TestRunner};
+    let m = umc();
+    let config = Config {
+        cases: 64,
+        rng_seed: RngSeed::Fixed(0x0254_0234),
+        failure_persistence: None,
+        ..Config::default()
+    };
+    let mut runner = TestRunner::new(config);
+    let p = || -80.0f64..80.0;
+    let strategy = (-30.0f64..110.0, 0.0f64..360.0, (p(), p(), p()));
+    runner
+        .run(&strategy, |(b, c, (x, y, z))| {
+            let (b, c) = ((b * 1e4).round() / 1e4, (c * 1e4).round() / 1e4);
+            let (x, y, z) = (
+                (x * 1e4).round() / 1e4,
+                (y * 1e4).round() / 1e4,
+                (z * 1e4).round() / 1e4,
+            );
+            // The table's turn at B, C: the part is carried by C, C by B
+            // (bed outwards), both about lines through the centres.
+            let rot = mul(&about(1, b), &about(2, c));
+            // G254: on the part the point is G54 + rot⁻¹ (x, y, z).
+            let program = format!(
+                "G21 G90 G54 G43 H1 X0. Y0. Z150.\nG0 B{b:.4} C{c:.4}\nG254\nG0 X{x:.4} Y{y:.4} Z{z:.4}\n"
+            );
+            let rows = run_lifted(&m, &program).map_err(|a| TestCaseError::fail(format!("{a:?}")))?;
+            let back = apply(&transpose(&rot), [x, y, z]);
+            let want = work(back);
+            let got = tip(&m, end_of(&rows, 4));
+            prop_assert!(gap(got, want) < RANDOM_EPS, "G254 {got:?} vs {want:?}");
+            // The tool along the machine's Z: on the part, rot⁻¹ Z.
+            let dir = m.forward(&end_of(&rows, 4).joints, L).dir;
+            let z_back = apply(&transpose(&rot), [0.0, 0.0, 1.0]);
+            prop_assert!(gap([dir.x, dir.y, dir.z], z_back) < RANDOM_EPS);
+            // G234: on the part the point is G54 + (x, y, z) itself.
+            let program = format!(
+                "G21 G90 G54\nG234 H1 G0 X0. Y0. Z150.\nG0 B{b:.4} C{c:.4} X{x:.4} Y{y:.4} Z{z:.4}\n"
+            );
+            let rows = run_lifted(&m, &program).map_err(|a| TestCaseError::fail(format!("{a:?}")))?;
+            let got = tip(&m, end_of(&rows, 3));
+            prop_assert!(gap(got, work([x, y, z])) < RANDOM_EPS, "G234 {got:?}");
+            Ok(())
+        })
+        .unwrap_or_else(|e| panic!("{e}"));
+    // G268 with random angles and orders: the point G54 + origin + R p,
+    // R the turns in the order Q names about the fixed axes; G253 points
+    // the tool along R Z.
+    let mut runner = TestRunner::new(Config {
+        cases: 64,
+        rng_seed: RngSeed::Fixed(0x0268_0253),
+        failure_persistence: None,
+        ..Config::default()
+    });
+    let orders = ["123", "132", "213", "231", "312", "321"];
+    let judged = std::cell::Cell::new(0u32);
+    let a = || -60.0f64..60.0;
+    let strategy = (
+        (a(), a(), a()),
+        0usize..6,
+        (p(), p(), p()),
+        (-20.0f64..20.0, -20.0f64..20.0, -20.0f64..20.0),
+    );
+    runner
+        .run(&strategy, |((i, j, k), q, (x, y, z), (ox, oy, oz))| {
+            let r4 = |v: f64| (v * 1e4).round() / 1e4;
+            let (i, j, k, x, y, z, ox, oy, oz) =
+                (r4(i), r4(j), r4(k), r4(x), r4(y), r4(z), r4(ox), r4(oy), r4(oz));
+            let order = orders[q];
+            let angles = [i, j, k];
+            let mut r = about(0, 0.0);
+            for d in order.bytes() {
+                let axis = usize::from(d - b'1');
+                r = mul(&about(axis, angles[axis]), &r);
+            }
+            let program = format!(
+                "G21 G90 G54 G43 H1 X0. Y0. Z150.\nG268 X{ox:.4} Y{oy:.4} Z{oz:.4} I{i:.4} J{j:.4} K{k:.4} Q{order}\nG253\nG0 X{x:.4} Y{y:.4} Z{z:.4}\n"
+            );
+            let rows = match run_lifted(&m, &program) {
+                Ok(rows) => rows,
+                // A tool direction the B stroke cannot reach is the
+                // control's alarm, not a wrong position.
+                Err(a) if a.condition == Condition::ToolDirectionUnreachable => return Ok(()),
+                Err(a) => return Err(TestCaseError::fail(format!("{a:?}"))),
+            };
+            let rp = apply(&r, [x, y, z]);
+            let want = work([ox + rp[0], oy + rp[1], oz + rp[2]]);
+            let got = tip(&m, end_of(&rows, 4));
+            prop_assert!(gap(got, want) < RANDOM_EPS, "G268 Q{order} {got:?} vs {want:?}");
+            let dir = m.forward(&end_of(&rows, 4).joints, L).dir;
+            let rz = apply(&r, [0.0, 0.0, 1.0]);
+            prop_assert!(gap([dir.x, dir.y, dir.z], rz) < RANDOM_EPS, "G268 Q{order} dir");
+            judged.set(judged.get() + 1);
+            Ok(())
+        })
+        .unwrap_or_else(|e| panic!("{e}"));
+    // Most directions within 60° per angle are reachable: the test judges.
+    assert!(judged.get() >= 32, "only {} cases judged", judged.get());
+}
