@@ -26,9 +26,11 @@
 //!   (`feature_by_rotation_order`), `G269` cancels it, `G253` turns the
 //!   rotary axes so that the spindle is normal to it (as G53.1).
 //! * `G187 P1`–`P3` `E…` smoothness and corner rounding: speed, not path;
-//!   kept in the modal state and reported (`#4xxx` nothing).
+//!   kept in the modal state (`Modal::accuracy`) and reported.
 //! * `G154 P1`–`P99` and `G110`–`G129` (P1–P20) select the additional
-//!   work offsets, the memory FANUC's `G54.1 P` uses.
+//!   work offsets, the memory FANUC's `G54.1 P` uses (`G10 L20 P1`–`P99`
+//!   sets them, `#14001`+ reads them; Haas's tool variables `#2001`+ and
+//!   `G10 L1` are in `system_vars.rs` and `controller.rs`).
 //! * `M97 P… L…`: a local subprogram call, to the blocks from sequence
 //!   number P of the running program up to their M99, L times
 //!   (`Flow::LocalCall`, carried out by the runner as an M98 call).

@@ -40,6 +40,12 @@
 //!   offsets in the feature plane (controller/cutter_c.rs maps its pieces
 //!   through the frame).
 //!
+//! Haas: `G268 X Y Z I J K Q` is the same plane with the turns in the
+//! order Q names (`feature_by_rotation_order`), `G253` is G53.1, `G269`
+//! G69; `G254` (dynamic work offset) is a frame whose origin is the work
+//! zero and whose axes are the machine's as the table stands
+//! (`Feature::dwo`, `controller/haas.rs`).
+//!
 //! TCPC inside the plane programs in the feature frame (on WKP = 1 the
 //! feature frame is defined on the frame that does not turn; see
 //! `tcpc.rs`), and a 3-D tool compensation vector I J K is read in it.
