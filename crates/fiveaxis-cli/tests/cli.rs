@@ -378,7 +378,9 @@ fn machines_lists_every_built_in_machine_and_marks_the_default() {
 
 #[test]
 fn machines_show_prints_a_file_that_runs_exactly_like_the_built_in_machine() {
-    let program = "G43 H1 G0 X10. Y5. Z20.\nG1 X-5. F300.\nG28 Z0\nM30\n";
+    // Inside the travels of every built-in (the Haas machines travel
+    // negative from home, in inches).
+    let program = "G43 H1 G0 X-10. Y-5. Z-20.\nG1 X-15. F300.\nG91 G28 Z0\nM30\n";
     let offsets = "[tools]\n1 = { length = 100.0 }\n";
     for name in builtin_names() {
         let shown = fiveaxis(&["machines", "show", name]);

@@ -274,6 +274,7 @@ fn alarm_lines_are_recognised_only_in_the_contract_form() {
 /// alarm a real control raises there too.
 struct Conformance {
     program: &'static str,
+    /// A machine file of `tests/corpus-setups/` (`….toml`) or a built-in.
     machine: &'static str,
     offsets: &'static str,
     /// Edits an operator makes before running the program on the control
@@ -347,7 +348,7 @@ const FANUC_FAMILY: &[Conformance] = &[
     },
     Conformance {
         program: "haas_nx_vf2tr_5T.nc",
-        machine: "haas-vf2tr.toml",
+        machine: "haas-vf2-tr160",
         offsets: "haas-vf2tr-offsets.toml",
         edits: &[
             Edit {
@@ -480,14 +481,19 @@ fn fanuc_family_programs_run_to_their_end_or_stop_where_the_control_would() {
         } else {
             Input::Edited(&text)
         };
-        let machine = setups.join(case.machine);
+        // A machine file of `tests/corpus-setups/`, or a built-in by name.
+        let machine = if case.machine.ends_with(".toml") {
+            setups.join(case.machine).display().to_string()
+        } else {
+            case.machine.to_owned()
+        };
         let offsets = setups.join(case.offsets);
         let pick: Vec<usize> = case.positions.iter().map(|p| p.line).collect();
         let outcome = run_with(
             input,
             &[
                 "--machine",
-                &machine.display().to_string(),
+                &machine,
                 "--offsets",
                 &offsets.display().to_string(),
             ],

@@ -24,6 +24,7 @@ mod comp3d;
 mod coordinates;
 mod cutter_c;
 mod cycles;
+mod haas;
 mod m_codes;
 mod motion;
 mod system_vars;
@@ -57,6 +58,14 @@ pub enum Flow {
     Call {
         /// Program number (the `O` number).
         program: u32,
+        /// How many times.
+        repeats: u32,
+    },
+    /// Haas M97: call the blocks from sequence number `sequence` of the
+    /// running program, `repeats` times, up to their M99.
+    LocalCall {
+        /// The sequence (N) number the subprogram starts at.
+        sequence: u32,
         /// How many times.
         repeats: u32,
     },
@@ -329,14 +338,19 @@ impl<'m> Controller<'m> {
         self.apply_modal(&codes)?;
         self.apply_cycle_codes(&codes)?;
         self.apply_values()?;
-        // G69 ends the tilted working plane before the block's move, which
-        // is then in the workpiece frame.
-        if codes
-            .feature
-            .is_some_and(|(code, _)| code == Code::new(69, 0))
+        // G69 (Haas G269) ends the tilted working plane before the block's
+        // move, which is then in the workpiece frame; Haas G254 / G255
+        // switch the dynamic work offset the same way.
+        if let Some((code, _)) = codes.feature
+            && matches!((code.major, code.minor), (69 | 269, 0))
+            && self.feature().is_some_and(|f| !f.is_dwo())
         {
             self.state.feature = None;
         }
+        if let Some((code, span)) = codes.dwo {
+            self.dwo_command(code, span)?;
+        }
+        self.smoothness(codes.smoothness)?;
         // Where the program stands, in the (possibly new) work coordinate
         // system, under the length offset in force before this block.
         let from = if self.cutter.routing() {
@@ -384,7 +398,8 @@ impl<'m> Controller<'m> {
         // A transform block's axis words are its centre or mirror axes.
         let framed = self.apply_frames(&codes, &from)?;
         let length_changed = change == LengthChange::Moves || comp_changed;
-        if let Some((code, span)) = codes.feature.filter(|(c, _)| c.major == 68) {
+        self.dwo_rotary_words()?;
+        if let Some((code, span)) = codes.feature.filter(|(c, _)| matches!(c.major, 68 | 268)) {
             // G68.2 / G68.4 define the frame and move nothing: the program
             // stands where it was, in the new frame.
             self.feature_command(code, span)?;
@@ -456,8 +471,16 @@ impl<'m> Controller<'m> {
 
     fn classify_g_codes(&self) -> Result<GCodes, Alarm> {
         let mut codes = GCodes::default();
+        let haas = self.dialect.haas_codes;
         for &(code, span) in &self.words.g[..self.words.g_len] {
             let kind = match (code.major, code.minor) {
+                // Haas's own codes (controller/haas.rs).
+                (234, 0) if haas => GKind::Length,
+                (254 | 255, 0) if haas => GKind::Dwo,
+                (268 | 269, 0) if haas => GKind::Feature,
+                (253, 0) if haas => GKind::OneShot,
+                (187, 0) if haas => GKind::Smoothness,
+                (154 | 110..=129, 0) if haas => GKind::Work,
                 (0..=3, 0) => GKind::Motion,
                 (17..=19, 0) => GKind::Plane,
                 (90 | 91, 0) => GKind::Distance,
@@ -542,6 +565,8 @@ impl<'m> Controller<'m> {
                     codes.frames[coordinates::slot(code)] = Some((code, span));
                 }
                 GKind::ExactStop => codes.exact_stop = true,
+                GKind::Dwo => codes.dwo = Some((code, span)),
+                GKind::Smoothness => codes.smoothness = Some(span),
             }
         }
         // G04, G10 and G92 do not move; G53 moves at rapid whatever the
@@ -736,6 +761,10 @@ impl<'m> Controller<'m> {
         self.state.tcpc.startup = false;
         if let Some((code, span)) = codes.length {
             self.state.modal.length = match (code.major, code.minor) {
+                (234, _) => {
+                    self.start_haas_tcpc(span)?;
+                    LengthMode::Tcpc(TcpcType::Angles)
+                }
                 (43, 1) => LengthMode::ToolAxis,
                 (43, minor @ (4 | 5)) => {
                     let kind = if minor == 4 {
@@ -1075,6 +1104,9 @@ impl<'m> Controller<'m> {
                 self.reference_return(from, n, out)
             }
             53 if code.minor == 1 => self.tool_axis_control(span, false, out),
+            // Haas G253: the spindle normal to the feature coordinate
+            // system (G268), as G53.1.
+            253 => self.tool_axis_control(span, false, out),
             53 if code.minor == 6 => self.tool_axis_control(span, true, out),
             52 => self.local_coordinate_system(),
             53 => self.machine_coordinates(out),
@@ -1128,6 +1160,8 @@ impl<'m> Controller<'m> {
     fn data_setting(&mut self, span: Span) -> Result<(), Alarm> {
         let l = self.words.take(b'L');
         let l_value = match l {
+            // Haas: L1 is L11, the length wear.
+            Some(l) if self.dialect.haas_codes && self.words.integer(&l, 99)? == 1 => 11,
             Some(l) => self.words.integer(&l, 99)?,
             // Tool offset memory A format, `G10 P R`: the offset value of
             // number P, which is what H reads: the length geometry.
@@ -1149,6 +1183,9 @@ impl<'m> Controller<'m> {
                 let n = self.words.integer(&p, 9999)?;
                 let max = if l_value == 2 {
                     6
+                } else if self.dialect.haas_codes {
+                    // Haas: G154 P1-P99 (G110-G129 are P1-P20).
+                    fiveaxis_machine::MAX_HAAS_WORK
                 } else {
                     fiveaxis_machine::MAX_EXTENDED_WORK
                 };
@@ -1592,6 +1629,10 @@ enum GKind {
     Frame,
     /// G09: exact stop for one block.
     ExactStop,
+    /// Haas G254 / G255 (group 23).
+    Dwo,
+    /// Haas G187.
+    Smoothness,
 }
 
 /// The G codes of one block, by group; the last of a group wins.
@@ -1621,4 +1662,8 @@ struct GCodes {
     feature: Option<(Code, Span)>,
     /// G15/G16, G50.1/G51.1, G50/G51, G68/G69 (`coordinates::slot`).
     frames: [Option<(Code, Span)>; 4],
+    /// Haas G254 / G255: dynamic work offset on / off.
+    dwo: Option<(Code, Span)>,
+    /// Haas G187 (its span).
+    smoothness: Option<Span>,
 }

@@ -29,6 +29,12 @@ pub struct Dialect {
     /// G87 is "bore in, manual retract" (Haas mill operator's manual,
     /// G87; Haas's back boring is G77) instead of FANUC's back boring.
     pub g87_manual_retract: bool,
+    /// Haas's own codes (Haas NGC mill operator's manual): G234 tool
+    /// centre point control, G254 / G255 dynamic work offset, G268 / G269
+    /// feature coordinates and G253, G187 smoothness, G154 P1–P99 and
+    /// G110–G129 work offsets, and Haas's standard M codes (M10–M13 the
+    /// brakes of the fourth and fifth axes). `controller/haas.rs`.
+    pub haas_codes: bool,
 }
 
 impl Dialect {
@@ -42,6 +48,7 @@ impl Dialect {
             syntax: Syntax::FANUC,
             dwell_p_seconds_with_point: false,
             g87_manual_retract: false,
+            haas_codes: false,
         };
         match control {
             Control::Fanuc30i => fanuc(10),
@@ -54,6 +61,7 @@ impl Dialect {
                 syntax: Syntax::FANUC,
                 dwell_p_seconds_with_point: false,
                 g87_manual_retract: false,
+                haas_codes: false,
             },
             Control::Mazak => Self {
                 max_nesting: 8,
@@ -63,6 +71,7 @@ impl Dialect {
                 syntax: Syntax::FANUC,
                 dwell_p_seconds_with_point: false,
                 g87_manual_retract: false,
+                haas_codes: false,
             },
             // Haas's reading rules; its nesting depth and M codes per
             // block are not sourced yet (issue #15): FANUC 30i's stand in.
@@ -70,6 +79,7 @@ impl Dialect {
                 syntax: Syntax::HAAS,
                 dwell_p_seconds_with_point: true,
                 g87_manual_retract: true,
+                haas_codes: true,
                 ..fanuc(10)
             },
             // LinuxCNC's interpreter: subroutine nesting (O-word calls) is

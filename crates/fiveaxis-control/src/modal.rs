@@ -99,6 +99,9 @@ pub enum WorkSelect {
     Standard(u8),
     /// G54.1 P1 … P48.
     Extended(u8),
+    /// Haas G154 P1 … P99 (G110 … G129 are P1 … P20); the same memory as
+    /// G54.1 P.
+    Haas(u8),
 }
 
 impl std::fmt::Display for WorkSelect {
@@ -106,6 +109,7 @@ impl std::fmt::Display for WorkSelect {
         match self {
             WorkSelect::Standard(i) => write!(f, "G{}", 54 + u32::from(*i)),
             WorkSelect::Extended(p) => write!(f, "G54.1 P{p}"),
+            WorkSelect::Haas(p) => write!(f, "G154 P{p}"),
         }
     }
 }
@@ -139,7 +143,7 @@ pub enum ContourControl {
 }
 
 /// Accuracy and look-ahead modes: speed, never path.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Accuracy {
     /// `G05.1 Q1 / Q3 / Q0`.
     pub contour: ContourControl,
@@ -148,6 +152,12 @@ pub struct Accuracy {
     pub high_precision: bool,
     /// `G08 P1` (on) / `G08 P0` (off): advanced preview (look-ahead) control.
     pub look_ahead: bool,
+    /// Haas `G187 P1` / `P2` / `P3`: smoothness rough, medium, finish; 0
+    /// after `G187` without P (the control's Setting 191 decides).
+    pub smoothness: u8,
+    /// Haas `G187 E`: the largest corner rounding, mm; `None` after
+    /// `G187` without E (Setting 85 decides).
+    pub corner_rounding: Option<f64>,
 }
 
 /// The modal state of the control.
@@ -194,6 +204,8 @@ impl Modal {
                 contour: ContourControl::Off,
                 high_precision: false,
                 look_ahead: false,
+                smoothness: 0,
+                corner_rounding: None,
             },
         }
     }

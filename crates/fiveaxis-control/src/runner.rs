@@ -709,6 +709,7 @@ impl<'m, S: Source> Runner<'m, S> {
                 Ok(())
             }
             Flow::Call { program, repeats } => self.call(program, repeats, here.line),
+            Flow::LocalCall { sequence, repeats } => self.local_call(sequence, repeats, here.line),
             Flow::Return { sequence } => self.return_from(sequence, here.line),
         }
     }
@@ -827,6 +828,40 @@ impl<'m, S: Source> Runner<'m, S> {
                 Condition::ProgramNotFound,
                 line,
                 format!("program O{program} is neither in this file nor in the program library (--programs)"),
+            ));
+        };
+        self.stack.push(Frame {
+            return_to,
+            start,
+            repeats_left: repeats - 1,
+            macro_call: false,
+            modal_call: false,
+        });
+        self.jump(start)
+    }
+
+    /// Haas M97: an M98 call whose start is sequence number `sequence` of
+    /// the running program.
+    fn local_call(&mut self, sequence: u32, repeats: u32, line: u32) -> Result<(), RunError> {
+        if repeats == 0 {
+            return Ok(());
+        }
+        if self.stack.len() >= self.max_nesting {
+            return Err(self.runner_alarm(
+                Condition::NestingTooDeep,
+                line,
+                format!("subprograms nested deeper than {} levels", self.max_nesting),
+            ));
+        }
+        let return_to = Mark {
+            offset: self.source.position(),
+            line: self.next_line,
+        };
+        let Some(start) = self.find_sequence(sequence, return_to)? else {
+            return Err(self.runner_alarm(
+                Condition::ProgramNotFound,
+                line,
+                format!("M97: sequence number N{sequence} is not in the program"),
             ));
         };
         self.stack.push(Frame {

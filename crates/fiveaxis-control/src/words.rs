@@ -246,4 +246,6 @@ fn is_address(letter: u8, machine: &Machine) -> bool {
         letter,
         b'F' | b'S' | b'T' | b'H' | b'D' | b'I' | b'J' | b'K' | b'R' | b'P' | b'L' | b'Q' | b'O'
     ) || machine.axis_index(char::from(letter)).is_some()
+        // Haas: E of G187 (corner rounding).
+        || (letter == b'E' && machine.control == fiveaxis_machine::Control::Haas)
 }

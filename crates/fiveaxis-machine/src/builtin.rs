@@ -240,13 +240,131 @@ control = "fanuc30i"
     standard_m_codes!()
 );
 
+/// Linear axes of a Haas machine as Haas lays them out: machine zero is the
+/// home position and every axis travels negative from it (`G53 Z0.` is
+/// the tool-change height). Rapid 1000 in/min (25.4 m/min) and cutting
+/// feed 650 in/min (16.5 m/min) on X, Y and Z, from Haas's VF-2 and
+/// UMC-750 specification sheets; acceleration and jerk are assumed
+/// (as the other built-ins: 3 m/s², 50 m/s³).
+macro_rules! haas_linear_axes {
+    ($x:literal, $y:literal, $z:literal) => {
+        concat!(
+            "\n[[linear]]\nname = \"X\"\nmin = ",
+            $x,
+            "\nmax = 0.0\nmax_velocity = 16510.0\nrapid = 25400.0\nmax_acceleration = 3000.0\nmax_jerk = 50000.0\n",
+            "\n[[linear]]\nname = \"Y\"\nmin = ",
+            $y,
+            "\nmax = 0.0\nmax_velocity = 16510.0\nrapid = 25400.0\nmax_acceleration = 3000.0\nmax_jerk = 50000.0\n",
+            "\n[[linear]]\nname = \"Z\"\nmin = ",
+            $z,
+            "\nmax = 0.0\nmax_velocity = 16510.0\nrapid = 25400.0\nmax_acceleration = 3000.0\nmax_jerk = 50000.0\n"
+        )
+    };
+}
+
+/// Haas UMC-750: a B/C trunnion (B tilts the trunnion about Y, C turns the
+/// platter on it). Travels X 30 in, Y 20 in, Z 20 in (762, 508, 508 mm);
+/// B −35° … +120°, C endless (the stroke Autodesk's Haas NGC post gives
+/// the UMC-750). Rotation senses as that post defines them for the table:
+/// B about +Y, C about +Z (right-hand rule, the part carried by the axis).
+/// The centres of rotation are the machine's MRZP settings (255–257),
+/// measured per machine; here assumed: the C axis over the middle of the
+/// X and Y travels, the B axis 430 mm below the gauge line at home, both
+/// meeting on the platter's face. Rotary speeds are assumed (B 30 rev/min,
+/// C 50 rev/min). The control is Haas with Setting 9 = INCH, Haas's
+/// default in the US and what the corpus Haas program (no G20) needs.
+/// M10–M13 are Haas's standard brake codes, not declared here.
+const HAAS_UMC750: &str = concat!(
+    r#"
+name = "Haas UMC-750 (B/C trunnion)"
+type = "table"
+control = "haas"
+"#,
+    haas_linear_axes!("-762.0", "-508.0", "-508.0"),
+    r#"
+[[rotary]]
+name = "B"
+on = "table"
+axis = [0, 1, 0]
+center = [-381.0, -254.0, -430.0]
+min = -35.0
+max = 120.0
+max_velocity = 7200.0
+rapid = 10800.0
+max_acceleration = 1500.0
+max_jerk = 30000.0
+
+[[rotary]]
+name = "C"
+on = "table"
+axis = [0, 0, 1]
+center = [-381.0, -254.0, 0.0]
+rollover = true
+max_velocity = 10800.0
+rapid = 18000.0
+max_acceleration = 2000.0
+max_jerk = 40000.0
+
+[parameters]
+input_unit = "inch"
+"#
+);
+
+/// Haas VF-2 with a TR160 trunnion: A tilts the trunnion about X (±120°),
+/// the platter turns on it, endless. Haas names the TR160's platter B
+/// (as the corpus program `haas_nx_vf2tr_5T.nc`, posted by NX for this
+/// machine, does: `A0.0 B0.0`, B beyond 360). VF-2 travels X 30 in, Y
+/// 16 in, Z 20 in (762, 406, 508 mm). Rotation senses ISO: +A turns the
+/// table about −X, +B the platter about −Z at A 0. Assumed: the trunnion
+/// over the middle of the X and Y travels, the A axis 440 mm below the
+/// gauge line at home (the VF-2's table 24 in below the spindle nose, the
+/// A axis 170 mm above the table), the platter's face on the A axis;
+/// rotary speeds A 30 rev/min, B 50 rev/min. Setting 9 = INCH.
+const HAAS_VF2_TR160: &str = concat!(
+    r#"
+name = "Haas VF-2 with TR160 trunnion (A tilts, B turns the platter)"
+type = "table"
+control = "haas"
+"#,
+    haas_linear_axes!("-762.0", "-406.0", "-508.0"),
+    r#"
+[[rotary]]
+name = "A"
+on = "table"
+axis = [-1, 0, 0]
+center = [-381.0, -203.0, -440.0]
+min = -120.0
+max = 120.0
+max_velocity = 7200.0
+rapid = 10800.0
+max_acceleration = 1500.0
+max_jerk = 30000.0
+
+[[rotary]]
+name = "B"
+on = "table"
+axis = [0, 0, -1]
+center = [-381.0, -203.0, 0.0]
+rollover = true
+max_velocity = 10800.0
+rapid = 18000.0
+max_acceleration = 2000.0
+max_jerk = 40000.0
+
+[parameters]
+input_unit = "inch"
+"#
+);
+
 /// The library: name and machine-file text.
-const LIBRARY: [(&str, &str); 5] = [
+const LIBRARY: [(&str, &str); 7] = [
     ("trunnion-ac", TRUNNION_AC),
     ("trunnion-bc", TRUNNION_BC),
     ("head-table-bc", HEAD_TABLE_BC),
     ("head-head-ca", HEAD_HEAD_CA),
     ("mill-3axis", MILL_3AXIS),
+    ("haas-umc750", HAAS_UMC750),
+    ("haas-vf2-tr160", HAAS_VF2_TR160),
 ];
 
 /// Names of the built-in machines.

@@ -22,7 +22,9 @@ pub use file::{FileError, MAX_FILE_MAGNITUDE};
 pub use inverse::{Orientations, SINGULAR_TOLERANCE, principal, turn_angle};
 pub use kinematics::{Pose, rotation, sin_cos_degrees};
 pub use m_codes::{MAX_M_CODE, MCodes, MFunction, RESERVED_M_CODES};
-pub use offsets::{MAX_EXTENDED_WORK, MAX_TOOL_OFFSET, Offsets, SetupErrorSet, ToolOffset};
+pub use offsets::{
+    MAX_EXTENDED_WORK, MAX_HAAS_WORK, MAX_TOOL_OFFSET, Offsets, SetupErrorSet, ToolOffset,
+};
 pub use setup_error::SetupError;
 
 use nalgebra::{Unit, Vector3};

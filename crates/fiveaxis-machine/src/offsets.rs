@@ -8,8 +8,13 @@ use crate::Vec3;
 /// Highest tool offset number (H, D) the offsets file and G10 accept.
 pub const MAX_TOOL_OFFSET: u32 = 999;
 
-/// Highest extended work offset number (`G54.1 P1` … `G54.1 P48`).
+/// Highest extended work offset number of FANUC (`G54.1 P1` … `G54.1 P48`).
 pub const MAX_EXTENDED_WORK: u32 = 48;
+
+/// Highest additional work offset number of Haas (`G154 P1` … `G154 P99`;
+/// `G110` … `G129` are P1 … P20), and the size of the extended work
+/// offset memory, which FANUC's `G54.1 P` and Haas's `G154 P` share.
+pub const MAX_HAAS_WORK: u32 = 99;
 
 /// One tool offset number: length (H) and radius (D) values, geometry and
 /// wear (FANUC tool compensation memory C).
@@ -45,8 +50,9 @@ pub struct Offsets {
     pub tools: BTreeMap<u32, ToolOffset>,
     /// Work offsets `G54` … `G59`, table-frame coordinates of the work zero.
     pub work: [Vec3; 6],
-    /// Extended work offsets `G54.1 P1` … `P48` (index 0 is P1).
-    pub extended_work: [Vec3; MAX_EXTENDED_WORK as usize],
+    /// Extended work offsets, index 0 is P1: `G54.1 P1` … `P48` on FANUC
+    /// controls, `G154 P1` … `P99` on Haas.
+    pub extended_work: [Vec3; MAX_HAAS_WORK as usize],
     /// External work zero offset, added to every work offset (FANUC "EXT",
     /// number 00).
     pub external: Vec3,
@@ -59,7 +65,7 @@ impl Default for Offsets {
         Self {
             tools: BTreeMap::new(),
             work: [Vec3::zeros(); 6],
-            extended_work: [Vec3::zeros(); MAX_EXTENDED_WORK as usize],
+            extended_work: [Vec3::zeros(); MAX_HAAS_WORK as usize],
             external: Vec3::zeros(),
             setup_error: BTreeMap::new(),
         }

@@ -43,7 +43,9 @@ impl Controller<'_> {
     pub(super) fn work(&self) -> Vec3 {
         let base = match self.state.modal.work {
             WorkSelect::Standard(i) => self.offsets.work[usize::from(i)],
-            WorkSelect::Extended(p) => self.offsets.extended_work[usize::from(p) - 1],
+            WorkSelect::Extended(p) | WorkSelect::Haas(p) => {
+                self.offsets.extended_work[usize::from(p) - 1]
+            }
         };
         base + self.offsets.external + self.state.shift
     }
@@ -75,6 +77,9 @@ impl Controller<'_> {
 
     /// The work coordinate system a G54–G59 / G54.1 P block selects.
     pub(super) fn work_select(&mut self, code: Code, span: Span) -> Result<WorkSelect, Alarm> {
+        if code.major >= 110 {
+            return self.haas_work_select(code, span);
+        }
         let extended = code.minor == 1 || (code.major == 54 && self.words.has(b'P'));
         if !extended {
             return Ok(WorkSelect::Standard((code.major - 54) as u8));

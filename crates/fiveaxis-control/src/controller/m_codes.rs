@@ -61,7 +61,13 @@ impl Controller<'_> {
         } else {
             None
         };
-        declared.or_else(|| standard(code))
+        declared.or_else(|| {
+            if self.dialect.haas_codes {
+                super::haas::standard_m_code(self.machine, code)
+            } else {
+                standard(code)
+            }
+        })
     }
 
     /// TCPC switched by M code: the block's group 08 becomes G43.4
@@ -105,6 +111,7 @@ impl Controller<'_> {
             let (code, span) = self.words.m[i];
             match (code.major, code.minor) {
                 (98, 0) => flow = self.call()?,
+                (97, 0) if self.dialect.haas_codes => flow = self.local_call(span)?,
                 (99, 0) => {
                     let sequence = match self.words.take(b'P') {
                         Some(word) => Some(self.words.integer(&word, 99_999)?),
@@ -198,6 +205,11 @@ impl Controller<'_> {
                     .machine
                     .m_codes
                     .number_of(MFunction::Unclamp(axis))
+                    .or_else(|| {
+                        (0..100).find(|&n| {
+                            self.m_function(Code::new(n, 0)) == Some(MFunction::Unclamp(axis))
+                        })
+                    })
                     .map_or(String::new(), |n| format!(" (M{n})"));
                 let span = self.words.peek(axis as u8).map(|w| w.span);
                 let alarm = self.alarm(

@@ -50,17 +50,23 @@ enum ToolField {
     Radius,
 }
 
-/// The tool offset field and offset number of a variable number.
-fn tool_variable(n: u32) -> Option<(ToolField, u32)> {
-    let field = |k: u32| match k {
-        0 => ToolField::LengthWear,
-        1 => ToolField::Length,
-        2 => ToolField::RadiusWear,
+/// The tool offset field and offset number of a variable number. FANUC
+/// (memory C): `#2001`+ length wear, `#2201`+ length, `#2401`+ radius
+/// wear, `#2601`+ radius. Haas (`haas`): `#2001`+ length, `#2201`+ length
+/// wear, `#2401`+ diameter / radius (the kernel's radius, Setting 40 =
+/// RADIUS), `#2601`+ its wear.
+fn tool_variable(n: u32, haas: bool) -> Option<(ToolField, u32)> {
+    let field = |k: u32| match (k, haas) {
+        (0, false) | (1, true) => ToolField::LengthWear,
+        (1, false) | (0, true) => ToolField::Length,
+        (2, false) | (3, true) => ToolField::RadiusWear,
         _ => ToolField::Radius,
     };
     match n {
         2001..=2800 => Some((field((n - 2001) / 200), (n - 2001) % 200 + 1)),
-        10001..=13999 if !n.is_multiple_of(1000) && n % 1000 <= MAX_TOOL_OFFSET => {
+        // FANUC's memory C beyond 200 offsets (Haas NGC's #10000+ are its
+        // common variables, not offsets).
+        10001..=13999 if !haas && !n.is_multiple_of(1000) && n % 1000 <= MAX_TOOL_OFFSET => {
             Some((field(n / 1000 - 10), n % 1000))
         }
         _ => None,
@@ -86,6 +92,15 @@ fn work_variable(n: u32) -> Option<(Option<WorkSelect>, usize)> {
                 ((n - 7001) % 20) as usize,
             ))
         }
+        // FANUC 30i G54.1 P1 … and Haas G154 P1 … P99 alike: 20 numbers
+        // an offset from #14001 (the memory holds P1 … P99).
+        14001..=15980 => {
+            let p = (n - 14001) / 20 + 1;
+            Some((
+                Some(WorkSelect::Extended(u8::try_from(p).ok()?)),
+                ((n - 14001) % 20) as usize,
+            ))
+        }
         _ => None,
     }
 }
@@ -93,7 +108,7 @@ fn work_variable(n: u32) -> Option<(Option<WorkSelect>, usize)> {
 impl Controller<'_> {
     /// Reads system variable `n`: `Ok(None)` is vacant.
     pub fn read_system_variable(&self, n: u32) -> Result<Option<f64>, SystemVarFault> {
-        if let Some((field, number)) = tool_variable(n) {
+        if let Some((field, number)) = tool_variable(n, self.dialect.haas_codes) {
             let tool = self.offsets.tools.get(&number).copied().unwrap_or_default();
             return Ok(Some(match field {
                 ToolField::LengthWear => tool.length_wear,
@@ -135,7 +150,7 @@ impl Controller<'_> {
         value: Option<f64>,
     ) -> Result<(), SystemVarFault> {
         let v = value.unwrap_or(0.0);
-        if let Some((field, number)) = tool_variable(n) {
+        if let Some((field, number)) = tool_variable(n, self.dialect.haas_codes) {
             if number > MAX_TOOL_OFFSET {
                 return Err(SystemVarFault::Unknown);
             }
@@ -155,7 +170,7 @@ impl Controller<'_> {
             let slot = match select {
                 None => Some(&mut self.offsets.external),
                 Some(WorkSelect::Standard(i)) => self.offsets.work.get_mut(usize::from(i)),
-                Some(WorkSelect::Extended(p)) => self
+                Some(WorkSelect::Extended(p) | WorkSelect::Haas(p)) => self
                     .offsets
                     .extended_work
                     .get_mut(usize::from(p).wrapping_sub(1)),
@@ -176,7 +191,7 @@ impl Controller<'_> {
         match select {
             None => Some(self.offsets.external),
             Some(WorkSelect::Standard(i)) => self.offsets.work.get(usize::from(i)).copied(),
-            Some(WorkSelect::Extended(p)) => self
+            Some(WorkSelect::Extended(p) | WorkSelect::Haas(p)) => self
                 .offsets
                 .extended_work
                 .get(usize::from(p).wrapping_sub(1))
@@ -241,6 +256,7 @@ impl Controller<'_> {
             4014 => match m.work {
                 WorkSelect::Standard(i) => 54.0 + f64::from(i),
                 WorkSelect::Extended(_) => 54.1,
+                WorkSelect::Haas(_) => 154.0,
             },
             4011 | 4016 | 4017 | 4022 => self.state.frames.modal_g(n),
             4107 => f64::from(self.state.d),

@@ -180,12 +180,28 @@ impl Controller<'_> {
     /// the programming frame. Returns how the axes respond to the new
     /// offset.
     pub(super) fn start_tcpc(&mut self, kind: TcpcType, span: Span) -> Result<LengthChange, Alarm> {
-        let machine = self.machine;
         let code = if kind == TcpcType::Angles {
             "G43.4"
         } else {
             "G43.5"
         };
+        self.start_tcpc_as(kind, code, false, span)
+    }
+
+    /// [`Controller::start_tcpc`] as `code` (`G43.4`, `G43.5`, Haas
+    /// `G234`). With `table_zero` (Haas G234) the programming frame is the
+    /// work coordinate system fixed to the table as it stands at rotary
+    /// position 0, whatever the rotary axes stand at start-up (Haas: the
+    /// coordinate system of the MRZP and the work offset stays fixed
+    /// relative to the table), and the block takes no P.
+    pub(super) fn start_tcpc_as(
+        &mut self,
+        kind: TcpcType,
+        code: &str,
+        table_zero: bool,
+        span: Span,
+    ) -> Result<LengthChange, Alarm> {
+        let machine = self.machine;
         if !machine.params.tcpc_option {
             return Err(self.alarm(
                 Condition::TcpcOptionMissing,
@@ -227,8 +243,11 @@ impl Controller<'_> {
                 "I, J, K cannot be given in the G43.5 block on a table or mixed machine".into(),
             ));
         }
-        let posture = match self.words.take(b'P') {
-            Some(word) => self.words.integer(&word, 1)? == 1,
+        let posture = match self.words.peek(b'P').filter(|_| !table_zero) {
+            Some(word) => {
+                self.words.take(b'P');
+                self.words.integer(&word, 1)? == 1
+            }
             None => machine.params.tool_posture_control,
         };
         let inclination = match kind {
@@ -236,7 +255,11 @@ impl Controller<'_> {
             TcpcType::Angles => 0.0,
         };
         let joints = self.state.joints;
-        let frame = machine.chain(Side::Table, &joints);
+        let frame = if table_zero {
+            IsometryMatrix3::identity()
+        } else {
+            machine.chain(Side::Table, &joints)
+        };
         let dir_table = machine.forward(&joints, 0.0).dir;
         let tilt_sign = self.tilt_side(&joints);
         self.state.tcpc = TcpcState {

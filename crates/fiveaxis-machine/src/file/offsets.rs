@@ -6,7 +6,7 @@ use serde::Deserialize;
 use toml::Spanned;
 
 use super::{FileError, Source, in_file_order};
-use crate::offsets::{MAX_EXTENDED_WORK, MAX_TOOL_OFFSET};
+use crate::offsets::{MAX_EXTENDED_WORK, MAX_HAAS_WORK, MAX_TOOL_OFFSET};
 use crate::{Offsets, SetupErrorSet, ToolOffset, Vec3};
 
 /// Highest workpiece setup error data set number (G54.4 P0 … P7).
@@ -49,7 +49,8 @@ struct RawSetupError {
 enum WorkSlot {
     /// `G54` … `G59`: index 0 … 5.
     Standard(usize),
-    /// `G54.1 P1` … `P48`: index 0 … 47.
+    /// `G54.1 P1` … `P48`, `G154 P1` … `P99`, `G110` … `G129` (Haas's
+    /// G154 P1 … P20): index 0 … 98.
     Extended(usize),
     /// `EXT`.
     External,
@@ -59,7 +60,8 @@ impl Offsets {
     /// Reads an offsets file (`machine-model.md` §5): `[tools]` by offset
     /// number (`length`, `radius`, and the wear values `length_wear`,
     /// `radius_wear`, each 0 when left out), `[work]` (`G54` … `G59`,
-    /// `"G54.1 P1"` … `"G54.1 P48"`, `EXT`) and `[setup_error.N]` data sets
+    /// `"G54.1 P1"` … `"G54.1 P48"`, Haas's `"G154 P1"` … `"G154 P99"` and
+    /// `G110` … `G129`, `EXT`) and `[setup_error.N]` data sets
     /// (N = 0 … 7). Anything not given is 0.
     ///
     /// # Errors
@@ -81,11 +83,22 @@ impl Offsets {
                 ));
             }
         }
+        let mut extended_given = [false; MAX_HAAS_WORK as usize];
         for (key, value) in in_file_order(&raw.work) {
             let v = src.vec3(value, key.get_ref())?;
             match work_slot(&src, key)? {
                 WorkSlot::Standard(i) => offsets.work[i] = v,
-                WorkSlot::Extended(i) => offsets.extended_work[i] = v,
+                WorkSlot::Extended(i) => {
+                    // `"G154 P7"` and `"G54.1 P7"` name one offset.
+                    if std::mem::replace(&mut extended_given[i], true) {
+                        return Err(src.at(
+                            key,
+                            key.get_ref(),
+                            format!("extended work offset P{} is given twice", i + 1),
+                        ));
+                    }
+                    offsets.extended_work[i] = v;
+                }
                 WorkSlot::External => offsets.external = v,
             }
         }
@@ -154,7 +167,7 @@ fn work_slot(src: &Source<'_>, key: &Spanned<String>) -> Result<WorkSlot, FileEr
         _ => standard_slot(text).or_else(|| extended_slot(text)),
     };
     slot.ok_or_else(|| {
-        let msg = format!("`{text}` is not a work offset: use G54 … G59, \"G54.1 P1\" … \"G54.1 P{MAX_EXTENDED_WORK}\" or EXT");
+        let msg = format!("`{text}` is not a work offset: use G54 … G59, \"G54.1 P1\" … \"G54.1 P{MAX_EXTENDED_WORK}\", \"G154 P1\" … \"G154 P{MAX_HAAS_WORK}\", G110 … G129 or EXT");
         src.at(key, text, msg)
     })
 }
@@ -167,14 +180,26 @@ fn standard_slot(text: &str) -> Option<WorkSlot> {
     Some(WorkSlot::Standard(i))
 }
 
-fn extended_slot(text: &str) -> Option<WorkSlot> {
-    let p = text.strip_prefix("G54.1 P")?;
-    if p.is_empty() || p.starts_with('0') || !p.bytes().all(|b| b.is_ascii_digit()) {
+/// A decimal number without sign or leading zeros.
+fn plain_number(text: &str) -> Option<u32> {
+    if text.is_empty() || text.starts_with('0') || !text.bytes().all(|b| b.is_ascii_digit()) {
         return None;
     }
-    let n: u32 = p.parse().ok()?;
+    text.parse().ok()
+}
+
+fn extended_slot(text: &str) -> Option<WorkSlot> {
+    let (n, max) = if let Some(p) = text.strip_prefix("G54.1 P") {
+        (plain_number(p)?, MAX_EXTENDED_WORK)
+    } else if let Some(p) = text.strip_prefix("G154 P") {
+        (plain_number(p)?, MAX_HAAS_WORK)
+    } else {
+        // Haas: G110 … G129 are G154 P1 … P20.
+        let g = plain_number(text.strip_prefix('G')?)?;
+        ((110..=129).contains(&g).then(|| g - 109)?, MAX_HAAS_WORK)
+    };
     let index = usize::try_from(n).ok()?.checked_sub(1)?;
-    (n <= MAX_EXTENDED_WORK).then_some(WorkSlot::Extended(index))
+    (n <= max).then_some(WorkSlot::Extended(index))
 }
 
 fn setup_error(src: &Source<'_>, raw: &RawSetupError) -> Result<SetupErrorSet, FileError> {

@@ -21,7 +21,9 @@ fn library_lists_every_machine_and_the_default() {
             "trunnion-bc",
             "head-table-bc",
             "head-head-ca",
-            "mill-3axis"
+            "mill-3axis",
+            "haas-umc750",
+            "haas-vf2-tr160"
         ]
     );
     assert!(names.contains(&DEFAULT_MACHINE));
@@ -29,9 +31,17 @@ fn library_lists_every_machine_and_the_default() {
     assert!(builtin_source("no-such-machine").is_none());
 }
 
+/// The built-ins of the FANUC 30i (the Haas machines are tested below).
+fn fanuc_builtins() -> impl Iterator<Item = &'static str> {
+    builtin_names()
+        .iter()
+        .copied()
+        .filter(|n| !n.starts_with("haas-"))
+}
+
 #[test]
 fn every_builtin_reads_with_a_name_and_fanuc_30i() {
-    for name in builtin_names() {
+    for name in fanuc_builtins() {
         let m = machine(name);
         assert!(m.name.len() > 10, "{name}: {:?}", m.name);
         assert_eq!(m.control, fiveaxis_machine::Control::Fanuc30i);
@@ -222,7 +232,7 @@ proptest! {
 #[test]
 fn builtin_m_codes_clamp_the_rotary_axes_in_file_order() {
     use fiveaxis_machine::MFunction as F;
-    for name in builtin_names() {
+    for name in fanuc_builtins() {
         let m = machine(name);
         let t = &m.m_codes;
         assert_eq!(t.get(0), Some(F::Stop), "{name}");
@@ -240,5 +250,45 @@ fn builtin_m_codes_clamp_the_rotary_axes_in_file_order() {
         if m.rotary.is_empty() {
             assert_eq!(t.get(10), None, "{name}");
         }
+    }
+}
+
+#[test]
+fn haas_builtins_have_the_published_strokes_and_the_control_s_m_codes() {
+    use fiveaxis_machine::{Control, InputUnit};
+    let strokes = |m: &Machine| -> Vec<(char, f64, f64)> {
+        m.linear.iter().map(|a| (a.name, a.min, a.max)).collect()
+    };
+    let umc = machine("haas-umc750");
+    assert_eq!(umc.control, Control::Haas);
+    assert_eq!(umc.params.input_unit, InputUnit::Inch);
+    assert_eq!(umc.machine_type(), MachineType::Table);
+    // X 30 in, Y 20 in, Z 20 in, all negative from home.
+    assert_eq!(
+        strokes(&umc),
+        [('X', -762.0, 0.0), ('Y', -508.0, 0.0), ('Z', -508.0, 0.0)]
+    );
+    let names: Vec<char> = umc.rotary.iter().map(|r| r.name).collect();
+    assert_eq!(names, ['B', 'C']);
+    assert_eq!(umc.rotary[0].limits, Some((-35.0, 120.0)));
+    assert!(umc.rotary[1].rollover && umc.rotary[1].limits.is_none());
+    let vf = machine("haas-vf2-tr160");
+    assert_eq!(vf.control, Control::Haas);
+    assert_eq!(vf.params.input_unit, InputUnit::Inch);
+    // X 30 in, Y 16 in, Z 20 in.
+    assert_eq!(
+        strokes(&vf),
+        [('X', -762.0, 0.0), ('Y', -406.0, 0.0), ('Z', -508.0, 0.0)]
+    );
+    let names: Vec<char> = vf.rotary.iter().map(|r| r.name).collect();
+    assert_eq!(names, ['A', 'B']);
+    assert_eq!(vf.rotary[0].limits, Some((-120.0, 120.0)));
+    assert!(vf.rotary[1].rollover);
+    // No [m_codes] table: the control's standard set (M10-M13 brakes)
+    // applies (crates/fiveaxis-control/tests/haas_functions.rs).
+    for m in [&umc, &vf] {
+        assert_eq!(m.m_codes.get(10), None);
+        // Home is reference position 1 and inside every stroke.
+        assert!(m.params.reference_1.iter().all(|v| *v == 0.0));
     }
 }

@@ -202,6 +202,11 @@ fn work_offset_names() {
         "\"G54.1 P49\"",
         "\"G54.1P1\"",
         "\"G54.1 P01\"",
+        "\"G154 P0\"",
+        "\"G154 P100\"",
+        "\"G154 P07\"",
+        "G109",
+        "G130",
         "EXT1",
     ] {
         let text = format!("[work]\n{bad} = [0, 0, 0]\n");
@@ -214,6 +219,21 @@ fn work_offset_names() {
         );
         assert!(e.message.contains("not a work offset"), "{e:?}");
     }
+}
+
+#[test]
+fn haas_work_offsets_g154_and_g110_share_the_extended_memory() {
+    let text = "[work]\n\"G154 P7\" = [7, 0, 0]\nG110 = [1, 0, 0]\nG129 = [20, 0, 0]\n\"G154 P99\" = [99, 0, 0]\n\"G54.1 P48\" = [48, 0, 0]\n";
+    let o = Offsets::from_toml(text).expect("Haas work offsets");
+    assert_eq!(o.extended_work[6].x, 7.0);
+    assert_eq!(o.extended_work[0].x, 1.0);
+    assert_eq!(o.extended_work[19].x, 20.0);
+    assert_eq!(o.extended_work[98].x, 99.0);
+    assert_eq!(o.extended_work[47].x, 48.0);
+    // G110 is G154 P1: one offset given twice.
+    let e = fail("[work]\n\"G154 P1\" = [1, 0, 0]\nG110 = [2, 0, 0]\n");
+    assert_eq!((e.line, e.key.as_deref()), (3, Some("G110")), "{e:?}");
+    assert!(e.message.contains("given twice"), "{e:?}");
 }
 
 #[test]

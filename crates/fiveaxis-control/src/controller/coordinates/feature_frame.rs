@@ -40,6 +40,12 @@
 //!   offsets in the feature plane (controller/cutter_c.rs maps its pieces
 //!   through the frame).
 //!
+//! Haas: `G268 X Y Z I J K Q` is the same plane with the turns in the
+//! order Q names (`feature_by_rotation_order`), `G253` is G53.1, `G269`
+//! G69; `G254` (dynamic work offset) is a frame whose origin is the work
+//! zero and whose axes are the machine's as the table stands
+//! (`Feature::dwo`, `controller/haas.rs`).
+//!
 //! TCPC inside the plane programs in the feature frame (on WKP = 1 the
 //! feature frame is defined on the frame that does not turn; see
 //! `tcpc.rs`), and a 3-D tool compensation vector I J K is read in it.
@@ -70,9 +76,31 @@ pub(in crate::controller) struct Feature {
     /// three-dimensional coordinate conversion (G68 with I, J, K) and how
     /// many are nested.
     conversions: u8,
+    /// Haas G254 dynamic work offset: origin the work zero, axes those of
+    /// the machine as the table stands (`Feature::dwo`).
+    dwo: bool,
 }
 
 impl Feature {
+    /// Haas G254 with the table turned by `turn` (the rotation of the
+    /// table's map at the standing rotary axes): the work zero follows the
+    /// table, the axes stay those of the machine, so a programmed point p
+    /// is the workpiece point `turn⁻¹·p` from the work zero (the machine
+    /// sees p from the turned work zero, the tool along its Z).
+    pub(in crate::controller) fn dwo(turn: Rotation3<f64>) -> Self {
+        Self {
+            origin: Vec3::zeros(),
+            rotation: turn.inverse(),
+            conversions: 0,
+            dwo: true,
+        }
+    }
+
+    /// Whether this is Haas's dynamic work offset (G254).
+    pub(in crate::controller) fn is_dwo(&self) -> bool {
+        self.dwo
+    }
+
     fn work_point(&self, p: &Vec3) -> Vec3 {
         self.origin + self.rotation * p
     }
@@ -201,6 +229,11 @@ impl Controller<'_> {
         if code.minor == 3 {
             return self.feature_from_tool_axis(span);
         }
+        if code.major == 268 {
+            let feature = self.feature_by_rotation_order(span)?;
+            self.state.feature = Some(feature);
+            return Ok(());
+        }
         let form = match self.words.take(b'P') {
             Some(word) => self.words.integer(&word, 9)?,
             None => 0,
@@ -245,6 +278,7 @@ impl Controller<'_> {
                 origin: outer.work_point(&defined.origin),
                 rotation: outer.rotation * defined.rotation,
                 conversions: 0,
+                dwo: false,
             },
             _ => defined,
         };
@@ -319,6 +353,60 @@ impl Controller<'_> {
             origin,
             rotation,
             conversions: 0,
+            dwo: false,
+        })
+    }
+
+    /// Haas `G268 X Y Z I J K Q`: the feature frame's origin X, Y, Z in the
+    /// workpiece coordinate system (absolute, 0 when left out), its axes
+    /// those of the workpiece turned by I about X, J about Y and K about
+    /// Z, in the order Q names (three digits, 1 = X / I, 2 = Y / J, 3 =
+    /// Z / K; each a turn about the workpiece's fixed axes): `Q123` is I,
+    /// then J, then K, `R = Rz(K)·Ry(J)·Rx(I)` (FANUC G68.2 P1). Q left
+    /// out is 123.
+    fn feature_by_rotation_order(&mut self, span: Span) -> Result<Feature, Alarm> {
+        let origin = self.definition_point();
+        let angles = self.definition_ijk();
+        let order = match self.words.take(b'Q') {
+            None => [0, 1, 2],
+            Some(word) => {
+                let q = self.words.integer(&word, 999)?;
+                let digits = [q / 100, q / 10 % 10, q % 10];
+                let mut seen = [false; 3];
+                for d in digits {
+                    if (1..=3).contains(&d) {
+                        seen[d as usize - 1] = true;
+                    }
+                }
+                if !seen.iter().all(|s| *s) || word.decimal_point {
+                    return Err(self.alarm(
+                        Condition::FeatureDefinition,
+                        Some(word.span),
+                        format!(
+                            "G268 Q{}: the order of rotation names each of 1 (X), 2 (Y) and 3 (Z) once, e.g. Q123",
+                            word.value
+                        ),
+                    ));
+                }
+                digits.map(|d| d as usize - 1)
+            }
+        };
+        self.definition_finite(
+            &[origin.x, origin.y, origin.z, angles.x, angles.y, angles.z],
+            "G268",
+            span,
+        )?;
+        let axes = [Vec3::x(), Vec3::y(), Vec3::z()];
+        let mut rotation = Rotation3::identity();
+        for k in order {
+            // Each turn about the fixed axes: applied after those before.
+            rotation = about(axes[k], angles[k]) * rotation;
+        }
+        Ok(Feature {
+            origin,
+            rotation,
+            conversions: 0,
+            dwo: false,
         })
     }
 
@@ -374,6 +462,7 @@ impl Controller<'_> {
             origin: p1 + frame * pending.shift,
             rotation: frame * about(Vec3::z(), pending.turn),
             conversions: 0,
+            dwo: false,
         }))
     }
 
@@ -431,6 +520,7 @@ impl Controller<'_> {
             origin,
             rotation: frame_of(x, z),
             conversions: 0,
+            dwo: false,
         }))
     }
 
@@ -502,7 +592,7 @@ impl Controller<'_> {
         let refused = [
             codes
                 .feature
-                .filter(|(c, _)| c.major == 69 && self.tcpc_type().is_some())
+                .filter(|(c, _)| matches!(c.major, 69 | 269) && self.tcpc_type().is_some())
                 .map(|(c, s)| {
                     (
                         c,
@@ -592,6 +682,7 @@ impl Controller<'_> {
             origin,
             rotation,
             conversions: 0,
+            dwo: false,
         });
         Ok(())
     }
@@ -665,12 +756,14 @@ impl Controller<'_> {
             origin: center - rotation * center,
             rotation,
             conversions: depth,
+            dwo: false,
         };
         self.state.feature = Some(match outer {
             Some(outer) => Feature {
                 origin: outer.work_point(&defined.origin),
                 rotation: outer.rotation * defined.rotation,
                 conversions: depth,
+                dwo: false,
             },
             None => defined,
         });
@@ -685,6 +778,8 @@ impl Controller<'_> {
     ) -> Result<(), Alarm> {
         let conflict = if self.feature().is_some_and(|f| f.conversions > 0) {
             Some("three-dimensional coordinate conversion (G68 with I, J, K)")
+        } else if self.feature().is_some_and(|f| f.dwo) {
+            Some("the dynamic work offset (G254): give G255 first")
         } else if self.tcpc_type().is_some() {
             Some("tool centre point control (G43.4/G43.5): give G68.2 first")
         } else if self.state.frames.active() {
@@ -715,11 +810,11 @@ impl Controller<'_> {
         out: &mut Vec<Segment>,
     ) -> Result<(), Alarm> {
         let name = if keep_tip { "G53.6" } else { "G53.1" };
-        let Some(feature) = self.state.feature.filter(|f| f.conversions == 0) else {
+        let Some(feature) = self.state.feature.filter(|f| f.conversions == 0 && !f.dwo) else {
             return Err(self.alarm(
                 Condition::FeatureNotAllowed,
                 Some(span),
-                format!("{name} needs a tilted working plane (G68.2) in force"),
+                format!("{name} needs a tilted working plane (G68.2, Haas G268) in force"),
             ));
         };
         if self.machine.rotary.len() != 2 {

@@ -1,0 +1,245 @@
+//! Haas's own functions (Haas Next Generation Control mill operator's
+//! manual), each mapped onto the kernel function that is the same thing:
+//!
+//! * `G234 H…` tool centre point control is the kernel's TCPC of type 1
+//!   (`tcpc.rs`, G43.4) with Haas's frame: the work coordinate system
+//!   (MRZP and work offset) fixed to the table as it stands at rotary
+//!   position 0, so that "when the rotary axes rotate, the linear
+//!   coordinate system rotates with them". Group 08: `G49`, `G43`, `G44`
+//!   end it, as do M02 / M30 (the end of the run). H is the block's or
+//!   the one in force; with none the block is an alarm.
+//! * `G254` dynamic work offset (DWO, group 23) is a feature frame
+//!   (`coordinates/feature_frame.rs`, `Feature::dwo`): the work zero (the
+//!   work offset, measured at rotary position 0) follows the table as the
+//!   rotary axes stand at G254, the axes stay the machine's, so that a
+//!   3+2 program posted for the part at the centre of rotation (tool
+//!   along Z, X and Y the machine's) runs on the part where it is: the
+//!   tip goes to the turned work zero + (X, Y, Z), the tool length along
+//!   the tool; canned cycles drill along the tool. `G255` cancels. The
+//!   manual's rules: rotary motion is complete before G254 and G254 is
+//!   cancelled before any rotary motion (an axis word of a rotary axis in
+//!   DWO is an alarm here); the work offset is applied before G254 (a
+//!   change of it in DWO is an alarm, as in the tilted plane); G254 is
+//!   not for simultaneous motion (G234 in DWO, and G254 in TCPC, are
+//!   alarms).
+//! * `G268 X Y Z I J K Q` feature coordinates is the tilted working plane
+//!   (`feature_by_rotation_order`), `G269` cancels it, `G253` turns the
+//!   rotary axes so that the spindle is normal to it (as G53.1).
+//! * `G187 P1`–`P3` `E…` smoothness and corner rounding: speed, not path;
+//!   kept in the modal state (`Modal::accuracy`) and reported.
+//! * `G154 P1`–`P99` and `G110`–`G129` (P1–P20) select the additional
+//!   work offsets, the memory FANUC's `G54.1 P` uses (`G10 L20 P1`–`P99`
+//!   sets them, `#14001`+ reads them; Haas's tool variables `#2001`+ and
+//!   `G10 L1` are in `system_vars.rs` and `controller.rs`).
+//! * `M97 P… L…`: a local subprogram call, to the blocks from sequence
+//!   number P of the running program up to their M99, L times
+//!   (`Flow::LocalCall`, carried out by the runner as an M98 call).
+//! * M codes: Haas's standard set (`standard_m_code`): M10 / M11 clamp /
+//!   unclamp the fourth axis brake, M12 / M13 the fifth (the machine's
+//!   first and second rotary axes), M88 / M89 through-spindle coolant and
+//!   the other switching codes as signals.
+
+use fiveaxis_gcode::{Code, Span};
+use fiveaxis_machine::{MAX_HAAS_WORK, MFunction, Machine, Side};
+
+use super::coordinates::Feature;
+use super::{Controller, Flow};
+use crate::alarm::{Alarm, Condition};
+use crate::modal::{TcpcType, WorkSelect};
+
+/// Haas's standard meaning of an M code on `machine`, where it differs
+/// from or adds to the common set.
+pub(super) fn standard_m_code(machine: &Machine, code: Code) -> Option<MFunction> {
+    if code.minor != 0 {
+        return None;
+    }
+    let rotary = |k: usize| machine.rotary.get(k).map(|r| r.name);
+    Some(match code.major {
+        0 => MFunction::Stop,
+        1 => MFunction::OptionalStop,
+        2 | 30 => MFunction::End,
+        3 => MFunction::SpindleCw,
+        4 => MFunction::SpindleCcw,
+        5 => MFunction::SpindleStop,
+        // M16 is a tool change as M06.
+        6 | 16 => MFunction::ToolChange,
+        // M07 shower coolant, M08 flood.
+        7 | 8 => MFunction::CoolantOn,
+        9 => MFunction::CoolantOff,
+        // Brakes: the fourth axis on M10 / M11, the fifth on M12 / M13.
+        10 => MFunction::Clamp(rotary(0)?),
+        11 => MFunction::Unclamp(rotary(0)?),
+        12 => MFunction::Clamp(rotary(1)?),
+        13 => MFunction::Unclamp(rotary(1)?),
+        19 => MFunction::SpindleOrient,
+        // Chip conveyor (M31, M33), coolant spigot (M34, M35), air blast
+        // (M83, M84), through-tool air blast (M73, M74), through-spindle
+        // coolant (M88, M89): no axis moves; the kernel's coolant state is
+        // the flood coolant of M08 / M09.
+        31 | 33 | 34 | 35 | 73 | 74 | 83 | 84 | 88 | 89 => MFunction::Signal,
+        _ => return None,
+    })
+}
+
+impl Controller<'_> {
+    /// G234: TCPC with Haas's frame (module documentation).
+    pub(super) fn start_haas_tcpc(&mut self, span: Span) -> Result<(), Alarm> {
+        if self.feature().is_some_and(|f| f.is_dwo()) {
+            return Err(self.alarm(
+                Condition::FeatureNotAllowed,
+                Some(span),
+                "G234 (TCPC) cannot be given in the dynamic work offset (G254): give G255 first"
+                    .into(),
+            ));
+        }
+        let h = match self.words.peek(b'H') {
+            Some(word) => self.offset_number(&word)?,
+            None => self.state.h,
+        };
+        if h == 0 {
+            return Err(self.alarm(
+                Condition::NoDataAfterAddress,
+                Some(span),
+                "G234 needs a tool length offset: give H (the block's or one in force)".into(),
+            ));
+        }
+        self.start_tcpc_as(TcpcType::Angles, "G234", true, span)?;
+        Ok(())
+    }
+
+    /// G254 (on) / G255 (off), before the block's move.
+    pub(super) fn dwo_command(&mut self, code: Code, span: Span) -> Result<(), Alarm> {
+        if code.major == 255 {
+            if self.feature().is_some_and(|f| f.is_dwo()) {
+                self.state.feature = None;
+            }
+            return Ok(());
+        }
+        if self.tcpc_type().is_some() {
+            return Err(self.alarm(
+                Condition::FeatureNotAllowed,
+                Some(span),
+                "G254 (dynamic work offset) is for positioning, not for simultaneous motion: cancel TCPC (G234) with G49 first".into(),
+            ));
+        }
+        if self.feature().is_some_and(|f| !f.is_dwo()) {
+            return Err(self.alarm(
+                Condition::FeatureNotAllowed,
+                Some(span),
+                "G254 cannot be given in the feature coordinate system (G268 / G68.2) in this kernel: cancel it with G269 first".into(),
+            ));
+        }
+        self.feature_allowed(span, "G254")?;
+        let turn = self.machine.chain(Side::Table, &self.state.joints).rotation;
+        self.state.feature = Some(Feature::dwo(turn));
+        Ok(())
+    }
+
+    /// In DWO no rotary axis may move (the manual: cancel G254 before any
+    /// rotary motion).
+    pub(super) fn dwo_rotary_words(&self) -> Result<(), Alarm> {
+        if !self.feature().is_some_and(|f| f.is_dwo()) {
+            return Ok(());
+        }
+        for r in &self.machine.rotary {
+            if let Some(word) = self.words.peek(r.name as u8) {
+                return Err(self.alarm(
+                    Condition::FeatureNotAllowed,
+                    Some(word.span),
+                    format!(
+                        "axis {} cannot move in the dynamic work offset (G254): give G255 before any rotary motion",
+                        r.name
+                    ),
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// G187 P1–P3 E: smoothness and corner rounding (speed, not path).
+    /// Without P the level is the control's setting again (0), without E
+    /// the corner rounding.
+    pub(super) fn smoothness(&mut self, span: Option<Span>) -> Result<(), Alarm> {
+        if span.is_none() {
+            return Ok(());
+        }
+        let level = match self.words.take(b'P') {
+            Some(word) => {
+                let p = self.words.integer(&word, 99)?;
+                if !(1..=3).contains(&p) {
+                    return Err(self.alarm(
+                        Condition::ValueOutOfRange,
+                        Some(word.span),
+                        format!(
+                            "G187 P{p}: the smoothness is P1 (rough), P2 (medium) or P3 (finish)"
+                        ),
+                    ));
+                }
+                p as u8
+            }
+            None => 0,
+        };
+        let rounding = match self.words.take(b'E') {
+            Some(word) => {
+                let e = self.length(&word);
+                if !(e.is_finite() && e > 0.0) {
+                    return Err(self.alarm(
+                        Condition::ValueOutOfRange,
+                        Some(word.span),
+                        format!(
+                            "G187 E{}: the corner rounding must be more than 0",
+                            word.value
+                        ),
+                    ));
+                }
+                Some(e)
+            }
+            None => None,
+        };
+        let accuracy = &mut self.state.modal.accuracy;
+        accuracy.smoothness = level;
+        accuracy.corner_rounding = rounding;
+        Ok(())
+    }
+
+    /// M97 P… L…: a local subprogram call to sequence number P of the
+    /// running program, L times (1 when left out).
+    pub(super) fn local_call(&mut self, span: Span) -> Result<Flow, Alarm> {
+        let Some(p) = self.words.take(b'P') else {
+            return Err(self.alarm(
+                Condition::SubprogramNumberMissing,
+                Some(span),
+                "M97 needs P, the sequence number (N) of the local subprogram".into(),
+            ));
+        };
+        let sequence = self.words.integer(&p, 99_999)?;
+        let repeats = match self.words.take(b'L') {
+            Some(l) => self.words.integer(&l, 9999)?,
+            None => 1,
+        };
+        Ok(Flow::LocalCall { sequence, repeats })
+    }
+
+    /// G154 P1–P99, G110–G129 (G154 P1–P20).
+    pub(super) fn haas_work_select(&mut self, code: Code, span: Span) -> Result<WorkSelect, Alarm> {
+        if code.major != 154 {
+            return Ok(WorkSelect::Haas((code.major - 109) as u8));
+        }
+        let Some(word) = self.words.take(b'P') else {
+            return Err(self.alarm(
+                Condition::NoDataAfterAddress,
+                Some(span),
+                format!("G154 needs P, the work offset P1 to P{MAX_HAAS_WORK}"),
+            ));
+        };
+        let p = self.words.integer(&word, 99_999)?;
+        if !(1..=MAX_HAAS_WORK).contains(&p) {
+            return Err(self.alarm(
+                Condition::IllegalOffsetNumber,
+                Some(word.span),
+                format!("G154 P{p}: the work offsets are P1 to P{MAX_HAAS_WORK}"),
+            ));
+        }
+        Ok(WorkSelect::Haas(p as u8))
+    }
+}
