@@ -219,7 +219,7 @@ fn valid_key(key: &str) -> bool {
 }
 
 /// Decodes the escapes of an INI value: `\a \b \f \n \r \t \v \\`, octal
-/// `\NNN`, `\xHH`, `\uHHHH` (with surrogate pairs) and `\UHHHHHHHH`.
+/// `\NNN` up to `\377` (one byte), `\xHH`, `\uHHHH` (with surrogate pairs) and `\UHHHHHHHH`.
 fn unescape(value: &str) -> Result<String, String> {
     if !value.contains('\\') {
         return Ok(value.to_owned());
@@ -252,7 +252,7 @@ fn unescape(value: &str) -> Result<String, String> {
             continue;
         }
         match e {
-            '0'..='7' => {
+            '0'..='3' => {
                 let mut n = e.to_digit(8).unwrap_or(0);
                 for _ in 0..2 {
                     match chars.peek().and_then(|c| c.to_digit(8)) {
@@ -377,7 +377,7 @@ mod tests {
     #[test]
     fn escapes_are_decoded() {
         assert_eq!(unescape(r"a\x20b\tc").as_deref(), Ok("a b\tc"));
-        assert_eq!(unescape(r"\370\237\230\200").as_deref(), Ok("😀"));
+        assert_eq!(unescape(r"\360\237\230\200").as_deref(), Ok("😀"));
         assert_eq!(unescape(r"\ud83d\ude00").as_deref(), Ok("😀"));
         assert_eq!(unescape(r"\U0001f600").as_deref(), Ok("😀"));
         assert!(unescape(r"\x00").is_err());
