@@ -9,14 +9,20 @@
 //!
 //! * xyzac-trt: `motion/5-axis-kinematics.adoc`, "Transformations for a
 //!   xyzac-trt machine with rotary axis offsets", forward transformation:
-//!   Q = R_z(θ_C) · T(0, D_y, D_z) · R_x(θ_A) · T(0, −D_y, −D_z) · P, the
-//!   tool orientation K the third column of R_z(θ_C)·R_x(θ_A); with
-//!   "Tool-Length Compensation" the tool length L is added to D_z. Q is
-//!   the world point LinuxCNC reports, which includes G43's Z shift: the
-//!   tip is Q − (0, 0, L).
+//!   the world point Q is the joint point P taken through the tilt about
+//!   its pivot (offsets D_y, D_z) and the rotary table, Q = R_z(−θ_C) ·
+//!   T(0, D_y, D_z) · R_x(−θ_A) · T(0, −D_y, −D_z) · P, the tool
+//!   orientation K the third column of R_z(−θ_C)·R_x(−θ_A). The signs: the
+//!   document's table rotations are "positive relative to the workpiece
+//!   coordinate axes" and its axes "move in the opposite direction of what
+//!   the convention is" (the table turns +θ, the point seen on it −θ);
+//!   `conventional-directions` reverses both. With "Tool-Length
+//!   Compensation" the tool length L is added to D_z. Q is the world point
+//!   LinuxCNC reports, which includes G43's Z shift: the tip is
+//!   Q − (0, 0, L).
 //! * xyzbc-trt: the same document, "Transformations for a xyzbc-trt
-//!   machine with rotary axis offsets": Q = R_z(θ_C) · T(D_x, 0, D_z) ·
-//!   R_y(θ_B) · T(−D_x, 0, −D_z) · P.
+//!   machine with rotary axis offsets": Q = R_z(−θ_C) · T(D_x, 0, D_z) ·
+//!   R_y(−θ_B) · T(−D_x, 0, −D_z) · P.
 //! * xyzab_tdr: no formulas in the documentation; the configuration's
 //!   README places the B axis through the rotation point and the A table's
 //!   centre at the rotation point plus (x-offset, 0, z-offset), A carried
@@ -140,11 +146,10 @@ fn judge(machine: &Machine, reference: &Reference, seed: u64) {
 }
 
 /// The document's xyzac-trt forward transformation with offsets D_y, D_z,
-/// the rotation point `r` and, with conventional directions, both angles
-/// reversed.
+/// the rotation point `r`; `sense` −1 with conventional directions.
 fn xyzac_reference(dy: f64, dz: f64, r: V, sense: f64) -> Box<Reference> {
     Box::new(move |j, length| {
-        let (a, c) = (sense * j[&'A'], sense * j[&'C']);
+        let (a, c) = (-sense * j[&'A'], -sense * j[&'C']);
         let dz = dz + length; // Tool-Length Compensation
         let p = sub([j[&'X'], j[&'Y'], j[&'Z']], r);
         let pivot = [0.0, dy, dz];
@@ -155,7 +160,7 @@ fn xyzac_reference(dy: f64, dz: f64, r: V, sense: f64) -> Box<Reference> {
 
 fn xyzbc_reference(dx: f64, dz: f64, r: V, sense: f64) -> Box<Reference> {
     Box::new(move |j, length| {
-        let (b, c) = (sense * j[&'B'], sense * j[&'C']);
+        let (b, c) = (-sense * j[&'B'], -sense * j[&'C']);
         let dz = dz + length;
         let p = sub([j[&'X'], j[&'Y'], j[&'Z']], r);
         let pivot = [dx, 0.0, dz];
@@ -169,7 +174,7 @@ fn xyzbc_reference(dx: f64, dz: f64, r: V, sense: f64) -> Box<Reference> {
 /// the B map applied to the point first (B sits on the bed), then A.
 fn xyzab_reference(dz: f64, r: V) -> Box<Reference> {
     Box::new(move |j, length| {
-        let (a, b) = (j[&'A'], j[&'B']);
+        let (a, b) = (-j[&'A'], -j[&'B']);
         let p = [j[&'X'], j[&'Y'], j[&'Z'] - length];
         let after_b = add(rot_y(b, sub(p, r)), r);
         let a_centre = add(r, [0.0, 0.0, dz]);
@@ -246,6 +251,21 @@ fn xyzab_tdr_matches_its_readme_geometry() {
     ];
     judge(&imported.machine, &*xyzab_reference(init("z-offset"), r), 3);
     round_trip(&imported);
+}
+
+#[test]
+fn the_sim_configurations_own_expected_positions_hold() {
+    // xyzac_switchkins_test_3.ngc: at joints X10 Y0 Z2 A0 C90, switched to
+    // the TCP kinematics, "(debug,C expect:  0 -10 2)".
+    let m = import("axis/vismach/5axis/table-rotary-tilting/xyzac-trt.ini")
+        .unwrap_or_else(|e| panic!("{e}"))
+        .machine;
+    let mut joints: Joints = [0.0; fiveaxis_machine::MAX_AXES];
+    joints[..5].copy_from_slice(&[10.0, 0.0, 2.0, 0.0, 90.0]);
+    let tip = m.forward(&joints, 0.0).tip;
+    for (got, want) in tip.iter().zip([0.0, -10.0, 2.0]) {
+        assert!((got - want).abs() < TOLERANCE, "{tip:?}");
+    }
 }
 
 #[test]

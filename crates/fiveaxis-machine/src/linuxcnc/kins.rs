@@ -4,23 +4,25 @@
 //!
 //! * `motion/5-axis-kinematics.adoc`, "Transformations for a xyzac-trt
 //!   machine with rotary axis offsets" and "… xyzbc-trt machine …": the
-//!   table-tilting machines. The world point (the tool tip in the
-//!   workpiece frame, which turns with the table) is the joint point
-//!   turned by the tilt axis about its line through the pivot point
-//!   (offsets D_y, D_z or D_x, D_z from the rotary table's centre line),
-//!   then by C about the table's centre line, both as plain right-handed
-//!   rotations of the point (the document's note: the signs of S_A, S_C are
-//!   those of table rotations positive about the workpiece axes). Tool
+//!   table-tilting machines. The tilt axis turns about its line through
+//!   the pivot point (offsets D_y, D_z or D_x, D_z from the rotary table's
+//!   centre line) and carries the rotary table C. The document's notes fix
+//!   the senses: "the table rotations are positive relative to the
+//!   workpiece coordinate axes" and "the rotational axes move in the
+//!   opposite direction of what the convention is": for +θ the table turns
+//!   right-handed about +X (+Y) and +Z, so the world point (the tool tip in
+//!   the table frame) is the joint point turned by −θ. The sim
+//!   configuration's own check program (`xyzac_switchkins_test_3.ngc`,
+//!   "(debug, C expect: 0 -10 2)" at joints X10 Y0 Z2 C90) agrees. Tool
 //!   length: "Tool-Length Compensation" adds `motion.tooloffset.z` to D_z.
 //! * `motion/switchkins.adoc`: which kinematics type is which, and
 //!   `sparm=identityfirst`.
 //! * `man/man9/kins.9.adoc`: trivkins' `coordinates=` (a doubled letter is
 //!   a gantry: two joints, one axis), 5axiskins, maxkins, scarakins.
 //!
-//! In the machine model's terms (`machine-model.md` §3) the table frame is
-//! `T⁻¹(tip_machine)`: a table axis whose map turns the point by +θ about
-//! +X is an axis with `axis = [-1, 0, 0]` (the table itself turns by −θ
-//! about +X). With the rotation points (`x/y/z-rot-point`) the rotary
+//! In the machine model's terms (`machine-model.md` §3) a table turning
+//! right-handed about +X for +θ is `axis = [1, 0, 0]`; the table frame is
+//! `T⁻¹(tip_machine)`. With the rotation points (`x/y/z-rot-point`) the rotary
 //! table's centre line passes through the rotation point and the tilt axis
 //! through the rotation point plus the offsets.
 
@@ -169,9 +171,12 @@ impl Kinematics {
                     .value("conventional-directions", &mut k.notes)?
                     != 0.0;
                 tool_offset(hal, prefix, "tool-offset", &mut k.notes, &unsupported)?;
-                // The point turns by +angle (−angle with conventional
-                // directions), so the table turns the other way.
-                let sense = if conventional { 1.0 } else { -1.0 };
+                // The table turns by +angle right-handed about +X (+Y)
+                // and +Z ("table rotations positive relative to the
+                // workpiece coordinate axes"; "the rotational axes move in
+                // the opposite direction of what the convention is");
+                // conventional-directions turns both the ISO way.
+                let sense = if conventional { -1.0 } else { 1.0 };
                 let tilt_dir = if tilt == 'A' { Vec3::x() } else { Vec3::y() };
                 k.rotary = vec![
                     table_axis(
@@ -210,10 +215,10 @@ impl Kinematics {
                 // The configuration's README: the B axis passes through
                 // the rotation point; the A table's face centre is the
                 // rotation point plus (x-offset, 0, z-offset); A is carried
-                // by B. Senses as the trt modules' (point turned +θ).
+                // by B. Senses as the trt modules' (table turns +θ).
                 k.rotary = vec![
-                    table_axis('B', -Vec3::y(), rot),
-                    table_axis('A', -Vec3::x(), rot + Vec3::new(dx, 0.0, dz)),
+                    table_axis('B', Vec3::y(), rot),
+                    table_axis('A', Vec3::x(), rot + Vec3::new(dx, 0.0, dz)),
                 ];
                 // The configuration's [KINS] note: type0 identity, type1
                 // xyzab-tdr.

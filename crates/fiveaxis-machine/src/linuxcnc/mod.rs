@@ -133,8 +133,10 @@ pub fn import_linuxcnc(ini_path: &Path, read: &mut Reader<'_>) -> Result<Importe
     for axis in &mut rotary {
         kins::rotary_limits(&ini, axis, units, &mut notes)?;
     }
+    // RS274/NGC reads `X10` as 10 units: calculator-type input.
     let mut params = Parameters {
         input_unit: input_unit(&ini, units, &mut notes),
+        decimal_point_input: true,
         ..Parameters::default()
     };
     if let Some(entry) = ini.get("EMCIO", "TOOL_TABLE") {
