@@ -9,9 +9,10 @@
 //! boxes (`[DISPLAY] PYVCP`) are read too: a panel's output pin drives its
 //! signal like any other.
 //!
-//! `LIB:` system files (`basic_sim.tcl`) are not part of the configuration
-//! folder and Tcl HAL files need a Tcl interpreter: both are skipped with a
-//! note.
+//! `LIB:` system files (`basic_sim.tcl`) and files that are not in the
+//! configuration folder (LinuxCNC takes those from its system library) are
+//! not part of the configuration, and Tcl HAL files need a Tcl
+//! interpreter: all are skipped with a note.
 
 use std::collections::BTreeMap;
 use std::fmt;
@@ -119,8 +120,21 @@ impl Hal {
             return Ok(());
         }
         let path = normalize(&folder.join(name));
-        let text = read(&path)
-            .map_err(|e| entry.error(format!("{}: cannot be read: {e}", path.display())))?;
+        let text = match read(&path) {
+            Ok(text) => text,
+            // LinuxCNC looks in its system library for a file that is not
+            // in the configuration's folder (`config/ini-config.adoc`).
+            Err(e)
+                if e.kind() == std::io::ErrorKind::NotFound && !Path::new(name).is_absolute() =>
+            {
+                self.notes.push(format!(
+                    "[HAL]{} = {name}: not in the configuration folder, so a LinuxCNC system library file: not read",
+                    entry.key
+                ));
+                return Ok(());
+            }
+            Err(e) => return Err(entry.error(format!("{}: cannot be read: {e}", path.display()))),
+        };
         let mut lines = text.lines().enumerate();
         while let Some((index, raw)) = lines.next() {
             let line = u32::try_from(index + 1).unwrap_or(u32::MAX);
@@ -443,7 +457,10 @@ mod tests {
         assert!(e.message.contains("abc"), "{e}");
         let e = run(&[("/c/m.ini", "[HAL]\nHALCMD = setp k.x [NO]KEY\n")]).expect_err("no key");
         assert!(e.message.contains("[NO]KEY"), "{e}");
-        let e = run(&[("/c/m.ini", "[HAL]\nHALFILE = missing.hal\n")]).expect_err("missing");
+        let e = run(&[("/c/m.ini", "[HAL]\nHALFILE = /abs/missing.hal\n")]).expect_err("missing");
         assert!(e.message.contains("missing.hal"), "{e}");
+        // A name not in the folder is a system library file: a note.
+        let hal = run(&[("/c/m.ini", "[HAL]\nHALFILE = core_sim.hal\n")]).expect("a note");
+        assert!(hal.notes[0].contains("system library"), "{:?}", hal.notes);
     }
 }
