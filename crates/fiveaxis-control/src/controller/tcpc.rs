@@ -236,7 +236,15 @@ impl Controller<'_> {
             TcpcType::Angles => 0.0,
         };
         let joints = self.state.joints;
-        let frame = machine.chain(Side::Table, &joints);
+        // LinuxCNC's TCP kinematics program the tool tip in the table frame
+        // as it stands with every rotary axis at 0, whatever the rotary
+        // axes are when the kinematics are switched (5-axis-kinematics.adoc:
+        // the world point is the tip on the workpiece table).
+        let frame = if machine.control == Control::LinuxCnc {
+            IsometryMatrix3::identity()
+        } else {
+            machine.chain(Side::Table, &joints)
+        };
         let dir_table = machine.forward(&joints, 0.0).dir;
         let tilt_sign = self.tilt_side(&joints);
         self.state.tcpc = TcpcState {
