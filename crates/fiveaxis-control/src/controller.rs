@@ -84,6 +84,9 @@ struct State {
     kinematics_tcp: bool,
     /// LinuxCNC: G43 is in force (G49 not), whichever kinematics run.
     length_on: bool,
+    /// LinuxCNC `tcpc_at_start`: the TCP kinematics are still to be
+    /// switched on, with the first block.
+    kinematics_pending: bool,
     /// LinuxCNC: the H number G49 set aside under the TCP kinematics (where
     /// G49 runs them with H0), given back by a G43 without H.
     h_before_g49: Option<u32>,
@@ -189,6 +192,7 @@ impl<'m> Controller<'m> {
                 h: 0,
                 kinematics_tcp: false,
                 length_on: false,
+                kinematics_pending: machine.params.tcpc_at_start,
                 h_before_g49: None,
                 d: 0,
                 feed: 0.0,

@@ -15,8 +15,11 @@ const EPS: f64 = 1e-9;
 /// table about a line x-offset −20, z-offset −15 from the C table's centre
 /// line, C rotary table on it, both turning right-handed for +θ.
 fn machine() -> Machine {
-    Machine::from_toml(
-        r#"
+    Machine::from_toml(&machine_text()).expect("the machine file reads")
+}
+
+fn machine_text() -> String {
+    r#"
 name = "xyzbc-trt"
 type = "table"
 control = "linuxcnc"
@@ -51,9 +54,8 @@ decimal_point_input = true
 [m_codes]
 428 = "tcpc_on"
 429 = "tcpc_off"
-"#,
-    )
-    .expect("the machine file reads")
+"#
+    .to_owned()
 }
 
 /// Tool 1: 100 mm.
@@ -154,4 +156,41 @@ fn other_length_codes_are_refused_under_the_tcp_kinematics() {
     assert!(alarm.contains("G44"), "{alarm}");
     let (_, alarm) = run_program("M428 M429\nM30\n");
     assert!(alarm.expect("an alarm").contains("both switch"));
+}
+
+#[test]
+fn tcpc_at_start_runs_the_tcp_kinematics_from_the_first_block() {
+    // A configuration without a kinematics switch (gmoccapy xyzac-trt):
+    // LinuxCNC is in TCP mode from power-on.
+    let text = machine_text().replace("[parameters]", "[parameters]\ntcpc_at_start = true");
+    let m = Machine::from_toml(&text).expect("reads");
+    assert!(m.params.tcpc_at_start);
+    let out = common::run(
+        &m,
+        offsets(),
+        "G90 G0 X10 Y5 Z20 B-30 C45\nG0 B0 C0\nG43 H1 Z5.\nG0 B-30 C45\nM30\n",
+    );
+    assert!(out.alarm.is_none(), "{:?}", out.alarm);
+    let last = |line: u32| {
+        out.segments
+            .iter()
+            .rev()
+            .find(|s| s.line == line)
+            .map(|s| s.end)
+            .expect("a segment")
+    };
+    let tip = m.forward(&last(1), 0.0).tip;
+    assert!(
+        (tip - fiveaxis_machine::Vec3::new(10.0, 5.0, 20.0)).norm() < EPS,
+        "{tip:?}"
+    );
+    let tip = m.forward(&last(4), 100.0).tip;
+    assert!(
+        (tip - fiveaxis_machine::Vec3::new(10.0, 5.0, 5.0)).norm() < EPS,
+        "{tip:?}"
+    );
+    // Only a linuxcnc machine takes the key.
+    let fanuc = text.replace("control = \"linuxcnc\"", "control = \"fanuc30i\"");
+    let e = Machine::from_toml(&fanuc).expect_err("refused");
+    assert_eq!(e.key.as_deref(), Some("tcpc_at_start"), "{e}");
 }

@@ -280,6 +280,10 @@ pub struct Parameters {
     /// as the offsets when a run is given no offsets file; relative to the
     /// machine file's folder.
     pub tool_table: Option<String>,
+    /// LinuxCNC: the machine runs its TCP kinematics from power-on (a
+    /// configuration whose kinematics cannot be switched): programs are in
+    /// tool-tip coordinates from their first block, as after `tcpc_on`.
+    pub tcpc_at_start: bool,
 }
 
 impl Default for Parameters {
@@ -303,6 +307,7 @@ impl Default for Parameters {
             chord_tolerance: 0.01,
             subroutine_path: Vec::new(),
             tool_table: None,
+            tcpc_at_start: false,
         }
     }
 }

@@ -277,6 +277,7 @@ fn switchkins_remaps_become_tcpc_m_codes() {
         "axis/vismach/5axis/table-rotary-tilting/xyzbc-trt.ini",
     ] {
         let m = import(config).unwrap_or_else(|e| panic!("{e}")).machine;
+        assert!(!m.params.tcpc_at_start, "{config}");
         assert_eq!(m.m_codes.get(428), Some(MFunction::TcpcOn), "{config}");
         assert_eq!(m.m_codes.get(429), Some(MFunction::TcpcOff), "{config}");
         assert_eq!(m.m_codes.get(430), Some(MFunction::TcpcOff), "{config}");
@@ -292,8 +293,9 @@ fn switchkins_remaps_become_tcpc_m_codes() {
     let imported = import("gmoccapy/non_trivial_kinematics/table-rotary-tilting/xyzac-trt.ini")
         .unwrap_or_else(|e| panic!("{e}"));
     assert!(imported.machine.m_codes.is_empty());
+    assert!(imported.machine.params.tcpc_at_start);
     assert!(
-        imported.notes.iter().any(|n| n.contains("G43.4")),
+        imported.notes.iter().any(|n| n.contains("tcpc_at_start")),
         "{:#?}",
         imported.notes
     );

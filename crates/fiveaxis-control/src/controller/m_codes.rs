@@ -104,13 +104,18 @@ impl Controller<'_> {
     /// G49 as programmed.
     fn linuxcnc_kinematics(&mut self, codes: &mut GCodes) -> Result<(), Alarm> {
         let mut switch = None;
+        if self.state.kinematics_pending {
+            // `tcpc_at_start`: the TCP kinematics from the first block.
+            self.state.kinematics_pending = false;
+            switch = Some((true, Span::default(), None));
+        }
         for &(code, span) in &self.words.m[..self.words.m_len] {
             let on = match self.m_function(code) {
                 Some(MFunction::TcpcOn) => true,
                 Some(MFunction::TcpcOff) => false,
                 _ => continue,
             };
-            if let Some((_, _, first)) = switch
+            if let Some((_, _, Some(first))) = switch
                 && first != code
             {
                 return Err(self.alarm(
@@ -119,7 +124,7 @@ impl Controller<'_> {
                     format!("M{first} and M{code} both switch the kinematics"),
                 ));
             }
-            switch = Some((on, span, code));
+            switch = Some((on, span, Some(code)));
         }
         let given = match codes.length {
             None => None,

@@ -227,7 +227,14 @@ impl Controller<'_> {
                 "I, J, K cannot be given in the G43.5 block on a table or mixed machine".into(),
             ));
         }
-        let posture = match self.words.take(b'P') {
+        // LinuxCNC switches its kinematics by M code, which takes no P:
+        // a P in that block belongs to another function (G64 P…).
+        let p_word = if machine.control == Control::LinuxCnc {
+            None
+        } else {
+            self.words.take(b'P')
+        };
+        let posture = match p_word {
             Some(word) => self.words.integer(&word, 1)? == 1,
             None => machine.params.tool_posture_control,
         };

@@ -159,6 +159,13 @@ impl Machine {
                 "folders searched for o<name> call files (LinuxCNC SUBROUTINE_PATH)",
             );
         }
+        if p.tcpc_at_start {
+            w.key(
+                "tcpc_at_start",
+                "true",
+                "LinuxCNC: TCP kinematics from power-on (no kinematics switch)",
+            );
+        }
         if let Some(table) = &p.tool_table {
             w.key(
                 "tool_table",

@@ -148,7 +148,8 @@ pub fn import_linuxcnc(ini_path: &Path, read: &mut Reader<'_>) -> Result<Importe
         params.tool_table = Some(path.display().to_string());
     }
     params.subroutine_path = subroutine_path(&ini, &folder, &mut notes);
-    let m_codes = remap::m_codes(&ini, &folder, &hal, &kins, read, &mut notes)?;
+    let (m_codes, tcpc_at_start) = remap::m_codes(&ini, &folder, &hal, &kins, read, &mut notes)?;
+    params.tcpc_at_start = tcpc_at_start;
     notes.extend(hal.notes.iter().cloned());
     notes.extend(kins.notes.iter().cloned());
     let name = ini

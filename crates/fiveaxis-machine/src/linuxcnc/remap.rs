@@ -21,7 +21,9 @@ use super::kins::{Kinematics, KinsType};
 use super::{ImportError, Reader, normalize};
 use crate::{MAX_M_CODE, MFunction, RESERVED_M_CODES};
 
-/// The builder M codes of the configuration.
+/// The builder M codes of the configuration, and whether the machine runs
+/// its TCP kinematics from power-on (a switchable module whose switch is
+/// not connected, with the TCP kinematics as type 0).
 pub(crate) fn m_codes(
     ini: &Ini,
     folder: &Path,
@@ -29,14 +31,14 @@ pub(crate) fn m_codes(
     kins: &Kinematics,
     read: &mut Reader<'_>,
     notes: &mut Vec<String>,
-) -> Result<Vec<(u16, MFunction)>, ImportError> {
+) -> Result<(Vec<(u16, MFunction)>, bool), ImportError> {
     let switch = switch_output(hal);
+    let tcp_at_start = switch.is_none() && kins.types.first() == Some(&KinsType::Tcp);
     if !kins.types.is_empty() {
         match (switch, kins.types.first()) {
             (None, Some(KinsType::Tcp)) => notes.push(format!(
                 "{}: motion.switchkins-type is not connected, so LinuxCNC runs every program \
-                 with the TCP kinematics (X Y Z = tool tip on the table); in fiveaxis, \
-                 switch TCPC on with G43.4 H.. at the start of a program",
+                 with the TCP kinematics (X Y Z = tool tip on the table): tcpc_at_start = true",
                 kins.module
             )),
             (None, _) => notes.push(format!(
@@ -122,7 +124,7 @@ pub(crate) fn m_codes(
         ));
         codes.push((number, function));
     }
-    Ok(codes)
+    Ok((codes, tcp_at_start))
 }
 
 /// N of the `motion.analog-out-NN` that drives `motion.switchkins-type`.
