@@ -299,11 +299,12 @@ impl Hal {
             return Drive::Unconnected;
         };
         let pins = self.signal_pins.get(signal).cloned().unwrap_or_default();
-        let value = self
-            .sets
-            .get(signal)
-            .cloned()
-            .or_else(|| pins.iter().find_map(|p| self.panel.get(p).cloned()));
+        // A panel's output pin drives its signal over a `sets` (the panel
+        // is loaded after the HAL commands and writes its value).
+        let value = pins
+            .iter()
+            .find_map(|p| self.panel.get(p).cloned())
+            .or_else(|| self.sets.get(signal).cloned());
         Drive::Signal {
             name: signal.clone(),
             pins,
