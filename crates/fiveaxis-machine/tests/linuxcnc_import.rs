@@ -450,6 +450,22 @@ fn inch_configurations_rotation_points_and_conventional_directions() {
 }
 
 #[test]
+fn axes_whose_limits_exclude_zero_get_reference_positions_inside() {
+    let text = TRT_INI
+        .replace("CONV", "0")
+        .replace("[AXIS_Z]\nMIN_LIMIT = -10", "[AXIS_Z]\nMIN_LIMIT = 2")
+        .replace(
+            "[AXIS_B]\nMIN_LIMIT = -90\nMAX_LIMIT = 90",
+            "[AXIS_B]\nMIN_LIMIT = -90\nMAX_LIMIT = -5",
+        );
+    let imported = import_in_memory(&[("/m/t.ini", &text)]).unwrap_or_else(|e| panic!("{e}"));
+    let p = &imported.machine.params;
+    assert_eq!(p.reference_1[2], 2.0 * 25.4);
+    assert_eq!(p.reference_2[3], -5.0);
+    round_trip(&imported);
+}
+
+#[test]
 fn bad_configurations_are_refused_with_file_and_line() {
     let e = import_in_memory(&[("/m/t.ini", "[EMC]\nMACHINE = x\nnot a line\n")])
         .expect_err("bad line");

@@ -152,6 +152,26 @@ pub fn import_linuxcnc(ini_path: &Path, read: &mut Reader<'_>) -> Result<Importe
     params.tcpc_at_start = tcpc_at_start;
     notes.extend(hal.notes.iter().cloned());
     notes.extend(kins.notes.iter().cloned());
+    // G28 / G30 positions are LinuxCNC parameters (5161…, 5181…) of the
+    // parameter file, not read: 0, or the nearest limit when 0 is outside
+    // an axis' limits (a machine file needs them inside).
+    let limits = linear.iter().map(|a| Some((a.name, a.min, a.max))).chain(
+        rotary
+            .iter()
+            .map(|r| r.limits.map(|(lo, hi)| (r.name, lo, hi))),
+    );
+    for (i, limit) in limits.enumerate() {
+        if let Some((name, lo, hi)) = limit
+            && !(lo..=hi).contains(&0.0)
+        {
+            let at = 0.0f64.clamp(lo, hi);
+            params.reference_1[i] = at;
+            params.reference_2[i] = at;
+            notes.push(format!(
+                "{name}: 0 is outside the limits: reference_1 and reference_2 (G28, G30) written at {at}"
+            ));
+        }
+    }
     let name = ini
         .value("EMC", "MACHINE")
         .map_or_else(|| file_stem(ini_path), str::to_owned);
