@@ -73,6 +73,12 @@ enum MachinesAction {
         /// Name of the built-in machine.
         name: String,
     },
+    /// Import a LinuxCNC configuration (its INI file, the HAL files it
+    /// names, its kinematics module) and print it as a machine file.
+    Import {
+        /// The configuration's INI file.
+        config: PathBuf,
+    },
 }
 
 #[derive(Debug, clap::Args)]
@@ -203,6 +209,9 @@ fn main() -> ExitCode {
         Command::Machines {
             action: Some(MachinesAction::Show { name }),
         } => show_machine(&name),
+        Command::Machines {
+            action: Some(MachinesAction::Import { config }),
+        } => import_machine(&config),
     };
     match status {
         Ok(code) => ExitCode::from(code),
@@ -249,6 +258,37 @@ fn list_machines() -> Result<u8, InputError> {
 fn show_machine(name: &str) -> Result<u8, InputError> {
     let machine = builtin(name).ok_or_else(|| unknown_machine(name))?;
     print_out(&machine.to_toml())
+}
+
+/// `machines import CONFIG.ini`: the LinuxCNC configuration as a machine
+/// file on standard output. The INI file's folder is made absolute first,
+/// so that the file's `tool_table` and `subroutine_path` hold wherever the
+/// output is saved. Every file is read with the data-file bounds (1 MiB,
+/// UTF-8).
+fn import_machine(config: &Path) -> Result<u8, InputError> {
+    let config = std::path::absolute(config)
+        .map_err(|e| InputError::io(&config.display().to_string(), &e))?;
+    let mut read = |path: &Path| -> io::Result<String> {
+        let file = File::open(path)?;
+        let mut bytes = Vec::new();
+        file.take(MAX_DATA_FILE_BYTES + 1).read_to_end(&mut bytes)?;
+        if bytes.len() as u64 > MAX_DATA_FILE_BYTES {
+            return Err(io::Error::new(
+                io::ErrorKind::InvalidData,
+                format!("larger than {MAX_DATA_FILE_BYTES} bytes"),
+            ));
+        }
+        String::from_utf8(bytes).map_err(|e| {
+            let at = e.utf8_error().valid_up_to();
+            io::Error::new(
+                io::ErrorKind::InvalidData,
+                format!("not UTF-8 text (byte {at})"),
+            )
+        })
+    };
+    let imported = fiveaxis_machine::import_linuxcnc(&config, &mut read)
+        .map_err(|e| InputError(format!("error: {}", diagnostic::escape(&e.to_string()))))?;
+    print_out(&imported.to_toml())
 }
 
 fn unknown_machine(name: &str) -> InputError {

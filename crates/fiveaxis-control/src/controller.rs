@@ -88,6 +88,17 @@ struct State {
     joints: Joints,
     /// Active H number (0: none).
     h: u32,
+    /// LinuxCNC: the TCP kinematics are switched on (`tcpc_on` M code,
+    /// M428 in the sim configurations).
+    kinematics_tcp: bool,
+    /// LinuxCNC: G43 is in force (G49 not), whichever kinematics run.
+    length_on: bool,
+    /// LinuxCNC `tcpc_at_start`: the TCP kinematics are still to be
+    /// switched on, with the first block.
+    kinematics_pending: bool,
+    /// LinuxCNC: the H number G49 set aside under the TCP kinematics (where
+    /// G49 runs them with H0), given back by a G43 without H.
+    h_before_g49: Option<u32>,
     /// Active D number.
     d: u32,
     /// Last F word, in internal units (mm/min, mm/rev or 1/min).
@@ -188,6 +199,10 @@ impl<'m> Controller<'m> {
                 feature_pending: None,
                 joints: machine.params.reference_1,
                 h: 0,
+                kinematics_tcp: false,
+                length_on: false,
+                kinematics_pending: machine.params.tcpc_at_start,
+                h_before_g49: None,
                 d: 0,
                 feed: 0.0,
                 spindle_speed: 0.0,
@@ -783,6 +798,7 @@ impl<'m> Controller<'m> {
                 (44, _) => LengthMode::Minus,
                 _ => LengthMode::Off,
             };
+            in_place |= codes.length_in_place;
             // The H number stays modal through G49 (FANUC: #4111 keeps it;
             // a later G43 without H takes it again).
         }
@@ -1639,6 +1655,11 @@ enum GKind {
 #[derive(Clone, Copy, Debug, Default)]
 struct GCodes {
     motion: Option<(Code, Span)>,
+    /// LinuxCNC: the block's group 08 comes from a kinematics switch or a
+    /// tool length change, which move nothing: the axes stay and the
+    /// programmed position is read again under the new kinematics and
+    /// length (as LinuxCNC's interpreter synchronises with motion).
+    length_in_place: bool,
     plane: Option<Code>,
     distance: Option<Code>,
     feed: Option<Code>,

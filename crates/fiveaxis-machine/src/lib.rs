@@ -12,6 +12,7 @@ mod builtin;
 mod file;
 mod inverse;
 mod kinematics;
+mod linuxcnc;
 mod m_codes;
 mod offsets;
 mod setup_error;
@@ -21,6 +22,7 @@ pub use file::MAX_JERK;
 pub use file::{FileError, MAX_FILE_MAGNITUDE};
 pub use inverse::{Orientations, SINGULAR_TOLERANCE, principal, turn_angle};
 pub use kinematics::{Pose, rotation, sin_cos_degrees};
+pub use linuxcnc::{ImportError, Imported, Reader, import_linuxcnc};
 pub use m_codes::{MAX_M_CODE, MCodes, MFunction, RESERVED_M_CODES};
 pub use offsets::{
     MAX_EXTENDED_WORK, MAX_HAAS_WORK, MAX_TOOL_OFFSET, Offsets, SetupErrorSet, ToolOffset,
@@ -280,6 +282,10 @@ pub struct Parameters {
     /// as the offsets when a run is given no offsets file; relative to the
     /// machine file's folder.
     pub tool_table: Option<String>,
+    /// LinuxCNC: the machine runs its TCP kinematics from power-on (a
+    /// configuration whose kinematics cannot be switched): programs are in
+    /// tool-tip coordinates from their first block, as after `tcpc_on`.
+    pub tcpc_at_start: bool,
 }
 
 impl Default for Parameters {
@@ -303,6 +309,7 @@ impl Default for Parameters {
             chord_tolerance: 0.01,
             subroutine_path: Vec::new(),
             tool_table: None,
+            tcpc_at_start: false,
         }
     }
 }

@@ -6,7 +6,7 @@
 //! `M10 G00 A30.` stops with the clamp alarm.
 
 use fiveaxis_gcode::{Code, Span};
-use fiveaxis_machine::MFunction;
+use fiveaxis_machine::{Control, MFunction};
 
 use super::{Controller, Flow, GCodes, at_line};
 use crate::alarm::{Alarm, Condition};
@@ -73,7 +73,17 @@ impl Controller<'_> {
     /// TCPC switched by M code: the block's group 08 becomes G43.4
     /// (`tcpc_on`, with the block's H or the H in force) or G49
     /// (`tcpc_off`). Runs before the G codes are applied.
-    pub(super) fn m_code_length(&self, codes: &mut GCodes) -> Result<(), Alarm> {
+    ///
+    /// On a LinuxCNC machine the M code switches the kinematics
+    /// (`motion/switchkins.adoc`) and G43 / G49 keep their own meaning in
+    /// either: G43 H… under the TCP kinematics changes the tool length the
+    /// kinematics take (`motion.tooloffset.z`), G49 makes it 0, and
+    /// switching back to identity kinematics leaves G43's length offset in
+    /// force. See [`Controller::linuxcnc_kinematics`].
+    pub(super) fn m_code_length(&mut self, codes: &mut GCodes) -> Result<(), Alarm> {
+        if self.machine.control == Control::LinuxCnc {
+            return self.linuxcnc_kinematics(codes);
+        }
         for &(code, span) in &self.words.m[..self.words.m_len] {
             let g = match self.m_function(code) {
                 Some(MFunction::TcpcOn) => Code::new(43, 4),
@@ -90,6 +100,85 @@ impl Controller<'_> {
                 ));
             }
             codes.length = Some((g, span));
+        }
+        Ok(())
+    }
+
+    /// LinuxCNC's kinematics switch and tool length, as the group 08 of
+    /// the block: under the TCP kinematics G43.4 with the H of G43 (H0,
+    /// length 0, while G49 is in force); under identity kinematics G43 or
+    /// G49 as programmed.
+    fn linuxcnc_kinematics(&mut self, codes: &mut GCodes) -> Result<(), Alarm> {
+        let mut switch = None;
+        if self.state.kinematics_pending {
+            // `tcpc_at_start`: the TCP kinematics from the first block.
+            self.state.kinematics_pending = false;
+            switch = Some((true, Span::default(), None));
+        }
+        for &(code, span) in &self.words.m[..self.words.m_len] {
+            let on = match self.m_function(code) {
+                Some(MFunction::TcpcOn) => true,
+                Some(MFunction::TcpcOff) => false,
+                _ => continue,
+            };
+            if let Some((_, _, Some(first))) = switch
+                && first != code
+            {
+                return Err(self.alarm(
+                    Condition::GCodeConflict,
+                    Some(span),
+                    format!("M{first} and M{code} both switch the kinematics"),
+                ));
+            }
+            switch = Some((on, span, Some(code)));
+        }
+        let given = match codes.length {
+            None => None,
+            Some((code, span)) if code == Code::new(43, 0) => Some((true, span)),
+            Some((code, span)) if code == Code::new(49, 0) => Some((false, span)),
+            // Other group 08 codes (G43.1, G44…) act as programmed outside
+            // the TCP kinematics.
+            Some((code, span)) => {
+                if self.state.kinematics_tcp || switch.is_some_and(|(on, _, _)| on) {
+                    return Err(self.alarm(
+                        Condition::GCodeConflict,
+                        Some(span),
+                        format!("G{code} cannot be given under the TCP kinematics (M428): only G43 and G49"),
+                    ));
+                }
+                return Ok(());
+            }
+        };
+        if switch.is_none() && given.is_none() {
+            return Ok(());
+        }
+        let tcp = switch.map_or(self.state.kinematics_tcp, |(on, _, _)| on);
+        let length_on = given.map_or(self.state.length_on, |(on, _)| on);
+        let span = given
+            .map(|(_, span)| span)
+            .or(switch.map(|(_, span, _)| span))
+            .unwrap_or_default();
+        self.state.kinematics_tcp = tcp;
+        self.state.length_on = length_on;
+        codes.length_in_place = true;
+        codes.length = Some((
+            match (tcp, length_on) {
+                (true, _) => Code::new(43, 4),
+                (false, true) => Code::new(43, 0),
+                (false, false) => Code::new(49, 0),
+            },
+            span,
+        ));
+        if tcp && !length_on && self.words.peek(b'H').is_none() {
+            // The TCP kinematics with no tool length: H0. The H number of
+            // the last G43 comes back with the next G43 without H.
+            self.state.h_before_g49 = Some(self.state.h);
+            self.state.h = 0;
+        } else if length_on
+            && self.words.peek(b'H').is_none()
+            && let Some(h) = self.state.h_before_g49.take()
+        {
+            self.state.h = h;
         }
         Ok(())
     }

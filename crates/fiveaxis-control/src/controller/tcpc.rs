@@ -243,11 +243,16 @@ impl Controller<'_> {
                 "I, J, K cannot be given in the G43.5 block on a table or mixed machine".into(),
             ));
         }
-        let posture = match self.words.peek(b'P').filter(|_| !table_zero) {
-            Some(word) => {
-                self.words.take(b'P');
-                self.words.integer(&word, 1)? == 1
-            }
+        // LinuxCNC switches its kinematics by M code, which takes no P: a
+        // P in that block belongs to another function (G64 P…); Haas's
+        // G234 takes none either (its alarm is raised before).
+        let p_word = if machine.control == Control::LinuxCnc || table_zero {
+            None
+        } else {
+            self.words.take(b'P')
+        };
+        let posture = match p_word {
+            Some(word) => self.words.integer(&word, 1)? == 1,
             None => machine.params.tool_posture_control,
         };
         let inclination = match kind {
@@ -255,7 +260,12 @@ impl Controller<'_> {
             TcpcType::Angles => 0.0,
         };
         let joints = self.state.joints;
-        let frame = if table_zero {
+        // LinuxCNC's TCP kinematics program the tool tip in the table frame
+        // as it stands with every rotary axis at 0, whatever the rotary
+        // axes are when the kinematics are switched (5-axis-kinematics.adoc:
+        // the world point is the tip on the workpiece table); so does
+        // Haas's G234.
+        let frame = if table_zero || machine.control == Control::LinuxCnc {
             IsometryMatrix3::identity()
         } else {
             machine.chain(Side::Table, &joints)

@@ -155,6 +155,7 @@ struct RawParameters {
     #[serde(default)]
     subroutine_path: Vec<String>,
     tool_table: Option<String>,
+    tcpc_at_start: Option<Spanned<bool>>,
 }
 
 #[derive(Clone, Copy, Deserialize)]
@@ -562,6 +563,26 @@ fn parameters(
         },
         subroutine_path: raw.subroutine_path.clone(),
         tool_table: raw.tool_table.clone(),
+        tcpc_at_start: match &raw.tcpc_at_start {
+            Some(v) if *v.get_ref() => {
+                if machine.control != Control::LinuxCnc {
+                    return Err(src.at(
+                        v,
+                        "tcpc_at_start",
+                        "only a linuxcnc machine runs TCP kinematics from power-on",
+                    ));
+                }
+                if machine.rotary.is_empty() {
+                    return Err(src.at(
+                        v,
+                        "tcpc_at_start",
+                        "a machine without rotary axes has no TCP kinematics",
+                    ));
+                }
+                true
+            }
+            _ => false,
+        },
     })
 }
 

@@ -30,7 +30,7 @@ impl Machine {
         w.key(
             "control",
             &quote(control_name(self.control)),
-            "\"fanuc30i\", \"fanuc16\", \"mitsubishi\", \"mazak\" or \"haas\"",
+            "\"fanuc30i\", \"fanuc16\", \"mitsubishi\", \"mazak\", \"haas\" or \"linuxcnc\"",
         );
         w.key(
             "tool_direction",
@@ -157,6 +157,13 @@ impl Machine {
                 "subroutine_path",
                 &format!("[{}]", folders.join(", ")),
                 "folders searched for o<name> call files (LinuxCNC SUBROUTINE_PATH)",
+            );
+        }
+        if p.tcpc_at_start {
+            w.key(
+                "tcpc_at_start",
+                "true",
+                "LinuxCNC: TCP kinematics from power-on (no kinematics switch)",
             );
         }
         if let Some(table) = &p.tool_table {

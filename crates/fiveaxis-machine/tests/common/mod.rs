@@ -214,6 +214,7 @@ fn parameters(count: usize) -> impl Strategy<Value = Parameters> {
                     Vec::new()
                 },
                 tool_table: (tool_comp_3d_denominator > 2.0).then(|| "tools \"a\".tbl".into()),
+                tcpc_at_start: false,
             },
         )
 }

@@ -1,0 +1,321 @@
+//! `fiveaxis machines import`, and the LinuxCNC programs of the shared
+//! corpus run on the machine imported from their own configuration
+//! (`../shared/corpus/MANIFEST.tsv` gives each program's path in the
+//! LinuxCNC repository; its configuration is the INI file of that folder).
+//! The configurations and programs are read in place; the imported machine
+//! is written to a temporary file at test time.
+//!
+//! Each program's ending today is asserted as it is: many still stop in
+//! the RS274/NGC language, which is being built; when a program runs
+//! further, its expectation here is updated.
+
+mod common;
+
+use std::path::{Path, PathBuf};
+use std::process::Output;
+
+use fiveaxis_machine::{MFunction, Machine};
+
+fn corpus() -> PathBuf {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/corpus");
+    std::fs::canonicalize(&path).unwrap_or(path)
+}
+
+fn configs() -> PathBuf {
+    corpus().join("linuxcnc-configs")
+}
+
+fn fiveaxis(args: &[&str]) -> Output {
+    let dir = tempfile::tempdir().expect("a temporary directory");
+    common::run_in(dir.path(), args, b"")
+}
+
+fn path_str(path: &Path) -> &str {
+    path.to_str().expect("UTF-8 paths")
+}
+
+/// `machines import CONFIG` into `dir/machine.toml`.
+fn import_to(config: &str, dir: &Path) -> PathBuf {
+    let ini = configs().join(config);
+    let output = fiveaxis(&["machines", "import", path_str(&ini)]);
+    assert_eq!(
+        output.status.code(),
+        Some(0),
+        "{config}: {}",
+        common::stderr(&output)
+    );
+    let file = dir.join("machine.toml");
+    std::fs::write(&file, &output.stdout).expect("machine file written");
+    file
+}
+
+// ----- the command -----------------------------------------------------------
+
+#[test]
+fn import_prints_a_machine_file_that_reads_back() {
+    let ini = configs().join("axis/vismach/5axis/table-rotary-tilting/xyzac-trt.ini");
+    let output = fiveaxis(&["machines", "import", path_str(&ini)]);
+    assert_eq!(output.status.code(), Some(0), "{}", common::stderr(&output));
+    assert!(output.stderr.is_empty(), "{}", common::stderr(&output));
+    let text = common::stdout(&output);
+    for wanted in [
+        "control = \"linuxcnc\"",
+        "type = \"table\"",
+        "428 = \"tcpc_on\"",
+        "429 = \"tcpc_off\"",
+        "# xyzac-trt-kins.y-offset = 20: sets :y-offset 20 (xyzac-trt.ini:65)",
+    ] {
+        assert!(text.contains(wanted), "`{wanted}` missing:\n{text}");
+    }
+    let machine = Machine::from_toml(&text).unwrap_or_else(|e| panic!("{e}\n{text}"));
+    assert_eq!(machine.m_codes.get(428), Some(MFunction::TcpcOn));
+    assert!(machine.params.decimal_point_input);
+    // Relative paths of the INI file are written absolute.
+    let table = machine.params.tool_table.expect("a tool table");
+    assert!(
+        Path::new(&table).is_absolute() && Path::new(&table).exists(),
+        "{table}"
+    );
+}
+
+#[test]
+fn a_relative_ini_path_gives_absolute_paths_in_the_file() {
+    let folder = configs().join("axis/vismach/5axis/table-rotary-tilting");
+    let output = common::run_in(&folder, &["machines", "import", "xyzbc-trt.ini"], b"");
+    assert_eq!(output.status.code(), Some(0), "{}", common::stderr(&output));
+    let machine = Machine::from_toml(&common::stdout(&output)).expect("reads back");
+    let folders = machine.params.subroutine_path;
+    assert!(
+        folders.iter().all(|f| Path::new(f).is_absolute()),
+        "{folders:?}"
+    );
+    assert!(
+        folders
+            .iter()
+            .any(|f| Path::new(f) == folder.join("remap_subs")),
+        "{folders:?}"
+    );
+}
+
+#[test]
+fn a_missing_configuration_exits_2_naming_it() {
+    let output = fiveaxis(&["machines", "import", "/nonexistent/folder/machine.ini"]);
+    assert_eq!(output.status.code(), Some(2));
+    assert!(output.stdout.is_empty());
+    let err = common::stderr(&output);
+    assert!(err.contains("/nonexistent/folder/machine.ini"), "{err}");
+}
+
+#[test]
+fn a_bad_ini_line_exits_2_with_file_and_line() {
+    let dir = tempfile::tempdir().expect("a temporary directory");
+    let ini = dir.path().join("bad.ini");
+    std::fs::write(&ini, "[EMC]\nMACHINE = x\n[TRAJ\n").expect("written");
+    let output = fiveaxis(&["machines", "import", path_str(&ini)]);
+    assert_eq!(output.status.code(), Some(2));
+    assert!(output.stdout.is_empty());
+    let err = common::stderr(&output);
+    assert!(err.contains(&format!("{}:3:", ini.display())), "{err}");
+    assert!(err.contains("[TRAJ"), "{err}");
+    // Text that is not UTF-8 is refused the same way, not a panic.
+    std::fs::write(&ini, b"[EMC]\nMACHINE = \xff\n").expect("written");
+    let output = fiveaxis(&["machines", "import", path_str(&ini)]);
+    assert_eq!(output.status.code(), Some(2));
+    assert!(
+        common::stderr(&output).contains("UTF-8"),
+        "{}",
+        common::stderr(&output)
+    );
+}
+
+#[test]
+fn a_configuration_the_model_cannot_hold_exits_2_saying_why() {
+    let ini = configs().join(
+        "axis/vismach/5axis/table-rotary_spindle-rotary-nutating/xyzacb-trsrn_twp/xyzacb-trsrn.ini",
+    );
+    let output = fiveaxis(&["machines", "import", path_str(&ini)]);
+    assert_eq!(output.status.code(), Some(2));
+    let err = common::stderr(&output);
+    assert!(
+        err.contains("xyzacb-trsrn.ini:63:") && err.contains("at most two rotary axes"),
+        "{err}"
+    );
+}
+
+// ----- the corpus programs on their own machines ---------------------------
+
+/// How a run ends.
+#[derive(Debug, PartialEq)]
+enum Ending {
+    /// Exit 0: the program ran to its end.
+    End,
+    /// Exit 1: this alarm at this line.
+    Alarm(&'static str, usize),
+}
+
+const AC: &str = "axis/vismach/5axis/table-rotary-tilting/xyzac-trt.ini";
+const BC: &str = "axis/vismach/5axis/table-rotary-tilting/xyzbc-trt.ini";
+const TDR: &str = "axis/vismach/5axis/table-dual-rotary/xyzab-tdr.ini";
+const GMOCCAPY_AC: &str = "gmoccapy/non_trivial_kinematics/table-rotary-tilting/xyzac-trt.ini";
+
+/// Corpus program → the configuration of its folder in the LinuxCNC
+/// repository, and how the run ends today. Programs of the bridge mill
+/// (5axiskins) and of the nutating-head machines (xyzacb/xyzbca-trsrn)
+/// have no imported machine: those configurations are refused (see the
+/// machine crate's import tests), and `lcnc_suite_twp_simple_example.ngc`
+/// comes from another repository without its configuration.
+const PROGRAMS: &[(&str, &str, Ending)] = &[
+    ("lcnc_impeller-7bl-xyzac.ngc", AC, Ending::End),
+    ("lcnc_boat-xyzac.ngc", AC, Ending::End),
+    ("lcnc_boat-xyzbc.ngc", BC, Ending::End),
+    ("lcnc_xyzac_switchkins_test_3.ngc", AC, Ending::End),
+    // Named parameters (`#<FRATE>=1000`), language work in progress.
+    (
+        "lcnc_xyzac_switchkins_test_1.ngc",
+        AC,
+        Ending::Alarm("FX0112", 3),
+    ),
+    (
+        "lcnc_xyzac_switchkins_test_2.ngc",
+        AC,
+        Ending::Alarm("FX0112", 3),
+    ),
+    (
+        "lcnc_xyzac_switchkins_sub.ngc",
+        AC,
+        Ending::Alarm("FX0112", 4),
+    ),
+    (
+        "lcnc_xyzbc_switchkins_sub.ngc",
+        BC,
+        Ending::Alarm("FX0112", 4),
+    ),
+    ("lcnc_helix_ac.ngc", AC, Ending::Alarm("FX0112", 3)),
+    ("lcnc_helix_bc.ngc", BC, Ending::Alarm("FX0112", 3)),
+    ("lcnc_centering.ngc", AC, Ending::Alarm("FX0112", 3)),
+    (
+        "lcnc_gmoccapy_test-xyzac.ngc",
+        GMOCCAPY_AC,
+        Ending::Alarm("FX0112", 5),
+    ),
+    // The gmoccapy folder's only configuration is the A/C one.
+    (
+        "lcnc_gmoccapy_test-xyzbc.ngc",
+        GMOCCAPY_AC,
+        Ending::Alarm("FX0112", 5),
+    ),
+    // G10 L2 with rotary words: LinuxCNC sets rotary work offsets too.
+    ("lcnc_xyzab-tdr-demo.ngc", TDR, Ending::Alarm("FX0012", 6)),
+];
+
+/// Runs `program` on the machine imported from `config`: `None` when it
+/// ends (exit 0), else the alarm code and line (exit 1); the rows and
+/// standard error.
+fn run_on(program: &str, config: &str) -> (Option<(String, usize)>, String, String) {
+    let dir = tempfile::tempdir().expect("a temporary directory");
+    let machine = import_to(config, dir.path());
+    let program_path = corpus().join(program);
+    let output = common::run_in(
+        dir.path(),
+        &[
+            "run",
+            path_str(&program_path),
+            "--machine",
+            path_str(&machine),
+        ],
+        b"",
+    );
+    let err = common::stderr(&output);
+    let ending = match output.status.code() {
+        Some(0) => None,
+        Some(1) => {
+            // `ALARM <code> line <n>: <message>`
+            let first = err.lines().next().unwrap_or("");
+            let mut words = first.split_whitespace();
+            let code = words.nth(1).unwrap_or("").to_owned();
+            let line = words
+                .nth(1)
+                .and_then(|w| w.trim_end_matches(':').parse::<usize>().ok())
+                .unwrap_or(0);
+            Some((code, line))
+        }
+        other => panic!("{program} on {config}: exit {other:?}\n{err}"),
+    };
+    (ending, common::stdout(&output), err)
+}
+
+fn matches(ending: &Option<(String, usize)>, expected: &Ending) -> bool {
+    match (ending, expected) {
+        (None, Ending::End) => true,
+        (Some((code, line)), Ending::Alarm(want, want_line)) => code == want && line == want_line,
+        _ => false,
+    }
+}
+
+#[test]
+fn linuxcnc_programs_on_their_imported_machines() {
+    let listed = std::fs::read_to_string(corpus().join("MANIFEST.tsv")).expect("manifest");
+    for (program, config, expected) in PROGRAMS {
+        assert!(listed.contains(program), "{program} is in the manifest");
+        let (ending, rows, err) = run_on(program, config);
+        assert!(
+            matches(&ending, expected),
+            "{program} on {config}: expected {expected:?}, got {ending:?}:\n{err}"
+        );
+        if *expected == Ending::End {
+            assert!(rows.lines().count() > 1, "{program}: rows");
+        }
+        println!("{program} on {config}: {ending:?}");
+    }
+}
+
+/// `xyzac_switchkins_test_3.ngc` carries LinuxCNC's own expected
+/// positions as `(debug, X expect: x y z)` comments: the joints in
+/// identity mode (M429), the tool tip on the table in TCP mode (M428).
+#[test]
+fn switchkins_test_3_reaches_the_positions_its_comments_expect() {
+    let (ending, rows, err) = run_on("lcnc_xyzac_switchkins_test_3.ngc", AC);
+    assert!(ending.is_none(), "{err}");
+    let mut lines = rows.lines();
+    let header: Vec<&str> = lines.next().expect("header").split(',').collect();
+    let column = |name: &str| header.iter().position(|h| *h == name).expect(name);
+    let by_line: Vec<Vec<f64>> = lines
+        .map(|l| {
+            l.split(',')
+                .map(|v| v.parse::<f64>().unwrap_or(f64::NAN))
+                .collect()
+        })
+        .collect();
+    let row = |line: f64| {
+        by_line
+            .iter()
+            .rev()
+            .find(|r| r[0] == line)
+            .unwrap_or_else(|| panic!("a row of line {line}:\n{rows}"))
+    };
+    let close = |got: f64, want: f64| (got - want).abs() < 1e-9;
+    // Line 5 `G1 F1000 Z2`: "A expect: 10 0 2" (joints, identity);
+    // after M428 "C expect: 0 -10 2" (tip on the table).
+    let r = row(5.0);
+    let (x, y, z) = (column("X"), column("Y"), column("Z"));
+    let (tx, ty, tz) = (column("tip_x"), column("tip_y"), column("tip_z"));
+    assert!(
+        close(r[x], 10.0) && close(r[y], 0.0) && close(r[z], 2.0),
+        "{r:?}"
+    );
+    assert!(
+        close(r[tx], 0.0) && close(r[ty], -10.0) && close(r[tz], 2.0),
+        "{r:?}"
+    );
+    // Line 10 `g1f1000 z0` in TCP mode: "D expect: 0 -10 0"; after M429
+    // the joints "F expect: 10 0 0".
+    let r = row(10.0);
+    assert!(
+        close(r[tx], 0.0) && close(r[ty], -10.0) && close(r[tz], 0.0),
+        "{r:?}"
+    );
+    assert!(
+        close(r[x], 10.0) && close(r[y], 0.0) && close(r[z], 0.0),
+        "{r:?}"
+    );
+}
