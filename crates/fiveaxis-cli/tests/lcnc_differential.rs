@@ -34,9 +34,18 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 
-/// rs274 prints four decimals: a position agrees when it is within half a
-/// unit of the last printed digit (plus the kernel's own rounding).
-const PRINT_TOLERANCE: f64 = 0.5e-4 + 1e-9;
+/// rs274 prints four decimals: a printed number is within half a unit of
+/// its last digit of the value it stands for. A machine position is the
+/// printed point plus the printed offsets in force (G5x, G92, tool), so
+/// each of them that is not 0 adds its own half unit.
+const HALF_UNIT: f64 = 0.5e-4;
+
+/// What floating-point arithmetic may add to a comparison.
+const ARITHMETIC: f64 = 1e-9;
+
+/// A position agrees with rs274's when every axis is within this of it
+/// (the half units of the printed numbers it is made of).
+type Tolerance = [f64; 9];
 
 /// Random programs per run.
 const PROGRAMS: u64 = 120;
@@ -108,7 +117,7 @@ struct Rs274<'a> {
 }
 
 /// The move end points rs274 prints, or its error message.
-fn rs274_moves(run: &Rs274<'_>) -> Result<Vec<Point>, String> {
+fn rs274_moves(run: &Rs274<'_>) -> Result<Vec<(Point, Tolerance)>, String> {
     let dir = run.program.parent().expect("the program is in a folder");
     let mut command = Command::new("rs274");
     if let Some(ini) = run.ini {
@@ -145,10 +154,16 @@ fn rs274_moves(run: &Rs274<'_>) -> Result<Vec<Point>, String> {
     let mut tool = [0.0; 9];
     let machine = |p: Point, g5x: &Point, g92: &Point, tool: &Point| {
         let mut m = p;
+        let mut tolerance = [HALF_UNIT + ARITHMETIC; 9];
         for i in 0..9 {
             m[i] += g5x[i] + g92[i] + tool[i];
+            let rounded = [g5x[i], g92[i], tool[i]]
+                .iter()
+                .filter(|v| **v != 0.0)
+                .count();
+            tolerance[i] += HALF_UNIT * rounded as f64;
         }
-        m
+        (m, tolerance)
     };
     for line in text.lines() {
         let trimmed = line.trim_start();
@@ -294,22 +309,27 @@ fn fiveaxis_moves(program: &Path, machine: &Path) -> Result<Vec<Point>, String> 
         .collect())
 }
 
-/// The points with runs of equal neighbours (within the print tolerance)
+/// The moves with runs of equal neighbours (within a printed digit)
 /// merged.
-fn merged(points: Vec<Point>) -> Vec<Point> {
-    let mut out: Vec<Point> = Vec::with_capacity(points.len());
+fn merged(moves: Vec<(Point, Tolerance)>) -> Vec<(Point, Tolerance)> {
+    let mut out: Vec<(Point, Tolerance)> = Vec::with_capacity(moves.len());
     let mut last = [0.0; 9];
-    for p in points {
-        if !same(p, last) {
-            out.push(p);
+    for (p, tolerance) in moves {
+        if !same(p, last, &[HALF_UNIT + ARITHMETIC; 9]) {
+            out.push((p, tolerance));
             last = p;
         }
     }
     out
 }
 
-fn same(a: Point, b: Point) -> bool {
-    (0..9).all(|i| (a[i] - b[i]).abs() <= PRINT_TOLERANCE)
+fn same(a: Point, b: Point, tolerance: &Tolerance) -> bool {
+    (0..9).all(|i| (a[i] - b[i]).abs() <= tolerance[i])
+}
+
+/// The kernel's positions, exact: compared with rs274's tolerances.
+fn exact(points: Vec<Point>) -> Vec<(Point, Tolerance)> {
+    points.into_iter().map(|p| (p, [0.0; 9])).collect()
 }
 
 fn show(p: &Point) -> String {
@@ -324,9 +344,9 @@ fn show(p: &Point) -> String {
 
 /// Where the two sequences first disagree, in words; `None` when they
 /// agree.
-fn difference(expected: &[Point], got: &[Point]) -> Option<String> {
-    for (i, (e, g)) in expected.iter().zip(got).enumerate() {
-        if !same(*e, *g) {
+fn difference(expected: &[(Point, Tolerance)], got: &[(Point, Tolerance)]) -> Option<String> {
+    for (i, ((e, tolerance), (g, _))) in expected.iter().zip(got).enumerate() {
+        if !same(*e, *g, tolerance) {
             return Some(format!(
                 "move {} (1-based): rs274 {}, fiveaxis {}",
                 i + 1,
@@ -343,7 +363,7 @@ fn difference(expected: &[Point], got: &[Point]) -> Option<String> {
             expected
                 .get(got.len())
                 .or(got.get(expected.len()))
-                .map(show)
+                .map(|(p, _)| show(p))
         )
     })
 }
@@ -371,7 +391,7 @@ fn compare_runs(run: &Rs274<'_>, machine: &Path) -> Result<usize, String> {
         rs274_moves(run).map_err(|e| format!("{}: rs274 refused it: {e}", program.display()))?;
     let got = fiveaxis_moves(program, machine)
         .map_err(|e| format!("{}: fiveaxis stopped:\n{e}", program.display()))?;
-    let (expected, got) = (merged(expected), merged(got));
+    let (expected, got) = (merged(expected), merged(exact(got)));
     match difference(&expected, &got) {
         None => Ok(expected.len()),
         Some(why) => Err(format!("{}: {why}", program.display())),
