@@ -927,22 +927,22 @@ mod tests {
 
     #[test]
     fn comments_and_case() {
-        let line = parse_ngc_line(b"g1 x 1 0 (a;b) f100 ; (MSG, not this)", 3).unwrap();
+        let line = parse_ngc_line(b"g1 x 1 0 (a;b) f100 ; (MSG, not this)", 3).expect("reads");
         assert_eq!(line.nc.words.len(), 3);
         assert_eq!(
             line.comment,
             Some(Comment::Plain(" (MSG, not this)".into()))
         );
-        let line = parse_ngc_line(b"(msg, Hello World)", 3).unwrap();
+        let line = parse_ngc_line(b"(msg, Hello World)", 3).expect("reads");
         assert_eq!(line.comment, Some(Comment::Msg(" Hello World".into())));
         assert!(parse_ngc_line(b"G1 (a (b) c)", 1).is_err());
-        let line = parse_ngc_line(b"/ G0 X1", 1).unwrap();
+        let line = parse_ngc_line(b"/ G0 X1", 1).expect("reads");
         assert!(line.block_delete);
     }
 
     #[test]
     fn named_parameters_are_lower_case_without_blanks() {
-        let line = parse_ngc_line(b"#<P a R am> = 2", 1).unwrap();
+        let line = parse_ngc_line(b"#<P a R am> = 2", 1).expect("reads");
         assert_eq!(
             line.assignments[0].0.number,
             VarNumber::Named("param".into())
@@ -951,8 +951,8 @@ mod tests {
 
     #[test]
     fn owords() {
-        let line = parse_ngc_line(b"o<Foo> call [1] [2+#3]", 1).unwrap();
-        let o = line.oword.unwrap();
+        let line = parse_ngc_line(b"o<Foo> call [1] [2+#3]", 1).expect("reads");
+        let o = line.oword.expect("reads");
         assert_eq!(o.label, OLabel::Name("foo".into()));
         assert_eq!(o.kind, OKind::Call);
         assert_eq!(o.args.len(), 2);
@@ -973,20 +973,20 @@ mod tests {
     #[test]
     fn deep_brackets_are_refused_not_overflowed() {
         let text = format!("#1 = {}1{}", "[".repeat(5000), "]".repeat(5000));
-        let e = parse_ngc_line(text.as_bytes(), 1).unwrap_err();
+        let e = parse_ngc_line(text.as_bytes(), 1).expect_err("fails");
         assert_eq!(e.kind, MacroErrorKind::BracketNesting);
     }
 
     #[test]
     fn undefined_named_parameter_is_an_error() {
-        let line = parse_ngc_line(b"G1 X#<zz>", 1).unwrap();
+        let line = parse_ngc_line(b"G1 X#<zz>", 1).expect("reads");
         let vars = Variables::linuxcnc(10);
         let WordValue::Expr(e) = &line.nc.words[1].value else {
             panic!()
         };
         let err = vars
             .eval(e, &NoSystemVariables, &MacroSettings::LINUXCNC)
-            .unwrap_err();
+            .expect_err("fails");
         assert_eq!(err.kind, MacroErrorKind::UndefinedVariable);
         assert!(err.message.contains("#<zz>"));
     }
