@@ -215,6 +215,9 @@ pub enum Condition {
     MacroArgumentAddress,
     /// #3000 = n (message): the program's own alarm, 3000 + n.
     MacroAlarm,
+    /// An o-word out of place (LinuxCNC): `endif` without `if`, `sub`
+    /// without `endsub`, a call of a subroutine that is nowhere, …
+    OWordFlow,
     /// A canned cycle that drills without its hole bottom or R point.
     CycleDataMissing,
     /// G73 / G83 without Q, or with Q0.
@@ -326,6 +329,7 @@ impl Condition {
         Condition::MacroSequenceNumber,
         Condition::MacroArgumentAddress,
         Condition::MacroAlarm,
+        Condition::OWordFlow,
         Condition::CycleDataMissing,
         Condition::CycleDepthMissing,
         Condition::CycleReferenceReturn,
@@ -476,6 +480,9 @@ impl Condition {
             }
             Condition::MacroArgumentAddress => "An argument address that G65/G66 cannot take",
             Condition::MacroAlarm => "#3000 = n (message): the program's own alarm, 3000 + n",
+            Condition::OWordFlow => {
+                "An o-word out of place (LinuxCNC): endif without if, sub without endsub, a call of a subroutine that is nowhere"
+            }
             Condition::CycleDataMissing => {
                 "A canned cycle that drills without its hole bottom or R point"
             }
@@ -696,6 +703,7 @@ impl Condition {
             C::MacroSequenceNumber => 122,
             C::MacroArgumentAddress => 123,
             C::MacroAlarm => 124,
+            C::OWordFlow => 125,
             C::CycleDataMissing => 130,
             C::CycleDepthMissing => 131,
             C::CycleReferenceReturn => 132,

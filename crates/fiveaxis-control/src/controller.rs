@@ -867,7 +867,7 @@ impl<'m> Controller<'m> {
     fn length(&self, word: &Word) -> f64 {
         let params = &self.machine.params;
         let inch = self.state.modal.units == Units::Inch;
-        let value = if word.decimal_point || params.decimal_point_input {
+        let value = if word.decimal_point || self.calculator_input() {
             word.value
         } else if inch {
             word.value * params.least_input_increment / 10.0
@@ -877,10 +877,17 @@ impl<'m> Controller<'m> {
         if inch { value * MM_PER_INCH } else { value }
     }
 
+    /// Numbers without a decimal point count in whole units: calculator
+    /// input (No.3401#0 DPI) or a control that has no least input
+    /// increment rule (LinuxCNC).
+    fn calculator_input(&self) -> bool {
+        self.machine.params.decimal_point_input || self.dialect.calculator_input
+    }
+
     /// An angle word in degrees (decimal-point rule, no unit change).
     fn angle(&self, word: &Word) -> f64 {
         let params = &self.machine.params;
-        if word.decimal_point || params.decimal_point_input {
+        if word.decimal_point || self.calculator_input() {
             word.value
         } else {
             word.value * params.least_input_increment
@@ -1087,7 +1094,7 @@ impl<'m> Controller<'m> {
     /// The seconds of a G04 X word: without a decimal point, in least
     /// input increments (as for lengths).
     fn dwell_seconds(&self, word: &Word) -> f64 {
-        if word.decimal_point || self.machine.params.decimal_point_input {
+        if word.decimal_point || self.calculator_input() {
             word.value
         } else {
             word.value * self.machine.params.least_input_increment
@@ -1098,8 +1105,11 @@ impl<'m> Controller<'m> {
         let p = self.words.take(b'P');
         let x = self.words.peek(b'X');
         if let Some(word) = p {
-            self.words
-                .dwell_ms(&word, self.dialect.dwell_p_seconds_with_point)?;
+            self.words.dwell_ms(
+                &word,
+                self.dialect.dwell_p_seconds_with_point,
+                self.dialect.dwell_p_seconds,
+            )?;
         } else if let Some(word) = x {
             self.words.take(b'X');
             let seconds = self.dwell_seconds(&word);

@@ -215,8 +215,14 @@ impl Words {
     /// seconds, rounded to the millisecond (`P.05` is 50 ms), and one
     /// without is milliseconds; otherwise (FANUC) P is an integer of
     /// milliseconds and a decimal point is an alarm.
-    pub fn dwell_ms(&self, word: &Word, seconds_with_point: bool) -> Result<u32, Alarm> {
-        if !(seconds_with_point && word.decimal_point) {
+    /// With `always_seconds` (LinuxCNC) P is seconds however written.
+    pub fn dwell_ms(
+        &self,
+        word: &Word,
+        seconds_with_point: bool,
+        always_seconds: bool,
+    ) -> Result<u32, Alarm> {
+        if !(always_seconds || (seconds_with_point && word.decimal_point)) {
             return self.integer(word, MAX_DWELL_MS);
         }
         let ms = word.value * MS_PER_SECOND;

@@ -275,9 +275,11 @@ impl Controller<'_> {
             self.state.cycle.q = self.length(&word).abs();
         }
         if let Some(word) = self.words.take(b'P') {
-            self.state.cycle.p = self
-                .words
-                .dwell_ms(&word, self.dialect.dwell_p_seconds_with_point)?;
+            self.state.cycle.p = self.words.dwell_ms(
+                &word,
+                self.dialect.dwell_p_seconds_with_point,
+                self.dialect.dwell_p_seconds,
+            )?;
         }
         let repeats = match self.words.take(b'K').or_else(|| self.words.take(b'L')) {
             Some(word) => self.words.integer(&word, MAX_REPEATS)?,
