@@ -1,0 +1,375 @@
+//! The LinuxCNC language (`control = "linuxcnc"`): RS274/NGC parameters,
+//! expressions and o-word flow, judged against LinuxCNC's own interpreter.
+//!
+//! Each program's expected end points were printed by `rs274 -g` (the
+//! LinuxCNC 2.9 stand-alone interpreter) and are written here; where
+//! `rs274` is on PATH the test also runs it live on the same text and
+//! compares the end points to 4 decimals (the digits it prints). The
+//! machine is the built-in three-axis mill with zero offsets, so the
+//! joints X, Y, Z are the canonical positions `rs274` prints.
+
+use std::io;
+use std::process::Command;
+
+use fiveaxis_control::{
+    Alarm, Condition, ProgramLibrary, Row, RunError, RunOptions, Runner, SliceSource, Source,
+};
+use fiveaxis_machine::{Control, Machine, Offsets, builtin};
+
+/// The digits `rs274` prints.
+const RS274_DIGITS: f64 = 1e-4;
+
+fn mill() -> Machine {
+    let mut m = builtin("mill-3axis").expect("built-in machine");
+    m.control = Control::LinuxCnc;
+    m
+}
+
+/// A library of in-memory files by subroutine name.
+struct Files(Vec<(&'static str, &'static str)>);
+
+impl ProgramLibrary for Files {
+    fn open(&mut self, _number: u32) -> io::Result<Option<(Box<dyn Source>, String)>> {
+        Ok(None)
+    }
+
+    fn open_named(&mut self, name: &str) -> io::Result<Option<(Box<dyn Source>, String)>> {
+        Ok(self.0.iter().find(|(n, _)| *n == name).map(|(n, text)| {
+            (
+                Box::new(SliceSource::new(text.as_bytes())) as Box<dyn Source>,
+                format!("{n}.ngc"),
+            )
+        }))
+    }
+}
+
+fn run_with(
+    program: &str,
+    files: Files,
+    options: RunOptions,
+) -> (Vec<Row>, Option<Alarm>, Vec<String>) {
+    let machine = mill();
+    let mut runner = Runner::new(
+        &machine,
+        Offsets::default(),
+        SliceSource::new(program.as_bytes()),
+        options,
+    )
+    .with_library(Box::new(files));
+    let mut rows = Vec::new();
+    let alarm = loop {
+        match runner.next_segment() {
+            Ok(Some(seg)) => rows.push(seg.row(&machine, 1.0)),
+            Ok(None) => break None,
+            Err(RunError::Alarm { alarm, .. }) => break Some(alarm),
+            Err(e) => panic!("a program in memory failed to read: {e}"),
+        }
+    };
+    (rows, alarm, runner.notes().to_vec())
+}
+
+fn run_on(program: &str) -> (Vec<Row>, Option<Alarm>) {
+    let (rows, alarm, _) = run_with(program, Files(Vec::new()), RunOptions::default());
+    (rows, alarm)
+}
+
+#[track_caller]
+fn alarm(program: &str) -> Alarm {
+    run_on(program).1.expect("an alarm")
+}
+
+/// The end points of the straight moves `rs274 -g` prints for `program`,
+/// or `None` when `rs274` is not installed.
+fn rs274_points(program: &str) -> Option<Vec<[f64; 3]>> {
+    let dir = std::env::temp_dir().join(format!("fiveaxis-ngc-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).ok()?;
+    let file = dir.join(format!("p{:x}.ngc", fxhash(program)));
+    std::fs::write(&file, program).ok()?;
+    let output = Command::new("rs274").arg("-g").arg(&file).output().ok()?;
+    let _ = std::fs::remove_file(&file);
+    let text = String::from_utf8_lossy(&output.stdout);
+    let mut points = Vec::new();
+    for line in text.lines() {
+        let Some(args) = ["STRAIGHT_FEED(", "STRAIGHT_TRAVERSE("]
+            .iter()
+            .find_map(|k| line.split_once(k).map(|(_, rest)| rest))
+        else {
+            continue;
+        };
+        let v: Vec<f64> = args
+            .trim_end_matches(')')
+            .split(',')
+            .filter_map(|x| x.trim().parse().ok())
+            .collect();
+        points.push([v[0], v[1], v[2]]);
+    }
+    Some(points)
+}
+
+/// A small stable hash for temporary file names.
+fn fxhash(text: &str) -> u64 {
+    text.bytes().fold(0xcbf2_9ce4_8422_2325, |h, b| {
+        (h ^ u64::from(b)).wrapping_mul(0x100_0000_01b3)
+    })
+}
+
+/// Runs `program`, expects no alarm and the end points `expected` (from
+/// `rs274`), and, where `rs274` is installed, its live output too.
+#[track_caller]
+fn same_as_rs274(program: &str, expected: &[[f64; 3]]) {
+    let (rows, alarm) = run_on(program);
+    assert!(alarm.is_none(), "unexpected alarm {alarm:?}");
+    let got: Vec<[f64; 3]> = rows
+        .iter()
+        .map(|r| [r.joints[0], r.joints[1], r.joints[2]])
+        .collect();
+    let close = |a: &[[f64; 3]], b: &[[f64; 3]]| {
+        a.len() == b.len()
+            && a.iter()
+                .zip(b)
+                .all(|(p, q)| p.iter().zip(q).all(|(x, y)| (x - y).abs() <= RS274_DIGITS))
+    };
+    assert!(
+        close(&got, expected),
+        "kernel {got:?}\nexpected {expected:?}"
+    );
+    if let Some(live) = rs274_points(program) {
+        assert!(close(&got, &live), "kernel {got:?}\nrs274 {live:?}");
+    }
+}
+
+#[test]
+fn flow_and_parameters_as_rs274_runs_them() {
+    let program = "\
+g21 g90 ; metric
+#1 = 5
+#1 = 6 G1 X#1 F100
+#<_g> = 2
+o<inner> sub
+  #<loc> = [#1 * 2]
+  #<_g> = [#<_g> + #<loc>]
+  G1 Y#<_g>
+o<inner> endsub
+o<inner> call [1.5]
+G1 X#1 Z[EXISTS[#<loc>]] (#1 restored)
+o7 repeat [0]
+  G1 X100
+o7 endrepeat
+#2 = 0
+o8 while [1]
+  #2 = [#2 + 1]
+  o9 if [#2 GE 3]
+    o8 break
+  o9 endif
+  G1 Z#2
+o8 endwhile
+o10 if [#2 EQ 1]
+  G0 X1
+o10 elseif [#2 EQ 3]
+  G0 X3 Y[2 ** 3 MOD 5]
+o10 elseif [#2 EQ 3]
+  G0 X33
+o10 else
+  G0 X4
+o10 endif
+G0 x1 y sin[30] Z[-7 MOD 3]
+M2
+";
+    same_as_rs274(
+        program,
+        &[
+            [5.0, 0.0, 0.0],
+            [5.0, 5.0, 0.0],
+            [6.0, 5.0, 0.0],
+            [6.0, 5.0, 1.0],
+            [6.0, 5.0, 2.0],
+            [3.0, 3.0, 2.0],
+            [1.0, 0.5, 2.0],
+        ],
+    );
+}
+
+#[test]
+fn loops_returns_and_calls_before_the_definition() {
+    let program = "\
+G21 G90 G17
+#<r> = 10
+o<circ> sub
+  G1 X[#1] Y[#2] F500
+  o<circ> return [#1+#2]
+o<circ> endsub
+#1 = 0
+o10 while [#1 LT 3]
+  o<circ> call [#1*#<r>] [5]
+  #1 = [#1 + 1]
+o10 endwhile
+o20 repeat [2]
+  G91 G1 X1
+o20 endrepeat
+G90
+o30 if [#<_value> GT 100]
+  G0 X99
+o30 elseif [#<_value> EQ 25]
+  G0 X25 (msg, value 25)
+o30 else
+  G0 X-1
+o30 endif
+#5 = 0
+o40 do
+  #5 = [#5+1]
+  o41 if [#5 EQ 2]
+    o40 continue
+  o41 endif
+  G1 Y#5
+o40 while [#5 LT 4]
+o<late> call [7]
+M2
+o<late> sub
+  G0 Z#1
+o<late> endsub
+";
+    same_as_rs274(
+        program,
+        &[
+            [0.0, 5.0, 0.0],
+            [10.0, 5.0, 0.0],
+            [20.0, 5.0, 0.0],
+            [21.0, 5.0, 0.0],
+            [22.0, 5.0, 0.0],
+            [25.0, 5.0, 0.0],
+            [25.0, 1.0, 0.0],
+            [25.0, 3.0, 0.0],
+            [25.0, 4.0, 0.0],
+            [25.0, 4.0, 7.0],
+        ],
+    );
+}
+
+#[test]
+fn numbers_are_taken_as_written() {
+    // LinuxCNC has no least-input-increment rule: X1 is 1 mm.
+    same_as_rs274("G21 G90\nG1 X1 Y2.5 Z-3 F100\nM2\n", &[[1.0, 2.5, -3.0]]);
+}
+
+#[test]
+fn messages_and_debug_are_noted_with_parameters() {
+    let (_, alarm, notes) = run_with(
+        "#<a> = 2\n(MSG, hello)\n(debug, a=#<a> n=#3 z=#<nope>)\nM2\n",
+        Files(Vec::new()),
+        RunOptions::default(),
+    );
+    assert!(alarm.is_none());
+    assert!(notes.iter().any(|n| n.contains("MSG: hello")), "{notes:?}");
+    assert!(
+        notes
+            .iter()
+            .any(|n| n.contains("a=2.000000 n=0.000000 z=######")),
+        "{notes:?}"
+    );
+}
+
+#[test]
+fn abort_comment_stops_the_program() {
+    let a = alarm("G0 X1\n(ABORT, tool broken #<_x>)\nG0 X2\n");
+    assert_eq!(a.line, 2);
+    assert!(a.message.contains("tool broken"), "{}", a.message);
+}
+
+#[test]
+fn subroutine_from_the_library_file() {
+    let files = Files(vec![(
+        "square",
+        "(square.ngc)\no<square> sub\n  G1 X#1 Y0 F100\n  G1 Y#1\no<square> endsub\nM2\n",
+    )]);
+    let (rows, alarm, _) = run_with(
+        "G90\no<SQUARE> call [4]\nG0 Z9\nM2\n",
+        files,
+        RunOptions::default(),
+    );
+    assert!(alarm.is_none(), "{alarm:?}");
+    let ends: Vec<_> = rows
+        .iter()
+        .map(|r| [r.joints[0], r.joints[1], r.joints[2]])
+        .collect();
+    assert_eq!(
+        ends,
+        vec![[4.0, 0.0, 0.0], [4.0, 4.0, 0.0], [4.0, 4.0, 9.0]]
+    );
+}
+
+#[test]
+fn a_missing_subroutine_is_an_alarm() {
+    let a = alarm("o<nowhere> call\n");
+    assert_eq!(a.condition, Condition::OWordFlow);
+    assert!(a.message.contains("nowhere.ngc"), "{}", a.message);
+    assert_eq!(a.code.to_string(), "FX0125");
+}
+
+#[test]
+fn recursion_is_bounded_at_ten_calls() {
+    let a = alarm("o1 sub\n  o1 call\no1 endsub\no1 call\nM2\n");
+    assert_eq!(a.condition, Condition::MacroCallNesting);
+    assert_eq!(a.line, 2);
+}
+
+#[test]
+fn named_locals_vanish_when_the_sub_returns() {
+    let a = alarm("o2 sub\n  #<t> = 1\no2 endsub\no2 call\nG0 X#<t>\n");
+    assert_eq!(a.condition, Condition::MacroUndefinedVariable);
+    assert_eq!(a.line, 5);
+    assert!(a.message.contains("#<t>"), "{}", a.message);
+    assert_eq!(a.code.to_string(), "FX0113");
+}
+
+#[test]
+fn expression_errors_carry_kernel_codes() {
+    let a = alarm("#1 = [1 / 0]\n");
+    assert_eq!(a.condition, Condition::MacroDivisionByZero);
+    assert!(a.message.contains("divide by zero"), "{}", a.message);
+    let a = alarm("#1 = [SQRT[-1]]\n");
+    assert_eq!(a.condition, Condition::MacroArgumentRange);
+    let a = alarm("#<_x> = 1\n");
+    assert_eq!(a.condition, Condition::MacroWriteProtected);
+    let a = alarm("#5603 = 1\n");
+    assert_eq!(a.condition, Condition::MacroUndefinedVariable);
+}
+
+#[test]
+fn misplaced_owords_are_alarms() {
+    for (program, line) in [
+        ("o1 endif\n", 1),
+        ("o1 endwhile\n", 1),
+        ("o1 if [0]\nG0 X1\n", 1),
+        ("o1 return\n", 1),
+        ("o3 sub\nG0 X1\n", 1),
+        ("o1 break\n", 1),
+        ("o1 endrepeat\n", 1),
+    ] {
+        let (_, a) = run_on(program);
+        let a = a.unwrap_or_else(|| panic!("{program:?}: no alarm"));
+        assert_eq!(a.condition, Condition::OWordFlow, "{program:?}");
+        assert_eq!(a.line, line, "{program:?}");
+    }
+}
+
+#[test]
+fn an_endless_loop_is_stopped_by_the_block_budget() {
+    let options = RunOptions {
+        max_blocks: 10_000,
+        ..RunOptions::default()
+    };
+    let (_, alarm, _) = run_with(
+        "o1 while [1]\n  #1 = [#1 + 1]\no1 endwhile\n",
+        Files(Vec::new()),
+        options,
+    );
+    assert_eq!(alarm.expect("stopped").condition, Condition::BlockBudget);
+}
+
+#[test]
+fn predefined_parameters_answer_the_modal_state() {
+    same_as_rs274(
+        "G21 G90 G1 X3 F200\nG91\nG0 X[#<_incremental>] Y[#<_motion_mode>] Z[#<_feed>/100]\nG90\nG0 X[#<_x>] Y[#5420+#5421] Z[#<_metric>+#<_plane>/170]\nM2\n",
+        &[[3.0, 0.0, 0.0], [4.0, 10.0, 2.0], [4.0, 14.0, 2.0]],
+    );
+}
