@@ -15,6 +15,7 @@ mod kinematics;
 mod m_codes;
 mod offsets;
 mod setup_error;
+mod tool_table;
 
 pub use builtin::{DEFAULT_MACHINE, builtin, builtin_names, builtin_source};
 pub use file::MAX_JERK;
