@@ -24,6 +24,7 @@ mod comp3d;
 mod coordinates;
 mod cutter_c;
 mod cycles;
+mod linuxcnc;
 mod m_codes;
 mod motion;
 mod system_vars;
@@ -71,6 +72,9 @@ pub enum Flow {
 #[derive(Clone, Debug)]
 struct State {
     modal: Modal,
+    /// LinuxCNC: where the program stands while a length offset change
+    /// waits for the next move (G43 / G49 move nothing by themselves).
+    length_deferred: Option<Joints>,
     /// The tilted working plane's feature frame (G68.2), if one is in force.
     feature: Option<coordinates::Feature>,
     /// A G68.2 P2 / P3 definition whose blocks are still coming.
@@ -101,6 +105,9 @@ struct State {
     shift: Vec3,
     /// G92 shift of each axis beyond X, Y, Z (by joint index).
     axis_shift: Joints,
+    /// LinuxCNC: the G92 shift kept in parameters #5211–#5219, which
+    /// G92.2 leaves and G92.3 applies again.
+    g92_kept: (Vec3, Joints),
     /// Tool centre point control data of the running mode.
     tcpc: tcpc::TcpcState,
     /// Three-dimensional tool compensation.
@@ -175,6 +182,7 @@ impl<'m> Controller<'m> {
             dialect: Dialect::of(machine.control),
             state: State {
                 modal: Modal::power_on(machine.params.input_unit),
+                length_deferred: None,
                 feature: None,
                 feature_pending: None,
                 joints: machine.params.reference_1,
@@ -190,6 +198,7 @@ impl<'m> Controller<'m> {
                 clamped: [None; 2],
                 shift: Vec3::zeros(),
                 axis_shift: [0.0; MAX_AXES],
+                g92_kept: (Vec3::zeros(), [0.0; MAX_AXES]),
                 tcpc: tcpc::TcpcState::default(),
                 comp3d: comp3d::Comp3d::default(),
                 setup: SetupError::IDENTITY,
@@ -315,6 +324,9 @@ impl<'m> Controller<'m> {
         if result.is_err() {
             self.state = saved;
             out.truncate(base);
+        } else if out.len() > base {
+            // A move took the held position (LinuxCNC length change).
+            self.state.length_deferred = None;
         }
         result
     }
@@ -343,6 +355,8 @@ impl<'m> Controller<'m> {
             // Cutter compensation C holds blocks back: the program stands
             // at the end of the last block read, not where the tool is.
             self.cutter.point
+        } else if let Some(held) = self.state.length_deferred.filter(|_| codes.work.is_none()) {
+            held
         } else {
             self.programmed(&self.state.joints)
         };
@@ -364,7 +378,12 @@ impl<'m> Controller<'m> {
         let plain_from =
             (was_tcpc && codes.length.is_some()).then(|| self.plain_programmed(&self.state.joints));
         let flow = self.m_codes()?;
-        let change = self.apply_length(&codes)?;
+        let mut change = self.apply_length(&codes)?;
+        if self.dialect.rs274ngc && change == LengthChange::Moves && !self.block_has_axis_words() {
+            // LinuxCNC: the change waits for the next move.
+            self.state.length_deferred = Some(from);
+            change = LengthChange::None;
+        }
         let from = if change == LengthChange::InPlace {
             // A cancel or start-up without movement (Mitsubishi G44,
             // G43.4/G43.5): the axes stay, the programmed position takes
@@ -467,8 +486,12 @@ impl<'m> Controller<'m> {
                 (54..=59, 0) | (54, 1) => GKind::Work,
                 (54, 4) => GKind::SetupError,
                 (4 | 10 | 27 | 28 | 30 | 52 | 53 | 92, 0) | (53, 1 | 6) => GKind::OneShot,
+                // LinuxCNC G92.1 / G92.2 / G92.3.
+                (92, 1..=3) if self.dialect.rs274ngc => GKind::OneShot,
                 (68, 2..=4) => GKind::Feature,
                 (61..=64, 0) => GKind::Cutting,
+                // LinuxCNC G61.1: exact path (speed only, as G61).
+                (61, 1) if self.dialect.rs274ngc => GKind::Cutting,
                 // G05 is refused in 3-D tool compensation (below).
                 (5, 0) if self.comp3d_forbidden(code).is_none() => GKind::Accuracy,
                 (5, 1) | (8, 0) => GKind::Accuracy,
@@ -616,6 +639,12 @@ impl<'m> Controller<'m> {
             self.state.modal.work = self.work_select(code, span)?;
         }
         if let Some(code) = codes.cutting {
+            if self.dialect.rs274ngc {
+                self.state.modal.blend = None;
+                if code.major == 64 {
+                    self.blend_tolerance()?;
+                }
+            }
             self.state.modal.cutting = match code.major {
                 61 => CuttingMode::ExactStop,
                 62 => CuttingMode::CornerOverride,
@@ -629,6 +658,31 @@ impl<'m> Controller<'m> {
         if codes.canned_cancel {
             self.state.rigid_tap = false;
         }
+        Ok(())
+    }
+
+    /// LinuxCNC `G64 P- <Q->`: the path blending tolerance P and the
+    /// naive CAM tolerance Q (Q defaults to P), kept in the modal state
+    /// (g-code.adoc, G64); they change speed, not the programmed path.
+    fn blend_tolerance(&mut self) -> Result<(), Alarm> {
+        let p = match self.words.take(b'P') {
+            Some(word) => Some(self.length(&word)),
+            None => None,
+        };
+        let q = match self.words.take(b'Q') {
+            Some(word) => Some(self.length(&word)),
+            None => None,
+        };
+        for (letter, value) in [('P', p), ('Q', q)] {
+            if value.is_some_and(|v| v < 0.0) {
+                return Err(self.alarm(
+                    Condition::ValueOutOfRange,
+                    None,
+                    format!("G64 {letter} must not be negative"),
+                ));
+            }
+        }
+        self.state.modal.blend = p.map(|p| [p, q.unwrap_or(p)]);
         Ok(())
     }
 
@@ -762,6 +816,14 @@ impl<'m> Controller<'m> {
         {
             self.words.take(b'H');
             self.state.h = self.offset_number(&word)?;
+        } else if self.dialect.rs274ngc
+            && codes
+                .length
+                .is_some_and(|(c, _)| c.major == 43 && c.minor == 0)
+        {
+            // LinuxCNC: G43 without H takes the tool in the spindle
+            // (g-code.adoc, G43: "If H is not given, the current tool").
+            self.state.h = self.state.spindle_tool;
         }
         Ok(if in_place {
             LengthChange::InPlace
@@ -901,6 +963,13 @@ impl<'m> Controller<'m> {
         } else {
             self.angle(word)
         }
+    }
+
+    /// Whether the block names any axis of the machine.
+    fn block_has_axis_words(&self) -> bool {
+        self.axis_letters[..self.machine.axis_count()]
+            .iter()
+            .any(|&letter| self.words.has(letter))
     }
 
     /// Axis words of the block, by joint index, marked used.
@@ -1071,6 +1140,7 @@ impl<'m> Controller<'m> {
     ) -> Result<(), Alarm> {
         match code.major {
             4 => self.dwell(span),
+            10 if self.dialect.rs274ngc => self.data_setting_linuxcnc(span, from),
             10 => self.data_setting(span),
             27 => self.reference_check(from, out),
             28 => self.reference_return(from, 1, out),
@@ -1085,8 +1155,34 @@ impl<'m> Controller<'m> {
             53 if code.minor == 6 => self.tool_axis_control(span, true, out),
             52 => self.local_coordinate_system(),
             53 => self.machine_coordinates(out),
-            _ => self.set_coordinate_system(from),
+            92 if code.minor != 0 => {
+                self.g92_reset(code.minor);
+                Ok(())
+            }
+            _ => {
+                self.set_coordinate_system(from)?;
+                self.state.g92_kept = (self.state.shift, self.state.axis_shift);
+                Ok(())
+            }
         }
+    }
+
+    /// LinuxCNC (g-code.adoc, G92.1, G92.2, G92.3): G92.1 clears the G92
+    /// offsets and their parameters, G92.2 clears the offsets and keeps
+    /// the parameters, G92.3 applies the kept parameters again. None
+    /// moves.
+    fn g92_reset(&mut self, minor: u8) {
+        let zero = (Vec3::zeros(), [0.0; MAX_AXES]);
+        let (shift, axis_shift) = match minor {
+            1 => {
+                self.state.g92_kept = zero;
+                zero
+            }
+            2 => zero,
+            _ => self.state.g92_kept,
+        };
+        self.state.shift = shift;
+        self.state.axis_shift = axis_shift;
     }
 
     /// G04: dwell, P in ms (Haas: seconds with a decimal point) or X in

@@ -171,6 +171,10 @@ pub struct Modal {
     pub cutting: CuttingMode,
     /// G05.1, G05, G08 modes.
     pub accuracy: Accuracy,
+    /// LinuxCNC `G64 P Q`: path blending tolerance and naive CAM
+    /// tolerance, mm (`None`: G64 without P, blending as fast as
+    /// possible, or G61 / G61.1).
+    pub blend: Option<[f64; 2]>,
 }
 
 impl Modal {
@@ -195,6 +199,7 @@ impl Modal {
                 high_precision: false,
                 look_ahead: false,
             },
+            blend: None,
         }
     }
 }

@@ -79,7 +79,9 @@ impl Words {
             match letter {
                 b'G' | b'M' => self.push_code(word)?,
                 _ => {
-                    if !is_address(letter, machine) {
+                    if !is_address(letter, machine)
+                        && !(self.control == Control::LinuxCnc && letter == LINUXCNC_E)
+                    {
                         return Err(self.alarm(
                             Condition::ImproperAddress,
                             Some(word.span),
@@ -245,6 +247,9 @@ impl Words {
 pub const MAX_DWELL_MS: u32 = 99_999_999;
 /// Milliseconds in a second.
 const MS_PER_SECOND: f64 = 1000.0;
+
+/// LinuxCNC's `E` word (the analog channel of M66–M68).
+const LINUXCNC_E: u8 = b'E';
 
 /// Whether `letter` is an address of the kernel on this machine.
 fn is_address(letter: u8, machine: &Machine) -> bool {

@@ -373,3 +373,88 @@ fn predefined_parameters_answer_the_modal_state() {
         &[[3.0, 0.0, 0.0], [4.0, 10.0, 2.0], [4.0, 14.0, 2.0]],
     );
 }
+
+/// Machine X, Y, Z at the end of each move.
+fn ends(program: &str, offsets: Offsets) -> Vec<[f64; 3]> {
+    let machine = mill();
+    let mut runner = Runner::new(
+        &machine,
+        offsets,
+        SliceSource::new(program.as_bytes()),
+        RunOptions::default(),
+    );
+    let mut out = Vec::new();
+    loop {
+        match runner.next_segment() {
+            Ok(Some(seg)) => out.push([seg.end[0], seg.end[1], seg.end[2]]),
+            Ok(None) => return out,
+            Err(e) => panic!("{program}: {e:?}"),
+        }
+    }
+}
+
+/// `rs274 -g` prints positions in the work system (G54 + G92 taken off):
+/// its traverses (0,0) (2,1) (1,1) (1,1) (0,1) with offsets G54 X 5, then
+/// 3 after L20, G92 X 2 then cleared, are these machine positions.
+#[test]
+fn g10_and_g92_as_linuxcnc_writes_them() {
+    let program = "G10 L2 P0 X5\nG0 X0\nG10 L20 P1 X2\nG0 Y1\nG92 X0\nG0 X1\nG92.1\nG0 X1\n\
+                   G92.3\nG0 X1\nG55\nG0 X0\nM2\n";
+    assert_eq!(
+        ends(program, Offsets::default()),
+        vec![
+            [5.0, 0.0, 0.0],
+            [5.0, 1.0, 0.0],
+            [6.0, 1.0, 0.0],
+            [4.0, 1.0, 0.0],
+            [0.0, 1.0, 0.0],
+        ]
+    );
+    // G92.3 after G92.1: the parameters were cleared, nothing comes back
+    // (X1 is still machine 4); after G92.2 they come back.
+    let program = "G92 X-3\nG0 X1\nG92.2\nG0 X1\nG92.3\nG0 X1\nM2\n";
+    assert_eq!(
+        ends(program, Offsets::default()),
+        vec![[4.0, 0.0, 0.0], [1.0, 0.0, 0.0], [4.0, 0.0, 0.0]]
+    );
+}
+
+#[test]
+fn length_offsets_move_with_the_next_move() {
+    let table = Offsets::from_tool_table("T1 P1 Z10 D6\nT2 P2 Z20 D10\n").expect("table");
+    // G43 without H takes the spindle tool (T2); G43 H1 alone moves
+    // nothing, the next move carries it; G49 likewise.
+    let program = "T2 M6\nG43\nG0 X0 Y0 Z50\nG43 H1\nG1 X1 F100\nG49\nG1 Y1\nG10 L1 P1 Z4 R2\nG43 H1\nG0 X0\nM2\n";
+    assert_eq!(
+        ends(program, table),
+        vec![
+            [0.0, 0.0, 70.0],
+            [1.0, 0.0, 60.0],
+            [1.0, 1.0, 50.0],
+            [0.0, 1.0, 54.0],
+        ]
+    );
+}
+
+#[test]
+fn g10_l10_sets_the_tool_so_the_position_reads_the_value() {
+    // At Z 50 (no offset), L10 P3 Z40: tool 3 gets length 10; with it
+    // loaded the program Z reads 40 where the machine stands at 50.
+    let program = "G0 Z50\nG10 L10 P3 Z40\nG43 H3\nG0 X1\nG0 Z40\nM2\n";
+    assert_eq!(
+        ends(program, Offsets::default()),
+        vec![[0.0, 0.0, 50.0], [1.0, 0.0, 60.0], [1.0, 0.0, 50.0]]
+    );
+}
+
+#[test]
+fn io_user_codes_path_modes_and_dwell_move_nothing() {
+    let program = "G64 P0.01 Q0.02\nG61\nG61.1\nG64\nM66 P0 L0\nM67 E1 Q2.5\nM101 P1 Q2\n\
+                   M61 Q3\nG4 P0.5\nM60\nG0 X1\nM2\n";
+    assert_eq!(ends(program, Offsets::default()), vec![[1.0, 0.0, 0.0]]);
+    let a = alarm("G64 P-1\n");
+    assert_eq!(a.condition, Condition::ValueOutOfRange);
+    let a = alarm("G10 L2 P8 X1\n");
+    assert_eq!(a.condition, Condition::IllegalG10P);
+    assert!(a.message.contains("G59.1"), "{}", a.message);
+}

@@ -52,6 +52,26 @@ fn standard(code: Code) -> Option<MFunction> {
     })
 }
 
+/// LinuxCNC's standard M codes beyond FANUC's (m-code.adoc): M60 pallet
+/// change stop, M48–M53 override switches, M61 set the current tool, M62–
+/// M68 digital and analog I/O, M70–M73 modal state save and restore, and
+/// the user codes M100–M199 (an external program: no motion). The kernel
+/// moves nothing for any of them.
+fn standard_linuxcnc(code: Code) -> Option<MFunction> {
+    if code.minor != 0 {
+        return None;
+    }
+    match code.major {
+        60 => Some(MFunction::Stop),
+        48..=53 | 61..=68 | 70..=73 | 100..=199 => Some(MFunction::Signal),
+        _ => standard(code),
+    }
+}
+
+/// The words LinuxCNC's I/O and user M codes take (m-code.adoc: M62–M65
+/// P; M66 P E L Q; M67/M68 E Q; M61 Q; M100–M199 P Q; M50–M53 P).
+const LINUXCNC_M_WORDS: &[u8] = b"PELQ";
+
 impl Controller<'_> {
     /// The function of an M code on this machine: its `[m_codes]` entry,
     /// else the control's standard meaning.
@@ -61,7 +81,13 @@ impl Controller<'_> {
         } else {
             None
         };
-        declared.or_else(|| standard(code))
+        declared.or_else(|| {
+            if self.dialect.rs274ngc {
+                standard_linuxcnc(code)
+            } else {
+                standard(code)
+            }
+        })
     }
 
     /// TCPC switched by M code: the block's group 08 becomes G43.4
@@ -159,6 +185,17 @@ impl Controller<'_> {
             MFunction::CoolantOn => self.state.coolant = true,
             MFunction::CoolantOff => self.state.coolant = false,
             MFunction::RigidTap => self.state.rigid_tap = true,
+            MFunction::Signal
+                if self.dialect.rs274ngc && matches!(code.major, 50..=53 | 61..=68 | 100..=199) =>
+            {
+                // Their P, E, L, Q words are I/O numbers and values.
+                for &letter in LINUXCNC_M_WORDS {
+                    let _ = self.words.take(letter);
+                }
+                if code.major == 61 {
+                    self.state.spindle_tool = self.state.tool;
+                }
+            }
             MFunction::Signal | MFunction::TcpcOn | MFunction::TcpcOff => {}
             MFunction::Clamp(axis) | MFunction::Unclamp(axis) => {
                 let Some(k) = self.machine.rotary.iter().position(|r| r.name == axis) else {
