@@ -665,14 +665,8 @@ impl<'m> Controller<'m> {
     /// naive CAM tolerance Q (Q defaults to P), kept in the modal state
     /// (g-code.adoc, G64); they change speed, not the programmed path.
     fn blend_tolerance(&mut self) -> Result<(), Alarm> {
-        let p = match self.words.take(b'P') {
-            Some(word) => Some(self.length(&word)),
-            None => None,
-        };
-        let q = match self.words.take(b'Q') {
-            Some(word) => Some(self.length(&word)),
-            None => None,
-        };
+        let p = self.words.take(b'P').map(|word| self.length(&word));
+        let q = self.words.take(b'Q').map(|word| self.length(&word));
         for (letter, value) in [('P', p), ('Q', q)] {
             if value.is_some_and(|v| v < 0.0) {
                 return Err(self.alarm(

@@ -110,10 +110,7 @@ impl Controller<'_> {
                     }
                     None => None,
                 };
-                let radius = match self.words.take(b'R') {
-                    Some(word) => Some(self.length(&word)),
-                    None => None,
-                };
+                let radius = self.words.take(b'R').map(|word| self.length(&word));
                 let tool = self.offsets.tools.entry(n).or_default();
                 if let Some(length) = length {
                     tool.length = length;
