@@ -79,9 +79,8 @@ impl Words {
             match letter {
                 b'G' | b'M' => self.push_code(word)?,
                 _ => {
-                    if !is_address(letter, machine)
-                        && !(self.control == Control::LinuxCnc && letter == LINUXCNC_E)
-                    {
+                    let linuxcnc_e = self.control == Control::LinuxCnc && letter == LINUXCNC_E;
+                    if !(is_address(letter, machine) || linuxcnc_e) {
                         return Err(self.alarm(
                             Condition::ImproperAddress,
                             Some(word.span),
