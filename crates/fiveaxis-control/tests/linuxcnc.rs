@@ -458,3 +458,36 @@ fn io_user_codes_path_modes_and_dwell_move_nothing() {
     assert_eq!(a.condition, Condition::IllegalG10P);
     assert!(a.message.contains("G59.1"), "{}", a.message);
 }
+
+/// The arc radius tolerance as `rs274 -g` (2.9) applies it, found by
+/// bisection on its output: radius 10 mm takes 0.028 and refuses 0.029;
+/// 100 mm takes 0.1 (0.1 %) and refuses 0.101; 0.2 in takes 0.0027 in and
+/// refuses 0.0029 in.
+#[test]
+fn arc_radius_tolerance_as_rs274_applies_it() {
+    let arc = |units: &str, x: f64, r: f64| {
+        format!("{units} G17 G90 F100\nG0 X0 Y0\nG2 X{x} Y{r} I0 J{r}\nM2\n")
+    };
+    for (units, x, r, ok) in [
+        ("G21", 10.028, 10.0, true),
+        ("G21", 10.029, 10.0, false),
+        ("G21", 100.1, 100.0, true),
+        ("G21", 100.101, 100.0, false),
+        ("G20", 0.2027, 0.2, true),
+        ("G20", 0.2029, 0.2, false),
+    ] {
+        let (_, alarm) = run_on(&arc(units, x, r));
+        match (ok, alarm) {
+            (true, None) => {}
+            (false, Some(a)) => {
+                assert_eq!(a.condition, Condition::ArcRadiusTolerance, "{x}");
+                assert!(
+                    a.message.contains("radius to end of arc differs"),
+                    "{}",
+                    a.message
+                );
+            }
+            (ok, alarm) => panic!("{units} X{x} R{r}: expected ok={ok}, got {alarm:?}"),
+        }
+    }
+}

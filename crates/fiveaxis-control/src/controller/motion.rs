@@ -11,6 +11,16 @@ use crate::alarm::{Alarm, Condition};
 use crate::modal::{FeedMode, MotionMode};
 use crate::segment::{Arc, Motion, Path, Segment, TipPath};
 
+/// LinuxCNC's absolute arc radius tolerance under G21, mm, as `rs274` 2.9
+/// applies it (0.02·√2 mm).
+const LINUXCNC_ARC_ABSOLUTE_MM: f64 = 0.02 * std::f64::consts::SQRT_2;
+/// The same under G20, inches (0.002·√2 in).
+const LINUXCNC_ARC_ABSOLUTE_IN: f64 = 0.002 * std::f64::consts::SQRT_2;
+/// LinuxCNC's relative arc radius tolerance (0.1 % of the radius).
+const LINUXCNC_ARC_RELATIVE: f64 = 0.001;
+/// Millimetres in an inch.
+const MM_PER_INCH: f64 = 25.4;
+
 impl Controller<'_> {
     pub(super) fn segment(
         &self,
@@ -273,7 +283,9 @@ impl Controller<'_> {
                 ),
             ));
         }
-        if (r1 - r0).abs() > ARC_RADIUS_TOLERANCE {
+        if self.dialect.rs274ngc {
+            self.linuxcnc_arc_check(r0, r1)?;
+        } else if (r1 - r0).abs() > ARC_RADIUS_TOLERANCE {
             return Err(self.alarm(
                 Condition::ArcRadiusTolerance,
                 None,
@@ -292,6 +304,35 @@ impl Controller<'_> {
             sweep: arc_sweep(theta0, theta1, ccw, r0),
             motion: if ccw { Motion::Ccw } else { Motion::Cw },
         }))
+    }
+
+    /// LinuxCNC's check of a centre-format arc: the radii to the start
+    /// and to the end may differ by up to the larger of an absolute
+    /// tolerance and 0.1 % of the radius. g-code.adoc gives 0.005 mm
+    /// (0.0005 in) and 0.1 %, or at most 0.5 mm (0.05 in); `rs274 -g`
+    /// (2.9) was measured instead, on radii of 2 to 2000 mm and 0.2 in:
+    /// it accepts up to 0.02·√2 mm (0.002·√2 in) or 0.1 % of the radius,
+    /// whichever is larger, with no upper cap (2000 mm accepts 1.3 mm).
+    /// The kernel follows the binary.
+    fn linuxcnc_arc_check(&self, r0: f64, r1: f64) -> Result<(), Alarm> {
+        let absolute = if self.state.modal.units == crate::modal::Units::Inch {
+            LINUXCNC_ARC_ABSOLUTE_IN * MM_PER_INCH
+        } else {
+            LINUXCNC_ARC_ABSOLUTE_MM
+        };
+        let diff = (r1 - r0).abs();
+        if diff > absolute && diff > LINUXCNC_ARC_RELATIVE * r0 {
+            return Err(self.alarm(
+                Condition::ArcRadiusTolerance,
+                None,
+                format!(
+                    "radius to end of arc differs from radius to start: start radius {r0}, \
+                     end radius {r1} (LinuxCNC accepts {:.4} mm or 0.1 %)",
+                    absolute.max(LINUXCNC_ARC_RELATIVE * r0)
+                ),
+            ));
+        }
+        Ok(())
     }
 
     /// The centre of an R arc: of the two circles through both points, the
