@@ -594,3 +594,17 @@ fn g86_needs_p_and_a_turning_spindle() {
     let a = alarm("G21 F100\nG0 Z10\nG86 X1 Z-1 R2 P1\n");
     assert_eq!(a.condition, Condition::CycleNotAllowed);
 }
+
+#[test]
+fn numbered_programs_with_m98_and_m99() {
+    // o-code.adoc, "Fanuc-Style Numbered Programs": #1 is global there.
+    same_as_rs274(
+        "o1\n#1 = 0\nM98 P100 L3\nG0 X#1\nM30\no100\n#1 = [#1 + 1]\nG0 Y#1\nM99\n",
+        &[
+            [0.0, 1.0, 0.0],
+            [0.0, 2.0, 0.0],
+            [0.0, 3.0, 0.0],
+            [3.0, 3.0, 0.0],
+        ],
+    );
+}

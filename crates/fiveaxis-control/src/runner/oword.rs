@@ -306,17 +306,18 @@ impl<S: Source> Runner<'_, S> {
                 Err(error) if error.kind != SyntaxErrorKind::Macro => {
                     return Err(self.syntax_alarm(here.line, error));
                 }
-                Err(_) => return self.ngc_parsed_line(here, out),
+                Err(_) => return self.ngc_parsed_line(here, sequential, out),
             }
             normalize_words(&mut self.block);
             return self.execute_block(here, sequential, out);
         }
-        self.ngc_parsed_line(here, out)
+        self.ngc_parsed_line(here, sequential, out)
     }
 
     fn ngc_parsed_line(
         &mut self,
         here: Mark,
+        sequential: bool,
         out: &mut Vec<crate::Segment>,
     ) -> Result<(), RunError> {
         let line = match self.ngc.cache.get(&here.offset) {
@@ -346,7 +347,7 @@ impl<S: Source> Runner<'_, S> {
             self.ngc_comment(here.line, comment)?;
         }
         if let Some(oword) = &line.oword {
-            return self.ngc_oword(here, oword, out);
+            return self.ngc_oword(here, sequential, oword, out);
         }
         match self.ngc_evaluate(&line) {
             Ok(MacroFlow::Block) => {}
@@ -517,9 +518,11 @@ impl<S: Source> Runner<'_, S> {
     fn ngc_oword(
         &mut self,
         here: Mark,
+        sequential: bool,
         oword: &fiveaxis_macro::OWord,
         out: &mut Vec<crate::Segment>,
     ) -> Result<(), RunError> {
+        let at_start = self.at_program_start;
         self.at_program_start = false;
         let key = match &oword.label {
             OLabel::Computed(e) => {
@@ -549,8 +552,8 @@ impl<S: Source> Runner<'_, S> {
                         span,
                     });
                 }
-                self.at_program_start = self.stack.is_empty() && self.blocks <= 1;
-                return self.execute_block(here, true, out);
+                self.at_program_start = at_start;
+                return self.execute_block(here, sequential, out);
             }
             OKind::Sub => {
                 if level > 0 && self.ngc.subs.get(&key) != Some(&after) {
