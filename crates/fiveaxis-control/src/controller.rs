@@ -72,9 +72,9 @@ pub enum Flow {
 #[derive(Clone, Debug)]
 struct State {
     modal: Modal,
-    /// LinuxCNC: where the program stands while a length offset change
-    /// waits for the next move (G43 / G49 move nothing by themselves).
-    length_deferred: Option<Joints>,
+    /// LinuxCNC G43.1: the tool length offset given in the program (it
+    /// replaces the tool's until G43 or G49).
+    dynamic_length: Option<f64>,
     /// The tilted working plane's feature frame (G68.2), if one is in force.
     feature: Option<coordinates::Feature>,
     /// A G68.2 P2 / P3 definition whose blocks are still coming.
@@ -182,7 +182,7 @@ impl<'m> Controller<'m> {
             dialect: Dialect::of(machine.control),
             state: State {
                 modal: Modal::power_on(machine.params.input_unit),
-                length_deferred: None,
+                dynamic_length: None,
                 feature: None,
                 feature_pending: None,
                 joints: machine.params.reference_1,
@@ -324,9 +324,6 @@ impl<'m> Controller<'m> {
         if result.is_err() {
             self.state = saved;
             out.truncate(base);
-        } else if out.len() > base {
-            // A move took the held position (LinuxCNC length change).
-            self.state.length_deferred = None;
         }
         result
     }
@@ -355,8 +352,6 @@ impl<'m> Controller<'m> {
             // Cutter compensation C holds blocks back: the program stands
             // at the end of the last block read, not where the tool is.
             self.cutter.point
-        } else if let Some(held) = self.state.length_deferred.filter(|_| codes.work.is_none()) {
-            held
         } else {
             self.programmed(&self.state.joints)
         };
@@ -378,12 +373,7 @@ impl<'m> Controller<'m> {
         let plain_from =
             (was_tcpc && codes.length.is_some()).then(|| self.plain_programmed(&self.state.joints));
         let flow = self.m_codes()?;
-        let mut change = self.apply_length(&codes)?;
-        if self.dialect.rs274ngc && change == LengthChange::Moves && !self.block_has_axis_words() {
-            // LinuxCNC: the change waits for the next move.
-            self.state.length_deferred = Some(from);
-            change = LengthChange::None;
-        }
+        let change = self.apply_length(&codes)?;
         let from = if change == LengthChange::InPlace {
             // A cancel or start-up without movement (Mitsubishi G44,
             // G43.4/G43.5): the axes stay, the programmed position takes
@@ -661,6 +651,39 @@ impl<'m> Controller<'m> {
         Ok(())
     }
 
+    /// LinuxCNC `G43.1 axes` (g-code.adoc, G43.1): the word of the axis
+    /// along the tool (Z on a mill) is the tool length offset from now
+    /// on; nothing moves in this block (the next move carries it). A
+    /// motion in the block, or an offset on another axis (the kernel's
+    /// length offset lies along the tool), is an alarm.
+    fn dynamic_length_offset(&mut self, span: Span) -> Result<(), Alarm> {
+        let letter = b'Z';
+        for &other in &self.axis_letters[..self.machine.axis_count()] {
+            if other != letter
+                && let Some(word) = self.words.peek(other)
+            {
+                return Err(self.alarm(
+                    Condition::WordNotUsed,
+                    Some(word.span),
+                    format!(
+                        "G43.1 {}: the kernel's tool length offset lies along the tool ({}) only",
+                        char::from(other),
+                        char::from(letter)
+                    ),
+                ));
+            }
+        }
+        let Some(word) = self.words.remove(letter) else {
+            return Err(self.alarm(
+                Condition::NoDataAfterAddress,
+                Some(span),
+                format!("G43.1 needs {}, the tool length offset", char::from(letter)),
+            ));
+        };
+        self.state.dynamic_length = Some(self.length(&word));
+        Ok(())
+    }
+
     /// LinuxCNC `G64 P- <Q->`: the path blending tolerance P and the
     /// naive CAM tolerance Q (Q defaults to P), kept in the modal state
     /// (g-code.adoc, G64); they change speed, not the programmed path.
@@ -782,8 +805,14 @@ impl<'m> Controller<'m> {
         let before = (self.state.modal.length, self.state.h);
         let mut in_place = false;
         self.state.tcpc.startup = false;
+        let dynamic_before = self.state.dynamic_length;
         if let Some((code, span)) = codes.length {
+            self.state.dynamic_length = None;
             self.state.modal.length = match (code.major, code.minor) {
+                (43, 1) if self.dialect.rs274ngc => {
+                    self.dynamic_length_offset(span)?;
+                    LengthMode::Plus
+                }
                 (43, 1) => LengthMode::ToolAxis,
                 (43, minor @ (4 | 5)) => {
                     let kind = if minor == 4 {
@@ -819,9 +848,22 @@ impl<'m> Controller<'m> {
             // (g-code.adoc, G43: "If H is not given, the current tool").
             self.state.h = self.state.spindle_tool;
         }
+        if self.dialect.rs274ngc
+            && (before != (self.state.modal.length, self.state.h)
+                || dynamic_before != self.state.dynamic_length)
+        {
+            // LinuxCNC: a new length offset moves nothing; the axes stay
+            // and the program position takes the change (rs274: after
+            // `G43 H1` the canonical Z differs by the offset, the machine
+            // stands; g-code.adoc, G43.1: "does not cause any motion").
+            in_place = true;
+        }
         Ok(if in_place {
             LengthChange::InPlace
-        } else if before == (self.state.modal.length, self.state.h) && !self.state.tcpc.startup {
+        } else if before == (self.state.modal.length, self.state.h)
+            && dynamic_before == self.state.dynamic_length
+            && !self.state.tcpc.startup
+        {
             LengthChange::None
         } else {
             LengthChange::Moves
@@ -959,13 +1001,6 @@ impl<'m> Controller<'m> {
         }
     }
 
-    /// Whether the block names any axis of the machine.
-    fn block_has_axis_words(&self) -> bool {
-        self.axis_letters[..self.machine.axis_count()]
-            .iter()
-            .any(|&letter| self.words.has(letter))
-    }
-
     /// Axis words of the block, by joint index, marked used.
     fn axis_words(&mut self) -> Targets {
         let mut targets = [None; MAX_AXES];
@@ -986,6 +1021,11 @@ impl<'m> Controller<'m> {
 
     /// The active H value (geometry + wear), mm.
     fn tool_length(&self) -> f64 {
+        if let Some(length) = self.state.dynamic_length
+            && self.state.modal.length == LengthMode::Plus
+        {
+            return length;
+        }
         if self.state.modal.length == LengthMode::Off || self.state.h == 0 {
             return 0.0;
         }

@@ -146,6 +146,15 @@ impl Words {
         word
     }
 
+    /// The word with this letter, marked used and taken out of the block,
+    /// so that later functions do not see it (LinuxCNC's G43.1 axis
+    /// words are offsets, not a move).
+    pub fn remove(&mut self, letter: u8) -> Option<Word> {
+        let word = self.take(letter);
+        self.present &= !(1 << index(letter));
+        word
+    }
+
     /// The word with this letter, without marking it used.
     pub fn peek(&self, letter: u8) -> Option<Word> {
         if self.present & (1 << index(letter)) == 0 {

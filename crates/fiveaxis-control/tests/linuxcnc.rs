@@ -419,31 +419,41 @@ fn g10_and_g92_as_linuxcnc_writes_them() {
     );
 }
 
+/// `rs274 -g` prints canonical positions without the tool length offset
+/// (machine Z = canonical Z + offset): after `G43 H1` it prints Z smaller
+/// by the change while the machine stands; `G10 L10 P3 Z40` at Z 50 gives
+/// tool 3 the length 10 (`USE_TOOL_LENGTH_OFFSET(… 10)`, then Z 40).
 #[test]
-fn length_offsets_move_with_the_next_move() {
+fn length_offset_changes_move_nothing() {
     let table = Offsets::from_tool_table("T1 P1 Z10 D6\nT2 P2 Z20 D10\n").expect("table");
-    // G43 without H takes the spindle tool (T2); G43 H1 alone moves
-    // nothing, the next move carries it; G49 likewise.
-    let program = "T2 M6\nG43\nG0 X0 Y0 Z50\nG43 H1\nG1 X1 F100\nG49\nG1 Y1\nG10 L1 P1 Z4 R2\nG43 H1\nG0 X0\nM2\n";
+    // G43 without H takes the spindle tool (T2); later changes (G43 H1,
+    // G49, G43.1) leave the machine where it stands.
+    let program = "T2 M6\nG43\nG0 X0 Y0 Z50\nG43 H1\nG1 X1 F100\nG49\nG1 Y1\n\
+                   G43.1 Z5\nG0 X0\nG0 Z50\nM2\n";
     assert_eq!(
         ends(program, table),
         vec![
             [0.0, 0.0, 70.0],
-            [1.0, 0.0, 60.0],
-            [1.0, 1.0, 50.0],
-            [0.0, 1.0, 54.0],
+            [1.0, 0.0, 70.0],
+            [1.0, 1.0, 70.0],
+            [0.0, 1.0, 70.0],
+            [0.0, 1.0, 55.0],
         ]
     );
+    let a = alarm("G43.1 X1\n");
+    assert_eq!(a.condition, Condition::WordNotUsed);
 }
 
 #[test]
 fn g10_l10_sets_the_tool_so_the_position_reads_the_value() {
-    // At Z 50 (no offset), L10 P3 Z40: tool 3 gets length 10; with it
-    // loaded the program Z reads 40 where the machine stands at 50.
-    let program = "G0 Z50\nG10 L10 P3 Z40\nG43 H3\nG0 X1\nG0 Z40\nM2\n";
+    // rs274 prints Z 50, 40, 40, 30 with the offset 0, then 10: machine
+    // Z 50, 50, 50, 40.
     assert_eq!(
-        ends(program, Offsets::default()),
-        vec![[0.0, 0.0, 50.0], [1.0, 0.0, 60.0], [1.0, 0.0, 50.0]]
+        ends(
+            "G21 G90\nG0 Z50\nG10 L10 P3 Z40\nG43 H3\nG0 X1\nG0 Z40\nG0 Z30\nM2\n",
+            Offsets::default()
+        ),
+        vec![[0.0, 0.0, 50.0], [1.0, 0.0, 50.0], [1.0, 0.0, 40.0]]
     );
 }
 
