@@ -82,7 +82,8 @@ struct RunArgs {
     /// Built-in machine name or machine file (TOML).
     #[arg(long, default_value = DEFAULT_MACHINE)]
     machine: String,
-    /// Offsets file (TOML); default: all offsets zero.
+    /// Offsets file (TOML), or a LinuxCNC tool table (`.tbl`); default:
+    /// the machine file's `tool_table`, else all offsets zero.
     #[arg(long)]
     offsets: Option<PathBuf>,
     /// Also emit rows inside blocks, tool tips at most this far apart (mm).

@@ -33,7 +33,8 @@ pub struct ViewArgs {
     /// Built-in machine name or machine file (TOML).
     #[arg(long, default_value = fiveaxis_machine::DEFAULT_MACHINE)]
     machine: String,
-    /// Offsets file (TOML); default: all offsets zero.
+    /// Offsets file (TOML), or a LinuxCNC tool table (`.tbl`); default:
+    /// the machine file's `tool_table`, else all offsets zero.
     #[arg(long)]
     offsets: Option<PathBuf>,
     /// Write the page here (whole or not at all); default: the program's

@@ -81,6 +81,12 @@ fn alarm(program: &str) -> Alarm {
 /// The end points of the straight moves `rs274 -g` prints for `program`,
 /// or `None` when `rs274` is not installed.
 fn rs274_points(program: &str) -> Option<Vec<[f64; 3]>> {
+    // rs274 runs one at a time: concurrent runs were seen to print
+    // nothing (it keeps state in files of its own).
+    static ONE_AT_A_TIME: std::sync::Mutex<()> = std::sync::Mutex::new(());
+    let _turn = ONE_AT_A_TIME
+        .lock()
+        .unwrap_or_else(std::sync::PoisonError::into_inner);
     let dir = std::env::temp_dir().join(format!("fiveaxis-ngc-{}", std::process::id()));
     std::fs::create_dir_all(&dir).ok()?;
     let file = dir.join(format!("p{:x}.ngc", fxhash(program)));
