@@ -72,6 +72,10 @@ pub enum Flow {
 #[derive(Clone, Debug)]
 struct State {
     modal: Modal,
+    /// LinuxCNC: the G28 and G30 positions (`#5161`…, `#5181`…), machine
+    /// coordinates; they start as the machine file's reference positions
+    /// 1 and 2 and change with G28.1 / G30.1 or the parameters.
+    homes: [Joints; 2],
     /// LinuxCNC G43.1: the tool length offset given in the program (it
     /// replaces the tool's until G43 or G49).
     dynamic_length: Option<f64>,
@@ -183,6 +187,7 @@ impl<'m> Controller<'m> {
             state: State {
                 modal: Modal::power_on(machine.params.input_unit),
                 dynamic_length: None,
+                homes: [machine.params.reference_1, machine.params.reference_2],
                 feature: None,
                 feature_pending: None,
                 joints: machine.params.reference_1,
@@ -274,6 +279,18 @@ impl<'m> Controller<'m> {
     /// The tool in the spindle: the selected tool at the last tool change.
     pub fn spindle_tool(&self) -> u32 {
         self.state.spindle_tool
+    }
+
+    /// LinuxCNC's G28 (`n` = 0) or G30 (1) position of machine axis `i`.
+    pub fn home(&self, n: usize, i: usize) -> Option<f64> {
+        self.state.homes.get(n).and_then(|h| h.get(i)).copied()
+    }
+
+    /// Sets LinuxCNC's G28 (`n` = 0) or G30 (1) position of axis `i`.
+    pub fn set_home(&mut self, n: usize, i: usize, value: f64) {
+        if let Some(slot) = self.state.homes.get_mut(n).and_then(|h| h.get_mut(i)) {
+            *slot = value;
+        }
     }
 
     /// Whether the spindle turns (M03 / M04 and not stopped since).
@@ -477,7 +494,7 @@ impl<'m> Controller<'m> {
                 (54, 4) => GKind::SetupError,
                 (4 | 10 | 27 | 28 | 30 | 52 | 53 | 92, 0) | (53, 1 | 6) => GKind::OneShot,
                 // LinuxCNC G92.1 / G92.2 / G92.3.
-                (92, 1..=3) if self.dialect.rs274ngc => GKind::OneShot,
+                (92, 1..=3) | (28 | 30, 1) if self.dialect.rs274ngc => GKind::OneShot,
                 (68, 2..=4) => GKind::Feature,
                 (61..=64, 0) => GKind::Cutting,
                 // LinuxCNC G61.1: exact path (speed only, as G61).
@@ -1177,6 +1194,12 @@ impl<'m> Controller<'m> {
             10 if self.dialect.rs274ngc => self.data_setting_linuxcnc(span, from),
             10 => self.data_setting(span),
             27 => self.reference_check(from, out),
+            28 | 30 if code.minor == 1 => {
+                // LinuxCNC G28.1 / G30.1: the machine position becomes the
+                // G28 / G30 position.
+                self.state.homes[usize::from(code.major == 30)] = self.state.joints;
+                Ok(())
+            }
             28 => self.reference_return(from, 1, out),
             30 => {
                 let n = match self.words.take(b'P') {
@@ -1384,6 +1407,7 @@ impl<'m> Controller<'m> {
         out: &mut Vec<Segment>,
     ) -> Result<(), Alarm> {
         let reference = match n {
+            1 | 2 if self.dialect.rs274ngc => self.state.homes[n as usize - 1],
             1 => self.machine.params.reference_1,
             2 => self.machine.params.reference_2,
             _ => {
@@ -1396,6 +1420,9 @@ impl<'m> Controller<'m> {
             }
         };
         let targets = self.axis_words();
+        // LinuxCNC: G28 / G30 without axis words takes every axis home
+        // straight from where it stands (g-code.adoc, G28, G30).
+        let every_axis = self.dialect.rs274ngc && targets.iter().all(Option::is_none);
         let (mid_p, travel) = self.end_point(from, &targets);
         // 3-D tool compensation: the vector is cleared at the intermediate
         // point.
@@ -1404,8 +1431,8 @@ impl<'m> Controller<'m> {
         let mut start = self.rollover_start(&mid, &travel);
         let mut mid_joints = start;
         let mut end = start;
-        for (i, target) in targets.iter().enumerate() {
-            if target.is_some() {
+        for (i, target) in targets.iter().enumerate().take(self.machine.axis_count()) {
+            if target.is_some() || every_axis {
                 mid_joints[i] = mid[i];
                 end[i] = reference[i];
                 if self.is_rollover(i) {

@@ -624,3 +624,25 @@ fn numbered_programs_with_m98_and_m99() {
         ],
     );
 }
+
+/// rs274 prints (10,5,20) (0,0,0) (0,0,5) (0,0,20) (0,0,20) (10,5,20)
+/// (4,5,20): G28.1 stores, `G28 Z5` goes through Z5 to the stored Z, `G28`
+/// alone takes every axis home. (Its parameters are in inches, the
+/// stand-alone interpreter's machine units; the kernel's in mm.)
+#[test]
+fn g28_g30_positions_are_parameters() {
+    let program = "G21 G90\nG0 X10 Y5 Z20\nG28.1\nG0 X0 Y0 Z0\nG28 Z5\nG28\n\
+                   #5181 = 1\n#5182 = 2\n#5183 = 3\nG0 X4\nG30\nG0 X[#5161] Y[#5182]\nM2\n";
+    assert_eq!(
+        ends(program, Offsets::default()),
+        vec![
+            [10.0, 5.0, 20.0],
+            [0.0, 0.0, 0.0],
+            [0.0, 0.0, 20.0],
+            [10.0, 5.0, 20.0],
+            [4.0, 5.0, 20.0],
+            [1.0, 2.0, 3.0],
+            [10.0, 2.0, 3.0],
+        ]
+    );
+}

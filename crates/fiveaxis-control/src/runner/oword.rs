@@ -141,6 +141,16 @@ impl NgcSystem<'_, '_> {
     }
 }
 
+/// The G28 (0) or G30 (1) position and LinuxCNC axis of `#5161`–`#5169`,
+/// `#5181`–`#5189`.
+fn home_parameter(number: u32) -> (usize, u32) {
+    if number >= 5181 {
+        (1, number - 5181)
+    } else {
+        (0, number - 5161)
+    }
+}
+
 /// The work-offset parameters #5221 … #5340 that are the controller's
 /// (G54 … G59, X … W and R, 20 apart, the same numbers as FANUC's for X,
 /// Y, Z).
@@ -151,6 +161,10 @@ fn work_parameter(n: u32) -> bool {
 impl SystemVariables for NgcSystem<'_, '_> {
     fn read(&self, number: u32) -> Result<Option<f64>, SystemVarError> {
         let value = match number {
+            5161..=5169 | 5181..=5189 => {
+                let (n, a) = home_parameter(number);
+                self.axis(a).and_then(|i| self.controller.home(n, i))
+            }
             5021..=5029 => self.position(5020, number - 5021),
             5220 => match self.controller.modal().work {
                 WorkSelect::Standard(i) => Some(f64::from(i) + 1.0),
@@ -172,6 +186,14 @@ impl SystemVariables for NgcSystem<'_, '_> {
 
     fn write(&mut self, number: u32, value: Option<f64>) -> Result<(), SystemVarError> {
         match number {
+            5161..=5169 | 5181..=5189 => {
+                let (n, a) = home_parameter(number);
+                if let Some(i) = self.axis(a) {
+                    self.controller.set_home(n, i, value.unwrap_or(0.0));
+                }
+                // Axes the machine lacks are stored by the caller.
+                Err(SystemVarError::NotAVariable)
+            }
             n if work_parameter(n) && (n - 5221) % 20 < 3 => self
                 .controller
                 .write_system_variable(n, value)
