@@ -495,6 +495,7 @@ impl<'m> Controller<'m> {
                 (4 | 10 | 27 | 28 | 30 | 52 | 53 | 92, 0) | (53, 1 | 6) => GKind::OneShot,
                 // LinuxCNC G92.1 / G92.2 / G92.3.
                 (92, 1..=3) | (28 | 30, 1) if self.dialect.rs274ngc => GKind::OneShot,
+                (59, 1..=3) if self.dialect.rs274ngc => GKind::Work,
                 (68, 2..=4) => GKind::Feature,
                 (61..=64, 0) => GKind::Cutting,
                 // LinuxCNC G61.1: exact path (speed only, as G61).

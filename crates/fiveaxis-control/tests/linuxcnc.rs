@@ -470,9 +470,8 @@ fn io_user_codes_path_modes_and_dwell_move_nothing() {
     assert_eq!(ends(program, Offsets::default()), vec![[1.0, 0.0, 0.0]]);
     let a = alarm("G64 P-1\n");
     assert_eq!(a.condition, Condition::ValueOutOfRange);
-    let a = alarm("G10 L2 P8 X1\n");
-    assert_eq!(a.condition, Condition::IllegalG10P);
-    assert!(a.message.contains("G59.1"), "{}", a.message);
+    let a = alarm("G10 L2 P10 X1\n");
+    assert_eq!(a.condition, Condition::ValueOutOfRange);
 }
 
 /// The arc radius tolerance as `rs274 -g` (2.9) applies it, found by
@@ -645,4 +644,27 @@ fn g28_g30_positions_are_parameters() {
             [10.0, 2.0, 3.0],
         ]
     );
+}
+
+/// rs274: `SET_G5X_OFFSET(7, 10, 20)`, then X 7 = `#5220`, Y 5.91 =
+/// `#<_coord_system>`/100; G59.2 from `#5361`, `G10 L20 P0` on it.
+#[test]
+fn nine_coordinate_systems() {
+    let program = "G21 G90\nG10 L2 P7 X10 Y20\nG59.1\nG0 X0 Y0\nG0 X[#5220] Y[#<_coord_system>/100]\n\
+                   #5361 = 3\nG59.2\nG0 X0 Y0\nG10 L20 P0 X1\nG0 X0\nG54\nG0 X0 Y0\nM2\n";
+    let got = ends(program, Offsets::default());
+    let want = [
+        [10.0, 20.0, 0.0],
+        [17.0, 25.91, 0.0],
+        [3.0, 0.0, 0.0],
+        [2.0, 0.0, 0.0],
+        [0.0, 0.0, 0.0],
+    ];
+    assert_eq!(got.len(), want.len(), "{got:?}");
+    for (g, w) in got.iter().zip(want) {
+        assert!(
+            g.iter().zip(w).all(|(a, b)| (a - b).abs() < 1e-9),
+            "{got:?}"
+        );
+    }
 }

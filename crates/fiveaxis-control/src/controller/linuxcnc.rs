@@ -12,7 +12,8 @@
 //!   G59.3's, which the kernel does not have: machine coordinates here).
 //!
 //! The kernel's offset memory holds X, Y, Z work offsets and a tool length
-//! and radius: other axis words and G59.1–G59.3 (P7–P9) are alarms.
+//! and radius (other axis words are alarms); G59.1–G59.3 (P7–P9) are
+//! kept as G54.1 P1–P3.
 
 use fiveaxis_gcode::Span;
 use fiveaxis_machine::{Joints, MAX_TOOL_OFFSET};
@@ -23,8 +24,10 @@ use crate::modal::{LengthMode, WorkSelect};
 
 /// LinuxCNC's coordinate systems (G54 … G59.3).
 const NGC_WORK_SYSTEMS: u32 = 9;
-/// The ones the kernel's offset memory has (G54 … G59).
+/// G54 … G59, the standard work offsets of the kernel's offset memory.
 const KERNEL_WORK_SYSTEMS: u32 = 6;
+/// G59.1 … G59.3, kept as G54.1 P1 … P3.
+const NGC_EXTRA_SYSTEMS: u32 = 3;
 
 impl Controller<'_> {
     /// G10 by LinuxCNC's rules; `from` is where the program stands.
@@ -41,24 +44,20 @@ impl Controller<'_> {
                 let n = self.words.integer(&p, NGC_WORK_SYSTEMS)?;
                 let n = match (n, self.state.modal.work) {
                     (0, WorkSelect::Standard(i)) => u32::from(i) + 1,
-                    (0, WorkSelect::Extended(_)) => {
+                    (0, WorkSelect::Extended(k)) if u32::from(k) <= NGC_EXTRA_SYSTEMS => {
+                        KERNEL_WORK_SYSTEMS + u32::from(k)
+                    }
+                    (0, WorkSelect::Extended(k)) => {
                         return Err(self.alarm(
                             Condition::IllegalG10P,
                             Some(p.span),
-                            "G10 P0: the system in use is not G54-G59".into(),
+                            format!(
+                                "G10 P0: the system in use is G54.1 P{k}, not one of LinuxCNC's"
+                            ),
                         ));
                     }
                     (n, _) => n,
                 };
-                if n > KERNEL_WORK_SYSTEMS {
-                    return Err(self.alarm(
-                        Condition::IllegalG10P,
-                        Some(p.span),
-                        format!(
-                            "G10 L{l_value} P{n}: G59.1-G59.3 are not in the kernel's offset memory"
-                        ),
-                    ));
-                }
                 if let Some(r) = self.words.take(b'R')
                     && r.value != 0.0
                 {
@@ -69,8 +68,12 @@ impl Controller<'_> {
                             .into(),
                     ));
                 }
-                let k = n as usize - 1;
-                let mut value = self.offsets.work[k];
+                let slot = n as usize - 1;
+                let mut value = if slot < KERNEL_WORK_SYSTEMS as usize {
+                    self.offsets.work[slot]
+                } else {
+                    self.offsets.extended_work[slot - KERNEL_WORK_SYSTEMS as usize]
+                };
                 for (axis, letter) in [b'X', b'Y', b'Z'].into_iter().enumerate() {
                     let Some(word) = self.words.take(letter) else {
                         continue;
@@ -85,7 +88,11 @@ impl Controller<'_> {
                         value[axis] + from[i] - v
                     };
                 }
-                self.offsets.work[k] = value;
+                if slot < KERNEL_WORK_SYSTEMS as usize {
+                    self.offsets.work[slot] = value;
+                } else {
+                    self.offsets.extended_work[slot - KERNEL_WORK_SYSTEMS as usize] = value;
+                }
                 Ok(())
             }
             1 | 10 | 11 => {

@@ -151,11 +151,22 @@ fn home_parameter(number: u32) -> (usize, u32) {
     }
 }
 
-/// The work-offset parameters #5221 … #5340 that are the controller's
-/// (G54 … G59, X … W and R, 20 apart, the same numbers as FANUC's for X,
-/// Y, Z).
+/// The work-offset parameters #5221 … #5390 that are the controller's
+/// (G54 … G59.3, X … W and R, 20 apart).
 fn work_parameter(n: u32) -> bool {
-    (5221..=5340).contains(&n) && (n - 5221) % 20 < 10
+    (5221..=5390).contains(&n) && (n - 5221) % 20 < 10
+}
+
+/// The controller's (FANUC) number of a LinuxCNC work-offset parameter:
+/// G54 … G59 the same (`#5221` …), G59.1 … G59.3 those of G54.1 P1 … P3
+/// (`#7001` …, 20 apart).
+fn fanuc_work_number(n: u32) -> u32 {
+    let (set, axis) = ((n - 5221) / 20, (n - 5221) % 20);
+    if set < 6 {
+        n
+    } else {
+        7001 + 20 * (set - 6) + axis
+    }
 }
 
 impl SystemVariables for NgcSystem<'_, '_> {
@@ -168,13 +179,14 @@ impl SystemVariables for NgcSystem<'_, '_> {
             5021..=5029 => self.position(5020, number - 5021),
             5220 => match self.controller.modal().work {
                 WorkSelect::Standard(i) => Some(f64::from(i) + 1.0),
+                WorkSelect::Extended(k) if k <= 3 => Some(6.0 + f64::from(k)),
                 WorkSelect::Extended(_) => None,
             },
             n if work_parameter(n) => {
                 if (n - 5221) % 20 >= 3 {
                     Some(0.0)
                 } else {
-                    self.fanuc(n)
+                    self.fanuc(fanuc_work_number(n))
                 }
             }
             5400 => Some(f64::from(self.controller.spindle_tool())),
@@ -196,7 +208,7 @@ impl SystemVariables for NgcSystem<'_, '_> {
             }
             n if work_parameter(n) && (n - 5221) % 20 < 3 => self
                 .controller
-                .write_system_variable(n, value)
+                .write_system_variable(fanuc_work_number(n), value)
                 .map_err(|f| match f {
                     SystemVarFault::Unknown => SystemVarError::NotAVariable,
                     SystemVarFault::ReadOnly => SystemVarError::ReadOnly,
@@ -246,6 +258,7 @@ impl SystemVariables for NgcSystem<'_, '_> {
             "_coord_system" => match m.work {
                 WorkSelect::Standard(i) if i < 6 => 540.0 + 10.0 * f64::from(i),
                 WorkSelect::Standard(i) => 591.0 + f64::from(i - 6),
+                WorkSelect::Extended(k) if k <= 3 => 590.0 + f64::from(k),
                 WorkSelect::Extended(_) => return Err(SystemVarError::NotAVariable),
             },
             "_tool_offset" => Self::flag(m.length != LengthMode::Off),
