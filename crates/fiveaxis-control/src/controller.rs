@@ -281,6 +281,11 @@ impl<'m> Controller<'m> {
         self.state.spindle_tool
     }
 
+    /// The tool length offset applied now (0 under G49).
+    pub fn applied_tool_length(&self) -> f64 {
+        self.tool_length()
+    }
+
     /// LinuxCNC's G28 (`n` = 0) or G30 (1) position of machine axis `i`.
     pub fn home(&self, n: usize, i: usize) -> Option<f64> {
         self.state.homes.get(n).and_then(|h| h.get(i)).copied()

@@ -668,3 +668,21 @@ fn nine_coordinate_systems() {
         );
     }
 }
+
+#[test]
+fn tool_parameters_and_m61() {
+    let table = Offsets::from_tool_table("T1 P1 Z10 D6\nT2 P2 Z20 D10\n").expect("table");
+    // #5403 the loaded tool's Z offset, #5410 its diameter, #5083 the
+    // offset applied; M61 Q1 makes tool 1 the loaded one (no change, the
+    // applied offset stays until the next G43).
+    let program = "T2 M6\nG43\nG0 X[#5403] Y[#5410] Z[#5083]\nM61 Q1\nG0 X[#5400] Y[#5403]\nM2\n";
+    assert_eq!(
+        ends(program, table),
+        vec![[20.0, 10.0, 40.0], [1.0, 10.0, 40.0]]
+    );
+    assert_eq!(alarm("M61\n").condition, Condition::NoDataAfterAddress);
+    assert_eq!(
+        alarm("#5400 = 3\n").condition,
+        Condition::MacroWriteProtected
+    );
+}

@@ -71,6 +71,8 @@ fn standard_linuxcnc(code: Code) -> Option<MFunction> {
 /// The words LinuxCNC's I/O and user M codes take (m-code.adoc: M62–M65
 /// P; M66 P E L Q; M67/M68 E Q; M61 Q; M100–M199 P Q; M50–M53 P).
 const LINUXCNC_M_WORDS: &[u8] = b"PELQ";
+/// The highest tool number M61 takes (the offset memory's).
+const MAX_TOOL_NUMBER: u32 = fiveaxis_machine::MAX_TOOL_OFFSET;
 
 impl Controller<'_> {
     /// The function of an M code on this machine: its `[m_codes]` entry,
@@ -188,12 +190,20 @@ impl Controller<'_> {
             MFunction::Signal
                 if self.dialect.rs274ngc && matches!(code.major, 50..=53 | 61..=68 | 100..=199) =>
             {
+                if code.major == 61 {
+                    // M61 Q-: the tool in the spindle is now Q (no change).
+                    let Some(q) = self.words.take(b'Q') else {
+                        return Err(self.alarm(
+                            Condition::NoDataAfterAddress,
+                            Some(span),
+                            "M61 needs Q, the tool number now in the spindle".into(),
+                        ));
+                    };
+                    self.state.spindle_tool = self.words.integer(&q, MAX_TOOL_NUMBER)?;
+                }
                 // Their P, E, L, Q words are I/O numbers and values.
                 for &letter in LINUXCNC_M_WORDS {
                     let _ = self.words.take(letter);
-                }
-                if code.major == 61 {
-                    self.state.spindle_tool = self.state.tool;
                 }
             }
             MFunction::Signal | MFunction::TcpcOn | MFunction::TcpcOff => {}

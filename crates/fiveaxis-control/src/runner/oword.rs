@@ -190,6 +190,26 @@ impl SystemVariables for NgcSystem<'_, '_> {
                 }
             }
             5400 => Some(f64::from(self.controller.spindle_tool())),
+            // The loaded tool's data: Z offset (length) and diameter; the
+            // kernel's offset memory has no other axis offsets, angles or
+            // orientation (0).
+            5401..=5413 => {
+                let tool = self
+                    .controller
+                    .offsets()
+                    .tool(self.controller.spindle_tool());
+                Some(match number {
+                    5403 => tool.length,
+                    5410 => 2.0 * tool.radius,
+                    _ => 0.0,
+                })
+            }
+            // The length offset applied now, along Z.
+            5081..=5089 => Some(if number == 5083 {
+                self.controller.applied_tool_length()
+            } else {
+                0.0
+            }),
             5420..=5428 => self.position(5000, number - 5420),
             _ => None,
         };
@@ -213,7 +233,7 @@ impl SystemVariables for NgcSystem<'_, '_> {
                     SystemVarFault::Unknown => SystemVarError::NotAVariable,
                     SystemVarFault::ReadOnly => SystemVarError::ReadOnly,
                 }),
-            5021..=5029 | 5400 | 5420..=5428 => Err(SystemVarError::ReadOnly),
+            5021..=5029 | 5081..=5089 | 5400..=5413 | 5420..=5428 => Err(SystemVarError::ReadOnly),
             _ => Err(SystemVarError::NotAVariable),
         }
     }
