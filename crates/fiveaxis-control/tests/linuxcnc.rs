@@ -686,3 +686,33 @@ fn tool_parameters_and_m61() {
         Condition::MacroWriteProtected
     );
 }
+
+/// R-format arcs: `rs274` takes R 0.00125 mm short of half the chord and
+/// refuses 0.00128 mm ("radius too small to reach end point"), on chords
+/// of 2, 20 and 200 mm alike.
+#[test]
+fn r_arc_shortfall_as_rs274_takes_it() {
+    for (chord, r, ok) in [
+        (20.0, 9.99875, true),
+        (20.0, 9.99872, false),
+        (2.0, 0.9989, true),
+        (2.0, 0.9985, false),
+        (200.0, 99.9989, true),
+        (200.0, 99.9985, false),
+    ] {
+        let program = format!("G21 G17 G90 F100\nG0 X0 Y0\nG2 X{chord} Y0 R{r}\nM2\n");
+        let (_, alarm) = run_on(&program);
+        match (ok, alarm) {
+            (true, None) => {}
+            (false, Some(a)) => {
+                assert_eq!(a.condition, Condition::ArcRadiusTolerance);
+                assert!(
+                    a.message.contains("too small to reach end point"),
+                    "{}",
+                    a.message
+                );
+            }
+            (ok, alarm) => panic!("chord {chord} R{r}: expected ok={ok}, got {alarm:?}"),
+        }
+    }
+}

@@ -16,6 +16,11 @@ use crate::segment::{Arc, Motion, Path, Segment, TipPath};
 const LINUXCNC_ARC_ABSOLUTE_MM: f64 = 0.02 * std::f64::consts::SQRT_2;
 /// The same under G20, inches (0.002·√2 in).
 const LINUXCNC_ARC_ABSOLUTE_IN: f64 = 0.002 * std::f64::consts::SQRT_2;
+/// How far LinuxCNC lets R fall short of half the chord of an R-format
+/// arc, mm: 0.00005 in whatever the units (measured with `rs274` 2.9:
+/// under G21 a shortfall of 0.00125 mm is taken and 0.00128 mm refused,
+/// under G20 0.00005 in taken and 0.0001 in refused).
+const LINUXCNC_R_TOLERANCE_MM: f64 = 0.00005 * MM_PER_INCH;
 /// LinuxCNC's relative arc radius tolerance (0.1 % of the radius).
 const LINUXCNC_ARC_RELATIVE: f64 = 0.001;
 /// Millimetres in an inch.
@@ -351,11 +356,24 @@ impl Controller<'_> {
             return Ok(None);
         }
         let half = chord / 2.0;
-        if r.abs() < half - ARC_RADIUS_TOLERANCE {
+        let tolerance = if self.dialect.rs274ngc {
+            LINUXCNC_R_TOLERANCE_MM
+        } else {
+            ARC_RADIUS_TOLERANCE
+        };
+        if r.abs() < half - tolerance {
             return Err(self.alarm(
                 Condition::ArcRadiusTolerance,
                 Some(span),
-                format!("radius {} is shorter than half the chord {half}", r.abs()),
+                if self.dialect.rs274ngc {
+                    format!(
+                        "arc radius too small to reach end point: R{} is shorter than half the \
+                         chord {half}",
+                        r.abs()
+                    )
+                } else {
+                    format!("radius {} is shorter than half the chord {half}", r.abs())
+                },
             ));
         }
         let h = (r * r - half * half).max(0.0).sqrt();
