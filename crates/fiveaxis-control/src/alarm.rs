@@ -218,6 +218,8 @@ pub enum Condition {
     /// An o-word out of place (LinuxCNC): `endif` without `if`, `sub`
     /// without `endsub`, a call of a subroutine that is nowhere, …
     OWordFlow,
+    /// The file ends without M2, M30 or a closing `%` (LinuxCNC).
+    ProgramEndMissing,
     /// A canned cycle that drills without its hole bottom or R point.
     CycleDataMissing,
     /// G73 / G83 without Q, or with Q0.
@@ -330,6 +332,7 @@ impl Condition {
         Condition::MacroArgumentAddress,
         Condition::MacroAlarm,
         Condition::OWordFlow,
+        Condition::ProgramEndMissing,
         Condition::CycleDataMissing,
         Condition::CycleDepthMissing,
         Condition::CycleReferenceReturn,
@@ -480,6 +483,9 @@ impl Condition {
             }
             Condition::MacroArgumentAddress => "An argument address that G65/G66 cannot take",
             Condition::MacroAlarm => "#3000 = n (message): the program's own alarm, 3000 + n",
+            Condition::ProgramEndMissing => {
+                "The file ends without M2, M30 or a closing % (LinuxCNC)"
+            }
             Condition::OWordFlow => {
                 "An o-word out of place (LinuxCNC): endif without if, sub without endsub, a call of a subroutine that is nowhere"
             }
@@ -704,6 +710,7 @@ impl Condition {
             C::MacroArgumentAddress => 123,
             C::MacroAlarm => 124,
             C::OWordFlow => 125,
+            C::ProgramEndMissing => 126,
             C::CycleDataMissing => 130,
             C::CycleDepthMissing => 131,
             C::CycleReferenceReturn => 132,

@@ -591,6 +591,16 @@ impl<'m, S: Source> Runner<'m, S> {
             }
         });
         if !read? {
+            if self.rs274ngc && self.stack.is_empty() {
+                // LinuxCNC: "File ended with no percent sign or program
+                // end" (rs274): the main file must end with M2, M30 or the
+                // % that closes an opening one.
+                return Err(self.runner_alarm(
+                    Condition::ProgramEndMissing,
+                    here.line.saturating_sub(1).max(1),
+                    "the file ended with no percent sign or program end (M2, M30)".into(),
+                ));
+            }
             return self.end_of_program();
         }
         self.count_block(here.line)?;
