@@ -260,7 +260,7 @@ fn numbers_are_taken_as_written() {
 #[test]
 fn messages_and_debug_are_noted_with_parameters() {
     let (_, alarm, notes) = run_with(
-        "#<a> = 2\n(MSG, hello)\n(debug, a=#<a> n=#3 z=#<nope>)\nM2\n",
+        "#<a> = 2\n(MSG, hello)\n(debug, a=#<a> n=#3 z=#<nope>)\n#5599 = 0\n(DEBUG, hidden)\nM2\n",
         Files(Vec::new()),
         RunOptions::default(),
     );
@@ -272,6 +272,7 @@ fn messages_and_debug_are_noted_with_parameters() {
             .any(|n| n.contains("a=2.000000 n=0.000000 z=######")),
         "{notes:?}"
     );
+    assert!(!notes.iter().any(|n| n.contains("hidden")), "{notes:?}");
 }
 
 #[test]

@@ -130,6 +130,8 @@ struct NgcParams {
 
 /// LinuxCNC's highest numbered parameter (overview: "currently 5602").
 pub const NGC_MAX_PARAMETER: u32 = 5602;
+/// LinuxCNC's `#5599`: whether `(DEBUG, …)` comments are shown.
+const NGC_DEBUG_FLAG: usize = 5599;
 /// Parameters a LinuxCNC `call` passes: `#1` … `#30`.
 pub const NGC_CALL_ARGS: usize = 30;
 /// LinuxCNC's numbered parameters from this one on are the controller's
@@ -165,13 +167,19 @@ impl Variables {
         }
     }
 
-    /// LinuxCNC's parameters: numbered `#1` … `#5602` all 0, no named
+    /// LinuxCNC's parameters: numbered `#1` … `#5602` all 0 (`#5599`, the
+    /// DEBUG switch, 1), no named
     /// ones, at the main program's level; `max_call_depth` calls may nest
     /// (LinuxCNC: 10). Use with [`MacroSettings::LINUXCNC`].
     pub fn linuxcnc(max_call_depth: usize) -> Self {
         let mut vars = Self::new(max_call_depth);
+        let mut numbered = vec![0.0; NGC_MAX_PARAMETER as usize + 1];
+        // #5599: DEBUG comments shown (overview.adoc: "default=1").
+        if let Some(debug) = numbered.get_mut(NGC_DEBUG_FLAG) {
+            *debug = 1.0;
+        }
         vars.ngc = NgcParams {
-            numbered: vec![0.0; NGC_MAX_PARAMETER as usize + 1],
+            numbered,
             globals: HashMap::new(),
             locals: vec![HashMap::new()],
             saved: Vec::new(),

@@ -53,6 +53,9 @@ const INTEGER_TOLERANCE: f64 = 1e-4;
 const VERSION_MAJOR: f64 = 2.9;
 const VERSION_MINOR: f64 = 0.0;
 
+/// `#5599`: DEBUG comments shown when not 0.
+const DEBUG_FLAG: u32 = 5599;
+
 /// The axis letters of LinuxCNC's parameter layouts, in order.
 const NGC_AXES: &[u8; 9] = b"XYZABCUVW";
 
@@ -470,6 +473,24 @@ impl<S: Source> Runner<'_, S> {
     /// An active comment: `MSG`, `DEBUG`, `PRINT` are noted for
     /// `--verbose` (parameters substituted), `ABORT` stops the program.
     fn ngc_comment(&mut self, line: u32, comment: &Comment) -> Result<(), RunError> {
+        if matches!(comment, Comment::Debug(_)) {
+            let sys = NgcSystem {
+                controller: &mut self.controller,
+                line: self.ngc.line,
+                call_level: self.ngc.calls.len(),
+            };
+            let shown = self
+                .macros
+                .vars
+                .get(DEBUG_FLAG, &sys, &MacroSettings::LINUXCNC)
+                .ok()
+                .flatten()
+                .unwrap_or(1.0);
+            if shown == 0.0 {
+                // #5599 = 0: DEBUG comments are off (overview.adoc).
+                return Ok(());
+            }
+        }
         let (what, text, substitute) = match comment {
             Comment::Plain(_) | Comment::Log(_) => return Ok(()),
             Comment::Msg(text) => ("MSG", text, false),
