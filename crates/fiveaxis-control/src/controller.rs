@@ -492,6 +492,7 @@ impl<'m> Controller<'m> {
                 (0..=3, 0) => GKind::Motion,
                 (17..=19, 0) => GKind::Plane,
                 (90 | 91, 0) => GKind::Distance,
+                (90 | 91, 1) if self.dialect.rs274ngc => GKind::ArcDistance,
                 (93..=95, 0) => GKind::Feed,
                 (20 | 21, 0) => GKind::Units,
                 (43 | 44 | 49, 0) | (43, 1 | 4 | 5) => GKind::Length,
@@ -546,6 +547,7 @@ impl<'m> Controller<'m> {
                 GKind::Motion => codes.motion = Some((code, span)),
                 GKind::Plane => codes.plane = Some(code),
                 GKind::Distance => codes.distance = Some(code),
+                GKind::ArcDistance => codes.arc_distance = Some(code),
                 GKind::Feed => codes.feed = Some(code),
                 GKind::Units => codes.units = Some(code),
                 GKind::Length => codes.length = Some((code, span)),
@@ -633,6 +635,9 @@ impl<'m> Controller<'m> {
             } else {
                 Distance::Incremental
             };
+        }
+        if let Some(code) = codes.arc_distance {
+            modal.ijk_absolute = code.major == 90;
         }
         if let Some(code) = codes.feed {
             modal.feed_mode = match code.major {
@@ -1765,6 +1770,8 @@ enum GKind {
     Frame,
     /// G09: exact stop for one block.
     ExactStop,
+    /// LinuxCNC G90.1 / G91.1: arc centre distance mode.
+    ArcDistance,
 }
 
 /// The G codes of one block, by group; the last of a group wins.
@@ -1773,6 +1780,8 @@ struct GCodes {
     motion: Option<(Code, Span)>,
     plane: Option<Code>,
     distance: Option<Code>,
+    /// LinuxCNC G90.1 / G91.1.
+    arc_distance: Option<Code>,
     feed: Option<Code>,
     units: Option<Code>,
     length: Option<(Code, Span)>,

@@ -175,6 +175,9 @@ pub struct Modal {
     /// tolerance, mm (`None`: G64 without P, blending as fast as
     /// possible, or G61 / G61.1).
     pub blend: Option<[f64; 2]>,
+    /// LinuxCNC G90.1: arc centres I, J, K are absolute (program
+    /// coordinates); G91.1 (the power-on state): relative to the start.
+    pub ijk_absolute: bool,
 }
 
 impl Modal {
@@ -200,6 +203,7 @@ impl Modal {
                 look_ahead: false,
             },
             blend: None,
+            ijk_absolute: false,
         }
     }
 }

@@ -78,7 +78,8 @@ fn alarm(program: &str) -> Alarm {
     run_on(program).1.expect("an alarm")
 }
 
-/// The end points of the straight moves `rs274 -g` prints for `program`,
+/// The end points of the straight moves and G17 arcs `rs274 -g` prints
+/// for `program`,
 /// or `None` when `rs274` is not installed.
 fn rs274_points(program: &str) -> Option<Vec<[f64; 3]>> {
     // rs274 runs one at a time: concurrent runs were seen to print
@@ -96,17 +97,26 @@ fn rs274_points(program: &str) -> Option<Vec<[f64; 3]>> {
     let text = String::from_utf8_lossy(&output.stdout);
     let mut points = Vec::new();
     for line in text.lines() {
+        let parse = |args: &str| -> Vec<f64> {
+            args.trim_end_matches(')')
+                .split(',')
+                .filter_map(|x| x.trim().parse().ok())
+                .collect()
+        };
+        if let Some((_, args)) = line.split_once("ARC_FEED(") {
+            // G17 arcs: first end (X), second end (Y), centre, turn,
+            // axis end (Z), …
+            let v = parse(args);
+            points.push([v[0], v[1], v[5]]);
+            continue;
+        }
         let Some(args) = ["STRAIGHT_FEED(", "STRAIGHT_TRAVERSE("]
             .iter()
             .find_map(|k| line.split_once(k).map(|(_, rest)| rest))
         else {
             continue;
         };
-        let v: Vec<f64> = args
-            .trim_end_matches(')')
-            .split(',')
-            .filter_map(|x| x.trim().parse().ok())
-            .collect();
+        let v = parse(args);
         points.push([v[0], v[1], v[2]]);
     }
     Some(points)
@@ -716,4 +726,22 @@ fn r_arc_shortfall_as_rs274_takes_it() {
             (ok, alarm) => panic!("chord {chord} R{r}: expected ok={ok}, got {alarm:?}"),
         }
     }
+}
+
+#[test]
+fn absolute_arc_centres() {
+    // rs274: ARC_FEED(20, 5, centre 15, 5, -1) then (10, 5, centre 15, 5, 1).
+    same_as_rs274(
+        "G21 G17 G90 F100\nG0 X10 Y5\nG90.1\nG2 X20 Y5 I15 J5\nG91.1\nG3 X10 Y5 I-5 J0\n\
+         G0 Z[#<_ijk_absolute_mode> + 1]\nM2\n",
+        &[
+            [10.0, 5.0, 0.0],
+            [20.0, 5.0, 0.0],
+            [10.0, 5.0, 0.0],
+            [10.0, 5.0, 1.0],
+        ],
+    );
+    let a = alarm("G21 G17 G90 F100\nG0 X10 Y5\nG90.1\nG2 X20 Y5 I15\n");
+    assert_eq!(a.condition, Condition::ArcCenterMissing);
+    assert!(a.message.contains("J word missing"), "{}", a.message);
 }

@@ -252,8 +252,33 @@ impl Controller<'_> {
             let i_word = self.words.take(CENTER_LETTERS[p]);
             let j_word = self.words.take(CENTER_LETTERS[q]);
             let given = i_word.is_some() || j_word.is_some();
-            let i = i_word.map_or(0.0, |w| self.length(&w));
-            let j = j_word.map_or(0.0, |w| self.length(&w));
+            let (i, j) = if self.state.modal.ijk_absolute {
+                // LinuxCNC G90.1: the centre words are the centre itself,
+                // in program coordinates, and both are needed (rs274: "J
+                // word missing in absolute center arc").
+                let (Some(iw), Some(jw)) = (i_word, j_word) else {
+                    let missing = if i_word.is_none() {
+                        CENTER_LETTERS[p]
+                    } else {
+                        CENTER_LETTERS[q]
+                    };
+                    return Err(self.alarm(
+                        Condition::ArcCenterMissing,
+                        i_word.or(j_word).map(|w| w.span),
+                        format!(
+                            "{} word missing in an absolute centre arc (G90.1 takes both centre \
+                             words of the plane)",
+                            char::from(missing)
+                        ),
+                    ));
+                };
+                (self.length(&iw) - sp, self.length(&jw) - sq)
+            } else {
+                (
+                    i_word.map_or(0.0, |w| self.length(&w)),
+                    j_word.map_or(0.0, |w| self.length(&w)),
+                )
+            };
             if i == 0.0 && j == 0.0 {
                 let message = if given {
                     format!(

@@ -285,6 +285,7 @@ impl SystemVariables for NgcSystem<'_, '_> {
                 WorkSelect::Extended(_) => return Err(SystemVarError::NotAVariable),
             },
             "_tool_offset" => Self::flag(m.length != LengthMode::Off),
+            "_ijk_absolute_mode" => Self::flag(m.ijk_absolute),
             "_retract_r_plane" => Self::flag(self.fanuc(4010) == Some(98.0)),
             "_retract_old_z" => Self::flag(self.fanuc(4010) == Some(99.0)),
             "_spindle_on" => Self::flag(self.controller.spindle_on()),
