@@ -789,7 +789,21 @@ impl<'m> Controller<'m> {
             self.state.feed = word.value * scale;
         }
         if let Some(word) = self.words.take(b'S') {
-            self.state.spindle_speed = f64::from(self.words.integer(&word, 999_999)?);
+            self.state.spindle_speed = if self.dialect.rs274ngc {
+                // LinuxCNC: S is a real number, not negative
+                // (other-code.adoc, Set Spindle Speed: an error "if the S
+                // number is negative").
+                if word.value < 0.0 {
+                    return Err(self.alarm(
+                        Condition::ValueOutOfRange,
+                        Some(word.span),
+                        "the S number is negative".into(),
+                    ));
+                }
+                word.value
+            } else {
+                f64::from(self.words.integer(&word, 999_999)?)
+            };
         }
         if let Some(word) = self.words.take(b'T') {
             let t = self.words.integer(&word, 99_999_999)?;

@@ -692,6 +692,12 @@ fn tool_parameters_and_m61() {
         vec![[20.0, 10.0, 40.0], [1.0, 10.0, 40.0]]
     );
     assert_eq!(alarm("M61\n").condition, Condition::NoDataAfterAddress);
+    // S is a real number (other-code.adoc), never negative.
+    assert_eq!(
+        ends("S1000.5 M3\nG0 X[#<_rpm> - 1000]\nM2\n", Offsets::default()),
+        vec![[0.5, 0.0, 0.0]]
+    );
+    assert_eq!(alarm("S-1\n").condition, Condition::ValueOutOfRange);
     assert_eq!(
         alarm("#5400 = 3\n").condition,
         Condition::MacroWriteProtected
