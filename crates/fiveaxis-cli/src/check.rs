@@ -19,8 +19,8 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use rayon::prelude::*;
 
 use crate::{
-    EXIT_INPUT, EXIT_OK, InputError, MAX_LINE_BYTES, diagnostic, load_machine, load_offsets,
-    load_variables, open_program, write_error,
+    EXIT_INPUT, EXIT_OK, InputError, MAX_LINE_BYTES, diagnostic, load_machine, load_variables,
+    open_program, write_error,
 };
 
 /// Exit status: a finding at or above `--fail-on`.
@@ -63,7 +63,8 @@ pub struct CheckArgs {
     /// Built-in machine name or machine file (TOML).
     #[arg(long, default_value = DEFAULT_MACHINE)]
     machine: String,
-    /// Offsets file (TOML); default: all offsets zero.
+    /// Offsets file (TOML), or a LinuxCNC tool table (`.tbl`); default:
+    /// the machine file's `tool_table`, else all offsets zero.
     #[arg(long)]
     offsets: Option<PathBuf>,
     /// Output format.
@@ -98,7 +99,7 @@ type Outcome = Result<(Report, Vec<u8>), InputError>;
 /// `fiveaxis check`.
 pub fn check(args: &CheckArgs) -> Result<u8, InputError> {
     let machine = load_machine(&args.machine)?;
-    let offsets = load_offsets(args.offsets.as_deref())?;
+    let offsets = crate::load_offsets_for(&args.machine, &machine, args.offsets.as_deref())?;
     let variables = match &args.variables {
         Some(path) => Some(load_variables(&path.display().to_string(), path)?),
         None => None,
@@ -216,6 +217,7 @@ fn check_one(
         Runner::new(machine, offsets.clone(), ReaderSource::new(file), options),
         args.programs_dir.as_deref(),
         variables.map(|v| ("variables", v)),
+        crate::library::ngc_folders(&args.machine, &machine.params.subroutine_path, program),
     )?;
     let mut last = 0;
     let report = check_run(&mut runner, |blocks| {

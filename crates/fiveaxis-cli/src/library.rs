@@ -129,3 +129,74 @@ mod tests {
         assert_eq!(number_of_name("O"), None);
     }
 }
+
+/// The control's program memory as the runner sees it: the folder of
+/// `--programs DIR` (programs by number) and LinuxCNC's subroutine folders
+/// (`o<name> call` reads `name.ngc`: the machine file's `subroutine_path`
+/// folders, relative to the machine file, then the program's own folder;
+/// LinuxCNC `o-code.adoc`, "Calling Files", and `ini-config.adoc`,
+/// `SUBROUTINE_PATH`).
+#[derive(Debug, Default)]
+pub struct Memory {
+    programs: Option<DirLibrary>,
+    ngc: Vec<PathBuf>,
+}
+
+impl Memory {
+    /// The memory of `--programs` (if given) and the subroutine folders.
+    pub fn new(programs: Option<DirLibrary>, ngc: Vec<PathBuf>) -> Self {
+        Self { programs, ngc }
+    }
+
+    /// Whether there is anything to look in.
+    pub fn is_empty(&self) -> bool {
+        self.programs.is_none() && self.ngc.is_empty()
+    }
+}
+
+impl ProgramLibrary for Memory {
+    fn open(&mut self, number: u32) -> io::Result<Option<(Box<dyn Source>, String)>> {
+        match self.programs.as_mut() {
+            Some(dir) => dir.open(number),
+            None => Ok(None),
+        }
+    }
+
+    fn open_named(&mut self, name: &str) -> io::Result<Option<(Box<dyn Source>, String)>> {
+        let file_name = format!("{name}.ngc");
+        let programs = self.programs.as_ref().map(|d| d.dir.clone());
+        for dir in self.ngc.iter().chain(programs.iter()) {
+            let path = dir.join(&file_name);
+            if path.is_file() {
+                let file = File::open(&path)?;
+                return Ok(Some((
+                    Box::new(ReaderSource::new(file)),
+                    path.display().to_string(),
+                )));
+            }
+        }
+        Ok(None)
+    }
+}
+
+/// LinuxCNC's subroutine folders for a run: the machine file's
+/// `subroutine_path` entries (relative to the machine file's folder; a
+/// built-in machine has none), then the program's folder (not for
+/// standard input).
+pub fn ngc_folders(machine_spec: &str, subroutine_path: &[String], program: &str) -> Vec<PathBuf> {
+    let mut folders = Vec::new();
+    let machine_file = Path::new(machine_spec);
+    if machine_file.is_file() {
+        let base = machine_file.parent().unwrap_or(Path::new("."));
+        folders.extend(subroutine_path.iter().map(|f| base.join(f)));
+    }
+    if program != "-" {
+        let parent = Path::new(program).parent().unwrap_or(Path::new("."));
+        folders.push(if parent.as_os_str().is_empty() {
+            PathBuf::from(".")
+        } else {
+            parent.to_path_buf()
+        });
+    }
+    folders
+}

@@ -88,7 +88,8 @@ struct RunArgs {
     /// Built-in machine name or machine file (TOML).
     #[arg(long, default_value = DEFAULT_MACHINE)]
     machine: String,
-    /// Offsets file (TOML); default: all offsets zero.
+    /// Offsets file (TOML), or a LinuxCNC tool table (`.tbl`); default:
+    /// the machine file's `tool_table`, else all offsets zero.
     #[arg(long)]
     offsets: Option<PathBuf>,
     /// Also emit rows inside blocks, tool tips at most this far apart (mm).
@@ -347,7 +348,39 @@ fn load_offsets(path: Option<&Path>) -> Result<Offsets, InputError> {
     };
     let name = path.display().to_string();
     let (bytes, text) = read_data_file(&name, path)?;
-    Offsets::from_toml(&text).map_err(|e| InputError::file(&name, &bytes, &e))
+    let tool_table = path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("tbl"));
+    if tool_table {
+        Offsets::from_tool_table(&text).map_err(|e| InputError::file(&name, &bytes, &e))
+    } else {
+        Offsets::from_toml(&text).map_err(|e| InputError::file(&name, &bytes, &e))
+    }
+}
+
+/// The offsets of a run: the `--offsets` file (TOML, or a LinuxCNC tool
+/// table `.tbl`), else the tool table the machine file names
+/// (`[parameters] tool_table`, relative to the machine file's folder),
+/// else all zero.
+fn load_offsets_for(
+    machine_spec: &str,
+    machine: &Machine,
+    path: Option<&Path>,
+) -> Result<Offsets, InputError> {
+    if path.is_some() {
+        return load_offsets(path);
+    }
+    let machine_file = Path::new(machine_spec);
+    match &machine.params.tool_table {
+        Some(table) if machine_file.is_file() => {
+            let base = machine_file.parent().unwrap_or(Path::new("."));
+            let path = base.join(table);
+            let name = path.display().to_string();
+            let (bytes, text) = read_data_file(&name, &path)?;
+            Offsets::from_tool_table(&text).map_err(|e| InputError::file(&name, &bytes, &e))
+        }
+        _ => Ok(Offsets::default()),
+    }
 }
 
 /// The program as a seekable file: a regular file itself, or standard
@@ -412,7 +445,7 @@ fn spool(input: &mut dyn io::BufRead, name: &str) -> Result<File, InputError> {
 
 fn run(args: &RunArgs) -> Result<u8, InputError> {
     let machine = load_machine(&args.machine)?;
-    let offsets = load_offsets(args.offsets.as_deref())?;
+    let offsets = load_offsets_for(&args.machine, &machine, args.offsets.as_deref())?;
     let file = open_program(&args.program)?;
     let program_name = if args.program == "-" {
         "<stdin>"
@@ -442,6 +475,11 @@ fn run(args: &RunArgs) -> Result<u8, InputError> {
         Runner::new(&machine, offsets, source, options),
         args.programs.as_deref(),
         variables.as_ref().map(|(n, v)| (n.as_str(), v.as_slice())),
+        library::ngc_folders(
+            &args.machine,
+            &machine.params.subroutine_path,
+            &args.program,
+        ),
     )?;
     let writer = RowWriter::new(args.format, &machine);
 
@@ -474,11 +512,18 @@ fn with_memory<'m, S: fiveaxis_control::Source>(
     mut runner: Runner<'m, S>,
     programs: Option<&Path>,
     variables: Option<(&str, &[(u32, f64)])>,
+    ngc_folders: Vec<std::path::PathBuf>,
 ) -> Result<Runner<'m, S>, InputError> {
-    if let Some(dir) = programs {
-        let library = library::DirLibrary::new(dir)
-            .map_err(|e| InputError::io(&dir.display().to_string(), &e))?;
-        runner = runner.with_library(Box::new(library));
+    let dir = match programs {
+        Some(dir) => Some(
+            library::DirLibrary::new(dir)
+                .map_err(|e| InputError::io(&dir.display().to_string(), &e))?,
+        ),
+        None => None,
+    };
+    let memory = library::Memory::new(dir, ngc_folders);
+    if !memory.is_empty() {
+        runner = runner.with_library(Box::new(memory));
     }
     if let Some((name, values)) = variables {
         runner

@@ -88,7 +88,7 @@ fn feed_style(name: &str) -> Result<fiveaxis_post::FeedStyle, String> {
 /// Runs `fiveaxis post`.
 pub fn post(args: &PostArgs) -> Result<u8, InputError> {
     let machine = load_machine(&args.machine)?;
-    let offsets = load_offsets(args.offsets.as_deref())?;
+    let offsets = crate::load_offsets_for(&args.machine, &machine, args.offsets.as_deref())?;
     let source_machine = match &args.from_machine {
         Some(name) => Some(load_machine(name)?),
         None => None,

@@ -20,8 +20,8 @@ use fiveaxis_machine::{Machine, MachineType, SetupError, Side, Vec3};
 use serde_json::{Value, json};
 
 use crate::{
-    EXIT_ALARM, EXIT_OK, InputError, MAX_LINE_BYTES, diagnostic, load_machine, load_offsets,
-    load_variables, open_program, report, write_error, write_whole,
+    EXIT_ALARM, EXIT_OK, InputError, MAX_LINE_BYTES, diagnostic, load_machine, load_variables,
+    open_program, report, write_error, write_whole,
 };
 use pack::{PathPacker, Point};
 
@@ -33,7 +33,8 @@ pub struct ViewArgs {
     /// Built-in machine name or machine file (TOML).
     #[arg(long, default_value = fiveaxis_machine::DEFAULT_MACHINE)]
     machine: String,
-    /// Offsets file (TOML); default: all offsets zero.
+    /// Offsets file (TOML), or a LinuxCNC tool table (`.tbl`); default:
+    /// the machine file's `tool_table`, else all offsets zero.
     #[arg(long)]
     offsets: Option<PathBuf>,
     /// Write the page here (whole or not at all); default: the program's
@@ -201,7 +202,7 @@ struct Gathered {
 /// Runs `fiveaxis view`.
 pub fn view(args: &ViewArgs) -> Result<u8, InputError> {
     let machine = load_machine(&args.machine)?;
-    let offsets = load_offsets(args.offsets.as_deref())?;
+    let offsets = crate::load_offsets_for(&args.machine, &machine, args.offsets.as_deref())?;
     let program_name = if args.program == "-" {
         "<stdin>"
     } else {
@@ -241,6 +242,11 @@ pub fn view(args: &ViewArgs) -> Result<u8, InputError> {
         runner,
         args.programs.as_deref(),
         variables.as_ref().map(|(n, v)| (n.as_str(), v.as_slice())),
+        crate::library::ngc_folders(
+            &args.machine,
+            &machine.params.subroutine_path,
+            &args.program,
+        ),
     )?;
 
     let gathered = gather(&mut runner, &machine, args.tolerance, program_name)?;

@@ -536,3 +536,75 @@ fn fanuc_family_programs_run_to_their_end_or_stop_where_the_control_would() {
     }
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
+
+/// The LinuxCNC programs of the corpus read as LinuxCNC reads them: on
+/// the built-in trunnions with `control = "linuxcnc"`
+/// (`tests/corpus-setups/trunnion-*-linuxcnc.toml`), and where each stops
+/// for now. Most are subroutine files (`o<name> sub` … `endsub`): run
+/// alone, the definition is skipped and the file ends without M2 or `%`,
+/// FX0126 at its last line, as `rs274` stops ("File ended with no percent
+/// sign or program end"); one has its M2. The others stop at what these
+/// machine files lack: the
+/// configurations' own M codes (`M428`/`M429`, remapped kinematics
+/// switches), a B axis on the A/C trunnion, the soft limits of the
+/// built-in machine, and LinuxCNC 2.10's `G68.2 … Q` plane form.
+#[test]
+fn linuxcnc_programs_read_as_linuxcnc() {
+    const CLEAN: Option<(&str, usize)> = None;
+    let cases: [(&str, Option<(&str, usize)>); 22] = [
+        ("lcnc_boat-xyzac.ngc", Some(("FX0011", 2))),
+        ("lcnc_boat-xyzbc.ngc", Some(("FX0011", 2))),
+        ("lcnc_bridgemill_5axisgui.ngc", Some(("FX0004", 18))),
+        ("lcnc_centering.ngc", Some(("FX0126", 42))),
+        ("lcnc_gmoccapy_test-xyzac.ngc", Some(("FX0126", 47))),
+        ("lcnc_gmoccapy_test-xyzbc.ngc", Some(("FX0126", 47))),
+        ("lcnc_helix_ac.ngc", Some(("FX0126", 22))),
+        ("lcnc_helix_bc.ngc", Some(("FX0126", 22))),
+        ("lcnc_impeller-7bl-xyzac.ngc", Some(("FX0011", 4))),
+        ("lcnc_suite_twp_simple_example.ngc", Some(("FX0501", 6))),
+        ("lcnc_trsrn_circular_pocket.ngc", CLEAN),
+        ("lcnc_trsrn_incremental_repetition.ngc", Some(("FX0012", 4))),
+        (
+            "lcnc_trsrn_incremental_repetition_back_and_forth.ngc",
+            Some(("FX0012", 4)),
+        ),
+        (
+            "lcnc_trsrn_incremental_repetition_g533.ngc",
+            Some(("FX0012", 4)),
+        ),
+        ("lcnc_trsrn_simple_example.ngc", Some(("FX0500", 4))),
+        ("lcnc_trsrn_square.ngc", Some(("FX0126", 9))),
+        ("lcnc_xyzab-tdr-demo.ngc", Some(("FX0011", 4))),
+        ("lcnc_xyzac_switchkins_sub.ngc", Some(("FX0126", 47))),
+        ("lcnc_xyzac_switchkins_test_1.ngc", Some(("FX0011", 4))),
+        ("lcnc_xyzac_switchkins_test_2.ngc", Some(("FX0011", 4))),
+        ("lcnc_xyzac_switchkins_test_3.ngc", Some(("FX0011", 2))),
+        ("lcnc_xyzbc_switchkins_sub.ngc", Some(("FX0126", 47))),
+    ];
+    let dir = corpus_dir();
+    let setups = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/corpus-setups");
+    let mut failures = Vec::new();
+    for (name, stop) in cases {
+        let program = dir.join(name);
+        if !program.exists() {
+            continue;
+        }
+        let machine = if name.contains("bc") {
+            "trunnion-bc-linuxcnc.toml"
+        } else {
+            "trunnion-ac-linuxcnc.toml"
+        };
+        let machine = setups.join(machine).display().to_string();
+        let outcome = run_with(Input::File(&program), &["--machine", &machine], &[]);
+        let alarm = outcome.stderr.lines().find_map(parse_alarm_line);
+        let got = alarm.map(|(code, line, _)| (code, line));
+        let ended = outcome.status.is_some();
+        if !ended || got != stop {
+            failures.push(format!(
+                "{name}: expected {stop:?}, got {got:?} (ended: {ended}); stderr: {}",
+                outcome.stderr.lines().next().unwrap_or("")
+            ));
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}

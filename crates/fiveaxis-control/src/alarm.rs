@@ -215,6 +215,11 @@ pub enum Condition {
     MacroArgumentAddress,
     /// #3000 = n (message): the program's own alarm, 3000 + n.
     MacroAlarm,
+    /// An o-word out of place (LinuxCNC): `endif` without `if`, `sub`
+    /// without `endsub`, a call of a subroutine that is nowhere, …
+    OWordFlow,
+    /// The file ends without M2, M30 or a closing `%` (LinuxCNC).
+    ProgramEndMissing,
     /// A canned cycle that drills without its hole bottom or R point.
     CycleDataMissing,
     /// G73 / G83 without Q, or with Q0.
@@ -326,6 +331,8 @@ impl Condition {
         Condition::MacroSequenceNumber,
         Condition::MacroArgumentAddress,
         Condition::MacroAlarm,
+        Condition::OWordFlow,
+        Condition::ProgramEndMissing,
         Condition::CycleDataMissing,
         Condition::CycleDepthMissing,
         Condition::CycleReferenceReturn,
@@ -476,6 +483,12 @@ impl Condition {
             }
             Condition::MacroArgumentAddress => "An argument address that G65/G66 cannot take",
             Condition::MacroAlarm => "#3000 = n (message): the program's own alarm, 3000 + n",
+            Condition::ProgramEndMissing => {
+                "The file ends without M2, M30 or a closing % (LinuxCNC)"
+            }
+            Condition::OWordFlow => {
+                "An o-word out of place (LinuxCNC): endif without if, sub without endsub, a call of a subroutine that is nowhere"
+            }
             Condition::CycleDataMissing => {
                 "A canned cycle that drills without its hole bottom or R point"
             }
@@ -696,6 +709,8 @@ impl Condition {
             C::MacroSequenceNumber => 122,
             C::MacroArgumentAddress => 123,
             C::MacroAlarm => 124,
+            C::OWordFlow => 125,
+            C::ProgramEndMissing => 126,
             C::CycleDataMissing => 130,
             C::CycleDepthMissing => 131,
             C::CycleReferenceReturn => 132,

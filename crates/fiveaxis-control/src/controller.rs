@@ -25,6 +25,7 @@ mod coordinates;
 mod cutter_c;
 mod cycles;
 mod haas;
+mod linuxcnc;
 mod m_codes;
 mod motion;
 mod system_vars;
@@ -80,6 +81,13 @@ pub enum Flow {
 #[derive(Clone, Debug)]
 struct State {
     modal: Modal,
+    /// LinuxCNC: the G28 and G30 positions (`#5161`…, `#5181`…), machine
+    /// coordinates; they start as the machine file's reference positions
+    /// 1 and 2 and change with G28.1 / G30.1 or the parameters.
+    homes: [Joints; 2],
+    /// LinuxCNC G43.1: the tool length offset given in the program (it
+    /// replaces the tool's until G43 or G49).
+    dynamic_length: Option<f64>,
     /// The tilted working plane's feature frame (G68.2), if one is in force.
     feature: Option<coordinates::Feature>,
     /// A G68.2 P2 / P3 definition whose blocks are still coming.
@@ -121,6 +129,9 @@ struct State {
     shift: Vec3,
     /// G92 shift of each axis beyond X, Y, Z (by joint index).
     axis_shift: Joints,
+    /// LinuxCNC: the G92 shift kept in parameters #5211–#5219, which
+    /// G92.2 leaves and G92.3 applies again.
+    g92_kept: (Vec3, Joints),
     /// Tool centre point control data of the running mode.
     tcpc: tcpc::TcpcState,
     /// Three-dimensional tool compensation.
@@ -195,6 +206,8 @@ impl<'m> Controller<'m> {
             dialect: Dialect::of(machine.control),
             state: State {
                 modal: Modal::power_on(machine.params.input_unit),
+                dynamic_length: None,
+                homes: [machine.params.reference_1, machine.params.reference_2],
                 feature: None,
                 feature_pending: None,
                 joints: machine.params.reference_1,
@@ -214,6 +227,7 @@ impl<'m> Controller<'m> {
                 clamped: [None; 2],
                 shift: Vec3::zeros(),
                 axis_shift: [0.0; MAX_AXES],
+                g92_kept: (Vec3::zeros(), [0.0; MAX_AXES]),
                 tcpc: tcpc::TcpcState::default(),
                 comp3d: comp3d::Comp3d::default(),
                 setup: SetupError::IDENTITY,
@@ -289,6 +303,23 @@ impl<'m> Controller<'m> {
     /// The tool in the spindle: the selected tool at the last tool change.
     pub fn spindle_tool(&self) -> u32 {
         self.state.spindle_tool
+    }
+
+    /// The tool length offset applied now (0 under G49).
+    pub fn applied_tool_length(&self) -> f64 {
+        self.tool_length()
+    }
+
+    /// LinuxCNC's G28 (`n` = 0) or G30 (1) position of machine axis `i`.
+    pub fn home(&self, n: usize, i: usize) -> Option<f64> {
+        self.state.homes.get(n).and_then(|h| h.get(i)).copied()
+    }
+
+    /// Sets LinuxCNC's G28 (`n` = 0) or G30 (1) position of axis `i`.
+    pub fn set_home(&mut self, n: usize, i: usize, value: f64) {
+        if let Some(slot) = self.state.homes.get_mut(n).and_then(|h| h.get_mut(i)) {
+            *slot = value;
+        }
     }
 
     /// Whether the spindle turns (M03 / M04 and not stopped since).
@@ -499,14 +530,20 @@ impl<'m> Controller<'m> {
                 (0..=3, 0) => GKind::Motion,
                 (17..=19, 0) => GKind::Plane,
                 (90 | 91, 0) => GKind::Distance,
+                (90 | 91, 1) if self.dialect.rs274ngc => GKind::ArcDistance,
                 (93..=95, 0) => GKind::Feed,
                 (20 | 21, 0) => GKind::Units,
                 (43 | 44 | 49, 0) | (43, 1 | 4 | 5) => GKind::Length,
                 (54..=59, 0) | (54, 1) => GKind::Work,
                 (54, 4) => GKind::SetupError,
                 (4 | 10 | 27 | 28 | 30 | 52 | 53 | 92, 0) | (53, 1 | 6) => GKind::OneShot,
+                // LinuxCNC G92.1 / G92.2 / G92.3.
+                (92, 1..=3) | (28 | 30, 1) if self.dialect.rs274ngc => GKind::OneShot,
+                (59, 1..=3) if self.dialect.rs274ngc => GKind::Work,
                 (68, 2..=4) => GKind::Feature,
                 (61..=64, 0) => GKind::Cutting,
+                // LinuxCNC G61.1: exact path (speed only, as G61).
+                (61, 1) if self.dialect.rs274ngc => GKind::Cutting,
                 // G05 is refused in 3-D tool compensation (below).
                 (5, 0) if self.comp3d_forbidden(code).is_none() => GKind::Accuracy,
                 (5, 1) | (8, 0) => GKind::Accuracy,
@@ -548,6 +585,7 @@ impl<'m> Controller<'m> {
                 GKind::Motion => codes.motion = Some((code, span)),
                 GKind::Plane => codes.plane = Some(code),
                 GKind::Distance => codes.distance = Some(code),
+                GKind::ArcDistance => codes.arc_distance = Some(code),
                 GKind::Feed => codes.feed = Some(code),
                 GKind::Units => codes.units = Some(code),
                 GKind::Length => codes.length = Some((code, span)),
@@ -638,6 +676,9 @@ impl<'m> Controller<'m> {
                 Distance::Incremental
             };
         }
+        if let Some(code) = codes.arc_distance {
+            modal.ijk_absolute = code.major == 90;
+        }
         if let Some(code) = codes.feed {
             modal.feed_mode = match code.major {
                 93 => FeedMode::InverseTime,
@@ -656,6 +697,12 @@ impl<'m> Controller<'m> {
             self.state.modal.work = self.work_select(code, span)?;
         }
         if let Some(code) = codes.cutting {
+            if self.dialect.rs274ngc {
+                self.state.modal.blend = None;
+                if code.major == 64 {
+                    self.blend_tolerance()?;
+                }
+            }
             self.state.modal.cutting = match code.major {
                 61 => CuttingMode::ExactStop,
                 62 => CuttingMode::CornerOverride,
@@ -669,6 +716,58 @@ impl<'m> Controller<'m> {
         if codes.canned_cancel {
             self.state.rigid_tap = false;
         }
+        Ok(())
+    }
+
+    /// LinuxCNC `G43.1 axes` (g-code.adoc, G43.1): the word of the axis
+    /// along the tool (Z on a mill) is the tool length offset from now
+    /// on; nothing moves in this block (the next move carries it). A
+    /// motion in the block, or an offset on another axis (the kernel's
+    /// length offset lies along the tool), is an alarm.
+    fn dynamic_length_offset(&mut self, span: Span) -> Result<(), Alarm> {
+        let letter = b'Z';
+        for &other in &self.axis_letters[..self.machine.axis_count()] {
+            if other != letter
+                && let Some(word) = self.words.peek(other)
+            {
+                return Err(self.alarm(
+                    Condition::WordNotUsed,
+                    Some(word.span),
+                    format!(
+                        "G43.1 {}: the kernel's tool length offset lies along the tool ({}) only",
+                        char::from(other),
+                        char::from(letter)
+                    ),
+                ));
+            }
+        }
+        let Some(word) = self.words.remove(letter) else {
+            return Err(self.alarm(
+                Condition::NoDataAfterAddress,
+                Some(span),
+                format!("G43.1 needs {}, the tool length offset", char::from(letter)),
+            ));
+        };
+        self.state.dynamic_length = Some(self.length(&word));
+        Ok(())
+    }
+
+    /// LinuxCNC `G64 P- <Q->`: the path blending tolerance P and the
+    /// naive CAM tolerance Q (Q defaults to P), kept in the modal state
+    /// (g-code.adoc, G64); they change speed, not the programmed path.
+    fn blend_tolerance(&mut self) -> Result<(), Alarm> {
+        let p = self.words.take(b'P').map(|word| self.length(&word));
+        let q = self.words.take(b'Q').map(|word| self.length(&word));
+        for (letter, value) in [('P', p), ('Q', q)] {
+            if value.is_some_and(|v| v < 0.0) {
+                return Err(self.alarm(
+                    Condition::ValueOutOfRange,
+                    None,
+                    format!("G64 {letter} must not be negative"),
+                ));
+            }
+        }
+        self.state.modal.blend = p.map(|p| [p, q.unwrap_or(p)]);
         Ok(())
     }
 
@@ -730,7 +829,21 @@ impl<'m> Controller<'m> {
             self.state.feed = word.value * scale;
         }
         if let Some(word) = self.words.take(b'S') {
-            self.state.spindle_speed = f64::from(self.words.integer(&word, 999_999)?);
+            self.state.spindle_speed = if self.dialect.rs274ngc {
+                // LinuxCNC: S is a real number, not negative
+                // (other-code.adoc, Set Spindle Speed: an error "if the S
+                // number is negative").
+                if word.value < 0.0 {
+                    return Err(self.alarm(
+                        Condition::ValueOutOfRange,
+                        Some(word.span),
+                        "the S number is negative".into(),
+                    ));
+                }
+                word.value
+            } else {
+                f64::from(self.words.integer(&word, 999_999)?)
+            };
         }
         if let Some(word) = self.words.take(b'T') {
             let t = self.words.integer(&word, 99_999_999)?;
@@ -774,11 +887,17 @@ impl<'m> Controller<'m> {
         let before = (self.state.modal.length, self.state.h);
         let mut in_place = false;
         self.state.tcpc.startup = false;
+        let dynamic_before = self.state.dynamic_length;
         if let Some((code, span)) = codes.length {
+            self.state.dynamic_length = None;
             self.state.modal.length = match (code.major, code.minor) {
                 (234, _) => {
                     self.start_haas_tcpc(span)?;
                     LengthMode::Tcpc(TcpcType::Angles)
+                }
+                (43, 1) if self.dialect.rs274ngc => {
+                    self.dynamic_length_offset(span)?;
+                    LengthMode::Plus
                 }
                 (43, 1) => LengthMode::ToolAxis,
                 (43, minor @ (4 | 5)) => {
@@ -807,10 +926,31 @@ impl<'m> Controller<'m> {
         {
             self.words.take(b'H');
             self.state.h = self.offset_number(&word)?;
+        } else if self.dialect.rs274ngc
+            && codes
+                .length
+                .is_some_and(|(c, _)| c.major == 43 && c.minor == 0)
+        {
+            // LinuxCNC: G43 without H takes the tool in the spindle
+            // (g-code.adoc, G43: "If H is not given, the current tool").
+            self.state.h = self.state.spindle_tool;
+        }
+        if self.dialect.rs274ngc
+            && (before != (self.state.modal.length, self.state.h)
+                || dynamic_before != self.state.dynamic_length)
+        {
+            // LinuxCNC: a new length offset moves nothing; the axes stay
+            // and the program position takes the change (rs274: after
+            // `G43 H1` the canonical Z differs by the offset, the machine
+            // stands; g-code.adoc, G43.1: "does not cause any motion").
+            in_place = true;
         }
         Ok(if in_place {
             LengthChange::InPlace
-        } else if before == (self.state.modal.length, self.state.h) && !self.state.tcpc.startup {
+        } else if before == (self.state.modal.length, self.state.h)
+            && dynamic_before == self.state.dynamic_length
+            && !self.state.tcpc.startup
+        {
             LengthChange::None
         } else {
             LengthChange::Moves
@@ -912,7 +1052,7 @@ impl<'m> Controller<'m> {
     fn length(&self, word: &Word) -> f64 {
         let params = &self.machine.params;
         let inch = self.state.modal.units == Units::Inch;
-        let value = if word.decimal_point || params.decimal_point_input {
+        let value = if word.decimal_point || self.calculator_input() {
             word.value
         } else if inch {
             word.value * params.least_input_increment / 10.0
@@ -922,10 +1062,17 @@ impl<'m> Controller<'m> {
         if inch { value * MM_PER_INCH } else { value }
     }
 
+    /// Numbers without a decimal point count in whole units: calculator
+    /// input (No.3401#0 DPI) or a control that has no least input
+    /// increment rule (LinuxCNC).
+    fn calculator_input(&self) -> bool {
+        self.machine.params.decimal_point_input || self.dialect.calculator_input
+    }
+
     /// An angle word in degrees (decimal-point rule, no unit change).
     fn angle(&self, word: &Word) -> f64 {
         let params = &self.machine.params;
-        if word.decimal_point || params.decimal_point_input {
+        if word.decimal_point || self.calculator_input() {
             word.value
         } else {
             word.value * params.least_input_increment
@@ -961,6 +1108,11 @@ impl<'m> Controller<'m> {
 
     /// The active H value (geometry + wear), mm.
     fn tool_length(&self) -> f64 {
+        if let Some(length) = self.state.dynamic_length
+            && self.state.modal.length == LengthMode::Plus
+        {
+            return length;
+        }
         if self.state.modal.length == LengthMode::Off || self.state.h == 0 {
             return 0.0;
         }
@@ -1109,8 +1261,15 @@ impl<'m> Controller<'m> {
     ) -> Result<(), Alarm> {
         match code.major {
             4 => self.dwell(span),
+            10 if self.dialect.rs274ngc => self.data_setting_linuxcnc(span, from),
             10 => self.data_setting(span),
             27 => self.reference_check(from, out),
+            28 | 30 if code.minor == 1 => {
+                // LinuxCNC G28.1 / G30.1: the machine position becomes the
+                // G28 / G30 position.
+                self.state.homes[usize::from(code.major == 30)] = self.state.joints;
+                Ok(())
+            }
             28 => self.reference_return(from, 1, out),
             30 => {
                 let n = match self.words.take(b'P') {
@@ -1126,8 +1285,34 @@ impl<'m> Controller<'m> {
             53 if code.minor == 6 => self.tool_axis_control(span, true, out),
             52 => self.local_coordinate_system(),
             53 => self.machine_coordinates(out),
-            _ => self.set_coordinate_system(from),
+            92 if code.minor != 0 => {
+                self.g92_reset(code.minor);
+                Ok(())
+            }
+            _ => {
+                self.set_coordinate_system(from)?;
+                self.state.g92_kept = (self.state.shift, self.state.axis_shift);
+                Ok(())
+            }
         }
+    }
+
+    /// LinuxCNC (g-code.adoc, G92.1, G92.2, G92.3): G92.1 clears the G92
+    /// offsets and their parameters, G92.2 clears the offsets and keeps
+    /// the parameters, G92.3 applies the kept parameters again. None
+    /// moves.
+    fn g92_reset(&mut self, minor: u8) {
+        let zero = (Vec3::zeros(), [0.0; MAX_AXES]);
+        let (shift, axis_shift) = match minor {
+            1 => {
+                self.state.g92_kept = zero;
+                zero
+            }
+            2 => zero,
+            _ => self.state.g92_kept,
+        };
+        self.state.shift = shift;
+        self.state.axis_shift = axis_shift;
     }
 
     /// G04: dwell, P in ms (Haas: seconds with a decimal point) or X in
@@ -1135,7 +1320,7 @@ impl<'m> Controller<'m> {
     /// The seconds of a G04 X word: without a decimal point, in least
     /// input increments (as for lengths).
     fn dwell_seconds(&self, word: &Word) -> f64 {
-        if word.decimal_point || self.machine.params.decimal_point_input {
+        if word.decimal_point || self.calculator_input() {
             word.value
         } else {
             word.value * self.machine.params.least_input_increment
@@ -1146,8 +1331,11 @@ impl<'m> Controller<'m> {
         let p = self.words.take(b'P');
         let x = self.words.peek(b'X');
         if let Some(word) = p {
-            self.words
-                .dwell_ms(&word, self.dialect.dwell_p_seconds_with_point)?;
+            self.words.dwell_ms(
+                &word,
+                self.dialect.dwell_p_seconds_with_point,
+                self.dialect.dwell_p_seconds,
+            )?;
         } else if let Some(word) = x {
             self.words.take(b'X');
             let seconds = self.dwell_seconds(&word);
@@ -1297,6 +1485,7 @@ impl<'m> Controller<'m> {
         out: &mut Vec<Segment>,
     ) -> Result<(), Alarm> {
         let reference = match n {
+            1 | 2 if self.dialect.rs274ngc => self.state.homes[n as usize - 1],
             1 => self.machine.params.reference_1,
             2 => self.machine.params.reference_2,
             _ => {
@@ -1309,6 +1498,9 @@ impl<'m> Controller<'m> {
             }
         };
         let targets = self.axis_words();
+        // LinuxCNC: G28 / G30 without axis words takes every axis home
+        // straight from where it stands (g-code.adoc, G28, G30).
+        let every_axis = self.dialect.rs274ngc && targets.iter().all(Option::is_none);
         let (mid_p, travel) = self.end_point(from, &targets);
         // 3-D tool compensation: the vector is cleared at the intermediate
         // point.
@@ -1317,8 +1509,8 @@ impl<'m> Controller<'m> {
         let mut start = self.rollover_start(&mid, &travel);
         let mut mid_joints = start;
         let mut end = start;
-        for (i, target) in targets.iter().enumerate() {
-            if target.is_some() {
+        for (i, target) in targets.iter().enumerate().take(self.machine.axis_count()) {
+            if target.is_some() || every_axis {
                 mid_joints[i] = mid[i];
                 end[i] = reference[i];
                 if self.is_rollover(i) {
@@ -1649,6 +1841,8 @@ enum GKind {
     Dwo,
     /// Haas G187.
     Smoothness,
+    /// LinuxCNC G90.1 / G91.1: arc centre distance mode.
+    ArcDistance,
 }
 
 /// The G codes of one block, by group; the last of a group wins.
@@ -1662,6 +1856,8 @@ struct GCodes {
     length_in_place: bool,
     plane: Option<Code>,
     distance: Option<Code>,
+    /// LinuxCNC G90.1 / G91.1.
+    arc_distance: Option<Code>,
     feed: Option<Code>,
     units: Option<Code>,
     length: Option<(Code, Span)>,

@@ -35,6 +35,15 @@ pub struct Dialect {
     /// G110–G129 work offsets, and Haas's standard M codes (M10–M13 the
     /// brakes of the fourth and fifth axes). `controller/haas.rs`.
     pub haas_codes: bool,
+    /// P of G04 and the dwell cycles is seconds however it is written
+    /// (LinuxCNC g-code.adoc, G4: "P - seconds to dwell").
+    pub dwell_p_seconds: bool,
+    /// Numbers count in whole units whether or not they have a decimal
+    /// point (LinuxCNC has no least-input-increment rule: `X1` is 1 mm).
+    pub calculator_input: bool,
+    /// The program is read as RS274/NGC (LinuxCNC): o-words, named
+    /// parameters, `;` comments, assignments after the line is read.
+    pub rs274ngc: bool,
 }
 
 impl Dialect {
@@ -49,6 +58,9 @@ impl Dialect {
             dwell_p_seconds_with_point: false,
             g87_manual_retract: false,
             haas_codes: false,
+            dwell_p_seconds: false,
+            calculator_input: false,
+            rs274ngc: false,
         };
         match control {
             Control::Fanuc30i => fanuc(10),
@@ -62,6 +74,9 @@ impl Dialect {
                 dwell_p_seconds_with_point: false,
                 g87_manual_retract: false,
                 haas_codes: false,
+                dwell_p_seconds: false,
+                calculator_input: false,
+                rs274ngc: false,
             },
             Control::Mazak => Self {
                 max_nesting: 8,
@@ -72,6 +87,9 @@ impl Dialect {
                 dwell_p_seconds_with_point: false,
                 g87_manual_retract: false,
                 haas_codes: false,
+                dwell_p_seconds: false,
+                calculator_input: false,
+                rs274ngc: false,
             },
             // Haas's reading rules; its nesting depth and M codes per
             // block are not sourced yet (issue #15): FANUC 30i's stand in.
@@ -82,11 +100,18 @@ impl Dialect {
                 haas_codes: true,
                 ..fanuc(10)
             },
-            // LinuxCNC's interpreter: subroutine nesting (O-word calls) is
-            // bounded by its call stack, 10 levels in rs274ngc's context
-            // array; no limit on M codes per block beyond one per modal
-            // group (issue #15 refines the reading rules).
-            Control::LinuxCnc => fanuc(10),
+            // LinuxCNC's interpreter (o-code.adoc: "The maximum subroutine
+            // nesting level is 10"; overview.adoc: "A line may have zero to
+            // four M words").
+            Control::LinuxCnc => Self {
+                max_nesting: 10,
+                max_m_codes: 4,
+                syntax: Syntax::LINUXCNC,
+                dwell_p_seconds: true,
+                calculator_input: true,
+                rs274ngc: true,
+                ..fanuc(10)
+            },
         }
     }
 }

@@ -181,6 +181,13 @@ pub struct Modal {
     pub cutting: CuttingMode,
     /// G05.1, G05, G08 modes.
     pub accuracy: Accuracy,
+    /// LinuxCNC `G64 P Q`: path blending tolerance and naive CAM
+    /// tolerance, mm (`None`: G64 without P, blending as fast as
+    /// possible, or G61 / G61.1).
+    pub blend: Option<[f64; 2]>,
+    /// LinuxCNC G90.1: arc centres I, J, K are absolute (program
+    /// coordinates); G91.1 (the power-on state): relative to the start.
+    pub ijk_absolute: bool,
 }
 
 impl Modal {
@@ -207,6 +214,8 @@ impl Modal {
                 smoothness: 0,
                 corner_rounding: None,
             },
+            blend: None,
+            ijk_absolute: false,
         }
     }
 }

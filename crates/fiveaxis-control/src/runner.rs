@@ -18,6 +18,7 @@ use crate::segment::{MAX_STEPS, Segment};
 
 mod library;
 mod macros;
+mod oword;
 
 pub use library::ProgramLibrary;
 use library::Sources;
@@ -346,6 +347,10 @@ pub struct Runner<'m, S> {
     recent_next: usize,
     /// Custom macro B: variables and open loops.
     macros: MacroState,
+    /// The program is RS274/NGC (LinuxCNC).
+    rs274ngc: bool,
+    /// RS274/NGC flow: subroutines, calls, open o-word blocks.
+    ngc: oword::NgcState,
     /// The leader before the first `%` has been looked for.
     started: bool,
     /// What the runner skipped and why, for `--verbose`.
@@ -392,7 +397,13 @@ impl<'m, S: Source> Runner<'m, S> {
             flushed: false,
             recent: std::array::from_fn(|_| (0, Vec::new())),
             recent_next: 0,
-            macros: MacroState::new(Dialect::of(machine.control).max_nesting),
+            macros: if Dialect::of(machine.control).rs274ngc {
+                MacroState::linuxcnc(oword::NGC_MAX_CALLS)
+            } else {
+                MacroState::new(Dialect::of(machine.control).max_nesting)
+            },
+            rs274ngc: Dialect::of(machine.control).rs274ngc,
+            ngc: oword::NgcState::default(),
             started: false,
             notes: Vec::new(),
             notes_dropped: 0,
@@ -580,6 +591,16 @@ impl<'m, S: Source> Runner<'m, S> {
             }
         });
         if !read? {
+            if self.rs274ngc && self.stack.is_empty() {
+                // LinuxCNC: "File ended with no percent sign or program
+                // end" (rs274): the main file must end with M2, M30 or the
+                // % that closes an opening one.
+                return Err(self.runner_alarm(
+                    Condition::ProgramEndMissing,
+                    here.line.saturating_sub(1).max(1),
+                    "the file ended with no percent sign or program end (M2, M30)".into(),
+                ));
+            }
             return self.end_of_program();
         }
         self.count_block(here.line)?;
@@ -601,6 +622,9 @@ impl<'m, S: Source> Runner<'m, S> {
                 offset: self.source.position(),
                 line: self.next_line,
             };
+        }
+        if self.rs274ngc {
+            return self.ngc_step(here, sequential, out);
         }
         if self.is_cached_macro_line(here.offset) {
             match self.macro_line(here)? {

@@ -79,7 +79,8 @@ impl Words {
             match letter {
                 b'G' | b'M' => self.push_code(word)?,
                 _ => {
-                    if !is_address(letter, machine) {
+                    let linuxcnc_e = self.control == Control::LinuxCnc && letter == LINUXCNC_E;
+                    if !(is_address(letter, machine) || linuxcnc_e) {
                         return Err(self.alarm(
                             Condition::ImproperAddress,
                             Some(word.span),
@@ -142,6 +143,15 @@ impl Words {
         if word.is_some() {
             self.used |= 1 << index(letter);
         }
+        word
+    }
+
+    /// The word with this letter, marked used and taken out of the block,
+    /// so that later functions do not see it (LinuxCNC's G43.1 axis
+    /// words are offsets, not a move).
+    pub fn remove(&mut self, letter: u8) -> Option<Word> {
+        let word = self.take(letter);
+        self.present &= !(1 << index(letter));
         word
     }
 
@@ -215,8 +225,14 @@ impl Words {
     /// seconds, rounded to the millisecond (`P.05` is 50 ms), and one
     /// without is milliseconds; otherwise (FANUC) P is an integer of
     /// milliseconds and a decimal point is an alarm.
-    pub fn dwell_ms(&self, word: &Word, seconds_with_point: bool) -> Result<u32, Alarm> {
-        if !(seconds_with_point && word.decimal_point) {
+    /// With `always_seconds` (LinuxCNC) P is seconds however written.
+    pub fn dwell_ms(
+        &self,
+        word: &Word,
+        seconds_with_point: bool,
+        always_seconds: bool,
+    ) -> Result<u32, Alarm> {
+        if !(always_seconds || (seconds_with_point && word.decimal_point)) {
             return self.integer(word, MAX_DWELL_MS);
         }
         let ms = word.value * MS_PER_SECOND;
@@ -239,6 +255,9 @@ impl Words {
 pub const MAX_DWELL_MS: u32 = 99_999_999;
 /// Milliseconds in a second.
 const MS_PER_SECOND: f64 = 1000.0;
+
+/// LinuxCNC's `E` word (the analog channel of M66–M68).
+const LINUXCNC_E: u8 = b'E';
 
 /// Whether `letter` is an address of the kernel on this machine.
 fn is_address(letter: u8, machine: &Machine) -> bool {

@@ -108,7 +108,11 @@ pub fn parse_line_as(
 ) -> Result<(), SyntaxError> {
     block.clear();
     block.line = line;
-    let text = block_text(text);
+    let text = if syntax.semicolon_outside_comments {
+        block_text_outside_comments(text)
+    } else {
+        block_text(text)
+    };
     read_block(text, syntax, block).map_err(|error| {
         block.clear();
         block.line = line;
@@ -129,6 +133,33 @@ fn block_text(text: &[u8]) -> &[u8] {
     } else {
         text
     };
+    while let [rest @ .., last] = block {
+        if !LINE_TERMINATORS.contains(last) {
+            break;
+        }
+        block = rest;
+    }
+    block
+}
+
+/// The part of the line that makes the block when `;` starts a comment
+/// only outside parentheses: up to the first such `;`, without trailing
+/// line terminators.
+fn block_text_outside_comments(text: &[u8]) -> &[u8] {
+    let mut in_comment = false;
+    let mut end = text.len();
+    for (i, &b) in text.iter().enumerate() {
+        match b {
+            COMMENT_OPEN => in_comment = true,
+            COMMENT_CLOSE => in_comment = false,
+            END_OF_BLOCK if !in_comment => {
+                end = i;
+                break;
+            }
+            _ => {}
+        }
+    }
+    let mut block = text.get(..end).unwrap_or(text);
     while let [rest @ .., last] = block {
         if !LINE_TERMINATORS.contains(last) {
             break;

@@ -16,6 +16,7 @@ mod linuxcnc;
 mod m_codes;
 mod offsets;
 mod setup_error;
+mod tool_table;
 
 pub use builtin::{DEFAULT_MACHINE, builtin, builtin_names, builtin_source};
 pub use file::MAX_JERK;

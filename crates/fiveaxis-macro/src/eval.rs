@@ -19,7 +19,7 @@
 use fiveaxis_gcode::Span;
 
 use crate::error::{MacroError, MacroErrorKind};
-use crate::expr::{BinOp, Binary, Call, Expr, Func, Value, needs_brackets};
+use crate::expr::{BinOp, Binary, Call, Expr, Func, Value, Var, VarNumber, needs_brackets};
 use crate::settings::MacroSettings;
 use crate::variables::{SystemVariables, Variables};
 
@@ -33,6 +33,9 @@ pub(crate) fn eval(
     match expr {
         Expr::Number(x) => Ok(Value::Number(*x)),
         Expr::Var(var) => {
+            if let VarNumber::Named(name) = &var.number {
+                return vars.read_named(name, var.span, sys).map(Value::Number);
+            }
             let number = vars.resolve(var, sys, settings)?;
             vars.read(number, var.span, sys, settings).map(Value::from)
         }
@@ -79,6 +82,9 @@ fn binary(
 ) -> Result<Value, MacroError> {
     let lhs = eval(vars, &b.lhs, sys, settings)?;
     let rhs = eval(vars, &b.rhs, sys, settings)?;
+    if settings.linuxcnc {
+        return ngc_binary(b, num(lhs, b.span)?, num(rhs, b.span)?);
+    }
     if let (Value::Bool(l), Value::Bool(r)) = (lhs, rhs) {
         return match b.op {
             BinOp::And => Ok(Value::Bool(l && r)),
@@ -118,8 +124,75 @@ fn binary(
         }
         BinOp::Mod => remainder(l, r, b)?,
         BinOp::And | BinOp::Or | BinOp::Xor => bitwise(b, l, r)?,
+        // `**` is LinuxCNC's; the FANUC parser never builds it.
+        BinOp::Pow => l.powf(r),
     };
     finite(x, b.span, &DisplayBinary(b)).map(Value::Number)
+}
+
+/// LinuxCNC's equality tolerance (overview, "Equality and floating-point
+/// values": values within 1e-6 are equal).
+const NGC_EQUAL_TOLERANCE: f64 = 1e-6;
+
+/// A binary operation by LinuxCNC's rules: every result is a number
+/// (a comparison or a logical operation gives 1 or 0; zero is false,
+/// anything else true).
+fn ngc_binary(b: &Binary, l: f64, r: f64) -> Result<Value, MacroError> {
+    let truth = |t: bool| if t { 1.0 } else { 0.0 };
+    let x = match b.op {
+        BinOp::Add => l + r,
+        BinOp::Sub => l - r,
+        BinOp::Mul => l * r,
+        BinOp::Div => {
+            if r == 0.0 {
+                return Err(ngc_division_by_zero(b));
+            }
+            l / r
+        }
+        BinOp::Mod => {
+            if r == 0.0 {
+                return Err(ngc_division_by_zero(b));
+            }
+            // rs274 2.9: -7 MOD 3 = 2, 7.5 MOD -2 = 1.5: the remainder of
+            // truncated division, moved up by |r| when negative.
+            let m = l % r;
+            if m < 0.0 { m + r.abs() } else { m }
+        }
+        BinOp::Pow => {
+            if l < 0.0 && r.fract() != 0.0 {
+                return Err(MacroError::new(
+                    MacroErrorKind::ArgumentOutOfRange,
+                    b.span,
+                    format!(
+                        "attempt to raise a negative number to a non-integer power in `{}`",
+                        DisplayBinary(b)
+                    ),
+                ));
+            }
+            if l == 0.0 && r < 0.0 {
+                return Err(ngc_division_by_zero(b));
+            }
+            l.powf(r)
+        }
+        BinOp::Eq => truth((l - r).abs() < NGC_EQUAL_TOLERANCE),
+        BinOp::Ne => truth((l - r).abs() >= NGC_EQUAL_TOLERANCE),
+        BinOp::Gt => truth(l > r),
+        BinOp::Ge => truth(l >= r),
+        BinOp::Lt => truth(l < r),
+        BinOp::Le => truth(l <= r),
+        BinOp::And => truth(l != 0.0 && r != 0.0),
+        BinOp::Or => truth(l != 0.0 || r != 0.0),
+        BinOp::Xor => truth((l != 0.0) != (r != 0.0)),
+    };
+    finite(x, b.span, &DisplayBinary(b)).map(Value::Number)
+}
+
+fn ngc_division_by_zero(b: &Binary) -> MacroError {
+    MacroError::new(
+        MacroErrorKind::DivisionByZero,
+        b.span,
+        format!("attempt to divide by zero in `{}`", DisplayBinary(b)),
+    )
 }
 
 /// Prints a [`Binary`] without cloning it into an [`Expr`].
@@ -209,6 +282,23 @@ fn call(
     sys: &dyn SystemVariables,
     settings: &MacroSettings,
 ) -> Result<Value, MacroError> {
+    if c.func == Func::Exists {
+        return match &c.arg {
+            Expr::Var(Var {
+                number: VarNumber::Named(name),
+                ..
+            }) => Ok(Value::Number(if vars.named_exists(name, sys) {
+                1.0
+            } else {
+                0.0
+            })),
+            _ => Err(MacroError::new(
+                MacroErrorKind::FormatError,
+                c.span,
+                "EXISTS takes one named parameter, `EXISTS[#<name>]`",
+            )),
+        };
+    }
     let a = num(eval(vars, &c.arg, sys, settings)?, c.span)?;
     let b = match &c.arg2 {
         Some(arg2) => Some(num(eval(vars, arg2, sys, settings)?, c.span)?),
@@ -312,6 +402,9 @@ fn apply(c: &Call, a: f64, b: Option<f64>, settings: &MacroSettings) -> Result<f
         }
         Func::Abs => a.abs(),
         Func::Round => a.round(),
+        // LinuxCNC: FIX rounds down, FUP up (FIX[-2.8] = -3, FUP[-2.8] = -2).
+        Func::Fix if settings.linuxcnc => a.floor(),
+        Func::Fup if settings.linuxcnc => a.ceil(),
         Func::Fix => a.trunc(),
         Func::Fup => {
             let t = a.trunc();
@@ -327,6 +420,7 @@ fn apply(c: &Call, a: f64, b: Option<f64>, settings: &MacroSettings) -> Result<f
             a.ln()
         }
         Func::Exp => a.exp(),
+        Func::Exists => return Err(out_of_range(c, "EXISTS takes a named parameter")),
         Func::Pow => {
             let b = b.unwrap_or(1.0);
             if a < 0.0 && b.fract() != 0.0 {

@@ -69,6 +69,8 @@ pub enum BinOp {
     Lt,
     /// `LE`
     Le,
+    /// `**`: power (LinuxCNC only; it binds tightest).
+    Pow,
 }
 
 impl BinOp {
@@ -76,6 +78,7 @@ impl BinOp {
     /// `+ - OR XOR`, 0 for comparisons (functions bind tightest).
     pub fn precedence(self) -> u8 {
         match self {
+            Self::Pow => 3,
             Self::Mul | Self::Div | Self::And | Self::Mod => 2,
             Self::Add | Self::Sub | Self::Or | Self::Xor => 1,
             Self::Eq | Self::Ne | Self::Gt | Self::Ge | Self::Lt | Self::Le => 0,
@@ -104,13 +107,17 @@ impl BinOp {
             Self::Ge => "GE",
             Self::Lt => "LT",
             Self::Le => "LE",
+            Self::Pow => "**",
         }
     }
 
     /// Whether the operator is written as a keyword (needs blanks around
     /// it when printed).
     fn is_word(self) -> bool {
-        !matches!(self, Self::Add | Self::Sub | Self::Mul | Self::Div)
+        !matches!(
+            self,
+            Self::Add | Self::Sub | Self::Mul | Self::Div | Self::Pow
+        )
     }
 }
 
@@ -151,6 +158,8 @@ pub enum Func {
     Bin,
     /// Binary to BCD.
     Bcd,
+    /// `EXISTS[#<name>]`: 1 when the named parameter exists (LinuxCNC).
+    Exists,
 }
 
 impl Func {
@@ -177,6 +186,9 @@ impl Func {
 
     /// The function's name as written.
     pub fn name(self) -> &'static str {
+        if self == Self::Exists {
+            return "EXISTS";
+        }
         Self::ALL
             .iter()
             .find(|(_, f)| *f == self)
@@ -242,6 +254,10 @@ pub enum VarNumber {
     Direct(u32),
     /// `#[expr]`: the number is computed (and rounded to an integer).
     Indirect(Box<Expr>),
+    /// `#<name>`: a LinuxCNC named parameter, its name lower case without
+    /// blanks; a name starting with `_` is global, any other local to its
+    /// call level.
+    Named(Box<str>),
 }
 
 /// One line of a program, parsed.
@@ -423,6 +439,7 @@ impl fmt::Display for Var {
         match &self.number {
             VarNumber::Direct(n) => write!(f, "#{n}"),
             VarNumber::Indirect(e) => write!(f, "#[{e}]"),
+            VarNumber::Named(name) => write!(f, "#<{name}>"),
         }
     }
 }

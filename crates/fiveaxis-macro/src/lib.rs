@@ -118,6 +118,7 @@ mod block;
 mod error;
 mod eval;
 mod expr;
+mod ngc;
 mod parse;
 mod scan;
 mod settings;
@@ -130,7 +131,13 @@ pub use expr::{
     BinOp, Binary, Call, Expr, Func, Line, NcBlock, NcWord, Statement, Value, Var, VarNumber,
     WordValue,
 };
+pub use ngc::{
+    Comment, MAX_NGC_DEPTH, NgcLine, OKind, OLabel, OWord, label_key, oword_of, parse_ngc_line,
+};
 pub use parse::{MAX_BRACKET_DEPTH, MAX_OPERATIONS, parse_statement};
 pub use scan::{is_macro_line, loop_end, loop_start};
 pub use settings::MacroSettings;
-pub use variables::{LOCAL_COUNT, NoSystemVariables, SystemVarError, SystemVariables, Variables};
+pub use variables::{
+    LOCAL_COUNT, NGC_CALL_ARGS, NGC_MAX_PARAMETER, NoSystemVariables, SystemVarError,
+    SystemVariables, Variables,
+};

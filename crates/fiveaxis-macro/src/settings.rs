@@ -21,6 +21,23 @@ pub struct MacroSettings {
     /// by the least input increment (3 for IS-B in mm: `A10` → 0.010 →
     /// `ADP` → 10). Default 3.
     pub adp_digits: u8,
+    /// LinuxCNC's RS274/NGC rules instead of FANUC's (see `crate::ngc`):
+    /// no vacant values (an unset numbered parameter is 0), comparisons
+    /// and `AND OR XOR` give 1 or 0, `EQ`/`NE` within 1e-6, `MOD` with a
+    /// non-negative result for a positive divisor, `FIX`/`FUP` as floor and
+    /// ceiling, `ATAN[a]/[b]` in -180° … 180°, numbered parameters
+    /// `#1` … `#5602` and named ones `#<name>`. Default `false`.
+    pub linuxcnc: bool,
+}
+
+impl MacroSettings {
+    /// LinuxCNC's settings.
+    pub const LINUXCNC: Self = Self {
+        nat: true,
+        extended_common: false,
+        adp_digits: 3,
+        linuxcnc: true,
+    };
 }
 
 impl Default for MacroSettings {
@@ -29,6 +46,7 @@ impl Default for MacroSettings {
             nat: false,
             extended_common: false,
             adp_digits: 3,
+            linuxcnc: false,
         }
     }
 }

@@ -16,6 +16,8 @@
 //! numbers that stand for integers, variable numbers included); a vacant
 //! computed number is `#0`.
 
+use std::collections::HashMap;
+
 use fiveaxis_gcode::Span;
 
 use crate::error::{MacroError, MacroErrorKind};
@@ -69,6 +71,18 @@ pub trait SystemVariables {
     /// [`SystemVarError::NotAVariable`], [`SystemVarError::ReadOnly`], or
     /// [`SystemVarError::Alarm`] for a write that raises an alarm (`#3000`).
     fn write(&mut self, number: u32, value: Option<f64>) -> Result<(), SystemVarError>;
+
+    /// The value of a predefined named parameter of LinuxCNC (`_x`,
+    /// `_motion_mode`, `_ini[section]name` …; `name` lower case without
+    /// the `#<` `>`). Default: none exist.
+    ///
+    /// # Errors
+    ///
+    /// [`SystemVarError::NotAVariable`] when the controller has no such
+    /// parameter (the program's own globals are then looked up).
+    fn read_named(&self, _name: &str) -> Result<f64, SystemVarError> {
+        Err(SystemVarError::NotAVariable)
+    }
 }
 
 /// A controller without system variables: every access is PS0115.
@@ -97,7 +111,32 @@ pub struct Variables {
     common: Vec<Option<f64>>,
     /// `#500` … `#999`.
     persistent: Vec<Option<f64>>,
+    /// LinuxCNC's parameters (empty unless made by [`Variables::linuxcnc`]).
+    ngc: NgcParams,
 }
+
+/// LinuxCNC's parameters: numbered `#1` … `#5602` (0 until set), named
+/// globals `#<_name>`, named locals per call level, and the caller's
+/// `#1` … `#30` saved per call.
+#[derive(Clone, Debug, Default)]
+struct NgcParams {
+    numbered: Vec<f64>,
+    globals: HashMap<Box<str>, f64>,
+    /// Named locals; `locals[0]` is the main program's level.
+    locals: Vec<HashMap<Box<str>, f64>>,
+    /// `#1` … `#30` of each caller, innermost last.
+    saved: Vec<[f64; NGC_CALL_ARGS]>,
+}
+
+/// LinuxCNC's highest numbered parameter (overview: "currently 5602").
+pub const NGC_MAX_PARAMETER: u32 = 5602;
+/// LinuxCNC's `#5599`: whether `(DEBUG, …)` comments are shown.
+const NGC_DEBUG_FLAG: usize = 5599;
+/// Parameters a LinuxCNC `call` passes: `#1` … `#30`.
+pub const NGC_CALL_ARGS: usize = 30;
+/// LinuxCNC's numbered parameters from this one on are the controller's
+/// (positions, offsets, tool data); those it does not answer are stored.
+const NGC_FIRST_SYSTEM: u32 = 5001;
 
 /// The message for a variable that does not exist.
 fn undefined(number: impl std::fmt::Display, span: Span) -> MacroError {
@@ -124,7 +163,202 @@ impl Variables {
             max_depth: max_call_depth,
             common: vec![None; range_len(&COMMON)],
             persistent: vec![None; range_len(&PERSISTENT)],
+            ngc: NgcParams::default(),
         }
+    }
+
+    /// LinuxCNC's parameters: numbered `#1` … `#5602` all 0 (`#5599`, the
+    /// DEBUG switch, 1), no named
+    /// ones, at the main program's level; `max_call_depth` calls may nest
+    /// (LinuxCNC: 10). Use with [`MacroSettings::LINUXCNC`].
+    pub fn linuxcnc(max_call_depth: usize) -> Self {
+        let mut vars = Self::new(max_call_depth);
+        let mut numbered = vec![0.0; NGC_MAX_PARAMETER as usize + 1];
+        // #5599: DEBUG comments shown (overview.adoc: "default=1").
+        if let Some(debug) = numbered.get_mut(NGC_DEBUG_FLAG) {
+            *debug = 1.0;
+        }
+        vars.ngc = NgcParams {
+            numbered,
+            globals: HashMap::new(),
+            locals: vec![HashMap::new()],
+            saved: Vec::new(),
+        };
+        vars
+    }
+
+    /// LinuxCNC `call`: the caller's `#1` … `#30` are saved, `args` go
+    /// into `#1` … (the rest keep the caller's values), and a new level of
+    /// named locals starts.
+    ///
+    /// # Errors
+    ///
+    /// [`MacroErrorKind::CallNesting`] past the depth given to
+    /// [`Variables::linuxcnc`] (span empty), or more than 30 arguments.
+    pub fn ngc_call(&mut self, args: &[f64]) -> Result<(), MacroError> {
+        if self.ngc.saved.len() >= self.max_depth {
+            return Err(MacroError::new(
+                MacroErrorKind::CallNesting,
+                Span::default(),
+                format!(
+                    "subroutine calls nested deeper than {} levels",
+                    self.max_depth
+                ),
+            ));
+        }
+        if args.len() > NGC_CALL_ARGS {
+            return Err(MacroError::new(
+                MacroErrorKind::FormatError,
+                Span::default(),
+                format!(
+                    "{} arguments in a call: at most {NGC_CALL_ARGS}",
+                    args.len()
+                ),
+            ));
+        }
+        let mut saved = [0.0; NGC_CALL_ARGS];
+        if let Some(own) = self.ngc.numbered.get(1..=NGC_CALL_ARGS) {
+            saved.copy_from_slice(own);
+        }
+        self.ngc.saved.push(saved);
+        for (slot, value) in self.ngc.numbered.iter_mut().skip(1).zip(args) {
+            *slot = *value;
+        }
+        self.ngc.locals.push(HashMap::new());
+        Ok(())
+    }
+
+    /// LinuxCNC `endsub`/`return`: the caller's `#1` … `#30` come back and
+    /// the level's named locals vanish. `false` at the main level.
+    pub fn ngc_return(&mut self) -> bool {
+        let Some(saved) = self.ngc.saved.pop() else {
+            return false;
+        };
+        if let Some(own) = self.ngc.numbered.get_mut(1..=NGC_CALL_ARGS) {
+            own.copy_from_slice(&saved);
+        }
+        if self.ngc.locals.len() > 1 {
+            self.ngc.locals.pop();
+        }
+        true
+    }
+
+    /// LinuxCNC: how many calls are open (`#<_call_level>`).
+    pub fn ngc_depth(&self) -> usize {
+        self.ngc.saved.len()
+    }
+
+    /// LinuxCNC: back to the main level (program end), keeping numbered
+    /// parameters and globals, as LinuxCNC keeps them for the next run.
+    pub fn ngc_reset(&mut self) {
+        while self.ngc_return() {}
+    }
+
+    /// Reads named parameter `name` (lower case, no blanks): a predefined
+    /// one from the controller, a global, or a local of this level.
+    ///
+    /// # Errors
+    ///
+    /// [`MacroErrorKind::UndefinedVariable`] when it was never set.
+    pub fn read_named(
+        &self,
+        name: &str,
+        span: Span,
+        sys: &dyn SystemVariables,
+    ) -> Result<f64, MacroError> {
+        let value = if name.starts_with('_') {
+            match sys.read_named(name) {
+                Ok(v) => Some(v),
+                Err(_) => self.ngc.globals.get(name).copied(),
+            }
+        } else {
+            self.ngc.locals.last().and_then(|l| l.get(name)).copied()
+        };
+        value.ok_or_else(|| {
+            MacroError::new(
+                MacroErrorKind::UndefinedVariable,
+                span,
+                format!("named parameter #<{name}> is not defined"),
+            )
+        })
+    }
+
+    /// Whether named parameter `name` exists (`EXISTS[#<name>]`).
+    pub fn named_exists(&self, name: &str, sys: &dyn SystemVariables) -> bool {
+        self.read_named(name, Span::default(), sys).is_ok()
+    }
+
+    /// Writes named parameter `name`: a global when it starts with `_`,
+    /// else a local of this call level; it springs into existence.
+    ///
+    /// # Errors
+    ///
+    /// [`MacroErrorKind::WriteProtected`] for a predefined (read-only)
+    /// parameter, [`MacroErrorKind::Overflow`] for a value not finite.
+    pub fn write_named(
+        &mut self,
+        name: &str,
+        value: f64,
+        span: Span,
+        sys: &dyn SystemVariables,
+    ) -> Result<(), MacroError> {
+        if !value.is_finite() {
+            return Err(MacroError::new(
+                MacroErrorKind::Overflow,
+                span,
+                format!("#<{name}>: the value is too large"),
+            ));
+        }
+        if name.starts_with('_') {
+            if sys.read_named(name).is_ok() {
+                return Err(MacroError::new(
+                    MacroErrorKind::WriteProtected,
+                    span,
+                    format!("#<{name}> is a predefined parameter and can only be read"),
+                ));
+            }
+            match self.ngc.globals.get_mut(name) {
+                Some(slot) => *slot = value,
+                None => {
+                    self.ngc.globals.insert(name.into(), value);
+                }
+            }
+        } else if let Some(level) = self.ngc.locals.last_mut() {
+            match level.get_mut(name) {
+                Some(slot) => *slot = value,
+                None => {
+                    level.insert(name.into(), value);
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Sets a predefined-looking global the runner keeps itself
+    /// (`_value`, `_value_returned`), bypassing the read-only check.
+    pub fn set_global(&mut self, name: &str, value: f64) {
+        match self.ngc.globals.get_mut(name) {
+            Some(slot) => *slot = value,
+            None => {
+                self.ngc.globals.insert(name.into(), value);
+            }
+        }
+    }
+
+    /// The number of a numbered variable reference (`#n`, `#[e]`),
+    /// computed and rounded; a named one is
+    /// [`MacroErrorKind::FormatError`].
+    ///
+    /// # Errors
+    ///
+    /// As [`Variables::eval`].
+    pub fn resolve_number(
+        &self,
+        var: &Var,
+        sys: &dyn SystemVariables,
+        settings: &MacroSettings,
+    ) -> Result<u32, MacroError> {
+        self.resolve(var, sys, settings)
     }
 
     /// How many calls are nested now (0 in the main program).
@@ -354,6 +588,11 @@ impl Variables {
     ) -> Result<u32, MacroError> {
         match &var.number {
             VarNumber::Direct(n) => Ok(*n),
+            VarNumber::Named(name) => Err(MacroError::new(
+                MacroErrorKind::FormatError,
+                var.span,
+                format!("#<{name}> is a named parameter, not a number"),
+            )),
             VarNumber::Indirect(e) => {
                 let number = self.eval_number(e, sys, settings)?.unwrap_or(0.0).round() + 0.0;
                 if (0.0..=f64::from(u32::MAX)).contains(&number) {
@@ -374,6 +613,9 @@ impl Variables {
         sys: &dyn SystemVariables,
         settings: &MacroSettings,
     ) -> Result<Option<f64>, MacroError> {
+        if settings.linuxcnc {
+            return self.ngc_read(number, span, sys).map(Some);
+        }
         match number {
             0 => Ok(None),
             1..=33 => Ok(self
@@ -419,6 +661,9 @@ impl Variables {
                 format!("#{number}: the value is too large"),
             ));
         }
+        if settings.linuxcnc {
+            return self.ngc_write(number, value.unwrap_or(0.0), span, sys);
+        }
         let slot = match number {
             0 => {
                 return Err(MacroError::new(
@@ -453,6 +698,67 @@ impl Variables {
                 Ok(())
             }
             None => Err(undefined(number, span)),
+        }
+    }
+}
+
+impl Variables {
+    fn ngc_out_of_range(number: u32, span: Span) -> MacroError {
+        MacroError::new(
+            MacroErrorKind::UndefinedVariable,
+            span,
+            format!("parameter number #{number} is out of range 1 to {NGC_MAX_PARAMETER}"),
+        )
+    }
+
+    /// LinuxCNC numbered parameter `number`: the controller's from #5001
+    /// on when it answers, otherwise the stored value (0 until set).
+    fn ngc_read(
+        &self,
+        number: u32,
+        span: Span,
+        sys: &dyn SystemVariables,
+    ) -> Result<f64, MacroError> {
+        if number == 0 || number > NGC_MAX_PARAMETER {
+            return Err(Self::ngc_out_of_range(number, span));
+        }
+        if number >= NGC_FIRST_SYSTEM
+            && let Ok(Some(v)) = sys.read(number)
+        {
+            return Ok(v);
+        }
+        Ok(self
+            .ngc
+            .numbered
+            .get(number as usize)
+            .copied()
+            .unwrap_or(0.0))
+    }
+
+    /// Writes LinuxCNC numbered parameter `number` (the controller's
+    /// first, from #5001 on: a work offset changes the offset memory).
+    fn ngc_write(
+        &mut self,
+        number: u32,
+        value: f64,
+        span: Span,
+        sys: &mut dyn SystemVariables,
+    ) -> Result<(), MacroError> {
+        if number == 0 || number > NGC_MAX_PARAMETER {
+            return Err(Self::ngc_out_of_range(number, span));
+        }
+        if number >= NGC_FIRST_SYSTEM {
+            match sys.write(number, Some(value)) {
+                Ok(()) | Err(SystemVarError::NotAVariable) => {}
+                Err(e) => return Err(system_error(e, number, span, None)),
+            }
+        }
+        match self.ngc.numbered.get_mut(number as usize) {
+            Some(slot) => {
+                *slot = value;
+                Ok(())
+            }
+            None => Err(Self::ngc_out_of_range(number, span)),
         }
     }
 }

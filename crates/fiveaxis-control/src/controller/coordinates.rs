@@ -80,6 +80,11 @@ impl Controller<'_> {
         if code.major >= 110 {
             return self.haas_work_select(code, span);
         }
+        if self.dialect.rs274ngc && code.major == 59 && code.minor > 0 {
+            // LinuxCNC G59.1 / G59.2 / G59.3: systems 7–9, kept in the
+            // offset memory of G54.1 P1–P3.
+            return Ok(WorkSelect::Extended(code.minor));
+        }
         let extended = code.minor == 1 || (code.major == 54 && self.words.has(b'P'));
         if !extended {
             return Ok(WorkSelect::Standard((code.major - 54) as u8));

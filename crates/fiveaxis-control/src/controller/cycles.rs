@@ -57,6 +57,10 @@ pub const PECK_RETRACT: f64 = 0.1;
 /// G83's clearance d: the rapid move back into the hole stops this far
 /// short of the previous depth, mm (FANUC No.5115).
 pub const PECK_CLEARANCE: f64 = 0.1;
+/// LinuxCNC's G73 retract and G83 clearance: 0.010 in, 0.254 mm
+/// (g-code.adoc, G73 and G83: "the default of .010\" / 0.254 mm"; `rs274`
+/// prints 0.254 mm under G21 too).
+pub const LINUXCNC_PECK_CLEARANCE: f64 = 0.254;
 /// Most segments one cycle block may make (K repeats times pecks): a bound
 /// that holds whatever the magnitudes of Z, R, Q and K.
 pub const MAX_CYCLE_SEGMENTS: usize = 1 << 16;
@@ -274,10 +278,13 @@ impl Controller<'_> {
         if let Some(word) = q_word {
             self.state.cycle.q = self.length(&word).abs();
         }
+        let p_word = self.words.peek(b'P');
         if let Some(word) = self.words.take(b'P') {
-            self.state.cycle.p = self
-                .words
-                .dwell_ms(&word, self.dialect.dwell_p_seconds_with_point)?;
+            self.state.cycle.p = self.words.dwell_ms(
+                &word,
+                self.dialect.dwell_p_seconds_with_point,
+                self.dialect.dwell_p_seconds,
+            )?;
         }
         let repeats = match self.words.take(b'K').or_else(|| self.words.take(b'L')) {
             Some(word) => self.words.integer(&word, MAX_REPEATS)?,
@@ -300,6 +307,24 @@ impl Controller<'_> {
         }
         if repeats == 0 {
             return Ok(());
+        }
+        if self.dialect.rs274ngc && cycle == Cycle::G86 && p_word.is_none() {
+            // LinuxCNC (g-code.adoc, G86: "uses a P number"; rs274: "Dwell
+            // time p word missing with g86").
+            return Err(self.alarm(
+                Condition::CycleDataMissing,
+                code_span,
+                "G86 needs P, the dwell in seconds at the bottom (LinuxCNC)".into(),
+            ));
+        }
+        if self.dialect.rs274ngc && cycle == Cycle::G86 && !self.state.spindle_on {
+            // LinuxCNC (g-code.adoc, G86: "It is an error if the spindle is
+            // not turning"; rs274: "Spindle not turning in g86").
+            return Err(self.alarm(
+                Condition::CycleNotAllowed,
+                code_span,
+                "G86 with the spindle stopped: LinuxCNC needs it turning (M3 or M4)".into(),
+            ));
         }
         let levels = self.cycle_levels(cycle, code_span)?;
         let pecks = if matches!(cycle, Cycle::G73 | Cycle::G83) {
@@ -328,6 +353,15 @@ impl Controller<'_> {
         };
         let mut hole = *from;
         let mut cur = start;
+        if self.dialect.rs274ngc && (levels.r - hole[n]) * (levels.bottom - levels.r) < 0.0 {
+            // LinuxCNC's preliminary motion: from below R the drilling
+            // axis goes to R first, once whatever L is (g-code.adoc,
+            // Preliminary and In-Between Motion).
+            hole[n] = levels.r;
+            let end = self.machine_position(&hole);
+            self.push_line(Motion::Rapid, cur, end, out)?;
+            cur = end;
+        }
         for _ in 0..repeats {
             // Positioning in the plane (and any other named axis) at the
             // level where the tool stands.
@@ -402,11 +436,19 @@ impl Controller<'_> {
         } else {
             (r, z)
         };
+        // LinuxCNC's G98 goes back to the old Z only when it is above R
+        // (g-code.adoc, Retract Mode); FANUC's to the initial level.
+        let above_r = (initial - r) * (bottom - r) < 0.0;
+        let back = if c.return_initial && (above_r || !self.dialect.rs274ngc) {
+            initial
+        } else {
+            r
+        };
         Ok(Levels {
             initial,
             r,
             bottom,
-            back: if c.return_initial { initial } else { r },
+            back,
         })
     }
 
@@ -435,6 +477,11 @@ impl Controller<'_> {
             self.push_line(motion, cur, end, out)?;
             cur = end;
             Ok::<(), Alarm>(())
+        };
+        let (retract, clearance) = if self.dialect.rs274ngc {
+            (LINUXCNC_PECK_CLEARANCE, LINUXCNC_PECK_CLEARANCE)
+        } else {
+            (PECK_RETRACT, PECK_CLEARANCE)
         };
         let (rapid, feed) = (Motion::Rapid, Motion::Linear);
         let into = (lv.bottom - lv.r).signum();
@@ -474,10 +521,10 @@ impl Controller<'_> {
                         break;
                     }
                     if cycle == Cycle::G73 {
-                        go(rapid, short(next, PECK_RETRACT), false, out)?;
+                        go(rapid, short(next, retract), false, out)?;
                     } else {
                         go(rapid, lv.r, false, out)?;
-                        go(rapid, short(next, PECK_CLEARANCE), false, out)?;
+                        go(rapid, short(next, clearance), false, out)?;
                     }
                 }
                 go(rapid, lv.back, false, out)?;
@@ -485,6 +532,12 @@ impl Controller<'_> {
             Cycle::G81 | Cycle::G82 | Cycle::G86 => {
                 go(feed, lv.bottom, false, out)?;
                 go(rapid, lv.back, false, out)?;
+            }
+            // LinuxCNC G89 (g-code.adoc): after the dwell "retract the
+            // Z-axis at the current feed rate to clear Z", one feed move.
+            Cycle::G89 if self.dialect.rs274ngc => {
+                go(feed, lv.bottom, false, out)?;
+                go(feed, lv.back, false, out)?;
             }
             Cycle::G74 | Cycle::G84 | Cycle::G85 | Cycle::G89 => {
                 go(feed, lv.bottom, false, out)?;

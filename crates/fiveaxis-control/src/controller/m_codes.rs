@@ -52,6 +52,28 @@ fn standard(code: Code) -> Option<MFunction> {
     })
 }
 
+/// LinuxCNC's standard M codes beyond FANUC's (m-code.adoc): M60 pallet
+/// change stop, M48–M53 override switches, M61 set the current tool, M62–
+/// M68 digital and analog I/O, M70–M73 modal state save and restore, and
+/// the user codes M100–M199 (an external program: no motion). The kernel
+/// moves nothing for any of them.
+fn standard_linuxcnc(code: Code) -> Option<MFunction> {
+    if code.minor != 0 {
+        return None;
+    }
+    match code.major {
+        60 => Some(MFunction::Stop),
+        48..=53 | 61..=68 | 70..=73 | 100..=199 => Some(MFunction::Signal),
+        _ => standard(code),
+    }
+}
+
+/// The words LinuxCNC's I/O and user M codes take (m-code.adoc: M62–M65
+/// P; M66 P E L Q; M67/M68 E Q; M61 Q; M100–M199 P Q; M50–M53 P).
+const LINUXCNC_M_WORDS: &[u8] = b"PELQ";
+/// The highest tool number M61 takes (the offset memory's).
+const MAX_TOOL_NUMBER: u32 = fiveaxis_machine::MAX_TOOL_OFFSET;
+
 impl Controller<'_> {
     /// The function of an M code on this machine: its `[m_codes]` entry,
     /// else the control's standard meaning.
@@ -64,6 +86,8 @@ impl Controller<'_> {
         declared.or_else(|| {
             if self.dialect.haas_codes {
                 super::haas::standard_m_code(self.machine, code)
+            } else if self.dialect.rs274ngc {
+                standard_linuxcnc(code)
             } else {
                 standard(code)
             }
@@ -255,6 +279,25 @@ impl Controller<'_> {
             MFunction::CoolantOn => self.state.coolant = true,
             MFunction::CoolantOff => self.state.coolant = false,
             MFunction::RigidTap => self.state.rigid_tap = true,
+            MFunction::Signal
+                if self.dialect.rs274ngc && matches!(code.major, 50..=53 | 61..=68 | 100..=199) =>
+            {
+                if code.major == 61 {
+                    // M61 Q-: the tool in the spindle is now Q (no change).
+                    let Some(q) = self.words.take(b'Q') else {
+                        return Err(self.alarm(
+                            Condition::NoDataAfterAddress,
+                            Some(span),
+                            "M61 needs Q, the tool number now in the spindle".into(),
+                        ));
+                    };
+                    self.state.spindle_tool = self.words.integer(&q, MAX_TOOL_NUMBER)?;
+                }
+                // Their P, E, L, Q words are I/O numbers and values.
+                for &letter in LINUXCNC_M_WORDS {
+                    let _ = self.words.take(letter);
+                }
+            }
             MFunction::Signal | MFunction::TcpcOn | MFunction::TcpcOff => {}
             MFunction::Clamp(axis) | MFunction::Unclamp(axis) => {
                 let Some(k) = self.machine.rotary.iter().position(|r| r.name == axis) else {

@@ -11,6 +11,21 @@ use crate::alarm::{Alarm, Condition};
 use crate::modal::{FeedMode, MotionMode};
 use crate::segment::{Arc, Motion, Path, Segment, TipPath};
 
+/// LinuxCNC's absolute arc radius tolerance under G21, mm, as `rs274` 2.9
+/// applies it (0.02·√2 mm).
+const LINUXCNC_ARC_ABSOLUTE_MM: f64 = 0.02 * std::f64::consts::SQRT_2;
+/// The same under G20, inches (0.002·√2 in).
+const LINUXCNC_ARC_ABSOLUTE_IN: f64 = 0.002 * std::f64::consts::SQRT_2;
+/// How far LinuxCNC lets R fall short of half the chord of an R-format
+/// arc, mm: 0.00005 in whatever the units (measured with `rs274` 2.9:
+/// under G21 a shortfall of 0.00125 mm is taken and 0.00128 mm refused,
+/// under G20 0.00005 in taken and 0.0001 in refused).
+const LINUXCNC_R_TOLERANCE_MM: f64 = 0.00005 * MM_PER_INCH;
+/// LinuxCNC's relative arc radius tolerance (0.1 % of the radius).
+const LINUXCNC_ARC_RELATIVE: f64 = 0.001;
+/// Millimetres in an inch.
+const MM_PER_INCH: f64 = 25.4;
+
 impl Controller<'_> {
     pub(super) fn segment(
         &self,
@@ -237,8 +252,33 @@ impl Controller<'_> {
             let i_word = self.words.take(CENTER_LETTERS[p]);
             let j_word = self.words.take(CENTER_LETTERS[q]);
             let given = i_word.is_some() || j_word.is_some();
-            let i = i_word.map_or(0.0, |w| self.length(&w));
-            let j = j_word.map_or(0.0, |w| self.length(&w));
+            let (i, j) = if self.state.modal.ijk_absolute {
+                // LinuxCNC G90.1: the centre words are the centre itself,
+                // in program coordinates, and both are needed (rs274: "J
+                // word missing in absolute center arc").
+                let (Some(iw), Some(jw)) = (i_word, j_word) else {
+                    let missing = if i_word.is_none() {
+                        CENTER_LETTERS[p]
+                    } else {
+                        CENTER_LETTERS[q]
+                    };
+                    return Err(self.alarm(
+                        Condition::ArcCenterMissing,
+                        i_word.or(j_word).map(|w| w.span),
+                        format!(
+                            "{} word missing in an absolute centre arc (G90.1 takes both centre \
+                             words of the plane)",
+                            char::from(missing)
+                        ),
+                    ));
+                };
+                (self.length(&iw) - sp, self.length(&jw) - sq)
+            } else {
+                (
+                    i_word.map_or(0.0, |w| self.length(&w)),
+                    j_word.map_or(0.0, |w| self.length(&w)),
+                )
+            };
             if i == 0.0 && j == 0.0 {
                 let message = if given {
                     format!(
@@ -273,7 +313,9 @@ impl Controller<'_> {
                 ),
             ));
         }
-        if (r1 - r0).abs() > ARC_RADIUS_TOLERANCE {
+        if self.dialect.rs274ngc {
+            self.linuxcnc_arc_check(r0, r1)?;
+        } else if (r1 - r0).abs() > ARC_RADIUS_TOLERANCE {
             return Err(self.alarm(
                 Condition::ArcRadiusTolerance,
                 None,
@@ -294,6 +336,35 @@ impl Controller<'_> {
         }))
     }
 
+    /// LinuxCNC's check of a centre-format arc: the radii to the start
+    /// and to the end may differ by up to the larger of an absolute
+    /// tolerance and 0.1 % of the radius. g-code.adoc gives 0.005 mm
+    /// (0.0005 in) and 0.1 %, or at most 0.5 mm (0.05 in); `rs274 -g`
+    /// (2.9) was measured instead, on radii of 2 to 2000 mm and 0.2 in:
+    /// it accepts up to 0.02·√2 mm (0.002·√2 in) or 0.1 % of the radius,
+    /// whichever is larger, with no upper cap (2000 mm accepts 1.3 mm).
+    /// The kernel follows the binary.
+    fn linuxcnc_arc_check(&self, r0: f64, r1: f64) -> Result<(), Alarm> {
+        let absolute = if self.state.modal.units == crate::modal::Units::Inch {
+            LINUXCNC_ARC_ABSOLUTE_IN * MM_PER_INCH
+        } else {
+            LINUXCNC_ARC_ABSOLUTE_MM
+        };
+        let diff = (r1 - r0).abs();
+        if diff > absolute && diff > LINUXCNC_ARC_RELATIVE * r0 {
+            return Err(self.alarm(
+                Condition::ArcRadiusTolerance,
+                None,
+                format!(
+                    "radius to end of arc differs from radius to start: start radius {r0}, \
+                     end radius {r1} (LinuxCNC accepts {:.4} mm or 0.1 %)",
+                    absolute.max(LINUXCNC_ARC_RELATIVE * r0)
+                ),
+            ));
+        }
+        Ok(())
+    }
+
     /// The centre of an R arc: of the two circles through both points, the
     /// one whose arc is at most 180° for R > 0, more for R < 0.
     pub(super) fn center_from_radius(
@@ -310,11 +381,24 @@ impl Controller<'_> {
             return Ok(None);
         }
         let half = chord / 2.0;
-        if r.abs() < half - ARC_RADIUS_TOLERANCE {
+        let tolerance = if self.dialect.rs274ngc {
+            LINUXCNC_R_TOLERANCE_MM
+        } else {
+            ARC_RADIUS_TOLERANCE
+        };
+        if r.abs() < half - tolerance {
             return Err(self.alarm(
                 Condition::ArcRadiusTolerance,
                 Some(span),
-                format!("radius {} is shorter than half the chord {half}", r.abs()),
+                if self.dialect.rs274ngc {
+                    format!(
+                        "arc radius too small to reach end point: R{} is shorter than half the \
+                         chord {half}",
+                        r.abs()
+                    )
+                } else {
+                    format!("radius {} is shorter than half the chord {half}", r.abs())
+                },
             ));
         }
         let h = (r * r - half * half).max(0.0).sqrt();

@@ -277,7 +277,7 @@ impl Controller<'_> {
     /// this rule.
     pub fn input_increment(&self) -> Option<f64> {
         let params = &self.machine.params;
-        if params.decimal_point_input {
+        if params.decimal_point_input || self.dialect.calculator_input {
             None
         } else if self.state.modal.units == Units::Inch {
             Some(params.least_input_increment / 10.0)

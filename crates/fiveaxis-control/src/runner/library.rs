@@ -20,6 +20,17 @@ pub trait ProgramLibrary {
     ///
     /// The program exists but cannot be read.
     fn open(&mut self, number: u32) -> io::Result<Option<(Box<dyn Source>, String)>>;
+
+    /// The file of LinuxCNC subroutine `name` (`o<name> call`, `o123
+    /// call`: `name.ngc` in the subroutine path), or `None`. Default:
+    /// none.
+    ///
+    /// # Errors
+    ///
+    /// The file exists but cannot be read.
+    fn open_named(&mut self, _name: &str) -> io::Result<Option<(Box<dyn Source>, String)>> {
+        Ok(None)
+    }
 }
 
 /// Bits of a position that hold the file index.
@@ -45,6 +56,8 @@ pub(super) struct Sources<S> {
     main: S,
     library: Option<Box<dyn ProgramLibrary>>,
     open: Vec<(u32, String, Box<dyn Source>)>,
+    /// Files opened by name (LinuxCNC subroutines): name, file index.
+    named: Vec<(String, usize)>,
     current: usize,
 }
 
@@ -63,6 +76,7 @@ impl<S: Source> Sources<S> {
             main,
             library: None,
             open: Vec::new(),
+            named: Vec::new(),
             current: 0,
         }
     }
@@ -88,6 +102,31 @@ impl<S: Source> Sources<S> {
         match library.open(number)? {
             Some((source, name)) => {
                 self.open.push((number, name, source));
+                Ok(Some(file_start(self.open.len())))
+            }
+            None => Ok(None),
+        }
+    }
+
+    /// The start of the file of subroutine `name` in the library,
+    /// opening it; `None` when there is no library or it lacks the file.
+    pub(super) fn library_named(&mut self, name: &str) -> io::Result<Option<u64>> {
+        if let Some((_, k)) = self.named.iter().find(|(n, _)| n == name) {
+            return Ok(Some(file_start(*k)));
+        }
+        let Some(library) = self.library.as_mut() else {
+            return Ok(None);
+        };
+        if self.open.len() >= MAX_OPEN {
+            return Err(io::Error::other(format!(
+                "more than {MAX_OPEN} files opened from the program library"
+            )));
+        }
+        match library.open_named(name)? {
+            Some((source, path)) => {
+                // Number u32::MAX: not a numbered program.
+                self.open.push((u32::MAX, path, source));
+                self.named.push((name.to_owned(), self.open.len()));
                 Ok(Some(file_start(self.open.len())))
             }
             None => Ok(None),

@@ -68,6 +68,15 @@ pub(super) struct Loop {
 }
 
 impl MacroState {
+    /// LinuxCNC's parameters and evaluation rules.
+    pub(super) fn linuxcnc(max_calls: usize) -> Self {
+        Self {
+            vars: Variables::linuxcnc(max_calls),
+            settings: MacroSettings::LINUXCNC,
+            ..Self::new(max_calls)
+        }
+    }
+
     pub(super) fn new(max_nesting: usize) -> Self {
         Self {
             vars: Variables::new(max_nesting),

@@ -615,3 +615,13 @@ fn decode_char_at_the_end_of_the_text() {
     assert_eq!(decode_char(b"a", 5), (char::REPLACEMENT_CHARACTER, 1));
     assert_eq!(decode_char(b"a\xc3\xa9", 1), ('\u{e9}', 2));
 }
+
+#[test]
+fn linuxcnc_semicolon_inside_a_comment_is_text() {
+    let mut block = Block::default();
+    parse_line_as(Syntax::LINUXCNC, b"G1 (a;b) X2 ; rest (", 1, &mut block).expect("reads");
+    assert_eq!(block.words.len(), 2);
+    assert_eq!(block.words[1].letter, b'X');
+    // FANUC: the first `;` ends the block, leaving `(a` unclosed.
+    assert!(parse_line_as(Syntax::FANUC, b"G1 (a;b) X2", 1, &mut block).is_err());
+}

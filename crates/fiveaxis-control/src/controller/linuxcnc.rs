@@ -1,0 +1,139 @@
+//! G10 as LinuxCNC writes it (`control = "linuxcnc"`; g-code.adoc, G10
+//! L1, L10, L11, L2, L20):
+//!
+//! * `G10 L2 P- X Y Z`: work offset P (1–6 = G54–G59, 0 = the system in
+//!   use) set to the values, absolute whatever G90/G91;
+//! * `G10 L20 P- X Y Z`: work offset P set so that the current position
+//!   reads the values;
+//! * `G10 L1 P- Z R`: tool P's length and radius set to the values;
+//! * `G10 L10 P- Z R`: tool P's length set so that, with it reloaded, the
+//!   current Z reads the value (in the work system and G92 shift in use);
+//! * `G10 L11 P- Z R`: as L10 with the machine coordinates (LinuxCNC:
+//!   G59.3's, which the kernel does not have: machine coordinates here).
+//!
+//! The kernel's offset memory holds X, Y, Z work offsets and a tool length
+//! and radius (other axis words are alarms); G59.1–G59.3 (P7–P9) are
+//! kept as G54.1 P1–P3.
+
+use fiveaxis_gcode::Span;
+use fiveaxis_machine::{Joints, MAX_TOOL_OFFSET};
+
+use super::Controller;
+use crate::alarm::{Alarm, Condition};
+use crate::modal::{LengthMode, WorkSelect};
+
+/// LinuxCNC's coordinate systems (G54 … G59.3).
+const NGC_WORK_SYSTEMS: u32 = 9;
+/// G54 … G59, the standard work offsets of the kernel's offset memory.
+const KERNEL_WORK_SYSTEMS: u32 = 6;
+/// G59.1 … G59.3, kept as G54.1 P1 … P3.
+const NGC_EXTRA_SYSTEMS: u32 = 3;
+
+impl Controller<'_> {
+    /// G10 by LinuxCNC's rules; `from` is where the program stands.
+    pub(super) fn data_setting_linuxcnc(&mut self, span: Span, from: &Joints) -> Result<(), Alarm> {
+        let Some(l) = self.words.take(b'L') else {
+            return Err(self.alarm(Condition::IllegalG10L, Some(span), "G10 needs L".into()));
+        };
+        let l_value = self.words.integer(&l, 99)?;
+        let Some(p) = self.words.take(b'P') else {
+            return Err(self.alarm(Condition::IllegalG10P, Some(span), "G10 needs P".into()));
+        };
+        match l_value {
+            2 | 20 => {
+                let n = self.words.integer(&p, NGC_WORK_SYSTEMS)?;
+                let n = match (n, self.state.modal.work) {
+                    (0, WorkSelect::Standard(i)) => u32::from(i) + 1,
+                    (0, WorkSelect::Extended(k)) if u32::from(k) <= NGC_EXTRA_SYSTEMS => {
+                        KERNEL_WORK_SYSTEMS + u32::from(k)
+                    }
+                    (0, WorkSelect::Extended(k)) => {
+                        return Err(self.alarm(
+                            Condition::IllegalG10P,
+                            Some(p.span),
+                            format!(
+                                "G10 P0: the system in use is G54.1 P{k}, not one of LinuxCNC's"
+                            ),
+                        ));
+                    }
+                    (n, _) => n,
+                };
+                if let Some(r) = self.words.take(b'R')
+                    && r.value != 0.0
+                {
+                    return Err(self.alarm(
+                        Condition::ValueOutOfRange,
+                        Some(r.span),
+                        "G10 R: a rotated coordinate system is not in the kernel's offset memory"
+                            .into(),
+                    ));
+                }
+                let slot = n as usize - 1;
+                let mut value = if slot < KERNEL_WORK_SYSTEMS as usize {
+                    self.offsets.work[slot]
+                } else {
+                    self.offsets.extended_work[slot - KERNEL_WORK_SYSTEMS as usize]
+                };
+                for (axis, letter) in [b'X', b'Y', b'Z'].into_iter().enumerate() {
+                    let Some(word) = self.words.take(letter) else {
+                        continue;
+                    };
+                    let v = self.length(&word);
+                    value[axis] = if l_value == 2 {
+                        v
+                    } else {
+                        // The current position reads v: the offset moves
+                        // by the difference.
+                        let i = self.machine.axis_index(char::from(letter)).unwrap_or(axis);
+                        value[axis] + from[i] - v
+                    };
+                }
+                if slot < KERNEL_WORK_SYSTEMS as usize {
+                    self.offsets.work[slot] = value;
+                } else {
+                    self.offsets.extended_work[slot - KERNEL_WORK_SYSTEMS as usize] = value;
+                }
+                Ok(())
+            }
+            1 | 10 | 11 => {
+                let n = self.words.integer(&p, MAX_TOOL_OFFSET)?;
+                let applied = match self.state.modal.length {
+                    LengthMode::Plus => {
+                        let t = self.offsets.tool(self.state.h);
+                        t.length + t.length_wear
+                    }
+                    _ => 0.0,
+                };
+                let z = self.machine.axis_index('Z');
+                let length = match self.words.take(b'Z') {
+                    Some(word) => {
+                        let v = self.length(&word);
+                        Some(match (l_value, z) {
+                            (1, _) => v,
+                            (10, Some(i)) => from[i] + applied - v,
+                            (_, Some(i)) => self.state.joints[i] - v,
+                            (_, None) => v,
+                        })
+                    }
+                    None => None,
+                };
+                let radius = self.words.take(b'R').map(|word| self.length(&word));
+                let tool = self.offsets.tools.entry(n).or_default();
+                if let Some(length) = length {
+                    tool.length = length;
+                    tool.length_wear = 0.0;
+                }
+                if let Some(radius) = radius {
+                    tool.radius = radius;
+                    tool.radius_wear = 0.0;
+                }
+                Ok(())
+            }
+            _ => Err(self.alarm(
+                Condition::IllegalG10L,
+                Some(l.span),
+                format!("G10 L{l_value}: LinuxCNC's forms are L1, L10, L11, L2 and L20"),
+            )),
+        }
+    }
+}
