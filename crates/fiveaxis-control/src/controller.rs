@@ -927,6 +927,7 @@ impl<'m> Controller<'m> {
             self.words.take(b'H');
             self.state.h = self.offset_number(&word)?;
         } else if self.dialect.rs274ngc
+            && !codes.length_synthesized
             && codes
                 .length
                 .is_some_and(|(c, _)| c.major == 43 && c.minor == 0)
@@ -1854,6 +1855,9 @@ struct GCodes {
     /// programmed position is read again under the new kinematics and
     /// length (as LinuxCNC's interpreter synchronises with motion).
     length_in_place: bool,
+    /// LinuxCNC: the block's group 08 is the kinematics switch's own, not
+    /// a programmed G43 (so not "G43 without H": the H in force stays).
+    length_synthesized: bool,
     plane: Option<Code>,
     distance: Option<Code>,
     /// LinuxCNC G90.1 / G91.1.

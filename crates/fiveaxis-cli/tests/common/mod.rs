@@ -98,3 +98,43 @@ pub fn page_element(page: &str, id: &str) -> Vec<u8> {
         .map(|k| bytes[(k % width) * n + k / width])
         .collect()
 }
+
+/// `o<name> call [..]` with the NGCGUI defaults of `text`: the values of
+/// `(=value …)` comments on `#<…> = #n` lines, by n (0 where none).
+pub fn ngcgui_call(name: &str, text: &str) -> String {
+    let mut defaults: Vec<(usize, String)> = Vec::new();
+    for line in text.lines() {
+        let Some((_, rest)) = line.split_once('=') else {
+            continue;
+        };
+        let rest = rest.trim_start();
+        let Some(number) = rest.strip_prefix('#') else {
+            continue;
+        };
+        let digits: String = number.chars().take_while(char::is_ascii_digit).collect();
+        let Ok(n) = digits.parse::<usize>() else {
+            continue;
+        };
+        let Some((_, comment)) = rest.split_once("(=") else {
+            continue;
+        };
+        let value: String = comment
+            .trim_start()
+            .chars()
+            .take_while(|c| c.is_ascii_digit() || *c == '.' || *c == '-')
+            .collect();
+        if !value.is_empty() {
+            defaults.push((n, value));
+        }
+    }
+    let count = defaults.iter().map(|(n, _)| *n).max().unwrap_or(0);
+    let mut call = format!("o<{name}> call");
+    for n in 1..=count {
+        let value = defaults
+            .iter()
+            .find(|(k, _)| *k == n)
+            .map_or("0", |(_, v)| v.as_str());
+        call.push_str(&format!(" [{value}]"));
+    }
+    call
+}

@@ -185,6 +185,7 @@ impl Controller<'_> {
         self.state.kinematics_tcp = tcp;
         self.state.length_on = length_on;
         codes.length_in_place = true;
+        codes.length_synthesized = given.is_none();
         codes.length = Some((
             match (tcp, length_on) {
                 (true, _) => Code::new(43, 4),
