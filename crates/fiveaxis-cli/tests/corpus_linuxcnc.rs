@@ -171,27 +171,18 @@ const PROGRAMS: &[(&str, &str, Ending)] = &[
     ("lcnc_xyzac_switchkins_test_1.ngc", AC, Ending::End),
     ("lcnc_xyzac_switchkins_test_2.ngc", AC, Ending::End),
     ("lcnc_xyzac_switchkins_test_3.ngc", AC, Ending::End),
-    // G10 L20 with rotary words (`a0 c0`): LinuxCNC keeps work offsets
-    // for rotary axes too; the kernel's offset memory holds X Y Z only.
-    (
-        "lcnc_xyzac_switchkins_sub.ngc",
-        AC,
-        Ending::Alarm("FX0012", 19),
-    ),
-    (
-        "lcnc_xyzbc_switchkins_sub.ngc",
-        BC,
-        Ending::Alarm("FX0012", 19),
-    ),
-    ("lcnc_helix_ac.ngc", AC, Ending::Alarm("FX0012", 16)),
-    ("lcnc_helix_bc.ngc", BC, Ending::Alarm("FX0012", 16)),
+    ("lcnc_xyzac_switchkins_sub.ngc", AC, Ending::End),
+    ("lcnc_xyzbc_switchkins_sub.ngc", BC, Ending::End),
+    ("lcnc_helix_ac.ngc", AC, Ending::End),
+    ("lcnc_helix_bc.ngc", BC, Ending::End),
     ("lcnc_centering.ngc", AC, Ending::End),
     ("lcnc_gmoccapy_test-xyzac.ngc", GMOCCAPY_AC, Ending::End),
     // The corpus holds gmoccapy's A/C configuration only: the B/C program
     // runs on the axis B/C one (the same kinematics module).
     ("lcnc_gmoccapy_test-xyzbc.ngc", BC, Ending::End),
-    // G10 L2 with rotary words, as above.
-    ("lcnc_xyzab-tdr-demo.ngc", TDR, Ending::Alarm("FX0012", 6)),
+    // `#<_hal[xyzab_tdr_kins.x-rot-point]>`: a HAL pin, which only a
+    // running LinuxCNC has (rs274 stops there too).
+    ("lcnc_xyzab-tdr-demo.ngc", TDR, Ending::Alarm("FX0113", 10)),
 ];
 
 /// Files that hold one subroutine `o<NAME> sub … endsub` for NGCGUI: they

@@ -20,7 +20,8 @@
 //!   `do … while`) and conditions (`if/elseif/else`), subroutines with
 //!   arguments and `return`, numbered and named parameters (local and
 //!   global), expressions with LinuxCNC's operators and functions, G90 and
-//!   G91, arcs in the three planes given by centre or radius, canned
+//!   G91, arcs in the three planes given by centre (with turns, `P`) or
+//!   radius, canned
 //!   cycles with G98/G99 and `L` repeats;
 //! * the LinuxCNC programs of the shared corpus whose motion rs274 can
 //!   print without the configuration's remaps (see [`CORPUS`]).
@@ -786,8 +787,14 @@ impl Generator {
                 "{p} G91 {g} {first}{dx:.6} {second}{dy:.6}{helix} R{r:.6}"
             ));
         } else {
+            // LinuxCNC's P: whole turns before the arc's own sweep.
+            let turns = if self.below(5) == 0 {
+                format!(" P{}", 2 + self.below(2))
+            } else {
+                String::new()
+            };
             self.line(&format!(
-                "{p} G91 {g} {first}{dx:.6} {second}{dy:.6}{helix} {i_word}{i} {j_word}{j}"
+                "{p} G91 {g} {first}{dx:.6} {second}{dy:.6}{helix} {i_word}{i} {j_word}{j}{turns}"
             ));
         }
         self.line("G90 G17");
@@ -967,11 +974,7 @@ enum Kind {
 /// LinuxCNC's task), and `lcnc_xyzab-tdr-demo.ngc` (it reads
 /// `#<_hal[…]>` pins, which only a running HAL has), and
 /// `lcnc_bridgemill_5axisgui.ngc` (it moves W: rs274 outside LinuxCNC's
-/// task takes X Y Z A B C only, "Bad character 'w' used"), and the helix
-/// subfiles `lcnc_helix_ac.ngc`, `lcnc_helix_bc.ngc`,
-/// `lcnc_xyz[ab]c_switchkins_sub.ngc` (their `G10 L20 … A0 C0` sets work
-/// offsets of rotary axes, which the kernel's offset memory does not
-/// hold: they stop there, `corpus_linuxcnc.rs`).
+/// task takes X Y Z A B C only, "Bad character 'w' used").
 const CORPUS: &[(&str, Kind, &str)] = &[
     ("lcnc_boat-xyzac.ngc", Kind::Main, "AC"),
     ("lcnc_boat-xyzbc.ngc", Kind::Main, "BC"),
@@ -979,7 +982,19 @@ const CORPUS: &[(&str, Kind, &str)] = &[
     ("lcnc_xyzac_switchkins_test_1.ngc", Kind::Main, "AC"),
     ("lcnc_xyzac_switchkins_test_2.ngc", Kind::Main, "AC"),
     ("lcnc_xyzac_switchkins_test_3.ngc", Kind::Main, "AC"),
+    ("lcnc_helix_ac.ngc", Kind::Subfile("helix_ac"), "AC"),
+    ("lcnc_helix_bc.ngc", Kind::Subfile("helix_bc"), "BC"),
     ("lcnc_centering.ngc", Kind::Subfile("centering"), "AC"),
+    (
+        "lcnc_xyzac_switchkins_sub.ngc",
+        Kind::Subfile("xyzac_switchkins_sub"),
+        "AC",
+    ),
+    (
+        "lcnc_xyzbc_switchkins_sub.ngc",
+        Kind::Subfile("xyzbc_switchkins_sub"),
+        "BC",
+    ),
     (
         "lcnc_gmoccapy_test-xyzac.ngc",
         Kind::Subfile("test-xyzac"),

@@ -129,6 +129,10 @@ struct State {
     shift: Vec3,
     /// G92 shift of each axis beyond X, Y, Z (by joint index).
     axis_shift: Joints,
+    /// LinuxCNC: the work offsets of the axes beyond X, Y, Z in each of its
+    /// nine coordinate systems (G10 L2 / L20 with A, B, C words; by joint
+    /// index). The offset memory holds X, Y, Z only.
+    rotary_work: [Joints; 9],
     /// LinuxCNC: the G92 shift kept in parameters #5211–#5219, which
     /// G92.2 leaves and G92.3 applies again.
     g92_kept: (Vec3, Joints),
@@ -227,6 +231,7 @@ impl<'m> Controller<'m> {
                 clamped: [None; 2],
                 shift: Vec3::zeros(),
                 axis_shift: [0.0; MAX_AXES],
+                rotary_work: [[0.0; MAX_AXES]; 9],
                 g92_kept: (Vec3::zeros(), [0.0; MAX_AXES]),
                 tcpc: tcpc::TcpcState::default(),
                 comp3d: comp3d::Comp3d::default(),
@@ -417,7 +422,7 @@ impl<'m> Controller<'m> {
                 .take(self.machine.rotary.len())
             {
                 let i = self.machine.rotary_index(k);
-                from[i] = angle - self.state.axis_shift[i];
+                from[i] = angle - self.rotary_shift(i);
             }
         }
         let was_tcpc = self.tcpc_type().is_some();
@@ -1152,6 +1157,36 @@ impl<'m> Controller<'m> {
         p
     }
 
+    /// The shift between the programmed and the machine position of axis
+    /// `i` beyond X, Y, Z: G92's, and on LinuxCNC the work offset of the
+    /// coordinate system in use.
+    pub(super) fn rotary_shift(&self, i: usize) -> f64 {
+        let work = self
+            .linuxcnc_system()
+            .map_or(0.0, |k| self.state.rotary_work[k][i]);
+        self.state.axis_shift[i] + work
+    }
+
+    /// LinuxCNC's coordinate system in use, 0–8 (G54–G59.3), when the
+    /// program reads as LinuxCNC's.
+    pub(super) fn linuxcnc_system(&self) -> Option<usize> {
+        if !self.dialect.rs274ngc {
+            return None;
+        }
+        match self.state.modal.work {
+            crate::WorkSelect::Standard(i) => Some(usize::from(i)),
+            crate::WorkSelect::Extended(k) if (1..=3).contains(&k) => Some(5 + usize::from(k)),
+            _ => None,
+        }
+    }
+
+    /// LinuxCNC: the work offset of axis `letter` (A, B, C…) in coordinate
+    /// system `system` (1–9), as parameters #5224… read it.
+    pub fn rotary_work_offset(&self, system: usize, letter: char) -> Option<f64> {
+        let i = self.machine.axis_index(letter)?;
+        (i >= 3 && (1..=9).contains(&system)).then(|| self.state.rotary_work[system - 1][i])
+    }
+
     /// Programmed position of every axis at machine position `joints`.
     fn programmed(&self, joints: &Joints) -> Joints {
         let mut p = *joints;
@@ -1171,7 +1206,7 @@ impl<'m> Controller<'m> {
             .skip(3)
             .take(self.machine.axis_count() - 3)
         {
-            *value -= self.state.axis_shift[i];
+            *value -= self.rotary_shift(i);
         }
         p
     }
@@ -1186,7 +1221,7 @@ impl<'m> Controller<'m> {
             .skip(3)
             .take(self.machine.axis_count() - 3)
         {
-            *value += self.state.axis_shift[i];
+            *value += self.rotary_shift(i);
         }
         let lin = if self.tcpc_type().is_some() {
             self.tcpc_gauge(&joints, &Vec3::new(p[0], p[1], p[2]))

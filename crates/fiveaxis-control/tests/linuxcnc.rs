@@ -751,3 +751,37 @@ fn absolute_arc_centres() {
     assert_eq!(a.condition, Condition::ArcCenterMissing);
     assert!(a.message.contains("J word missing"), "{}", a.message);
 }
+
+#[test]
+fn arc_turns_p_as_rs274_counts_them() {
+    // G2 with P3 from (10, 0) about the origin back to (10, 0): three
+    // turns, Z falling 3 mm over them (rs274: ARC_FEED rotation -3). Half
+    // way along, after one and a half turns: (-10, 0), Z -1.5.
+    let program = "G21 G90 G17 F100\nG0 X10 Y0 Z0\nG2 X10 Y0 I-10 J0 Z-3 P3\nM2\n";
+    let machine = mill();
+    let mut runner = Runner::new(
+        &machine,
+        Offsets::default(),
+        SliceSource::new(program.as_bytes()),
+        RunOptions::default(),
+    );
+    let mut last = None;
+    while let Some(seg) = runner.next_segment().expect("no alarm") {
+        last = Some(seg.clone());
+    }
+    let arc = last.expect("the arc");
+    let mid = arc.row(&machine, 0.5).joints;
+    assert!(
+        (mid[0] + 10.0).abs() < 1e-9 && mid[1].abs() < 1e-9,
+        "{mid:?}"
+    );
+    assert!((mid[2] + 1.5).abs() < 1e-9, "{mid:?}");
+    let quarter = arc.row(&machine, 1.0 / 12.0).joints;
+    assert!(
+        quarter[0].abs() < 1e-9 && (quarter[1] + 10.0).abs() < 1e-9,
+        "{quarter:?}"
+    );
+    // P counts turns: 0 is no arc.
+    let a = alarm("G21 G90 G17 F100\nG0 X10 Y0\nG2 X10 Y0 I-10 P0\nM2\n");
+    assert_eq!(a.line, 3, "{a:?}");
+}

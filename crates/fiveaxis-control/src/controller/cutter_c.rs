@@ -410,7 +410,7 @@ impl Controller<'_> {
     fn programmed_at(&self, block: &Deferred, joints: &Joints) -> Joints {
         let mut p = *joints;
         for (i, v) in p.iter_mut().enumerate().skip(3) {
-            *v -= self.state.axis_shift[i];
+            *v -= self.rotary_shift(i);
         }
         let lin = if self.feature().is_some() {
             // The tilted plane: the tip of the tool as it stands.
@@ -443,7 +443,7 @@ impl Controller<'_> {
     fn machine_at(&self, block: &Deferred, p: &Joints) -> Joints {
         let mut joints = *p;
         for (i, v) in joints.iter_mut().enumerate().skip(3) {
-            *v += self.state.axis_shift[i];
+            *v += self.rotary_shift(i);
         }
         let real = self.real_at(block, &Vec3::new(p[0], p[1], p[2]));
         let lin = if self.feature().is_some() {

@@ -88,6 +88,21 @@ impl Controller<'_> {
                         value[axis] + from[i] - v
                     };
                 }
+                // The axes beyond X, Y, Z (A, B, C…): their offsets are kept
+                // per system beside the offset memory (LinuxCNC's G5x
+                // offsets hold every axis).
+                for i in 3..self.machine.axis_count() {
+                    let Some(word) = self.words.take(self.axis_letters[i]) else {
+                        continue;
+                    };
+                    let v = self.axis_value(i, &word);
+                    let offset = &mut self.state.rotary_work[slot][i];
+                    *offset = if l_value == 2 {
+                        v
+                    } else {
+                        *offset + from[i] - v
+                    };
+                }
                 if slot < KERNEL_WORK_SYSTEMS as usize {
                     self.offsets.work[slot] = value;
                 } else {

@@ -324,6 +324,22 @@ impl Controller<'_> {
         }
         let theta0 = (sq - center.1).atan2(sp - center.0);
         let theta1 = (eq - center.1).atan2(ep - center.0);
+        let mut sweep = arc_sweep(theta0, theta1, ccw, r0);
+        if self.dialect.rs274ngc
+            && let Some(word) = self.words.take(b'P')
+        {
+            // LinuxCNC (g-code.adoc, G2/G3: "P - number of turns"): P − 1
+            // whole turns before the arc to the end point.
+            let turns = self.words.integer(&word, MAX_ARC_TURNS)?;
+            if turns == 0 {
+                return Err(self.alarm(
+                    Condition::ValueOutOfRange,
+                    Some(word.span),
+                    "P of an arc counts its turns: at least 1".into(),
+                ));
+            }
+            sweep += sweep.signum() * std::f64::consts::TAU * f64::from(turns - 1);
+        }
         Ok(Some(ArcGeometry {
             axes: [p, q],
             normal,
@@ -331,7 +347,7 @@ impl Controller<'_> {
             r0,
             r1,
             theta0,
-            sweep: arc_sweep(theta0, theta1, ccw, r0),
+            sweep,
             motion: if ccw { Motion::Ccw } else { Motion::Cw },
         }))
     }
@@ -444,6 +460,10 @@ pub(super) fn arc_sweep(theta0: f64, theta1: f64, ccw: bool, radius: f64) -> f64
     }
     if ccw { d } else { -d }
 }
+
+/// Most turns a LinuxCNC arc's P may ask for (each turn is a circle in
+/// the segment's sweep).
+const MAX_ARC_TURNS: u32 = 10_000;
 
 /// A G02 / G03 circle in programmed coordinates.
 #[derive(Clone, Copy, Debug)]

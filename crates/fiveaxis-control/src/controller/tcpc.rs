@@ -426,7 +426,7 @@ impl Controller<'_> {
                 self.choose_rotaries(&v_table, here)?
             };
             for (k, i) in [i0, i1].into_iter().enumerate() {
-                let shift = self.state.axis_shift[i];
+                let shift = self.rotary_shift(i);
                 travel[i] = chosen[k] - current[i];
                 let angle = if self.is_rollover(i) {
                     super::normalize_360(chosen[k])
@@ -442,8 +442,8 @@ impl Controller<'_> {
             // The programmed angles: where the program stood (its own
             // angles, not the corrected machine's) moved by the block.
             let mut programmed = current;
-            programmed[i0] = from[i0] + self.state.axis_shift[i0] + travel[i0];
-            programmed[i1] = from[i1] + self.state.axis_shift[i1] + travel[i1];
+            programmed[i0] = from[i0] + self.rotary_shift(i0) + travel[i0];
+            programmed[i1] = from[i1] + self.rotary_shift(i1) + travel[i1];
             self.state.setup_angles = Some([programmed[i0], programmed[i1]]);
             let ideal = machine.forward(&programmed, 0.0).dir;
             let real = self.state.setup.vector(&ideal);
@@ -455,7 +455,7 @@ impl Controller<'_> {
                 } else {
                     chosen[k]
                 };
-                end_p[i] = angle - self.state.axis_shift[i];
+                end_p[i] = angle - self.rotary_shift(i);
             }
         } else {
             self.check_singular_passage(&current, &end_p, &travel)?;
@@ -842,7 +842,7 @@ impl Controller<'_> {
         }
         let rotating = self.machine.rotary_index(self.rotating_axis());
         let tilt = self.machine.rotary_index(1 - self.rotating_axis());
-        let (a, b) = (current[tilt], end_p[tilt] + self.state.axis_shift[tilt]);
+        let (a, b) = (current[tilt], end_p[tilt] + self.rotary_shift(tilt));
         if a * b < 0.0 && travel[rotating].abs() > ROTARY_EPSILON {
             return Err(self.alarm(
                 Condition::TcpcSingularPassage,

@@ -187,8 +187,20 @@ impl SystemVariables for NgcSystem<'_, '_> {
                 WorkSelect::Extended(_) | WorkSelect::Haas(_) => None,
             },
             n if work_parameter(n) => {
-                if (n - 5221) % 20 >= 3 {
+                let k = (n - 5221) % 20;
+                if k == 9 {
+                    // R, the XY rotation: the kernel's systems are not
+                    // rotated (G10 L2 R is refused).
                     Some(0.0)
+                } else if k >= 3 {
+                    // A, B, C, U, V, W of system (n − 5221) / 20 + 1.
+                    let letter = char::from(b"ABCUVW"[(k - 3) as usize]);
+                    let system = ((n - 5221) / 20 + 1) as usize;
+                    Some(
+                        self.controller
+                            .rotary_work_offset(system, letter)
+                            .unwrap_or(0.0),
+                    )
                 } else {
                     self.fanuc(fanuc_work_number(n))
                 }
