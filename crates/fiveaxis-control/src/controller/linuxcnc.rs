@@ -91,17 +91,18 @@ impl Controller<'_> {
                 // The axes beyond X, Y, Z (A, B, C…): their offsets are kept
                 // per system beside the offset memory (LinuxCNC's G5x
                 // offsets hold every axis).
-                for i in 3..self.machine.axis_count() {
+                for (i, here) in from
+                    .iter()
+                    .enumerate()
+                    .take(self.machine.axis_count())
+                    .skip(3)
+                {
                     let Some(word) = self.words.take(self.axis_letters[i]) else {
                         continue;
                     };
                     let v = self.axis_value(i, &word);
                     let offset = &mut self.state.rotary_work[slot][i];
-                    *offset = if l_value == 2 {
-                        v
-                    } else {
-                        *offset + from[i] - v
-                    };
+                    *offset = if l_value == 2 { v } else { *offset + here - v };
                 }
                 if slot < KERNEL_WORK_SYSTEMS as usize {
                     self.offsets.work[slot] = value;
