@@ -833,19 +833,8 @@ impl<'m, S: Source> Runner<'m, S> {
     }
 
     fn call(&mut self, program: u32, repeats: u32, line: u32) -> Result<(), RunError> {
-        if repeats == 0 {
+        let Some(return_to) = self.call_room(repeats, line)? else {
             return Ok(());
-        }
-        if self.stack.len() >= self.max_nesting {
-            return Err(self.runner_alarm(
-                Condition::NestingTooDeep,
-                line,
-                format!("subprograms nested deeper than {} levels", self.max_nesting),
-            ));
-        }
-        let return_to = Mark {
-            offset: self.source.position(),
-            line: self.next_line,
         };
         let Some(start) = self.find_program(program)? else {
             return Err(self.runner_alarm(
@@ -854,32 +843,14 @@ impl<'m, S: Source> Runner<'m, S> {
                 format!("program O{program} is neither in this file nor in the program library (--programs)"),
             ));
         };
-        self.stack.push(Frame {
-            return_to,
-            start,
-            repeats_left: repeats - 1,
-            macro_call: false,
-            modal_call: false,
-        });
-        self.jump(start)
+        self.enter(start, return_to, repeats)
     }
 
     /// Haas M97: an M98 call whose start is sequence number `sequence` of
     /// the running program.
     fn local_call(&mut self, sequence: u32, repeats: u32, line: u32) -> Result<(), RunError> {
-        if repeats == 0 {
+        let Some(return_to) = self.call_room(repeats, line)? else {
             return Ok(());
-        }
-        if self.stack.len() >= self.max_nesting {
-            return Err(self.runner_alarm(
-                Condition::NestingTooDeep,
-                line,
-                format!("subprograms nested deeper than {} levels", self.max_nesting),
-            ));
-        }
-        let return_to = Mark {
-            offset: self.source.position(),
-            line: self.next_line,
         };
         let Some(start) = self.find_sequence(sequence, return_to)? else {
             return Err(self.runner_alarm(
@@ -888,6 +859,31 @@ impl<'m, S: Source> Runner<'m, S> {
                 format!("M97: sequence number N{sequence} is not in the program"),
             ));
         };
+        self.enter(start, return_to, repeats)
+    }
+
+    /// Where a subprogram call returns to, after checking the nesting
+    /// depth; `None` when it is called no times (L0).
+    fn call_room(&self, repeats: u32, line: u32) -> Result<Option<Mark>, RunError> {
+        if repeats == 0 {
+            return Ok(None);
+        }
+        if self.stack.len() >= self.max_nesting {
+            return Err(self.runner_alarm(
+                Condition::NestingTooDeep,
+                line,
+                format!("subprograms nested deeper than {} levels", self.max_nesting),
+            ));
+        }
+        Ok(Some(Mark {
+            offset: self.source.position(),
+            line: self.next_line,
+        }))
+    }
+
+    /// Runs a subprogram from `start`, `repeats` times, then back to
+    /// `return_to`.
+    fn enter(&mut self, start: Mark, return_to: Mark, repeats: u32) -> Result<(), RunError> {
         self.stack.push(Frame {
             return_to,
             start,
