@@ -55,29 +55,20 @@ pub(super) fn standard_m_code(machine: &Machine, code: Code) -> Option<MFunction
     }
     let rotary = |k: usize| machine.rotary.get(k).map(|r| r.name);
     Some(match code.major {
-        0 => MFunction::Stop,
-        1 => MFunction::OptionalStop,
-        2 | 30 => MFunction::End,
-        3 => MFunction::SpindleCw,
-        4 => MFunction::SpindleCcw,
-        5 => MFunction::SpindleStop,
         // M16 is a tool change as M06.
-        6 | 16 => MFunction::ToolChange,
-        // M07 shower coolant, M08 flood.
-        7 | 8 => MFunction::CoolantOn,
-        9 => MFunction::CoolantOff,
+        16 => MFunction::ToolChange,
         // Brakes: the fourth axis on M10 / M11, the fifth on M12 / M13.
         10 => MFunction::Clamp(rotary(0)?),
         11 => MFunction::Unclamp(rotary(0)?),
         12 => MFunction::Clamp(rotary(1)?),
         13 => MFunction::Unclamp(rotary(1)?),
-        19 => MFunction::SpindleOrient,
         // Chip conveyor (M31, M33), coolant spigot (M34, M35), air blast
         // (M83, M84), through-tool air blast (M73, M74), through-spindle
         // coolant (M88, M89): no axis moves; the kernel's coolant state is
         // the flood coolant of M08 / M09.
         31 | 33 | 34 | 35 | 73 | 74 | 83 | 84 | 88 | 89 => MFunction::Signal,
-        _ => return None,
+        // M00–M09 (M07 shower coolant, M08 flood), M19, M30 as FANUC's.
+        _ => return super::m_codes::standard(code),
     })
 }
 

@@ -33,7 +33,7 @@ const CLAMP_TOLERANCE: f64 = 1e-9;
 
 /// The control's standard meaning of an M code (FANUC machining centres:
 /// the usual M00–M09, M19, M30).
-fn standard(code: Code) -> Option<MFunction> {
+pub(super) fn standard(code: Code) -> Option<MFunction> {
     if code.minor != 0 {
         return None;
     }
