@@ -917,6 +917,15 @@ impl Generator {
             2 => format!("G83 Q{}", self.value(1.0, 4.0)),
             _ => format!("G73 Q{}", self.value(1.0, 4.0)),
         };
+        if self.below(4) == 0 {
+            // Started in G91: R from where the tool stands, Z from R.
+            let (dx, dy) = (self.value(-10.0, 10.0), self.value(-10.0, 10.0));
+            let (r, z) = (-self.value(1.0, 8.0), -self.value(1.0, 6.0));
+            let l = 1 + self.below(3);
+            self.line(&format!("G91 {retract} {cycle} X{dx} Y{dy} Z{z} R{r} L{l}"));
+            self.line("G90 G80");
+            return;
+        }
         self.line(&format!("{retract} {cycle} X{x} Y{y} Z{z} R{r}"));
         if self.below(2) == 0 {
             let (dx, dy) = (self.value(-10.0, 10.0), self.value(-10.0, 10.0));
