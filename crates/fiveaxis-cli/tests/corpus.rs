@@ -9,6 +9,8 @@
 //! it (exit 1). Never a panic (101), a signal, a hang, or "unusable input"
 //! (2). Run with `--nocapture` to see one summary line per file.
 
+mod common;
+
 use std::io::{BufRead, BufReader, Read};
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, ExitStatus, Stdio};
@@ -17,10 +19,6 @@ use std::time::{Duration, Instant};
 
 /// Longest a single corpus program may take in a debug build.
 const DEADLINE: Duration = Duration::from_secs(300);
-
-fn corpus_dir() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/corpus")
-}
 
 /// The corpus programs, by name.
 fn programs(dir: &Path) -> Vec<PathBuf> {
@@ -224,7 +222,7 @@ fn judge(source: &[u8], outcome: &Outcome) -> (String, Option<String>) {
 
 #[test]
 fn every_corpus_program_ends_cleanly_or_with_one_rendered_alarm() {
-    let dir = corpus_dir();
+    let dir = common::corpus_dir();
     if !dir.is_dir() {
         println!("corpus: {} not found, skipped", dir.display());
         return;
@@ -455,7 +453,7 @@ fn check_positions(outcome: &Outcome, positions: &[Position]) -> Vec<String> {
 
 #[test]
 fn fanuc_family_programs_run_to_their_end_or_stop_where_the_control_would() {
-    let dir = corpus_dir();
+    let dir = common::corpus_dir();
     if !dir.is_dir() {
         println!("corpus: {} not found, skipped", dir.display());
         return;
@@ -581,7 +579,7 @@ fn linuxcnc_programs_read_as_linuxcnc() {
         ("lcnc_xyzac_switchkins_test_3.ngc", Some(("FX0011", 2))),
         ("lcnc_xyzbc_switchkins_sub.ngc", Some(("FX0126", 47))),
     ];
-    let dir = corpus_dir();
+    let dir = common::corpus_dir();
     let setups = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/corpus-setups");
     let mut failures = Vec::new();
     for (name, stop) in cases {

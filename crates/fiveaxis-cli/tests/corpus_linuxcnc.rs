@@ -16,13 +16,8 @@ use std::process::Output;
 
 use fiveaxis_machine::{MFunction, Machine};
 
-fn corpus() -> PathBuf {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/corpus");
-    std::fs::canonicalize(&path).unwrap_or(path)
-}
-
 fn configs() -> PathBuf {
-    corpus().join("linuxcnc-configs")
+    common::corpus_dir().join("linuxcnc-configs")
 }
 
 fn fiveaxis(args: &[&str]) -> Output {
@@ -203,7 +198,7 @@ const SUBFILES: &[(&str, &str)] = &[
 fn run_on(program: &str, config: &str) -> (Option<(String, usize)>, String, String) {
     let dir = tempfile::tempdir().expect("a temporary directory");
     let machine = import_to(config, dir.path());
-    let mut program_path = corpus().join(program);
+    let mut program_path = common::corpus_dir().join(program);
     if let Some((_, name)) = SUBFILES.iter().find(|(file, _)| *file == program) {
         // `o<NAME> call [defaults]`, M2, then the file: the call finds the
         // subroutine further on. The wrapper's lines come first, so the
@@ -252,7 +247,8 @@ fn matches(ending: &Option<(String, usize)>, expected: &Ending) -> bool {
 
 #[test]
 fn linuxcnc_programs_on_their_imported_machines() {
-    let listed = std::fs::read_to_string(corpus().join("MANIFEST.tsv")).expect("manifest");
+    let listed =
+        std::fs::read_to_string(common::corpus_dir().join("MANIFEST.tsv")).expect("manifest");
     for (program, config, expected) in PROGRAMS {
         assert!(listed.contains(program), "{program} is in the manifest");
         let (ending, rows, err) = run_on(program, config);

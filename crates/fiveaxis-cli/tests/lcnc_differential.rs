@@ -1058,7 +1058,7 @@ fn corpus_machine(rotary: &str) -> String {
 /// Where the corpus' switch-kinematics configuration keeps the
 /// subroutines its programs call (`o<helix_ac> call`).
 fn config_subroutines() -> PathBuf {
-    corpus_dir().join("linuxcnc-configs/axis/vismach/5axis/table-rotary-tilting/remap_subs")
+    common::corpus_dir().join("linuxcnc-configs/axis/vismach/5axis/table-rotary-tilting/remap_subs")
 }
 
 /// The INI rs274 reads: subroutines from `dir` and the configuration's
@@ -1096,16 +1096,12 @@ fn zero_tool_table(dir: &Path) -> PathBuf {
     path
 }
 
-fn corpus_dir() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/corpus")
-}
-
 #[test]
 fn corpus_programs_move_as_rs274_moves_them() {
     if !require_rs274() {
         return;
     }
-    let corpus = corpus_dir();
+    let corpus = common::corpus_dir();
     if !corpus.is_dir() {
         eprintln!("skipped: no corpus at {}", corpus.display());
         return;

@@ -216,6 +216,15 @@ pub struct Post {
     pub fixed_direction_error: f64,
 }
 
+impl Post {
+    /// Takes in how one linearised law came out: the largest deviation
+    /// reached and the pieces that could not be brought within tolerance.
+    fn record(&mut self, outcome: &linearize::Outcome) {
+        self.deviation = self.deviation.max(outcome.deviation);
+        self.unresolved += outcome.unresolved;
+    }
+}
+
 /// Turns segments into moves, one segment at a time.
 #[derive(Debug)]
 pub struct Converter<'m> {
@@ -313,8 +322,7 @@ impl<'m> Converter<'m> {
                         line: seg.line,
                     });
                 });
-                self.post.deviation = self.post.deviation.max(outcome.deviation);
-                self.post.unresolved += outcome.unresolved;
+                self.post.record(&outcome);
             }
         }
     }
@@ -492,8 +500,7 @@ impl<'m> Converter<'m> {
                 });
             },
         );
-        self.post.deviation = self.post.deviation.max(outcome.deviation);
-        self.post.unresolved += outcome.unresolved;
+        self.post.record(&outcome);
         self.angles = Some(law.end_angles());
     }
 
@@ -548,8 +555,7 @@ impl<'m> Converter<'m> {
                     line: seg.line,
                 });
             });
-        self.post.deviation = self.post.deviation.max(outcome.deviation);
-        self.post.unresolved += outcome.unresolved;
+        self.post.record(&outcome);
     }
 
     /// Retract along the tool axis by the retract distance, turn the

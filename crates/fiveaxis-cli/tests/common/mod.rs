@@ -138,3 +138,11 @@ pub fn ngcgui_call(name: &str, text: &str) -> String {
     }
     call
 }
+
+/// The shared corpus of real programs beside the workspace
+/// (`../shared/corpus`, read in place, never copied), canonical when it
+/// exists.
+pub fn corpus_dir() -> std::path::PathBuf {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/corpus");
+    std::fs::canonicalize(&path).unwrap_or(path)
+}
