@@ -785,3 +785,42 @@ fn arc_turns_p_as_rs274_counts_them() {
     let a = alarm("G21 G90 G17 F100\nG0 X10 Y0\nG2 X10 Y0 I-10 P0\nM2\n");
     assert_eq!(a.line, 3, "{a:?}");
 }
+
+#[test]
+fn hal_pins_and_ini_values_come_from_the_machine_file() {
+    let mut machine = mill();
+    machine
+        .params
+        .hal_pins
+        .insert("kins.x-rot-point".into(), -50.0);
+    machine.params.ini_values.insert("SETUP]XPOS".into(), 3.25);
+    let program = "G0 X#<_hal[kins.x-rot-point]> Y#<_ini[setup]xpos>\n\
+                   o1 if [EXISTS[#<_hal[kins.nothing]>] OR EXISTS[#<_ini[setup]ypos>]]\n\
+                   G0 Z99\n\
+                   o1 else\n\
+                   G0 Z[EXISTS[#<_ini[SETUP]XPOS>] + 1]\n\
+                   o1 endif\n\
+                   G0 X#<_hal[kins.nothing]>\nM2\n";
+    let mut runner = Runner::new(
+        &machine,
+        Offsets::default(),
+        SliceSource::new(program.as_bytes()),
+        RunOptions::default(),
+    );
+    let mut ends = Vec::new();
+    let alarm = loop {
+        match runner.next_segment() {
+            Ok(Some(seg)) => {
+                let r = seg.row(&machine, 1.0);
+                ends.push([r.joints[0], r.joints[1], r.joints[2]]);
+            }
+            Ok(None) => break None,
+            Err(RunError::Alarm { alarm, .. }) => break Some(alarm),
+            Err(e) => panic!("{e}"),
+        }
+    };
+    assert_eq!(ends, vec![[-50.0, 3.25, 0.0], [-50.0, 3.25, 2.0]]);
+    // A pin the machine file does not list is an unknown parameter.
+    let alarm = alarm.expect("unknown pin");
+    assert_eq!((alarm.code.to_string().as_str(), alarm.line), ("FX0113", 7));
+}

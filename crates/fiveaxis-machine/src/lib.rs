@@ -30,6 +30,8 @@ pub use offsets::{
 };
 pub use setup_error::SetupError;
 
+use std::collections::BTreeMap;
+
 use nalgebra::{Unit, Vector3};
 
 /// A 3-vector of `f64`: points in mm, directions unitless.
@@ -287,6 +289,13 @@ pub struct Parameters {
     /// configuration whose kinematics cannot be switched): programs are in
     /// tool-tip coordinates from their first block, as after `tcpc_on`.
     pub tcpc_at_start: bool,
+    /// LinuxCNC: the values a program reads as `#<_hal[pin]>` (HAL pins
+    /// as they stand when the program starts; names in lower case).
+    pub hal_pins: BTreeMap<String, f64>,
+    /// LinuxCNC: the values a program reads as `#<_ini[section]name>`,
+    /// keyed `SECTION]NAME` in upper case (LinuxCNC upper-cases the name
+    /// before it looks in the INI file).
+    pub ini_values: BTreeMap<String, f64>,
 }
 
 impl Default for Parameters {
@@ -311,6 +320,8 @@ impl Default for Parameters {
             subroutine_path: Vec::new(),
             tool_table: None,
             tcpc_at_start: false,
+            hal_pins: BTreeMap::new(),
+            ini_values: BTreeMap::new(),
         }
     }
 }

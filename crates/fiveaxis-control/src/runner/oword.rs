@@ -314,14 +314,32 @@ impl SystemVariables for NgcSystem<'_, '_> {
                     self.position(5020, a).ok_or(SystemVarError::NotAVariable)?
                 } else if let Some(a) = n.strip_prefix('_').and_then(axis_of) {
                     self.position(5000, a).ok_or(SystemVarError::NotAVariable)?
+                } else if let Some(pin) = bracketed(n, "_hal[") {
+                    let pins = &self.controller.machine().params.hal_pins;
+                    *pins.get(pin).ok_or(SystemVarError::NotAVariable)?
+                } else if let Some(key) = bracketed(n, "_ini[") {
+                    let key = key.to_ascii_uppercase();
+                    let values = &self.controller.machine().params.ini_values;
+                    *values.get(&key).ok_or(SystemVarError::NotAVariable)?
                 } else {
-                    // `_ini[…]`, `_hal[…]` (no INI file, no HAL here) and
-                    // the program's own globals.
+                    // The program's own globals.
                     return Err(SystemVarError::NotAVariable);
                 }
             }
         };
         Ok(value)
+    }
+}
+
+/// `_hal[pin]` → `pin`, `_ini[section]name` → `section]name`: what
+/// follows `prefix` in a predefined name that reads a HAL pin or an INI
+/// value (the machine file's `hal_pins` and `ini` tables).
+fn bracketed<'n>(name: &'n str, prefix: &str) -> Option<&'n str> {
+    let rest = name.strip_prefix(prefix)?;
+    if prefix == "_hal[" {
+        rest.strip_suffix(']')
+    } else {
+        rest.contains(']').then_some(rest)
     }
 }
 
