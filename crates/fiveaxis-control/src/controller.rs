@@ -539,6 +539,8 @@ impl<'m> Controller<'m> {
                 (93..=95, 0) => GKind::Feed,
                 (20 | 21, 0) => GKind::Units,
                 (43 | 44 | 49, 0) | (43, 1 | 4 | 5) => GKind::Length,
+                // LinuxCNC G43.2: an additional length offset.
+                (43, 2) if self.dialect.rs274ngc => GKind::Length,
                 (54..=59, 0) | (54, 1) => GKind::Work,
                 (54, 4) => GKind::SetupError,
                 (4 | 10 | 27 | 28 | 30 | 52 | 53 | 92, 0) | (53, 1 | 6) => GKind::OneShot,
@@ -729,7 +731,7 @@ impl<'m> Controller<'m> {
     /// on; nothing moves in this block (the next move carries it). A
     /// motion in the block, or an offset on another axis (the kernel's
     /// length offset lies along the tool), is an alarm.
-    fn dynamic_length_offset(&mut self, span: Span) -> Result<(), Alarm> {
+    fn dynamic_length_offset(&mut self, span: Span, name: &str) -> Result<(), Alarm> {
         let letter = b'Z';
         for &other in &self.axis_letters[..self.machine.axis_count()] {
             if other != letter
@@ -739,7 +741,7 @@ impl<'m> Controller<'m> {
                     Condition::WordNotUsed,
                     Some(word.span),
                     format!(
-                        "G43.1 {}: the kernel's tool length offset lies along the tool ({}) only",
+                        "{name} {}: the kernel's tool length offset lies along the tool ({}) only",
                         char::from(other),
                         char::from(letter)
                     ),
@@ -750,11 +752,48 @@ impl<'m> Controller<'m> {
             return Err(self.alarm(
                 Condition::NoDataAfterAddress,
                 Some(span),
-                format!("G43.1 needs {}, the tool length offset", char::from(letter)),
+                format!(
+                    "{name} needs {}, the tool length offset",
+                    char::from(letter)
+                ),
             ));
         };
         self.state.dynamic_length = Some(self.length(&word));
         Ok(())
+    }
+
+    /// LinuxCNC `G43.2 H-` or `G43.2 axes` (g-code.adoc, G43.2): the
+    /// length of tool H, or the value of the word of the axis along the
+    /// tool (Z on a mill), to add to the length offset in force; the
+    /// caller makes the sum the offset until G43 or G49. H and an axis word
+    /// together, neither, or an H the tool table lacks are the manual's
+    /// errors; an offset on another axis is refused as in G43.1.
+    fn additional_length_offset(&mut self, span: Span) -> Result<f64, Alarm> {
+        let h = self.words.take(b'H');
+        let z = self.words.peek(b'Z');
+        if let (Some(h), Some(_)) = (&h, &z) {
+            return Err(self.alarm(
+                Condition::WordNotUsed,
+                Some(h.span),
+                "G43.2: H and axis offsets together".into(),
+            ));
+        }
+        let Some(h) = h else {
+            return self.dynamic_length_offset(span, "G43.2").map(|()| {
+                // dynamic_length_offset stored the word: take it back as
+                // the amount to add.
+                self.state.dynamic_length.take().unwrap_or(0.0)
+            });
+        };
+        let n = self.words.integer(&h, MAX_TOOL_OFFSET)?;
+        match self.offsets.tools.get(&n) {
+            Some(tool) => Ok(tool.length + tool.length_wear),
+            None => Err(self.alarm(
+                Condition::IllegalOffsetNumber,
+                Some(h.span),
+                format!("G43.2 H{n}: tool {n} is not in the tool table"),
+            )),
+        }
     }
 
     /// LinuxCNC `G64 P- <Q->`: the path blending tolerance P and the
@@ -894,14 +933,20 @@ impl<'m> Controller<'m> {
         self.state.tcpc.startup = false;
         let dynamic_before = self.state.dynamic_length;
         if let Some((code, span)) = codes.length {
+            let length_before = self.tool_length();
             self.state.dynamic_length = None;
             self.state.modal.length = match (code.major, code.minor) {
+                (43, 2) => {
+                    let added = self.additional_length_offset(span)?;
+                    self.state.dynamic_length = Some(length_before + added);
+                    LengthMode::Plus
+                }
                 (234, _) => {
                     self.start_haas_tcpc(span)?;
                     LengthMode::Tcpc(TcpcType::Angles)
                 }
                 (43, 1) if self.dialect.rs274ngc => {
-                    self.dynamic_length_offset(span)?;
+                    self.dynamic_length_offset(span, "G43.1")?;
                     LengthMode::Plus
                 }
                 (43, 1) => LengthMode::ToolAxis,

@@ -461,6 +461,29 @@ fn length_offset_changes_move_nothing() {
     assert_eq!(a.condition, Condition::WordNotUsed);
 }
 
+/// G43.2 adds to the offset in force (g-code.adoc, G43.2): `G43 H1` then
+/// `G43.2 H10` is tool 1's length plus tool 10's (rs274 2.9:
+/// `USE_TOOL_LENGTH_OFFSET` 10 then 12.5 in the table's units); `G43.2 Z`
+/// adds the value (the manual; rs274 2.9 still refuses the axis form);
+/// G49 and G43 start over.
+#[test]
+fn g43_2_adds_length_offsets() {
+    let table = Offsets::from_tool_table("T1 P1 Z10 D6\nT10 P10 Z2.5 D1\n").expect("table");
+    let program = "T1 M6\nG43 H1\nG0 Z50\nG43.2 H10\nG0 Z50\nG43.2 Z0.5\nG0 Z50\n\
+                   G49\nG0 Z50\nG43.2 Z1\nG0 Z50\nG43\nG0 Z50\nM2\n";
+    let z: Vec<f64> = ends(program, table).iter().map(|p| p[2]).collect();
+    assert_eq!(z, vec![60.0, 62.5, 63.0, 50.0, 51.0, 60.0]);
+    for (program, condition, line) in [
+        ("G43.2\n", Condition::NoDataAfterAddress, 1),
+        ("G43.2 H1 Z1\n", Condition::WordNotUsed, 1),
+        ("G43.2 X1\n", Condition::WordNotUsed, 1),
+        ("G0 Z1\nG43.2 H7\n", Condition::IllegalOffsetNumber, 2),
+    ] {
+        let a = alarm(program);
+        assert_eq!((a.condition, a.line), (condition, line), "{program}: {a:?}");
+    }
+}
+
 #[test]
 fn g10_l10_sets_the_tool_so_the_position_reads_the_value() {
     // rs274 prints Z 50, 40, 40, 30 with the offset 0, then 10: machine
