@@ -388,7 +388,15 @@ impl<'m> Controller<'m> {
         self.m_code_length(&mut codes)?;
         self.apply_modal(&codes)?;
         self.apply_cycle_codes(&codes)?;
-        self.apply_values()?;
+        // LinuxCNC: in a G73 / G83 block without G41 / G42, D is the
+        // cycle's peck clearance, not a tool number (controller/cycles.rs).
+        let d_for_cycle = self.dialect.rs274ngc
+            && codes.cutter.is_none()
+            && matches!(
+                self.state.cycle.cycle,
+                Some(cycles::Cycle::G73 | cycles::Cycle::G83)
+            );
+        self.apply_values(d_for_cycle)?;
         // G69 (Haas G269) ends the tilted working plane before the block's
         // move, which is then in the workpiece frame; Haas G254 / G255
         // switch the dynamic work offset the same way.
@@ -857,7 +865,7 @@ impl<'m> Controller<'m> {
     }
 
     /// F, S, T, D words: modal values.
-    fn apply_values(&mut self) -> Result<(), Alarm> {
+    fn apply_values(&mut self, d_for_cycle: bool) -> Result<(), Alarm> {
         if let Some(word) = self.words.take(b'F') {
             if word.value < 0.0 {
                 return Err(self.alarm(
@@ -904,7 +912,7 @@ impl<'m> Controller<'m> {
             }
             self.state.tool = t;
         }
-        if let Some(word) = self.words.take(b'D') {
+        if !d_for_cycle && let Some(word) = self.words.take(b'D') {
             self.state.d = self.offset_number(&word)?;
         }
         Ok(())

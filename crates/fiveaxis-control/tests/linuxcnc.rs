@@ -847,3 +847,53 @@ fn hal_pins_and_ini_values_come_from_the_machine_file() {
     let alarm = alarm.expect("unknown pin");
     assert_eq!((alarm.code.to_string().as_str(), alarm.line), ("FX0113", 7));
 }
+
+/// G73 / G83 peck clearance (g-code.adoc, G73, G83: "Rapid up either the
+/// D value, the G73_PECK_CLEARANCE specified in the INI file or the
+/// default of .010\" / 0.254 mm"). rs274 2.9 still refuses D there (a
+/// LinuxCNC 2.10 word); the default is what rs274 prints.
+#[test]
+fn peck_clearance_from_d_the_ini_file_or_the_default() {
+    let z_of = |machine: &Machine, program: &str| -> Vec<f64> {
+        let mut runner = Runner::new(
+            machine,
+            Offsets::default(),
+            SliceSource::new(program.as_bytes()),
+            RunOptions::default(),
+        );
+        let mut z = Vec::new();
+        while let Some(seg) = runner.next_segment().expect("runs") {
+            z.push(seg.end[2]);
+        }
+        z
+    };
+    let g83 = "G0 Z10\nG83 X0 Y0 Z-2 R1 Q1.5 F100\nG80\nM2\n";
+    let g83_d = "G0 Z10\nG83 X0 Y0 Z-2 R1 Q1.5 D0.5 F100\nG80\nM2\n";
+    let g73 = "G0 Z10\nG73 X0 Y0 Z-2 R1 Q1.5 F100\nG80\nM2\n";
+    let mut machine = mill();
+    // Down to -0.5, out to R, back to 0.254 above -0.5, on to -2, out.
+    assert_eq!(
+        z_of(&machine, g83),
+        vec![10.0, 1.0, -0.5, 1.0, -0.5 + 0.254, -2.0, 10.0]
+    );
+    assert_eq!(
+        z_of(&machine, g83_d),
+        vec![10.0, 1.0, -0.5, 1.0, 0.0, -2.0, 10.0]
+    );
+    machine
+        .params
+        .ini_values
+        .insert("RS274NGC]G73_PECK_CLEARANCE".into(), 0.75);
+    assert_eq!(z_of(&machine, g73), vec![10.0, 1.0, -0.5, 0.25, -2.0, 10.0]);
+    // In inch configurations the INI value is inches: 0.75 in = 19.05 mm.
+    machine.params.input_unit = fiveaxis_machine::InputUnit::Inch;
+    let z = z_of(
+        &machine,
+        "G21 G0 Z10\nG73 X0 Y0 Z-40 R1 Q30 F100\nG80\nM2\n",
+    );
+    assert_eq!(z.len(), 6, "{z:?}");
+    assert!((z[3] - (-29.0 + 19.05)).abs() < 1e-9, "{z:?}");
+    // D in a G73 / G83 block is not a tool number; a negative D is refused.
+    let a = alarm("G83 X0 Y0 Z-2 R1 Q1 D-1 F100\n");
+    assert_eq!(a.condition, Condition::ValueOutOfRange);
+}
