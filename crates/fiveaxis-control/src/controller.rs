@@ -133,6 +133,9 @@ struct State {
     /// nine coordinate systems (G10 L2 / L20 with A, B, C words; by joint
     /// index). The offset memory holds X, Y, Z only.
     rotary_work: [Joints; 9],
+    /// LinuxCNC: the XY rotation of each of its nine coordinate systems
+    /// about Z, degrees (`G10 L2 R`, #5230…).
+    xy_rotation: [f64; 9],
     /// LinuxCNC: the G92 shift kept in parameters #5211–#5219, which
     /// G92.2 leaves and G92.3 applies again.
     g92_kept: (Vec3, Joints),
@@ -232,6 +235,7 @@ impl<'m> Controller<'m> {
                 shift: Vec3::zeros(),
                 axis_shift: [0.0; MAX_AXES],
                 rotary_work: [[0.0; MAX_AXES]; 9],
+                xy_rotation: [0.0; 9],
                 g92_kept: (Vec3::zeros(), [0.0; MAX_AXES]),
                 tcpc: tcpc::TcpcState::default(),
                 comp3d: comp3d::Comp3d::default(),
@@ -387,6 +391,8 @@ impl<'m> Controller<'m> {
         self.feature_restrictions(&codes)?;
         self.m_code_length(&mut codes)?;
         self.apply_modal(&codes)?;
+        // LinuxCNC: the coordinate system chosen brings its rotation.
+        self.refresh_xy_rotation();
         self.apply_cycle_codes(&codes)?;
         // LinuxCNC: in a G73 / G83 block without G41 / G42, D is the
         // cycle's peck clearance, not a tool number (controller/cycles.rs).
@@ -1372,7 +1378,11 @@ impl<'m> Controller<'m> {
             // system (G268), as G53.1.
             253 => self.tool_axis_control(span, false, out),
             53 if code.minor == 6 => self.tool_axis_control(span, true, out),
-            52 => self.local_coordinate_system(),
+            52 => {
+                self.local_coordinate_system()?;
+                self.refresh_xy_rotation();
+                Ok(())
+            }
             53 => self.machine_coordinates(out),
             92 if code.minor != 0 => {
                 self.g92_reset(code.minor);
@@ -1381,6 +1391,8 @@ impl<'m> Controller<'m> {
             _ => {
                 self.set_coordinate_system(from)?;
                 self.state.g92_kept = (self.state.shift, self.state.axis_shift);
+                // LinuxCNC: the G92 shift turns with the rotation in force.
+                self.refresh_xy_rotation();
                 Ok(())
             }
         }
@@ -1402,6 +1414,7 @@ impl<'m> Controller<'m> {
         };
         self.state.shift = shift;
         self.state.axis_shift = axis_shift;
+        self.refresh_xy_rotation();
     }
 
     /// G04: dwell, P in ms (Haas: seconds with a decimal point) or X in

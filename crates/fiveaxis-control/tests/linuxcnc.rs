@@ -897,3 +897,66 @@ fn peck_clearance_from_d_the_ini_file_or_the_default() {
     let a = alarm("G83 X0 Y0 Z-2 R1 Q1 D-1 F100\n");
     assert_eq!(a.condition, Condition::ValueOutOfRange);
 }
+
+/// `G10 L2 R`: the system turns counter-clockwise about its origin, with
+/// the G92 / G52 offset inside the turn (coordinates.adoc; rs274 prints
+/// `SET_XY_ROTATION` and the offsets, reckoned in turned coordinates).
+/// Machine positions written out by hand: origin + Rz(θ)·(p + g92).
+#[test]
+fn rotated_coordinate_systems_turn_the_program_and_its_g92_offset() {
+    let rz = |deg: f64, x: f64, y: f64| {
+        let (s, c) = deg.to_radians().sin_cos();
+        [c * x - s * y, s * x + c * y]
+    };
+    let close = |got: &[[f64; 3]], want: &[[f64; 3]]| {
+        assert_eq!(got.len(), want.len(), "{got:?}");
+        for (g, w) in got.iter().zip(want) {
+            for k in 0..3 {
+                assert!((g[k] - w[k]).abs() < 1e-9, "{got:?} != {want:?}");
+            }
+        }
+    };
+    // G92 at program (1, 1) with G52 (1, 2) in force: the offset becomes
+    // (2, 3), as rs274 prints; G52 X0 Y0 then clears the shared register.
+    let program = "G10 L2 P1 X10 R30\nG54\nG52 X1 Y2\nG0 X1 Y1\nG92 X0 Y0\nG0 X1 Y0\n\
+                   G52 X0 Y0\nG0 X0 Y0\nM2\n";
+    let [a, b] = rz(30.0, 2.0, 3.0);
+    let [c, d] = rz(30.0, 3.0, 3.0);
+    close(
+        &ends(program, Offsets::default()),
+        &[[10.0 + a, b, 0.0], [10.0 + c, d, 0.0], [10.0, 0.0, 0.0]],
+    );
+    // G10 L20 under a turn: the origin is where the current point reads the
+    // values (rs274: SET_G5X_OFFSET(1, 14.3301, 2.5000, …)); G10 L20 R is
+    // refused as by rs274; #5230 reads and writes the angle.
+    let program = "G10 L2 P1 X10 R30\nG54 G0 X5 Y0\nG10 L20 P1 X0 Y0\nG0 X1 Y0\n\
+                   #5230 = [#5230 + 60]\nG0 X1 Y0\nM2\n";
+    let [e, f] = rz(30.0, 5.0, 0.0);
+    let [g, h] = rz(30.0, 1.0, 0.0);
+    close(
+        &ends(program, Offsets::default()),
+        &[
+            [10.0 + e, f, 0.0],
+            [10.0 + e + g, f + h, 0.0],
+            [10.0 + e, f + 1.0, 0.0],
+        ],
+    );
+    let a = alarm("G10 L20 P1 X1 R45\n");
+    assert_eq!(a.condition, Condition::WordNotUsed);
+    // A G18 arc in a turned system: its plane turns too (the end point
+    // and the circle both, checked at the end).
+    let program = "G10 L2 P1 R90\nG54 G0 X0 Y0 Z0\nG18 G2 X2 Z0 I1 K0 F100\nM2\n";
+    close(&ends(program, Offsets::default()), &[[0.0, 2.0, 0.0]]);
+}
+
+/// G10 L20 for a system other than the one in use: the current position
+/// reads the values in that system (rs274: G54 at X5, `G10 L20 P2 X0`
+/// makes G55's X offset 5).
+#[test]
+fn g10_l20_for_another_system_measures_from_the_machine_position() {
+    let program = "G10 L2 P2 X100\nG54 G0 X5\nG10 L20 P2 X0\nG55 G0 X1\nM2\n";
+    assert_eq!(
+        ends(program, Offsets::default()),
+        vec![[5.0, 0.0, 0.0], [6.0, 0.0, 0.0]]
+    );
+}

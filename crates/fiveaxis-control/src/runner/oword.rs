@@ -189,9 +189,9 @@ impl SystemVariables for NgcSystem<'_, '_> {
             n if work_parameter(n) => {
                 let k = (n - 5221) % 20;
                 if k == 9 {
-                    // R, the XY rotation: the kernel's systems are not
-                    // rotated (G10 L2 R is refused).
-                    Some(0.0)
+                    // R, the XY rotation of system (n − 5221) / 20 + 1.
+                    let system = ((n - 5221) / 20 + 1) as usize;
+                    self.controller.xy_rotation(system)
                 } else if k >= 3 {
                     // A, B, C, U, V, W of system (n − 5221) / 20 + 1.
                     let letter = char::from(b"ABCUVW"[(k - 3) as usize]);
@@ -249,6 +249,12 @@ impl SystemVariables for NgcSystem<'_, '_> {
                     SystemVarFault::Unknown => SystemVarError::NotAVariable,
                     SystemVarFault::ReadOnly => SystemVarError::ReadOnly,
                 }),
+            n if work_parameter(n) && (n - 5221) % 20 == 9 => {
+                let system = ((n - 5221) / 20 + 1) as usize;
+                self.controller
+                    .set_xy_rotation(system, value.unwrap_or(0.0));
+                Ok(())
+            }
             5021..=5029 | 5081..=5089 | 5400..=5413 | 5420..=5428 => Err(SystemVarError::ReadOnly),
             _ => Err(SystemVarError::NotAVariable),
         }
