@@ -960,3 +960,15 @@ fn g10_l20_for_another_system_measures_from_the_machine_position() {
         vec![[5.0, 0.0, 0.0], [6.0, 0.0, 0.0]]
     );
 }
+
+/// G52 writes G92's register and its parameters: after `G52 X3`, G92.2
+/// drops the offset and G92.3 brings it back (rs274: SET_G92_OFFSET 3,
+/// 0, 3).
+#[test]
+fn g52_shares_g92s_register_and_parameters() {
+    let program = "G52 X3\nG0 X0\nG92.2\nG0 X0\nG92.3\nG0 X0\nM2\n";
+    assert_eq!(
+        ends(program, Offsets::default()),
+        vec![[3.0, 0.0, 0.0], [0.0, 0.0, 0.0], [3.0, 0.0, 0.0]]
+    );
+}

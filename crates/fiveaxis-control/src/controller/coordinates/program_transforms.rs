@@ -484,6 +484,8 @@ impl Controller<'_> {
                 if self.dialect.rs274ngc {
                     self.state.shift[i] = value;
                     self.state.frames.local[i] = 0.0;
+                    // The parameters #5211… too: G92.3 brings it back.
+                    self.state.g92_kept.0[i] = value;
                 } else {
                     self.state.frames.local[i] = value;
                 }
