@@ -243,6 +243,37 @@ fn rs274_moves(run: &Rs274<'_>) -> Result<Vec<(Point, Expected)>, String> {
                     },
                 ));
             }
+            "RIGID_TAP" => {
+                // x, y, z: down to the point and back to where it began
+                // (g-code.adoc, G33.1), the other axes standing.
+                let v = numbers(args, 3)?;
+                let Some(&(back, back_expected)) = moves.last() else {
+                    return Err("rs274: RIGID_TAP before any move".into());
+                };
+                let mut p = back;
+                for (i, value) in v.iter().enumerate() {
+                    p[i] = *value;
+                }
+                // The printed point is in program coordinates: the
+                // offsets in force turn it into a machine position.
+                let (m, tolerance) = machine(
+                    [p[0], p[1], p[2], 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+                    &g5x,
+                    &g92,
+                    &tool,
+                    rotation,
+                );
+                let mut m_full = back;
+                m_full[..3].copy_from_slice(&m[..3]);
+                moves.push((
+                    m_full,
+                    Expected {
+                        tolerance,
+                        arc: false,
+                    },
+                ));
+                moves.push((back, back_expected));
+            }
             "ARC_FEED" => {
                 // first_end, second_end, first_axis, second_axis, rotation,
                 // axis_end_point, a, b, c[, u, v, w].
@@ -718,6 +749,7 @@ impl Generator {
             1 => match self.below(6) {
                 0 => self.offsets(),
                 1 => self.valued_call(),
+                2 => self.threading(),
                 _ => self.absolute_move(),
             },
             2 => self.incremental_move(),
@@ -732,6 +764,54 @@ impl Generator {
             11 => self.absolute_move(),
             _ => self.arc(),
         }
+    }
+
+    /// Spindle-synchronized motion: a G33 move, a G33.1 rigid tap, or a
+    /// G76 threading cycle (in G18, external or internal, with degression,
+    /// compound angle, spring passes and tapers), then back to G17 G1.
+    fn threading(&mut self) {
+        self.line("S800 M3");
+        match self.below(3) {
+            0 => {
+                let (x, z) = (self.value(-40.0, 40.0), self.value(-30.0, 10.0));
+                let k = self.value(0.2, 3.0);
+                self.line(&format!("G33 X{x} Z{z} K{k}"));
+            }
+            1 => {
+                let z = self.value(-30.0, 0.0);
+                let (k, i) = (self.value(0.2, 3.0), self.value(0.0, 3.0));
+                self.line(&format!("G33.1 Z{z} K{k} I{i}"));
+            }
+            _ => {
+                let (x, z0) = (self.value(-20.0, 20.0), self.value(-5.0, 5.0));
+                let length = self.value(6.0, 30.0);
+                let z1 = if self.below(2) == 0 {
+                    z0 - length
+                } else {
+                    z0 + length
+                };
+                let pitch = self.value(0.5, 3.0);
+                let peak = self.value(0.3, 3.0) * if self.below(2) == 0 { -1.0 } else { 1.0 };
+                let full = self.value(0.3, 2.0);
+                let first = self.value(0.05, 0.3).min(full / 2.0).max(0.01);
+                let mut words = format!("G76 P{pitch} Z{z1:.3} I{peak:.3} J{first:.3} K{full}");
+                if self.below(2) == 0 {
+                    let _ = write!(words, " R{}", self.value(1.0, 2.5));
+                }
+                if self.below(2) == 0 {
+                    let _ = write!(words, " Q{}", self.value(0.0, 40.0));
+                }
+                let _ = write!(words, " H{}", self.below(3));
+                if self.below(2) == 0 {
+                    let e = self.value(0.1, length / 2.0 - 0.1);
+                    let _ = write!(words, " E{e} L{}", self.below(4));
+                }
+                self.line(&format!("G18 G90 G0 X{x} Z{z0}"));
+                self.line(&words);
+                self.line("G17");
+            }
+        }
+        self.line("G90 G1");
     }
 
     fn absolute_move(&mut self) {

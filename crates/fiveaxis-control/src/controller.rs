@@ -30,6 +30,7 @@ mod m_codes;
 mod motion;
 mod system_vars;
 mod tcpc;
+mod threading;
 
 pub use cycles::{MAX_CYCLE_SEGMENTS, PECK_CLEARANCE, PECK_RETRACT};
 pub use m_codes::ProgramStop;
@@ -136,6 +137,8 @@ struct State {
     /// LinuxCNC: the XY rotation of each of its nine coordinate systems
     /// about Z, degrees (`G10 L2 R`, #5230…).
     xy_rotation: [f64; 9],
+    /// LinuxCNC: G33, G33.1 or G76 in force (group 1).
+    sync: Option<threading::SyncMotion>,
     /// LinuxCNC: the G92 shift kept in parameters #5211–#5219, which
     /// G92.2 leaves and G92.3 applies again.
     g92_kept: (Vec3, Joints),
@@ -236,6 +239,7 @@ impl<'m> Controller<'m> {
                 axis_shift: [0.0; MAX_AXES],
                 rotary_work: [[0.0; MAX_AXES]; 9],
                 xy_rotation: [0.0; 9],
+                sync: None,
                 g92_kept: (Vec3::zeros(), [0.0; MAX_AXES]),
                 tcpc: tcpc::TcpcState::default(),
                 comp3d: comp3d::Comp3d::default(),
@@ -499,6 +503,11 @@ impl<'m> Controller<'m> {
         out: &mut Vec<Segment>,
     ) -> Result<(), Alarm> {
         let from = *from;
+        if codes.one_shot.is_none()
+            && let Some(mode) = self.state.sync
+        {
+            return self.sync_motion(mode, &from, out);
+        }
         match codes.one_shot {
             Some((code, span)) if self.cutter.routing() && matches!(code.major, 4 | 10) => {
                 // A dwell or data setting in cutter compensation C is a
@@ -547,6 +556,9 @@ impl<'m> Controller<'m> {
                 (187, 0) if haas => GKind::Smoothness,
                 (154 | 110..=129, 0) if haas => GKind::Work,
                 (0..=3, 0) => GKind::Motion,
+                // LinuxCNC's spindle-synchronized motion and threading
+                // cycle (controller/threading.rs): group 1.
+                (33, 0 | 1) | (76, 0) if self.dialect.rs274ngc => GKind::Motion,
                 (17..=19, 0) => GKind::Plane,
                 (90 | 91, 0) => GKind::Distance,
                 (90 | 91, 1) if self.dialect.rs274ngc => GKind::ArcDistance,
@@ -661,13 +673,23 @@ impl<'m> Controller<'m> {
     fn apply_modal(&mut self, codes: &GCodes) -> Result<(), Alarm> {
         let modal = &mut self.state.modal;
         if let Some((code, _)) = codes.motion {
+            self.state.sync = match (code.major, code.minor) {
+                (33, 0) => Some(threading::SyncMotion::Thread),
+                (33, 1) => Some(threading::SyncMotion::RigidTap),
+                (76, _) => Some(threading::SyncMotion::ThreadingCycle),
+                _ => None,
+            };
             modal.motion = match code.major {
                 0 => MotionMode::Rapid,
-                1 => MotionMode::Linear,
                 2 => MotionMode::Cw,
-                _ => MotionMode::Ccw,
+                3 => MotionMode::Ccw,
+                _ => MotionMode::Linear,
             };
         }
+        if codes.cycle.is_some() {
+            self.state.sync = None;
+        }
+        let modal = &mut self.state.modal;
         if let Some(code) = codes.plane {
             let plane = match code.major {
                 17 => Plane::Xy,
@@ -987,6 +1009,8 @@ impl<'m> Controller<'m> {
         }
         if let Some(word) = self.words.peek(b'H')
             && (self.state.modal.length != LengthMode::Off || codes.length.is_some())
+            && (codes.length.is_some()
+                || self.state.sync != Some(threading::SyncMotion::ThreadingCycle))
         {
             self.words.take(b'H');
             self.state.h = self.offset_number(&word)?;

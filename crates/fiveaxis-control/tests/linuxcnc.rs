@@ -972,3 +972,73 @@ fn g52_shares_g92s_register_and_parameters() {
         vec![[3.0, 0.0, 0.0], [0.0, 0.0, 0.0], [3.0, 0.0, 0.0]]
     );
 }
+
+/// G33 / G33.1 / G76: feeds per spindle revolution (g-code.adoc); the
+/// passes of G76 are checked against rs274 by the differential test, the
+/// manual's errors here.
+#[test]
+fn spindle_synchronized_motion_feeds_and_errors() {
+    let machine = mill();
+    let program = "S500 M3\nG0 X0 Y0 Z0\nG33 Z-10 K1.5\nG0 X5\nG33.1 Z-8 K1 I2\nM2\n";
+    let mut runner = Runner::new(
+        &machine,
+        Offsets::default(),
+        SliceSource::new(program.as_bytes()),
+        RunOptions::default(),
+    );
+    let mut moves = Vec::new();
+    while let Some(seg) = runner.next_segment().expect("runs") {
+        moves.push(([seg.end[0], seg.end[2]], seg.feed));
+    }
+    assert_eq!(
+        moves,
+        vec![
+            ([0.0, -10.0], Some(750.0)),
+            ([5.0, -10.0], None),
+            ([5.0, -8.0], Some(500.0)),
+            // Back at twice the speed (I2).
+            ([5.0, -10.0], Some(1000.0)),
+        ]
+    );
+    for (program, condition) in [
+        ("G33 Z-1 K1\n", Condition::NoSpindleForFeedPerRev),
+        ("S500 M3\nG33 Z-1\n", Condition::CycleDataMissing),
+        ("S500 M3\nG33 Z-1 K1 F100\n", Condition::WordNotUsed),
+        (
+            "S500 M3\nG0 X1 Z0\nG76 P1 Z-5 I-1 J0.1 K0.5\n",
+            Condition::CycleNotAllowed,
+        ),
+        (
+            "S500 M3\nG18 G0 X1 Z0\nG76 P1 X2 Z-5 I-1 J0.1 K0.5\n",
+            Condition::WordNotUsed,
+        ),
+        (
+            "S500 M3\nG18 G0 X1 Z0\nG76 P1 Z-5 I-1 K0.5\n",
+            Condition::CycleDataMissing,
+        ),
+        (
+            "S500 M3\nG18 G0 X1 Z0\nG76 P1 Z-5 I-1 J0 K0.5\n",
+            Condition::ValueOutOfRange,
+        ),
+        (
+            "S500 M3\nG18 G0 X1 Z0\nG76 P1 Z-5 I-1 J0.1 K0.5 R0.5\n",
+            Condition::ValueOutOfRange,
+        ),
+        (
+            "S500 M3\nG18 G0 X1 Z0\nG76 P1 Z-5 I-1 J0.1 K0.5 E3 L1\n",
+            Condition::ValueOutOfRange,
+        ),
+        (
+            "S500 M3\nG18 G0 X1 Z0\nG76 P1 Z-5 I-1 J0.1 K0.5 H-1\n",
+            Condition::ValueOutOfRange,
+        ),
+    ] {
+        let a = alarm(program);
+        assert_eq!(a.condition, condition, "{program}: {a:?}");
+    }
+    // G76 is modal: a later Z word threads again, needing its words
+    // (rs274: "P word missing with G76"); a block without axis words
+    // does nothing.
+    let a = alarm("S500 M3\nG18 G0 X1 Z0\nG76 P1 Z-5 I-1 J0.2 K0.5\nG17\nG18\nZ-8\n");
+    assert_eq!((a.condition, a.line), (Condition::CycleDataMissing, 6));
+}
