@@ -775,7 +775,9 @@ impl Generator {
             0 => {
                 let (x, z) = (self.value(-40.0, 40.0), self.value(-30.0, 10.0));
                 let k = self.value(0.2, 3.0);
-                self.line(&format!("G33 X{x} Z{z} K{k}"));
+                let mode = if self.below(2) == 0 { "G7" } else { "G8" };
+                self.line(&format!("{mode} G33 X{x} Z{z} K{k}"));
+                self.line("G8");
             }
             1 => {
                 let z = self.value(-30.0, 0.0);
@@ -806,9 +808,12 @@ impl Generator {
                     let e = self.value(0.1, length / 2.0 - 0.1);
                     let _ = write!(words, " E{e} L{}", self.below(4));
                 }
-                self.line(&format!("G18 G90 G0 X{x} Z{z0}"));
+                // Now and then in lathe diameter mode (G7: X, I, J, K
+                // are diameters).
+                let mode = if self.below(3) == 0 { "G7" } else { "G8" };
+                self.line(&format!("G18 {mode} G90 G0 X{x} Z{z0}"));
                 self.line(&words);
-                self.line("G17");
+                self.line("G17 G8");
             }
         }
         self.line("G90 G1");

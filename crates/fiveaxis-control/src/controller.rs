@@ -562,6 +562,8 @@ impl<'m> Controller<'m> {
                 (17..=19, 0) => GKind::Plane,
                 (90 | 91, 0) => GKind::Distance,
                 (90 | 91, 1) if self.dialect.rs274ngc => GKind::ArcDistance,
+                // LinuxCNC G7 / G8: lathe diameter / radius mode.
+                (7 | 8, 0) if self.dialect.rs274ngc => GKind::Diameter,
                 (93..=95, 0) => GKind::Feed,
                 (20 | 21, 0) => GKind::Units,
                 (43 | 44 | 49, 0) | (43, 1 | 4 | 5) => GKind::Length,
@@ -619,6 +621,7 @@ impl<'m> Controller<'m> {
                 GKind::Plane => codes.plane = Some(code),
                 GKind::Distance => codes.distance = Some(code),
                 GKind::ArcDistance => codes.arc_distance = Some(code),
+                GKind::Diameter => codes.diameter = Some(code.major == 7),
                 GKind::Feed => codes.feed = Some(code),
                 GKind::Units => codes.units = Some(code),
                 GKind::Length => codes.length = Some((code, span)),
@@ -721,6 +724,9 @@ impl<'m> Controller<'m> {
         }
         if let Some(code) = codes.arc_distance {
             modal.ijk_absolute = code.major == 90;
+        }
+        if let Some(diameter) = codes.diameter {
+            modal.diameter_mode = diameter;
         }
         if let Some(code) = codes.feed {
             modal.feed_mode = match code.major {
@@ -1187,6 +1193,9 @@ impl<'m> Controller<'m> {
             if let Some(word) = self.words.take(letter) {
                 targets[i] = Some(if self.polar_angle_axis(i) {
                     self.angle(&word)
+                } else if i == 0 && self.state.modal.diameter_mode {
+                    // LinuxCNC G7: X is a diameter (g-code.adoc, G7).
+                    self.axis_value(i, &word) / 2.0
                 } else {
                     self.axis_value(i, &word)
                 });
@@ -1969,6 +1978,7 @@ enum GKind {
     Smoothness,
     /// LinuxCNC G90.1 / G91.1: arc centre distance mode.
     ArcDistance,
+    Diameter,
 }
 
 /// The G codes of one block, by group; the last of a group wins.
@@ -1987,6 +1997,8 @@ struct GCodes {
     distance: Option<Code>,
     /// LinuxCNC G90.1 / G91.1.
     arc_distance: Option<Code>,
+    /// LinuxCNC G7 (true) / G8.
+    diameter: Option<bool>,
     feed: Option<Code>,
     units: Option<Code>,
     length: Option<(Code, Span)>,

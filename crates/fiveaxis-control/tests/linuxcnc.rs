@@ -1042,3 +1042,23 @@ fn spindle_synchronized_motion_feeds_and_errors() {
     let a = alarm("S500 M3\nG18 G0 X1 Z0\nG76 P1 Z-5 I-1 J0.2 K0.5\nG17\nG18\nZ-8\n");
     assert_eq!((a.condition, a.line), (Condition::CycleDataMissing, 6));
 }
+
+/// G7 reads X words as diameters (rs274: `G7 G0 X10` prints X 5; the
+/// arc's I stays a radius; readbacks stay radii); M19 takes R Q P.
+#[test]
+fn lathe_diameter_mode_and_spindle_orientation() {
+    let program = "G18 G7\nG0 X10 Z1\nG91 X2\nG90\nG0 Z#5420\nG8\nX3\nM19 R45 Q2 P1\nM2\n";
+    assert_eq!(
+        ends(program, Offsets::default()),
+        vec![
+            [5.0, 0.0, 1.0],
+            [6.0, 0.0, 1.0],
+            [6.0, 0.0, 6.0],
+            [3.0, 0.0, 6.0]
+        ]
+    );
+    let a = alarm("M19 R400\n");
+    assert_eq!(a.condition, Condition::ValueOutOfRange);
+    let a = alarm("M19 P3\n");
+    assert_eq!(a.condition, Condition::ValueOutOfRange);
+}

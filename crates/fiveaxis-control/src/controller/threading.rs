@@ -204,9 +204,16 @@ impl Controller<'_> {
         } else {
             z_end
         };
-        let peak_offset = self.length(&i_word);
-        let first = self.length(&j_word);
-        let full = self.length(&k_word);
+        // In G7 (lathe diameter mode) I, J and K are diameters
+        // (g-code.adoc, G76).
+        let scale = if self.state.modal.diameter_mode {
+            0.5
+        } else {
+            1.0
+        };
+        let peak_offset = self.length(&i_word) * scale;
+        let first = self.length(&j_word) * scale;
+        let full = self.length(&k_word) * scale;
         if first <= 0.0 {
             return Err(self.alarm(
                 Condition::ValueOutOfRange,
