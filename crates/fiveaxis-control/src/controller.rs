@@ -28,6 +28,7 @@ mod haas;
 mod linuxcnc;
 mod m_codes;
 mod motion;
+mod splines;
 mod system_vars;
 mod tcpc;
 mod threading;
@@ -137,8 +138,12 @@ struct State {
     /// LinuxCNC: the XY rotation of each of its nine coordinate systems
     /// about Z, degrees (`G10 L2 R`, #5230…).
     xy_rotation: [f64; 9],
-    /// LinuxCNC: G33, G33.1 or G76 in force (group 1).
-    sync: Option<threading::SyncMotion>,
+    /// LinuxCNC: its group-1 modes beyond G0–G3 (G5, G5.1, G33, G33.1,
+    /// G76) in force.
+    ngc_motion: Option<linuxcnc::NgcMotion>,
+    /// LinuxCNC G5: the end tangent offset (P, Q) of the last cubic, which
+    /// a following G5 without I, J continues.
+    spline_tangent: Option<[f64; 2]>,
     /// LinuxCNC: the G92 shift kept in parameters #5211–#5219, which
     /// G92.2 leaves and G92.3 applies again.
     g92_kept: (Vec3, Joints),
@@ -239,7 +244,8 @@ impl<'m> Controller<'m> {
                 axis_shift: [0.0; MAX_AXES],
                 rotary_work: [[0.0; MAX_AXES]; 9],
                 xy_rotation: [0.0; 9],
-                sync: None,
+                ngc_motion: None,
+                spline_tangent: None,
                 g92_kept: (Vec3::zeros(), [0.0; MAX_AXES]),
                 tcpc: tcpc::TcpcState::default(),
                 comp3d: comp3d::Comp3d::default(),
@@ -504,9 +510,9 @@ impl<'m> Controller<'m> {
     ) -> Result<(), Alarm> {
         let from = *from;
         if codes.one_shot.is_none()
-            && let Some(mode) = self.state.sync
+            && let Some(mode) = self.state.ngc_motion
         {
-            return self.sync_motion(mode, &from, out);
+            return self.ngc_motion(mode, &from, out);
         }
         match codes.one_shot {
             Some((code, span)) if self.cutter.routing() && matches!(code.major, 4 | 10) => {
@@ -558,7 +564,7 @@ impl<'m> Controller<'m> {
                 (0..=3, 0) => GKind::Motion,
                 // LinuxCNC's spindle-synchronized motion and threading
                 // cycle (controller/threading.rs): group 1.
-                (33, 0 | 1) | (76, 0) if self.dialect.rs274ngc => GKind::Motion,
+                (33, 0 | 1) | (76, 0) | (5, 0 | 1) if self.dialect.rs274ngc => GKind::Motion,
                 (17..=19, 0) => GKind::Plane,
                 (90 | 91, 0) => GKind::Distance,
                 (90 | 91, 1) if self.dialect.rs274ngc => GKind::ArcDistance,
@@ -676,12 +682,10 @@ impl<'m> Controller<'m> {
     fn apply_modal(&mut self, codes: &GCodes) -> Result<(), Alarm> {
         let modal = &mut self.state.modal;
         if let Some((code, _)) = codes.motion {
-            self.state.sync = match (code.major, code.minor) {
-                (33, 0) => Some(threading::SyncMotion::Thread),
-                (33, 1) => Some(threading::SyncMotion::RigidTap),
-                (76, _) => Some(threading::SyncMotion::ThreadingCycle),
-                _ => None,
-            };
+            self.state.ngc_motion = linuxcnc::NgcMotion::of(code);
+            if self.state.ngc_motion != Some(linuxcnc::NgcMotion::CubicSpline) {
+                self.state.spline_tangent = None;
+            }
             modal.motion = match code.major {
                 0 => MotionMode::Rapid,
                 2 => MotionMode::Cw,
@@ -690,7 +694,8 @@ impl<'m> Controller<'m> {
             };
         }
         if codes.cycle.is_some() {
-            self.state.sync = None;
+            self.state.ngc_motion = None;
+            self.state.spline_tangent = None;
         }
         let modal = &mut self.state.modal;
         if let Some(code) = codes.plane {
@@ -1016,7 +1021,7 @@ impl<'m> Controller<'m> {
         if let Some(word) = self.words.peek(b'H')
             && (self.state.modal.length != LengthMode::Off || codes.length.is_some())
             && (codes.length.is_some()
-                || self.state.sync != Some(threading::SyncMotion::ThreadingCycle))
+                || self.state.ngc_motion != Some(linuxcnc::NgcMotion::ThreadingCycle))
         {
             self.words.take(b'H');
             self.state.h = self.offset_number(&word)?;

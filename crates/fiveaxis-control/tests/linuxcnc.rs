@@ -1062,3 +1062,92 @@ fn lathe_diameter_mode_and_spindle_orientation() {
     let a = alarm("M19 P3\n");
     assert_eq!(a.condition, Condition::ValueOutOfRange);
 }
+
+/// G5 and G5.1 (g-code.adoc): every chord end lies on the curve written
+/// out here with Bernstein polynomials, and every chord stays within
+/// 0.001 mm of it (checked at the chords' middles).
+#[test]
+fn splines_follow_their_curves_within_the_tolerance() {
+    let cubic = |c: [[f64; 2]; 4], t: f64| {
+        let u = 1.0 - t;
+        let b = [u * u * u, 3.0 * u * u * t, 3.0 * u * t * t, t * t * t];
+        [0, 1].map(|a| (0..4).map(|k| b[k] * c[k][a]).sum::<f64>())
+    };
+    let quadratic = |c: [[f64; 2]; 3], t: f64| {
+        let u = 1.0 - t;
+        let b = [u * u, 2.0 * u * t, t * t];
+        [0, 1].map(|a| (0..3).map(|k| b[k] * c[k][a]).sum::<f64>())
+    };
+    let check = |points: &[[f64; 3]], curve: &dyn Fn(f64) -> [f64; 2]| {
+        let n = points.len();
+        assert!(n > 4, "{n} chords");
+        for (k, p) in points.iter().enumerate() {
+            let t = (k + 1) as f64 / n as f64;
+            let c = curve(t);
+            assert!(
+                (p[0] - c[0]).hypot(p[1] - c[1]) < 1e-9,
+                "vertex {k}: {p:?} {c:?}"
+            );
+            let prev = if k == 0 {
+                curve(0.0)
+            } else {
+                [points[k - 1][0], points[k - 1][1]]
+            };
+            let mid = [(prev[0] + p[0]) / 2.0, (prev[1] + p[1]) / 2.0];
+            let c = curve((k as f64 + 0.5) / n as f64);
+            assert!(
+                (mid[0] - c[0]).hypot(mid[1] - c[1]) <= 0.001,
+                "chord {k} strays"
+            );
+        }
+    };
+    // The manual's curvy N, then a second one continuing it (I, J = −P, −Q
+    // of the first), then a G5.1 parabola.
+    let program = "G17 G0 X0 Y0 Z2\nG1 F100\nG5 I0 J3 P0 Q-3 X1 Y1\nG5 P0 Q-3 X2 Y2\n\
+                   G0 X-2 Y4\nG5.1 X2 I2 J-8\nM2\n";
+    let points = ends(program, Offsets::default());
+    let first: Vec<_> = points
+        .iter()
+        .skip(1)
+        .take_while(|p| p[0] <= 1.0 + 1e-12 && p[1] <= 1.0 + 1e-12)
+        .copied()
+        .collect();
+    let n1 = first.len();
+    check(&first, &|t| {
+        cubic([[0.0, 0.0], [0.0, 3.0], [1.0, -2.0], [1.0, 1.0]], t)
+    });
+    let second: Vec<_> = points[1 + n1..]
+        .iter()
+        .take_while(|p| p[0] >= 1.0 - 1e-12 && p[0] <= 2.0 + 1e-12 && p[1] >= 1.0 - 1e-9 - 3.0)
+        .copied()
+        .collect();
+    let n2 = second
+        .iter()
+        .position(|p| *p == [2.0, 2.0, 2.0])
+        .expect("ends at X2 Y2")
+        + 1;
+    check(&second[..n2], &|t| {
+        cubic([[1.0, 1.0], [1.0, 4.0], [2.0, -1.0], [2.0, 2.0]], t)
+    });
+    let parabola = &points[1 + n1 + n2 + 1..];
+    check(parabola, &|t| {
+        quadratic([[-2.0, 4.0], [0.0, -4.0], [2.0, 4.0]], t)
+    });
+    assert!(points.iter().all(|p| p[2] == 2.0), "Z stays");
+    for (program, condition) in [
+        ("G5 X1 Y1 P0 Q1\n", Condition::CycleDataMissing),
+        ("G5 I1 X1 Y1 P0 Q1\n", Condition::CycleDataMissing),
+        ("G5 I1 J1 X1 Y1\n", Condition::CycleDataMissing),
+        ("G5 I1 J1 P1 Q1 X1 Z1\n", Condition::WordNotUsed),
+        ("G18 G5 I1 J1 P1 Q1 X1\n", Condition::WordNotUsed),
+        ("G5.1 X1 Y1\n", Condition::CycleDataMissing),
+        // A G1 between ends the series: the next G5 needs I and J again.
+        (
+            "G5 I0 J1 P0 Q-1 X1 Y1 F100\nG1 X2\nG5 P0 Q-1 X3 Y1\n",
+            Condition::CycleDataMissing,
+        ),
+    ] {
+        let a = alarm(program);
+        assert_eq!(a.condition, condition, "{program}: {a:?}");
+    }
+}

@@ -30,6 +30,35 @@ const KERNEL_WORK_SYSTEMS: u32 = 6;
 /// G59.1 … G59.3, kept as G54.1 P1 … P3.
 const NGC_EXTRA_SYSTEMS: u32 = 3;
 
+/// LinuxCNC's motion modes of group 1 beyond G0–G3.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum NgcMotion {
+    /// G5 (`controller/splines.rs`).
+    CubicSpline,
+    /// G5.1.
+    QuadraticSpline,
+    /// G33 (`controller/threading.rs`).
+    Thread,
+    /// G33.1.
+    RigidTap,
+    /// G76.
+    ThreadingCycle,
+}
+
+impl NgcMotion {
+    /// The mode a group-1 code selects (`None` for G0–G3).
+    pub(super) fn of(code: fiveaxis_gcode::Code) -> Option<Self> {
+        Some(match (code.major, code.minor) {
+            (5, 0) => Self::CubicSpline,
+            (5, 1) => Self::QuadraticSpline,
+            (33, 0) => Self::Thread,
+            (33, 1) => Self::RigidTap,
+            (76, 0) => Self::ThreadingCycle,
+            _ => return None,
+        })
+    }
+}
+
 /// The rotation of LinuxCNC's XY plane about Z by `degrees`
 /// (counter-clockwise seen from +Z).
 fn rotation_z(degrees: f64) -> Rotation3<f64> {
@@ -61,6 +90,40 @@ impl Controller<'_> {
                 rotation: turn,
             }
         };
+    }
+
+    /// A block in one of LinuxCNC's own motion modes.
+    pub(super) fn ngc_motion(
+        &mut self,
+        mode: NgcMotion,
+        from: &Joints,
+        out: &mut Vec<crate::segment::Segment>,
+    ) -> Result<(), Alarm> {
+        // A block of the mode without axis words moves nothing (rs274: a
+        // lone `G17` after G76 is no threading cycle, `M2` after G5.1 no
+        // spline).
+        let count = self.machine.axis_count();
+        if !self.axis_letters[..count]
+            .iter()
+            .any(|&l| self.words.has(l))
+        {
+            if matches!(mode, NgcMotion::Thread | NgcMotion::RigidTap) && self.words.has(b'K') {
+                return Err(self.alarm(
+                    Condition::CycleDataMissing,
+                    None,
+                    "G33 / G33.1 need an axis word".into(),
+                ));
+            }
+            return Ok(());
+        }
+        match mode {
+            NgcMotion::CubicSpline | NgcMotion::QuadraticSpline => {
+                self.spline(mode == NgcMotion::CubicSpline, from, out)
+            }
+            NgcMotion::Thread | NgcMotion::RigidTap | NgcMotion::ThreadingCycle => {
+                self.sync_motion(mode, from, out)
+            }
+        }
     }
 
     /// LinuxCNC: the rotation (degrees) of coordinate system `system`

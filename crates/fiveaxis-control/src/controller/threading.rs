@@ -36,49 +36,23 @@ use fiveaxis_machine::Joints;
 
 use super::Controller;
 use super::cycles::MAX_CYCLE_SEGMENTS;
+use super::linuxcnc::NgcMotion;
 use crate::alarm::{Alarm, Condition};
 use crate::modal::Plane;
 use crate::segment::{Motion, Path, Segment};
-
-/// The LinuxCNC motion mode (group 1) of spindle-synchronized motion.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum SyncMotion {
-    /// G33.
-    Thread,
-    /// G33.1.
-    RigidTap,
-    /// G76.
-    ThreadingCycle,
-}
 
 impl Controller<'_> {
     /// A block in G33, G33.1 or G76 mode.
     pub(super) fn sync_motion(
         &mut self,
-        mode: SyncMotion,
+        mode: NgcMotion,
         from: &Joints,
         out: &mut Vec<Segment>,
     ) -> Result<(), Alarm> {
-        // A block of the mode without axis words moves nothing (rs274: a
-        // lone `G17` after G76 is no threading cycle).
-        let count = self.machine.axis_count();
-        if !self.axis_letters[..count]
-            .iter()
-            .any(|&l| self.words.has(l))
-        {
-            if mode != SyncMotion::ThreadingCycle && self.words.has(b'K') {
-                return Err(self.alarm(
-                    Condition::CycleDataMissing,
-                    None,
-                    "G33 / G33.1 need an axis word".into(),
-                ));
-            }
-            return Ok(());
-        }
-        if mode == SyncMotion::ThreadingCycle {
+        if mode == NgcMotion::ThreadingCycle {
             return self.threading_cycle(from, out);
         }
-        let name = if mode == SyncMotion::Thread {
+        let name = if mode == NgcMotion::Thread {
             "G33"
         } else {
             "G33.1"
@@ -92,7 +66,7 @@ impl Controller<'_> {
             ));
         }
         let pitch = self.sync_pitch(name)?;
-        let multiplier = if mode == SyncMotion::RigidTap {
+        let multiplier = if mode == NgcMotion::RigidTap {
             self.words.take(b'I').map_or(1.0, |w| w.value.max(1.0))
         } else {
             1.0
@@ -102,7 +76,7 @@ impl Controller<'_> {
         let start = self.state.joints;
         let end = self.machine_position(&end_p);
         self.push_sync(start, end, rate, out);
-        if mode == SyncMotion::RigidTap {
+        if mode == NgcMotion::RigidTap {
             self.push_sync(end, start, rate * multiplier, out);
         }
         Ok(())
