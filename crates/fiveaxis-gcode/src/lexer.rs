@@ -190,7 +190,12 @@ fn read_block(text: &[u8], syntax: Syntax, block: &mut Block) -> Result<(), Synt
             return Ok(());
         };
         pos = if byte == COMMENT_OPEN {
-            skip_comment(text, pos, syntax)?
+            let end = skip_comment(text, pos, syntax)?;
+            if block.comment_span.is_none() {
+                block.comment_span = Some(span(pos, end));
+                block.comment.extend_from_slice(&text[pos + 1..end - 1]);
+            }
+            end
         } else if byte.is_ascii_alphabetic() {
             read_word(text, pos, block)?
         } else {

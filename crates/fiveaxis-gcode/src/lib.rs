@@ -175,6 +175,12 @@ pub struct Block {
     pub words: Vec<Word>,
     /// The `N` sequence number, if any.
     pub sequence: Option<u32>,
+    /// The text of the line's first comment, without its parentheses (Haas
+    /// G47 engraves it). The buffer is kept from line to line.
+    pub comment: Vec<u8>,
+    /// The columns of that comment, parentheses included; `None` when the
+    /// line has no comment.
+    pub comment_span: Option<Span>,
 }
 
 impl Block {
@@ -186,6 +192,8 @@ impl Block {
         self.tape_mark = false;
         self.words.clear();
         self.sequence = None;
+        self.comment.clear();
+        self.comment_span = None;
     }
 
     /// The first word with this letter.
