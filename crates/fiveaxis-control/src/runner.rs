@@ -712,10 +712,19 @@ impl<'m, S: Source> Runner<'m, S> {
         if let Some(called) = self.macro_call(here.line) {
             return called;
         }
+        // Haas G47 P1 engraves the serial number kept in #599.
+        let engraves = self.controller.engraves(&self.block);
+        if engraves {
+            let serial = self.serial_number();
+            self.controller.set_serial_number(serial);
+        }
         let flow = match self.controller.execute(&self.block, out) {
             Ok(flow) => flow,
             Err(alarm) => return Err(self.alarm_here(alarm)),
         };
+        if engraves && let Some(serial) = self.controller.serial_number() {
+            self.set_serial_number(serial, here.line)?;
+        }
         if let Some(stop) = self.controller.program_stop() {
             let what = match stop {
                 crate::controller::ProgramStop::Stop => "program stop",
