@@ -417,8 +417,12 @@ impl<'m> Controller<'m> {
     }
 
     fn execute_loaded(&mut self, base: usize, out: &mut Vec<Segment>) -> Result<Flow, Alarm> {
-        // A program-number line is a label.
-        self.words.take(b'O');
+        // A program-number line is a label (Haas: O00001 to O99999).
+        if let Some(word) = self.words.take(b'O')
+            && self.dialect.haas_codes
+        {
+            self.haas_program_number(&word)?;
+        }
         let mut codes = self.classify_g_codes()?;
         self.block_exact_stop = codes.exact_stop;
         self.feature_restrictions(&codes)?;

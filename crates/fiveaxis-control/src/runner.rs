@@ -349,6 +349,8 @@ pub struct Runner<'m, S> {
     macros: MacroState,
     /// The program is RS274/NGC (LinuxCNC).
     rs274ngc: bool,
+    /// Haas: `ONONAME` starts a program without a number.
+    haas_names: bool,
     /// RS274/NGC flow: subroutines, calls, open o-word blocks.
     ngc: oword::NgcState,
     /// The leader before the first `%` has been looked for.
@@ -403,6 +405,7 @@ impl<'m, S: Source> Runner<'m, S> {
                 MacroState::new(Dialect::of(machine.control).max_nesting)
             },
             rs274ngc: Dialect::of(machine.control).rs274ngc,
+            haas_names: Dialect::of(machine.control).haas_codes,
             ngc: oword::NgcState::default(),
             started: false,
             notes: Vec::new(),
@@ -632,8 +635,9 @@ impl<'m, S: Source> Runner<'m, S> {
                 MacroFlow::Block => return self.execute_block(here, false, out),
             }
         }
-        if is_program_name(&self.text) {
-            // `<NAME>` or `O<NAME>`: a program start by name (30i).
+        if is_program_name(&self.text) || (self.haas_names && is_haas_unnamed(&self.text)) {
+            // `<NAME>` or `O<NAME>`: a program start by name (30i);
+            // Haas's `ONONAME`, a program without a number.
             return if self.at_program_start {
                 Ok(())
             } else {
@@ -771,7 +775,7 @@ impl<'m, S: Source> Runner<'m, S> {
                 tape = Some(mark);
                 break;
             }
-            if is_program_name(text) {
+            if is_program_name(text) || (self.haas_names && is_haas_unnamed(text)) {
                 break;
             }
             match parse_line_as(self.syntax, text, mark.line, &mut self.scan_block) {
@@ -1117,6 +1121,21 @@ fn is_program_name(text: &[u8]) -> bool {
         _ => rest,
     };
     rest.first() == Some(&b'<') && rest.contains(&b'>')
+}
+
+/// Whether the line is Haas's `ONONAME` (the name the Haas control gives
+/// a program without a program number), alone apart from blanks and a
+/// comment; letters in either case.
+fn is_haas_unnamed(text: &[u8]) -> bool {
+    let rest = text.trim_ascii();
+    let Some(head) = rest.get(..7) else {
+        return false;
+    };
+    if !head.eq_ignore_ascii_case(b"ONONAME") {
+        return false;
+    }
+    let tail = rest[7..].trim_ascii_start();
+    tail.is_empty() || (tail.first() == Some(&b'(') && tail.last() == Some(&b')'))
 }
 
 /// Whether the line's first word is an `O`.

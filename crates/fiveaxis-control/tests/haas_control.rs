@@ -337,3 +337,33 @@ fn haas_refuses_the_posts_placeholder_o_line_and_runs_a_numbered_one() {
         assert_eq!(rows[0].line, 3);
     }
 }
+
+#[test]
+fn haas_numbers_programs_o00001_to_o99999_and_names_an_unnumbered_one_ononame() {
+    let haas = mill(Control::Haas);
+    for header in ["O00001", "O99999 (LAST)"] {
+        let rows = run(&haas, &format!("%\n{header}\nG0 X1.\nM30\n%\n"));
+        assert_eq!(rows.len(), 1, "{header}");
+    }
+    for header in ["O0", "O100000", "O1.5"] {
+        let a = alarm(&haas, &format!("%\n{header}\nG0 X1.\nM30\n%\n"));
+        assert_eq!(a.line, 2, "{header}");
+        let code = a.code.to_string();
+        assert!(code == "FX0014" || code == "FX0013", "{header}: {a}");
+    }
+    // ONONAME: a program start without a number, with or without a name
+    // comment, in either case.
+    for header in ["ONONAME", "ONONAME (BRACKET)", "  ononame  "] {
+        let rows = run(&haas, &format!("%\n{header}\nG0 X1.\nM30\n%\n"));
+        assert_eq!(rows.len(), 1, "{header}");
+        assert_eq!(rows[0].line, 3, "{header}");
+    }
+    // As a program start it ends the program before it, as an O line does.
+    let rows = run(&haas, "%\nO00010\nG0 X1.\nONONAME\nG0 X2.\nM30\n%\n");
+    assert_eq!(rows.len(), 1);
+    // Other words after it, and ONONAME on FANUC, are not a program name.
+    let a = alarm(&haas, "%\nONONAME X1.\nM30\n%\n");
+    assert_eq!(a.line, 2);
+    let a = alarm(&mill(Control::Fanuc30i), "%\nONONAME\nG0 X1.\nM30\n%\n");
+    assert_eq!(a.line, 2);
+}
