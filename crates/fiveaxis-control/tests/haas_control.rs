@@ -367,3 +367,42 @@ fn haas_numbers_programs_o00001_to_o99999_and_names_an_unnumbered_one_ononame() 
     let a = alarm(&mill(Control::Fanuc30i), "%\nONONAME\nG0 X1.\nM30\n%\n");
     assert_eq!(a.line, 2);
 }
+
+// ----- alarm numbers ----------------------------------------------------
+
+/// The built-in UMC-750 (control = "haas"), metric words.
+fn umc() -> Machine {
+    builtin("haas-umc750").expect("built-in")
+}
+
+#[test]
+fn haas_stops_with_the_numbers_its_manual_gives() {
+    let umc = umc();
+    // A subprogram that is not in memory: "Alarm 314 Subprogram Not In
+    // Memory", for M98 and for M97's sequence number alike.
+    for call in ["M98 P9123", "M97 P77"] {
+        let a = alarm(
+            &umc,
+            &format!("%\nO00001\nG21 G90 G00 X0. Y0.\n{call}\nM30\n%\n"),
+        );
+        assert_eq!(a.condition, Condition::ProgramNotFound, "{call}");
+        assert_eq!(a.code.to_string(), "314", "{call}");
+        assert_eq!(a.line, 4, "{call}");
+    }
+    // #3000 = 15: programmable alarm 1015.
+    let a = alarm(&umc, "%\nO00001\n#3000=15 (CLAMP OPEN)\nM30\n%\n");
+    assert_eq!(a.condition, Condition::MacroAlarm);
+    assert_eq!(a.code.to_string(), "1015");
+    // An arc under per-axis scaling: alarm 467.
+    let a = alarm(
+        &umc,
+        "%\nO00001\nG21 G17 G90 G00 X0. Y0.\nG51 X0. Y0. I2000 J1000\nG02 X10. Y0. R5. F100.\nM30\n%\n",
+    );
+    assert_eq!(a.condition, Condition::FrameArcScaling);
+    assert_eq!(a.code.to_string(), "467");
+    assert_eq!(a.line, 5);
+    // A condition the manual numbers nowhere keeps the kernel's code.
+    let a = alarm(&umc, "%\nO00001\nG21 G90 G01 X1.\nM30\n%\n");
+    assert_eq!(a.condition, Condition::FeedZero);
+    assert_eq!(a.code.to_string(), "FX0020");
+}
