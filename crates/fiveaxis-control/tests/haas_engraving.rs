@@ -259,13 +259,14 @@ fn inch_words_and_the_default_height_of_one_inch() {
 
 #[test]
 fn the_serial_number_grows_by_one_with_each_engraving() {
-    // (1234) sets the number and engraves it; (####) engraves the next,
-    // 1235, which must cut exactly where P0 (1235) cuts; #599 is left at
-    // 1236.
+    // (1234) only sets the number (the manual: "nothing is engraved");
+    // (####) then engraves 1234 and (####) again 1235, which must cut
+    // exactly where P0 (1234) and P0 (1235) cut; #599 is left at 1236.
     let serial = "G21 G90 G54 G00 X0. Y0.\nT1 M06\nG43 H01 Z10.\n\
-                  G47 P1 (1234) X0. Y0. Z-0.1 R1. J6. F300.\n\
+                  G47 P1 (1234)\n\
+                  G47 P1 (####) X0. Y0. Z-0.1 R1. J6. F300.\n\
                   G47 P1 (####) X0. Y20. Z-0.1 R1. J6. F300.\nM30\n";
-    let literal = "G21 G90 G54 G00 X0. Y0.\nT1 M06\nG43 H01 Z10.\n\
+    let literal = "G21 G90 G54 G00 X0. Y0.\nT1 M06\nG43 H01 Z10.\n\n\
                    G47 P0 (1234) X0. Y0. Z-0.1 R1. J6. F300.\n\
                    G47 P0 (1235) X0. Y20. Z-0.1 R1. J6. F300.\nM30\n";
     let machine = umc();
@@ -273,8 +274,13 @@ fn the_serial_number_grows_by_one_with_each_engraving() {
     let b = run_program(&machine, literal);
     assert!(a.alarm.is_none() && b.alarm.is_none(), "{:?}", a.alarm);
     let (ta, tb) = (tips(&machine, &a.rows), tips(&machine, &b.rows));
+    assert!(
+        ta.iter().all(|t| t.line != 4),
+        "the setting block moves nothing"
+    );
     assert_eq!(ta.len(), tb.len());
     for (x, y) in ta.iter().zip(&tb) {
+        assert_eq!(x.line, y.line);
         for k in 0..3 {
             close(x.p[k], y.p[k], "serial against literal");
         }

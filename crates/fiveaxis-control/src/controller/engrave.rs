@@ -3,15 +3,16 @@
 //! segment on the G47 block's line, so that the work offset, tool length
 //! compensation and the soft limits apply to each of them.
 //!
-//! `G47 P… (TEXT) X Y Z R I J E F` (Haas mill operator's manual, "G47 Text
-//! Engraving (Group 00)"; the 96-8000 manual's "Sequential Serial Number
-//! Engraving" for `#599`):
+//! `G47 P… (TEXT) X Y Z R I J E F` (Haas NGC mill operator's manual, 2017,
+//! "G47 Text Engraving (Group 00)", with "Engraving Sequential Serial
+//! Numbers" and "Initial Serial Number"):
 //!
 //! * P0 engraves the text of the block's comment, P1 the serial number kept
 //!   in macro variable `#599` (the comment gives the number of digits as
-//!   `#` signs, `(####)`, or sets the number, `(1234)`; the number is one
-//!   more after each engraving), P32–P126 the one ASCII character of that
-//!   code (the only way to engrave `(` and `)`).
+//!   `#` signs, `(####)`, and the number is one more after each
+//!   engraving; digits instead, `G47 P1 (0001)`, set the number and
+//!   engrave nothing), P32–P126 the one ASCII character of that code (the
+//!   only way to engrave `(` and `)`).
 //! * X, Y: the start of the text, the bottom left corner of its first
 //!   character (the position where the tool stands when left out); Z the
 //!   depth of the cut; R the return plane (where the tool stands when left
@@ -77,6 +78,8 @@ enum Text {
     Digits([u8; MAX_SERIAL_DIGITS], usize),
     /// One character (P32–P126).
     Char(u8),
+    /// Nothing: P1 with digits sets the serial number.
+    SetSerial,
 }
 
 impl Controller<'_> {
@@ -157,6 +160,12 @@ impl Controller<'_> {
         let r_word = self.words.take(b'R');
         let [pa, qa, n] = self.state.modal.plane.axes();
         let mut targets = self.axis_words();
+        let text = self.engraving_text(p, p_word.span)?;
+        if let Text::SetSerial = text {
+            // `G47 P1 (0001)` sets the first serial number and engraves
+            // nothing.
+            return Ok(());
+        }
         let Some(z) = targets[n].take() else {
             return Err(self.alarm(
                 Condition::CycleDataMissing,
@@ -167,7 +176,6 @@ impl Controller<'_> {
                 ),
             ));
         };
-        let text = self.engraving_text(p, p_word.span)?;
         // Levels along the plane's normal, in the work coordinate system.
         let initial = from[n];
         let incremental = self.state.modal.distance == Distance::Incremental;
@@ -220,6 +228,7 @@ impl Controller<'_> {
             Text::Comment(a, b) => &self.comment[*a..*b],
             Text::Digits(d, len) => &d[..*len],
             Text::Char(c) => std::slice::from_ref(c),
+            Text::SetSerial => &[],
         };
         for (k, &c) in bytes.iter().enumerate() {
             let Some(strokes) = font::glyph(c) else {
@@ -361,6 +370,7 @@ impl Controller<'_> {
                 .iter()
                 .fold(0.0, |v, &b| v * 10.0 + f64::from(b - b'0'));
             self.state.serial = Some(value);
+            return Ok(Text::SetSerial);
         }
         let serial = self.state.serial.unwrap_or(0.0);
         if !(serial >= 0.0 && serial.fract() == 0.0 && serial < 1e15) {
