@@ -215,7 +215,7 @@ fn retracts_go_to_r_plunges_to_z_and_the_tool_ends_at_r() {
             .filter(|x| x.motion == Motion::Linear && !plunges.iter().any(|p| std::ptr::eq(*p, *x)))
             .all(|x| x.feed == Some(300.0))
     );
-    let last = t.last().unwrap();
+    let last = t.last().expect("the engraving moves");
     assert_eq!(last.motion, Motion::Rapid);
     close(last.p[2], 1.5, "ends at R");
     // The dot of the full stop: plunged and retracted in place at

@@ -62,6 +62,9 @@ use font::{ADVANCE, CAP_HEIGHT};
 pub const DEFAULT_HEIGHT: f64 = MM_PER_INCH;
 /// The smallest J: 0.001 inch (the manual's minimum), mm.
 pub const MIN_HEIGHT: f64 = 0.001 * MM_PER_INCH;
+/// A J equal to the minimum up to this, mm, is the minimum (0.0254 mm
+/// written in mm and 0.001 in converted differ by a rounding).
+const HEIGHT_TOLERANCE: f64 = 1e-9;
 /// Most characters one G47 engraves (a bound of the kernel's).
 pub const MAX_CHARACTERS: usize = 256;
 /// Most digits of a serial number (a bound of the kernel's).
@@ -111,7 +114,7 @@ impl Controller<'_> {
         let height = match self.words.take(b'J') {
             Some(word) => {
                 let j = self.length(&word);
-                if !(j >= MIN_HEIGHT - 1e-9) {
+                if j.is_nan() || j < MIN_HEIGHT - HEIGHT_TOLERANCE {
                     return Err(self.alarm(
                         Condition::ValueOutOfRange,
                         Some(word.span),
@@ -141,7 +144,7 @@ impl Controller<'_> {
         };
         let plunge = match self.words.take(b'E') {
             Some(word) => {
-                if !(word.value > 0.0) {
+                if word.value.is_nan() || word.value <= 0.0 {
                     return Err(self.alarm(
                         Condition::ValueOutOfRange,
                         Some(word.span),

@@ -230,11 +230,11 @@ fn first_comment_is_kept_with_its_columns() {
     assert_eq!(block.comment_span, Some(Span::new(1, 3)));
     // The buffer is emptied for the next line.
     let mut block = ok("(A)");
-    parse_line(b"G1 X1", 8, &mut block).unwrap();
+    parse_line(b"G1 X1", 8, &mut block).expect("a plain line");
     assert!(block.comment.is_empty() && block.comment_span.is_none());
     // Haas's nested reading keeps the inner parentheses as text.
     let mut block = Block::default();
-    parse_line_as(Syntax::HAAS, b"G47 P0 (A (B) C)", 1, &mut block).unwrap();
+    parse_line_as(Syntax::HAAS, b"G47 P0 (A (B) C)", 1, &mut block).expect("nested comment");
     assert_eq!(block.comment, b"A (B) C");
 }
 

@@ -299,7 +299,10 @@ mod tests {
         assert!(glyph(127).is_none());
         assert!(glyph(b'A').is_some());
         assert_eq!(glyph(b' ').map(Iterator::count), Some(0));
-        let a: Vec<Vec<(i8, i8)>> = glyph(b'A').unwrap().map(|s| s.points().collect()).collect();
+        let a: Vec<Vec<(i8, i8)>> = glyph(b'A')
+            .expect("A is in the font")
+            .map(|s| s.points().collect())
+            .collect();
         assert_eq!(
             a,
             [
