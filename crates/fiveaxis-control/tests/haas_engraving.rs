@@ -388,3 +388,75 @@ fn a_g47_line_with_macro_expressions_engraves_its_comment() {
         }
     }
 }
+
+/// A small seeded generator (xorshift64*), so that the property runs are
+/// the same on every machine.
+struct Rng(u64);
+
+impl Rng {
+    fn next(&mut self) -> u64 {
+        self.0 ^= self.0 >> 12;
+        self.0 ^= self.0 << 25;
+        self.0 ^= self.0 >> 27;
+        self.0.wrapping_mul(0x2545_F491_4F6C_DD1D)
+    }
+
+    /// Uniform in [lo, hi), rounded to 1e-3 (a word with three decimals).
+    fn value(&mut self, lo: f64, hi: f64) -> f64 {
+        let u = (self.next() >> 11) as f64 / (1u64 << 53) as f64;
+        ((lo + u * (hi - lo)) * 1000.0).round() / 1000.0
+    }
+}
+
+#[test]
+fn every_cut_of_random_texts_lies_in_the_turned_cells_and_every_rapid_at_r() {
+    // For random texts, starts, angles and heights: turned back by I about
+    // the start, every cut point lies in the text's cells (u from 0 to
+    // (n − 1) J + 2/3 J, v from −J/3 to J), at the depth; every rapid
+    // after the first two is at R.
+    let mut rng = Rng(0x5EED_0047);
+    for case in 0..60 {
+        let n = 1 + (rng.next() % 8) as usize;
+        let text: String = (0..n)
+            .map(|_| {
+                let c = 32 + (rng.next() % 95) as u8;
+                if c == b'(' || c == b')' {
+                    'Z'
+                } else {
+                    char::from(c)
+                }
+            })
+            .collect();
+        let (x, y) = (rng.value(-40.0, 40.0), rng.value(-40.0, 40.0));
+        let angle = rng.value(-360.0, 360.0);
+        let j = rng.value(0.5, 12.0);
+        let (r, z) = (rng.value(0.5, 3.0), rng.value(-1.0, -0.05));
+        let t = engraving(
+            &program(&format!(
+                "G47 P0 (X{text}X) X{x:.3} Y{y:.3} Z{z:.3} R{r:.3} I{angle:.3} J{j:.3} F400."
+            )),
+            4,
+        );
+        let chars = n + 2;
+        let (s, c) = angle.to_radians().sin_cos();
+        let cuts = t.iter().filter(|t| t.motion == Motion::Linear);
+        let mut count = 0;
+        for cut in cuts {
+            let (dx, dy) = (cut.p[0] - x, cut.p[1] - y);
+            let (u, v) = (dx * c + dy * s, -dx * s + dy * c);
+            let what = format!("case {case}: {text:?} at {:?}", cut.p);
+            assert!(
+                u > -1e-9 && u < (chars as f64 - 1.0) * j + j * 4.0 / 6.0 + 1e-9,
+                "{what}: u {u}"
+            );
+            assert!(v > -j / 3.0 - 1e-9 && v < j + 1e-9, "{what}: v {v}");
+            close(cut.p[2], z, &what);
+            count += 1;
+        }
+        // The X at both ends is cut: at least its two strokes' points.
+        assert!(count >= 4, "case {case}");
+        for rapid in t.iter().skip(2).filter(|t| t.motion == Motion::Rapid) {
+            close(rapid.p[2], r, &format!("case {case}: rapid at R"));
+        }
+    }
+}

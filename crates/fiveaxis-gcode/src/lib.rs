@@ -72,10 +72,11 @@ pub struct Syntax {
     /// NX post writes `(#508= (MILL_.25_PROFILE ))`). Off (FANUC): a `(`
     /// inside a comment is text and the first `)` ends it.
     pub nested_comments: bool,
-    /// `;` starts a comment to the end of the line only outside
-    /// parentheses; inside a `( … )` comment it is text (LinuxCNC,
-    /// overview.adoc "Comments"). Off (FANUC): the first `;` ends the
-    /// block wherever it stands.
+    /// `;` ends the block (starts a comment to the end of the line) only
+    /// outside parentheses; inside a `( … )` comment it is text (LinuxCNC,
+    /// overview.adoc "Comments"; Haas, whose G47 engraves `;` from a
+    /// comment: NGC mill operator's manual, "Literal Text Engraving").
+    /// Off (FANUC): the first `;` ends the block wherever it stands.
     pub semicolon_outside_comments: bool,
 }
 
@@ -88,7 +89,7 @@ impl Syntax {
     /// The Haas control.
     pub const HAAS: Self = Self {
         nested_comments: true,
-        semicolon_outside_comments: false,
+        semicolon_outside_comments: true,
     };
     /// LinuxCNC's RS274/NGC for plain lines (the runner sends lines with
     /// parameters, expressions and o-words to `fiveaxis-macro`'s NGC

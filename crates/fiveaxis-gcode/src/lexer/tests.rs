@@ -236,6 +236,19 @@ fn first_comment_is_kept_with_its_columns() {
     let mut block = Block::default();
     parse_line_as(Syntax::HAAS, b"G47 P0 (A (B) C)", 1, &mut block).expect("nested comment");
     assert_eq!(block.comment, b"A (B) C");
+    // Haas: a `;` inside a comment, nested or not, is text; outside one it
+    // ends the block.
+    parse_line_as(
+        Syntax::HAAS,
+        b"G47 P0 (A;B (C;D) E) X1. ; Y2.",
+        1,
+        &mut block,
+    )
+    .expect("semicolons in a comment");
+    assert_eq!(block.comment, b"A;B (C;D) E");
+    assert_eq!(block.words.len(), 3);
+    // FANUC: the first `;` ends the block, inside a comment or not.
+    assert_eq!(err("G1 (A;B) X1"), (UnclosedComment, 4, 6));
 }
 
 #[test]
