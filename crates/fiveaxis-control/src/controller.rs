@@ -404,9 +404,12 @@ impl<'m> Controller<'m> {
         let base = out.len();
         self.stop = None;
         self.words.load(block, self.machine)?;
-        self.comment.clear();
-        self.comment.extend_from_slice(&block.comment);
-        self.comment_span = block.comment_span;
+        if self.dialect.haas_codes {
+            // Haas G47 engraves the block's comment.
+            self.comment.clear();
+            self.comment.extend_from_slice(&block.comment);
+            self.comment_span = block.comment_span;
+        }
         let saved = self.state.clone();
         let result = self.execute_loaded(base, out);
         if result.is_err() {
