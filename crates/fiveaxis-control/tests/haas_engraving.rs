@@ -460,3 +460,22 @@ fn every_cut_of_random_texts_lies_in_the_turned_cells_and_every_rapid_at_r() {
         }
     }
 }
+
+#[test]
+fn in_feature_coordinates_the_text_lies_in_the_frames_plane() {
+    // G268 turned 90° about Z with its origin at (10, 0, 0): a frame point
+    // (u, v, w) is the part point (10 − v, u, w). The same engraving in the
+    // frame and plain must agree point by point under that map.
+    let plain = engraving(&program("G47 P0 (F7) X2. Y3. Z-0.2 R1. J6. F300."), 4);
+    let framed = engraving(
+        "G21 G90 G54 G00 X0. Y0.\nT1 M06\nG43 H01 Z10.\nG268 X10. Y0. Z0. I0. J0. K90.\n\
+         G00 X0. Y0. Z10.\nG47 P0 (F7) X2. Y3. Z-0.2 R1. J6. F300.\nG269\nM30\n",
+        6,
+    );
+    assert_eq!(plain.len(), framed.len());
+    for (a, b) in plain.iter().zip(&framed) {
+        close(b.p[0], 10.0 - a.p[1], "x");
+        close(b.p[1], a.p[0], "y");
+        close(b.p[2], a.p[2], "z");
+    }
+}
