@@ -402,7 +402,7 @@ impl<'m, S: Source> Runner<'m, S> {
             macros: if Dialect::of(machine.control).rs274ngc {
                 MacroState::linuxcnc(oword::NGC_MAX_CALLS)
             } else {
-                MacroState::new(Dialect::of(machine.control).max_nesting)
+                MacroState::new(Dialect::of(machine.control).max_macro_nesting)
             },
             rs274ngc: Dialect::of(machine.control).rs274ngc,
             haas_names: Dialect::of(machine.control).haas_codes,

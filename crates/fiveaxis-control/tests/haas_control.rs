@@ -406,3 +406,22 @@ fn haas_stops_with_the_numbers_its_manual_gives() {
     assert_eq!(a.condition, Condition::FeedZero);
     assert_eq!(a.code.to_string(), "FX0020");
 }
+
+#[test]
+fn haas_macro_calls_nest_nine_deep() {
+    // O2000 calls itself with G65 until #100 reaches the limit: nine
+    // nested G65 calls run, a tenth is the macro nesting alarm (the manual:
+    // "G65 calls can be nested up to 9 times"); FANUC 30i takes ten.
+    let program = |limit: u32| {
+        format!(
+            "%\nO00001\n#100=0\nG65 P2000\nM30\nO2000\n#100=#100+1\nIF[#100GE{limit}]GOTO10\nG65 P2000\nN10 M99\n%\n"
+        )
+    };
+    let umc = umc();
+    let (_, a) = run_on(&umc, &program(9));
+    assert!(a.is_none(), "{a:?}");
+    let a = alarm(&umc, &program(10));
+    assert_eq!(a.condition, Condition::MacroCallNesting);
+    let (_, a) = run_on(&mill(Control::Fanuc30i), &program(10));
+    assert!(a.is_none(), "{a:?}");
+}
