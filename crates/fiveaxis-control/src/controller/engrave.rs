@@ -42,6 +42,8 @@
 //!   [`MAX_SERIAL_DIGITS`] digits, shorter numbers filled with leading
 //!   zeros, longer ones cut to their last digits (as the manual says);
 //!   `#599` vacant is 0.
+//! * Z is required (FX0130): the manual marks it optional but does not
+//!   say which depth is cut without it.
 //! * Refused (FX0133): cutter compensation, 3-D tool compensation, TCPC,
 //!   program transforms (G68, G51, G51.1, G16), inverse time feed, rotary
 //!   axis words in the G47 block.
