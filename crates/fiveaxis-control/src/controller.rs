@@ -24,6 +24,7 @@ mod comp3d;
 mod coordinates;
 mod cutter_c;
 mod cycles;
+mod engrave;
 mod haas;
 mod linuxcnc;
 mod m_codes;
@@ -34,6 +35,7 @@ mod tcpc;
 mod threading;
 
 pub use cycles::{MAX_CYCLE_SEGMENTS, PECK_CLEARANCE, PECK_RETRACT};
+pub use engrave::SERIAL_VARIABLE;
 pub use m_codes::ProgramStop;
 use motion::arc_sweep;
 pub use system_vars::SystemVarFault;
@@ -164,6 +166,9 @@ struct State {
     cycle: cycles::CycleState,
     /// G52, G16, G51.1, G51, G68 (`controller/coordinates/program_transforms.rs`).
     frames: coordinates::Frames,
+    /// Haas: the serial number G47 P1 engraves next (macro variable
+    /// `#599`, which the runner keeps; `None`: vacant).
+    serial: Option<f64>,
 }
 
 /// The controller of one run.
@@ -193,6 +198,10 @@ pub struct Controller<'m> {
     /// Soft limits lifted (`RunOptions::lift_soft_limits`): moves beyond
     /// them raise no alarm; `fiveaxis check` reports them instead.
     limits_lifted: bool,
+    /// The first comment of the block being executed (Haas G47 engraves
+    /// it), and its columns; the buffer is kept from block to block.
+    comment: Vec<u8>,
+    comment_span: Option<Span>,
 }
 
 /// Where the control point goes, for each axis: programmed value if the
@@ -216,6 +225,8 @@ impl<'m> Controller<'m> {
             offsets,
             tool_memory,
             limits_lifted: false,
+            comment: Vec::new(),
+            comment_span: None,
             optional_stop: false,
             stop: None,
             dialect: Dialect::of(machine.control),
@@ -255,6 +266,7 @@ impl<'m> Controller<'m> {
                 setup_angles: None,
                 cycle: cycles::CycleState::default(),
                 frames: coordinates::Frames::default(),
+                serial: None,
             },
             words: Words::new(machine.control),
             block_posture: None,
@@ -341,6 +353,28 @@ impl<'m> Controller<'m> {
         }
     }
 
+    /// Haas: the serial number G47 P1 engraves next (`#599`; `None` when
+    /// vacant).
+    pub fn serial_number(&self) -> Option<f64> {
+        self.state.serial
+    }
+
+    /// Haas: sets the serial number G47 P1 engraves next (the runner
+    /// passes `#599` before a G47 block).
+    pub fn set_serial_number(&mut self, value: Option<f64>) {
+        self.state.serial = value;
+    }
+
+    /// Whether `block` engraves (Haas G47), so that the runner passes it
+    /// the serial number `#599`.
+    pub fn engraves(&self, block: &Block) -> bool {
+        self.dialect.haas_codes
+            && block
+                .words
+                .iter()
+                .any(|w| w.letter == b'G' && w.value == 47.0)
+    }
+
     /// Whether the spindle turns (M03 / M04 and not stopped since).
     pub fn spindle_on(&self) -> bool {
         self.state.spindle_on
@@ -384,6 +418,12 @@ impl<'m> Controller<'m> {
         let base = out.len();
         self.stop = None;
         self.words.load(block, self.machine)?;
+        if self.dialect.haas_codes {
+            // Haas G47 engraves the block's comment.
+            self.comment.clear();
+            self.comment.extend_from_slice(&block.comment);
+            self.comment_span = block.comment_span;
+        }
         let saved = self.state.clone();
         let result = self.execute_loaded(base, out);
         if result.is_err() {
@@ -394,8 +434,12 @@ impl<'m> Controller<'m> {
     }
 
     fn execute_loaded(&mut self, base: usize, out: &mut Vec<Segment>) -> Result<Flow, Alarm> {
-        // A program-number line is a label.
-        self.words.take(b'O');
+        // A program-number line is a label (Haas: O00001 to O99999).
+        if let Some(word) = self.words.take(b'O')
+            && self.dialect.haas_codes
+        {
+            self.haas_program_number(&word)?;
+        }
         let mut codes = self.classify_g_codes()?;
         self.block_exact_stop = codes.exact_stop;
         self.feature_restrictions(&codes)?;
@@ -559,6 +603,8 @@ impl<'m> Controller<'m> {
                 (254 | 255, 0) if haas => GKind::Dwo,
                 (268 | 269, 0) if haas => GKind::Feature,
                 (253, 0) if haas => GKind::OneShot,
+                // G47 text engraving (controller/engrave.rs).
+                (47, 0) if haas => GKind::OneShot,
                 (187, 0) if haas => GKind::Smoothness,
                 (154 | 110..=129, 0) if haas => GKind::Work,
                 (0..=3, 0) => GKind::Motion,
@@ -1415,6 +1461,8 @@ impl<'m> Controller<'m> {
             // Haas G253: the spindle normal to the feature coordinate
             // system (G268), as G53.1.
             253 => self.tool_axis_control(span, false, out),
+            // Haas G47: text engraving.
+            47 => self.engrave(span, from, out),
             53 if code.minor == 6 => self.tool_axis_control(span, true, out),
             52 => {
                 self.local_coordinate_system()?;
