@@ -131,8 +131,18 @@ impl Controller<'_> {
             .map(|w| (w[0][0] - 2.0 * w[1][0] + w[2][0]).hypot(w[0][1] - 2.0 * w[1][1] + w[2][1]))
             .fold(0.0, f64::max)
             * (degree * (degree - 1)) as f64;
-        let chords = ((second / (8.0 * SPLINE_TOLERANCE)).sqrt().ceil() as usize)
-            .clamp(1, MAX_SPLINE_CHORDS);
+        let needed = (second / (8.0 * SPLINE_TOLERANCE)).sqrt().ceil();
+        if !(needed <= MAX_SPLINE_CHORDS as f64) {
+            return Err(self.alarm(
+                Condition::ValueOutOfRange,
+                None,
+                format!(
+                    "{name}: the curve bends too sharply to follow within {SPLINE_TOLERANCE} mm in \
+                     {MAX_SPLINE_CHORDS} chords (control points too far out)"
+                ),
+            ));
+        }
+        let chords = (needed as usize).max(1);
         let mut cur = self.state.joints;
         for k in 1..=chords {
             let t = k as f64 / chords as f64;
