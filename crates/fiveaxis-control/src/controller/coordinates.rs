@@ -34,6 +34,7 @@ use crate::modal::WorkSelect;
 mod feature_frame;
 mod program_transforms;
 mod setup_error;
+mod twp;
 
 pub(super) use feature_frame::{Feature, Pending};
 pub(super) use program_transforms::{Frames, slot};
