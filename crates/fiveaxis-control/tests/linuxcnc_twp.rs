@@ -837,7 +837,7 @@ fn random_euler_planes() {
             );
             let r = run(&m, &program);
             prop_assert!(r.alarm.is_none(), "{:?}\n{program}", r.alarm);
-            let round = |v: f64| fmt(v).parse::<f64>().unwrap();
+            let round = |v: f64| fmt(v).parse::<f64>().expect("a number");
             let a = a.map(round);
             let rot = if form == 0 {
                 euler(q, [a[0], a[1], a[2]])
@@ -874,7 +874,7 @@ fn random_point_and_vector_planes() {
             angle(),
         ),
         |(p1, p2, p3, p, turn)| {
-            let round = |v: f64| fmt(v).parse::<f64>().unwrap();
+            let round = |v: f64| fmt(v).parse::<f64>().expect("a number");
             let [a, b, c] = [p1, p2, p3].map(|v| Vec3::from(v.map(round)));
             let least = [(b, c, a), (a, c, b), (a, b, c)]
                 .iter()
