@@ -449,7 +449,8 @@ fn p_word_chooses_the_direction_of_the_primary_turn() {
         assert!((shortest - start).abs() <= (positive - start).abs() + 1e-9);
         assert!((shortest - start).abs() <= (negative - start).abs() + 1e-9);
     }
-    assert!(alarm(&m, &format!("{}G68.2 I30\nG53.1 P3\nM2\n", prelude())).contains("P"));
+    let text = alarm(&m, &format!("{}G68.2 I30\nG53.1 P3\nM2\n", prelude()));
+    assert!(text.contains("FX0014") && text.contains("P3"), "{text}");
 }
 
 // ----- other machines ---------------------------------------------------------------
@@ -970,6 +971,50 @@ fn three_rotary_machine_turns_the_head_pair_with_the_table_held() {
                 Vec3::new(5.0, 0.0, 0.0),
                 Vec3::new(0.0, 0.0, 40.0),
             );
+        }
+    }
+}
+
+#[test]
+fn machine_file_keys() {
+    // Written back and read again.
+    let text = HEAD_90.replace("twp_remap = true", "twp_remap = true\ntwp_priority = 2");
+    let m = machine(&text);
+    assert!(m.params.twp_remap);
+    assert_eq!(m.params.twp_priority, 2);
+    let again = Machine::from_toml(&m.to_toml()).expect("the written file reads");
+    assert_eq!(again.params, m.params);
+    // twp_priority is 1 or 2.
+    let e = Machine::from_toml(
+        &HEAD_90.replace("twp_remap = true", "twp_remap = true\ntwp_priority = 3"),
+    )
+    .expect_err("refused");
+    assert_eq!(e.key.as_deref(), Some("twp_priority"), "{e}");
+    // Two rotary axes at least.
+    let one = HEAD_90
+        .split("[[rotary]]\nname = \"A\"")
+        .next()
+        .expect("text")
+        .to_owned()
+        + "[parameters]\ntwp_remap = true\n";
+    let e = Machine::from_toml(&one).expect_err("refused");
+    assert_eq!(e.key.as_deref(), Some("twp_remap"), "{e}");
+}
+
+/// The secondary axis prioritized: its P direction holds.
+#[test]
+fn twp_priority_2_steers_the_secondary() {
+    let text = HEAD_90.replace("twp_remap = true", "twp_remap = true\ntwp_priority = 2");
+    let m = machine(&text);
+    for (p, positive) in [(1, true), (2, false)] {
+        let program = format!("{}G0 A10\nG68.2 P1 I30\nG53.1 P{p}\nM2\n", prelude());
+        let segments = run_ok(&m, &program);
+        let (j, _, dir) = end_pose(&m, &segments);
+        assert!((dir - rx(30.0) * Vec3::z()).norm() < DIR_TOLERANCE);
+        if positive {
+            assert!(j[4] >= 10.0 - 1e-9, "{j:?}");
+        } else {
+            assert!(j[4] <= 10.0 + 1e-9, "{j:?}");
         }
     }
 }
