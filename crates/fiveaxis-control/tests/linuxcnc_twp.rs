@@ -1018,3 +1018,77 @@ fn twp_priority_2_steers_the_secondary() {
         }
     }
 }
+
+/// Random sequences of the TWP codes with wild values: every run ends
+/// (an alarm or the end), never a panic, and every segment is finite.
+#[test]
+fn random_twp_programs_never_panic() {
+    let machines = [
+        machine(HEAD_90),
+        machine(NUTATING_45),
+        machine(MIXED),
+        trsrn(50.0),
+    ];
+    let value = prop_oneof![
+        -400.0..400.0f64,
+        Just(0.0),
+        Just(1e30),
+        Just(-1e200),
+        Just(90.0),
+        Just(180.0)
+    ];
+    let template = 0..17usize;
+    let line = (
+        template,
+        [value.clone(), value.clone(), value.clone(), value.clone()],
+        0..4u32,
+    );
+    common::check(
+        config(300),
+        (0..machines.len(), proptest::collection::vec(line, 1..12)),
+        |(mi, lines)| {
+            let m = &machines[mi];
+            let mut program = prelude();
+            for (t, v, q) in lines {
+                let [a, b, c, d] = v.map(fmt);
+                program += &match t {
+                    0 => format!(
+                        "G68.2 Q{} I{a} J{b} K{c} R{d}\n",
+                        [121, 131, 313, 323][q as usize]
+                    ),
+                    1 => format!(
+                        "G68.2 P1 Q{} X{a} I{b} J{c} K{d}\n",
+                        [123, 132, 312, 321][q as usize]
+                    ),
+                    2 => format!("G68.2 P2 Q{q} I{a} J{b} K{c}\n"),
+                    3 => format!("G68.2 P3 Q{} X{a} I{b} J{c} K{d}\n", q % 3),
+                    4 => format!("G68.3 X{a} R{b}\n"),
+                    5 => format!("G68.4 Q131 I{a} J{b} X{c}\n"),
+                    6 => format!("G53.1 P{}\n", q % 3),
+                    7 => format!("G53.3 X{a} Y{b} Z{c}\n"),
+                    8 => format!("G53.6 P{q}\n"),
+                    9 => "G69\n".into(),
+                    10 => format!("G0 X{a} Y{b} Z{c}\n"),
+                    11 => format!(
+                        "G1 X{a} Y{b} F{}\n",
+                        fmt(d.parse::<f64>().map_or(100.0, f64::abs) + 1.0)
+                    ),
+                    12 => format!("G2 X{a} Y{b} I{c} F500\n"),
+                    13 => format!("G52 X{a}\n"),
+                    14 => format!("G10 L2 P0 X{a} Y{b}\n"),
+                    15 => "G55\n".into(),
+                    _ => "G54\n".into(),
+                };
+            }
+            program += "M2\n";
+            let r = run(m, &program);
+            for seg in &r.segments {
+                for s in [0.0, 0.5, 1.0] {
+                    let j = seg.eval(m, s);
+                    prop_assert!(j.iter().all(|x| x.is_finite()), "{j:?}\n{program}");
+                }
+            }
+            Ok(())
+        },
+    );
+}
