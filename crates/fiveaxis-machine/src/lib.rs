@@ -30,6 +30,8 @@ pub use offsets::{
 };
 pub use setup_error::SetupError;
 
+use std::collections::BTreeMap;
+
 use nalgebra::{Unit, Vector3};
 
 /// A 3-vector of `f64`: points in mm, directions unitless.
@@ -297,6 +299,13 @@ pub struct Parameters {
     /// turn the P word of those codes chooses; the other takes the
     /// shortest way.
     pub twp_priority: u8,
+    /// LinuxCNC: the values a program reads as `#<_hal[pin]>` (HAL pins
+    /// as they stand when the program starts; names in lower case).
+    pub hal_pins: BTreeMap<String, f64>,
+    /// LinuxCNC: the values a program reads as `#<_ini[section]name>`,
+    /// keyed `SECTION]NAME` in upper case (LinuxCNC upper-cases the name
+    /// before it looks in the INI file).
+    pub ini_values: BTreeMap<String, f64>,
 }
 
 impl Default for Parameters {
@@ -323,6 +332,8 @@ impl Default for Parameters {
             tcpc_at_start: false,
             twp_remap: false,
             twp_priority: 1,
+            hal_pins: BTreeMap::new(),
+            ini_values: BTreeMap::new(),
         }
     }
 }

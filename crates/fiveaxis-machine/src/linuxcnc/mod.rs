@@ -150,6 +150,8 @@ pub fn import_linuxcnc(ini_path: &Path, read: &mut Reader<'_>) -> Result<Importe
     params.subroutine_path = subroutine_path(&ini, &folder, &mut notes);
     let (m_codes, tcpc_at_start) = remap::m_codes(&ini, &folder, &hal, &kins, read, &mut notes)?;
     params.tcpc_at_start = tcpc_at_start;
+    params.hal_pins = hal.pin_values();
+    params.ini_values = ini.numbers();
     notes.extend(hal.notes.iter().cloned());
     notes.extend(kins.notes.iter().cloned());
     // G28 / G30 positions are LinuxCNC parameters (5161…, 5181…) of the
