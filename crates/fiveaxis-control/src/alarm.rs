@@ -232,13 +232,17 @@ pub enum Condition {
     CycleReferenceReturn,
     /// A canned cycle under TCPC, cutter compensation C or 3-D tool compensation.
     CycleNotAllowed,
-    /// A tilted working plane (G68.2, G53.1) where the kernel does not combine it.
+    /// A tilted working plane (G68.2, G53.1) where the kernel does not
+    /// combine it; LinuxCNC's TWP remap: G68.4 or G53.x without a plane,
+    /// a plane defined outside G54.
     FeatureNotAllowed,
     /// G68.3 with one or two of the origin's X, Y, Z.
     FeatureOriginIncomplete,
     /// A G68.2 / G68.4 definition the control refuses: no such P form,
     /// three points on a line, a zero or oblique vector, blocks of a
-    /// P2 / P3 definition out of order or interrupted.
+    /// P2 / P3 definition out of order or interrupted; LinuxCNC's TWP
+    /// remap: a rotation order Q not of the form, points nearer than
+    /// 10 mm to the line through the other two.
     FeatureDefinition,
     /// A three-dimensional coordinate conversion (G68 with I, J, K) the
     /// control refuses: a zero axis vector, a third nesting.
@@ -505,10 +509,10 @@ impl Condition {
                 "A three-dimensional coordinate conversion (G68 with I, J, K) with a zero axis vector, or nested a third time"
             }
             Condition::FeatureDefinition => {
-                "A G68.2 / G68.4 definition the control refuses: no such P form, three points on a line, a zero or oblique vector, P2 / P3 blocks out of order or interrupted"
+                "A G68.2 / G68.4 definition the control refuses: no such P form, three points on a line, a zero or oblique vector, P2 / P3 blocks out of order or interrupted; LinuxCNC TWP remap: a rotation order Q not of the form, a point nearer than 10 mm (0.5 in) to the line through the other two"
             }
             Condition::FeatureNotAllowed => {
-                "A tilted working plane (G68.2, G53.1) where the kernel does not combine it"
+                "A tilted working plane (G68.2, G53.1) where the kernel does not combine it; LinuxCNC TWP remap: G68.4 or G53.x with no plane defined, a plane defined outside G54"
             }
             Condition::CycleNotAllowed => {
                 "A canned cycle with a rotary word under TCPC, or under cutter compensation C or 3-D tool compensation"

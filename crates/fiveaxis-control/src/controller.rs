@@ -96,6 +96,9 @@ struct State {
     feature: Option<coordinates::Feature>,
     /// A G68.2 P2 / P3 definition whose blocks are still coming.
     feature_pending: Option<coordinates::Pending>,
+    /// LinuxCNC TWP remap: the plane G68.2 / G68.3 / G68.4 defined, in
+    /// force (as `feature`) only from G53.x (`coordinates/twp.rs`).
+    twp: Option<coordinates::Feature>,
     /// Current machine position (rollover axes unwrapped).
     joints: Joints,
     /// Active H number (0: none).
@@ -236,6 +239,7 @@ impl<'m> Controller<'m> {
                 homes: [machine.params.reference_1, machine.params.reference_2],
                 feature: None,
                 feature_pending: None,
+                twp: None,
                 joints: machine.params.reference_1,
                 h: 0,
                 kinematics_tcp: false,
@@ -466,6 +470,9 @@ impl<'m> Controller<'m> {
         {
             self.state.feature = None;
         }
+        if self.twp_remap() && codes.feature.is_some_and(|(c, _)| c == Code::new(69, 0)) {
+            self.twp_cancel();
+        }
         if let Some((code, span)) = codes.dwo {
             self.dwo_command(code, span)?;
         }
@@ -521,7 +528,11 @@ impl<'m> Controller<'m> {
         if let Some((code, span)) = codes.feature.filter(|(c, _)| matches!(c.major, 68 | 268)) {
             // G68.2 / G68.4 define the frame and move nothing: the program
             // stands where it was, in the new frame.
-            self.feature_command(code, span)?;
+            if self.twp_remap() {
+                self.twp_define(code, span)?;
+            } else {
+                self.feature_command(code, span)?;
+            }
         } else if let Some((_, span)) = codes.setup {
             if self.cutter.routing() {
                 // The held block is emitted with the correction it was
@@ -596,8 +607,20 @@ impl<'m> Controller<'m> {
     fn classify_g_codes(&self) -> Result<GCodes, Alarm> {
         let mut codes = GCodes::default();
         let haas = self.dialect.haas_codes;
+        let twp = self.twp_remap();
         for &(code, span) in &self.words.g[..self.words.g_len] {
             let kind = match (code.major, code.minor) {
+                // LinuxCNC's tilted-working-plane remap (coordinates/twp.rs).
+                (68, 2..=4) | (69, 0) if twp => GKind::Feature,
+                (53, 1 | 3 | 6) if twp => GKind::OneShot,
+                // Without the remap LinuxCNC has none of them.
+                (68, 2..=4) | (53, 1 | 6) if self.dialect.rs274ngc => {
+                    return Err(self.alarm(
+                        Condition::ImproperGCode,
+                        Some(span),
+                        format!("G{code} is not a G code of this control (LinuxCNC has it only through a tilted-working-plane remap: twp_remap in the machine file)"),
+                    ));
+                }
                 // Haas's own codes (controller/haas.rs).
                 (234, 0) if haas => GKind::Length,
                 (254 | 255, 0) if haas => GKind::Dwo,
@@ -714,12 +737,21 @@ impl<'m> Controller<'m> {
         // motion code (posts write `G90 G53 G00 Z0.`), which stays modal.
         if let (Some((motion, span)), Some((one, _))) = (codes.motion, codes.one_shot)
             && !matches!(one.major, 4 | 10 | 92)
-            && !(one.major == 53 && motion.major <= 1)
+            && !(one.major == 53 && (one.minor == 0 || !twp) && motion.major <= 1)
         {
             return Err(self.alarm(
                 Condition::GCodeConflict,
                 Some(span),
                 format!("G{motion} and G{one} cannot be in the same block"),
+            ));
+        }
+        // The TWP remap's codes are of modal group 1 (REMAP … modalgroup=1):
+        // one motion code per block.
+        if twp && let (Some((motion, span)), Some((feature, _))) = (codes.motion, codes.feature) {
+            return Err(self.alarm(
+                Condition::GCodeConflict,
+                Some(span),
+                format!("G{motion} and G{feature} are both of modal group 1 and cannot be in the same block"),
             ));
         }
         Ok(codes)
@@ -1457,6 +1489,7 @@ impl<'m> Controller<'m> {
                 };
                 self.reference_return(from, n, out)
             }
+            53 if code.minor != 0 && self.twp_remap() => self.twp_orient(code, span, out),
             53 if code.minor == 1 => self.tool_axis_control(span, false, out),
             // Haas G253: the spindle normal to the feature coordinate
             // system (G268), as G53.1.

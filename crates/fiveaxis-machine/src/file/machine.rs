@@ -156,6 +156,8 @@ struct RawParameters {
     subroutine_path: Vec<String>,
     tool_table: Option<String>,
     tcpc_at_start: Option<Spanned<bool>>,
+    twp_remap: Option<Spanned<bool>>,
+    twp_priority: Option<Spanned<i64>>,
     hal_pins: Option<Spanned<BTreeMap<String, f64>>>,
     ini: Option<Spanned<BTreeMap<String, BTreeMap<String, f64>>>>,
 }
@@ -584,6 +586,40 @@ fn parameters(
                 true
             }
             _ => false,
+        },
+        twp_remap: match &raw.twp_remap {
+            Some(v) if *v.get_ref() => {
+                if machine.control != Control::LinuxCnc {
+                    return Err(src.at(
+                        v,
+                        "twp_remap",
+                        "the tilted-working-plane remap is a LinuxCNC configuration's: set control = \"linuxcnc\"",
+                    ));
+                }
+                if machine.rotary.len() < 2 {
+                    return Err(src.at(
+                        v,
+                        "twp_remap",
+                        "the tilted working plane turns two rotary axes: the machine has fewer",
+                    ));
+                }
+                true
+            }
+            _ => false,
+        },
+        twp_priority: match &raw.twp_priority {
+            Some(v) => match *v.get_ref() {
+                1 => 1,
+                2 => 2,
+                _ => {
+                    return Err(src.at(
+                        v,
+                        "twp_priority",
+                        "`twp_priority` is 1 (the primary rotary axis) or 2 (the secondary)",
+                    ));
+                }
+            },
+            None => defaults.twp_priority,
         },
         hal_pins: match &raw.hal_pins {
             Some(pins) => {

@@ -166,6 +166,20 @@ impl Machine {
                 "LinuxCNC: TCP kinematics from power-on (no kinematics switch)",
             );
         }
+        if p.twp_remap {
+            w.key(
+                "twp_remap",
+                "true",
+                "LinuxCNC: the tilted-working-plane remap (G68.2 … G53.6)",
+            );
+        }
+        if p.twp_priority != 1 {
+            w.key(
+                "twp_priority",
+                &p.twp_priority.to_string(),
+                "LinuxCNC [TWP] PRIORITY: the rotary axis the G53.x P word steers",
+            );
+        }
         if let Some(table) = &p.tool_table {
             w.key(
                 "tool_table",
