@@ -132,7 +132,7 @@ impl Controller<'_> {
             .fold(0.0, f64::max)
             * (degree * (degree - 1)) as f64;
         let needed = (second / (8.0 * SPLINE_TOLERANCE)).sqrt().ceil();
-        if !(needed <= MAX_SPLINE_CHORDS as f64) {
+        if needed.is_nan() || needed > MAX_SPLINE_CHORDS as f64 {
             return Err(self.alarm(
                 Condition::ValueOutOfRange,
                 None,
