@@ -99,6 +99,9 @@ pub enum Condition {
     FeedZero,
     /// Feed per revolution while the spindle is stopped.
     NoSpindleForFeedPerRev,
+    /// A unit code (G20 / G21) that disagrees with the power-on unit the
+    /// control is set to (Haas Setting 9).
+    UnitsMismatch,
     /// Arc whose end point is not on the circle (FANUC No.3410).
     ArcRadiusTolerance,
     /// Arc with neither R nor I, J, K.
@@ -279,6 +282,7 @@ impl Condition {
         Condition::ValueOutOfRange,
         Condition::FeedZero,
         Condition::NoSpindleForFeedPerRev,
+        Condition::UnitsMismatch,
         Condition::ArcRadiusTolerance,
         Condition::ArcCenterMissing,
         Condition::IllegalOffsetNumber,
@@ -379,6 +383,9 @@ impl Condition {
             Condition::ValueOutOfRange => "A value out of the range the address accepts",
             Condition::FeedZero => "Feed zero or no feed for a cutting move",
             Condition::NoSpindleForFeedPerRev => "Feed per revolution while the spindle is stopped",
+            Condition::UnitsMismatch => {
+                "G20 / G21 against the control's inch / metric setting (Haas Setting 9)"
+            }
             Condition::ArcRadiusTolerance => {
                 "Arc whose end point is not on the circle (FANUC No.3410)"
             }
@@ -675,6 +682,7 @@ impl Condition {
             C::DuplicateAddress => 16,
             C::FeedZero => 20,
             C::NoSpindleForFeedPerRev => 21,
+            C::UnitsMismatch => 22,
             C::ArcRadiusTolerance => 30,
             C::ArcCenterMissing => 31,
             C::IllegalOffsetNumber => 40,

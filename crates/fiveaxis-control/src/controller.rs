@@ -818,6 +818,32 @@ impl<'m> Controller<'m> {
                 _ => FeedMode::PerRevolution,
             };
         }
+        if let Some(code) = codes.units
+            && self.dialect.haas_codes
+            && (code.major == 20)
+                != (self.machine.params.input_unit == fiveaxis_machine::InputUnit::Inch)
+        {
+            // Haas NGC mill operator's manual, G20 / G21: "Use Setting 9
+            // to select between inch and metric programming. G20 in a
+            // program causes an alarm if Setting 9 is not set to inch";
+            // G21 against an inch Setting 9 likewise (the codes are there
+            // "to make sure that the inch/metric selection is set
+            // correctly").
+            let (unit, setting) = if code.major == 20 {
+                ("inch", "MM")
+            } else {
+                ("mm", "INCH")
+            };
+            return Err(self.alarm(
+                Condition::UnitsMismatch,
+                None,
+                format!(
+                    "G{} asks for {unit} while Setting 9 (the machine's input_unit) is {setting}",
+                    code.major
+                ),
+            ));
+        }
+        let modal = &mut self.state.modal;
         if let Some(code) = codes.units {
             modal.units = if code.major == 20 {
                 Units::Inch

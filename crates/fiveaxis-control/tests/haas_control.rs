@@ -234,7 +234,8 @@ fn haas_g87_bores_in_and_is_retracted_like_g88() {
 
 #[test]
 fn inch_input_unit_reads_lengths_in_inches_until_g21() {
-    for control in [Control::Haas, Control::Fanuc30i, Control::Mitsubishi] {
+    // Haas refuses the G21 against an inch Setting 9 (below).
+    for control in [Control::Fanuc30i, Control::Mitsubishi] {
         let inch = mill_in(control, InputUnit::Inch);
         let rows = run(
             &inch,
@@ -262,6 +263,23 @@ fn inch_input_unit_reads_lengths_in_inches_until_g21() {
     }
 }
 
+/// Haas NGC mill operator's manual, G20 / G21: "G20 in a program causes
+/// an alarm if Setting 9 is not set to inch" (and G21 when it is).
+#[test]
+fn haas_unit_codes_must_agree_with_setting_9() {
+    let inch = mill_in(Control::Haas, InputUnit::Inch);
+    let rows = run(&inch, "G20 G0 X1.\nM30\n");
+    assert!((rows[0].joints[0] - 25.4).abs() < EPS);
+    let a = alarm(&inch, "G0 X1.\nG21 G0 X1.\nM30\n");
+    assert_eq!((a.condition, a.line), (Condition::UnitsMismatch, 2));
+    let mm = mill(Control::Haas);
+    let a = alarm(&mm, "G20\n");
+    assert_eq!(a.condition, Condition::UnitsMismatch);
+    assert!(a.message.contains("Setting 9"), "{}", a.message);
+    let rows = run(&mm, "G21 G0 X1.\nM30\n");
+    assert!((rows[0].joints[0] - 1.0).abs() < EPS);
+}
+
 #[test]
 fn inch_input_without_a_decimal_point_counts_tenths_of_increments() {
     // IS-B in inches: 0.0001 in per unit, so X10000 is one inch.
@@ -273,8 +291,13 @@ fn inch_input_without_a_decimal_point_counts_tenths_of_increments() {
 fn the_power_on_unit_shows_in_4006_and_millimetres_stay_the_default() {
     // #4006: 20 in inch mode, 21 in mm (read before the G21 of the move).
     let program = "#1=#4006\nG21 G0 X#1\n";
-    let rows = run(&mill_in(Control::Haas, InputUnit::Inch), program);
+    let rows = run(&mill_in(Control::Fanuc30i, InputUnit::Inch), program);
     assert!((rows[0].joints[0] - 20.0).abs() < EPS);
+    let rows = run(
+        &mill_in(Control::Haas, InputUnit::Inch),
+        "#1=#4006\nG0 X[#1/100]\n",
+    );
+    assert!((rows[0].joints[0] - 0.2 * 25.4).abs() < EPS);
     let rows = run(&mill(Control::Haas), program);
     assert!((rows[0].joints[0] - 21.0).abs() < EPS);
     // The default is mm for every control.
@@ -383,7 +406,7 @@ fn haas_stops_with_the_numbers_its_manual_gives() {
     for call in ["M98 P9123", "M97 P77"] {
         let a = alarm(
             &umc,
-            &format!("%\nO00001\nG21 G90 G00 X0. Y0.\n{call}\nM30\n%\n"),
+            &format!("%\nO00001\nG20 G90 G00 X0. Y0.\n{call}\nM30\n%\n"),
         );
         assert_eq!(a.condition, Condition::ProgramNotFound, "{call}");
         assert_eq!(a.code.to_string(), "314", "{call}");
@@ -396,13 +419,13 @@ fn haas_stops_with_the_numbers_its_manual_gives() {
     // An arc under per-axis scaling: alarm 467.
     let a = alarm(
         &umc,
-        "%\nO00001\nG21 G17 G90 G00 X0. Y0.\nG51 X0. Y0. I2000 J1000\nG02 X10. Y0. R5. F100.\nM30\n%\n",
+        "%\nO00001\nG20 G17 G90 G00 X0. Y0.\nG51 X0. Y0. I2000 J1000\nG02 X1. Y0. R.5 F10.\nM30\n%\n",
     );
     assert_eq!(a.condition, Condition::FrameArcScaling);
     assert_eq!(a.code.to_string(), "467");
     assert_eq!(a.line, 5);
     // A condition the manual numbers nowhere keeps the kernel's code.
-    let a = alarm(&umc, "%\nO00001\nG21 G90 G01 X1.\nM30\n%\n");
+    let a = alarm(&umc, "%\nO00001\nG20 G90 G01 X1.\nM30\n%\n");
     assert_eq!(a.condition, Condition::FeedZero);
     assert_eq!(a.code.to_string(), "FX0020");
 }

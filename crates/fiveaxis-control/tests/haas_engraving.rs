@@ -16,7 +16,11 @@ const L: f64 = 100.0;
 const G54: [f64; 3] = [-381.0, -254.0, -400.0];
 
 fn umc() -> Machine {
-    builtin("haas-umc750").expect("built-in")
+    // Setting 9 = MM: the programs are metric (G21), which a Haas set to
+    // inch refuses.
+    let mut m = builtin("haas-umc750").expect("built-in");
+    m.params.input_unit = fiveaxis_machine::InputUnit::Millimetre;
+    m
 }
 
 fn offsets() -> Offsets {
@@ -87,7 +91,11 @@ fn run_program(machine: &Machine, program: &str) -> Run {
 /// The tips of the rows of line `line` of a program that must run.
 #[track_caller]
 fn engraving(program: &str, line: u32) -> Vec<Tip> {
-    let machine = umc();
+    let mut machine = umc();
+    if program.starts_with("G20") {
+        // An inch program needs Setting 9 = INCH, the built-in's own.
+        machine.params.input_unit = fiveaxis_machine::InputUnit::Inch;
+    }
     let run = run_program(&machine, program);
     assert!(run.alarm.is_none(), "unexpected alarm {:?}", run.alarm);
     tips(&machine, &run.rows)

@@ -32,7 +32,16 @@ const G55: [f64; 3] = [-341.0, -254.0, -400.0];
 const B_CENTER: [f64; 3] = [-381.0, -254.0, -430.0];
 
 fn umc() -> Machine {
-    builtin("haas-umc750").expect("built-in")
+    metric("haas-umc750")
+}
+
+/// A Haas built-in with Setting 9 = MM: these programs are metric (G21),
+/// which a Haas set to inch refuses (the built-ins are inch, the US
+/// default).
+fn metric(name: &str) -> Machine {
+    let mut m = builtin(name).expect("built-in");
+    m.params.input_unit = fiveaxis_machine::InputUnit::Millimetre;
+    m
 }
 
 fn offsets() -> Offsets {
@@ -220,7 +229,7 @@ fn g234_and_g254_lines_keep_the_tip_on_the_part_s_line() {
 
 #[test]
 fn g234_on_the_vf2_with_tr160_turns_the_part_about_the_a_axis() {
-    let m = builtin("haas-vf2-tr160").expect("built-in");
+    let m = metric("haas-vf2-tr160");
     // G54 on the platter's centre line, 40 mm above the A axis (which
     // runs through Y −203, Z −440). +A turns the part about −X: a point d
     // from the A axis goes at A90 to (d.x, d.z, −d.y).
@@ -483,8 +492,11 @@ fn g187_smoothness_is_kept_and_moves_nothing() {
     assert_eq!(accuracy("G21\n").smoothness, 0);
     let a = accuracy("G21 G187 P3 E0.01\n");
     assert_eq!((a.smoothness, a.corner_rounding), (3, Some(0.01)));
-    // Inch: E0.001 in is 0.0254 mm.
-    let a = accuracy("G20 G187 P1 E.001\n");
+    // Inch (Setting 9 = INCH, the built-in's own): E0.001 in is 0.0254 mm.
+    let inch = builtin("haas-umc750").expect("built-in");
+    let r = run_on(&inch, "G20 G187 P1 E.001\n");
+    assert!(r.alarm.is_none(), "{:?}", r.alarm);
+    let a = r.runner.controller().modal().accuracy;
     assert_eq!(a.smoothness, 1);
     assert!((a.corner_rounding.expect("E") - 0.0254).abs() < EPS);
     // G187 alone returns to the settings.
@@ -538,7 +550,7 @@ fn haas_m10_to_m13_are_the_fourth_and_fifth_axis_brakes() {
     // The other axis is free; unclamping frees it.
     run(&m, "G21 M10\nG0 C10.\nM11\nG0 B10.\nM12 M13\nG0 C20.\n");
     // On the VF-2 with TR160 the fourth axis is A, the fifth B.
-    let vf = builtin("haas-vf2-tr160").expect("built-in");
+    let vf = metric("haas-vf2-tr160");
     let a = alarm(&vf, "G21 M10\nG0 A10.\n");
     assert_eq!(a.condition, Condition::ClampedAxisMoved);
     let a = alarm(&vf, "G21 M12\nG0 B10.\n");
