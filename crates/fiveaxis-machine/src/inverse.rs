@@ -191,13 +191,14 @@ impl Machine {
 
     /// Machine position of the linear axes X, Y, Z that put the tool tip
     /// of length `tool_length` on `tip` (table frame) with the rotary axes
-    /// at the angles in `joints`.
+    /// (and a quill along the tool) at the positions in `joints`.
     pub fn gauge_for_tip(&self, joints: &Joints, tip: &Vec3, tool_length: f64) -> Vec3 {
         let table = self.chain(Side::Table, joints);
         let head = self.chain(Side::Head, joints);
         let tip_machine = table.transform_point(&(*tip).into()).coords;
         let t0 = self.tool_direction.into_inner();
-        tip_machine - head.transform_point(&(-tool_length * t0).into()).coords
+        let end = (self.quill(joints) - tool_length) * t0;
+        tip_machine - head.transform_point(&end.into()).coords
     }
 }
 

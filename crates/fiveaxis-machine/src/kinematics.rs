@@ -55,10 +55,14 @@ impl Machine {
     /// The same maps as [`Machine::chain`], applied to the two vectors
     /// directly (Rodrigues' formula) rather than composed as matrices: the
     /// head axes turn the tool from the innermost outwards, then the table
-    /// axes are undone from the bed outwards.
+    /// axes are undone from the bed outwards. A quill ([`crate::Along::Tool`])
+    /// at W puts the tip at `(X, Y, Z) + H((W − L)·t0)`, the contract's
+    /// formula with `W − L` for `−L` (`machine-model.md` §3 extended as
+    /// its §4 foresees, "more linear axes, e.g. W, allowed later").
     pub fn forward(&self, joints: &Joints, tool_length: f64) -> Pose {
         let t0 = self.tool_direction.into_inner();
-        let mut tip = -tool_length * t0;
+        // A quill along the tool moves the tip before the head turns it.
+        let mut tip = (self.quill(joints) - tool_length) * t0;
         let mut dir = t0;
         let first = self.linear.len();
         for (k, axis) in self.rotary.iter().enumerate().rev() {

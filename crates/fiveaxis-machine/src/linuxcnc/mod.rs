@@ -281,6 +281,7 @@ fn linear_axis(
         min: lo,
         max: hi,
         dynamics,
+        along: crate::Along::Parallel,
     })
 }
 
