@@ -163,7 +163,7 @@ impl Machine {
             w.key(
                 "tcpc_at_start",
                 "true",
-                "LinuxCNC: TCP kinematics from power-on (no kinematics switch)",
+                "LinuxCNC: TCP kinematics from power-on (kinematics type 0)",
             );
         }
         if let Some(table) = &p.tool_table {
