@@ -200,6 +200,23 @@ impl Machine {
         let end = (self.quill(joints) - tool_length) * t0;
         tip_machine - head.transform_point(&end.into()).coords
     }
+
+    /// Machine position of X, Y, Z that puts the tip on `tip` (table
+    /// frame) with the quill ([`crate::Along::Tool`]) at 0: the programmed
+    /// point of TCPC and of the tilted working plane. A quill then moves
+    /// the tip from there along the tool, as LinuxCNC's 5axiskins moves it
+    /// with W in TCP mode ("g0w-10 ; simulate drill"). Without a quill it
+    /// is [`Machine::gauge_for_tip`].
+    pub fn gauge_for_programmed_tip(&self, joints: &Joints, tip: &Vec3, tool_length: f64) -> Vec3 {
+        match self.quill_index() {
+            Some(i) if joints[i] != 0.0 => {
+                let mut j = *joints;
+                j[i] = 0.0;
+                self.gauge_for_tip(&j, tip, tool_length)
+            }
+            _ => self.gauge_for_tip(joints, tip, tool_length),
+        }
+    }
 }
 
 /// Solves `R(ωa, θa)·R(ωb, θb)·p = q` for unit `p`, `q`: up to two

@@ -84,6 +84,23 @@ impl Machine {
     }
 }
 
+impl Machine {
+    /// [`Machine::forward`] with the quill ([`crate::Along::Tool`]) at 0:
+    /// the point TCPC and the tilted working plane program (the inverse
+    /// of [`Machine::gauge_for_programmed_tip`]). Without a quill it is
+    /// `forward`.
+    pub fn programmed_pose(&self, joints: &Joints, tool_length: f64) -> Pose {
+        match self.quill_index() {
+            Some(i) if joints[i] != 0.0 => {
+                let mut j = *joints;
+                j[i] = 0.0;
+                self.forward(&j, tool_length)
+            }
+            _ => self.forward(joints, tool_length),
+        }
+    }
+}
+
 /// `v` turned about unit `axis` by the angle whose sine and cosine are
 /// given (Rodrigues: v·cos + (k × v)·sin + k·(k·v)·(1 − cos)).
 #[inline]
