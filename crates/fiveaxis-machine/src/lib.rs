@@ -305,7 +305,7 @@ pub struct Parameters {
     /// machine file's folder.
     pub tool_table: Option<String>,
     /// LinuxCNC: the machine runs its TCP kinematics from power-on (a
-    /// configuration whose kinematics cannot be switched): programs are in
+    /// configuration whose kinematics type 0 is the TCP one): programs are in
     /// tool-tip coordinates from their first block, as after `tcpc_on`.
     pub tcpc_at_start: bool,
 }
