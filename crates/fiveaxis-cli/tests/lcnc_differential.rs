@@ -6,9 +6,10 @@
 //! point of every move, to four decimals, in the coordinates the program
 //! stands in; `SET_G5X_OFFSET`, `SET_G92_OFFSET` and
 //! `USE_TOOL_LENGTH_OFFSET` give the offsets that LinuxCNC's canonical
-//! layer adds to make them machine positions (machine = point + G92
-//! offset + G5x offset + tool offset; an XY rotation, `G10 L2 R`, is
-//! refused by the test: the programs do not use it). On a machine whose axes are the
+//! layer adds to make them machine positions, with `SET_XY_ROTATION`
+//! (`G10 L2 R`) turning the point and the G92 offset about the G5x origin:
+//! machine = G5x offset + Rz·(point + G92 offset) + tool offset. On a
+//! machine whose axes are the
 //! positions rs274 prints (three linear axes, no rotaries, work offsets 0,
 //! no tool length), `fiveaxis run` under `control = "linuxcnc"` must give
 //! the same sequence of move end points.
@@ -21,8 +22,8 @@
 //!   arguments and `return`, numbered and named parameters (local and
 //!   global), expressions with LinuxCNC's operators and functions, G90 and
 //!   G91, arcs in the three planes given by centre (with turns, `P`) or
-//!   radius, canned
-//!   cycles with G98/G99 and `L` repeats;
+//!   radius, canned cycles with G98/G99 and `L` repeats, work offsets
+//!   (G10 L2 / L20, rotated systems with `R`), G92 and G52;
 //! * the LinuxCNC programs of the shared corpus whose motion rs274 can
 //!   print without the configuration's remaps (see [`CORPUS`]).
 //!
@@ -171,16 +172,32 @@ fn rs274_moves(run: &Rs274<'_>) -> Result<Vec<(Point, Expected)>, String> {
     let mut g5x = [0.0; 9];
     let mut g92 = [0.0; 9];
     let mut tool = [0.0; 9];
-    let machine = |p: Point, g5x: &Point, g92: &Point, tool: &Point| {
+    // The XY rotation of the coordinate system in use, degrees: the point
+    // and the G92 offset turn about the G5x origin (coordinates.adoc).
+    let mut rotation = 0.0f64;
+    let machine = |p: Point, g5x: &Point, g92: &Point, tool: &Point, rotation: f64| {
         let mut m = p;
         let mut tolerance = [HALF_UNIT + ARITHMETIC; 9];
         for i in 0..9 {
-            m[i] += g5x[i] + g92[i] + tool[i];
+            m[i] += g92[i];
             let rounded = [g5x[i], g92[i], tool[i]]
                 .iter()
                 .filter(|v| **v != 0.0)
                 .count();
             tolerance[i] += HALF_UNIT * rounded as f64;
+        }
+        if rotation != 0.0 {
+            let (sin, cos) = rotation.to_radians().sin_cos();
+            let (x, y) = (m[0], m[1]);
+            m[0] = cos * x - sin * y;
+            m[1] = sin * x + cos * y;
+            // Printed X and Y errors mix under the turn.
+            let both = tolerance[0].max(tolerance[1]) * std::f64::consts::SQRT_2;
+            tolerance[0] = both;
+            tolerance[1] = both;
+        }
+        for i in 0..9 {
+            m[i] += g5x[i] + tool[i];
         }
         (m, tolerance)
     };
@@ -213,13 +230,11 @@ fn rs274_moves(run: &Rs274<'_>) -> Result<Vec<(Point, Expected)>, String> {
                 // "x y z, a b c, u v w".
                 tool = axes(&numbers(&args.replace(' ', ","), 3)?);
             }
-            "SET_XY_ROTATION" if numbers(args, 1)?[0] != 0.0 => {
-                return Err(format!("rs274: XY rotation {args} (not modelled here)"));
-            }
+            "SET_XY_ROTATION" => rotation = numbers(args, 1)?[0],
             "STRAIGHT_TRAVERSE" | "STRAIGHT_FEED" => {
                 // x, y, z, a, b, c[, u, v, w].
                 let p = axes(&numbers(args, 6)?);
-                let (m, tolerance) = machine(p, &g5x, &g92, &tool);
+                let (m, tolerance) = machine(p, &g5x, &g92, &tool, rotation);
                 moves.push((
                     m,
                     Expected {
@@ -227,6 +242,37 @@ fn rs274_moves(run: &Rs274<'_>) -> Result<Vec<(Point, Expected)>, String> {
                         arc: false,
                     },
                 ));
+            }
+            "RIGID_TAP" => {
+                // x, y, z: down to the point and back to where it began
+                // (g-code.adoc, G33.1), the other axes standing.
+                let v = numbers(args, 3)?;
+                let Some(&(back, back_expected)) = moves.last() else {
+                    return Err("rs274: RIGID_TAP before any move".into());
+                };
+                let mut p = back;
+                for (i, value) in v.iter().enumerate() {
+                    p[i] = *value;
+                }
+                // The printed point is in program coordinates: the
+                // offsets in force turn it into a machine position.
+                let (m, tolerance) = machine(
+                    [p[0], p[1], p[2], 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+                    &g5x,
+                    &g92,
+                    &tool,
+                    rotation,
+                );
+                let mut m_full = back;
+                m_full[..3].copy_from_slice(&m[..3]);
+                moves.push((
+                    m_full,
+                    Expected {
+                        tolerance,
+                        arc: false,
+                    },
+                ));
+                moves.push((back, back_expected));
             }
             "ARC_FEED" => {
                 // first_end, second_end, first_axis, second_axis, rotation,
@@ -242,7 +288,7 @@ fn rs274_moves(run: &Rs274<'_>) -> Result<Vec<(Point, Expected)>, String> {
                 for (i, w) in v.iter().skip(9).take(3).enumerate() {
                     p[6 + i] = *w;
                 }
-                let (m, tolerance) = machine(p, &g5x, &g92, &tool);
+                let (m, tolerance) = machine(p, &g5x, &g92, &tool, rotation);
                 moves.push((
                     m,
                     Expected {
@@ -610,18 +656,27 @@ impl Generator {
     }
 
     /// Work offsets and G92: G10 L2 / L20 (the current system, P0, or
-    /// G54–G56), a change of system, G92 and its cancel, a G53 move.
+    /// G54–G56), a rotated system (G10 L2 R), a change of system, G92 and
+    /// its cancel, G52, a G53 move.
     fn offsets(&mut self) {
         let (x, y, z) = (
             self.value(-30.0, 30.0),
             self.value(-30.0, 30.0),
             self.value(-10.0, 10.0),
         );
-        match self.below(6) {
+        match self.below(8) {
             0 => {
                 let p = self.below(4);
                 self.line(&format!("G10 L2 P{p} X{x} Y{y} Z{z}"));
             }
+            6 => {
+                // A rotated coordinate system (whole degrees: rs274 prints
+                // the angle to four decimals).
+                let p = self.below(4);
+                let r = self.below(721) as i64 - 360;
+                self.line(&format!("G10 L2 P{p} X{x} Y{y} R{r}"));
+            }
+            7 => self.line(&format!("G52 X{x} Y{y}")),
             1 => self.line(&format!("G10 L20 P0 X{x} Y{y}")),
             2 => {
                 let g = ["G54", "G55", "G56"][self.below(3) as usize];
@@ -694,6 +749,7 @@ impl Generator {
             1 => match self.below(6) {
                 0 => self.offsets(),
                 1 => self.valued_call(),
+                2 => self.threading(),
                 _ => self.absolute_move(),
             },
             2 => self.incremental_move(),
@@ -708,6 +764,59 @@ impl Generator {
             11 => self.absolute_move(),
             _ => self.arc(),
         }
+    }
+
+    /// Spindle-synchronized motion: a G33 move, a G33.1 rigid tap, or a
+    /// G76 threading cycle (in G18, external or internal, with degression,
+    /// compound angle, spring passes and tapers), then back to G17 G1.
+    fn threading(&mut self) {
+        self.line("S800 M3");
+        match self.below(3) {
+            0 => {
+                let (x, z) = (self.value(-40.0, 40.0), self.value(-30.0, 10.0));
+                let k = self.value(0.2, 3.0);
+                let mode = if self.below(2) == 0 { "G7" } else { "G8" };
+                self.line(&format!("{mode} G33 X{x} Z{z} K{k}"));
+                self.line("G8");
+            }
+            1 => {
+                let z = self.value(-30.0, 0.0);
+                let (k, i) = (self.value(0.2, 3.0), self.value(0.0, 3.0));
+                self.line(&format!("G33.1 Z{z} K{k} I{i}"));
+            }
+            _ => {
+                let (x, z0) = (self.value(-20.0, 20.0), self.value(-5.0, 5.0));
+                let length = self.value(6.0, 30.0);
+                let z1 = if self.below(2) == 0 {
+                    z0 - length
+                } else {
+                    z0 + length
+                };
+                let pitch = self.value(0.5, 3.0);
+                let peak = self.value(0.3, 3.0) * if self.below(2) == 0 { -1.0 } else { 1.0 };
+                let full = self.value(0.3, 2.0);
+                let first = self.value(0.05, 0.3).min(full / 2.0).max(0.01);
+                let mut words = format!("G76 P{pitch} Z{z1:.3} I{peak:.3} J{first:.3} K{full}");
+                if self.below(2) == 0 {
+                    let _ = write!(words, " R{}", self.value(1.0, 2.5));
+                }
+                if self.below(2) == 0 {
+                    let _ = write!(words, " Q{}", self.value(0.0, 40.0));
+                }
+                let _ = write!(words, " H{}", self.below(3));
+                if self.below(2) == 0 {
+                    let e = self.value(0.1, length / 2.0 - 0.1);
+                    let _ = write!(words, " E{e} L{}", self.below(4));
+                }
+                // Now and then in lathe diameter mode (G7: X, I, J, K
+                // are diameters).
+                let mode = if self.below(3) == 0 { "G7" } else { "G8" };
+                self.line(&format!("G18 {mode} G90 G0 X{x} Z{z0}"));
+                self.line(&words);
+                self.line("G17 G8");
+            }
+        }
+        self.line("G90 G1");
     }
 
     fn absolute_move(&mut self) {

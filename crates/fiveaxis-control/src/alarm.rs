@@ -35,12 +35,16 @@ impl AlarmCode {
     }
 
     /// The number of a program's own alarm, `#3000 = n`: 3000 + n as the
-    /// FANUC control shows it, the kernel's `FX` code 3000 + n elsewhere.
+    /// FANUC control shows it, 1000 + n on Haas (NGC mill operator's
+    /// manual, "#3000 Programmable Alarm Messages": "The alarm number … is
+    /// added to 1000 … Programmable alarms are always numbered between 1000
+    /// and 1999"), the kernel's `FX` code 3000 + n elsewhere.
     pub fn program_alarm(control: Control, n: u32) -> Self {
-        let number = u16::try_from(n.saturating_add(3000)).unwrap_or(u16::MAX);
+        let number = |base: u32| u16::try_from(n.saturating_add(base)).unwrap_or(u16::MAX);
         match control {
-            Control::Fanuc30i | Control::Fanuc16 => Self::new("", number, 4),
-            _ => Self::kernel(number),
+            Control::Fanuc30i | Control::Fanuc16 => Self::new("", number(3000), 4),
+            Control::Haas => Self::new("", number(1000), 4),
+            _ => Self::kernel(number(3000)),
         }
     }
 
@@ -228,13 +232,17 @@ pub enum Condition {
     CycleReferenceReturn,
     /// A canned cycle under TCPC, cutter compensation C or 3-D tool compensation.
     CycleNotAllowed,
-    /// A tilted working plane (G68.2, G53.1) where the kernel does not combine it.
+    /// A tilted working plane (G68.2, G53.1) where the kernel does not
+    /// combine it; LinuxCNC's TWP remap: G68.4 or G53.x without a plane,
+    /// a plane defined outside G54.
     FeatureNotAllowed,
     /// G68.3 with one or two of the origin's X, Y, Z.
     FeatureOriginIncomplete,
     /// A G68.2 / G68.4 definition the control refuses: no such P form,
     /// three points on a line, a zero or oblique vector, blocks of a
-    /// P2 / P3 definition out of order or interrupted.
+    /// P2 / P3 definition out of order or interrupted; LinuxCNC's TWP
+    /// remap: a rotation order Q not of the form, points nearer than
+    /// 10 mm to the line through the other two.
     FeatureDefinition,
     /// A three-dimensional coordinate conversion (G68 with I, J, K) the
     /// control refuses: a zero axis vector, a third nesting.
@@ -484,7 +492,9 @@ impl Condition {
                 "GOTO to a sequence number that is out of range or not in the program"
             }
             Condition::MacroArgumentAddress => "An argument address that G65/G66 cannot take",
-            Condition::MacroAlarm => "#3000 = n (message): the program's own alarm, 3000 + n",
+            Condition::MacroAlarm => {
+                "#3000 = n (message): the program's own alarm, shown as 3000 + n (FANUC), 1000 + n (Haas), FX 3000 + n elsewhere"
+            }
             Condition::ProgramEndMissing => {
                 "The file ends without M2, M30 or a closing % (LinuxCNC)"
             }
@@ -501,10 +511,10 @@ impl Condition {
                 "A three-dimensional coordinate conversion (G68 with I, J, K) with a zero axis vector, or nested a third time"
             }
             Condition::FeatureDefinition => {
-                "A G68.2 / G68.4 definition the control refuses: no such P form, three points on a line, a zero or oblique vector, P2 / P3 blocks out of order or interrupted"
+                "A G68.2 / G68.4 definition the control refuses: no such P form, three points on a line, a zero or oblique vector, P2 / P3 blocks out of order or interrupted; LinuxCNC TWP remap: a rotation order Q not of the form, a point nearer than 10 mm (0.5 in) to the line through the other two"
             }
             Condition::FeatureNotAllowed => {
-                "A tilted working plane (G68.2, G53.1) where the kernel does not combine it"
+                "A tilted working plane (G68.2, G53.1) where the kernel does not combine it; LinuxCNC TWP remap: G68.4 or G53.x with no plane defined, a plane defined outside G54"
             }
             Condition::CycleNotAllowed => {
                 "A canned cycle with a rotary word under TCPC, or under cutter compensation C or 3-D tool compensation"
@@ -618,6 +628,19 @@ impl Condition {
             C::TcpcSingularPassage => Some(943),
             _ => None,
         };
+        // Haas alarms, the numbers the Haas NGC mill operator's manual
+        // gives (docs/functions.md, "Haas", for the pages); the other
+        // conditions keep the kernel's codes.
+        if control == Control::Haas {
+            match self {
+                // "Alarm 314 Subprogram Not In Memory" (G150, M98).
+                C::ProgramNotFound => return AlarmCode::new("", 314, 1),
+                // Settings 188-190 (G51 per-axis scales): "If G02 or G03 is
+                // used, alarm 467 is generated".
+                C::FrameArcScaling => return AlarmCode::new("", 467, 1),
+                _ => {}
+            }
+        }
         // Mazak alarms (seed 002).
         if control == Control::Mazak {
             match self {
@@ -762,8 +785,9 @@ pub fn alarm_reference() -> String {
         "# Alarm reference\n\n\
          Every condition that stops a program, with the number each control\n\
          family shows for it. `FXnnnn` codes are the kernel's own, used where\n\
-         the control's manual gives no number (Haas's numbered alarms are\n\
-         not mapped yet: the haas column holds the kernel's codes). This file is generated from\n\
+         the control's manual gives no number (Haas: the numbers its mill\n\
+         operator's manual gives, the kernel's codes elsewhere; see\n\
+         `docs/functions.md`, \"Haas\", for the sources). This file is generated from\n\
          `crates/fiveaxis-control/src/alarm.rs`; a test keeps it in step\n\
          (`FIVEAXIS_BLESS=1 cargo test -p fiveaxis-control alarm_reference` rewrites it).\n\n\
          | condition | fanuc30i | fanuc16 | mitsubishi | mazak | haas | linuxcnc |\n\

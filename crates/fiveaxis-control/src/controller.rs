@@ -24,14 +24,18 @@ mod comp3d;
 mod coordinates;
 mod cutter_c;
 mod cycles;
+mod engrave;
 mod haas;
 mod linuxcnc;
 mod m_codes;
 mod motion;
+mod splines;
 mod system_vars;
 mod tcpc;
+mod threading;
 
 pub use cycles::{MAX_CYCLE_SEGMENTS, PECK_CLEARANCE, PECK_RETRACT};
+pub use engrave::SERIAL_VARIABLE;
 pub use m_codes::ProgramStop;
 use motion::arc_sweep;
 pub use system_vars::SystemVarFault;
@@ -92,6 +96,9 @@ struct State {
     feature: Option<coordinates::Feature>,
     /// A G68.2 P2 / P3 definition whose blocks are still coming.
     feature_pending: Option<coordinates::Pending>,
+    /// LinuxCNC TWP remap: the plane G68.2 / G68.3 / G68.4 defined, in
+    /// force (as `feature`) only from G53.x (`coordinates/twp.rs`).
+    twp: Option<coordinates::Feature>,
     /// Current machine position (rollover axes unwrapped).
     joints: Joints,
     /// Active H number (0: none).
@@ -133,6 +140,15 @@ struct State {
     /// nine coordinate systems (G10 L2 / L20 with A, B, C words; by joint
     /// index). The offset memory holds X, Y, Z only.
     rotary_work: [Joints; 9],
+    /// LinuxCNC: the XY rotation of each of its nine coordinate systems
+    /// about Z, degrees (`G10 L2 R`, #5230…).
+    xy_rotation: [f64; 9],
+    /// LinuxCNC: its group-1 modes beyond G0–G3 (G5, G5.1, G33, G33.1,
+    /// G76) in force.
+    ngc_motion: Option<linuxcnc::NgcMotion>,
+    /// LinuxCNC G5: the end tangent offset (P, Q) of the last cubic, which
+    /// a following G5 without I, J continues.
+    spline_tangent: Option<[f64; 2]>,
     /// LinuxCNC: the G92 shift kept in parameters #5211–#5219, which
     /// G92.2 leaves and G92.3 applies again.
     g92_kept: (Vec3, Joints),
@@ -153,6 +169,9 @@ struct State {
     cycle: cycles::CycleState,
     /// G52, G16, G51.1, G51, G68 (`controller/coordinates/program_transforms.rs`).
     frames: coordinates::Frames,
+    /// Haas: the serial number G47 P1 engraves next (macro variable
+    /// `#599`, which the runner keeps; `None`: vacant).
+    serial: Option<f64>,
 }
 
 /// The controller of one run.
@@ -182,6 +201,10 @@ pub struct Controller<'m> {
     /// Soft limits lifted (`RunOptions::lift_soft_limits`): moves beyond
     /// them raise no alarm; `fiveaxis check` reports them instead.
     limits_lifted: bool,
+    /// The first comment of the block being executed (Haas G47 engraves
+    /// it), and its columns; the buffer is kept from block to block.
+    comment: Vec<u8>,
+    comment_span: Option<Span>,
 }
 
 /// Where the control point goes, for each axis: programmed value if the
@@ -205,6 +228,8 @@ impl<'m> Controller<'m> {
             offsets,
             tool_memory,
             limits_lifted: false,
+            comment: Vec::new(),
+            comment_span: None,
             optional_stop: false,
             stop: None,
             dialect: Dialect::of(machine.control),
@@ -214,6 +239,7 @@ impl<'m> Controller<'m> {
                 homes: [machine.params.reference_1, machine.params.reference_2],
                 feature: None,
                 feature_pending: None,
+                twp: None,
                 joints: machine.params.reference_1,
                 h: 0,
                 kinematics_tcp: false,
@@ -232,6 +258,9 @@ impl<'m> Controller<'m> {
                 shift: Vec3::zeros(),
                 axis_shift: [0.0; MAX_AXES],
                 rotary_work: [[0.0; MAX_AXES]; 9],
+                xy_rotation: [0.0; 9],
+                ngc_motion: None,
+                spline_tangent: None,
                 g92_kept: (Vec3::zeros(), [0.0; MAX_AXES]),
                 tcpc: tcpc::TcpcState::default(),
                 comp3d: comp3d::Comp3d::default(),
@@ -241,6 +270,7 @@ impl<'m> Controller<'m> {
                 setup_angles: None,
                 cycle: cycles::CycleState::default(),
                 frames: coordinates::Frames::default(),
+                serial: None,
             },
             words: Words::new(machine.control),
             block_posture: None,
@@ -327,6 +357,28 @@ impl<'m> Controller<'m> {
         }
     }
 
+    /// Haas: the serial number G47 P1 engraves next (`#599`; `None` when
+    /// vacant).
+    pub fn serial_number(&self) -> Option<f64> {
+        self.state.serial
+    }
+
+    /// Haas: sets the serial number G47 P1 engraves next (the runner
+    /// passes `#599` before a G47 block).
+    pub fn set_serial_number(&mut self, value: Option<f64>) {
+        self.state.serial = value;
+    }
+
+    /// Whether `block` engraves (Haas G47), so that the runner passes it
+    /// the serial number `#599`.
+    pub fn engraves(&self, block: &Block) -> bool {
+        self.dialect.haas_codes
+            && block
+                .words
+                .iter()
+                .any(|w| w.letter == b'G' && w.value == 47.0)
+    }
+
     /// Whether the spindle turns (M03 / M04 and not stopped since).
     pub fn spindle_on(&self) -> bool {
         self.state.spindle_on
@@ -370,6 +422,12 @@ impl<'m> Controller<'m> {
         let base = out.len();
         self.stop = None;
         self.words.load(block, self.machine)?;
+        if self.dialect.haas_codes {
+            // Haas G47 engraves the block's comment.
+            self.comment.clear();
+            self.comment.extend_from_slice(&block.comment);
+            self.comment_span = block.comment_span;
+        }
         let saved = self.state.clone();
         let result = self.execute_loaded(base, out);
         if result.is_err() {
@@ -380,15 +438,29 @@ impl<'m> Controller<'m> {
     }
 
     fn execute_loaded(&mut self, base: usize, out: &mut Vec<Segment>) -> Result<Flow, Alarm> {
-        // A program-number line is a label.
-        self.words.take(b'O');
+        // A program-number line is a label (Haas: O00001 to O99999).
+        if let Some(word) = self.words.take(b'O')
+            && self.dialect.haas_codes
+        {
+            self.haas_program_number(&word)?;
+        }
         let mut codes = self.classify_g_codes()?;
         self.block_exact_stop = codes.exact_stop;
         self.feature_restrictions(&codes)?;
         self.m_code_length(&mut codes)?;
         self.apply_modal(&codes)?;
+        // LinuxCNC: the coordinate system chosen brings its rotation.
+        self.refresh_xy_rotation();
         self.apply_cycle_codes(&codes)?;
-        self.apply_values()?;
+        // LinuxCNC: in a G73 / G83 block without G41 / G42, D is the
+        // cycle's peck clearance, not a tool number (controller/cycles.rs).
+        let d_for_cycle = self.dialect.rs274ngc
+            && codes.cutter.is_none()
+            && matches!(
+                self.state.cycle.cycle,
+                Some(cycles::Cycle::G73 | cycles::Cycle::G83)
+            );
+        self.apply_values(d_for_cycle)?;
         // G69 (Haas G269) ends the tilted working plane before the block's
         // move, which is then in the workpiece frame; Haas G254 / G255
         // switch the dynamic work offset the same way.
@@ -397,6 +469,9 @@ impl<'m> Controller<'m> {
             && self.feature().is_some_and(|f| !f.is_dwo())
         {
             self.state.feature = None;
+        }
+        if self.twp_remap() && codes.feature.is_some_and(|(c, _)| c == Code::new(69, 0)) {
+            self.twp_cancel();
         }
         if let Some((code, span)) = codes.dwo {
             self.dwo_command(code, span)?;
@@ -453,7 +528,11 @@ impl<'m> Controller<'m> {
         if let Some((code, span)) = codes.feature.filter(|(c, _)| matches!(c.major, 68 | 268)) {
             // G68.2 / G68.4 define the frame and move nothing: the program
             // stands where it was, in the new frame.
-            self.feature_command(code, span)?;
+            if self.twp_remap() {
+                self.twp_define(code, span)?;
+            } else {
+                self.feature_command(code, span)?;
+            }
         } else if let Some((_, span)) = codes.setup {
             if self.cutter.routing() {
                 // The held block is emitted with the correction it was
@@ -485,6 +564,11 @@ impl<'m> Controller<'m> {
         out: &mut Vec<Segment>,
     ) -> Result<(), Alarm> {
         let from = *from;
+        if codes.one_shot.is_none()
+            && let Some(mode) = self.state.ngc_motion
+        {
+            return self.ngc_motion(mode, &from, out);
+        }
         match codes.one_shot {
             Some((code, span)) if self.cutter.routing() && matches!(code.major, 4 | 10) => {
                 // A dwell or data setting in cutter compensation C is a
@@ -523,22 +607,43 @@ impl<'m> Controller<'m> {
     fn classify_g_codes(&self) -> Result<GCodes, Alarm> {
         let mut codes = GCodes::default();
         let haas = self.dialect.haas_codes;
+        let twp = self.twp_remap();
         for &(code, span) in &self.words.g[..self.words.g_len] {
             let kind = match (code.major, code.minor) {
+                // LinuxCNC's tilted-working-plane remap (coordinates/twp.rs).
+                (68, 2..=4) | (69, 0) if twp => GKind::Feature,
+                (53, 1 | 3 | 6) if twp => GKind::OneShot,
+                // Without the remap LinuxCNC has none of them.
+                (68, 2..=4) | (53, 1 | 6) if self.dialect.rs274ngc => {
+                    return Err(self.alarm(
+                        Condition::ImproperGCode,
+                        Some(span),
+                        format!("G{code} is not a G code of this control (LinuxCNC has it only through a tilted-working-plane remap: twp_remap in the machine file)"),
+                    ));
+                }
                 // Haas's own codes (controller/haas.rs).
                 (234, 0) if haas => GKind::Length,
                 (254 | 255, 0) if haas => GKind::Dwo,
                 (268 | 269, 0) if haas => GKind::Feature,
                 (253, 0) if haas => GKind::OneShot,
+                // G47 text engraving (controller/engrave.rs).
+                (47, 0) if haas => GKind::OneShot,
                 (187, 0) if haas => GKind::Smoothness,
                 (154 | 110..=129, 0) if haas => GKind::Work,
                 (0..=3, 0) => GKind::Motion,
+                // LinuxCNC's spindle-synchronized motion and threading
+                // cycle (controller/threading.rs): group 1.
+                (33, 0 | 1) | (76, 0) | (5, 0 | 1) if self.dialect.rs274ngc => GKind::Motion,
                 (17..=19, 0) => GKind::Plane,
                 (90 | 91, 0) => GKind::Distance,
                 (90 | 91, 1) if self.dialect.rs274ngc => GKind::ArcDistance,
+                // LinuxCNC G7 / G8: lathe diameter / radius mode.
+                (7 | 8, 0) if self.dialect.rs274ngc => GKind::Diameter,
                 (93..=95, 0) => GKind::Feed,
                 (20 | 21, 0) => GKind::Units,
                 (43 | 44 | 49, 0) | (43, 1 | 4 | 5) => GKind::Length,
+                // LinuxCNC G43.2: an additional length offset.
+                (43, 2) if self.dialect.rs274ngc => GKind::Length,
                 (54..=59, 0) | (54, 1) => GKind::Work,
                 (54, 4) => GKind::SetupError,
                 (4 | 10 | 27 | 28 | 30 | 52 | 53 | 92, 0) | (53, 1 | 6) => GKind::OneShot,
@@ -591,6 +696,7 @@ impl<'m> Controller<'m> {
                 GKind::Plane => codes.plane = Some(code),
                 GKind::Distance => codes.distance = Some(code),
                 GKind::ArcDistance => codes.arc_distance = Some(code),
+                GKind::Diameter => codes.diameter = Some(code.major == 7),
                 GKind::Feed => codes.feed = Some(code),
                 GKind::Units => codes.units = Some(code),
                 GKind::Length => codes.length = Some((code, span)),
@@ -631,12 +737,21 @@ impl<'m> Controller<'m> {
         // motion code (posts write `G90 G53 G00 Z0.`), which stays modal.
         if let (Some((motion, span)), Some((one, _))) = (codes.motion, codes.one_shot)
             && !matches!(one.major, 4 | 10 | 92)
-            && !(one.major == 53 && motion.major <= 1)
+            && !(one.major == 53 && (one.minor == 0 || !twp) && motion.major <= 1)
         {
             return Err(self.alarm(
                 Condition::GCodeConflict,
                 Some(span),
                 format!("G{motion} and G{one} cannot be in the same block"),
+            ));
+        }
+        // The TWP remap's codes are of modal group 1 (REMAP … modalgroup=1):
+        // one motion code per block.
+        if twp && let (Some((motion, span)), Some((feature, _))) = (codes.motion, codes.feature) {
+            return Err(self.alarm(
+                Condition::GCodeConflict,
+                Some(span),
+                format!("G{motion} and G{feature} are both of modal group 1 and cannot be in the same block"),
             ));
         }
         Ok(codes)
@@ -645,13 +760,22 @@ impl<'m> Controller<'m> {
     fn apply_modal(&mut self, codes: &GCodes) -> Result<(), Alarm> {
         let modal = &mut self.state.modal;
         if let Some((code, _)) = codes.motion {
+            self.state.ngc_motion = linuxcnc::NgcMotion::of(code);
+            if self.state.ngc_motion != Some(linuxcnc::NgcMotion::CubicSpline) {
+                self.state.spline_tangent = None;
+            }
             modal.motion = match code.major {
                 0 => MotionMode::Rapid,
-                1 => MotionMode::Linear,
                 2 => MotionMode::Cw,
-                _ => MotionMode::Ccw,
+                3 => MotionMode::Ccw,
+                _ => MotionMode::Linear,
             };
         }
+        if codes.cycle.is_some() {
+            self.state.ngc_motion = None;
+            self.state.spline_tangent = None;
+        }
+        let modal = &mut self.state.modal;
         if let Some(code) = codes.plane {
             let plane = match code.major {
                 17 => Plane::Xy,
@@ -683,6 +807,9 @@ impl<'m> Controller<'m> {
         }
         if let Some(code) = codes.arc_distance {
             modal.ijk_absolute = code.major == 90;
+        }
+        if let Some(diameter) = codes.diameter {
+            modal.diameter_mode = diameter;
         }
         if let Some(code) = codes.feed {
             modal.feed_mode = match code.major {
@@ -729,7 +856,7 @@ impl<'m> Controller<'m> {
     /// on; nothing moves in this block (the next move carries it). A
     /// motion in the block, or an offset on another axis (the kernel's
     /// length offset lies along the tool), is an alarm.
-    fn dynamic_length_offset(&mut self, span: Span) -> Result<(), Alarm> {
+    fn dynamic_length_offset(&mut self, span: Span, name: &str) -> Result<(), Alarm> {
         let letter = b'Z';
         for &other in &self.axis_letters[..self.machine.axis_count()] {
             if other != letter
@@ -739,7 +866,7 @@ impl<'m> Controller<'m> {
                     Condition::WordNotUsed,
                     Some(word.span),
                     format!(
-                        "G43.1 {}: the kernel's tool length offset lies along the tool ({}) only",
+                        "{name} {}: the kernel's tool length offset lies along the tool ({}) only",
                         char::from(other),
                         char::from(letter)
                     ),
@@ -750,11 +877,48 @@ impl<'m> Controller<'m> {
             return Err(self.alarm(
                 Condition::NoDataAfterAddress,
                 Some(span),
-                format!("G43.1 needs {}, the tool length offset", char::from(letter)),
+                format!(
+                    "{name} needs {}, the tool length offset",
+                    char::from(letter)
+                ),
             ));
         };
         self.state.dynamic_length = Some(self.length(&word));
         Ok(())
+    }
+
+    /// LinuxCNC `G43.2 H-` or `G43.2 axes` (g-code.adoc, G43.2): the
+    /// length of tool H, or the value of the word of the axis along the
+    /// tool (Z on a mill), to add to the length offset in force; the
+    /// caller makes the sum the offset until G43 or G49. H and an axis word
+    /// together, neither, or an H the tool table lacks are the manual's
+    /// errors; an offset on another axis is refused as in G43.1.
+    fn additional_length_offset(&mut self, span: Span) -> Result<f64, Alarm> {
+        let h = self.words.take(b'H');
+        let z = self.words.peek(b'Z');
+        if let (Some(h), Some(_)) = (&h, &z) {
+            return Err(self.alarm(
+                Condition::WordNotUsed,
+                Some(h.span),
+                "G43.2: H and axis offsets together".into(),
+            ));
+        }
+        let Some(h) = h else {
+            return self.dynamic_length_offset(span, "G43.2").map(|()| {
+                // dynamic_length_offset stored the word: take it back as
+                // the amount to add.
+                self.state.dynamic_length.take().unwrap_or(0.0)
+            });
+        };
+        let n = self.words.integer(&h, MAX_TOOL_OFFSET)?;
+        match self.offsets.tools.get(&n) {
+            Some(tool) => Ok(tool.length + tool.length_wear),
+            None => Err(self.alarm(
+                Condition::IllegalOffsetNumber,
+                Some(h.span),
+                format!("G43.2 H{n}: tool {n} is not in the tool table"),
+            )),
+        }
     }
 
     /// LinuxCNC `G64 P- <Q->`: the path blending tolerance P and the
@@ -818,7 +982,7 @@ impl<'m> Controller<'m> {
     }
 
     /// F, S, T, D words: modal values.
-    fn apply_values(&mut self) -> Result<(), Alarm> {
+    fn apply_values(&mut self, d_for_cycle: bool) -> Result<(), Alarm> {
         if let Some(word) = self.words.take(b'F') {
             if word.value < 0.0 {
                 return Err(self.alarm(
@@ -865,7 +1029,7 @@ impl<'m> Controller<'m> {
             }
             self.state.tool = t;
         }
-        if let Some(word) = self.words.take(b'D') {
+        if !d_for_cycle && let Some(word) = self.words.take(b'D') {
             self.state.d = self.offset_number(&word)?;
         }
         Ok(())
@@ -894,14 +1058,20 @@ impl<'m> Controller<'m> {
         self.state.tcpc.startup = false;
         let dynamic_before = self.state.dynamic_length;
         if let Some((code, span)) = codes.length {
+            let length_before = self.tool_length();
             self.state.dynamic_length = None;
             self.state.modal.length = match (code.major, code.minor) {
+                (43, 2) => {
+                    let added = self.additional_length_offset(span)?;
+                    self.state.dynamic_length = Some(length_before + added);
+                    LengthMode::Plus
+                }
                 (234, _) => {
                     self.start_haas_tcpc(span)?;
                     LengthMode::Tcpc(TcpcType::Angles)
                 }
                 (43, 1) if self.dialect.rs274ngc => {
-                    self.dynamic_length_offset(span)?;
+                    self.dynamic_length_offset(span, "G43.1")?;
                     LengthMode::Plus
                 }
                 (43, 1) => LengthMode::ToolAxis,
@@ -928,6 +1098,8 @@ impl<'m> Controller<'m> {
         }
         if let Some(word) = self.words.peek(b'H')
             && (self.state.modal.length != LengthMode::Off || codes.length.is_some())
+            && (codes.length.is_some()
+                || self.state.ngc_motion != Some(linuxcnc::NgcMotion::ThreadingCycle))
         {
             self.words.take(b'H');
             self.state.h = self.offset_number(&word)?;
@@ -1105,6 +1277,9 @@ impl<'m> Controller<'m> {
             if let Some(word) = self.words.take(letter) {
                 targets[i] = Some(if self.polar_angle_axis(i) {
                     self.angle(&word)
+                } else if i == 0 && self.state.modal.diameter_mode {
+                    // LinuxCNC G7: X is a diameter (g-code.adoc, G7).
+                    self.axis_value(i, &word) / 2.0
                 } else {
                     self.axis_value(i, &word)
                 });
@@ -1315,12 +1490,19 @@ impl<'m> Controller<'m> {
                 };
                 self.reference_return(from, n, out)
             }
+            53 if code.minor != 0 && self.twp_remap() => self.twp_orient(code, span, out),
             53 if code.minor == 1 => self.tool_axis_control(span, false, out),
             // Haas G253: the spindle normal to the feature coordinate
             // system (G268), as G53.1.
             253 => self.tool_axis_control(span, false, out),
+            // Haas G47: text engraving.
+            47 => self.engrave(span, from, out),
             53 if code.minor == 6 => self.tool_axis_control(span, true, out),
-            52 => self.local_coordinate_system(),
+            52 => {
+                self.local_coordinate_system()?;
+                self.refresh_xy_rotation();
+                Ok(())
+            }
             53 => self.machine_coordinates(out),
             92 if code.minor != 0 => {
                 self.g92_reset(code.minor);
@@ -1329,6 +1511,8 @@ impl<'m> Controller<'m> {
             _ => {
                 self.set_coordinate_system(from)?;
                 self.state.g92_kept = (self.state.shift, self.state.axis_shift);
+                // LinuxCNC: the G92 shift turns with the rotation in force.
+                self.refresh_xy_rotation();
                 Ok(())
             }
         }
@@ -1350,6 +1534,7 @@ impl<'m> Controller<'m> {
         };
         self.state.shift = shift;
         self.state.axis_shift = axis_shift;
+        self.refresh_xy_rotation();
     }
 
     /// G04: dwell, P in ms (Haas: seconds with a decimal point) or X in
@@ -1880,6 +2065,7 @@ enum GKind {
     Smoothness,
     /// LinuxCNC G90.1 / G91.1: arc centre distance mode.
     ArcDistance,
+    Diameter,
 }
 
 /// The G codes of one block, by group; the last of a group wins.
@@ -1903,6 +2089,8 @@ struct GCodes {
     distance: Option<Code>,
     /// LinuxCNC G90.1 / G91.1.
     arc_distance: Option<Code>,
+    /// LinuxCNC G7 (true) / G8.
+    diameter: Option<bool>,
     feed: Option<Code>,
     units: Option<Code>,
     length: Option<(Code, Span)>,

@@ -9,6 +9,11 @@ pub struct Dialect {
     /// Deepest subprogram nesting (FANUC 30i: 10 levels, 16/18: 4,
     /// Mitsubishi: 8).
     pub max_nesting: usize,
+    /// Deepest nesting of macro calls (G65, G66) with their own local
+    /// variables: as `max_nesting` except on Haas, whose G65 calls nest 9
+    /// deep (Haas NGC mill operator's manual, 2017, "G65 Macro Subprogram
+    /// Call").
+    pub max_macro_nesting: usize,
     /// Most M codes in one block (FANUC No.3404#7 M3B: 3).
     pub max_m_codes: usize,
     /// G44 cancels tool length compensation (and TCPC) without moving
@@ -51,6 +56,7 @@ impl Dialect {
     pub fn of(control: Control) -> Self {
         let fanuc = |max_nesting| Self {
             max_nesting,
+            max_macro_nesting: max_nesting,
             max_m_codes: 3,
             g44_cancels: false,
             tcpc_startup_controls_tip: false,
@@ -67,6 +73,7 @@ impl Dialect {
             Control::Fanuc16 => fanuc(4),
             Control::Mitsubishi => Self {
                 max_nesting: 8,
+                max_macro_nesting: 8,
                 max_m_codes: 4,
                 g44_cancels: true,
                 tcpc_startup_controls_tip: true,
@@ -80,6 +87,7 @@ impl Dialect {
             },
             Control::Mazak => Self {
                 max_nesting: 8,
+                max_macro_nesting: 8,
                 max_m_codes: 4,
                 g44_cancels: false,
                 tcpc_startup_controls_tip: false,
@@ -91,9 +99,10 @@ impl Dialect {
                 calculator_input: false,
                 rs274ngc: false,
             },
-            // Haas's reading rules; its nesting depth and M codes per
+            // Haas's reading rules; its M98 nesting depth and M codes per
             // block are not sourced yet (issue #15): FANUC 30i's stand in.
             Control::Haas => Self {
+                max_macro_nesting: 9,
                 syntax: Syntax::HAAS,
                 dwell_p_seconds_with_point: true,
                 g87_manual_retract: true,

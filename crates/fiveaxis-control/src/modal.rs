@@ -188,6 +188,9 @@ pub struct Modal {
     /// LinuxCNC G90.1: arc centres I, J, K are absolute (program
     /// coordinates); G91.1 (the power-on state): relative to the start.
     pub ijk_absolute: bool,
+    /// LinuxCNC G7 (true) / G8: X words are diameters (lathe diameter
+    /// mode).
+    pub diameter_mode: bool,
 }
 
 impl Modal {
@@ -216,6 +219,7 @@ impl Modal {
             },
             blend: None,
             ijk_absolute: false,
+            diameter_mode: false,
         }
     }
 }

@@ -349,6 +349,8 @@ pub struct Runner<'m, S> {
     macros: MacroState,
     /// The program is RS274/NGC (LinuxCNC).
     rs274ngc: bool,
+    /// Haas: `ONONAME` starts a program without a number.
+    haas_names: bool,
     /// RS274/NGC flow: subroutines, calls, open o-word blocks.
     ngc: oword::NgcState,
     /// The leader before the first `%` has been looked for.
@@ -400,9 +402,10 @@ impl<'m, S: Source> Runner<'m, S> {
             macros: if Dialect::of(machine.control).rs274ngc {
                 MacroState::linuxcnc(oword::NGC_MAX_CALLS)
             } else {
-                MacroState::new(Dialect::of(machine.control).max_nesting)
+                MacroState::new(Dialect::of(machine.control).max_macro_nesting)
             },
             rs274ngc: Dialect::of(machine.control).rs274ngc,
+            haas_names: Dialect::of(machine.control).haas_codes,
             ngc: oword::NgcState::default(),
             started: false,
             notes: Vec::new(),
@@ -632,8 +635,9 @@ impl<'m, S: Source> Runner<'m, S> {
                 MacroFlow::Block => return self.execute_block(here, false, out),
             }
         }
-        if is_program_name(&self.text) {
-            // `<NAME>` or `O<NAME>`: a program start by name (30i).
+        if is_program_name(&self.text) || (self.haas_names && is_haas_unnamed(&self.text)) {
+            // `<NAME>` or `O<NAME>`: a program start by name (30i);
+            // Haas's `ONONAME`, a program without a number.
             return if self.at_program_start {
                 Ok(())
             } else {
@@ -712,10 +716,19 @@ impl<'m, S: Source> Runner<'m, S> {
         if let Some(called) = self.macro_call(here.line) {
             return called;
         }
+        // Haas G47 P1 engraves the serial number kept in #599.
+        let engraves = self.controller.engraves(&self.block);
+        if engraves {
+            let serial = self.serial_number();
+            self.controller.set_serial_number(serial);
+        }
         let flow = match self.controller.execute(&self.block, out) {
             Ok(flow) => flow,
             Err(alarm) => return Err(self.alarm_here(alarm)),
         };
+        if engraves && let Some(serial) = self.controller.serial_number() {
+            self.set_serial_number(serial, here.line)?;
+        }
         if let Some(stop) = self.controller.program_stop() {
             let what = match stop {
                 crate::controller::ProgramStop::Stop => "program stop",
@@ -762,7 +775,7 @@ impl<'m, S: Source> Runner<'m, S> {
                 tape = Some(mark);
                 break;
             }
-            if is_program_name(text) {
+            if is_program_name(text) || (self.haas_names && is_haas_unnamed(text)) {
                 break;
             }
             match parse_line_as(self.syntax, text, mark.line, &mut self.scan_block) {
@@ -1108,6 +1121,21 @@ fn is_program_name(text: &[u8]) -> bool {
         _ => rest,
     };
     rest.first() == Some(&b'<') && rest.contains(&b'>')
+}
+
+/// Whether the line is Haas's `ONONAME` (the name the Haas control gives
+/// a program without a program number), alone apart from blanks and a
+/// comment; letters in either case.
+fn is_haas_unnamed(text: &[u8]) -> bool {
+    let rest = text.trim_ascii();
+    let Some(head) = rest.get(..7) else {
+        return false;
+    };
+    if !head.eq_ignore_ascii_case(b"ONONAME") {
+        return false;
+    }
+    let tail = rest[7..].trim_ascii_start();
+    tail.is_empty() || (tail.first() == Some(&b'(') && tail.last() == Some(&b')'))
 }
 
 /// Whether the line's first word is an `O`.

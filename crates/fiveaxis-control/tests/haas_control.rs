@@ -337,3 +337,91 @@ fn haas_refuses_the_posts_placeholder_o_line_and_runs_a_numbered_one() {
         assert_eq!(rows[0].line, 3);
     }
 }
+
+#[test]
+fn haas_numbers_programs_o00001_to_o99999_and_names_an_unnumbered_one_ononame() {
+    let haas = mill(Control::Haas);
+    for header in ["O00001", "O99999 (LAST)"] {
+        let rows = run(&haas, &format!("%\n{header}\nG0 X1.\nM30\n%\n"));
+        assert_eq!(rows.len(), 1, "{header}");
+    }
+    for header in ["O0", "O100000", "O1.5"] {
+        let a = alarm(&haas, &format!("%\n{header}\nG0 X1.\nM30\n%\n"));
+        assert_eq!(a.line, 2, "{header}");
+        let code = a.code.to_string();
+        assert!(code == "FX0014" || code == "FX0013", "{header}: {a}");
+    }
+    // ONONAME: a program start without a number, with or without a name
+    // comment, in either case.
+    for header in ["ONONAME", "ONONAME (BRACKET)", "  ononame  "] {
+        let rows = run(&haas, &format!("%\n{header}\nG0 X1.\nM30\n%\n"));
+        assert_eq!(rows.len(), 1, "{header}");
+        assert_eq!(rows[0].line, 3, "{header}");
+    }
+    // As a program start it ends the program before it, as an O line does.
+    let rows = run(&haas, "%\nO00010\nG0 X1.\nONONAME\nG0 X2.\nM30\n%\n");
+    assert_eq!(rows.len(), 1);
+    // Other words after it, and ONONAME on FANUC, are not a program name.
+    let a = alarm(&haas, "%\nONONAME X1.\nM30\n%\n");
+    assert_eq!(a.line, 2);
+    let a = alarm(&mill(Control::Fanuc30i), "%\nONONAME\nG0 X1.\nM30\n%\n");
+    assert_eq!(a.line, 2);
+}
+
+// ----- alarm numbers ----------------------------------------------------
+
+/// The built-in UMC-750 (control = "haas"), metric words.
+fn umc() -> Machine {
+    builtin("haas-umc750").expect("built-in")
+}
+
+#[test]
+fn haas_stops_with_the_numbers_its_manual_gives() {
+    let umc = umc();
+    // A subprogram that is not in memory: "Alarm 314 Subprogram Not In
+    // Memory", for M98 and for M97's sequence number alike.
+    for call in ["M98 P9123", "M97 P77"] {
+        let a = alarm(
+            &umc,
+            &format!("%\nO00001\nG21 G90 G00 X0. Y0.\n{call}\nM30\n%\n"),
+        );
+        assert_eq!(a.condition, Condition::ProgramNotFound, "{call}");
+        assert_eq!(a.code.to_string(), "314", "{call}");
+        assert_eq!(a.line, 4, "{call}");
+    }
+    // #3000 = 15: programmable alarm 1015.
+    let a = alarm(&umc, "%\nO00001\n#3000=15 (CLAMP OPEN)\nM30\n%\n");
+    assert_eq!(a.condition, Condition::MacroAlarm);
+    assert_eq!(a.code.to_string(), "1015");
+    // An arc under per-axis scaling: alarm 467.
+    let a = alarm(
+        &umc,
+        "%\nO00001\nG21 G17 G90 G00 X0. Y0.\nG51 X0. Y0. I2000 J1000\nG02 X10. Y0. R5. F100.\nM30\n%\n",
+    );
+    assert_eq!(a.condition, Condition::FrameArcScaling);
+    assert_eq!(a.code.to_string(), "467");
+    assert_eq!(a.line, 5);
+    // A condition the manual numbers nowhere keeps the kernel's code.
+    let a = alarm(&umc, "%\nO00001\nG21 G90 G01 X1.\nM30\n%\n");
+    assert_eq!(a.condition, Condition::FeedZero);
+    assert_eq!(a.code.to_string(), "FX0020");
+}
+
+#[test]
+fn haas_macro_calls_nest_nine_deep() {
+    // O2000 calls itself with G65 until #100 reaches the limit: nine
+    // nested G65 calls run, a tenth is the macro nesting alarm (the manual:
+    // "G65 calls can be nested up to 9 times"); FANUC 30i takes ten.
+    let program = |limit: u32| {
+        format!(
+            "%\nO00001\n#100=0\nG65 P2000\nM30\nO2000\n#100=#100+1\nIF[#100GE{limit}]GOTO10\nG65 P2000\nN10 M99\n%\n"
+        )
+    };
+    let umc = umc();
+    let (_, a) = run_on(&umc, &program(9));
+    assert!(a.is_none(), "{a:?}");
+    let a = alarm(&umc, &program(10));
+    assert_eq!(a.condition, Condition::MacroCallNesting);
+    let (_, a) = run_on(&mill(Control::Fanuc30i), &program(10));
+    assert!(a.is_none(), "{a:?}");
+}

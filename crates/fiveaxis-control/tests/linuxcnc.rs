@@ -461,6 +461,29 @@ fn length_offset_changes_move_nothing() {
     assert_eq!(a.condition, Condition::WordNotUsed);
 }
 
+/// G43.2 adds to the offset in force (g-code.adoc, G43.2): `G43 H1` then
+/// `G43.2 H10` is tool 1's length plus tool 10's (rs274 2.9:
+/// `USE_TOOL_LENGTH_OFFSET` 10 then 12.5 in the table's units); `G43.2 Z`
+/// adds the value (the manual; rs274 2.9 still refuses the axis form);
+/// G49 and G43 start over.
+#[test]
+fn g43_2_adds_length_offsets() {
+    let table = Offsets::from_tool_table("T1 P1 Z10 D6\nT10 P10 Z2.5 D1\n").expect("table");
+    let program = "T1 M6\nG43 H1\nG0 Z50\nG43.2 H10\nG0 Z50\nG43.2 Z0.5\nG0 Z50\n\
+                   G49\nG0 Z50\nG43.2 Z1\nG0 Z50\nG43\nG0 Z50\nM2\n";
+    let z: Vec<f64> = ends(program, table).iter().map(|p| p[2]).collect();
+    assert_eq!(z, vec![60.0, 62.5, 63.0, 50.0, 51.0, 60.0]);
+    for (program, condition, line) in [
+        ("G43.2\n", Condition::NoDataAfterAddress, 1),
+        ("G43.2 H1 Z1\n", Condition::WordNotUsed, 1),
+        ("G43.2 X1\n", Condition::WordNotUsed, 1),
+        ("G0 Z1\nG43.2 H7\n", Condition::IllegalOffsetNumber, 2),
+    ] {
+        let a = alarm(program);
+        assert_eq!((a.condition, a.line), (condition, line), "{program}: {a:?}");
+    }
+}
+
 #[test]
 fn g10_l10_sets_the_tool_so_the_position_reads_the_value() {
     // rs274 prints Z 50, 40, 40, 30 with the offset 0, then 10: machine
@@ -784,4 +807,347 @@ fn arc_turns_p_as_rs274_counts_them() {
     // P counts turns: 0 is no arc.
     let a = alarm("G21 G90 G17 F100\nG0 X10 Y0\nG2 X10 Y0 I-10 P0\nM2\n");
     assert_eq!(a.line, 3, "{a:?}");
+}
+
+#[test]
+fn hal_pins_and_ini_values_come_from_the_machine_file() {
+    let mut machine = mill();
+    machine
+        .params
+        .hal_pins
+        .insert("kins.x-rot-point".into(), -50.0);
+    machine.params.ini_values.insert("SETUP]XPOS".into(), 3.25);
+    let program = "G0 X#<_hal[kins.x-rot-point]> Y#<_ini[setup]xpos>\n\
+                   o1 if [EXISTS[#<_hal[kins.nothing]>] OR EXISTS[#<_ini[setup]ypos>]]\n\
+                   G0 Z99\n\
+                   o1 else\n\
+                   G0 Z[EXISTS[#<_ini[SETUP]XPOS>] + 1]\n\
+                   o1 endif\n\
+                   G0 X#<_hal[kins.nothing]>\nM2\n";
+    let mut runner = Runner::new(
+        &machine,
+        Offsets::default(),
+        SliceSource::new(program.as_bytes()),
+        RunOptions::default(),
+    );
+    let mut ends = Vec::new();
+    let alarm = loop {
+        match runner.next_segment() {
+            Ok(Some(seg)) => {
+                let r = seg.row(&machine, 1.0);
+                ends.push([r.joints[0], r.joints[1], r.joints[2]]);
+            }
+            Ok(None) => break None,
+            Err(RunError::Alarm { alarm, .. }) => break Some(alarm),
+            Err(e) => panic!("{e}"),
+        }
+    };
+    assert_eq!(ends, vec![[-50.0, 3.25, 0.0], [-50.0, 3.25, 2.0]]);
+    // A pin the machine file does not list is an unknown parameter.
+    let alarm = alarm.expect("unknown pin");
+    assert_eq!((alarm.code.to_string().as_str(), alarm.line), ("FX0113", 7));
+}
+
+/// G73 / G83 peck clearance (g-code.adoc, G73, G83: "Rapid up either the
+/// D value, the G73_PECK_CLEARANCE specified in the INI file or the
+/// default of .010\" / 0.254 mm"). rs274 2.9 still refuses D there (a
+/// LinuxCNC 2.10 word); the default is what rs274 prints.
+#[test]
+fn peck_clearance_from_d_the_ini_file_or_the_default() {
+    let z_of = |machine: &Machine, program: &str| -> Vec<f64> {
+        let mut runner = Runner::new(
+            machine,
+            Offsets::default(),
+            SliceSource::new(program.as_bytes()),
+            RunOptions::default(),
+        );
+        let mut z = Vec::new();
+        while let Some(seg) = runner.next_segment().expect("runs") {
+            z.push(seg.end[2]);
+        }
+        z
+    };
+    let g83 = "G0 Z10\nG83 X0 Y0 Z-2 R1 Q1.5 F100\nG80\nM2\n";
+    let g83_d = "G0 Z10\nG83 X0 Y0 Z-2 R1 Q1.5 D0.5 F100\nG80\nM2\n";
+    let g73 = "G0 Z10\nG73 X0 Y0 Z-2 R1 Q1.5 F100\nG80\nM2\n";
+    let mut machine = mill();
+    // Down to -0.5, out to R, back to 0.254 above -0.5, on to -2, out.
+    assert_eq!(
+        z_of(&machine, g83),
+        vec![10.0, 1.0, -0.5, 1.0, -0.5 + 0.254, -2.0, 10.0]
+    );
+    assert_eq!(
+        z_of(&machine, g83_d),
+        vec![10.0, 1.0, -0.5, 1.0, 0.0, -2.0, 10.0]
+    );
+    machine
+        .params
+        .ini_values
+        .insert("RS274NGC]G73_PECK_CLEARANCE".into(), 0.75);
+    assert_eq!(z_of(&machine, g73), vec![10.0, 1.0, -0.5, 0.25, -2.0, 10.0]);
+    // In inch configurations the INI value is inches: 0.75 in = 19.05 mm.
+    machine.params.input_unit = fiveaxis_machine::InputUnit::Inch;
+    let z = z_of(
+        &machine,
+        "G21 G0 Z10\nG73 X0 Y0 Z-40 R1 Q30 F100\nG80\nM2\n",
+    );
+    assert_eq!(z.len(), 6, "{z:?}");
+    assert!((z[3] - (-29.0 + 19.05)).abs() < 1e-9, "{z:?}");
+    // D in a G73 / G83 block is not a tool number; a negative D is refused.
+    let a = alarm("G83 X0 Y0 Z-2 R1 Q1 D-1 F100\n");
+    assert_eq!(a.condition, Condition::ValueOutOfRange);
+}
+
+/// `G10 L2 R`: the system turns counter-clockwise about its origin, with
+/// the G92 / G52 offset inside the turn (coordinates.adoc; rs274 prints
+/// `SET_XY_ROTATION` and the offsets, reckoned in turned coordinates).
+/// Machine positions written out by hand: origin + Rz(θ)·(p + g92).
+#[test]
+fn rotated_coordinate_systems_turn_the_program_and_its_g92_offset() {
+    let rz = |deg: f64, x: f64, y: f64| {
+        let (s, c) = deg.to_radians().sin_cos();
+        [c * x - s * y, s * x + c * y]
+    };
+    let close = |got: &[[f64; 3]], want: &[[f64; 3]]| {
+        assert_eq!(got.len(), want.len(), "{got:?}");
+        for (g, w) in got.iter().zip(want) {
+            for k in 0..3 {
+                assert!((g[k] - w[k]).abs() < 1e-9, "{got:?} != {want:?}");
+            }
+        }
+    };
+    // G92 at program (1, 1) with G52 (1, 2) in force: the offset becomes
+    // (2, 3), as rs274 prints; G52 X0 Y0 then clears the shared register.
+    let program = "G10 L2 P1 X10 R30\nG54\nG52 X1 Y2\nG0 X1 Y1\nG92 X0 Y0\nG0 X1 Y0\n\
+                   G52 X0 Y0\nG0 X0 Y0\nM2\n";
+    let [a, b] = rz(30.0, 2.0, 3.0);
+    let [c, d] = rz(30.0, 3.0, 3.0);
+    close(
+        &ends(program, Offsets::default()),
+        &[[10.0 + a, b, 0.0], [10.0 + c, d, 0.0], [10.0, 0.0, 0.0]],
+    );
+    // G10 L20 under a turn: the origin is where the current point reads the
+    // values (rs274: SET_G5X_OFFSET(1, 14.3301, 2.5000, …)); G10 L20 R is
+    // refused as by rs274; #5230 reads and writes the angle.
+    let program = "G10 L2 P1 X10 R30\nG54 G0 X5 Y0\nG10 L20 P1 X0 Y0\nG0 X1 Y0\n\
+                   #5230 = [#5230 + 60]\nG0 X1 Y0\nM2\n";
+    let [e, f] = rz(30.0, 5.0, 0.0);
+    let [g, h] = rz(30.0, 1.0, 0.0);
+    close(
+        &ends(program, Offsets::default()),
+        &[
+            [10.0 + e, f, 0.0],
+            [10.0 + e + g, f + h, 0.0],
+            [10.0 + e, f + 1.0, 0.0],
+        ],
+    );
+    let a = alarm("G10 L20 P1 X1 R45\n");
+    assert_eq!(a.condition, Condition::WordNotUsed);
+    // A G18 arc in a turned system: its plane turns too (the end point
+    // and the circle both, checked at the end).
+    let program = "G10 L2 P1 R90\nG54 G0 X0 Y0 Z0\nG18 G2 X2 Z0 I1 K0 F100\nM2\n";
+    close(&ends(program, Offsets::default()), &[[0.0, 2.0, 0.0]]);
+}
+
+/// G10 L20 for a system other than the one in use: the current position
+/// reads the values in that system (rs274: G54 at X5, `G10 L20 P2 X0`
+/// makes G55's X offset 5).
+#[test]
+fn g10_l20_for_another_system_measures_from_the_machine_position() {
+    let program = "G10 L2 P2 X100\nG54 G0 X5\nG10 L20 P2 X0\nG55 G0 X1\nM2\n";
+    assert_eq!(
+        ends(program, Offsets::default()),
+        vec![[5.0, 0.0, 0.0], [6.0, 0.0, 0.0]]
+    );
+}
+
+/// G52 writes G92's register and its parameters: after `G52 X3`, G92.2
+/// drops the offset and G92.3 brings it back (rs274: SET_G92_OFFSET 3,
+/// 0, 3).
+#[test]
+fn g52_shares_g92s_register_and_parameters() {
+    let program = "G52 X3\nG0 X0\nG92.2\nG0 X0\nG92.3\nG0 X0\nM2\n";
+    assert_eq!(
+        ends(program, Offsets::default()),
+        vec![[3.0, 0.0, 0.0], [0.0, 0.0, 0.0], [3.0, 0.0, 0.0]]
+    );
+}
+
+/// G33 / G33.1 / G76: feeds per spindle revolution (g-code.adoc); the
+/// passes of G76 are checked against rs274 by the differential test, the
+/// manual's errors here.
+#[test]
+fn spindle_synchronized_motion_feeds_and_errors() {
+    let machine = mill();
+    let program = "S500 M3\nG0 X0 Y0 Z0\nG33 Z-10 K1.5\nG0 X5\nG33.1 Z-8 K1 I2\nM2\n";
+    let mut runner = Runner::new(
+        &machine,
+        Offsets::default(),
+        SliceSource::new(program.as_bytes()),
+        RunOptions::default(),
+    );
+    let mut moves = Vec::new();
+    while let Some(seg) = runner.next_segment().expect("runs") {
+        moves.push(([seg.end[0], seg.end[2]], seg.feed));
+    }
+    assert_eq!(
+        moves,
+        vec![
+            ([0.0, -10.0], Some(750.0)),
+            ([5.0, -10.0], None),
+            ([5.0, -8.0], Some(500.0)),
+            // Back at twice the speed (I2).
+            ([5.0, -10.0], Some(1000.0)),
+        ]
+    );
+    for (program, condition) in [
+        ("G33 Z-1 K1\n", Condition::NoSpindleForFeedPerRev),
+        ("S500 M3\nG33 Z-1\n", Condition::CycleDataMissing),
+        ("S500 M3\nG33 Z-1 K1 F100\n", Condition::WordNotUsed),
+        (
+            "S500 M3\nG0 X1 Z0\nG76 P1 Z-5 I-1 J0.1 K0.5\n",
+            Condition::CycleNotAllowed,
+        ),
+        (
+            "S500 M3\nG18 G0 X1 Z0\nG76 P1 X2 Z-5 I-1 J0.1 K0.5\n",
+            Condition::WordNotUsed,
+        ),
+        (
+            "S500 M3\nG18 G0 X1 Z0\nG76 P1 Z-5 I-1 K0.5\n",
+            Condition::CycleDataMissing,
+        ),
+        (
+            "S500 M3\nG18 G0 X1 Z0\nG76 P1 Z-5 I-1 J0 K0.5\n",
+            Condition::ValueOutOfRange,
+        ),
+        (
+            "S500 M3\nG18 G0 X1 Z0\nG76 P1 Z-5 I-1 J0.1 K0.5 R0.5\n",
+            Condition::ValueOutOfRange,
+        ),
+        (
+            "S500 M3\nG18 G0 X1 Z0\nG76 P1 Z-5 I-1 J0.1 K0.5 E3 L1\n",
+            Condition::ValueOutOfRange,
+        ),
+        (
+            "S500 M3\nG18 G0 X1 Z0\nG76 P1 Z-5 I-1 J0.1 K0.5 H-1\n",
+            Condition::ValueOutOfRange,
+        ),
+    ] {
+        let a = alarm(program);
+        assert_eq!(a.condition, condition, "{program}: {a:?}");
+    }
+    // G76 is modal: a later Z word threads again, needing its words
+    // (rs274: "P word missing with G76"); a block without axis words
+    // does nothing.
+    let a = alarm("S500 M3\nG18 G0 X1 Z0\nG76 P1 Z-5 I-1 J0.2 K0.5\nG17\nG18\nZ-8\n");
+    assert_eq!((a.condition, a.line), (Condition::CycleDataMissing, 6));
+}
+
+/// G7 reads X words as diameters (rs274: `G7 G0 X10` prints X 5; the
+/// arc's I stays a radius; readbacks stay radii); M19 takes R Q P.
+#[test]
+fn lathe_diameter_mode_and_spindle_orientation() {
+    let program = "G18 G7\nG0 X10 Z1\nG91 X2\nG90\nG0 Z#5420\nG8\nX3\nM19 R45 Q2 P1\nM2\n";
+    assert_eq!(
+        ends(program, Offsets::default()),
+        vec![
+            [5.0, 0.0, 1.0],
+            [6.0, 0.0, 1.0],
+            [6.0, 0.0, 6.0],
+            [3.0, 0.0, 6.0]
+        ]
+    );
+    let a = alarm("M19 R400\n");
+    assert_eq!(a.condition, Condition::ValueOutOfRange);
+    let a = alarm("M19 P3\n");
+    assert_eq!(a.condition, Condition::ValueOutOfRange);
+}
+
+/// G5 and G5.1 (g-code.adoc): every chord end lies on the curve written
+/// out here with Bernstein polynomials, and every chord stays within
+/// 0.001 mm of it (checked at the chords' middles).
+#[test]
+fn splines_follow_their_curves_within_the_tolerance() {
+    let cubic = |c: [[f64; 2]; 4], t: f64| {
+        let u = 1.0 - t;
+        let b = [u * u * u, 3.0 * u * u * t, 3.0 * u * t * t, t * t * t];
+        [0, 1].map(|a| (0..4).map(|k| b[k] * c[k][a]).sum::<f64>())
+    };
+    let quadratic = |c: [[f64; 2]; 3], t: f64| {
+        let u = 1.0 - t;
+        let b = [u * u, 2.0 * u * t, t * t];
+        [0, 1].map(|a| (0..3).map(|k| b[k] * c[k][a]).sum::<f64>())
+    };
+    let check = |points: &[[f64; 3]], curve: &dyn Fn(f64) -> [f64; 2]| {
+        let n = points.len();
+        assert!(n > 4, "{n} chords");
+        for (k, p) in points.iter().enumerate() {
+            let t = (k + 1) as f64 / n as f64;
+            let c = curve(t);
+            assert!(
+                (p[0] - c[0]).hypot(p[1] - c[1]) < 1e-9,
+                "vertex {k}: {p:?} {c:?}"
+            );
+            let prev = if k == 0 {
+                curve(0.0)
+            } else {
+                [points[k - 1][0], points[k - 1][1]]
+            };
+            let mid = [(prev[0] + p[0]) / 2.0, (prev[1] + p[1]) / 2.0];
+            let c = curve((k as f64 + 0.5) / n as f64);
+            assert!(
+                (mid[0] - c[0]).hypot(mid[1] - c[1]) <= 0.001,
+                "chord {k} strays"
+            );
+        }
+    };
+    // The manual's curvy N, then a second one continuing it (I, J = −P, −Q
+    // of the first), then a G5.1 parabola.
+    let program = "G17 G0 X0 Y0 Z2\nG1 F100\nG5 I0 J3 P0 Q-3 X1 Y1\nG5 P0 Q-3 X2 Y2\n\
+                   G0 X-2 Y4\nG5.1 X2 I2 J-8\nM2\n";
+    let points = ends(program, Offsets::default());
+    let first: Vec<_> = points
+        .iter()
+        .skip(1)
+        .take_while(|p| p[0] <= 1.0 + 1e-12 && p[1] <= 1.0 + 1e-12)
+        .copied()
+        .collect();
+    let n1 = first.len();
+    check(&first, &|t| {
+        cubic([[0.0, 0.0], [0.0, 3.0], [1.0, -2.0], [1.0, 1.0]], t)
+    });
+    let second: Vec<_> = points[1 + n1..]
+        .iter()
+        .take_while(|p| p[0] >= 1.0 - 1e-12 && p[0] <= 2.0 + 1e-12 && p[1] >= 1.0 - 1e-9 - 3.0)
+        .copied()
+        .collect();
+    let n2 = second
+        .iter()
+        .position(|p| *p == [2.0, 2.0, 2.0])
+        .expect("ends at X2 Y2")
+        + 1;
+    check(&second[..n2], &|t| {
+        cubic([[1.0, 1.0], [1.0, 4.0], [2.0, -1.0], [2.0, 2.0]], t)
+    });
+    let parabola = &points[1 + n1 + n2 + 1..];
+    check(parabola, &|t| {
+        quadratic([[-2.0, 4.0], [0.0, -4.0], [2.0, 4.0]], t)
+    });
+    assert!(points.iter().all(|p| p[2] == 2.0), "Z stays");
+    for (program, condition) in [
+        ("G5 X1 Y1 P0 Q1\n", Condition::CycleDataMissing),
+        ("G5 I1 X1 Y1 P0 Q1\n", Condition::CycleDataMissing),
+        ("G5 I1 J1 X1 Y1\n", Condition::CycleDataMissing),
+        ("G5 I1 J1 P1 Q1 X1 Z1\n", Condition::WordNotUsed),
+        ("G18 G5 I1 J1 P1 Q1 X1\n", Condition::WordNotUsed),
+        ("G5.1 X1 Y1\n", Condition::CycleDataMissing),
+        // A G1 between ends the series: the next G5 needs I and J again.
+        (
+            "G5 I0 J1 P0 Q-1 X1 Y1 F100\nG1 X2\nG5 P0 Q-1 X3 Y1\n",
+            Condition::CycleDataMissing,
+        ),
+    ] {
+        let a = alarm(program);
+        assert_eq!(a.condition, condition, "{program}: {a:?}");
+    }
 }

@@ -109,7 +109,7 @@ pub fn parse_line_as(
     block.clear();
     block.line = line;
     let text = if syntax.semicolon_outside_comments {
-        block_text_outside_comments(text)
+        block_text_outside_comments(text, syntax.nested_comments)
     } else {
         block_text(text)
     };
@@ -145,14 +145,17 @@ fn block_text(text: &[u8]) -> &[u8] {
 /// The part of the line that makes the block when `;` starts a comment
 /// only outside parentheses: up to the first such `;`, without trailing
 /// line terminators.
-fn block_text_outside_comments(text: &[u8]) -> &[u8] {
-    let mut in_comment = false;
+/// With `nested` comments a `(` inside one opens a level its own `)`
+/// closes (Haas); otherwise the first `)` ends the comment.
+fn block_text_outside_comments(text: &[u8], nested: bool) -> &[u8] {
+    let mut depth = 0_usize;
     let mut end = text.len();
     for (i, &b) in text.iter().enumerate() {
         match b {
-            COMMENT_OPEN => in_comment = true,
-            COMMENT_CLOSE => in_comment = false,
-            END_OF_BLOCK if !in_comment => {
+            COMMENT_OPEN if nested => depth += 1,
+            COMMENT_OPEN => depth = 1,
+            COMMENT_CLOSE => depth = depth.saturating_sub(1),
+            END_OF_BLOCK if depth == 0 => {
                 end = i;
                 break;
             }
@@ -190,7 +193,12 @@ fn read_block(text: &[u8], syntax: Syntax, block: &mut Block) -> Result<(), Synt
             return Ok(());
         };
         pos = if byte == COMMENT_OPEN {
-            skip_comment(text, pos, syntax)?
+            let end = skip_comment(text, pos, syntax)?;
+            if block.comment_span.is_none() {
+                block.comment_span = Some(span(pos, end));
+                block.comment.extend_from_slice(&text[pos + 1..end - 1]);
+            }
+            end
         } else if byte.is_ascii_alphabetic() {
             read_word(text, pos, block, syntax)?
         } else {

@@ -72,10 +72,11 @@ pub struct Syntax {
     /// NX post writes `(#508= (MILL_.25_PROFILE ))`). Off (FANUC): a `(`
     /// inside a comment is text and the first `)` ends it.
     pub nested_comments: bool,
-    /// `;` starts a comment to the end of the line only outside
-    /// parentheses; inside a `( … )` comment it is text (LinuxCNC,
-    /// overview.adoc "Comments"). Off (FANUC): the first `;` ends the
-    /// block wherever it stands.
+    /// `;` ends the block (starts a comment to the end of the line) only
+    /// outside parentheses; inside a `( … )` comment it is text (LinuxCNC,
+    /// overview.adoc "Comments"; Haas, whose G47 engraves `;` from a
+    /// comment: NGC mill operator's manual, "Literal Text Engraving").
+    /// Off (FANUC): the first `;` ends the block wherever it stands.
     pub semicolon_outside_comments: bool,
     /// A lower-case `e` right after the digits of a number is the next
     /// word's letter (LinuxCNC: `m66e0l0` is `M66 E0 L0`, words are
@@ -95,7 +96,7 @@ impl Syntax {
     /// The Haas control.
     pub const HAAS: Self = Self {
         nested_comments: true,
-        semicolon_outside_comments: false,
+        semicolon_outside_comments: true,
         e_after_digits_is_a_word: false,
     };
     /// LinuxCNC's RS274/NGC for plain lines (the runner sends lines with
@@ -184,6 +185,12 @@ pub struct Block {
     pub words: Vec<Word>,
     /// The `N` sequence number, if any.
     pub sequence: Option<u32>,
+    /// The text of the line's first comment, without its parentheses (Haas
+    /// G47 engraves it). The buffer is kept from line to line.
+    pub comment: Vec<u8>,
+    /// The columns of that comment, parentheses included; `None` when the
+    /// line has no comment.
+    pub comment_span: Option<Span>,
 }
 
 impl Block {
@@ -195,6 +202,8 @@ impl Block {
         self.tape_mark = false;
         self.words.clear();
         self.sequence = None;
+        self.comment.clear();
+        self.comment_span = None;
     }
 
     /// The first word with this letter.

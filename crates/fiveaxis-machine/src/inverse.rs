@@ -15,7 +15,9 @@
 //! direction (subproblem 1). The answer is exact: forward kinematics of it
 //! gives the commanded direction to rounding.
 
-use nalgebra::Unit;
+use nalgebra::{Rotation3, Unit};
+
+use crate::kinematics::rotation;
 
 use crate::{Joints, Machine, Side, Vec3};
 
@@ -133,6 +135,81 @@ impl Machine {
             out.push(pair);
         }
         out.free_axis = free.map(|k| file_index[k]);
+        out
+    }
+
+    /// The angle pairs of two chosen rotary axes `pair` (rotary numbers,
+    /// bed outwards, `pair[0]` before `pair[1]`) that point the tool along
+    /// `dir` (a unit vector in the table frame) with every other rotary
+    /// axis held at its angle in `joints` (a three-rotary machine turning
+    /// its two head axes with the table standing). Each pair gives the
+    /// angles of `pair[0]` then `pair[1]`; a free axis at a singular
+    /// direction keeps its angle in `joints`.
+    ///
+    /// The tool direction in the table frame is a product of turns applied
+    /// to `t0`: the head axes bed outwards, then the table axes undone
+    /// from the outermost: `v = T_m(−θ)…T_1(−θ)·H_1(θ)…H_n(θ)·t0`. With the
+    /// others held, `v = P·F_a(θa)·M·F_b(θb)·S·t0`, and `F_a·M·F_b =
+    /// R(ωa, ±θa)·R(M·ωb, ±θb)·M`, subproblem 2 with `p = M·S·t0` and
+    /// `q = P⁻¹·v`.
+    pub fn orientations_held(&self, dir: &Vec3, pair: [usize; 2], joints: &Joints) -> Orientations {
+        let n = self.rotary.len();
+        if pair[0] >= n || pair[1] >= n || pair[0] == pair[1] {
+            return Orientations::none();
+        }
+        let first = self.linear.len();
+        // The turns in the order they multiply (leftmost first): the table
+        // axes from the outermost in, angle negated; the head axes bed
+        // outwards.
+        let mut order = [(0usize, 0.0f64); crate::MAX_AXES];
+        let mut len = 0;
+        for k in (0..n).rev().filter(|&k| self.rotary[k].on == Side::Table) {
+            order[len] = (k, -1.0);
+            len += 1;
+        }
+        for k in (0..n).filter(|&k| self.rotary[k].on == Side::Head) {
+            order[len] = (k, 1.0);
+            len += 1;
+        }
+        let order = &order[..len];
+        let Some(ia) = order
+            .iter()
+            .position(|&(k, _)| k == pair[0] || k == pair[1])
+        else {
+            return Orientations::none();
+        };
+        let Some(ib) = order
+            .iter()
+            .rposition(|&(k, _)| k == pair[0] || k == pair[1])
+        else {
+            return Orientations::none();
+        };
+        let held = |range: &[(usize, f64)]| {
+            range.iter().fold(Rotation3::identity(), |acc, &(k, sign)| {
+                acc * rotation(&self.rotary[k].axis, sign * joints[first + k])
+            })
+        };
+        let p_map = held(&order[..ia]);
+        let m_map = held(&order[ia + 1..ib]);
+        let s_map = held(&order[ib + 1..]);
+        let (ka, sa) = order[ia];
+        let (kb, sb) = order[ib];
+        let wa = self.rotary[ka].axis;
+        let wb = Unit::new_normalize(m_map * self.rotary[kb].axis.into_inner());
+        let p = m_map * (s_map * self.tool_direction.into_inner());
+        let q = p_map.inverse() * dir;
+        let held_ab = [sa * joints[first + ka], sb * joints[first + kb]];
+        let mut free = None;
+        let mut out = Orientations::none();
+        // Which slot of the answer each of a and b fills.
+        let slot_a = usize::from(ka != pair[0]);
+        for [a, b] in subproblem_2(&wa, &wb, &p, &q, held_ab, &mut free) {
+            let mut angles = [0.0; 2];
+            angles[slot_a] = principal(sa * a);
+            angles[1 - slot_a] = principal(sb * b);
+            out.push(angles);
+        }
+        out.free_axis = free.map(|k| if k == 0 { slot_a } else { 1 - slot_a });
         out
     }
 

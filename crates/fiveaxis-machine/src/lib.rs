@@ -30,6 +30,8 @@ pub use offsets::{
 };
 pub use setup_error::SetupError;
 
+use std::collections::BTreeMap;
+
 use nalgebra::{Unit, Vector3};
 
 /// A 3-vector of `f64`: points in mm, directions unitless.
@@ -308,6 +310,23 @@ pub struct Parameters {
     /// configuration whose kinematics type 0 is the TCP one): programs are in
     /// tool-tip coordinates from their first block, as after `tcpc_on`.
     pub tcpc_at_start: bool,
+    /// LinuxCNC: the configuration remaps the tilted-working-plane codes
+    /// (G68.2, G68.3, G68.4, G69, G53.1, G53.3, G53.6) as the TWP remap of
+    /// LinuxCNC's nutating-head demo configurations documents them
+    /// (`controller/coordinates/twp.rs`); without it they are unknown codes.
+    pub twp_remap: bool,
+    /// LinuxCNC TWP `[TWP] PRIORITY`: the rotary axis (1 the primary, 2 the
+    /// secondary of the pair G53.1 / G53.3 / G53.6 turn) whose direction of
+    /// turn the P word of those codes chooses; the other takes the
+    /// shortest way.
+    pub twp_priority: u8,
+    /// LinuxCNC: the values a program reads as `#<_hal[pin]>` (HAL pins
+    /// as they stand when the program starts; names in lower case).
+    pub hal_pins: BTreeMap<String, f64>,
+    /// LinuxCNC: the values a program reads as `#<_ini[section]name>`,
+    /// keyed `SECTION]NAME` in upper case (LinuxCNC upper-cases the name
+    /// before it looks in the INI file).
+    pub ini_values: BTreeMap<String, f64>,
 }
 
 impl Default for Parameters {
@@ -332,6 +351,10 @@ impl Default for Parameters {
             subroutine_path: Vec::new(),
             tool_table: None,
             tcpc_at_start: false,
+            twp_remap: false,
+            twp_priority: 1,
+            hal_pins: BTreeMap::new(),
+            ini_values: BTreeMap::new(),
         }
     }
 }

@@ -138,3 +138,86 @@ fn head_table_solution_by_hand() {
     };
     assert!(has(40.0, 90.0) || has(40.0, -90.0), "{:?}", pairs.pairs());
 }
+
+/// A machine with three rotary axes (a rotary table with a two-axis
+/// head, as LinuxCNC's nutating-head demo, and the other arrangements),
+/// built in code from a two-rotary one: a third axis along a random
+/// direction added bed-most (a table axis) or outermost (a head axis).
+fn three_rotary() -> impl Strategy<Value = (Machine, Joints)> {
+    (
+        posed(two_rotary_sides()).prop_filter("room for a third rotary axis", |(m, _, _)| {
+            m.linear.len() + 3 <= fiveaxis_machine::MAX_AXES
+        }),
+        common::direction(),
+        common::point(200.0),
+        any::<bool>(),
+        -400.0..400.0f64,
+    )
+        .prop_map(|((mut m, joints, _), axis, center, table, angle)| {
+            let mut extra = m.rotary[0].clone();
+            extra.axis = axis;
+            extra.center = center;
+            let first = m.linear.len();
+            let mut j = joints;
+            if table {
+                extra.on = Side::Table;
+                m.rotary.insert(0, extra);
+                j[first + 2] = j[first + 1];
+                j[first + 1] = j[first];
+                j[first] = angle;
+            } else {
+                extra.on = Side::Head;
+                m.rotary.push(extra);
+                j[first + 2] = angle;
+            }
+            (m, j)
+        })
+}
+
+proptest! {
+    #![proptest_config(config(2000))]
+
+    /// A chosen pair of axes with the others held: every answer points the
+    /// tool along the asked direction by forward kinematics, the held
+    /// axes stay, and the pose's own angles are among the answers (unless
+    /// an axis was free).
+    #[test]
+    fn held_pair_answers_reproduce_the_direction(
+        (machine, joints) in three_rotary(),
+        pair_choice in 0..3usize,
+    ) {
+        let pair = [[0, 1], [0, 2], [1, 2]][pair_choice];
+        let dir = machine.forward(&joints, 0.0).dir;
+        let found = machine.orientations_held(&dir, pair, &joints);
+        prop_assert!(!found.is_empty(), "reachable direction not found");
+        let idx = [machine.rotary_index(pair[0]), machine.rotary_index(pair[1])];
+        let mut matched = false;
+        for &angles in found.pairs() {
+            let mut answer = joints;
+            answer[idx[0]] = angles[0];
+            answer[idx[1]] = angles[1];
+            let back = machine.forward(&answer, 0.0);
+            prop_assert!(angle_between(&back.dir, &dir) < DIRECTION_TOLERANCE,
+                "direction off by {} rad for {angles:?}", angle_between(&back.dir, &dir));
+            matched |= same_angle(angles[0], joints[idx[0]]) && same_angle(angles[1], joints[idx[1]]);
+        }
+        prop_assert!(matched || found.free_axis.is_some(),
+            "original angles {:?} not among {:?}", (joints[idx[0]], joints[idx[1]]), found.pairs());
+    }
+
+    /// On two rotary axes the held form is the ordinary one.
+    #[test]
+    fn held_pair_of_two_rotary_machine_is_orientations(
+        (machine, joints, _) in posed(two_rotary_sides()),
+    ) {
+        let dir = machine.forward(&joints, 0.0).dir;
+        let (i0, i1) = (machine.rotary_index(0), machine.rotary_index(1));
+        let plain = machine.orientations(&dir, [joints[i0], joints[i1]]);
+        let held = machine.orientations_held(&dir, [0, 1], &joints);
+        prop_assert_eq!(plain.pairs().len(), held.pairs().len());
+        for p in plain.pairs() {
+            prop_assert!(held.pairs().iter().any(|h| same_angle(h[0], p[0]) && same_angle(h[1], p[1])),
+                "{:?} not in {:?}", p, held.pairs());
+        }
+    }
+}

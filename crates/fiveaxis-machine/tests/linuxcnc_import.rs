@@ -783,7 +783,8 @@ fn trsrn_nutating_machines_match_the_notebooks() {
         assert_eq!(m.m_codes.get(430), Some(MFunction::TcpcOn));
         assert!(!m.params.tcpc_at_start);
         let text = imported.to_toml();
-        assert!(text.contains("\n# twp_remap = true"), "{text}");
+        assert!(text.contains("\ntwp_remap = true"), "{text}");
+        assert!(m.params.twp_remap);
         assert!(text.contains("[TWP]PRIMARY = C"), "{text}");
         round_trip(&imported);
         let g = Trsrn {
@@ -835,4 +836,29 @@ fn trsrn_nutating_machines_match_the_notebooks() {
         let e = import_in_memory(&[("/t/t.ini", &ini)]).expect_err("beyond 90");
         assert!(e.message.contains("nut-angle 95"), "{e}");
     }
+
+#[test]
+fn hal_pin_and_ini_values_are_written_for_the_program() {
+    // The table-dual-rotary demo sets G54 from
+    // #<_hal[xyzab_tdr_kins.x-rot-point]> and friends: the panel's start
+    // values (xyzab-tdr.xml) reach the kinematics' pins over their signals.
+    let imported = import("axis/vismach/5axis/table-dual-rotary/xyzab-tdr.ini")
+        .unwrap_or_else(|e| panic!("{e}"));
+    let m = &imported.machine;
+    let pin = |name: &str| m.params.hal_pins.get(name).copied();
+    assert_eq!(pin("xyzab_tdr_kins.x-rot-point"), Some(-50.0));
+    assert_eq!(pin("xyzab_tdr_kins.z-rot-point"), Some(-100.0));
+    assert_eq!(pin("xyzab_tdr_kins.x-offset"), Some(-20.0));
+    assert!(m.params.hal_pins.keys().all(|k| k == &k.to_lowercase()));
+    let ini = |key: &str| m.params.ini_values.get(key).copied();
+    assert_eq!(ini("AXIS_B]MAX_LIMIT"), Some(180.0));
+    assert_eq!(ini("EMC]MACHINE"), None, "not a number");
+    // The printed file reads back to the same values.
+    round_trip(&imported);
+    // Only a linuxcnc machine carries them.
+    let text = m
+        .to_toml()
+        .replace("control = \"linuxcnc\"", "control = \"fanuc30i\"");
+    let e = Machine::from_toml(&text).expect_err("fanuc with HAL pins");
+    assert!(e.to_string().contains("only a linuxcnc machine"), "{e}");
 }

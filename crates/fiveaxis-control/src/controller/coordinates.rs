@@ -8,7 +8,8 @@
 //!    own coordinates.
 //! 2. **Feature frame** (`feature_frame.rs`): the tilted working plane
 //!    (G68.2 and its forms, G68.3, G68.4) or a three-dimensional
-//!    coordinate conversion (G68 with I J K): `origin + R·p`.
+//!    coordinate conversion (G68 with I J K): `origin + R·p`; LinuxCNC's
+//!    TWP remap (`twp.rs`) puts its plane here from G53.x on.
 //! 3. **Local shifts**: the G52 local coordinate system and the 3-D tool
 //!    compensation vector ([`Controller::local_vector`]).
 //! 4. **Setup error** (`setup_error.rs`): G54.4 maps the ideal workpiece
@@ -34,6 +35,7 @@ use crate::modal::WorkSelect;
 mod feature_frame;
 mod program_transforms;
 mod setup_error;
+mod twp;
 
 pub(super) use feature_frame::{Feature, Pending};
 pub(super) use program_transforms::{Frames, slot};

@@ -153,6 +153,9 @@ pub(super) struct CycleState {
     q: f64,
     /// P, ms.
     p: u32,
+    /// LinuxCNC's D of G73 / G83, the peck clearance, mm (None: the
+    /// configuration's or the default).
+    d: Option<f64>,
 }
 
 impl Default for CycleState {
@@ -166,6 +169,7 @@ impl Default for CycleState {
             z: None,
             q: 0.0,
             p: 0,
+            d: None,
         }
     }
 }
@@ -277,6 +281,23 @@ impl Controller<'_> {
         let q_word = self.words.take(b'Q');
         if let Some(word) = q_word {
             self.state.cycle.q = self.length(&word).abs();
+        }
+        if self.dialect.rs274ngc
+            && matches!(cycle, Cycle::G73 | Cycle::G83)
+            && let Some(word) = self.words.take(b'D')
+        {
+            let d = self.length(&word);
+            if !(d >= 0.0 && d.is_finite()) {
+                return Err(self.alarm(
+                    Condition::ValueOutOfRange,
+                    Some(word.span),
+                    format!(
+                        "D{}: the peck clearance of G73 / G83 cannot be negative",
+                        word.value
+                    ),
+                ));
+            }
+            self.state.cycle.d = Some(d);
         }
         let p_word = self.words.peek(b'P');
         if let Some(word) = self.words.take(b'P') {
@@ -452,6 +473,28 @@ impl Controller<'_> {
         })
     }
 
+    /// LinuxCNC's peck clearance of G73 (the retract after each peck) and
+    /// G83 (how far above the last depth the rapid return stops): the D
+    /// word, else the configuration's `[RS274NGC] G73_PECK_CLEARANCE` /
+    /// `G83_PECK_CLEARANCE` (machine file `[parameters.ini.RS274NGC]`, in
+    /// the machine's unit), else 0.254 mm (g-code.adoc, G73 and G83).
+    fn linuxcnc_peck_clearance(&self, cycle: Cycle) -> f64 {
+        if let Some(d) = self.state.cycle.d {
+            return d;
+        }
+        let key = if cycle == Cycle::G73 {
+            "RS274NGC]G73_PECK_CLEARANCE"
+        } else {
+            "RS274NGC]G83_PECK_CLEARANCE"
+        };
+        let params = &self.machine.params;
+        match params.ini_values.get(key) {
+            Some(v) if params.input_unit == fiveaxis_machine::InputUnit::Inch => v * 25.4,
+            Some(v) => *v,
+            None => LINUXCNC_PECK_CLEARANCE,
+        }
+    }
+
     /// One hole at `hole` (plane position; its drilling coordinate is
     /// where the tool stands), from machine position `cur`. Returns where
     /// the machine ends.
@@ -479,7 +522,8 @@ impl Controller<'_> {
             Ok::<(), Alarm>(())
         };
         let (retract, clearance) = if self.dialect.rs274ngc {
-            (LINUXCNC_PECK_CLEARANCE, LINUXCNC_PECK_CLEARANCE)
+            let d = self.linuxcnc_peck_clearance(cycle);
+            (d, d)
         } else {
             (PECK_RETRACT, PECK_CLEARANCE)
         };

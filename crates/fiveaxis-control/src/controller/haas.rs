@@ -39,7 +39,7 @@
 //!   first and second rotary axes), M88 / M89 through-spindle coolant and
 //!   the other switching codes as signals.
 
-use fiveaxis_gcode::{Code, Span};
+use fiveaxis_gcode::{Code, Span, Word};
 use fiveaxis_machine::{MAX_HAAS_WORK, MFunction, Machine, Side};
 
 use super::coordinates::Feature;
@@ -72,7 +72,23 @@ pub(super) fn standard_m_code(machine: &Machine, code: Code) -> Option<MFunction
     })
 }
 
+/// The highest Haas program number (O99999: five digits).
+pub const MAX_HAAS_PROGRAM: u32 = 99_999;
+
 impl Controller<'_> {
+    /// A Haas program number: O00001 to O99999, without a decimal point.
+    pub(super) fn haas_program_number(&self, word: &Word) -> Result<(), Alarm> {
+        let number = self.words.integer(word, MAX_HAAS_PROGRAM)?;
+        if number == 0 {
+            return Err(self.alarm(
+                Condition::ValueOutOfRange,
+                Some(word.span),
+                format!("O0: Haas program numbers are O00001 to O{MAX_HAAS_PROGRAM}"),
+            ));
+        }
+        Ok(())
+    }
+
     /// G234: TCPC with Haas's frame (module documentation).
     pub(super) fn start_haas_tcpc(&mut self, span: Span) -> Result<(), Alarm> {
         if self.feature().is_some_and(|f| f.is_dwo()) {

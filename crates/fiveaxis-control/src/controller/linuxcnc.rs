@@ -16,7 +16,8 @@
 //! kept as G54.1 P1–P3.
 
 use fiveaxis_gcode::Span;
-use fiveaxis_machine::{Joints, MAX_TOOL_OFFSET};
+use fiveaxis_machine::{Joints, MAX_TOOL_OFFSET, SetupError, Vec3};
+use nalgebra::Rotation3;
 
 use super::Controller;
 use crate::alarm::{Alarm, Condition};
@@ -29,7 +30,119 @@ const KERNEL_WORK_SYSTEMS: u32 = 6;
 /// G59.1 … G59.3, kept as G54.1 P1 … P3.
 const NGC_EXTRA_SYSTEMS: u32 = 3;
 
+/// LinuxCNC's motion modes of group 1 beyond G0–G3.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum NgcMotion {
+    /// G5 (`controller/splines.rs`).
+    CubicSpline,
+    /// G5.1.
+    QuadraticSpline,
+    /// G33 (`controller/threading.rs`).
+    Thread,
+    /// G33.1.
+    RigidTap,
+    /// G76.
+    ThreadingCycle,
+}
+
+impl NgcMotion {
+    /// The mode a group-1 code selects (`None` for G0–G3).
+    pub(super) fn of(code: fiveaxis_gcode::Code) -> Option<Self> {
+        Some(match (code.major, code.minor) {
+            (5, 0) => Self::CubicSpline,
+            (5, 1) => Self::QuadraticSpline,
+            (33, 0) => Self::Thread,
+            (33, 1) => Self::RigidTap,
+            (76, 0) => Self::ThreadingCycle,
+            _ => return None,
+        })
+    }
+}
+
+/// The rotation of LinuxCNC's XY plane about Z by `degrees`
+/// (counter-clockwise seen from +Z).
+fn rotation_z(degrees: f64) -> Rotation3<f64> {
+    Rotation3::from_axis_angle(&Vec3::z_axis(), degrees.to_radians())
+}
+
 impl Controller<'_> {
+    /// LinuxCNC's rotation of the coordinate system in use (`G10 L2 R`,
+    /// #5230…) as the controller's workpiece transform: the program's X Y
+    /// and its G92 / G52 shift turn together about the system's origin
+    /// (coordinates.adoc: "the G92 offset is applied after rotation", G52
+    /// "after the workpiece offset, including rotation"; rs274 reckons a
+    /// G92 under rotation in the turned coordinates), so
+    /// `real = origin + Rz·(p + shift)`. The controller's chain adds the
+    /// shift unturned with the work offset and then the transform about
+    /// the work zero, hence the transform's origin `(Rz − I)·shift`.
+    /// LinuxCNC has no G54.4, whose transform this is on other controls.
+    pub(super) fn refresh_xy_rotation(&mut self) {
+        let Some(k) = self.linuxcnc_system() else {
+            return;
+        };
+        let degrees = self.state.xy_rotation[k];
+        self.state.setup = if degrees == 0.0 {
+            SetupError::IDENTITY
+        } else {
+            let turn = rotation_z(degrees);
+            SetupError {
+                origin: turn * self.state.shift - self.state.shift,
+                rotation: turn,
+            }
+        };
+    }
+
+    /// A block in one of LinuxCNC's own motion modes.
+    pub(super) fn ngc_motion(
+        &mut self,
+        mode: NgcMotion,
+        from: &Joints,
+        out: &mut Vec<crate::segment::Segment>,
+    ) -> Result<(), Alarm> {
+        // A block of the mode without axis words moves nothing (rs274: a
+        // lone `G17` after G76 is no threading cycle, `M2` after G5.1 no
+        // spline).
+        let count = self.machine.axis_count();
+        if !self.axis_letters[..count]
+            .iter()
+            .any(|&l| self.words.has(l))
+        {
+            if matches!(mode, NgcMotion::Thread | NgcMotion::RigidTap) && self.words.has(b'K') {
+                return Err(self.alarm(
+                    Condition::CycleDataMissing,
+                    None,
+                    "G33 / G33.1 need an axis word".into(),
+                ));
+            }
+            return Ok(());
+        }
+        match mode {
+            NgcMotion::CubicSpline | NgcMotion::QuadraticSpline => {
+                self.spline(mode == NgcMotion::CubicSpline, from, out)
+            }
+            NgcMotion::Thread | NgcMotion::RigidTap | NgcMotion::ThreadingCycle => {
+                self.sync_motion(mode, from, out)
+            }
+        }
+    }
+
+    /// LinuxCNC: the rotation (degrees) of coordinate system `system`
+    /// (1–9), as parameters #5230, #5250 … read it.
+    pub fn xy_rotation(&self, system: usize) -> Option<f64> {
+        (1..=9)
+            .contains(&system)
+            .then(|| self.state.xy_rotation[system - 1])
+    }
+
+    /// LinuxCNC: writing #5230, #5250 … sets the rotation of coordinate
+    /// system `system` (1–9), as `G10 L2 P… R` does.
+    pub fn set_xy_rotation(&mut self, system: usize, degrees: f64) {
+        if (1..=9).contains(&system) {
+            self.state.xy_rotation[system - 1] = degrees;
+            self.refresh_xy_rotation();
+        }
+    }
+
     /// G10 by LinuxCNC's rules; `from` is where the program stands.
     pub(super) fn data_setting_linuxcnc(&mut self, span: Span, from: &Joints) -> Result<(), Alarm> {
         let Some(l) = self.words.take(b'L') else {
@@ -58,14 +171,15 @@ impl Controller<'_> {
                     }
                     (n, _) => n,
                 };
-                if let Some(r) = self.words.take(b'R')
-                    && r.value != 0.0
+                let rotation = self.words.take(b'R');
+                if let Some(r) = &rotation
+                    && l_value == 20
                 {
+                    // rs274: "R not allowed in G10 L20".
                     return Err(self.alarm(
-                        Condition::ValueOutOfRange,
+                        Condition::WordNotUsed,
                         Some(r.span),
-                        "G10 R: a rotated coordinate system is not in the kernel's offset memory"
-                            .into(),
+                        "G10 L20 takes no R: the rotation is set by G10 L2".into(),
                     ));
                 }
                 let slot = n as usize - 1;
@@ -74,23 +188,32 @@ impl Controller<'_> {
                 } else {
                     self.offsets.extended_work[slot - KERNEL_WORK_SYSTEMS as usize]
                 };
+                // G10 L20: where the tool stands (without the length
+                // offset), and the same point in system P before the change.
+                let here = Vec3::new(from[0], from[1], from[2]);
+                let here_real = self.to_real(&here);
+                let turn = rotation_z(self.state.xy_rotation[slot]);
+                // The point as system P is to read it: the words' values,
+                // the current position on the axes not named.
+                let mut named = [false; 3];
+                let mut q = here;
                 for (axis, letter) in [b'X', b'Y', b'Z'].into_iter().enumerate() {
-                    let Some(word) = self.words.take(letter) else {
-                        continue;
-                    };
-                    let v = self.length(&word);
-                    value[axis] = if l_value == 2 {
-                        v
-                    } else {
-                        // The current position reads v: the offset moves
-                        // by the difference.
-                        let i = self.machine.axis_index(char::from(letter)).unwrap_or(axis);
-                        value[axis] + from[i] - v
-                    };
+                    if let Some(word) = self.words.take(letter) {
+                        named[axis] = true;
+                        q[axis] = self.length(&word);
+                    }
+                }
+                // G10 L20: P's origin is the point less P's turned G92
+                // shift and q (coordinates.adoc: G92 applies inside the
+                // rotation); an axis not named keeps its offset.
+                let origin = here_real - self.offsets.external - turn * (q + self.state.shift);
+                for axis in (0..3).filter(|&a| named[a]) {
+                    value[axis] = if l_value == 2 { q[axis] } else { origin[axis] };
                 }
                 // The axes beyond X, Y, Z (A, B, C…): their offsets are kept
                 // per system beside the offset memory (LinuxCNC's G5x
                 // offsets hold every axis).
+                let active = self.linuxcnc_system().unwrap_or(slot);
                 for (i, here) in from
                     .iter()
                     .enumerate()
@@ -101,14 +224,18 @@ impl Controller<'_> {
                         continue;
                     };
                     let v = self.axis_value(i, &word);
-                    let offset = &mut self.state.rotary_work[slot][i];
-                    *offset = if l_value == 2 { v } else { *offset + here - v };
+                    let now = self.state.rotary_work[active][i];
+                    self.state.rotary_work[slot][i] = if l_value == 2 { v } else { now + here - v };
+                }
+                if let Some(r) = rotation {
+                    self.state.xy_rotation[slot] = self.angle(&r);
                 }
                 if slot < KERNEL_WORK_SYSTEMS as usize {
                     self.offsets.work[slot] = value;
                 } else {
                     self.offsets.extended_work[slot - KERNEL_WORK_SYSTEMS as usize] = value;
                 }
+                self.refresh_xy_rotation();
                 Ok(())
             }
             1 | 10 | 11 => {

@@ -278,7 +278,13 @@ impl Controller<'_> {
             MFunction::SpindleCw | MFunction::SpindleCcw => self.state.spindle_on = true,
             // Orientation stops the spindle at an angle; a tool change
             // leaves it stopped (the program turns it on again).
-            MFunction::SpindleStop | MFunction::SpindleOrient => self.state.spindle_on = false,
+            MFunction::SpindleStop => self.state.spindle_on = false,
+            MFunction::SpindleOrient => {
+                self.state.spindle_on = false;
+                if self.dialect.rs274ngc {
+                    self.linuxcnc_orient()?;
+                }
+            }
             MFunction::ToolChange => {
                 self.state.spindle_on = false;
                 self.state.spindle_tool = self.state.tool;
@@ -323,6 +329,38 @@ impl Controller<'_> {
             }
         }
         Ok(false)
+    }
+
+    /// LinuxCNC `M19 R- Q- P-` (m-code.adoc, M19): the angle R (0–360,
+    /// from 0 when left out), the time Q allowed for it, the direction P
+    /// (0 shortest, 1 clockwise, 2 counter-clockwise). The spindle stops
+    /// at the angle; no axis moves.
+    fn linuxcnc_orient(&mut self) -> Result<(), Alarm> {
+        if let Some(r) = self.words.take(b'R')
+            && !(0.0..=360.0).contains(&r.value)
+        {
+            return Err(self.alarm(
+                Condition::ValueOutOfRange,
+                Some(r.span),
+                format!(
+                    "M19 R{}: the orientation angle is 0 to 360 degrees",
+                    r.value
+                ),
+            ));
+        }
+        if let Some(q) = self.words.take(b'Q')
+            && q.value < 0.0
+        {
+            return Err(self.alarm(
+                Condition::ValueOutOfRange,
+                Some(q.span),
+                format!("M19 Q{}: the time allowed cannot be negative", q.value),
+            ));
+        }
+        if let Some(p) = self.words.take(b'P') {
+            self.words.integer(&p, 2)?;
+        }
+        Ok(())
     }
 
     /// Alarms when a segment moves a clamped rotary axis.

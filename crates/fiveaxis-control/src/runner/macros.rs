@@ -262,11 +262,38 @@ impl<S: Source> Runner<'_, S> {
                 return Ok(MacroFlow::Done);
             }
             Statement::Nc(nc) => {
-                evaluate_block(nc, &self.macros.vars, &sys, &settings, &mut self.block)
-                    .map(|()| MacroFlow::Block)
+                evaluate_block(nc, &self.macros.vars, &sys, &settings, &mut self.block).map(|()| {
+                    // The line's first comment (blanks trimmed) goes with
+                    // the block, as the front end's does (Haas G47).
+                    if let Some(comment) = &line.comment {
+                        self.block.comment.extend_from_slice(comment.as_bytes());
+                        let end = u32::try_from(self.text.len()).unwrap_or(u32::MAX);
+                        self.block.comment_span = Some(Span::new(1, end.saturating_add(1)));
+                    }
+                    MacroFlow::Block
+                })
             }
         };
         result.map_err(|e| self.macro_alarm(here.line, e))
+    }
+
+    /// The serial number Haas G47 P1 engraves next: kept common variable
+    /// `#599` (`None` when vacant).
+    pub(super) fn serial_number(&self) -> Option<f64> {
+        self.macros
+            .vars
+            .persistent()
+            .find(|&(number, _)| u32::from(number) == crate::controller::SERIAL_VARIABLE)
+            .map(|(_, value)| value)
+    }
+
+    /// Writes `#599` after a G47 P1.
+    pub(super) fn set_serial_number(&mut self, value: f64, line: u32) -> Result<(), RunError> {
+        let number = crate::controller::SERIAL_VARIABLE as u16;
+        self.macros
+            .vars
+            .load_persistent(&[(number, value)])
+            .map_err(|e| self.macro_alarm(line, e))
     }
 
     /// Sets variables before the run (a variables file): the kept common

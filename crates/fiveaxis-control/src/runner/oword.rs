@@ -189,9 +189,9 @@ impl SystemVariables for NgcSystem<'_, '_> {
             n if work_parameter(n) => {
                 let k = (n - 5221) % 20;
                 if k == 9 {
-                    // R, the XY rotation: the kernel's systems are not
-                    // rotated (G10 L2 R is refused).
-                    Some(0.0)
+                    // R, the XY rotation of system (n − 5221) / 20 + 1.
+                    let system = ((n - 5221) / 20 + 1) as usize;
+                    self.controller.xy_rotation(system)
                 } else if k >= 3 {
                     // A, B, C, U, V, W of system (n − 5221) / 20 + 1.
                     let letter = char::from(b"ABCUVW"[(k - 3) as usize]);
@@ -249,6 +249,12 @@ impl SystemVariables for NgcSystem<'_, '_> {
                     SystemVarFault::Unknown => SystemVarError::NotAVariable,
                     SystemVarFault::ReadOnly => SystemVarError::ReadOnly,
                 }),
+            n if work_parameter(n) && (n - 5221) % 20 == 9 => {
+                let system = ((n - 5221) / 20 + 1) as usize;
+                self.controller
+                    .set_xy_rotation(system, value.unwrap_or(0.0));
+                Ok(())
+            }
             5021..=5029 | 5081..=5089 | 5400..=5413 | 5420..=5428 => Err(SystemVarError::ReadOnly),
             _ => Err(SystemVarError::NotAVariable),
         }
@@ -314,14 +320,32 @@ impl SystemVariables for NgcSystem<'_, '_> {
                     self.position(5020, a).ok_or(SystemVarError::NotAVariable)?
                 } else if let Some(a) = n.strip_prefix('_').and_then(axis_of) {
                     self.position(5000, a).ok_or(SystemVarError::NotAVariable)?
+                } else if let Some(pin) = bracketed(n, "_hal[") {
+                    let pins = &self.controller.machine().params.hal_pins;
+                    *pins.get(pin).ok_or(SystemVarError::NotAVariable)?
+                } else if let Some(key) = bracketed(n, "_ini[") {
+                    let key = key.to_ascii_uppercase();
+                    let values = &self.controller.machine().params.ini_values;
+                    *values.get(&key).ok_or(SystemVarError::NotAVariable)?
                 } else {
-                    // `_ini[…]`, `_hal[…]` (no INI file, no HAL here) and
-                    // the program's own globals.
+                    // The program's own globals.
                     return Err(SystemVarError::NotAVariable);
                 }
             }
         };
         Ok(value)
+    }
+}
+
+/// `_hal[pin]` → `pin`, `_ini[section]name` → `section]name`: what
+/// follows `prefix` in a predefined name that reads a HAL pin or an INI
+/// value (the machine file's `hal_pins` and `ini` tables).
+fn bracketed<'n>(name: &'n str, prefix: &str) -> Option<&'n str> {
+    let rest = name.strip_prefix(prefix)?;
+    if prefix == "_hal[" {
+        rest.strip_suffix(']')
+    } else {
+        rest.contains(']').then_some(rest)
     }
 }
 

@@ -219,6 +219,39 @@ fn nested_open_paren_is_text() {
 }
 
 #[test]
+fn first_comment_is_kept_with_its_columns() {
+    let block = ok("G47 P0 (TEXT TO ENGRAVE) X2. (second)");
+    assert_eq!(block.comment, b"TEXT TO ENGRAVE");
+    assert_eq!(block.comment_span, Some(Span::new(8, 25)));
+    let block = ok("G1 X1");
+    assert!(block.comment.is_empty() && block.comment_span.is_none());
+    let block = ok("()");
+    assert!(block.comment.is_empty());
+    assert_eq!(block.comment_span, Some(Span::new(1, 3)));
+    // The buffer is emptied for the next line.
+    let mut block = ok("(A)");
+    parse_line(b"G1 X1", 8, &mut block).expect("a plain line");
+    assert!(block.comment.is_empty() && block.comment_span.is_none());
+    // Haas's nested reading keeps the inner parentheses as text.
+    let mut block = Block::default();
+    parse_line_as(Syntax::HAAS, b"G47 P0 (A (B) C)", 1, &mut block).expect("nested comment");
+    assert_eq!(block.comment, b"A (B) C");
+    // Haas: a `;` inside a comment, nested or not, is text; outside one it
+    // ends the block.
+    parse_line_as(
+        Syntax::HAAS,
+        b"G47 P0 (A;B (C;D) E) X1. ; Y2.",
+        1,
+        &mut block,
+    )
+    .expect("semicolons in a comment");
+    assert_eq!(block.comment, b"A;B (C;D) E");
+    assert_eq!(block.words.len(), 3);
+    // FANUC: the first `;` ends the block, inside a comment or not.
+    assert_eq!(err("G1 (A;B) X1"), (UnclosedComment, 4, 6));
+}
+
+#[test]
 fn unclosed_comment_spans_to_end_of_line() {
     assert_eq!(err("G1 (abc"), (UnclosedComment, 4, 8));
     assert_eq!(err("G1 (abc  "), (UnclosedComment, 4, 10));

@@ -162,6 +162,10 @@ struct RawParameters {
     subroutine_path: Vec<String>,
     tool_table: Option<String>,
     tcpc_at_start: Option<Spanned<bool>>,
+    twp_remap: Option<Spanned<bool>>,
+    twp_priority: Option<Spanned<i64>>,
+    hal_pins: Option<Spanned<BTreeMap<String, f64>>>,
+    ini: Option<Spanned<BTreeMap<String, BTreeMap<String, f64>>>>,
 }
 
 #[derive(Clone, Copy, Deserialize)]
@@ -612,7 +616,84 @@ fn parameters(
             }
             _ => false,
         },
+        twp_remap: match &raw.twp_remap {
+            Some(v) if *v.get_ref() => {
+                if machine.control != Control::LinuxCnc {
+                    return Err(src.at(
+                        v,
+                        "twp_remap",
+                        "the tilted-working-plane remap is a LinuxCNC configuration's: set control = \"linuxcnc\"",
+                    ));
+                }
+                if machine.rotary.len() < 2 {
+                    return Err(src.at(
+                        v,
+                        "twp_remap",
+                        "the tilted working plane turns two rotary axes: the machine has fewer",
+                    ));
+                }
+                true
+            }
+            _ => false,
+        },
+        twp_priority: match &raw.twp_priority {
+            Some(v) => match *v.get_ref() {
+                1 => 1,
+                2 => 2,
+                _ => {
+                    return Err(src.at(
+                        v,
+                        "twp_priority",
+                        "`twp_priority` is 1 (the primary rotary axis) or 2 (the secondary)",
+                    ));
+                }
+            },
+            None => defaults.twp_priority,
+        },
+        hal_pins: match &raw.hal_pins {
+            Some(pins) => {
+                linuxcnc_only(src, pins, machine, "hal_pins")?;
+                pins.get_ref()
+                    .iter()
+                    .map(|(name, v)| (name.to_ascii_lowercase(), *v))
+                    .collect()
+            }
+            None => BTreeMap::new(),
+        },
+        ini_values: match &raw.ini {
+            Some(sections) => {
+                linuxcnc_only(src, sections, machine, "ini")?;
+                sections
+                    .get_ref()
+                    .iter()
+                    .flat_map(|(section, keys)| {
+                        keys.iter().map(move |(key, v)| {
+                            (format!("{section}]{key}").to_ascii_uppercase(), *v)
+                        })
+                    })
+                    .collect()
+            }
+            None => BTreeMap::new(),
+        },
     })
+}
+
+/// Values of LinuxCNC's HAL and INI files belong to a `linuxcnc` machine.
+fn linuxcnc_only<T>(
+    src: &Source<'_>,
+    value: &Spanned<T>,
+    machine: &Machine,
+    key: &str,
+) -> Result<(), FileError> {
+    if machine.control == Control::LinuxCnc {
+        Ok(())
+    } else {
+        Err(src.at(
+            value,
+            key,
+            "only a linuxcnc machine reads HAL pins and INI values (#<_hal[…]>, #<_ini[…]>)",
+        ))
+    }
 }
 
 /// A reference position: axes left out are 0; every axis inside its soft

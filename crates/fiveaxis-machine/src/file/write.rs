@@ -166,12 +166,53 @@ impl Machine {
                 "LinuxCNC: TCP kinematics from power-on (kinematics type 0)",
             );
         }
+        if p.twp_remap {
+            w.key(
+                "twp_remap",
+                "true",
+                "LinuxCNC: the tilted-working-plane remap (G68.2 … G53.6)",
+            );
+        }
+        if p.twp_priority != 1 {
+            w.key(
+                "twp_priority",
+                &p.twp_priority.to_string(),
+                "LinuxCNC [TWP] PRIORITY: the rotary axis the G53.x P word steers",
+            );
+        }
         if let Some(table) = &p.tool_table {
             w.key(
                 "tool_table",
                 &quote(table),
                 "LinuxCNC tool table read when no offsets file is given",
             );
+        }
+        if !p.hal_pins.is_empty() {
+            w.blank();
+            w.table(
+                "[parameters.hal_pins]",
+                "LinuxCNC: what a program reads as #<_hal[pin]>, the pins' values at start",
+            );
+            for (pin, v) in &p.hal_pins {
+                w.line(&format!("{} = {}", toml_key(pin), number(*v)), "");
+            }
+        }
+        let mut section = None;
+        for (key, v) in &p.ini_values {
+            let (s, name) = key.split_once(']').unwrap_or(("", key));
+            if section != Some(s) {
+                w.blank();
+                w.line(
+                    &format!("[parameters.ini.{}]", toml_key(s)),
+                    if section.is_none() {
+                        "LinuxCNC: what a program reads as #<_ini[section]name>"
+                    } else {
+                        ""
+                    },
+                );
+                section = Some(s);
+            }
+            w.line(&format!("{} = {}", toml_key(name), number(*v)), "");
         }
     }
 
@@ -327,6 +368,14 @@ fn number(v: f64) -> String {
 
 fn vector(v: &Vec3) -> String {
     format!("[{}, {}, {}]", number(v.x), number(v.y), number(v.z))
+}
+
+/// A TOML key: bare when it can be, else quoted.
+fn toml_key(s: &str) -> String {
+    let bare = !s.is_empty()
+        && s.chars()
+            .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-');
+    if bare { s.to_owned() } else { quote(s) }
 }
 
 /// A TOML string, escaped as needed.

@@ -308,6 +308,24 @@ impl Hal {
         Ok(())
     }
 
+    /// What a program can read as `#<_hal[pin]>` at its start: every pin
+    /// the HAL files name whose value they fix (a `setp`, or a signal with
+    /// a `sets` or a panel start value). LinuxCNC reads only all-lower-case
+    /// names (gcode/overview.adoc, "HAL pins").
+    pub(crate) fn pin_values(&self) -> BTreeMap<String, f64> {
+        let pins = self.setp.keys().chain(self.pin_signal.keys());
+        pins.filter(|p| !p.chars().any(|c| c.is_ascii_uppercase()))
+            .filter_map(|p| match self.drive(p) {
+                Drive::Set(v, _)
+                | Drive::Signal {
+                    value: Some((v, _)),
+                    ..
+                } => Some((p.clone(), v)),
+                _ => None,
+            })
+            .collect()
+    }
+
     /// What drives `pin`.
     pub(crate) fn drive(&self, pin: &str) -> Drive {
         if let Some((v, o)) = self.setp.get(pin) {

@@ -199,6 +199,27 @@ impl Ini {
             .filter(move |e| e.section == section && e.key == key)
     }
 
+    /// What a program can read as `#<_ini[section]name>`: the first
+    /// occurrence of every variable whose value is a number, keyed
+    /// `SECTION]NAME`. LinuxCNC upper-cases the name a program gives, so a
+    /// section or name with a lower-case letter cannot be read and is left
+    /// out (gcode/overview.adoc, "INI file values").
+    pub(crate) fn numbers(&self) -> std::collections::BTreeMap<String, f64> {
+        let mut out = std::collections::BTreeMap::new();
+        for e in &self.entries {
+            let readable = |s: &str| !s.chars().any(|c| c.is_ascii_lowercase());
+            if !readable(&e.section) || !readable(&e.key) {
+                continue;
+            }
+            if let Ok(v) = e.value.parse::<f64>()
+                && v.is_finite()
+            {
+                out.entry(format!("{}]{}", e.section, e.key)).or_insert(v);
+            }
+        }
+        out
+    }
+
     /// The value of `[SECTION]KEY` for HAL's substitution, first
     /// occurrence.
     pub(crate) fn value(&self, section: &str, key: &str) -> Option<&str> {

@@ -176,6 +176,10 @@ pub fn import_linuxcnc(ini_path: &Path, read: &mut Reader<'_>) -> Result<Importe
     params.subroutine_path = subroutine_path(&ini, &folder, &mut notes);
     let (m_codes, tcpc_at_start) = remap::m_codes(&ini, &folder, &hal, &kins, read, &mut notes)?;
     params.tcpc_at_start = tcpc_at_start;
+    params.hal_pins = hal.pin_values();
+    // The TWP remaps run on a machine with a pair of rotary axes.
+    params.twp_remap = rotary.len() >= 2 && twp_remapped(&ini, &mut notes);
+    params.ini_values = ini.numbers();
     notes.extend(hal.notes.iter().cloned());
     notes.extend(kins.notes.iter().cloned());
     // G28 / G30 positions are LinuxCNC parameters (5161…, 5181…) of the
@@ -221,7 +225,7 @@ pub fn import_linuxcnc(ini_path: &Path, read: &mut Reader<'_>) -> Result<Importe
             ),
         )
     })?;
-    let parameter_comments = twp(&ini, &mut notes);
+    let parameter_comments = twp_axes(&ini);
     Ok(Imported {
         machine,
         notes,
@@ -229,12 +233,10 @@ pub fn import_linuxcnc(ini_path: &Path, read: &mut Reader<'_>) -> Result<Importe
     })
 }
 
-/// The tilted-working-plane remaps (`REMAP = G68.2 …`, G68.3, G68.4,
-/// G53.1, G53.3, G53.6, G69) and `[TWP] PRIMARY / SECONDARY`: the
-/// `twp_remap` parameter (the codes as LinuxCNC's TWP remaps read them)
-/// and the spindle axes' roles, as comment lines under `[parameters]`:
-/// this machine file format has no key for them.
-fn twp(ini: &Ini, notes: &mut Vec<String>) -> Vec<String> {
+/// Whether the configuration remaps the tilted-working-plane codes
+/// (`REMAP = G68.2 …`, G68.3, G68.4, G53.1, G53.3, G53.6, G69): the
+/// `twp_remap` parameter.
+fn twp_remapped(ini: &Ini, notes: &mut Vec<String>) -> bool {
     const CODES: [&str; 7] = ["G68.2", "G68.3", "G68.4", "G53.1", "G53.3", "G53.6", "G69"];
     let remapped: Vec<(String, u32)> = ini
         .all("RS274NGC", "REMAP")
@@ -243,22 +245,24 @@ fn twp(ini: &Ini, notes: &mut Vec<String>) -> Vec<String> {
             CODES.contains(&code.as_str()).then_some((code, e.line))
         })
         .collect();
-    let mut lines = Vec::new();
-    if !remapped.is_empty() {
-        let list: Vec<String> = remapped
-            .iter()
-            .map(|(c, l)| format!("{c} (line {l})"))
-            .collect();
-        notes.push(format!(
-            "tilted working plane: [RS274NGC]REMAP of {}: LinuxCNC's TWP remaps",
-            list.join(", ")
-        ));
-        lines.push(
-            "twp_remap = true   # the INI remaps G68.2/G68.3/G68.4/G53.1/G53.3/G53.6/G69 \
-             (LinuxCNC TWP remaps); written as a comment: this file format has no such key"
-                .to_owned(),
-        );
+    if remapped.is_empty() {
+        return false;
     }
+    let list: Vec<String> = remapped
+        .iter()
+        .map(|(c, l)| format!("{c} (line {l})"))
+        .collect();
+    notes.push(format!(
+        "twp_remap = true: [RS274NGC]REMAP of {} (LinuxCNC's TWP remaps)",
+        list.join(", ")
+    ));
+    true
+}
+
+/// `[TWP] PRIMARY / SECONDARY` as comment lines under `[parameters]`:
+/// the kernel takes the head axes' roles from their order.
+fn twp_axes(ini: &Ini) -> Vec<String> {
+    let mut lines = Vec::new();
     for key in ["PRIMARY", "SECONDARY"] {
         if let Some(e) = ini.get("TWP", key) {
             lines.push(format!(

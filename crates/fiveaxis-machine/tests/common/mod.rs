@@ -216,6 +216,12 @@ fn parameters(count: usize) -> impl Strategy<Value = Parameters> {
                 },
                 tool_table: (tool_comp_3d_denominator > 2.0).then(|| "tools \"a\".tbl".into()),
                 tcpc_at_start: false,
+                twp_remap: false,
+                twp_priority: if singular_zone > 4.0 { 2 } else { 1 },
+                // HAL pins and INI values belong to linuxcnc machines; their
+                // round trip has a test of its own.
+                hal_pins: Default::default(),
+                ini_values: Default::default(),
             },
         )
 }

@@ -101,11 +101,31 @@ impl Feature {
         self.dwo
     }
 
-    fn work_point(&self, p: &Vec3) -> Vec3 {
+    /// A feature frame of the tilted working plane (not a conversion).
+    pub(super) fn plane(origin: Vec3, rotation: Rotation3<f64>) -> Self {
+        Self {
+            origin,
+            rotation,
+            conversions: 0,
+            dwo: false,
+        }
+    }
+
+    /// The origin, in workpiece coordinates.
+    pub(in crate::controller) fn origin(&self) -> Vec3 {
+        self.origin
+    }
+
+    /// The rotation: the frame's axes as columns, in workpiece axes.
+    pub(in crate::controller) fn rotation(&self) -> Rotation3<f64> {
+        self.rotation
+    }
+
+    pub(super) fn work_point(&self, p: &Vec3) -> Vec3 {
         self.origin + self.rotation * p
     }
 
-    fn feature_point(&self, x: &Vec3) -> Vec3 {
+    pub(super) fn feature_point(&self, x: &Vec3) -> Vec3 {
         self.rotation.inverse() * (x - self.origin)
     }
 }
@@ -119,20 +139,20 @@ pub(in crate::controller) struct Pending {
     /// 2 or 3.
     pub(in crate::controller) form: u32,
     /// Whether a block of it has been read.
-    started: bool,
+    pub(super) started: bool,
     /// The Q of the last block read.
     pub(in crate::controller) last_q: u32,
     /// P2 Q0: the origin's shift from the first point, in the new frame.
-    shift: Vec3,
+    pub(super) shift: Vec3,
     /// P2 Q0: the turn about the new Z, degrees.
-    turn: f64,
+    pub(super) turn: f64,
     /// P2: the three points; P3: origin, +X direction, +Z direction.
-    points: [Vec3; 3],
+    pub(super) points: [Vec3; 3],
 }
 
 impl Pending {
     /// A definition of form `form` (2 or 3) by `code` before its first block.
-    fn new(code: Code, form: u32) -> Self {
+    pub(super) fn new(code: Code, form: u32) -> Self {
         Self {
             code,
             form,
@@ -147,7 +167,7 @@ impl Pending {
 
 /// Below this, points coincide, lie on one line, or a vector is zero
 /// (a definition the control refuses), mm or unit vectors.
-const DEFINITION_TOLERANCE: f64 = 1e-9;
+pub(super) const DEFINITION_TOLERANCE: f64 = 1e-9;
 
 /// How far from square the two vectors of G68.2 P3 may be, degrees (the
 /// 30i-B's 85 to 95 degrees, as read in the FANUC tilted working plane
@@ -156,7 +176,7 @@ const SQUARE_TOLERANCE: f64 = 5.0;
 
 /// The rotation whose +Z is along `z` and whose +X is `x` made normal to
 /// it (`x` not along `z`).
-fn frame_of(x: Vec3, z: Vec3) -> Rotation3<f64> {
+pub(super) fn frame_of(x: Vec3, z: Vec3) -> Rotation3<f64> {
     let z = z.normalize();
     let x = (x - z * x.dot(&z)).normalize();
     let y = z.cross(&x);
@@ -169,7 +189,21 @@ const MAX_CONVERSIONS: u8 = 2;
 /// Below this, the tool axis is taken as the vertical axis (G68.3).
 const VERTICAL_TOLERANCE: f64 = 1e-9;
 
-fn about(axis: Vec3, degrees: f64) -> Rotation3<f64> {
+/// The frame whose +Z is the unit tool axis `z` (G68.3): +X normal to
+/// the plane of +Z and the vertical axis (the machine's +Z), `Xc = V ×
+/// Zc`, `Yc = Zc × Xc`; +X of the workpiece when the tool is vertical.
+pub(super) fn tool_axis_frame(z: Vec3) -> Rotation3<f64> {
+    let vertical = Vec3::z();
+    let mut x = vertical.cross(&z);
+    if x.norm() < VERTICAL_TOLERANCE {
+        x = Vec3::x();
+    }
+    let x = x.normalize();
+    let y = z.cross(&x);
+    Rotation3::from_matrix_unchecked(nalgebra::Matrix3::from_columns(&[x, y, z]))
+}
+
+pub(super) fn about(axis: Vec3, degrees: f64) -> Rotation3<f64> {
     Rotation3::from_axis_angle(&Unit::new_unchecked(axis), degrees.to_radians())
 }
 
@@ -288,7 +322,7 @@ impl Controller<'_> {
 
     /// The origin X, Y, Z of a definition block (absolute, 0 when left
     /// out).
-    fn definition_point(&mut self) -> Vec3 {
+    pub(super) fn definition_point(&mut self) -> Vec3 {
         let mut point = Vec3::zeros();
         for (i, letter) in [b'X', b'Y', b'Z'].into_iter().enumerate() {
             if let Some(word) = self.words.take(letter) {
@@ -301,7 +335,7 @@ impl Controller<'_> {
     /// I, J, K of a definition block as angles (P0, P1, P4) or vector
     /// components (P3): the decimal-point rule, no unit change; 0 when
     /// left out.
-    fn definition_ijk(&mut self) -> Vec3 {
+    pub(super) fn definition_ijk(&mut self) -> Vec3 {
         let mut v = Vec3::zeros();
         for (i, letter) in [b'I', b'J', b'K'].into_iter().enumerate() {
             if let Some(word) = self.words.take(letter) {
@@ -312,7 +346,12 @@ impl Controller<'_> {
     }
 
     /// Alarms on a definition value that is not a finite number.
-    fn definition_finite(&self, values: &[f64], name: &str, span: Span) -> Result<(), Alarm> {
+    pub(super) fn definition_finite(
+        &self,
+        values: &[f64],
+        name: &str,
+        span: Span,
+    ) -> Result<(), Alarm> {
         if values.iter().all(|v| v.is_finite()) {
             return Ok(());
         }
@@ -525,7 +564,12 @@ impl Controller<'_> {
     }
 
     /// The Q of a multi-block definition block: required, 0 to `last`.
-    fn definition_step(&mut self, name: &str, span: Span, last: u32) -> Result<u32, Alarm> {
+    pub(super) fn definition_step(
+        &mut self,
+        name: &str,
+        span: Span,
+        last: u32,
+    ) -> Result<u32, Alarm> {
         match self.words.take(b'Q') {
             Some(word) => self.words.integer(&word, last),
             None => Err(self.alarm(
@@ -539,7 +583,7 @@ impl Controller<'_> {
     /// Alarms on a definition block out of its order.
     /// Alarms on a definition block out of its order: P2 starts with Q0
     /// or Q1, P3 with Q1, and each block has the next Q.
-    fn definition_order(
+    pub(super) fn definition_order(
         &self,
         pending: &Pending,
         q: u32,
@@ -669,15 +713,7 @@ impl Controller<'_> {
         let turn = self.words.take(b'R').map_or(0.0, |w| self.angle(&w));
         let dir = self.machine.forward(&self.state.joints, 0.0).dir;
         let z = self.state.setup.inverse_vector(&dir).normalize();
-        let vertical = Vec3::z();
-        let mut x = vertical.cross(&z);
-        if x.norm() < VERTICAL_TOLERANCE {
-            x = Vec3::x();
-        }
-        let x = x.normalize();
-        let y = z.cross(&x);
-        let frame = Rotation3::from_matrix_unchecked(nalgebra::Matrix3::from_columns(&[x, y, z]));
-        let rotation = frame * about(Vec3::z(), turn);
+        let rotation = tool_axis_frame(z) * about(Vec3::z(), turn);
         self.state.feature = Some(Feature {
             origin,
             rotation,

@@ -471,10 +471,24 @@ impl Controller<'_> {
     /// G52: the local coordinate system (absolute values in the work
     /// coordinate system; axes not named keep theirs; `G52 X0 Y0 Z0`
     /// cancels).
+    ///
+    /// LinuxCNC keeps G52 in G92's registers (coordinates.adoc, "G52 and
+    /// G92 share the same offset registers. Therefore, setting G52 will
+    /// override any earlier G92 setting"; rs274: `G92 X0` at X5, then
+    /// `G52 X1`, prints the G92 offset 1): there, each named axis's G92
+    /// shift becomes the value.
     pub(in crate::controller) fn local_coordinate_system(&mut self) -> Result<(), Alarm> {
         for (i, letter) in LINEAR.into_iter().enumerate() {
             if let Some(word) = self.words.take(letter) {
-                self.state.frames.local[i] = self.length(&word);
+                let value = self.length(&word);
+                if self.dialect.rs274ngc {
+                    self.state.shift[i] = value;
+                    self.state.frames.local[i] = 0.0;
+                    // The parameters #5211… too: G92.3 brings it back.
+                    self.state.g92_kept.0[i] = value;
+                } else {
+                    self.state.frames.local[i] = value;
+                }
             }
         }
         Ok(())

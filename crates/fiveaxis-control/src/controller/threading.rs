@@ -1,0 +1,329 @@
+//! LinuxCNC's spindle-synchronized motion (`control = "linuxcnc"`;
+//! g-code.adoc, G33, G33.1, G76): moves whose feed is a distance per
+//! spindle revolution.
+//!
+//! * `G33 X Y Z K`: a straight move at K per revolution along it.
+//! * `G33.1 X Y Z K I`: rigid tapping, to the point at K per revolution
+//!   and back to the start at I times that (I below 1 counts as 1). The
+//!   overshoot while the spindle reverses is a matter of the drive's
+//!   dynamics, not of the program: the kernel's path turns at the point.
+//! * `G76 P Z I J K R Q H E L`: the threading cycle in the ZX plane, made
+//!   of G33 passes. The rules below are the manual's words, with the
+//!   figures it leaves open measured on `rs274 -g` (2.9):
+//!   - the drive line is the X where the tool stands, the thread from its
+//!     Z to the cycle's Z; the thread peak is at X + I (I < 0 external,
+//!     I > 0 internal), and each pass cuts deeper than the peak, away from
+//!     the drive line's side, by `d_n = J·n^(1/R)` (R 1: constant depth,
+//!     R 2: constant area, as the manual describes), while `d_n < K`; then
+//!     one pass at the full depth K and H spring passes there;
+//!   - a pass at depth d is the final pass shifted along the drive line by
+//!     `(K − d)·tan Q` towards the start (Q, the compound slide angle):
+//!     it starts `d·tan Q` past the thread's start and ends
+//!     `(K − d)·tan Q` short of its end (rs274: Q29.5, the first pass of
+//!     J0.008 starts 0.0045 in past the start);
+//!   - between passes the tool stands on the line `K − d` outside the
+//!     drive line (the final pass returns to the drive line itself); it
+//!     reaches a pass's start by a rapid move there, then rapid to the
+//!     cutting depth, or with an entry taper (L1, L3) at the taper's feed
+//!     to K short of the depth and then along the taper, E long; an exit
+//!     taper (L2, L3) climbs K over the last E; the tool leaves the cut
+//!     by a rapid move back to its line, and the cycle ends at the end of
+//!     the drive line;
+//!   - a taper's feed keeps the pitch along Z: `P·√(E² + K²) / E` per
+//!     revolution along the taper (rs274: 1.166190 for P1, E1, K0.6).
+
+use fiveaxis_machine::Joints;
+
+use super::Controller;
+use super::cycles::MAX_CYCLE_SEGMENTS;
+use super::linuxcnc::NgcMotion;
+use crate::alarm::{Alarm, Condition};
+use crate::modal::Plane;
+use crate::segment::{Motion, Path, Segment};
+
+impl Controller<'_> {
+    /// A block in G33, G33.1 or G76 mode.
+    pub(super) fn sync_motion(
+        &mut self,
+        mode: NgcMotion,
+        from: &Joints,
+        out: &mut Vec<Segment>,
+    ) -> Result<(), Alarm> {
+        if mode == NgcMotion::ThreadingCycle {
+            return self.threading_cycle(from, out);
+        }
+        let name = if mode == NgcMotion::Thread {
+            "G33"
+        } else {
+            "G33.1"
+        };
+        let targets = self.axis_words();
+        if let Some(f) = self.words.peek(b'F') {
+            return Err(self.alarm(
+                Condition::WordNotUsed,
+                Some(f.span),
+                format!("{name} takes no F: the feed is K per revolution of the spindle"),
+            ));
+        }
+        let pitch = self.sync_pitch(name)?;
+        let multiplier = if mode == NgcMotion::RigidTap {
+            self.words.take(b'I').map_or(1.0, |w| w.value.max(1.0))
+        } else {
+            1.0
+        };
+        let rate = self.sync_rate(pitch, name)?;
+        let (end_p, _) = self.end_point(from, &targets);
+        let start = self.state.joints;
+        let end = self.machine_position(&end_p);
+        self.push_sync(start, end, rate, out);
+        if mode == NgcMotion::RigidTap {
+            self.push_sync(end, start, rate * multiplier, out);
+        }
+        Ok(())
+    }
+
+    /// The K word of G33 / G33.1 / the P word of G76: distance per
+    /// revolution, mm.
+    fn sync_pitch(&mut self, name: &str) -> Result<f64, Alarm> {
+        let letter = if name == "G76" { b'P' } else { b'K' };
+        let Some(word) = self.words.take(letter) else {
+            return Err(self.alarm(
+                Condition::CycleDataMissing,
+                None,
+                format!(
+                    "{name} needs {}, the distance per revolution",
+                    char::from(letter)
+                ),
+            ));
+        };
+        let pitch = self.length(&word);
+        if !(pitch > 0.0 && pitch.is_finite()) {
+            return Err(self.alarm(
+                Condition::ValueOutOfRange,
+                Some(word.span),
+                format!(
+                    "{name}: {}{} must be positive",
+                    char::from(letter),
+                    word.value
+                ),
+            ));
+        }
+        Ok(pitch)
+    }
+
+    /// The feed, mm/min, of `pitch` per revolution of the spindle; the
+    /// spindle must turn (g-code.adoc, G33: an error if "the selected
+    /// spindle is not commanded to turn").
+    fn sync_rate(&self, pitch: f64, name: &str) -> Result<f64, Alarm> {
+        if !self.state.spindle_on || self.state.spindle_speed <= 0.0 {
+            return Err(self.alarm(
+                Condition::NoSpindleForFeedPerRev,
+                None,
+                format!("{name} with the spindle stopped: its feed is per revolution (M3 or M4)"),
+            ));
+        }
+        Ok(pitch * self.state.spindle_speed)
+    }
+
+    /// A synchronized straight move at `rate` mm/min.
+    fn push_sync(&self, start: Joints, end: Joints, rate: f64, out: &mut Vec<Segment>) {
+        let mut seg = self.segment(Motion::Linear, start, end, Path::Joint);
+        if seg.moves() {
+            seg.feed = Some(rate);
+            out.push(seg);
+        }
+    }
+
+    /// G76: the threading passes, from where the tool stands.
+    fn threading_cycle(&mut self, from: &Joints, out: &mut Vec<Segment>) -> Result<(), Alarm> {
+        if self.state.modal.plane != Plane::Zx {
+            return Err(self.alarm(
+                Condition::CycleNotAllowed,
+                None,
+                "G76 threads in the ZX plane: select G18".into(),
+            ));
+        }
+        for letter in [b'X', b'Y', b'A', b'B', b'C', b'U', b'V', b'W'] {
+            if let Some(word) = self.words.peek(letter) {
+                return Err(self.alarm(
+                    Condition::WordNotUsed,
+                    Some(word.span),
+                    format!(
+                        "G76 takes Z only: {} is not a word of it",
+                        char::from(letter)
+                    ),
+                ));
+            }
+        }
+        let required = |c: &Self, letter: u8| {
+            c.words.peek(letter).ok_or_else(|| {
+                c.alarm(
+                    Condition::CycleDataMissing,
+                    None,
+                    format!("G76 needs {}", char::from(letter)),
+                )
+            })
+        };
+        let pitch = self.sync_pitch("G76")?;
+        let z_word = required(self, b'Z')?;
+        let i_word = required(self, b'I')?;
+        let j_word = required(self, b'J')?;
+        let k_word = required(self, b'K')?;
+        for letter in [b'Z', b'I', b'J', b'K'] {
+            self.words.take(letter);
+        }
+        let z_end = self.length(&z_word);
+        let z_end = if self.state.modal.distance == crate::modal::Distance::Incremental {
+            from[2] + z_end
+        } else {
+            z_end
+        };
+        // In G7 (lathe diameter mode) I, J and K are diameters
+        // (g-code.adoc, G76).
+        let scale = if self.state.modal.diameter_mode {
+            0.5
+        } else {
+            1.0
+        };
+        let peak_offset = self.length(&i_word) * scale;
+        let first = self.length(&j_word) * scale;
+        let full = self.length(&k_word) * scale;
+        if first <= 0.0 {
+            return Err(self.alarm(
+                Condition::ValueOutOfRange,
+                Some(j_word.span),
+                "G76: J, the first cut's depth, must be greater than 0".into(),
+            ));
+        }
+        if full < 0.0 {
+            return Err(self.alarm(
+                Condition::ValueOutOfRange,
+                Some(k_word.span),
+                "G76: K, the full thread depth, cannot be negative".into(),
+            ));
+        }
+        let degression = match self.words.take(b'R') {
+            Some(w) if w.value < 1.0 => {
+                return Err(self.alarm(
+                    Condition::ValueOutOfRange,
+                    Some(w.span),
+                    format!("G76: the depth degression R{} is below 1", w.value),
+                ));
+            }
+            Some(w) => w.value,
+            None => 1.0,
+        };
+        let compound = self.words.take(b'Q').map_or(0.0, |w| w.value);
+        let spring = match self.words.take(b'H') {
+            Some(w) if w.value < 0.0 => {
+                return Err(self.alarm(
+                    Condition::ValueOutOfRange,
+                    Some(w.span),
+                    "G76: H, the spring passes, cannot be negative".into(),
+                ));
+            }
+            Some(w) => w.value.round() as u32,
+            None => 0,
+        };
+        let taper = self.words.take(b'E').map(|w| (self.length(&w), w.span));
+        let ends = match self.words.take(b'L') {
+            Some(w) => self.words.integer(&w, 3)?,
+            None => 0,
+        };
+        let drive = from[0];
+        let z_start = from[2];
+        let length = (z_end - z_start).abs();
+        let taper = match taper {
+            Some((e, span)) if e < 0.0 || e > length / 2.0 => {
+                return Err(self.alarm(
+                    Condition::ValueOutOfRange,
+                    Some(span),
+                    format!("G76: E{e} is beyond half the drive line's length {length}"),
+                ));
+            }
+            Some((e, _)) => e,
+            None => 0.0,
+        };
+        let rate = self.sync_rate(pitch, "G76")?;
+        // Passes: depths J·n^(1/R) below K, then K, then H more at K.
+        let mut depths = Vec::new();
+        let mut n = 1.0f64;
+        loop {
+            let d = first * n.powf(1.0 / degression);
+            if d >= full {
+                break;
+            }
+            depths.push(d);
+            if depths.len() > MAX_CYCLE_SEGMENTS / 8 {
+                return Err(self.alarm(
+                    Condition::ValueOutOfRange,
+                    Some(j_word.span),
+                    format!(
+                        "G76: J{} with K{} and R{degression} makes more than {} passes",
+                        j_word.value,
+                        k_word.value,
+                        MAX_CYCLE_SEGMENTS / 8
+                    ),
+                ));
+            }
+            n += 1.0;
+        }
+        depths.extend(std::iter::repeat_n(full, 1 + spring as usize));
+        // Depth grows away from the drive line on the peak's side.
+        let into = if peak_offset > 0.0 { 1.0 } else { -1.0 };
+        let along = if z_end >= z_start { 1.0 } else { -1.0 };
+        let tan_q = compound.to_radians().tan();
+        let (entry, exit) = (ends & 1 != 0 && taper > 0.0, ends & 2 != 0 && taper > 0.0);
+        let taper_rate = if taper > 0.0 {
+            rate * taper.hypot(full) / taper
+        } else {
+            rate
+        };
+        let mut cur = self.state.joints;
+        let at = |c: &Self, x: f64, z: f64| {
+            let mut p = *from;
+            p[0] = x;
+            p[2] = z;
+            c.machine_position(&p)
+        };
+        for &d in &depths {
+            let cut_x = drive + peak_offset + into * d;
+            let line_x = drive - into * (full - d);
+            let zs = z_start + along * d * tan_q;
+            let ze = z_end - along * (full - d) * tan_q;
+            let next = at(self, line_x, zs);
+            self.push_line(Motion::Rapid, cur, next, out)?;
+            cur = next;
+            if entry {
+                let next = at(self, cut_x - into * full, zs);
+                self.push_sync(cur, next, taper_rate, out);
+                cur = next;
+                let next = at(self, cut_x, zs + along * taper);
+                self.push_sync(cur, next, taper_rate, out);
+                cur = next;
+            } else {
+                let next = at(self, cut_x, zs);
+                self.push_line(Motion::Rapid, cur, next, out)?;
+                cur = next;
+            }
+            if exit {
+                let next = at(self, cut_x, ze - along * taper);
+                self.push_sync(cur, next, rate, out);
+                cur = next;
+                let next = at(self, cut_x - into * full, ze);
+                self.push_sync(cur, next, taper_rate, out);
+                cur = next;
+            } else {
+                let next = at(self, cut_x, ze);
+                self.push_sync(cur, next, rate, out);
+                cur = next;
+            }
+            let next = at(self, line_x, ze);
+            self.push_line(Motion::Rapid, cur, next, out)?;
+            cur = next;
+        }
+        let next = at(self, drive, z_end);
+        self.push_line(Motion::Rapid, cur, next, out)?;
+        Ok(())
+    }
+}
