@@ -836,6 +836,7 @@ fn trsrn_nutating_machines_match_the_notebooks() {
         let e = import_in_memory(&[("/t/t.ini", &ini)]).expect_err("beyond 90");
         assert!(e.message.contains("nut-angle 95"), "{e}");
     }
+}
 
 #[test]
 fn hal_pin_and_ini_values_are_written_for_the_program() {
