@@ -14,9 +14,17 @@ fn turn(machine: &Machine, seg: &Segment, k: usize) -> (f64, f64) {
 }
 
 /// The tool end (tip relative to the spindle gauge point) turned by the
-/// head axes, innermost first.
-fn tool_end(machine: &Machine, seg: &Segment) -> Moving {
-    let mut end = Moving::fixed(-seg.tool_length * machine.tool_direction.into_inner());
+/// head axes, innermost first; with `quill`, moved along the tool by the
+/// quill ([`fiveaxis_machine::Along::Tool`]), linear in `s`.
+fn tool_end(machine: &Machine, seg: &Segment, quill: bool) -> Moving {
+    let t0 = machine.tool_direction.into_inner();
+    let mut end = match machine.quill_index() {
+        Some(i) if quill => Moving::line(
+            (seg.start[i] - seg.tool_length) * t0,
+            (seg.end[i] - seg.tool_length) * t0,
+        ),
+        _ => Moving::fixed(-seg.tool_length * t0),
+    };
     for (k, axis) in machine.rotary.iter().enumerate().rev() {
         if axis.on == Side::Head {
             let (a0, d) = turn(machine, seg, k);
@@ -28,7 +36,8 @@ fn tool_end(machine: &Machine, seg: &Segment) -> Moving {
 
 /// X, Y, Z of a TCPC block whose rotary axes move linearly in `s`
 /// (no tool posture control): the tip carried into the machine frame by
-/// the table axes, less the tool end (as `Machine::gauge_for_tip`).
+/// the table axes, less the tool end (as
+/// `Machine::gauge_for_programmed_tip`).
 pub fn tcpc_gauge(machine: &Machine, seg: &Segment, tcpc: &TcpcPath) -> Moving {
     let mut tip = Moving::tip_path(&tcpc.tip);
     if tcpc.turning {
@@ -48,7 +57,9 @@ pub fn tcpc_gauge(machine: &Machine, seg: &Segment, tcpc: &TcpcPath) -> Moving {
             tip = tip.turned(&axis.axis, &axis.center, a0, d);
         }
     }
-    tip.minus(tool_end(machine, seg))
+    // The programmed tip is the tip with the quill at 0
+    // (`Machine::gauge_for_programmed_tip`).
+    tip.minus(tool_end(machine, seg, false))
 }
 
 /// The tool tip (table frame) of a machine-axis block whose rotary axes
@@ -87,7 +98,7 @@ pub fn machine_tip(machine: &Machine, seg: &Segment) -> Option<Moving> {
         }
         Path::Via(_) | Path::Tcpc(_) => return None,
     };
-    let mut tip = gauge.plus(tool_end(machine, seg));
+    let mut tip = gauge.plus(tool_end(machine, seg, true));
     for (k, axis) in machine.rotary.iter().enumerate() {
         if axis.on == Side::Table {
             let (a0, d) = turn(machine, seg, k);

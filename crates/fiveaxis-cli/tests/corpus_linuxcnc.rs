@@ -125,16 +125,48 @@ fn a_bad_ini_line_exits_2_with_file_and_line() {
 
 #[test]
 fn a_configuration_the_model_cannot_hold_exits_2_saying_why() {
-    let ini = configs().join(
-        "axis/vismach/5axis/table-rotary_spindle-rotary-nutating/xyzacb-trsrn_twp/xyzacb-trsrn.ini",
-    );
+    let ini = configs().join("axis/vismach/5axis/max5/max5kins.ini");
     let output = fiveaxis(&["machines", "import", path_str(&ini)]);
     assert_eq!(output.status.code(), Some(2));
     let err = common::stderr(&output);
     assert!(
-        err.contains("xyzacb-trsrn.ini:63:") && err.contains("at most two rotary axes"),
+        err.contains("max5kins.ini:4:") && err.contains("maxkins"),
         "{err}"
     );
+}
+
+#[test]
+fn nutating_and_bridge_mill_configurations_import() {
+    for (config, axes, words) in [
+        (
+            ACB,
+            "XYZACB",
+            &[
+                "type = \"mixed\"",
+                "\ntwp_remap = true",
+                "430 = \"tcpc_on\"",
+            ][..],
+        ),
+        (
+            BCA,
+            "XYZBCA",
+            &["type = \"mixed\"", "# [TWP]SECONDARY = A"][..],
+        ),
+        (
+            BRIDGE,
+            "XYZWCB",
+            &["along = \"tool\"", "tcpc_at_start = true"][..],
+        ),
+    ] {
+        let output = fiveaxis(&["machines", "import", path_str(&configs().join(config))]);
+        assert_eq!(output.status.code(), Some(0), "{}", common::stderr(&output));
+        let text = common::stdout(&output);
+        for word in words {
+            assert!(text.contains(word), "{config}: `{word}` missing:\n{text}");
+        }
+        let machine = Machine::from_toml(&text).unwrap_or_else(|e| panic!("{e}\n{text}"));
+        assert_eq!(machine.axis_names().collect::<String>(), axes);
+    }
 }
 
 // ----- the corpus programs on their own machines ---------------------------
@@ -154,13 +186,18 @@ const AC: &str = "axis/vismach/5axis/table-rotary-tilting/xyzac-trt.ini";
 const BC: &str = "axis/vismach/5axis/table-rotary-tilting/xyzbc-trt.ini";
 const TDR: &str = "axis/vismach/5axis/table-dual-rotary/xyzab-tdr.ini";
 const GMOCCAPY_AC: &str = "gmoccapy/non_trivial_kinematics/table-rotary-tilting/xyzac-trt.ini";
+const BRIDGE: &str = "axis/vismach/5axis/bridgemill/5axis.ini";
+const ACB: &str =
+    "axis/vismach/5axis/table-rotary_spindle-rotary-nutating/xyzacb-trsrn_twp/xyzacb-trsrn.ini";
+const BCA: &str =
+    "axis/vismach/5axis/table-rotary_spindle-rotary-nutating/xyzbca-trsrn_twp/xyzbca-trsrn.ini";
 
 /// Corpus program → the configuration of its folder in the LinuxCNC
-/// repository, and how the run ends today. Programs of the bridge mill
-/// (5axiskins) and of the nutating-head machines (xyzacb/xyzbca-trsrn)
-/// have no imported machine: those configurations are refused (see the
-/// machine crate's import tests), and `lcnc_suite_twp_simple_example.ngc`
-/// comes from another repository without its configuration.
+/// repository, and how the run ends today.
+/// `lcnc_suite_twp_simple_example.ngc` comes from another repository
+/// without its configuration. The nutating-head demos (xyzacb/xyzbca
+/// trsrn, one demos folder for both) program LinuxCNC's tilted-working-
+/// plane remaps.
 const PROGRAMS: &[(&str, &str, Ending)] = &[
     ("lcnc_impeller-7bl-xyzac.ngc", AC, Ending::End),
     ("lcnc_boat-xyzac.ngc", AC, Ending::End),
@@ -181,6 +218,30 @@ const PROGRAMS: &[(&str, &str, Ending)] = &[
     // importer wrote from the HAL files and panel (rs274, without HAL,
     // stops there).
     ("lcnc_xyzab-tdr-demo.ngc", TDR, Ending::End),
+    // The bridge mill: B/C head, W along the tool (drilling with W under
+    // the TCP kinematics it starts in).
+    ("lcnc_bridgemill_5axisgui.ngc", BRIDGE, Ending::End),
+    // The nutating heads with LinuxCNC's tilted-working-plane remap
+    // (`twp_remap = true`, imported from their REMAP lines).
+    ("lcnc_trsrn_simple_example.ngc", ACB, Ending::End),
+    ("lcnc_trsrn_simple_example.ngc", BCA, Ending::End),
+    ("lcnc_trsrn_incremental_repetition.ngc", ACB, Ending::End),
+    ("lcnc_trsrn_incremental_repetition.ngc", BCA, Ending::End),
+    // Its `repeat` of G68.4 turns carries the tool 10.7 mm beyond Z's
+    // +5000 limit on the imported machine (rotation axis at the panel's
+    // start values).
+    (
+        "lcnc_trsrn_incremental_repetition_back_and_forth.ngc",
+        ACB,
+        Ending::Alarm("FX0500", 18),
+    ),
+    (
+        "lcnc_trsrn_incremental_repetition_g533.ngc",
+        BCA,
+        Ending::End,
+    ),
+    ("lcnc_trsrn_circular_pocket.ngc", ACB, Ending::End),
+    ("lcnc_trsrn_square.ngc", BCA, Ending::End),
 ];
 
 /// Files that hold one subroutine `o<NAME> sub … endsub` for NGCGUI: they
@@ -193,6 +254,8 @@ const SUBFILES: &[(&str, &str)] = &[
     ("lcnc_centering.ngc", "centering"),
     ("lcnc_gmoccapy_test-xyzac.ngc", "test-xyzac"),
     ("lcnc_gmoccapy_test-xyzbc.ngc", "test-xyzbc"),
+    ("lcnc_trsrn_circular_pocket.ngc", "circular_pocket"),
+    ("lcnc_trsrn_square.ngc", "square"),
 ];
 
 /// Runs `program` on the machine imported from `config`: `None` when it
@@ -315,4 +378,73 @@ fn switchkins_test_3_reaches_the_positions_its_comments_expect() {
         close(r[x], 10.0) && close(r[y], 0.0) && close(r[z], 0.0),
         "{r:?}"
     );
+}
+
+/// The bridge mill's drilling: `g1 w[-10]` under the TCP kinematics moves
+/// the tip 10 mm along the tool into the work ("g0w-10 ; simulate drill",
+/// the configuration's README), and `g0 w0` takes it back; X Y Z of the
+/// tip seen by forward kinematics of the rows' axes (tool T100, 100 mm).
+#[test]
+fn bridgemill_w_drills_along_the_tool() {
+    let dir = tempfile::tempdir().expect("a temporary directory");
+    let machine_file = import_to(BRIDGE, dir.path());
+    let machine = Machine::from_toml(&std::fs::read_to_string(&machine_file).expect("machine"))
+        .expect("reads back");
+    let (ending, rows, err) = run_on("lcnc_bridgemill_5axisgui.ngc", BRIDGE);
+    assert!(ending.is_none(), "{err}");
+    let mut lines = rows.lines();
+    let header: Vec<&str> = lines.next().expect("header").split(',').collect();
+    let col = |n: &str| header.iter().position(|h| *h == n).expect(n);
+    let rows: Vec<Vec<f64>> = lines
+        .map(|l| {
+            l.split(',')
+                .map(|v| v.parse().unwrap_or(f64::NAN))
+                .collect()
+        })
+        .collect();
+    let tip = |r: &[f64]| [r[col("tip_x")], r[col("tip_y")], r[col("tip_z")]];
+    let mut drills = 0;
+    for pair in rows.windows(2) {
+        let (before, drill) = (&pair[0], &pair[1]);
+        if drill[0] != 43.0 {
+            continue;
+        }
+        drills += 1;
+        let dir = [
+            drill[col("tool_i")],
+            drill[col("tool_j")],
+            drill[col("tool_k")],
+        ];
+        let (a, b) = (tip(before), tip(drill));
+        for k in 0..3 {
+            assert!(
+                (b[k] - (a[k] - 10.0 * dir[k])).abs() < 1e-9,
+                "{before:?} -> {drill:?}"
+            );
+        }
+        assert_eq!(drill[col("W")], -10.0);
+        // The rows' tip is forward kinematics of their axes (the part
+        // frame is the table frame shifted by the work offset).
+        let mut joints = [0.0; fiveaxis_machine::MAX_AXES];
+        for (i, name) in machine.axis_names().enumerate() {
+            joints[i] = drill[col(&name.to_string())];
+        }
+        let f = machine.forward(&joints, 100.0).tip;
+        let g = machine
+            .forward(
+                &{
+                    let mut j = joints;
+                    for (i, name) in machine.axis_names().enumerate() {
+                        j[i] = before[col(&name.to_string())];
+                    }
+                    j
+                },
+                100.0,
+            )
+            .tip;
+        for k in 0..3 {
+            assert!(((f[k] - g[k]) - (b[k] - a[k])).abs() < 1e-9);
+        }
+    }
+    assert_eq!(drills, 8 * 16, "every hole is drilled");
 }

@@ -134,7 +134,7 @@ pub enum Condition {
     TcpcOptionMissing,
     /// I, J, K in the G43.5 block on a table or mixed machine.
     TcpcIjkInStartBlock,
-    /// G43.5 with the workpiece programming frame (WKP = 1) or fewer than two rotary axes.
+    /// G43.5 with the workpiece programming frame (WKP = 1) or other than two rotary axes.
     TcpcType2NotAvailable,
     /// A rotary axis word in TCPC type 2 (G43.5).
     TcpcRotaryWordInType2,
@@ -413,7 +413,7 @@ impl Condition {
                 "I, J, K in the G43.5 block on a table or mixed machine"
             }
             Condition::TcpcType2NotAvailable => {
-                "G43.5 with the workpiece programming frame (WKP = 1) or fewer than two rotary axes"
+                "G43.5 with the workpiece programming frame (WKP = 1) or other than two rotary axes"
             }
             Condition::TcpcRotaryWordInType2 => "A rotary axis word in TCPC type 2 (G43.5)",
             Condition::TcpcSingularPassage => {
@@ -424,7 +424,9 @@ impl Condition {
             }
             Condition::ToolVectorZero => "I, J, K give no direction (all zero)",
             Condition::TcpcArcWithRotaryMotion => "An arc in TCPC while the rotary axes move",
-            Condition::TcpcWithoutRotaryAxis => "TCPC on a machine without a rotary axis",
+            Condition::TcpcWithoutRotaryAxis => {
+                "TCPC on a machine without a rotary axis; G53.1 / G53.6 or G54.4 on a machine without the two rotary axes they need"
+            }
             Condition::PostureUndefined => {
                 "Tool posture control between opposite tool vectors (no single great circle)"
             }

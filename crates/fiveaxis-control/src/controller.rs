@@ -1131,9 +1131,10 @@ impl<'m> Controller<'m> {
             self.state.h = self.offset_number(&word)?;
         } else if self.dialect.rs274ngc
             && !codes.length_synthesized
-            && codes
-                .length
-                .is_some_and(|(c, _)| c.major == 43 && c.minor == 0)
+            && (codes.length_from_spindle
+                || codes
+                    .length
+                    .is_some_and(|(c, _)| c.major == 43 && c.minor == 0))
         {
             // LinuxCNC: G43 without H takes the tool in the spindle
             // (g-code.adoc, G43: "If H is not given, the current tool").
@@ -2105,6 +2106,11 @@ struct GCodes {
     /// LinuxCNC: the block's group 08 is the kinematics switch's own, not
     /// a programmed G43 (so not "G43 without H": the H in force stays).
     length_synthesized: bool,
+    /// LinuxCNC: a programmed G43 without H, turned into the TCP
+    /// kinematics' G43.4: it takes the tool in the spindle after the
+    /// block's M6 (overview.adoc, order of execution: change tool before
+    /// tool length offsets).
+    length_from_spindle: bool,
     plane: Option<Code>,
     distance: Option<Code>,
     /// LinuxCNC G90.1 / G91.1.

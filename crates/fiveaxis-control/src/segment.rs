@@ -442,7 +442,7 @@ impl Segment {
         } else {
             tip
         };
-        let gauge = machine.gauge_for_tip(&joints, &tip_table, self.tool_length);
+        let gauge = machine.gauge_for_programmed_tip(&joints, &tip_table, self.tool_length);
         joints[..3].copy_from_slice(gauge.as_slice());
         joints
     }

@@ -166,6 +166,7 @@ fn startup_alarms_047_and_048() {
         min: -100.0,
         max: 100.0,
         dynamics: fiveaxis_machine::Dynamics::LINEAR_DEFAULT,
+        along: fiveaxis_machine::Along::Parallel,
     });
     let (_, alarm) = run_on(&m, "G41 G1 X1. U1. I0 J0 K1. D1 F100.\n");
     assert_eq!(code(&alarm), "PS047");

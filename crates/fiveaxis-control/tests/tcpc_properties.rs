@@ -97,6 +97,7 @@ fn linear_axes(limit: f64) -> Vec<LinearAxis> {
             min: -limit,
             max: limit,
             dynamics: Dynamics::LINEAR_DEFAULT,
+            along: fiveaxis_machine::Along::Parallel,
         })
         .collect()
 }

@@ -200,7 +200,7 @@ fn read_block(text: &[u8], syntax: Syntax, block: &mut Block) -> Result<(), Synt
             }
             end
         } else if byte.is_ascii_alphabetic() {
-            read_word(text, pos, block)?
+            read_word(text, pos, block, syntax)?
         } else {
             return Err(stray(text, pos));
         };
@@ -250,11 +250,17 @@ fn comment_end(text: &[u8], pos: usize, syntax: Syntax) -> Option<usize> {
 }
 
 /// Reads the word whose letter is at `start` and returns where it ends.
-fn read_word(text: &[u8], start: usize, block: &mut Block) -> Result<usize, SyntaxError> {
+fn read_word(
+    text: &[u8],
+    start: usize,
+    block: &mut Block,
+    syntax: Syntax,
+) -> Result<usize, SyntaxError> {
     let letter = text.get(start).map_or(b'?', u8::to_ascii_uppercase);
-    let (number, end) = match read_plain_number(text, start + 1) {
+    let exponent = !syntax.e_after_digits_is_a_word;
+    let (number, end) = match read_plain_number(text, start + 1, exponent) {
         Some(plain) => plain,
-        None => read_general_number(text, start, letter)?,
+        None => read_general_number(text, start, letter, exponent)?,
     };
     let span = span(start, end);
     if letter == SEQUENCE_LETTER {
@@ -280,7 +286,7 @@ fn read_word(text: &[u8], start: usize, block: &mut Block) -> Result<usize, Synt
 ///
 /// `None` sends the word to [`read_general_number`], which then gives the
 /// same result as before this fast path existed (or the error).
-fn read_plain_number(text: &[u8], start: usize) -> Option<(Number, usize)> {
+fn read_plain_number(text: &[u8], start: usize, exponent: bool) -> Option<(Number, usize)> {
     let rest = text.get(start..)?;
     let (sign, unsigned) = match rest {
         [sign @ (PLUS | MINUS), tail @ ..] => (Some(*sign), tail),
@@ -296,7 +302,10 @@ fn read_plain_number(text: &[u8], start: usize) -> Option<(Number, usize)> {
         _ => (false, integer, 0, after_integer),
     };
     let any_digit = after_integer.len() < unsigned.len() || fraction_digits > 0;
-    if !any_digit || integer_digits + fraction_digits > MAX_DIGITS || !ends_plain_number(after) {
+    if !any_digit
+        || integer_digits + fraction_digits > MAX_DIGITS
+        || !ends_plain_number(after, exponent)
+    {
         return None;
     }
     let magnitude = decimal_value(mantissa, fraction_digits)?;
@@ -343,10 +352,10 @@ fn skip_zeros(bytes: &[u8]) -> &[u8] {
 /// [`number_end`] too: nothing follows, or something that is not part of a
 /// number, possibly after blanks. An `e` right after the number is an
 /// exponent; after blanks it is the `E` address.
-fn ends_plain_number(after: &[u8]) -> bool {
+fn ends_plain_number(after: &[u8], exponent: bool) -> bool {
     match after {
         [] => true,
-        [EXPONENT, ..] => false,
+        [EXPONENT, ..] => !exponent,
         [blank, ..] if is_blank(*blank) => after
             .iter()
             .find(|&&byte| !is_blank(byte))
@@ -361,13 +370,14 @@ fn read_general_number(
     text: &[u8],
     start: usize,
     letter: u8,
+    exponent: bool,
 ) -> Result<(Number, usize), SyntaxError> {
     let value_start = start + 1;
     let next = skip_blanks(text, value_start);
     if text.get(next).is_some_and(u8::is_ascii_alphabetic) {
         return Err(multi_letter_word(text, start));
     }
-    let end = number_end(text, value_start);
+    let end = number_end(text, value_start, exponent);
     if end == value_start {
         return Err(no_value(text, start, letter, next));
     }
@@ -490,7 +500,7 @@ fn first_macro_char(text: &[u8], syntax: Syntax) -> Option<usize> {
 /// digits, points and signs, blanks between them, and an exponent `e`
 /// written right after a digit or point (so that it is refused whole).
 /// Equal to `start` when no number is written there.
-fn number_end(text: &[u8], start: usize) -> usize {
+fn number_end(text: &[u8], start: usize, exponent_allowed: bool) -> usize {
     let mut end = start;
     let mut after_digit = false;
     for (pos, &byte) in text.iter().enumerate().skip(start) {
@@ -498,7 +508,7 @@ fn number_end(text: &[u8], start: usize) -> usize {
             after_digit = false;
             continue;
         }
-        let exponent = byte == EXPONENT && after_digit;
+        let exponent = exponent_allowed && byte == EXPONENT && after_digit;
         if !(is_number_byte(byte) || exponent) {
             break;
         }

@@ -78,6 +78,12 @@ pub struct Syntax {
     /// comment: NGC mill operator's manual, "Literal Text Engraving").
     /// Off (FANUC): the first `;` ends the block wherever it stands.
     pub semicolon_outside_comments: bool,
+    /// A lower-case `e` right after the digits of a number is the next
+    /// word's letter (LinuxCNC: `m66e0l0` is `M66 E0 L0`, words are
+    /// case-insensitive and numbers have no exponent). Off (FANUC): it is
+    /// taken for a floating-point exponent and refused as a malformed
+    /// number.
+    pub e_after_digits_is_a_word: bool,
 }
 
 impl Syntax {
@@ -85,11 +91,13 @@ impl Syntax {
     pub const FANUC: Self = Self {
         nested_comments: false,
         semicolon_outside_comments: false,
+        e_after_digits_is_a_word: false,
     };
     /// The Haas control.
     pub const HAAS: Self = Self {
         nested_comments: true,
         semicolon_outside_comments: true,
+        e_after_digits_is_a_word: false,
     };
     /// LinuxCNC's RS274/NGC for plain lines (the runner sends lines with
     /// parameters, expressions and o-words to `fiveaxis-macro`'s NGC
@@ -97,6 +105,7 @@ impl Syntax {
     pub const LINUXCNC: Self = Self {
         nested_comments: false,
         semicolon_outside_comments: true,
+        e_after_digits_is_a_word: true,
     };
 }
 

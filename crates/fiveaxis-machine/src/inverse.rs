@@ -268,13 +268,31 @@ impl Machine {
 
     /// Machine position of the linear axes X, Y, Z that put the tool tip
     /// of length `tool_length` on `tip` (table frame) with the rotary axes
-    /// at the angles in `joints`.
+    /// (and a quill along the tool) at the positions in `joints`.
     pub fn gauge_for_tip(&self, joints: &Joints, tip: &Vec3, tool_length: f64) -> Vec3 {
         let table = self.chain(Side::Table, joints);
         let head = self.chain(Side::Head, joints);
         let tip_machine = table.transform_point(&(*tip).into()).coords;
         let t0 = self.tool_direction.into_inner();
-        tip_machine - head.transform_point(&(-tool_length * t0).into()).coords
+        let end = (self.quill(joints) - tool_length) * t0;
+        tip_machine - head.transform_point(&end.into()).coords
+    }
+
+    /// Machine position of X, Y, Z that puts the tip on `tip` (table
+    /// frame) with the quill ([`crate::Along::Tool`]) at 0: the programmed
+    /// point of TCPC and of the tilted working plane. A quill then moves
+    /// the tip from there along the tool, as LinuxCNC's 5axiskins moves it
+    /// with W in TCP mode ("g0w-10 ; simulate drill"). Without a quill it
+    /// is [`Machine::gauge_for_tip`].
+    pub fn gauge_for_programmed_tip(&self, joints: &Joints, tip: &Vec3, tool_length: f64) -> Vec3 {
+        match self.quill_index() {
+            Some(i) if joints[i] != 0.0 => {
+                let mut j = *joints;
+                j[i] = 0.0;
+                self.gauge_for_tip(&j, tip, tool_length)
+            }
+            _ => self.gauge_for_tip(joints, tip, tool_length),
+        }
     }
 }
 

@@ -55,10 +55,14 @@ impl Machine {
     /// The same maps as [`Machine::chain`], applied to the two vectors
     /// directly (Rodrigues' formula) rather than composed as matrices: the
     /// head axes turn the tool from the innermost outwards, then the table
-    /// axes are undone from the bed outwards.
+    /// axes are undone from the bed outwards. A quill ([`crate::Along::Tool`])
+    /// at W puts the tip at `(X, Y, Z) + H((W − L)·t0)`, the contract's
+    /// formula with `W − L` for `−L` (`machine-model.md` §3 extended as
+    /// its §4 foresees, "more linear axes, e.g. W, allowed later").
     pub fn forward(&self, joints: &Joints, tool_length: f64) -> Pose {
         let t0 = self.tool_direction.into_inner();
-        let mut tip = -tool_length * t0;
+        // A quill along the tool moves the tip before the head turns it.
+        let mut tip = (self.quill(joints) - tool_length) * t0;
         let mut dir = t0;
         let first = self.linear.len();
         for (k, axis) in self.rotary.iter().enumerate().rev() {
@@ -77,6 +81,23 @@ impl Machine {
             }
         }
         Pose { tip, dir }
+    }
+}
+
+impl Machine {
+    /// [`Machine::forward`] with the quill ([`crate::Along::Tool`]) at 0:
+    /// the point TCPC and the tilted working plane program (the inverse
+    /// of [`Machine::gauge_for_programmed_tip`]). Without a quill it is
+    /// `forward`.
+    pub fn programmed_pose(&self, joints: &Joints, tool_length: f64) -> Pose {
+        match self.quill_index() {
+            Some(i) if joints[i] != 0.0 => {
+                let mut j = *joints;
+                j[i] = 0.0;
+                self.forward(&j, tool_length)
+            }
+            _ => self.forward(joints, tool_length),
+        }
     }
 }
 

@@ -37,9 +37,13 @@ use nalgebra::{Unit, Vector3};
 /// A 3-vector of `f64`: points in mm, directions unitless.
 pub type Vec3 = Vector3<f64>;
 
-/// Most axes a machine can have: X, Y, Z, up to three parallel linear axes
-/// (U, V, W) and two rotary axes.
+/// Most axes a machine can have: X, Y, Z, further linear axes (U, V, W)
+/// and up to three rotary axes, eight in all.
 pub const MAX_AXES: usize = 8;
+
+/// Most rotary axes a machine can have (a table axis and a two-axis head,
+/// e.g. LinuxCNC's `xyzacb_trsrn`).
+pub const MAX_ROTARY: usize = 3;
 
 /// Positions of every machine axis, in the machine file's order (linear
 /// axes first, then rotary axes bed outwards). Entries past
@@ -64,7 +68,8 @@ pub enum MachineType {
     Head,
     /// Every rotary axis turns the table: table rotation type (12).
     Table,
-    /// One head and one table axis: mixed type (21).
+    /// Head and table axes: mixed type (21); with three rotary axes, a
+    /// table axis and a two-axis head (or the reverse).
     Mixed,
 }
 
@@ -111,6 +116,22 @@ pub struct LinearAxis {
     pub max: f64,
     /// How fast the axis moves.
     pub dynamics: Dynamics,
+    /// The direction the axis moves the tool in.
+    pub along: Along,
+}
+
+/// The direction a linear axis after X, Y, Z moves the tool in.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Along {
+    /// Parallel to X, Y or Z (U, V, W as ISO 841 names them): the axis
+    /// moves the tool in the machine frame and the kinematics leave it out.
+    #[default]
+    Parallel,
+    /// Along the tool: a quill carried by the head. It moves the tool tip
+    /// along the tool direction before the head rotaries turn it, positive
+    /// away from the work (`tip = (X, Y, Z) + H((W − L)·t0)`; LinuxCNC's
+    /// `5axiskins` W).
+    Tool,
 }
 
 impl LinearAxis {
@@ -286,7 +307,7 @@ pub struct Parameters {
     /// machine file's folder.
     pub tool_table: Option<String>,
     /// LinuxCNC: the machine runs its TCP kinematics from power-on (a
-    /// configuration whose kinematics cannot be switched): programs are in
+    /// configuration whose kinematics type 0 is the TCP one): programs are in
     /// tool-tip coordinates from their first block, as after `tcpc_on`.
     pub tcpc_at_start: bool,
     /// LinuxCNC: the configuration remaps the tilted-working-plane codes
@@ -349,7 +370,7 @@ pub struct Machine {
     pub tool_direction: Unit<Vec3>,
     /// Linear axes, X, Y, Z first.
     pub linear: Vec<LinearAxis>,
-    /// Rotary axes, bed outwards (0, 1 or 2).
+    /// Rotary axes, bed outwards (0 to [`MAX_ROTARY`]).
     pub rotary: Vec<RotaryAxis>,
     /// Control parameters.
     pub params: Parameters,
@@ -383,6 +404,19 @@ impl Machine {
         } else {
             self.rotary[i - self.linear.len()].dynamics
         }
+    }
+
+    /// Index in [`Joints`] of the linear axis that moves along the tool
+    /// (a quill, [`Along::Tool`]), if the machine has one.
+    pub fn quill_index(&self) -> Option<usize> {
+        self.linear.iter().position(|a| a.along == Along::Tool)
+    }
+
+    /// Where the quill ([`Along::Tool`]) stands in `joints`: 0 on a
+    /// machine without one.
+    #[inline]
+    pub fn quill(&self, joints: &Joints) -> f64 {
+        self.quill_index().map_or(0.0, |i| joints[i])
     }
 
     /// Index in [`Joints`] of rotary axis `k` (0-based, bed outwards).

@@ -209,3 +209,69 @@ fn mill_3axis_straight_down() {
     let j = joints(&m, &[('X', 1.0), ('Y', 2.0), ('Z', 3.0)]);
     assert_pose(&m, &j, 50.0, [1.0, 2.0, -47.0], [0.0, 0.0, 1.0]);
 }
+
+/// A bridge mill with a quill W along the tool (C then B on the head,
+/// pivot 200 above the gauge point), for the quill's forward kinematics.
+const QUILL: &str = r#"
+name = "quill"
+type = "head"
+[[linear]]
+name = "X"
+min = -1000
+max = 1000
+[[linear]]
+name = "Y"
+min = -1000
+max = 1000
+[[linear]]
+name = "Z"
+min = -1000
+max = 1000
+[[linear]]
+name = "W"
+min = -500
+max = 500
+along = "tool"
+[[rotary]]
+name = "C"
+on = "head"
+axis = [0, 0, 1]
+center = [0, 0, 200]
+[[rotary]]
+name = "B"
+on = "head"
+axis = [0, -1, 0]
+center = [0, 0, 200]
+"#;
+
+proptest! {
+    #![proptest_config(ProptestConfig { rng_seed: proptest::test_runner::RngSeed::Fixed(7), ..ProptestConfig::default() })]
+
+    /// The quill moves the tip along the tool by W: the tip is the one of
+    /// W = 0 plus W times the tool direction (closed form: the tip on the
+    /// sphere about the pivot, radius 200 + L − W); `gauge_for_tip` gives
+    /// back X, Y, Z, and `gauge_for_programmed_tip` puts the W = 0 tip on
+    /// the point.
+    #[test]
+    fn a_quill_moves_the_tip_along_the_tool(
+        x in -500.0..500.0f64, y in -500.0..500.0f64, z in -500.0..500.0f64,
+        w in -400.0..400.0f64, c in -360.0..360.0f64, b in -120.0..120.0f64,
+        l in 0.0..200.0f64,
+    ) {
+        let m = Machine::from_toml(QUILL).expect("machine");
+        let mut j: Joints = [0.0; MAX_AXES];
+        j[..6].copy_from_slice(&[x, y, z, w, c, b]);
+        let pose = m.forward(&j, l);
+        let (br, cr) = (b.to_radians(), c.to_radians());
+        let out = Vec3::new(br.sin() * cr.cos(), br.sin() * cr.sin(), -br.cos());
+        let want = Vec3::new(x, y, z + 200.0) + (200.0 + l - w) * out;
+        prop_assert!((pose.tip - want).norm() < 1e-9, "{:?} {:?}", pose.tip, want);
+        prop_assert!((pose.dir + out).norm() < 1e-12);
+        let back = m.gauge_for_tip(&j, &pose.tip, l);
+        prop_assert!((back - Vec3::new(x, y, z)).norm() < 1e-9);
+        let programmed = m.programmed_pose(&j, l).tip;
+        prop_assert!((pose.tip - (programmed + w * pose.dir)).norm() < 1e-9);
+        let gauge = m.gauge_for_programmed_tip(&j, &programmed, l);
+        prop_assert!((gauge - Vec3::new(x, y, z)).norm() < 1e-9);
+    }
+}

@@ -28,6 +28,19 @@
 //!   centre at the rotation point plus (x-offset, 0, z-offset), A carried
 //!   by B; the senses are taken as the trt modules'.
 //!
+//! * 5axiskins (bridge mill): kins(9) and the configuration's README and
+//!   demo program only (docs/functions.md, "LinuxCNC import", gives the
+//!   reading): the tip on the sphere about the pivot (pivot length P above
+//!   the gauge point) at radius P + L − W, polar angle B from −Z, azimuth
+//!   C: tip = J + (0, 0, P) + (P + L − W)·(sin B cos C, sin B sin C,
+//!   −cos B), the tool direction the opposite unit vector.
+//! * xyzacb_trsrn / xyzbca_trsrn: Sigma1912's kinematics notebooks for the
+//!   machine family (XYZBCA-SNRTR and XYZACB-SNRTR), the forward
+//!   transformation Q = T(−r)·T(c)·R_w·T(P)·T(r)·R_p·T(d)·R_s·T(l)·T(t)
+//!   taken to the origin, written here with 4×4 matrices as the notebook
+//!   writes them (R_s the Rodrigues matrix about the nutation vector), the
+//!   tool orientation the third column of R_w·R_p·R_s.
+//!
 //! R_x, R_y, R_z are the plain right-handed rotation matrices of the
 //! document's "Translation and Rotation Matrices" section.
 
@@ -184,6 +197,133 @@ fn xyzab_reference(dz: f64, r: V) -> Box<Reference> {
             [q[0], q[1], q[2] + length],
             rot_x(a, rot_y(b, [0.0, 0.0, 1.0])),
         )
+    })
+}
+
+/// The bridge mill as docs/functions.md reads 5axiskins: pivot `p` above
+/// the gauge point; LinuxCNC's world holds G43's Z shift.
+fn bridgemill_reference(p: f64) -> Box<Reference> {
+    Box::new(move |j, length| {
+        let (b, c) = (j[&'B'].to_radians(), j[&'C'].to_radians());
+        let w = j.get(&'W').copied().unwrap_or(0.0);
+        let out = [b.sin() * c.cos(), b.sin() * c.sin(), -b.cos()];
+        let r = p + length - w;
+        let tip = [
+            j[&'X'] + r * out[0],
+            j[&'Y'] + r * out[1],
+            j[&'Z'] + p + r * out[2],
+        ];
+        (
+            [tip[0], tip[1], tip[2] + length],
+            [-out[0], -out[1], -out[2]],
+        )
+    })
+}
+
+type M4 = [[f64; 4]; 4];
+
+fn mul(a: &M4, b: &M4) -> M4 {
+    let mut m = [[0.0; 4]; 4];
+    for (i, row) in m.iter_mut().enumerate() {
+        for (k, cell) in row.iter_mut().enumerate() {
+            *cell = (0..4).map(|n| a[i][n] * b[n][k]).sum();
+        }
+    }
+    m
+}
+
+fn translation(v: V) -> M4 {
+    [
+        [1.0, 0.0, 0.0, v[0]],
+        [0.0, 1.0, 0.0, v[1]],
+        [0.0, 0.0, 1.0, v[2]],
+        [0.0, 0.0, 0.0, 1.0],
+    ]
+}
+
+/// The notebook's rotation matrix about unit `v` by `deg` (Rodrigues,
+/// written element by element as the notebook gives R_s).
+fn rotation_about(v: V, deg: f64) -> M4 {
+    let (s, c) = deg.to_radians().sin_cos();
+    let [x, y, z] = v;
+    [
+        [
+            c + x * x * (1.0 - c),
+            x * y * (1.0 - c) - z * s,
+            x * z * (1.0 - c) + y * s,
+            0.0,
+        ],
+        [
+            x * y * (1.0 - c) + z * s,
+            c + y * y * (1.0 - c),
+            y * z * (1.0 - c) - x * s,
+            0.0,
+        ],
+        [
+            x * z * (1.0 - c) - y * s,
+            y * z * (1.0 - c) + x * s,
+            c + z * z * (1.0 - c),
+            0.0,
+        ],
+        [0.0, 0.0, 0.0, 1.0],
+    ]
+}
+
+/// The trsrn geometry: nutation angle, pivot (across, z), offsets (x, y),
+/// rotation axis point (across, z); `acb`: table A about X and the lean
+/// along Y (XYZBCA-SNRTR notebook), else table B about Y, lean along X
+/// (XYZACB-SNRTR notebook).
+#[derive(Clone, Copy)]
+struct Trsrn {
+    acb: bool,
+    nu: f64,
+    pivot: [f64; 2],
+    offset: [f64; 2],
+    rot: [f64; 2],
+}
+
+fn trsrn_reference(g: Trsrn) -> Box<Reference> {
+    Box::new(move |j, dt| {
+        let (table, secondary) = if g.acb { ('A', 'B') } else { ('B', 'A') };
+        let (sv, cv) = g.nu.to_radians().sin_cos();
+        let [la, lz] = g.pivot;
+        let [dx, dy] = g.offset;
+        // across-direction components: index 1 (Y) for acb, 0 (X) else.
+        let k = if g.acb { 1 } else { 0 };
+        let along = |value: f64, z: f64| {
+            let mut v = [0.0, 0.0, z];
+            v[k] = value;
+            v
+        };
+        let (rw, v, tc, dra) = if g.acb {
+            let dray = g.rot[0] - (dy + la);
+            (
+                rotation_about([1.0, 0.0, 0.0], j[&table]),
+                [0.0, sv, cv],
+                [dx, dy + la, dt + lz],
+                [0.0, dray, g.rot[1] - lz],
+            )
+        } else {
+            let drax = g.rot[0] - la - dx;
+            (
+                rotation_about([0.0, 1.0, 0.0], j[&table]),
+                [sv, 0.0, cv],
+                [dx + la, dy, dt + lz],
+                [drax, 0.0, g.rot[1] - lz],
+            )
+        };
+        let rp = rotation_about([0.0, 0.0, 1.0], j[&'C']);
+        let rs = rotation_about(v, j[&secondary]);
+        let tl = translation(along(-la, -lz));
+        let tt = translation([0.0, 0.0, -dt]);
+        let td = translation([-dx, -dy, 0.0]);
+        let tp = translation([j[&'X'], j[&'Y'], j[&'Z']]);
+        let tr = translation([-dra[0], -dra[1], -dra[2]]);
+        let tnr = translation(dra);
+        let chain = [&translation(tc), &rw, &tp, &tr, &rp, &td, &rs, &tl, &tt];
+        let q = chain.iter().fold(tnr, |m, n| mul(&m, n));
+        let r = mul(&mul(&rw, &rp), &rs);
+        ([q[0][3], q[1][3], q[2][3]], [r[0][2], r[1][2], r[2][2]])
     })
 }
 
@@ -349,10 +489,7 @@ fn every_corpus_configuration_imports_or_says_why_not() {
     // What each configuration gives: a machine of these axes, or an error
     // naming the kinematics and why.
     let expected: &[(&str, Result<&str, &str>)] = &[
-        (
-            "5axis.ini",
-            Err("5axiskins: the bridge mill's W coordinate"),
-        ),
+        ("5axis.ini", Ok("XYZWCB")),
         (
             "max5kins.ini",
             Err("maxkins: kins(9) describes it only in words"),
@@ -364,8 +501,8 @@ fn every_corpus_configuration_imports_or_says_why_not() {
         ("xyzab-tdr.ini", Ok("XYZBA")),
         ("xyzac-trt.ini", Ok("XYZAC")),
         ("xyzbc-trt.ini", Ok("XYZBC")),
-        ("xyzacb-trsrn.ini", Err("xyzacb_trsrn: three rotary axes")),
-        ("xyzbca-trsrn.ini", Err("xyzbca_trsrn: three rotary axes")),
+        ("xyzacb-trsrn.ini", Ok("XYZACB")),
+        ("xyzbca-trsrn.ini", Ok("XYZBCA")),
         ("gantry_mm.ini", Ok("XYZ")),
         ("scara.ini", Err("scarakins: a robot arm")),
     ];
@@ -583,6 +720,121 @@ fn damaged_configurations_never_panic() {
         if let Ok(imported) = import_in_memory(&refs) {
             round_trip(&imported);
         }
+    }
+}
+
+#[test]
+fn bridgemill_5axiskins_matches_its_documented_reading() {
+    let imported = import("axis/vismach/5axis/bridgemill/5axis.ini").expect("imports");
+    let m = &imported.machine;
+    assert_eq!(m.axis_names().collect::<String>(), "XYZWCB");
+    assert_eq!(m.quill_index(), Some(3));
+    assert!(m.params.tcpc_at_start, "type 0 (power-on) is 5axiskins");
+    assert_eq!(m.m_codes.get(428), Some(MFunction::TcpcOn));
+    assert_eq!(m.m_codes.get(429), Some(MFunction::TcpcOff));
+    let text = imported.to_toml();
+    assert!(text.contains("along = \"tool\""), "{text}");
+    assert!(text.contains("pivot_len plus"), "{text}");
+    round_trip(&imported);
+    judge(m, &*bridgemill_reference(0.0), 41);
+    // A configuration that sets the pivot length: the head turns about it.
+    let ini = std::fs::read_to_string(corpus().join("axis/vismach/5axis/bridgemill/5axis.ini"))
+        .expect("ini")
+        .replace(
+            "POSTGUI_HALFILE = 5axis_postgui.hal",
+            "HALCMD = setp 5axiskins.pivot-length 150",
+        );
+    let hal = "loadusr -W ./5axisgui.py\n";
+    let imported = import_in_memory(&[
+        ("/b/5axis.ini", &ini),
+        ("/b/5axisgui.hal", hal),
+        ("/b/remap_subs/428remap.ngc", "M68 E3 Q0\n"),
+        ("/b/remap_subs/429remap.ngc", "M68 E3 Q1\n"),
+        ("/b/remap_subs/430remap.ngc", "M68 E3 Q2\n"),
+    ])
+    .expect("imports");
+    assert_eq!(imported.machine.rotary[1].center.z, 150.0);
+    judge(&imported.machine, &*bridgemill_reference(150.0), 42);
+}
+
+/// The corpus trsrn configurations, and in-memory ones with every offset
+/// set, against the notebooks' forward transformation.
+#[test]
+fn trsrn_nutating_machines_match_the_notebooks() {
+    let base = "axis/vismach/5axis/table-rotary_spindle-rotary-nutating";
+    for (config, acb, rot) in [
+        (
+            "xyzacb-trsrn_twp/xyzacb-trsrn.ini",
+            true,
+            [-1000.0, -2000.0],
+        ),
+        (
+            "xyzbca-trsrn_twp/xyzbca-trsrn.ini",
+            false,
+            [1000.0, -2000.0],
+        ),
+    ] {
+        let imported = import(&format!("{base}/{config}")).unwrap_or_else(|e| panic!("{e}"));
+        let m = &imported.machine;
+        let want = if acb { "XYZACB" } else { "XYZBCA" };
+        assert_eq!(m.axis_names().collect::<String>(), want);
+        assert_eq!(m.m_codes.get(428), Some(MFunction::TcpcOff));
+        assert_eq!(m.m_codes.get(429), Some(MFunction::TcpcOn));
+        assert_eq!(m.m_codes.get(430), Some(MFunction::TcpcOn));
+        assert!(!m.params.tcpc_at_start);
+        let text = imported.to_toml();
+        assert!(text.contains("\ntwp_remap = true"), "{text}");
+        assert!(m.params.twp_remap);
+        assert!(text.contains("[TWP]PRIMARY = C"), "{text}");
+        round_trip(&imported);
+        let g = Trsrn {
+            acb,
+            nu: 55.0,
+            pivot: [50.0, 120.0],
+            offset: [0.0, 0.0],
+            rot,
+        };
+        judge(m, &*trsrn_reference(g), 7);
+    }
+    for acb in [true, false] {
+        let (module, across, letters) = if acb {
+            ("xyzacb_trsrn", "y", "XYZACB")
+        } else {
+            ("xyzbca_trsrn", "x", "XYZBCA")
+        };
+        let ini = format!(
+            "[EMC]\nMACHINE = t\n[KINS]\nKINEMATICS = {module}\n[TRAJ]\nCOORDINATES = {letters}\nLINEAR_UNITS = mm\n[HAL]\n\
+             HALCMD = setp {module}_kins.nut-angle 37.5\n\
+             HALCMD = setp {module}_kins.{across}-pivot 42\n\
+             HALCMD = setp {module}_kins.z-pivot 210\n\
+             HALCMD = setp {module}_kins.x-offset 13\n\
+             HALCMD = setp {module}_kins.y-offset -7\n\
+             HALCMD = setp {module}_kins.{across}-rot-axis 300\n\
+             HALCMD = setp {module}_kins.z-rot-axis -450\n\
+             HALCMD = net :t motion.tooloffset.z {module}_kins.tool-offset-z\n\
+             [AXIS_X]\nMIN_LIMIT = -900\nMAX_LIMIT = 900\n[AXIS_Y]\nMIN_LIMIT = -900\nMAX_LIMIT = 900\n\
+             [AXIS_Z]\nMIN_LIMIT = -900\nMAX_LIMIT = 900\n[AXIS_B]\nMIN_LIMIT = -200\nMAX_LIMIT = 200\n"
+        );
+        let imported = import_in_memory(&[("/t/t.ini", &ini)]).unwrap_or_else(|e| panic!("{e}"));
+        let g = Trsrn {
+            acb,
+            nu: 37.5,
+            pivot: [42.0, 210.0],
+            offset: [13.0, -7.0],
+            rot: [300.0, -450.0],
+        };
+        judge(&imported.machine, &*trsrn_reference(g), 8 + u64::from(acb));
+        // At 90 degrees of nutation the secondary is an ordinary tilt axis.
+        let ini = ini.replace("nut-angle 37.5", "nut-angle 90");
+        let imported = import_in_memory(&[("/t/t.ini", &ini)]).expect("imports");
+        judge(
+            &imported.machine,
+            &*trsrn_reference(Trsrn { nu: 90.0, ..g }),
+            11,
+        );
+        let ini = ini.replace("nut-angle 90", "nut-angle 95");
+        let e = import_in_memory(&[("/t/t.ini", &ini)]).expect_err("beyond 90");
+        assert!(e.message.contains("nut-angle 95"), "{e}");
     }
 }
 

@@ -416,7 +416,7 @@ impl Controller<'_> {
             // The tilted plane: the tip of the tool as it stands.
             let tip = self
                 .machine
-                .forward(joints, self.feature_length_at(block))
+                .programmed_pose(joints, self.feature_length_at(block))
                 .tip;
             self.work_to_feature(
                 &(self.state.setup.inverse_point(&(tip - block.work)) - block.vector),
@@ -448,7 +448,7 @@ impl Controller<'_> {
         let real = self.real_at(block, &Vec3::new(p[0], p[1], p[2]));
         let lin = if self.feature().is_some() {
             self.machine
-                .gauge_for_tip(&joints, &real, self.feature_length_at(block))
+                .gauge_for_programmed_tip(&joints, &real, self.feature_length_at(block))
         } else {
             real + self.length_at(block, &joints)
         };

@@ -199,6 +199,12 @@ impl Controller<'_> {
             // the last G43 comes back with the next G43 without H.
             self.state.h_before_g49 = Some(self.state.h);
             self.state.h = 0;
+        } else if given.is_some_and(|(on, _)| on) && self.words.peek(b'H').is_none() {
+            // G43 without H: the tool in the spindle (g-code.adoc, G43),
+            // under the TCP kinematics as under identity; taken when the
+            // length is applied, after the block's M6.
+            self.state.h_before_g49 = None;
+            codes.length_from_spindle = true;
         } else if length_on
             && self.words.peek(b'H').is_none()
             && let Some(h) = self.state.h_before_g49.take()

@@ -217,11 +217,15 @@ impl Controller<'_> {
             ));
         }
         let workpiece_frame = machine.params.programming_frame == ProgrammingFrame::Workpiece;
-        if kind == TcpcType::Vector && (workpiece_frame || machine.rotary.len() < 2) {
+        if kind == TcpcType::Vector && (workpiece_frame || machine.rotary.len() != 2) {
             let why = if workpiece_frame {
-                "the programming frame is the workpiece coordinate system (WKP = 1)"
+                "the programming frame is the workpiece coordinate system (WKP = 1)".to_owned()
             } else {
-                "type 2 needs two rotary axes"
+                format!(
+                    "type 2 needs exactly two rotary axes to turn a tool vector into angles \
+                     (this machine has {}); program the angles with G43.4",
+                    machine.rotary.len()
+                )
             };
             return Err(self.alarm(
                 Condition::TcpcType2NotAvailable,
@@ -305,7 +309,7 @@ impl Controller<'_> {
         {
             return point;
         }
-        let tip_table = self.machine.forward(joints, self.tool_length()).tip;
+        let tip_table = self.machine.programmed_pose(joints, self.tool_length()).tip;
         let ideal = self.ideal_from_real(&tip_table);
         let map = self.programming_map(joints);
         map.transform_point(&ideal.into()).coords - self.work() - self.state.comp3d.vector
@@ -326,7 +330,7 @@ impl Controller<'_> {
             .coords;
         let tip_table = self.real_from_ideal(&ideal);
         self.machine
-            .gauge_for_tip(joints, &tip_table, self.tool_length())
+            .gauge_for_programmed_tip(joints, &tip_table, self.tool_length())
     }
 
     /// A point of the ideal workpiece in the table frame as the point of

@@ -66,7 +66,7 @@ mod reference {
         if text.get(next).is_some_and(u8::is_ascii_alphabetic) {
             return Err(multi_letter_word(text, start));
         }
-        let end = number_end(text, value_start);
+        let end = number_end(text, value_start, true);
         if end == value_start {
             return Err(no_value(text, start, letter, next));
         }
@@ -308,7 +308,7 @@ fn realistic_line() -> impl Strategy<Value = String> {
 proptest! {
     #[test]
     fn plain_numbers_match_str_parse(text in plain_number(MAX_DIGITS)) {
-        let (number, end) = read_plain_number(text.as_bytes(), 0)
+        let (number, end) = read_plain_number(text.as_bytes(), 0, true)
             .ok_or_else(|| TestCaseError::fail(format!("{text:?} is not plain")))?;
         let expected: f64 = text.parse().map_err(|e| TestCaseError::fail(format!("{e}")))?;
         prop_assert_eq!(number.value.to_bits(), expected.to_bits(), "{:?}", text);
@@ -322,8 +322,8 @@ proptest! {
     ) {
         let line = format!("{text}{after}");
         let bytes = line.as_bytes();
-        if let Some((number, end)) = read_plain_number(bytes, 0) {
-            prop_assert_eq!(end, number_end(bytes, 0), "{:?}", line);
+        if let Some((number, end)) = read_plain_number(bytes, 0, true) {
+            prop_assert_eq!(end, number_end(bytes, 0, true), "{:?}", line);
             let expected = reference::read_number(&bytes[..end])
                 .map_err(|e| TestCaseError::fail(format!("{line:?}: {e}")))?;
             prop_assert_eq!(exact_number(&number), exact_number(&expected), "{:?}", line);

@@ -658,3 +658,18 @@ fn linuxcnc_semicolon_inside_a_comment_is_text() {
     // FANUC: the first `;` ends the block, leaving `(a` unclosed.
     assert!(parse_line_as(Syntax::FANUC, b"G1 (a;b) X2", 1, &mut block).is_err());
 }
+
+/// LinuxCNC reads `m66e0l0` as `M66 E0 L0` (words are case-insensitive
+/// and numbers have no exponent; rs274 runs the bridge mill demo's line);
+/// FANUC tape format keeps refusing `G1e5` as a malformed number.
+#[test]
+fn a_lower_case_e_after_digits_is_a_word_in_linuxcnc_only() {
+    let mut block = Block::default();
+    crate::parse_line_as(crate::Syntax::LINUXCNC, b"m66e0l0", 1, &mut block).expect("reads");
+    let words: Vec<(u8, f64)> = block.words.iter().map(|w| (w.letter, w.value)).collect();
+    assert_eq!(words, vec![(b'M', 66.0), (b'E', 0.0), (b'L', 0.0)]);
+    crate::parse_line_as(crate::Syntax::LINUXCNC, b"g1 x1.5e2", 1, &mut block).expect("reads");
+    let words: Vec<(u8, f64)> = block.words.iter().map(|w| (w.letter, w.value)).collect();
+    assert_eq!(words, vec![(b'G', 1.0), (b'X', 1.5), (b'E', 2.0)]);
+    assert!(crate::parse_line(b"G1e5", 1, &mut block).is_err());
+}

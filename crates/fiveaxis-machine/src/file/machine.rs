@@ -8,9 +8,9 @@ use toml::Spanned;
 
 use super::{FileError, Source, in_file_order};
 use crate::{
-    Control, Dynamics, InputUnit, Joints, LinearAxis, MAX_AXES, MAX_M_CODE, MCodes, MFunction,
-    Machine, MachineType, Parameters, ProgrammingFrame, RESERVED_M_CODES, RotaryAxis, RotaryChoice,
-    Side, Vec3,
+    Along, Control, Dynamics, InputUnit, Joints, LinearAxis, MAX_AXES, MAX_M_CODE, MAX_ROTARY,
+    MCodes, MFunction, Machine, MachineType, Parameters, ProgrammingFrame, RESERVED_M_CODES,
+    RotaryAxis, RotaryChoice, Side, Vec3,
 };
 
 /// The linear axes that must come first, in this order.
@@ -19,8 +19,6 @@ const PRINCIPAL: [char; 3] = ['X', 'Y', 'Z'];
 const PARALLEL: [char; 3] = ['U', 'V', 'W'];
 /// Rotary axis names.
 const ROTARY_NAMES: [char; 3] = ['A', 'B', 'C'];
-/// Most rotary axes a machine may have.
-const MAX_ROTARY: usize = 2;
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -108,6 +106,14 @@ struct RawLinear {
     rapid: Option<Spanned<f64>>,
     max_acceleration: Option<Spanned<f64>>,
     max_jerk: Option<Spanned<f64>>,
+    along: Option<Spanned<RawAlong>>,
+}
+
+#[derive(Clone, Copy, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "lowercase")]
+enum RawAlong {
+    Parallel,
+    Tool,
 }
 
 #[derive(Deserialize)]
@@ -286,11 +292,36 @@ fn linear_axes(
             ],
             Dynamics::LINEAR_DEFAULT,
         )?;
+        let along = match &raw.along {
+            None => Along::Parallel,
+            Some(a) if *a.get_ref() == RawAlong::Parallel => Along::Parallel,
+            Some(a) => {
+                if PRINCIPAL.contains(&name) {
+                    return Err(src.at(
+                        a,
+                        "along",
+                        format!("{name} moves along its own machine direction: only U, V or W may move `along = \"tool\"`"),
+                    ));
+                }
+                if let Some(other) = axes.iter().find(|x| x.along == Along::Tool) {
+                    return Err(src.at(
+                        a,
+                        "along",
+                        format!(
+                            "linear axis {} already moves along the tool: one quill at most",
+                            other.name
+                        ),
+                    ));
+                }
+                Along::Tool
+            }
+        };
         axes.push(LinearAxis {
             name,
             min,
             max,
             dynamics,
+            along,
         });
     }
     if axes.len() < PRINCIPAL.len() {
@@ -503,9 +534,7 @@ fn check_type(
         MachineType::None => "there are no rotary axes (type \"none\")",
         MachineType::Head => "every rotary axis is on the head (type \"head\")",
         MachineType::Table => "every rotary axis is on the table (type \"table\")",
-        MachineType::Mixed => {
-            "one rotary axis is on the head and one on the table (type \"mixed\")"
-        }
+        MachineType::Mixed => "rotary axes are on both the head and the table (type \"mixed\")",
     };
     Err(src.at(
         kind,

@@ -7,8 +7,8 @@ use std::collections::BTreeSet;
 use std::fmt::Write as _;
 
 use crate::{
-    Control, Dynamics, InputUnit, Joints, LinearAxis, Machine, MachineType, ProgrammingFrame,
-    RotaryAxis, RotaryChoice, Side, Vec3,
+    Along, Control, Dynamics, InputUnit, Joints, LinearAxis, Machine, MachineType,
+    ProgrammingFrame, RotaryAxis, RotaryChoice, Side, Vec3,
 };
 
 /// Column at which trailing comments start, when the line is short enough.
@@ -163,7 +163,7 @@ impl Machine {
             w.key(
                 "tcpc_at_start",
                 "true",
-                "LinuxCNC: TCP kinematics from power-on (no kinematics switch)",
+                "LinuxCNC: TCP kinematics from power-on (kinematics type 0)",
             );
         }
         if p.twp_remap {
@@ -250,6 +250,13 @@ fn write_linear(w: &mut Writer, axis: &LinearAxis) {
     w.key("name", &quote(&axis.name.to_string()), "");
     w.key("min", &number(axis.min), "lower soft limit, mm");
     w.key("max", &number(axis.max), "upper soft limit, mm");
+    if axis.along == Along::Tool {
+        w.key(
+            "along",
+            &quote("tool"),
+            "a quill: moves the tip along the tool, + away from the work",
+        );
+    }
     write_dynamics(w, &axis.dynamics, "mm");
 }
 

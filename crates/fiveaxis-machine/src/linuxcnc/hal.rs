@@ -89,7 +89,23 @@ impl Hal {
             hal.command(&entry.value, &entry.file, entry.line, ini)?;
         }
         for entry in ini.all("DISPLAY", "PYVCP") {
-            hal.panel(entry, folder, read)?;
+            hal.panel(entry, entry.value.trim(), "pyvcp", folder, read)?;
+        }
+        // AXIS embedded tabs: `EMBED_TAB_COMMAND = pyvcp FILE` pairs with
+        // the `EMBED_TAB_NAME` before it; "all PyVCP embedded tab widget
+        // HAL pins start with the name specified as EMBED_TAB_NAME
+        // converted to lower case" (gui/pyvcp.adoc).
+        let names: Vec<&Entry> = ini.all("DISPLAY", "EMBED_TAB_NAME").collect();
+        for (i, entry) in ini.all("DISPLAY", "EMBED_TAB_COMMAND").enumerate() {
+            let mut words = entry.value.split_whitespace();
+            if words.next() != Some("pyvcp") {
+                continue;
+            }
+            let (Some(file), Some(name)) = (words.next_back(), names.get(i)) else {
+                continue;
+            };
+            let prefix = name.value.trim().to_ascii_lowercase();
+            hal.panel(entry, file, &prefix, folder, read)?;
         }
         Ok(hal)
     }
@@ -242,14 +258,16 @@ impl Hal {
     fn panel(
         &mut self,
         entry: &Entry,
+        file: &str,
+        prefix: &str,
         folder: &Path,
         read: &mut Reader<'_>,
     ) -> Result<(), ImportError> {
-        let path = normalize(&folder.join(entry.value.trim()));
+        let path = normalize(&folder.join(file));
         let Ok(text) = read(&path) else {
             self.notes.push(format!(
-                "[DISPLAY]PYVCP = {}: cannot be read, its start-up values are not known",
-                entry.value
+                "[DISPLAY]{} = {}: cannot be read, its start-up values are not known",
+                entry.key, entry.value
             ));
             return Ok(());
         };
@@ -279,9 +297,9 @@ impl Hal {
                     how: format!("PyVCP {widget} {pin} initval {init}"),
                 };
                 for name in [
-                    format!("pyvcp.{pin}"),
-                    format!("pyvcp.{pin}-f"),
-                    format!("pyvcp.{pin}-i"),
+                    format!("{prefix}.{pin}"),
+                    format!("{prefix}.{pin}-f"),
+                    format!("{prefix}.{pin}-i"),
                 ] {
                     self.panel.insert(name, (value, origin.clone()));
                 }

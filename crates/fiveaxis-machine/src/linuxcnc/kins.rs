@@ -46,6 +46,11 @@ pub(crate) enum KinsType {
     /// `userk`, the user-provided type 2 (`switchkins.adoc`, "User
     /// kinematics provisions"); the template as shipped is identity.
     User,
+    /// The trsrn modules' TOOL kinematics (type 2): X Y Z in the tool
+    /// coordinate system the tilted-working-plane remaps set up (G53.1 /
+    /// G53.3 / G53.6 after G68.2). The kernel's tilted working plane gives
+    /// that frame; the M code itself is the TCP kinematics, tcpc_on.
+    Tool,
 }
 
 /// The machine a kinematics module describes.
@@ -61,6 +66,9 @@ pub(crate) struct Kinematics {
     /// Kinematics types by `motion.switchkins-type` value; empty for a
     /// module without switching.
     pub types: Vec<KinsType>,
+    /// The linear axis that moves the tool along its own axis (5axiskins'
+    /// W), if any.
+    pub quill: Option<char>,
     /// Notes on the geometry's sources.
     pub notes: Vec<String>,
 }
@@ -70,6 +78,16 @@ pub(crate) struct Kinematics {
 const TRT_AC: &str = "xyzac-trt-kins";
 const TRT_BC: &str = "xyzbc-trt-kins";
 const TDR_AB: &str = "xyzab_tdr_kins";
+const FIVE_AXIS: &str = "5axiskins";
+const TRSRN_ACB: &str = "xyzacb_trsrn";
+const TRSRN_BCA: &str = "xyzbca_trsrn";
+
+/// The bridge mill's pivot length (pivot to gauge point, mm) written when
+/// the configuration computes `5axiskins.pivot-length` from its GUI model
+/// (`5axisgui.py pivot_len` plus G43's length), which the files do not
+/// give: the pivot at the gauge point. The user sets the real value as
+/// the head axes' `center`.
+pub(crate) const DEFAULT_PIVOT: f64 = 0.0;
 
 impl Kinematics {
     /// The machine of `[KINS] KINEMATICS`.
@@ -129,6 +147,7 @@ impl Kinematics {
             linear: Vec::new(),
             rotary: Vec::new(),
             types: Vec::new(),
+            quill: None,
             notes: Vec::new(),
         };
         match module.as_str() {
@@ -229,19 +248,100 @@ impl Kinematics {
                      configuration's README; the documentation gives no formulas for this module)"
                 ));
             }
-            "5axiskins" => {
-                return Err(unsupported(
-                    "the bridge mill's W coordinate moves the tool along its own (tilted) axis, \
-                     while a machine model's W moves parallel to Z; and its pivot length comes \
-                     from the GUI model (5axisgui pivot_len) plus the tool length, so the HAL \
-                     files do not give it. The B/C head itself is a head-head machine: write a \
-                     machine file with type = \"head\", C then B, center = [0, 0, pivot length]",
+            FIVE_AXIS => {
+                require(&axes, &['X', 'Y', 'Z', 'B', 'C'], &unsupported)?;
+                k.linear = linear_letters(&axes, &unsupported)?;
+                if axes.contains(&'W') {
+                    k.quill = Some('W');
+                }
+                let pivot = pivot_length(hal, &mut k.notes, &unsupported)? * units.mm;
+                // kins(9): "XYZBCW -- the W coordinate values (typically
+                // used for tool motion) are incorporated into XYZ
+                // positioning"; the README: `g0w10 ; retract w`, `g0b45 ;
+                // tilt 45 deg wrt z`, `g0c30 ; rotate 30 deg in xy`,
+                // `g0w-10 ; simulate drill`. So: C turns the head about
+                // the vertical line through the pivot, B (carried by C)
+                // tilts the tool away from Z, W moves the tool along its
+                // own axis, + away from the work. The senses come from the
+                // configuration's own program (5axisgui.ngc): at B = -90
+                // it puts the tip at (r cos C, r sin C) and drills with W-
+                // towards the C axis, which needs the tool (tip -> spindle)
+                // along (cos C, sin C, 0) there: C right-handed about +Z,
+                // B right-handed about -Y.
+                let center = Vec3::new(0.0, 0.0, pivot);
+                k.rotary = vec![
+                    head_axis('C', Vec3::z(), center),
+                    head_axis('B', -Vec3::y(), center),
+                ];
+                // switchkins.adoc: 5axiskins type0, identity type1; type2
+                // userk.
+                k.types = vec![KinsType::Tcp, KinsType::Identity, KinsType::User];
+                k.notes.push(format!(
+                    "{FIVE_AXIS}: head C on the carriage about +Z, B on it about -Y, both through \
+                     the pivot {pivot} mm above the gauge point; W along the tool (kins(9) 5axiskins, \
+                     the configuration's README and 5axisgui.ngc; docs/functions.md gives the reading)"
                 ));
             }
-            "xyzacb_trsrn" | "xyzbca_trsrn" => {
-                return Err(unsupported(
-                    "three rotary axes (a rotary table and a nutating spindle head with two axes, \
-                     A B C); the machine model holds at most two rotary axes",
+            TRSRN_ACB | TRSRN_BCA => {
+                // Sigma1912's kinematics notebooks for this machine family
+                // (5axis-twp/spindle-nutating-rotary_table-rotary/*-docs):
+                // Q = T(-r)·T(c)·R_w·T(P)·T(r)·R_p·T(d)·R_s·T(l)·T(t)·0.
+                // The XYZBCA-SNRTR notebook is the machine LinuxCNC calls
+                // xyzacb_trsrn (table A about X, primary C, secondary B
+                // nutating in the YZ plane; y/z pivot, y/z rotation axis),
+                // the XYZACB-SNRTR notebook the one it calls xyzbca_trsrn
+                // (table B about Y, primary C, secondary A nutating in the
+                // XZ plane; x/z pivot, x/z rotation axis).
+                let acb = module == TRSRN_ACB;
+                let (table, secondary) = if acb { ('A', 'B') } else { ('B', 'A') };
+                require(&axes, &['X', 'Y', 'Z', 'A', 'B', 'C'], &unsupported)?;
+                k.linear = linear_letters(&axes, &unsupported)?;
+                let prefix = format!("{module}_kins");
+                let geometry = Pins::new(hal, &prefix, units.mm, ini_path);
+                let across = if acb { 'y' } else { 'x' };
+                let nu = Pins::new(hal, &prefix, 1.0, ini_path).value("nut-angle", &mut k.notes)?;
+                if !(0.0..=90.0).contains(&nu) {
+                    return Err(unsupported(&format!(
+                        "nut-angle {nu}: the notebooks' nutation is 0 to 90 degrees from the vertical"
+                    )));
+                }
+                let pivot_across = geometry.value(&format!("{across}-pivot"), &mut k.notes)?;
+                let pivot_z = geometry.value("z-pivot", &mut k.notes)?;
+                let dx = geometry.value("x-offset", &mut k.notes)?;
+                let dy = geometry.value("y-offset", &mut k.notes)?;
+                let rot_across = geometry.value(&format!("{across}-rot-axis"), &mut k.notes)?;
+                let rot_z = geometry.value("z-rot-axis", &mut k.notes)?;
+                tool_offset(hal, &prefix, "tool-offset-z", &mut k.notes, &unsupported)?;
+                let (s, c) = nu.to_radians().sin_cos();
+                // Unit vectors: the one the table turns about, the one the
+                // pivot and the nutation lean along.
+                let lean = if acb { Vec3::y() } else { Vec3::x() };
+                // R_w is R_x(θ) (R_y(θ)) applied to the joint point: the
+                // table turns the part by -θ about +X (+Y).
+                let table_dir = if acb { -Vec3::x() } else { -Vec3::y() };
+                let table_center = lean * rot_across + Vec3::z() * rot_z;
+                // The secondary turns about v = (0, sin ν, cos ν) (or
+                // (sin ν, 0, cos ν)) through the point the pivot lengths
+                // lead to from the spindle nose; the primary about +Z
+                // through that point plus the offsets.
+                let pivot = lean * pivot_across + Vec3::z() * pivot_z;
+                k.rotary = vec![
+                    table_axis(table, table_dir, table_center),
+                    head_axis('C', Vec3::z(), pivot + Vec3::new(dx, dy, 0.0)),
+                    head_axis(secondary, lean * s + Vec3::z() * c, pivot),
+                ];
+                // The configuration's [HALUI] note and remap_subs: M428
+                // (type 0) identity, M429 (type 1) TCP, M430 (type 2) TOOL.
+                k.types = vec![KinsType::Identity, KinsType::Tcp, KinsType::Tool];
+                k.notes.push(format!(
+                    "{module}: table {table} about {} through the rotation axis \
+                     point, head C (primary) about +Z through the pivot point + (x-offset, \
+                     y-offset, 0), {secondary} (secondary, nutation {nu} degrees) about \
+                     {} through the pivot point (pivot point relative to the gauge point); \
+                     Sigma1912's XYZ{}-SNRTR kinematics notebook",
+                    show(&table_dir),
+                    show(&(lean * s + Vec3::z() * c)),
+                    if acb { "BCA" } else { "ACB" }
                 ));
             }
             "maxkins" => {
@@ -275,12 +375,68 @@ impl Kinematics {
             other => {
                 return Err(unsupported(&format!(
                     "`{other}` is not a kinematics module the importer knows (trivkins, \
-                     xyzac-trt-kins, xyzbc-trt-kins, xyzab_tdr_kins, corexykins, rotatekins, \
-                     matrixkins)"
+                     xyzac-trt-kins, xyzbc-trt-kins, xyzab_tdr_kins, 5axiskins, xyzacb_trsrn, \
+                     xyzbca_trsrn, corexykins, rotatekins, matrixkins)"
                 )));
             }
         }
         Ok(k)
+    }
+}
+
+/// A vector as `[x, y, z]` for the notes.
+fn show(v: &Vec3) -> String {
+    format!("[{}, {}, {}]", v.x + 0.0, v.y + 0.0, v.z + 0.0)
+}
+
+fn head_axis(name: char, axis: Vec3, center: Vec3) -> RotaryAxis {
+    RotaryAxis {
+        on: Side::Head,
+        ..table_axis(name, axis, center)
+    }
+}
+
+/// `5axiskins.pivot-length`: the distance from the B/C pivot to the tool
+/// tip along the tool. The sim configuration nets it to a `sum2` of the
+/// GUI's `pivot_len` and `motion.tooloffset.z`: the pivot-to-gauge-point
+/// part is then not in the files ([`DEFAULT_PIVOT`], noted), the tool
+/// part is fiveaxis's active H. A `setp` value is the pivot length itself.
+fn pivot_length(
+    hal: &Hal,
+    notes: &mut Vec<String>,
+    unsupported: &dyn Fn(&str) -> ImportError,
+) -> Result<f64, ImportError> {
+    let pin = format!("{FIVE_AXIS}.pivot-length");
+    match hal.drive(&pin) {
+        Drive::Set(v, origin)
+        | Drive::Signal {
+            value: Some((v, origin)),
+            ..
+        } => {
+            if !(v.is_finite() && v.abs() <= MAX_FILE_MAGNITUDE) {
+                return Err(unsupported(&format!("{pin} = {v} is not a length")));
+            }
+            notes.push(format!(
+                "{pin} = {v}: {origin}; a fixed pivot length: LinuxCNC's 5axiskins then \
+                 leaves G43's length out, fiveaxis's TCPC adds the active H (use H0 to match)"
+            ));
+            Ok(v)
+        }
+        Drive::Signal { name, .. } => {
+            notes.push(format!(
+                "{pin} is computed at run time (signal {name}: the GUI's pivot_len plus \
+                 motion.tooloffset.z): the tool part is fiveaxis's active H; the GUI part is \
+                 not in the configuration files and is written as {DEFAULT_PIVOT} mm (pivot \
+                 at the gauge point). Set the head axes' center to [0, 0, your pivot length]"
+            ));
+            Ok(DEFAULT_PIVOT)
+        }
+        Drive::Unconnected => {
+            notes.push(format!(
+                "{pin}: not set in the HAL files (module default 0): pivot at the gauge point"
+            ));
+            Ok(0.0)
+        }
     }
 }
 
@@ -315,7 +471,7 @@ fn require(
     }
     if !extra.is_empty() {
         return Err(unsupported(&format!(
-            "rotary axes {extra} besides the module's own: the machine model holds two rotary axes"
+            "rotary axes {extra} besides the module's own, with no geometry in the configuration"
         )));
     }
     Ok(())

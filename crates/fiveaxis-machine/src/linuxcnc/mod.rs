@@ -81,6 +81,9 @@ pub struct Imported {
     /// Where each value came from, and what was not read or differs from
     /// LinuxCNC, one line each.
     pub notes: Vec<String>,
+    /// Lines written as comments under `[parameters]`: settings of the
+    /// configuration that the machine file has no key for (yet).
+    pub parameter_comments: Vec<String>,
 }
 
 impl Imported {
@@ -96,7 +99,22 @@ impl Imported {
             }
         }
         out.push_str("#\n");
-        out.push_str(&self.machine.to_toml());
+        let file = self.machine.to_toml();
+        match file.find("\n[parameters]") {
+            Some(at) if !self.parameter_comments.is_empty() => {
+                let end = file[at + 1..]
+                    .find('\n')
+                    .map_or(file.len(), |e| at + 1 + e + 1);
+                out.push_str(&file[..end]);
+                for line in &self.parameter_comments {
+                    out.push_str("# ");
+                    out.push_str(line);
+                    out.push('\n');
+                }
+                out.push_str(&file[end..]);
+            }
+            _ => out.push_str(&file),
+        }
         out
     }
 }
@@ -127,7 +145,15 @@ pub fn import_linuxcnc(ini_path: &Path, read: &mut Reader<'_>) -> Result<Importe
 
     let mut linear = Vec::new();
     for &letter in &kins.linear {
-        linear.push(linear_axis(&ini, letter, units, &mut notes)?);
+        let mut axis = linear_axis(&ini, letter, units, &mut notes)?;
+        if kins.quill == Some(letter) {
+            axis.along = crate::Along::Tool;
+            notes.push(format!(
+                "{letter}: along = \"tool\": {} moves the tool along its own axis",
+                kins.module
+            ));
+        }
+        linear.push(axis);
     }
     let mut rotary = kins.rotary.clone();
     for axis in &mut rotary {
@@ -151,6 +177,8 @@ pub fn import_linuxcnc(ini_path: &Path, read: &mut Reader<'_>) -> Result<Importe
     let (m_codes, tcpc_at_start) = remap::m_codes(&ini, &folder, &hal, &kins, read, &mut notes)?;
     params.tcpc_at_start = tcpc_at_start;
     params.hal_pins = hal.pin_values();
+    // The TWP remaps run on a machine with a pair of rotary axes.
+    params.twp_remap = rotary.len() >= 2 && twp_remapped(&ini, &mut notes);
     params.ini_values = ini.numbers();
     notes.extend(hal.notes.iter().cloned());
     notes.extend(kins.notes.iter().cloned());
@@ -197,7 +225,56 @@ pub fn import_linuxcnc(ini_path: &Path, read: &mut Reader<'_>) -> Result<Importe
             ),
         )
     })?;
-    Ok(Imported { machine, notes })
+    let parameter_comments = twp_axes(&ini);
+    Ok(Imported {
+        machine,
+        notes,
+        parameter_comments,
+    })
+}
+
+/// Whether the configuration remaps the tilted-working-plane codes
+/// (`REMAP = G68.2 …`, G68.3, G68.4, G53.1, G53.3, G53.6, G69): the
+/// `twp_remap` parameter.
+fn twp_remapped(ini: &Ini, notes: &mut Vec<String>) -> bool {
+    const CODES: [&str; 7] = ["G68.2", "G68.3", "G68.4", "G53.1", "G53.3", "G53.6", "G69"];
+    let remapped: Vec<(String, u32)> = ini
+        .all("RS274NGC", "REMAP")
+        .filter_map(|e| {
+            let code = e.value.split_whitespace().next()?.to_ascii_uppercase();
+            CODES.contains(&code.as_str()).then_some((code, e.line))
+        })
+        .collect();
+    if remapped.is_empty() {
+        return false;
+    }
+    let list: Vec<String> = remapped
+        .iter()
+        .map(|(c, l)| format!("{c} (line {l})"))
+        .collect();
+    notes.push(format!(
+        "twp_remap = true: [RS274NGC]REMAP of {} (LinuxCNC's TWP remaps)",
+        list.join(", ")
+    ));
+    true
+}
+
+/// `[TWP] PRIMARY / SECONDARY` as comment lines under `[parameters]`:
+/// the kernel takes the head axes' roles from their order.
+fn twp_axes(ini: &Ini) -> Vec<String> {
+    let mut lines = Vec::new();
+    for key in ["PRIMARY", "SECONDARY"] {
+        if let Some(e) = ini.get("TWP", key) {
+            lines.push(format!(
+                "[TWP]{key} = {} (line {}): the {} spindle axis; the kernel takes the axes' \
+                 roles from their order (bed outwards), so this is for information",
+                e.value,
+                e.line,
+                key.to_ascii_lowercase()
+            ));
+        }
+    }
+    lines
 }
 
 fn file_stem(path: &Path) -> String {
@@ -283,6 +360,7 @@ fn linear_axis(
         min: lo,
         max: hi,
         dynamics,
+        along: crate::Along::Parallel,
     })
 }
 

@@ -33,7 +33,9 @@ pub(crate) fn m_codes(
     notes: &mut Vec<String>,
 ) -> Result<(Vec<(u16, MFunction)>, bool), ImportError> {
     let switch = switch_output(hal);
-    let tcp_at_start = switch.is_none() && kins.types.first() == Some(&KinsType::Tcp);
+    // switchkins.adoc: "Switchable kinematics initialize with
+    // motion.switchkins-type==0", connected or not.
+    let tcp_at_start = kins.types.first() == Some(&KinsType::Tcp);
     if !kins.types.is_empty() {
         match (switch, kins.types.first()) {
             (None, Some(KinsType::Tcp)) => notes.push(format!(
@@ -45,8 +47,13 @@ pub(crate) fn m_codes(
                 "{}: motion.switchkins-type is not connected: the kinematics stay identity",
                 kins.module
             )),
-            (Some(n), _) => notes.push(format!(
-                "kinematics switch: motion.switchkins-type is driven by motion.analog-out-{n:02} (M68 E{n})"
+            (Some(n), first) => notes.push(format!(
+                "kinematics switch: motion.switchkins-type is driven by motion.analog-out-{n:02} (M68 E{n}){}",
+                if first == Some(&KinsType::Tcp) {
+                    "; type 0, the power-on type, is the TCP kinematics: tcpc_at_start = true"
+                } else {
+                    ""
+                }
             )),
         }
     }
@@ -113,6 +120,11 @@ pub(crate) fn m_codes(
         let (function, what) = match kind {
             KinsType::Tcp => (MFunction::TcpcOn, "the TCP kinematics: tcpc_on"),
             KinsType::Identity => (MFunction::TcpcOff, "identity kinematics: tcpc_off"),
+            KinsType::Tool => (
+                MFunction::TcpcOn,
+                "the TOOL kinematics (X Y Z in the tool frame the TWP remaps set; fiveaxis's \
+                 tilted working plane gives that frame): tcpc_on",
+            ),
             KinsType::User => (
                 MFunction::TcpcOff,
                 "userk (type 2), the user's kinematics, identity as LinuxCNC ships it: tcpc_off",

@@ -109,6 +109,7 @@ fn linear_axes() -> impl Strategy<Value = Vec<LinearAxis>> {
                     min,
                     max,
                     dynamics,
+                    along: fiveaxis_machine::Along::Parallel,
                 })
                 .collect()
         })

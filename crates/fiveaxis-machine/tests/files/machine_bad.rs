@@ -401,18 +401,55 @@ fn rotary_names() {
 }
 
 #[test]
-fn at_most_two_rotary_axes() {
+fn at_most_three_rotary_axes() {
     let a = "[[rotary]]\nname = \"A\"\non = \"table\"\naxis = [1, 0, 0]\ncenter = [0, 0, 0]\n";
-    let b =
-        "[[rotary]] # third\nname = \"B\"\non = \"table\"\naxis = [0, 1, 0]\ncenter = [0, 0, 0]\n";
-    let text = file("type = \"table\"\n", &format!("{a}{TABLE_C}{b}"));
+    let b = "[[rotary]]\nname = \"B\"\non = \"table\"\naxis = [0, 1, 0.5]\ncenter = [0, 0, 0]\n";
+    let fourth =
+        "[[rotary]] # fourth\nname = \"A\"\non = \"table\"\naxis = [0, 1, 0]\ncenter = [0, 0, 0]\n";
+    // Three are a machine (a table axis and a nutating pair).
+    let three = file("type = \"table\"\n", &format!("{a}{TABLE_C}{b}"));
+    assert!(
+        fiveaxis_machine::Machine::from_toml(&three).is_ok(),
+        "{three}"
+    );
+    let text = file("type = \"table\"\n", &format!("{a}{TABLE_C}{b}{fourth}"));
     assert_error(
         &fail(&text),
         &text,
-        "[[rotary]] # third",
+        "[[rotary]] # fourth",
         Some("rotary"),
-        "at most 2 rotary axes",
+        "at most 3 rotary axes",
     );
+}
+
+#[test]
+fn only_one_u_v_or_w_moves_along_the_tool() {
+    let x_along = "[[linear]]\nname = \"X\"\nmin = -1\nmax = 1\nalong = \"tool\"\n";
+    let text = format!(
+        "name = \"m\"\ntype = \"none\"\n{x_along}[[linear]]\nname = \"Y\"\nmin = -1\nmax = 1\n[[linear]]\nname = \"Z\"\nmin = -1\nmax = 1\n"
+    );
+    assert_error(
+        &fail(&text),
+        &text,
+        "along = ^\"tool\"",
+        Some("along"),
+        "only U, V or W",
+    );
+    let xyz = "[[linear]]\nname = \"X\"\nmin = -1\nmax = 1\n[[linear]]\nname = \"Y\"\nmin = -1\nmax = 1\n[[linear]]\nname = \"Z\"\nmin = -1\nmax = 1\n";
+    let w = "[[linear]]\nname = \"W\"\nmin = -1\nmax = 1\nalong = \"tool\"\n";
+    let v = "[[linear]]\nname = \"V\"\nmin = -1\nmax = 1\nalong = \"tool\"\n";
+    let text = format!("name = \"m\"\ntype = \"none\"\n{xyz}{w}{v}");
+    assert_error(
+        &fail(&text),
+        &text,
+        "name = \"V\"\nmin = -1\nmax = 1\nalong = ^\"tool\"",
+        Some("along"),
+        "one quill at most",
+    );
+    let text = format!("name = \"m\"\ntype = \"none\"\n{xyz}{w}");
+    let m = fiveaxis_machine::Machine::from_toml(&text).expect("a quill W");
+    assert_eq!(m.quill_index(), Some(3));
+    assert_eq!(fiveaxis_machine::Machine::from_toml(&m.to_toml()), Ok(m));
 }
 
 #[test]

@@ -881,11 +881,11 @@ impl Controller<'_> {
         // The tip stays: a TCPC law with a standing tip.
         let tip = self
             .machine
-            .forward(&current, self.feature_tool_length())
+            .programmed_pose(&current, self.feature_tool_length())
             .tip;
         let gauge = self
             .machine
-            .gauge_for_tip(&end, &tip, self.feature_tool_length());
+            .gauge_for_programmed_tip(&end, &tip, self.feature_tool_length());
         end[..3].copy_from_slice(gauge.as_slice());
         let path = crate::segment::Path::Tcpc(crate::segment::TcpcPath {
             tip: TipPath::Line([tip, tip]),
@@ -905,12 +905,15 @@ impl Controller<'_> {
     pub(in crate::controller) fn feature_gauge(&self, joints: &Joints, p: &Vec3) -> Vec3 {
         let tip = self.to_real(p);
         self.machine
-            .gauge_for_tip(joints, &tip, self.feature_tool_length())
+            .gauge_for_programmed_tip(joints, &tip, self.feature_tool_length())
     }
 
     /// The programmed point (feature frame) of the tip at `joints`.
     pub(in crate::controller) fn feature_programmed(&self, joints: &Joints) -> Vec3 {
-        let tip = self.machine.forward(joints, self.feature_tool_length()).tip;
+        let tip = self
+            .machine
+            .programmed_pose(joints, self.feature_tool_length())
+            .tip;
         self.programmed_of_real(&tip)
     }
 

@@ -63,6 +63,19 @@ impl Controller<'_> {
             ));
         }
         let n = p.value as u32;
+        if n != 0 && self.machine.rotary.len() > 2 {
+            // The correction turns the tool back onto its attitude on the
+            // real workpiece, an inverse that needs two rotary axes.
+            return Err(self.alarm(
+                Condition::TcpcWithoutRotaryAxis,
+                Some(p.span),
+                format!(
+                    "G54.4 P{n}: workpiece setup error correction needs a machine with at most two \
+                     rotary axes (this one has {})",
+                    self.machine.rotary.len()
+                ),
+            ));
+        }
         let error = self.setup_error_of(n, p.span)?;
         let before = self.state.setup;
         // Type 1 keeps its programmed angles apart from the machine's while
