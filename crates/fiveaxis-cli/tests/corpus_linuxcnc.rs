@@ -194,8 +194,7 @@ const BCA: &str =
 
 /// Corpus program → the configuration of its folder in the LinuxCNC
 /// repository, and how the run ends today.
-/// `lcnc_suite_twp_simple_example.ngc` comes from another repository
-/// without its configuration. The nutating-head demos (xyzacb/xyzbca
+/// The nutating-head demos (xyzacb/xyzbca
 /// trsrn, one demos folder for both) program LinuxCNC's tilted-working-
 /// plane remaps.
 const PROGRAMS: &[(&str, &str, Ending)] = &[
@@ -227,9 +226,12 @@ const PROGRAMS: &[(&str, &str, Ending)] = &[
     ("lcnc_trsrn_simple_example.ngc", BCA, Ending::End),
     ("lcnc_trsrn_incremental_repetition.ngc", ACB, Ending::End),
     ("lcnc_trsrn_incremental_repetition.ngc", BCA, Ending::End),
-    // Its `repeat` of G68.4 turns carries the tool 10.7 mm beyond Z's
-    // +5000 limit on the imported machine (rotation axis at the panel's
-    // start values).
+    // Each repetition's pair `G68.4 X50 … / G68.4 X-50 …` turns the plane
+    // 45° and back but leaves its origin (17.7, 0, 33.9) mm further: the
+    // X of an incremental G68.4 is along the plane in force (FANUC's
+    // G68.4; the remap's README: "incremental definition from an active
+    // TWP plane"). After about 180 of its 1000 repetitions Z passes the
+    // configuration's +5000 limit: a real over-travel of the program.
     (
         "lcnc_trsrn_incremental_repetition_back_and_forth.ngc",
         ACB,
@@ -242,6 +244,10 @@ const PROGRAMS: &[(&str, &str, Ending)] = &[
     ),
     ("lcnc_trsrn_circular_pocket.ngc", ACB, Ending::End),
     ("lcnc_trsrn_square.ngc", BCA, Ending::End),
+    // lcnc-suite's copy of the nutating demo's simple_example with its own
+    // offsets; its configuration (xyzabc6) is not in the corpus, so it
+    // runs on the nutating sim configuration it was written from.
+    ("lcnc_suite_twp_simple_example.ngc", BCA, Ending::End),
 ];
 
 /// Files that hold one subroutine `o<NAME> sub … endsub` for NGCGUI: they
