@@ -227,6 +227,9 @@ pub enum Condition {
     OWordFlow,
     /// The file ends without M2, M30 or a closing `%` (LinuxCNC).
     ProgramEndMissing,
+    /// A subprogram ends (M30, M02, the end of its file) without M99
+    /// (Haas).
+    SubprogramEndMissing,
     /// A canned cycle that drills without its hole bottom or R point.
     CycleDataMissing,
     /// G73 / G83 without Q, or with Q0.
@@ -345,6 +348,7 @@ impl Condition {
         Condition::MacroAlarm,
         Condition::OWordFlow,
         Condition::ProgramEndMissing,
+        Condition::SubprogramEndMissing,
         Condition::CycleDataMissing,
         Condition::CycleDepthMissing,
         Condition::CycleReferenceReturn,
@@ -505,6 +509,9 @@ impl Condition {
             Condition::ProgramEndMissing => {
                 "The file ends without M2, M30 or a closing % (LinuxCNC)"
             }
+            Condition::SubprogramEndMissing => {
+                "A subprogram ends without M99: M30, M02 or the end of its file (Haas)"
+            }
             Condition::OWordFlow => {
                 "An o-word out of place (LinuxCNC): endif without if, sub without endsub, a call of a subroutine that is nowhere"
             }
@@ -645,6 +652,9 @@ impl Condition {
                 // Settings 188-190 (G51 per-axis scales): "If G02 or G03 is
                 // used, alarm 467 is generated".
                 C::FrameArcScaling => return AlarmCode::new("", 467, 1),
+                // "If your subprogram does not end with M99, the control
+                // gives Alarm 312 - Program End".
+                C::SubprogramEndMissing => return AlarmCode::new("", 312, 1),
                 _ => {}
             }
         }
@@ -744,6 +754,7 @@ impl Condition {
             C::MacroAlarm => 124,
             C::OWordFlow => 125,
             C::ProgramEndMissing => 126,
+            C::SubprogramEndMissing => 127,
             C::CycleDataMissing => 130,
             C::CycleDepthMissing => 131,
             C::CycleReferenceReturn => 132,

@@ -349,8 +349,9 @@ pub struct Runner<'m, S> {
     macros: MacroState,
     /// The program is RS274/NGC (LinuxCNC).
     rs274ngc: bool,
-    /// Haas: `ONONAME` starts a program without a number.
-    haas_names: bool,
+    /// Haas: `ONONAME` starts a program without a number, and a
+    /// subprogram must end with M99 (alarm 312).
+    haas: bool,
     /// RS274/NGC flow: subroutines, calls, open o-word blocks.
     ngc: oword::NgcState,
     /// The leader before the first `%` has been looked for.
@@ -405,7 +406,7 @@ impl<'m, S: Source> Runner<'m, S> {
                 MacroState::new(Dialect::of(machine.control).max_macro_nesting)
             },
             rs274ngc: Dialect::of(machine.control).rs274ngc,
-            haas_names: Dialect::of(machine.control).haas_codes,
+            haas: Dialect::of(machine.control).haas_codes,
             ngc: oword::NgcState::default(),
             started: false,
             notes: Vec::new(),
@@ -635,7 +636,7 @@ impl<'m, S: Source> Runner<'m, S> {
                 MacroFlow::Block => return self.execute_block(here, false, out),
             }
         }
-        if is_program_name(&self.text) || (self.haas_names && is_haas_unnamed(&self.text)) {
+        if is_program_name(&self.text) || (self.haas && is_haas_unnamed(&self.text)) {
             // `<NAME>` or `O<NAME>`: a program start by name (30i);
             // Haas's `ONONAME`, a program without a number.
             return if self.at_program_start {
@@ -741,6 +742,9 @@ impl<'m, S: Source> Runner<'m, S> {
         }
         match flow {
             Flow::Next => self.modal_call_after_move(here.line),
+            Flow::End if self.haas && !self.stack.is_empty() => {
+                Err(self.subprogram_end_missing(here.line))
+            }
             Flow::End => {
                 self.done = true;
                 Ok(())
@@ -775,7 +779,7 @@ impl<'m, S: Source> Runner<'m, S> {
                 tape = Some(mark);
                 break;
             }
-            if is_program_name(text) || (self.haas_names && is_haas_unnamed(text)) {
+            if is_program_name(text) || (self.haas && is_haas_unnamed(text)) {
                 break;
             }
             match parse_line_as(self.syntax, text, mark.line, &mut self.scan_block) {
@@ -837,12 +841,27 @@ impl<'m, S: Source> Runner<'m, S> {
     /// The end of the text of the running program: a subprogram returns,
     /// the main program ends.
     fn end_of_program(&mut self) -> Result<(), RunError> {
+        if self.haas && !self.stack.is_empty() {
+            return Err(self.subprogram_end_missing(self.next_line.saturating_sub(1).max(1)));
+        }
         if self.stack.is_empty() {
             self.done = true;
             Ok(())
         } else {
             self.return_from(None, self.next_line.saturating_sub(1))
         }
+    }
+
+    /// Haas: a subprogram that ends (M30, M02, its file's end) without
+    /// M99 is alarm 312 (NGC mill operator's manual, Program Stop
+    /// Commands: "If your subprogram does not end with M99, the control
+    /// gives Alarm 312 - Program End").
+    fn subprogram_end_missing(&self, line: u32) -> RunError {
+        self.runner_alarm(
+            Condition::SubprogramEndMissing,
+            line,
+            "the subprogram ends without M99 (Haas: program end in a subprogram)".into(),
+        )
     }
 
     fn call(&mut self, program: u32, repeats: u32, line: u32) -> Result<(), RunError> {

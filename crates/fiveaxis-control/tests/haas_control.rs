@@ -412,6 +412,23 @@ fn haas_stops_with_the_numbers_its_manual_gives() {
         assert_eq!(a.code.to_string(), "314", "{call}");
         assert_eq!(a.line, 4, "{call}");
     }
+    // A subprogram ending without M99: "Alarm 312 - Program End", at its
+    // M30, or where its file ends.
+    let a = alarm(
+        &umc,
+        "%\nO00001\nG20 G90 G00 X-1. Y-1.\nM97 P100\nM30\nN100 G00 X-2.\nM30\n%\n",
+    );
+    assert_eq!(a.condition, Condition::SubprogramEndMissing);
+    assert_eq!((a.code.to_string().as_str(), a.line), ("312", 7));
+    let a = alarm(
+        &umc,
+        "%\nO00001\nG20 M98 P2\nM30\n%\nO00002\nG00 X-1. Y-1.\n",
+    );
+    assert_eq!((a.code.to_string().as_str(), a.line), ("312", 7));
+    // FANUC returns from it.
+    let fanuc = mill(Control::Fanuc30i);
+    let r = run(&fanuc, "O0001\nM98 P2\nG0 X2.\nM30\nO0002\nG00 X1.\n");
+    assert_eq!(r.len(), 2);
     // #3000 = 15: programmable alarm 1015.
     let a = alarm(&umc, "%\nO00001\n#3000=15 (CLAMP OPEN)\nM30\n%\n");
     assert_eq!(a.condition, Condition::MacroAlarm);
