@@ -111,11 +111,6 @@ impl Feature {
         }
     }
 
-    /// The origin, in workpiece coordinates.
-    pub(in crate::controller) fn origin(&self) -> Vec3 {
-        self.origin
-    }
-
     /// The rotation: the frame's axes as columns, in workpiece axes.
     pub(in crate::controller) fn rotation(&self) -> Rotation3<f64> {
         self.rotation
@@ -127,6 +122,15 @@ impl Feature {
 
     pub(super) fn feature_point(&self, x: &Vec3) -> Vec3 {
         self.rotation.inverse() * (x - self.origin)
+    }
+
+    /// G68.4: the plane `inner`, defined in this frame, in workpiece
+    /// coordinates.
+    pub(super) fn within(&self, inner: &Feature) -> Feature {
+        Feature::plane(
+            self.work_point(&inner.origin),
+            self.rotation * inner.rotation,
+        )
     }
 }
 
@@ -203,6 +207,12 @@ pub(super) fn tool_axis_frame(z: Vec3) -> Rotation3<f64> {
     Rotation3::from_matrix_unchecked(nalgebra::Matrix3::from_columns(&[x, y, z]))
 }
 
+/// The Q of the last block of a definition given block by block: P2's
+/// three points end at Q3, P3's two vectors at Q2.
+fn definition_last(form: u32) -> u32 {
+    if form == 2 { 3 } else { 2 }
+}
+
 pub(super) fn about(axis: Vec3, degrees: f64) -> Rotation3<f64> {
     Rotation3::from_axis_angle(&Unit::new_unchecked(axis), degrees.to_radians())
 }
@@ -268,26 +278,7 @@ impl Controller<'_> {
             self.state.feature = Some(feature);
             return Ok(());
         }
-        let form = match self.words.take(b'P') {
-            Some(word) => self.words.integer(&word, 9)?,
-            None => 0,
-        };
-        if let Some(pending) = self.state.feature_pending
-            && (pending.code != code || pending.form != form)
-        {
-            return Err(self.alarm(
-                Condition::FeatureDefinition,
-                Some(span),
-                format!(
-                    "G{} P{} is being defined block by block: its next block must be G{} P{} Q{}",
-                    pending.code,
-                    pending.form,
-                    pending.code,
-                    pending.form,
-                    pending.last_q + 1
-                ),
-            ));
-        }
+        let form = self.definition_form(code, span)?;
         let defined = match form {
             0 | 1 | 4 => Some(self.feature_by_angles(form, &name, span)?),
             2 => self.feature_by_points(code, &name, span)?,
@@ -308,12 +299,7 @@ impl Controller<'_> {
         };
         // G68.4: the new frame is given in the frame in force.
         let feature = match self.state.feature {
-            Some(outer) if code.minor == 4 => Feature {
-                origin: outer.work_point(&defined.origin),
-                rotation: outer.rotation * defined.rotation,
-                conversions: 0,
-                dwo: false,
-            },
+            Some(outer) if code.minor == 4 => outer.within(&defined),
             _ => defined,
         };
         self.state.feature = Some(feature);
@@ -460,13 +446,7 @@ impl Controller<'_> {
         name: &str,
         span: Span,
     ) -> Result<Option<Feature>, Alarm> {
-        let q = self.definition_step(name, span, 3)?;
-        let mut pending = self
-            .state
-            .feature_pending
-            .take()
-            .unwrap_or_else(|| Pending::new(code, 2));
-        self.definition_order(&pending, q, name, span)?;
+        let (mut pending, q) = self.definition_block(code, 2, name, span)?;
         let point = self.definition_point();
         let turn = if q == 0 {
             self.words.take(b'R').map_or(0.0, |w| self.angle(&w))
@@ -480,12 +460,9 @@ impl Controller<'_> {
         } else {
             pending.points[q as usize - 1] = point;
         }
-        pending.last_q = q;
-        pending.started = true;
-        if q < 3 {
-            self.state.feature_pending = Some(pending);
+        let Some(pending) = self.definition_hold(pending, q) else {
             return Ok(None);
-        }
+        };
         let [p1, p2, p3] = pending.points;
         let x = p2 - p1;
         let z = x.cross(&(p3 - p1));
@@ -514,13 +491,7 @@ impl Controller<'_> {
         name: &str,
         span: Span,
     ) -> Result<Option<Feature>, Alarm> {
-        let q = self.definition_step(name, span, 2)?;
-        let mut pending = self
-            .state
-            .feature_pending
-            .take()
-            .unwrap_or_else(|| Pending::new(code, 3));
-        self.definition_order(&pending, q, name, span)?;
+        let (mut pending, q) = self.definition_block(code, 3, name, span)?;
         if q == 1 {
             pending.points[0] = self.definition_point();
         }
@@ -539,10 +510,7 @@ impl Controller<'_> {
                 format!("{name} P3 Q{q}: the direction is a zero vector"),
             ));
         }
-        pending.last_q = q;
-        pending.started = true;
-        if q < 2 {
-            self.state.feature_pending = Some(pending);
+        if self.definition_hold(pending, q).is_none() {
             return Ok(None);
         }
         let angle = x.angle(&z).to_degrees();
@@ -561,6 +529,65 @@ impl Controller<'_> {
             conversions: 0,
             dwo: false,
         }))
+    }
+
+    /// The form P of a definition block (0 when left out); while a
+    /// definition given block by block is pending, only its next block may
+    /// come.
+    pub(super) fn definition_form(&mut self, code: Code, span: Span) -> Result<u32, Alarm> {
+        let form = match self.words.take(b'P') {
+            Some(word) => self.words.integer(&word, 9)?,
+            None => 0,
+        };
+        if let Some(pending) = self.state.feature_pending
+            && (pending.code != code || pending.form != form)
+        {
+            return Err(self.alarm(
+                Condition::FeatureDefinition,
+                Some(span),
+                format!(
+                    "G{} P{} is being defined block by block: its next block must be G{} P{} Q{}",
+                    pending.code,
+                    pending.form,
+                    pending.code,
+                    pending.form,
+                    pending.last_q + 1
+                ),
+            ));
+        }
+        Ok(form)
+    }
+
+    /// A block of a definition given block by block (P2: Q0–Q3, P3:
+    /// Q1–Q2): the definition so far (a new one before its first block)
+    /// and the block's Q, checked to come in order.
+    pub(super) fn definition_block(
+        &mut self,
+        code: Code,
+        form: u32,
+        name: &str,
+        span: Span,
+    ) -> Result<(Pending, u32), Alarm> {
+        let q = self.definition_step(name, span, definition_last(form))?;
+        let pending = self
+            .state
+            .feature_pending
+            .take()
+            .unwrap_or_else(|| Pending::new(code, form));
+        self.definition_order(&pending, q, name, span)?;
+        Ok((pending, q))
+    }
+
+    /// After block `q` of a definition given block by block: kept pending
+    /// (`None`) until its last block, then the whole definition.
+    pub(super) fn definition_hold(&mut self, mut pending: Pending, q: u32) -> Option<Pending> {
+        pending.last_q = q;
+        pending.started = true;
+        if q < definition_last(pending.form) {
+            self.state.feature_pending = Some(pending);
+            return None;
+        }
+        Some(pending)
     }
 
     /// The Q of a multi-block definition block: required, 0 to `last`.

@@ -51,9 +51,7 @@
 use fiveaxis_gcode::{Code, Span};
 use fiveaxis_machine::{Side, Vec3, principal};
 
-use super::feature_frame::{
-    DEFINITION_TOLERANCE, Feature, Pending, about, frame_of, tool_axis_frame,
-};
+use super::feature_frame::{DEFINITION_TOLERANCE, Feature, about, frame_of, tool_axis_frame};
 use crate::alarm::{Alarm, Condition};
 use crate::controller::Controller;
 use crate::modal::{MotionMode, Units, WorkSelect};
@@ -139,26 +137,7 @@ impl Controller<'_> {
         let defined = if code.minor == 3 {
             self.twp_from_tool_axis(span)?
         } else {
-            let form = match self.words.take(b'P') {
-                Some(word) => self.words.integer(&word, 9)?,
-                None => 0,
-            };
-            if let Some(pending) = self.state.feature_pending
-                && (pending.code != code || pending.form != form)
-            {
-                return Err(self.alarm(
-                    Condition::FeatureDefinition,
-                    Some(span),
-                    format!(
-                        "G{} P{} is being defined block by block: its next block must be G{} P{} Q{}",
-                        pending.code,
-                        pending.form,
-                        pending.code,
-                        pending.form,
-                        pending.last_q + 1
-                    ),
-                ));
-            }
+            let form = self.definition_form(code, span)?;
             let defined = match form {
                 0 | 1 => Some(self.twp_by_angles(form, &name, span)?),
                 2 => self.twp_by_points(code, &name, span)?,
@@ -180,10 +159,7 @@ impl Controller<'_> {
             defined
         };
         let plane = match self.state.twp {
-            Some(outer) if code.minor == 4 => Feature::plane(
-                outer.work_point(&defined.origin()),
-                outer.rotation() * defined.rotation(),
-            ),
+            Some(outer) if code.minor == 4 => outer.within(&defined),
             _ => defined,
         };
         self.state.twp = Some(plane);
@@ -290,13 +266,7 @@ impl Controller<'_> {
         name: &str,
         span: Span,
     ) -> Result<Option<Feature>, Alarm> {
-        let q = self.definition_step(name, span, 3)?;
-        let mut pending = self
-            .state
-            .feature_pending
-            .take()
-            .unwrap_or_else(|| Pending::new(code, 2));
-        self.definition_order(&pending, q, name, span)?;
+        let (mut pending, q) = self.definition_block(code, 2, name, span)?;
         if q == 0 {
             pending.shift = self.definition_point();
             pending.turn = self.twp_turn();
@@ -307,12 +277,9 @@ impl Controller<'_> {
             self.definition_finite(&[p.x, p.y, p.z], name, span)?;
             pending.points[q as usize - 1] = p;
         }
-        pending.last_q = q;
-        pending.started = true;
-        if q < 3 {
-            self.state.feature_pending = Some(pending);
+        let Some(pending) = self.definition_hold(pending, q) else {
             return Ok(None);
-        }
+        };
         let points = pending.points;
         for (a, b) in [(0, 1), (0, 2), (1, 2)] {
             if (points[a] - points[b]).norm() < DEFINITION_TOLERANCE {
@@ -373,13 +340,7 @@ impl Controller<'_> {
         name: &str,
         span: Span,
     ) -> Result<Option<Feature>, Alarm> {
-        let q = self.definition_step(name, span, 2)?;
-        let mut pending = self
-            .state
-            .feature_pending
-            .take()
-            .unwrap_or_else(|| Pending::new(code, 3));
-        self.definition_order(&pending, q, name, span)?;
+        let (mut pending, q) = self.definition_block(code, 3, name, span)?;
         if q == 1 {
             pending.points[0] = self.definition_point();
             pending.turn = self.twp_turn();
@@ -399,12 +360,9 @@ impl Controller<'_> {
                 format!("{name} P3 Q{q}: the vector is the zero vector"),
             ));
         }
-        pending.last_q = q;
-        pending.started = true;
-        if q < 2 {
-            self.state.feature_pending = Some(pending);
+        let Some(pending) = self.definition_hold(pending, q) else {
             return Ok(None);
-        }
+        };
         let [origin, x, z] = pending.points;
         let angle = x.angle(&z).to_degrees();
         if !(SQUARE_RANGE.0..=SQUARE_RANGE.1).contains(&angle) {
