@@ -176,9 +176,7 @@ fn nutating_and_bridge_mill_configurations_import() {
 enum Ending {
     /// Exit 0: the program ran to its end.
     End,
-    /// Exit 1: this alarm at this line (no program of the list stops
-    /// today; kept for the ones that will).
-    #[allow(dead_code)]
+    /// Exit 1: this alarm at this line.
     Alarm(&'static str, usize),
 }
 

@@ -2,8 +2,8 @@
 //! (`lcnc_trsrn_*.ngc`, `lcnc_suite_twp_simple_example.ngc`) run through
 //! the binary to their M2 on a two-rotary head (C primary, A secondary at
 //! nutation 90°) whose machine file has `twp_remap = true`, written here.
-//! The configurations' own three-rotary machines are imported and their
-//! runs asserted in `corpus_linuxcnc.rs` once the importer holds them.
+//! The configurations' own three-rotary machines, imported, run them in
+//! `corpus_linuxcnc.rs`.
 //! The corpus files are read in place: `o<square> call` finds `square.ngc`
 //! as a symbolic link, made at test time, to `lcnc_trsrn_square.ngc`.
 

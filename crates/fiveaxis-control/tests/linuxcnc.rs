@@ -1032,6 +1032,11 @@ fn spindle_synchronized_motion_feeds_and_errors() {
             "S500 M3\nG18 G0 X1 Z0\nG76 P1 Z-5 I-1 J0.1 K0.5 H-1\n",
             Condition::ValueOutOfRange,
         ),
+        // Beyond the bound on passes: an alarm, not a run without end.
+        (
+            "S500 M3\nG18 G0 X1 Z0\nG76 P1 Z-5 I-1 J0.1 K0.5 H99999999999\n",
+            Condition::ValueOutOfRange,
+        ),
     ] {
         let a = alarm(program);
         assert_eq!(a.condition, condition, "{program}: {a:?}");

@@ -188,13 +188,10 @@ impl Controller<'_> {
                 } else {
                     self.offsets.extended_work[slot - KERNEL_WORK_SYSTEMS as usize]
                 };
-                // G10 L20: where the tool stands (without the length
-                // offset), and the same point in system P before the change.
+                // Where the program stands, and the point as system P is to
+                // read it: the words' values, the current position on the
+                // axes not named.
                 let here = Vec3::new(from[0], from[1], from[2]);
-                let here_real = self.to_real(&here);
-                let turn = rotation_z(self.state.xy_rotation[slot]);
-                // The point as system P is to read it: the words' values,
-                // the current position on the axes not named.
                 let mut named = [false; 3];
                 let mut q = here;
                 for (axis, letter) in [b'X', b'Y', b'Z'].into_iter().enumerate() {
@@ -203,12 +200,18 @@ impl Controller<'_> {
                         q[axis] = self.length(&word);
                     }
                 }
-                // G10 L20: P's origin is the point less P's turned G92
-                // shift and q (coordinates.adoc: G92 applies inside the
-                // rotation); an axis not named keeps its offset.
-                let origin = here_real - self.offsets.external - turn * (q + self.state.shift);
+                // L2: the values are the origin. L20: the origin is where
+                // the tool stands less P's turned G92 shift and q
+                // (coordinates.adoc: G92 applies inside the rotation). An
+                // axis not named keeps its offset.
+                let origin = if l_value == 20 {
+                    let turn = rotation_z(self.state.xy_rotation[slot]);
+                    self.to_real(&here) - self.offsets.external - turn * (q + self.state.shift)
+                } else {
+                    q
+                };
                 for axis in (0..3).filter(|&a| named[a]) {
-                    value[axis] = if l_value == 2 { q[axis] } else { origin[axis] };
+                    value[axis] = origin[axis];
                 }
                 // The axes beyond X, Y, Z (A, B, C…): their offsets are kept
                 // per system beside the offset memory (LinuxCNC's G5x

@@ -41,6 +41,10 @@ use crate::alarm::{Alarm, Condition};
 use crate::modal::Plane;
 use crate::segment::{Motion, Path, Segment};
 
+/// Most passes of one G76 block, below the full depth and again as spring
+/// passes (each makes up to six moves).
+const MAX_PASSES: u32 = (MAX_CYCLE_SEGMENTS / 8) as u32;
+
 impl Controller<'_> {
     /// A block in G33, G33.1 or G76 mode.
     pub(super) fn sync_motion(
@@ -65,7 +69,7 @@ impl Controller<'_> {
                 format!("{name} takes no F: the feed is K per revolution of the spindle"),
             ));
         }
-        let pitch = self.sync_pitch(name)?;
+        let pitch = self.sync_pitch(name, b'K')?;
         let multiplier = if mode == NgcMotion::RigidTap {
             self.words.take(b'I').map_or(1.0, |w| w.value.max(1.0))
         } else {
@@ -82,10 +86,9 @@ impl Controller<'_> {
         Ok(())
     }
 
-    /// The K word of G33 / G33.1 / the P word of G76: distance per
-    /// revolution, mm.
-    fn sync_pitch(&mut self, name: &str) -> Result<f64, Alarm> {
-        let letter = if name == "G76" { b'P' } else { b'K' };
+    /// The distance per revolution, mm: `letter`, K of G33 / G33.1, P of
+    /// G76.
+    fn sync_pitch(&mut self, name: &str, letter: u8) -> Result<f64, Alarm> {
         let Some(word) = self.words.take(letter) else {
             return Err(self.alarm(
                 Condition::CycleDataMissing,
@@ -164,7 +167,7 @@ impl Controller<'_> {
                 )
             })
         };
-        let pitch = self.sync_pitch("G76")?;
+        let pitch = self.sync_pitch("G76", b'P')?;
         let z_word = required(self, b'Z')?;
         let i_word = required(self, b'I')?;
         let j_word = required(self, b'J')?;
@@ -222,6 +225,16 @@ impl Controller<'_> {
                     "G76: H, the spring passes, cannot be negative".into(),
                 ));
             }
+            Some(w) if w.value > MAX_PASSES as f64 => {
+                return Err(self.alarm(
+                    Condition::ValueOutOfRange,
+                    Some(w.span),
+                    format!(
+                        "G76: H{} asks for more than {MAX_PASSES} spring passes",
+                        w.value
+                    ),
+                ));
+            }
             Some(w) => w.value.round() as u32,
             None => 0,
         };
@@ -246,29 +259,21 @@ impl Controller<'_> {
         };
         let rate = self.sync_rate(pitch, "G76")?;
         // Passes: depths J·n^(1/R) below K, then K, then H more at K.
-        let mut depths = Vec::new();
-        let mut n = 1.0f64;
-        loop {
-            let d = first * n.powf(1.0 / degression);
-            if d >= full {
-                break;
-            }
-            depths.push(d);
-            if depths.len() > MAX_CYCLE_SEGMENTS / 8 {
+        let depth = |n: u32| first * f64::from(n).powf(1.0 / degression);
+        let mut below = 0u32;
+        while depth(below + 1) < full {
+            below += 1;
+            if below > MAX_PASSES {
                 return Err(self.alarm(
                     Condition::ValueOutOfRange,
                     Some(j_word.span),
                     format!(
-                        "G76: J{} with K{} and R{degression} makes more than {} passes",
-                        j_word.value,
-                        k_word.value,
-                        MAX_CYCLE_SEGMENTS / 8
+                        "G76: J{} with K{} and R{degression} makes more than {MAX_PASSES} passes",
+                        j_word.value, k_word.value,
                     ),
                 ));
             }
-            n += 1.0;
         }
-        depths.extend(std::iter::repeat_n(full, 1 + spring as usize));
         // Depth grows away from the drive line on the peak's side.
         let into = if peak_offset > 0.0 { 1.0 } else { -1.0 };
         let along = if z_end >= z_start { 1.0 } else { -1.0 };
@@ -286,7 +291,8 @@ impl Controller<'_> {
             p[2] = z;
             c.machine_position(&p)
         };
-        for &d in &depths {
+        for pass in 1..=below + 1 + spring {
+            let d = if pass <= below { depth(pass) } else { full };
             let cut_x = drive + peak_offset + into * d;
             let line_x = drive - into * (full - d);
             let zs = z_start + along * d * tan_q;
