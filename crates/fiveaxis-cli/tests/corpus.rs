@@ -222,11 +222,10 @@ fn judge(source: &[u8], outcome: &Outcome) -> (String, Option<String>) {
 
 #[test]
 fn every_corpus_program_ends_cleanly_or_with_one_rendered_alarm() {
-    let dir = common::corpus_dir();
-    if !dir.is_dir() {
-        println!("corpus: {} not found, skipped", dir.display());
+    let Some(dir) = common::corpus::corpus_path("MANIFEST.tsv").map(|_| common::corpus_dir())
+    else {
         return;
-    }
+    };
     let mut failures = Vec::new();
     for program in programs(&dir) {
         let name = program
@@ -453,11 +452,10 @@ fn check_positions(outcome: &Outcome, positions: &[Position]) -> Vec<String> {
 
 #[test]
 fn fanuc_family_programs_run_to_their_end_or_stop_where_the_control_would() {
-    let dir = common::corpus_dir();
-    if !dir.is_dir() {
-        println!("corpus: {} not found, skipped", dir.display());
+    let Some(dir) = common::corpus::corpus_path("MANIFEST.tsv").map(|_| common::corpus_dir())
+    else {
         return;
-    }
+    };
     let setups = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/corpus-setups");
     let mut failures = Vec::new();
     for case in FANUC_FAMILY {
@@ -582,7 +580,10 @@ fn linuxcnc_programs_read_as_linuxcnc() {
         ("lcnc_xyzac_switchkins_test_3.ngc", Some(("FX0011", 2))),
         ("lcnc_xyzbc_switchkins_sub.ngc", Some(("FX0126", 47))),
     ];
-    let dir = common::corpus_dir();
+    let Some(dir) = common::corpus::corpus_path("MANIFEST.tsv").map(|_| common::corpus_dir())
+    else {
+        return;
+    };
     let setups = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/corpus-setups");
     let mut failures = Vec::new();
     for (name, stop) in cases {

@@ -1210,11 +1210,11 @@ fn corpus_programs_move_as_rs274_moves_them() {
     if !require_rs274() {
         return;
     }
-    let corpus = common::corpus_dir();
-    if !corpus.is_dir() {
-        eprintln!("skipped: no corpus at {}", corpus.display());
+    let Some(corpus) =
+        common::corpus::corpus_path("linuxcnc-configs").map(|_| common::corpus_dir())
+    else {
         return;
-    }
+    };
     let dir = work_dir("lcnc_corpus");
     let ini = corpus_ini(&dir);
     let tools = zero_tool_table(&dir);

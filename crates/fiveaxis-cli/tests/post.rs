@@ -118,7 +118,7 @@ fn apt_input_gives_a_tcpc_program_or_machine_axes_and_bad_records_their_line() {
     let out = common::run_in(dir.path(), &["post", "p.apt", "--tcpc"], b"");
     assert_eq!(out.status.code(), Some(0), "{}", common::stderr(&out));
     let tcpc = common::stdout(&out);
-    assert!(tcpc.contains("G43.5 H1\nG0 X0.000000"), "{tcpc}");
+    assert!(tcpc.contains("G43.5 H1 G0 X0.000000"), "{tcpc}");
     let out = common::run_in(
         dir.path(),
         &[

@@ -39,7 +39,7 @@ fn calls_reach_programs_kept_in_other_files() {
     assert_eq!(
         xyz,
         vec![
-            "3,1,rapid,10,20,0",
+            "3,1,rapid,10,20,500",
             "4,1,linear,10,20,-5",
             "5,1,rapid,10,20,0",
             "2,1,rapid,99,20,0",

@@ -4,8 +4,9 @@
 
 mod common;
 
+use common::builtin;
 use fiveaxis_control::{Alarm, Row, RunOptions, Runner, SliceSource};
-use fiveaxis_machine::{Control, LinearAxis, Machine, Offsets, ToolOffset, Vec3, builtin};
+use fiveaxis_machine::{Control, LinearAxis, Machine, Offsets, ToolOffset, Vec3};
 
 const EPS: f64 = 1e-9;
 

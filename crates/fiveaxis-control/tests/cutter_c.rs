@@ -3,8 +3,9 @@
 
 mod common;
 
+use common::builtin;
 use fiveaxis_control::{Alarm, Row};
-use fiveaxis_machine::{Control, Machine, Offsets, ToolOffset, builtin};
+use fiveaxis_machine::{Control, Machine, Offsets, ToolOffset};
 use proptest::prelude::*;
 use proptest::test_runner::{Config, RngSeed};
 

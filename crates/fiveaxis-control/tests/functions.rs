@@ -3,8 +3,11 @@
 //! which come from forward kinematics, never from the controller's own
 //! arithmetic.
 
+mod common;
+
+use common::builtin;
 use fiveaxis_control::{Alarm, Row, RunError, RunOptions, Runner, SliceSource};
-use fiveaxis_machine::{Control, Machine, Offsets, ToolOffset, Vec3, builtin};
+use fiveaxis_machine::{Control, Machine, Offsets, ToolOffset, Vec3};
 
 const EPS: f64 = 1e-9;
 

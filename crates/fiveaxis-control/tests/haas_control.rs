@@ -4,9 +4,12 @@
 //! against the FANUC behaviour it differs from. Expected positions are
 //! worked out by hand; tips come from the rows (forward kinematics).
 
+mod common;
+
+use common::builtin;
 use fiveaxis_control::{Alarm, Condition, Motion, Row, RunError, RunOptions, Runner, SliceSource};
 use fiveaxis_gcode::{Block, Syntax, SyntaxErrorKind, parse_line, parse_line_as};
-use fiveaxis_machine::{Control, InputUnit, Machine, Offsets, builtin};
+use fiveaxis_machine::{Control, InputUnit, Machine, Offsets};
 
 const EPS: f64 = 1e-9;
 const MM_PER_INCH: f64 = 25.4;

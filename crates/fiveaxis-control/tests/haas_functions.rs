@@ -14,10 +14,13 @@
 //! (d.z, d.y, −d.x); a point turns by C = 90° about the C line from
 //! (x, y) to (−y, x) (right-hand rule, the part carried by the axis).
 
+mod common;
+
+use common::builtin;
 use fiveaxis_control::{
     Alarm, Condition, LengthMode, Row, RunError, RunOptions, Runner, SliceSource, TcpcType,
 };
-use fiveaxis_machine::{Control, Machine, Offsets, ToolOffset, Vec3, builtin};
+use fiveaxis_machine::{Control, Machine, Offsets, ToolOffset, Vec3};
 
 /// Positions computed by hand and by the kernel agree to this, mm / deg.
 const EPS: f64 = 1e-9;

@@ -8,13 +8,16 @@
 //! machine is the built-in three-axis mill with zero offsets, so the
 //! joints X, Y, Z are the canonical positions `rs274` prints.
 
+mod common;
+
 use std::io;
 use std::process::Command;
 
+use common::builtin;
 use fiveaxis_control::{
     Alarm, Condition, ProgramLibrary, Row, RunError, RunOptions, Runner, SliceSource, Source,
 };
-use fiveaxis_machine::{Control, Machine, Offsets, builtin};
+use fiveaxis_machine::{Control, Machine, Offsets};
 
 /// The digits `rs274` prints.
 const RS274_DIGITS: f64 = 1e-4;

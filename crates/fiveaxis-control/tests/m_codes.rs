@@ -1,12 +1,15 @@
 //! M codes (the control's and the machine file's `[m_codes]`), accuracy
 //! modes, and the words real programs hold around them: hand-computed.
 
+mod common;
+
+use common::builtin;
 use fiveaxis_control::{
     Alarm, ContourControl, Controller, CuttingMode, Flow, LengthMode, ProgramStop, Segment,
     TcpcType,
 };
 use fiveaxis_gcode::{Block, parse_line};
-use fiveaxis_machine::{MCodes, MFunction, Machine, Offsets, ToolOffset, builtin};
+use fiveaxis_machine::{MCodes, MFunction, Machine, Offsets, ToolOffset};
 
 const EPS: f64 = 1e-9;
 

@@ -5,8 +5,9 @@
 
 mod common;
 
+use common::builtin;
 use fiveaxis_control::{Alarm, Row};
-use fiveaxis_machine::{DEFAULT_MACHINE, Machine, Offsets, ToolOffset, builtin};
+use fiveaxis_machine::{DEFAULT_MACHINE, Machine, Offsets, ToolOffset};
 
 fn machine() -> Machine {
     builtin(DEFAULT_MACHINE).expect("built in")

@@ -22,13 +22,15 @@
 //! * `head-table-bc`: B head about +Y through (0,0,150), C table about −Z.
 //!   dir_table = Rz(C)·Ry(B)·(0,0,1) = (sB·cC, sB·sC, cB).
 
+mod common;
+
+use common::builtin;
 use fiveaxis_control::{
     Alarm, LengthMode, Modal, Row, RunError, RunOptions, Runner, Segment, SliceSource, TcpcType,
     normalize_360,
 };
 use fiveaxis_machine::{
-    Control, Machine, Offsets, ProgrammingFrame, RotaryChoice, ToolOffset, Vec3, builtin,
-    builtin_source,
+    Control, Machine, Offsets, ProgrammingFrame, RotaryChoice, ToolOffset, Vec3, builtin_source,
 };
 
 const EPS: f64 = 1e-9;
@@ -47,8 +49,17 @@ fn machine_with(name: &str, control: &str, parameters: &str) -> Machine {
         "control = \"fanuc30i\"",
         &format!("control = \"{control}\""),
     );
-    let text = format!("{text}\n[parameters]\n{parameters}\n");
-    Machine::from_toml(&text).unwrap_or_else(|e| panic!("{name} as {control}: {e}"))
+    let text = text.replacen(
+        "[parameters]\n",
+        &format!("[parameters]\n{parameters}\n"),
+        1,
+    );
+    let mut machine =
+        Machine::from_toml(&text).unwrap_or_else(|e| panic!("{name} as {control}: {e}"));
+    // From machine zero, as `common::builtin`.
+    machine.params.reference_1 = [0.0; fiveaxis_machine::MAX_AXES];
+    machine.params.reference_2 = [0.0; fiveaxis_machine::MAX_AXES];
+    machine
 }
 
 /// A four-axis machine: the A tilting table of `trunnion-ac` alone.
@@ -977,11 +988,18 @@ fn keep_tilt_sign_from_zero_takes_the_side_with_the_wider_stroke() {
     let text = builtin_source("head-head-ca")
         .expect("built-in")
         .replace("min = -110.0", "min = -60.0");
-    let shortest = Machine::from_toml(&text).expect("machine");
-    let keep = Machine::from_toml(&format!(
-        "{text}\n[parameters]\nrotary_choice = \"keep_tilt_sign\"\n"
-    ))
-    .expect("machine");
+    let from_zero = |text: &str| {
+        let mut machine = Machine::from_toml(text).expect("machine");
+        machine.params.reference_1 = [0.0; fiveaxis_machine::MAX_AXES];
+        machine.params.reference_2 = [0.0; fiveaxis_machine::MAX_AXES];
+        machine
+    };
+    let shortest = from_zero(&text);
+    let keep = from_zero(&text.replacen(
+        "[parameters]\n",
+        "[parameters]\nrotary_choice = \"keep_tilt_sign\"\n",
+        1,
+    ));
     let g = 4f64.atan2(3.0).to_degrees();
     assert_close("shortest from 0", &choice(&shortest, 0.0), &[g, -g]);
     assert_close("keep sign from 0", &choice(&keep, 0.0), &[g - 180.0, g]);

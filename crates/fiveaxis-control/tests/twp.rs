@@ -8,8 +8,9 @@
 
 mod common;
 
+use common::builtin;
 use fiveaxis_control::{Alarm, Row};
-use fiveaxis_machine::{Machine, Offsets, ToolOffset, builtin};
+use fiveaxis_machine::{Machine, Offsets, ToolOffset};
 use proptest::prelude::*;
 use proptest::test_runner::Config;
 

@@ -8,11 +8,17 @@ use crate::Machine;
 /// Name of the machine used when none is given.
 pub const DEFAULT_MACHINE: &str = "trunnion-ac";
 
-/// The M codes every built-in machine shares: FANUC's usual M00–M09, M19,
-/// M29 rigid tapping (FANUC No.5210 commonly 29) and M30.
+/// What every built-in FANUC machine shares besides its axes: the
+/// reference positions at the top of Z travel (see `linear_axes`), and
+/// FANUC's usual M codes M00–M09, M19, M29 rigid tapping (FANUC No.5210
+/// commonly 29) and M30.
 macro_rules! standard_m_codes {
     () => {
         r#"
+[parameters]
+reference_1 = { Z = 500.0 }
+reference_2 = { Z = 500.0 }
+
 [m_codes]
 0 = "stop"
 1 = "optional_stop"
@@ -31,11 +37,21 @@ macro_rules! standard_m_codes {
     };
 }
 
-/// Linear axes shared by every built-in machine. Reference position 1 is
-/// machine zero, inside every limit. Dynamics are typical catalogue
-/// figures of a mid-size five-axis machining centre: 30 m/min rapid
-/// (FANUC No.1420), 20 m/min cutting feed (No.1430), 3 m/s² (about 0.3 g,
-/// No.1660), the acceleration reached in 60 ms (jerk 50 m/s³).
+/// Linear axes of the built-in FANUC machines, the size of a mid-size
+/// five-axis machining centre. Machine zero lies on the C axis line in
+/// the face of the table (the table frame of the machine-model contract
+/// starts there, so a work offset is measured from the table's centre and
+/// face); the first and second reference positions (FANUC No.1240,
+/// No.1241: the machine coordinates of the reference positions) are at
+/// the top of Z travel, where the spindle nose stands 500 mm above the
+/// table face and a program starts. Z travels 800 mm (Z 500 down to
+/// −300): below the table face the spindle reaches the sides of a tilted
+/// part, and a swivel head turned horizontal (its pivot 150 mm above the
+/// gauge point) cuts down to the table face. X 1000 mm and Y 800 mm
+/// centred on the table. Dynamics are typical
+/// catalogue figures: 30 m/min rapid (FANUC No.1420), 20 m/min cutting
+/// feed (No.1430), 3 m/s² (about 0.3 g, No.1660), the acceleration reached
+/// in 60 ms (jerk 50 m/s³).
 macro_rules! linear_axes {
     () => {
         r#"

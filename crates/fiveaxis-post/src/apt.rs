@@ -393,14 +393,22 @@ impl State {
         } else if v.len() != 3 {
             return Err(err("GOTO takes 3 or 6 numbers".into()));
         }
-        if !self.tcpc {
-            let h = self.tool.unwrap_or(1);
-            let _ = writeln!(self.out, "G43.5 H{h}");
-            self.tcpc = true;
-        }
         let xyz = |out: &mut String, p: &Vec3| {
             let _ = write!(out, " X{:.6} Y{:.6} Z{:.6}", p[0], p[1], p[2]);
         };
+        if !self.tcpc {
+            // TCPC starts up with a rapid to the first point in the tool
+            // direction standing: `G43.5 H1` alone would first lift Z by
+            // the tool length, over the top of travel from the reference
+            // position, and I J K are refused in the start-up block on a
+            // table or mixed machine (PS5421). The move with the vector
+            // follows.
+            let h = self.tool.unwrap_or(1);
+            let _ = write!(self.out, "G43.5 H{h} G0");
+            xyz(&mut self.out, &p);
+            self.out.push('\n');
+            self.tcpc = true;
+        }
         let ijk = |out: &mut String, d: &Vec3| {
             let _ = write!(out, " I{:.7} J{:.7} K{:.7}", d[0], d[1], d[2]);
         };

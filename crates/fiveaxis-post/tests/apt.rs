@@ -4,6 +4,9 @@
 //! end of a block (`Segment::row`, forward kinematics). Bad records give
 //! their line.
 
+#[path = "../../fiveaxis-cli/tests/common/corpus.rs"]
+mod corpus;
+
 use fiveaxis_control::{RunOptions, Runner, SliceSource};
 use fiveaxis_machine::{Offsets, ToolOffset, Vec3, builtin};
 use fiveaxis_post::apt::to_tcpc;
@@ -13,8 +16,6 @@ use fiveaxis_post::apt::to_tcpc;
 const POINT_EPS: f64 = 1e-5;
 /// How close the tool direction must be, as a vector difference.
 const DIR_EPS: f64 = 1e-6;
-
-const CORPUS: &str = "/work/shared/corpus/cl_solidworks_boss.apt";
 
 /// GOTO points and vectors of the APT text, the vector kept between them.
 fn gotos(text: &str) -> Vec<(Vec3, Vec3)> {
@@ -38,10 +39,10 @@ fn gotos(text: &str) -> Vec<(Vec3, Vec3)> {
 
 #[test]
 fn the_corpus_cl_file_converts_and_every_point_is_reached() {
-    let Ok(text) = std::fs::read_to_string(CORPUS) else {
-        eprintln!("{CORPUS} not here: skipped");
+    let Some(path) = corpus::corpus_path("cl_solidworks_boss.apt") else {
         return;
     };
+    let text = std::fs::read_to_string(path).expect("the corpus CL file reads");
     let program = to_tcpc(&text, "cl_solidworks_boss.apt").expect("converts");
     let machine = builtin("head-table-bc").expect("built-in");
     let mut offsets = Offsets::default();
@@ -102,7 +103,7 @@ fn records_continue_with_dollar_and_circles_turn_about_their_axis() {
     // (counter-clockwise about -Z), then three quarters counter-clockwise
     // (R negative: more than half a turn).
     assert!(
-        program.contains("T2 M6\nG43.5 H2\nG0 X10.000000 Y0.000000 Z5.000000"),
+        program.contains("T2 M6\nG43.5 H2 G0 X10.000000 Y0.000000 Z5.000000\nG0 X10.000000 Y0.000000 Z5.000000 I0"),
         "{program}"
     );
     assert!(

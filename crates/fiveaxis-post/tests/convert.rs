@@ -57,7 +57,7 @@ fn convert_gives_the_source_alarm() {
     let mut runner = Runner::new(
         &machine,
         offsets(),
-        SliceSource::new(b"G43.5 H1\nG1 X10. I0 J0 K1. F100.\nG500\n"),
+        SliceSource::new(b"G43.5 H1 Z100.\nG1 X10. I0 J0 K1. F100.\nG500\n"),
         RunOptions::default(),
     );
     match convert(&mut runner, &machine, PostOptions::default()) {

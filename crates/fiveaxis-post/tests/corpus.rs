@@ -8,18 +8,19 @@
 mod common;
 
 use common::{Rules, Side, judge, run};
+#[path = "../../fiveaxis-cli/tests/common/corpus.rs"]
+mod corpus;
+
 use fiveaxis_machine::{Offsets, ToolOffset, Vec3, builtin};
 use fiveaxis_post::apt::to_tcpc;
 use fiveaxis_post::{Axes, FeedStyle, PostOptions};
 
-const CORPUS: &str = "/work/shared/corpus/cl_solidworks_boss.apt";
-
 #[test]
 fn the_corpus_cl_file_to_machine_axes_within_tolerance() {
-    let Ok(apt) = std::fs::read_to_string(CORPUS) else {
-        eprintln!("{CORPUS} not here: skipped");
+    let Some(path) = corpus::corpus_path("cl_solidworks_boss.apt") else {
         return;
     };
+    let apt = std::fs::read_to_string(path).expect("the corpus CL file reads");
     let program = to_tcpc(&apt, "cl_solidworks_boss.apt").expect("converts");
     let machine = builtin("head-table-bc").expect("built-in");
     let mut offsets = Offsets::default();

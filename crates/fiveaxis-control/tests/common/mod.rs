@@ -69,3 +69,15 @@ pub fn run_sampled(
 pub fn run_ends(machine: &Machine, offsets: Offsets, program: &str) -> (Vec<Row>, Option<Alarm>) {
     run_sampled(machine, offsets, program, &[1.0])
 }
+
+/// A built-in machine with its reference positions at machine zero
+/// (FANUC's default when No.1240 / No.1241 are 0) instead of the top of
+/// Z travel, so that a program starts from machine zero: the hand-written
+/// positions of these tests are measured from there. Travels, rotary
+/// geometry and parameters are the built-in's.
+pub fn builtin(name: &str) -> Option<Machine> {
+    let mut machine = fiveaxis_machine::builtin(name)?;
+    machine.params.reference_1 = [0.0; fiveaxis_machine::MAX_AXES];
+    machine.params.reference_2 = [0.0; fiveaxis_machine::MAX_AXES];
+    Some(machine)
+}

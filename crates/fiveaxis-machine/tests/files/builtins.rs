@@ -56,6 +56,13 @@ fn every_builtin_reads_with_a_name_and_fanuc_30i() {
                 ('Z', -300.0, 500.0)
             ]
         );
+        // A program starts at the top of Z travel (the reference
+        // positions), the spindle nose 500 mm above the table face (Z 0).
+        let z = m.axis_index('Z').expect("Z");
+        for reference in [m.params.reference_1, m.params.reference_2] {
+            assert_eq!(reference[z], m.linear[z].max, "{name}");
+            assert_eq!(reference[z], 500.0, "{name}");
+        }
     }
 }
 
@@ -204,7 +211,7 @@ fn written_file_explains_its_keys() {
         assert!(line.contains(" # "), "`{key}` has no comment: {line}");
     }
     assert!(text.contains("[parameters]"));
-    assert!(text.contains("reference_1 = { X = 0.0, Y = 0.0, Z = 0.0, A = 0.0, C = 0.0 }"));
+    assert!(text.contains("reference_1 = { X = 0.0, Y = 0.0, Z = 500.0, A = 0.0, C = 0.0 }"));
 }
 
 #[test]

@@ -144,8 +144,8 @@ fn reference_position_outside_the_limits_names_the_key() {
         .map(|m| m.to_toml())
         .unwrap_or_default()
         .replace(
-            "reference_1 = { X = 0.0, Y = 0.0, Z = 0.0, A = 0.0, C = 0.0 }",
-            "reference_1 = { X = 0.0, Y = 0.0, Z = 0.0, A = 100.0, C = 0.0 }",
+            "reference_1 = { X = 0.0, Y = 0.0, Z = 500.0, A = 0.0, C = 0.0 }",
+            "reference_1 = { X = 0.0, Y = 0.0, Z = 500.0, A = 100.0, C = 0.0 }",
         );
     let Err(e) = Machine::from_toml(&text) else {
         panic!("a reference position beyond the soft limits loaded");
