@@ -48,6 +48,9 @@ fn import_to(config: &str, dir: &Path) -> PathBuf {
 
 #[test]
 fn import_prints_a_machine_file_that_reads_back() {
+    if common::corpus_or_skip().is_none() {
+        return;
+    }
     let ini = configs().join("axis/vismach/5axis/table-rotary-tilting/xyzac-trt.ini");
     let output = fiveaxis(&["machines", "import", path_str(&ini)]);
     assert_eq!(output.status.code(), Some(0), "{}", common::stderr(&output));
@@ -75,6 +78,9 @@ fn import_prints_a_machine_file_that_reads_back() {
 
 #[test]
 fn a_relative_ini_path_gives_absolute_paths_in_the_file() {
+    if common::corpus_or_skip().is_none() {
+        return;
+    }
     let folder = configs().join("axis/vismach/5axis/table-rotary-tilting");
     let output = common::run_in(&folder, &["machines", "import", "xyzbc-trt.ini"], b"");
     assert_eq!(output.status.code(), Some(0), "{}", common::stderr(&output));
@@ -125,6 +131,9 @@ fn a_bad_ini_line_exits_2_with_file_and_line() {
 
 #[test]
 fn a_configuration_the_model_cannot_hold_exits_2_saying_why() {
+    if common::corpus_or_skip().is_none() {
+        return;
+    }
     let ini = configs().join("axis/vismach/5axis/max5/max5kins.ini");
     let output = fiveaxis(&["machines", "import", path_str(&ini)]);
     assert_eq!(output.status.code(), Some(2));
@@ -137,6 +146,9 @@ fn a_configuration_the_model_cannot_hold_exits_2_saying_why() {
 
 #[test]
 fn nutating_and_bridge_mill_configurations_import() {
+    if common::corpus_or_skip().is_none() {
+        return;
+    }
     for (config, axes, words) in [
         (
             ACB,
@@ -317,6 +329,9 @@ fn matches(ending: &Option<(String, usize)>, expected: &Ending) -> bool {
 
 #[test]
 fn linuxcnc_programs_on_their_imported_machines() {
+    if common::corpus_or_skip().is_none() {
+        return;
+    }
     let listed =
         std::fs::read_to_string(common::corpus_dir().join("MANIFEST.tsv")).expect("manifest");
     for (program, config, expected) in PROGRAMS {
@@ -338,6 +353,9 @@ fn linuxcnc_programs_on_their_imported_machines() {
 /// identity mode (M429), the tool tip on the table in TCP mode (M428).
 #[test]
 fn switchkins_test_3_reaches_the_positions_its_comments_expect() {
+    if common::corpus_or_skip().is_none() {
+        return;
+    }
     let (ending, rows, err) = run_on("lcnc_xyzac_switchkins_test_3.ngc", AC);
     assert!(ending.is_none(), "{err}");
     let mut lines = rows.lines();
@@ -390,6 +408,9 @@ fn switchkins_test_3_reaches_the_positions_its_comments_expect() {
 /// tip seen by forward kinematics of the rows' axes (tool T100, 100 mm).
 #[test]
 fn bridgemill_w_drills_along_the_tool() {
+    if common::corpus_or_skip().is_none() {
+        return;
+    }
     let dir = tempfile::tempdir().expect("a temporary directory");
     let machine_file = import_to(BRIDGE, dir.path());
     let machine = Machine::from_toml(&std::fs::read_to_string(&machine_file).expect("machine"))

@@ -50,10 +50,9 @@ const TOOL_TABLE: &str = "linuxcnc-configs/axis/vismach/5axis/table-rotary_spind
 
 #[test]
 fn twp_demos_reach_their_end() {
-    let corpus = common::corpus_dir();
-    if !corpus.join("lcnc_trsrn_square.ngc").exists() {
+    let Some(corpus) = common::corpus_or_skip() else {
         return;
-    }
+    };
     let dir = tempfile::tempdir().expect("a temporary directory");
     let subs = dir.path().join("subs");
     std::fs::create_dir(&subs).expect("a folder");

@@ -14,7 +14,12 @@ const POINT_EPS: f64 = 1e-5;
 /// How close the tool direction must be, as a vector difference.
 const DIR_EPS: f64 = 1e-6;
 
-const CORPUS: &str = "/work/shared/corpus/cl_solidworks_boss.apt";
+/// The corpus CL file, `../shared/corpus` beside the repository (not part
+/// of it: the test is skipped without it).
+const CORPUS: &str = concat!(
+    env!("CARGO_MANIFEST_DIR"),
+    "/../../../shared/corpus/cl_solidworks_boss.apt"
+);
 
 /// GOTO points and vectors of the APT text, the vector kept between them.
 fn gotos(text: &str) -> Vec<(Vec3, Vec3)> {

@@ -12,7 +12,12 @@ use fiveaxis_machine::{Offsets, ToolOffset, Vec3, builtin};
 use fiveaxis_post::apt::to_tcpc;
 use fiveaxis_post::{Axes, FeedStyle, PostOptions};
 
-const CORPUS: &str = "/work/shared/corpus/cl_solidworks_boss.apt";
+/// The corpus CL file, `../shared/corpus` beside the repository (not part
+/// of it: the test is skipped without it).
+const CORPUS: &str = concat!(
+    env!("CARGO_MANIFEST_DIR"),
+    "/../../../shared/corpus/cl_solidworks_boss.apt"
+);
 
 #[test]
 fn the_corpus_cl_file_to_machine_axes_within_tolerance() {

@@ -146,3 +146,16 @@ pub fn corpus_dir() -> std::path::PathBuf {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/corpus");
     std::fs::canonicalize(&path).unwrap_or(path)
 }
+
+/// The corpus folder, or `None` after saying on standard error that the
+/// test is skipped: the corpus is not part of the repository, it sits at
+/// `../shared/corpus` beside the clone when it is there at all.
+pub fn corpus_or_skip() -> Option<std::path::PathBuf> {
+    let dir = corpus_dir();
+    if dir.is_dir() {
+        Some(dir)
+    } else {
+        eprintln!("skipped: no corpus at {}", dir.display());
+        None
+    }
+}
