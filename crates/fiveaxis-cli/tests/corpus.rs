@@ -549,6 +549,9 @@ fn fanuc_family_programs_run_to_their_end_or_stop_where_the_control_would() {
 /// `linuxcnc_twp_demos.rs`).
 #[test]
 fn linuxcnc_programs_read_as_linuxcnc() {
+    if common::corpus::corpus_path("MANIFEST.tsv").is_none() {
+        return;
+    }
     const CLEAN: Option<(&str, usize)> = None;
     let cases: [(&str, Option<(&str, usize)>); 22] = [
         ("lcnc_boat-xyzac.ngc", Some(("FX0011", 2))),

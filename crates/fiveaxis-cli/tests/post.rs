@@ -343,7 +343,7 @@ fn retargeting_to_a_three_axis_mill_keeps_the_tip() {
     assert_eq!(out.status.code(), Some(1), "{}", common::stderr(&out));
 }
 
-/// The README's retargeting example: three flips, and the output runs on
+/// The retargeting example of docs/post.md: three flips, and the output runs on
 /// the limited machine.
 #[test]
 fn the_readme_winding_example_flips_three_times() {

@@ -352,7 +352,7 @@ fn random_type2_programs_on_every_machine_type() {
     }
 }
 
-/// The README's example (`examples/tcpc-vector.nc`, H1 = 120 mm).
+/// The post example of the README and docs/post.md (`examples/tcpc-vector.nc`, H1 = 120 mm).
 #[test]
 fn readme_example_within_tolerance() {
     let machine = builtin("head-table-bc").expect("built-in");
