@@ -36,6 +36,7 @@ button:hover{background:#30363d}
 #fa-play{display:flex;align-items:center;gap:6px;padding:6px 8px;border-top:1px solid #30363d}
 #fa-play input[type=range]{flex:1}
 #fa-time{font:12px ui-monospace,monospace;min-width:15ch;text-align:right}
+#fa-timekind{font-size:11px;color:#8b949e;max-width:40ch}
 #fa-plots{max-height:38vh;overflow:auto;padding:2px 8px 6px}
 .plot{display:flex;align-items:center;gap:6px}
 .plot span{width:2ch;color:#8b949e;font:12px ui-monospace,monospace}
@@ -81,6 +82,7 @@ export function layout(doc, meta) {
     </select>
     <input id="fa-slider" type="range" min="0" max="1000000" step="1" value="0" title="Time">
     <span id="fa-time"></span>
+    <span id="fa-timekind"></span>
     <select id="fa-plotmode" title="Plots against"><option value="time">by time</option><option value="block">by block</option></select>
   </div>
   <div id="fa-plots"></div>
@@ -89,6 +91,11 @@ export function layout(doc, meta) {
   const $ = (id) => doc.getElementById(id);
   root.querySelector('#fa-head b').textContent = meta.program;
   root.querySelector('#fa-head small').textContent = meta.machine.name;
+  // Which time the timeline is: `fiveaxis check`'s, as the page says
+  // (pages before it had the programmed time).
+  const timeLabel = meta.time ? meta.time.label : 'programmed machining time';
+  $('fa-timekind').textContent = timeLabel;
+  $('fa-slider').title = `Time: ${timeLabel}`;
   return {
     root,
     text: $('fa-text'),

@@ -34,46 +34,6 @@ function angleNear(a, b, tol, what) {
   assert.ok(Math.min(d, 360 - d) <= tol, `${what}: ${a} vs ${b}`);
 }
 
-/** Programmed time of each block from `run --step` rows, as the viewer's timeline defines it. */
-function blockSeconds(rows, machine) {
-  const names = [...machine.linear.map((a) => a.name), ...machine.rotary.map((a) => a.name)];
-  const rollover = new Set(machine.rotary.filter((r) => r.rollover).map((r) => r.name));
-  const firstRotary = machine.linear.length;
-  // Rapids: the slowest axis at its own rate (all axes arrive together).
-  const rapids = [...machine.linear.map((a) => a.rapid), ...machine.rotary.map((a) => a.rapid)];
-  const out = [];
-  let prev = null;
-  let block = null;
-  const close = () => {
-    if (!block) return;
-    const longest = (xs) => xs.reduce((m, x) => Math.max(m, x), 0);
-    let s;
-    if (block.feed) {
-      const len = block.tip > 1e-9 ? block.tip : longest(block.travel.slice(firstRotary));
-      s = (len / block.feed) * 60;
-    } else s = longest(block.travel.map((t, i) => t / rapids[i])) * 60;
-    out.push(s);
-  };
-  for (const row of rows) {
-    if (row.s <= 1e-12 || !block || block.done) {
-      close();
-      block = { feed: row.feed, tip: 0, travel: names.map(() => 0), done: false };
-    }
-    if (prev) {
-      block.tip += Math.hypot(row.tip_x - prev.tip_x, row.tip_y - prev.tip_y, row.tip_z - prev.tip_z);
-      names.forEach((n, i) => {
-        let d = Math.abs(row[n] - prev[n]);
-        if (rollover.has(n)) d = Math.min(d, 360 - d);
-        block.travel[i] += d;
-      });
-    }
-    if (row.s === 1) block.done = true;
-    prev = row;
-  }
-  close();
-  return out;
-}
-
 for (const c of CASES) {
   const name = `${c.program} on ${c.machine}`;
   test(`view: ${name}`, async () => {
@@ -114,13 +74,18 @@ for (const c of CASES) {
           near(stats.bbox.max[k], Math.max(...values), MM + meta.tolerance, `bbox max ${axis}`);
         }
       } else assert.equal(stats.bbox, null);
-      // Duration: block by block from the run's rows (the first block's
-      // start is not a row of run: compared from the second block on).
+      // Duration: the time of `fiveaxis check` (its estimated time, block
+      // by block), and the page says which time it shows.
       const ends = await page.evaluate(() => window.__viewer.blockEnds());
-      const seconds = blockSeconds(stepped.rows, meta.machine);
-      assert.equal(seconds.length, ends.length);
-      for (let b = 1; b < ends.length; b++) near(ends[b] - ends[b - 1], seconds[b], 1e-6 * Math.max(1, seconds[b]), `block ${b + 1} seconds (line ${plain.rows[b].line})`);
+      assert.equal(ends.length, plain.rows.length, 'a block end per segment');
+      for (let b = 1; b < ends.length; b++) assert.ok(ends[b] >= ends[b - 1], `block ${b + 1} ends before the one before (line ${plain.rows[b].line})`);
       near(stats.duration, ends.at(-1) ?? 0, 1e-9, 'duration = end of the last block');
+      assert.equal(stats.duration, report.time.estimated, "duration = check's estimated time");
+      assert.equal(meta.time.estimated, report.time.estimated);
+      assert.equal(meta.time.programmed, report.time.programmed);
+      const label = await page.locator('#fa-timekind').textContent();
+      assert.equal(label, meta.time.label);
+      assert.match(label, new RegExp(`^${meta.time.kind} machining time .*as fiveaxis check$`));
 
       // The slider moves the bodies; at each block end they stand where
       // the kernel's row says.

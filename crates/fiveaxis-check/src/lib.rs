@@ -162,6 +162,36 @@ pub struct Time {
     pub estimated: f64,
 }
 
+/// Which of the report's times the [`SegmentTimes`] follow.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TimeKind {
+    /// The velocity planner's: `time.estimated` is its total.
+    Estimated,
+    /// The programmed time: the planner fell back to it or gave less, so
+    /// that `time.estimated` is `time.programmed`.
+    Programmed,
+}
+
+/// When each segment of the run ends in the report's estimated time, for
+/// a timeline ([`Checker::keep_segment_times`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct SegmentTimes {
+    /// Whether the times are the planner's or the programmed ones.
+    pub kind: TimeKind,
+    /// Seconds from the start at which each segment given to
+    /// [`Checker::segment`] ends, in order (a segment that moves nothing
+    /// ends where the one before it does); the last is `time.estimated`
+    /// (to rounding).
+    pub ends: Vec<f64>,
+}
+
+/// Segment end times being gathered.
+#[derive(Debug, Default)]
+struct Timeline {
+    programmed: Vec<f64>,
+    estimated: Vec<f64>,
+}
+
 /// How a run ended, as the caller saw it.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Ending {
@@ -244,6 +274,8 @@ pub struct Checker<'m> {
     limited_minutes: f64,
     /// The velocity planner's estimate of the time, fed block by block.
     plan: time::TimePlan,
+    /// Each segment's end time, when asked for.
+    timeline: Option<Timeline>,
 }
 
 impl<'m> Checker<'m> {
@@ -271,7 +303,15 @@ impl<'m> Checker<'m> {
             minutes: 0.0,
             limited_minutes: 0.0,
             plan: time::TimePlan::new(machine),
+            timeline: None,
         }
+    }
+
+    /// Keeps the time at which each segment ends, for
+    /// [`Checker::finish_with_times`]: a timeline whose total is the
+    /// report's. Costs a mark in the planner and two numbers per segment.
+    pub fn keep_segment_times(&mut self) {
+        self.timeline = Some(Timeline::default());
     }
 
     fn push(
@@ -294,6 +334,14 @@ impl<'m> Checker<'m> {
 
     /// Checks one segment.
     pub fn segment(&mut self, seg: &Segment) {
+        self.check_segment(seg);
+        if let Some(timeline) = &mut self.timeline {
+            timeline.programmed.push(self.minutes * 60.0);
+            self.plan.mark(&mut timeline.estimated);
+        }
+    }
+
+    fn check_segment(&mut self, seg: &Segment) {
         self.order += 1;
         self.positions(seg);
         if !seg.moves() {
@@ -529,7 +577,13 @@ impl<'m> Checker<'m> {
     }
 
     /// The report, once the run is over.
-    pub fn finish(mut self, ending: Ending) -> Report {
+    pub fn finish(self, ending: Ending) -> Report {
+        self.finish_with_times(ending).0
+    }
+
+    /// The report, and when each segment ends in its estimated time if
+    /// [`Checker::keep_segment_times`] asked for it.
+    pub fn finish_with_times(mut self, ending: Ending) -> (Report, Option<SegmentTimes>) {
         for i in 0..MAX_AXES {
             for side in 0..2 {
                 if let Some(run) = self.runs[i][side].take() {
@@ -555,19 +609,48 @@ impl<'m> Checker<'m> {
             })
             .collect();
         let programmed = self.minutes * 60.0;
-        Report {
+        let mut timeline = self.timeline.take();
+        let mut marks = Vec::new();
+        let (estimated, planned) = self.plan.finish(
+            programmed,
+            timeline.as_mut().map_or(&mut marks, |t| &mut t.estimated),
+        );
+        let times = timeline.map(|t| {
+            if planned && t.estimated.len() == t.programmed.len() {
+                let mut ends = t.estimated;
+                // The last mark is the plan's end, to the rounding of the
+                // summed lengths: made exactly the total.
+                for end in ends.iter_mut().rev() {
+                    if (*end - estimated).abs() > 1e-9 * estimated {
+                        break;
+                    }
+                    *end = estimated;
+                }
+                SegmentTimes {
+                    kind: TimeKind::Estimated,
+                    ends,
+                }
+            } else {
+                SegmentTimes {
+                    kind: TimeKind::Programmed,
+                    ends: t.programmed,
+                }
+            }
+        });
+        let report = Report {
             machine: machine.name.clone(),
             ended: ending.ended,
             alarm: ending.alarm,
             blocks: ending.blocks,
             time: Time {
                 programmed,
-                estimated: self.plan.finish(programmed),
+                estimated,
             },
             axes,
             findings: self.findings,
             feed_limited_seconds: self.limited_minutes * 60.0,
-        }
+        };
+        (report, times)
     }
 }
 

@@ -99,10 +99,31 @@ impl TimePlan {
         }
     }
 
-    /// The estimated time, seconds, never below the programmed time.
-    pub fn finish(self, programmed: f64) -> f64 {
-        self.planner
-            .map_or(programmed, |p| p.finish().time.max(programmed))
+    /// Marks the end of the segments planned so far; the times of the
+    /// marks the plan has committed past are appended to `times`. Nothing
+    /// when the plan has fallen back to the programmed time.
+    pub fn mark(&mut self, times: &mut Vec<f64>) {
+        if let Some(planner) = self.planner.as_mut() {
+            planner.mark();
+            planner.take_mark_times(|t| times.push(t));
+        }
+    }
+
+    /// The estimated time, seconds, never below the programmed time, and
+    /// whether it is the planner's (not the programmed time it fell back
+    /// to). The times of the marks not yet taken are appended to `times`.
+    pub fn finish(self, programmed: f64, times: &mut Vec<f64>) -> (f64, bool) {
+        match self.planner {
+            Some(p) => {
+                let planned = p.finish_marked(|t| times.push(t)).time;
+                if planned >= programmed {
+                    (planned, true)
+                } else {
+                    (programmed, false)
+                }
+            }
+            None => (programmed, false),
+        }
     }
 }
 

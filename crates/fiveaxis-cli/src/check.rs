@@ -7,17 +7,15 @@
 use std::fmt::Write as _;
 use std::io::{self, Write};
 use std::path::PathBuf;
-use std::sync::Mutex;
-use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
-use std::time::{Duration, Instant};
+use std::sync::atomic::{AtomicU64, Ordering};
 
 use anstyle::{AnsiColor, Style};
 use fiveaxis_check::{Kind, Report, Severity, check_run};
 use fiveaxis_control::{DEFAULT_MAX_BLOCKS, ReaderSource, RunError, RunOptions, Runner};
 use fiveaxis_machine::{DEFAULT_MACHINE, Machine, Offsets};
-use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use rayon::prelude::*;
 
+use crate::progress::DelayedBar;
 use crate::{
     EXIT_INPUT, EXIT_OK, InputError, MAX_LINE_BYTES, diagnostic, load_machine, load_variables,
     open_program, write_error,
@@ -31,9 +29,6 @@ const SHOWN_PER_KIND: usize = 8;
 
 /// Width of an axis bar, characters.
 const BAR: usize = 32;
-
-/// A check that has run this long shows the progress bar.
-const PROGRESS_DELAY: Duration = Duration::from_secs(1);
 
 /// Output format of `check`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
@@ -242,51 +237,34 @@ fn check_one(
 /// The progress bar on standard error: hidden for the first second, and
 /// altogether when standard error is not a terminal (indicatif's rule).
 struct Progress {
-    bar: ProgressBar,
-    start: Instant,
-    shown: AtomicBool,
+    bar: DelayedBar,
     blocks: AtomicU64,
-    /// Serialises showing the bar.
-    show: Mutex<()>,
 }
 
 impl Progress {
     fn new(programs: usize) -> Self {
-        let bar =
-            ProgressBar::with_draw_target(Some(programs as u64), ProgressDrawTarget::hidden());
-        if let Ok(style) = ProgressStyle::with_template(
-            "{spinner} checking [{bar:30}] {pos}/{len} programs, {msg} {elapsed}",
-        ) {
-            bar.set_style(style.progress_chars("=> "));
-        }
         Self {
-            bar,
-            start: Instant::now(),
-            shown: AtomicBool::new(false),
+            bar: DelayedBar::new(
+                programs as u64,
+                "{spinner} checking [{bar:30}] {pos}/{len} programs, {msg} {elapsed}",
+            ),
             blocks: AtomicU64::new(0),
-            show: Mutex::new(()),
         }
     }
 
     fn blocks(&self, more: u64) {
         let total = self.blocks.fetch_add(more, Ordering::Relaxed) + more;
-        if !self.shown.load(Ordering::Relaxed) && self.start.elapsed() >= PROGRESS_DELAY {
-            let _guard = self.show.lock();
-            if !self.shown.swap(true, Ordering::Relaxed) {
-                self.bar.set_draw_target(ProgressDrawTarget::stderr());
-            }
-        }
-        if self.shown.load(Ordering::Relaxed) {
-            self.bar.set_message(format!("{total} blocks"));
+        if let Some(bar) = self.bar.visible() {
+            bar.set_message(format!("{total} blocks"));
         }
     }
 
     fn program_done(&self) {
-        self.bar.inc(1);
+        self.bar.bar().inc(1);
     }
 
     fn finish(&self) {
-        self.bar.finish_and_clear();
+        self.bar.finish();
     }
 }
 

@@ -7,6 +7,7 @@ mod library;
 mod number;
 mod output;
 mod post;
+mod progress;
 mod signals;
 mod text;
 mod view;

@@ -19,6 +19,7 @@ use fiveaxis_control::{
 use fiveaxis_machine::{Machine, MachineType, SetupError, Side, Vec3};
 use serde_json::{Value, json};
 
+use crate::progress::DelayedBar;
 use crate::{
     EXIT_ALARM, EXIT_OK, InputError, MAX_LINE_BYTES, diagnostic, load_machine, load_variables,
     open_program, report, write_error, write_whole,
@@ -37,8 +38,9 @@ pub struct ViewArgs {
     /// the machine file's `tool_table`, else all offsets zero.
     #[arg(long)]
     offsets: Option<PathBuf>,
-    /// Write the page here (whole or not at all); default: the program's
-    /// name with `.html` (`view.html` for standard input).
+    /// Write the page here (whole or not at all); default: the program
+    /// file's name with `.html`, in the current directory (`stdin.html`
+    /// for standard input).
     #[arg(short = 'o', long = "output")]
     output: Option<PathBuf>,
     /// Rows inside each block: tool tips at most this far apart (mm), so
@@ -178,6 +180,10 @@ impl Frame {
     }
 }
 
+/// Runner calls (a block each, or more) between two updates of the
+/// progress bar.
+const PROGRESS_BLOCKS: u64 = 256;
+
 /// Tool radius drawn when the offsets give the tool none, mm.
 const DEFAULT_TOOL_RADIUS: f64 = 5.0;
 
@@ -197,6 +203,10 @@ struct Gathered {
     /// taken from the checker as they settle: a program with millions of
     /// findings is held as these columns, not as millions of messages.
     findings: FindingColumns,
+    /// The check report's machining time.
+    time: fiveaxis_check::Time,
+    /// Which of them the timeline (`ends`, the vertex times) follows.
+    time_kind: fiveaxis_check::TimeKind,
 }
 
 /// Runs `fiveaxis view`.
@@ -249,41 +259,37 @@ pub fn view(args: &ViewArgs) -> Result<u8, InputError> {
         ),
     )?;
 
-    let gathered = gather(&mut runner, &machine, args.tolerance, program_name)?;
-    if args.verbose {
-        for note in runner.notes() {
-            report(&format!(
-                "note: {program_name}: {}",
-                diagnostic::escape(note)
-            ));
-        }
-    }
-    let status = if let Some(alarm) = &gathered.alarm {
-        report(&format!(
-            "ALARM {} line {}: {} (shown in the view)",
-            alarm.code,
-            alarm.line,
-            diagnostic::escape(&alarm.message)
-        ));
-        EXIT_ALARM
-    } else {
-        EXIT_OK
-    };
-
-    let output = args.output.clone().unwrap_or_else(|| {
-        if args.program == "-" {
-            PathBuf::from("view.html")
-        } else {
-            Path::new(&args.program).with_extension("html")
-        }
-    });
-    if output == Path::new(&args.program) {
+    // Where the page goes is settled before the run: a page that would
+    // replace the program is refused at once, not after a long run.
+    let output = args
+        .output
+        .clone()
+        .unwrap_or_else(|| default_output(&args.program));
+    if args.program != "-" && same_file(&output, Path::new(&args.program)) {
         return Err(InputError(format!(
             "error: {}: the page would replace the program: give another -o",
             output.display()
         )));
     }
     let name = output.display().to_string();
+
+    let lines = bytes.iter().filter(|&&b| b == b'\n').count() as u64 + 1;
+    let progress = DelayedBar::new(
+        lines,
+        "{spinner} view [{bar:30}] line {pos}/{len}, {msg} {elapsed}",
+    );
+    let gathered = gather(
+        &mut runner,
+        &machine,
+        args.tolerance,
+        program_name,
+        &progress,
+    )?;
+    let status = if gathered.alarm.is_some() {
+        EXIT_ALARM
+    } else {
+        EXIT_OK
+    };
     let findings = &gathered.findings;
     let meta = meta(&machine, &gathered, findings, program_name, args.tolerance);
     let text = String::from_utf8_lossy(&bytes);
@@ -300,13 +306,88 @@ pub fn view(args: &ViewArgs) -> Result<u8, InputError> {
         ("finding_values", Column::F64(&findings.values)),
     ]
     .map(|(name, column)| html::Array { name, column });
-    write_whole(&output, |file| {
+    if let Some(bar) = progress.visible() {
+        bar.set_position(lines);
+        bar.set_message("writing the page");
+    }
+    let written = write_whole(&output, |file| {
         let mut out = BufWriter::new(file);
         html::write_page(&mut out, program_name, &meta, &arrays, &text)
             .and_then(|()| out.flush())
             .map_err(|e| write_error(&name, &e))?;
         Ok(status)
-    })
+    });
+    progress.finish();
+    if args.verbose {
+        for note in runner.notes() {
+            report(&format!(
+                "note: {program_name}: {}",
+                diagnostic::escape(note)
+            ));
+        }
+    }
+    if let Some(alarm) = &gathered.alarm {
+        report(&format!(
+            "ALARM {} line {}: {} (shown in the view)",
+            alarm.code,
+            alarm.line,
+            diagnostic::escape(&alarm.message)
+        ));
+    }
+    let status = written?;
+    // A device (`-o /dev/null`) has no size worth telling.
+    let size = std::fs::metadata(&output)
+        .ok()
+        .filter(std::fs::Metadata::is_file)
+        .map(|m| format!(" ({})", size_text(m.len())))
+        .unwrap_or_default();
+    report(&format!(
+        "wrote {}{size}: open it in a browser",
+        diagnostic::escape(&name)
+    ));
+    Ok(status)
+}
+
+/// The page's default path: the program file's name with `.html`, in the
+/// current directory (as a compiler writes its output where it runs, not
+/// beside its source: the program's folder may be a repository or
+/// read-only); `stdin.html` for standard input.
+fn default_output(program: &str) -> PathBuf {
+    if program == "-" {
+        return PathBuf::from("stdin.html");
+    }
+    let mut name = Path::new(program)
+        .file_stem()
+        .filter(|s| !s.is_empty())
+        .map_or_else(|| "program".into(), std::ffi::OsStr::to_os_string);
+    name.push(".html");
+    PathBuf::from(name)
+}
+
+/// Whether two paths name the same file (the same text, or the same file
+/// once links and `..` are resolved).
+fn same_file(a: &Path, b: &Path) -> bool {
+    a == b
+        || matches!(
+            (std::fs::canonicalize(a), std::fs::canonicalize(b)),
+            (Ok(x), Ok(y)) if x == y
+        )
+}
+
+/// A file size for people: bytes, kB, MB or GB (powers of 1000), three
+/// digits at most before the point.
+fn size_text(bytes: u64) -> String {
+    #[allow(clippy::cast_precision_loss)] // a size, shown to one decimal
+    let x = bytes as f64;
+    if bytes < 1000 {
+        format!("{bytes} B")
+    } else if x < 999_950.0 {
+        format!("{:.1} kB", x / 1e3)
+    } else if x < 999_950_000.0 {
+        format!("{:.1} MB", x / 1e6)
+    } else {
+        format!("{:.1} GB", x / 1e9)
+    }
 }
 
 /// Runs the program, sampling every segment into rows, packing the path.
@@ -315,6 +396,7 @@ fn gather<S: fiveaxis_control::Source>(
     machine: &Machine,
     tolerance: f64,
     program_name: &str,
+    progress: &DelayedBar,
 ) -> Result<Gathered, InputError> {
     let axes = machine.axis_count();
     let mut g = Gathered {
@@ -328,18 +410,37 @@ fn gather<S: fiveaxis_control::Source>(
         alarm: None,
         bbox: None,
         findings: FindingColumns::default(),
+        time: fiveaxis_check::Time {
+            programmed: 0.0,
+            estimated: 0.0,
+        },
+        time_kind: fiveaxis_check::TimeKind::Programmed,
     };
     let mut checker = fiveaxis_check::Checker::new(machine);
-    let rapids: Vec<f64> = (0..axes).map(|i| machine.dynamics(i).rapid).collect();
+    // The timeline is the check's: each segment's end in its estimated
+    // time. Those come once the planner has looked ahead past them, so the
+    // path is timed by the programmed time first and moved to the
+    // estimated time at the end, block by block (`pack::retime`).
+    checker.keep_segment_times();
     let mut segments = Vec::new();
     let mut rows: Vec<Row> = Vec::new();
     let mut time = 0.0;
     let mut last: Option<(Motion, usize, fiveaxis_machine::Joints)> = None;
+    let mut ticks: u64 = 0;
     loop {
         segments.clear();
         // One block at a time, so that the controller's tool is the
         // block's own.
         let filled = runner.fill(&mut segments, 1);
+        ticks += 1;
+        if ticks.is_multiple_of(PROGRESS_BLOCKS)
+            && let Some(bar) = progress.visible()
+        {
+            if let Some(seg) = segments.last() {
+                bar.set_position(u64::from(seg.line));
+            }
+            bar.set_message(format!("{} blocks", runner.blocks()));
+        }
         let tool = runner.controller().spindle_tool();
         let radius = runner.controller().offsets().tool(tool).radius;
         for seg in &segments {
@@ -362,7 +463,11 @@ fn gather<S: fiveaxis_control::Source>(
             checker.drain_settled(|f| g.findings.push(f));
             sample(seg, machine, &mut rows);
             let start = seg.row(machine, 0.0);
-            let seconds = seconds(seg, &start, &rows, machine, &rapids);
+            let seconds = if seg.moves() {
+                fiveaxis_check::block_minutes(machine, seg) * 60.0
+            } else {
+                0.0
+            };
             // A new motion or frame, or a jump of the axes between blocks
             // (none in practice): the vertex before stays.
             let corner = match last {
@@ -426,7 +531,7 @@ fn gather<S: fiveaxis_control::Source>(
         }
     }
     g.path.finish();
-    let report = checker.finish(fiveaxis_check::Ending {
+    let (report, times) = checker.finish_with_times(fiveaxis_check::Ending {
         ended: g.alarm.is_none(),
         alarm: g.alarm.as_ref().map(|a| fiveaxis_check::AlarmInfo {
             code: a.code.to_string(),
@@ -438,6 +543,12 @@ fn gather<S: fiveaxis_control::Source>(
     for f in report.findings {
         g.findings.push(f);
     }
+    if let Some(times) = times {
+        pack::retime(g.path.times_mut(), &g.ends, &times.ends);
+        g.ends = times.ends;
+        g.time_kind = times.kind;
+    }
+    g.time = report.time;
     Ok(g)
 }
 
@@ -469,29 +580,6 @@ fn sample(seg: &Segment, machine: &Machine, rows: &mut Vec<Row>) {
     rows.clear();
     let n = seg.rows.max(1);
     rows.extend((1..=n).map(|i| seg.row(machine, f64::from(i) / f64::from(n))));
-}
-
-/// The programmed time of a segment from its rows ([`pack::block_seconds`]).
-/// `rapids`: each axis' rapid rate, per minute.
-fn seconds(seg: &Segment, start: &Row, rows: &[Row], machine: &Machine, rapids: &[f64]) -> f64 {
-    let axes = machine.axis_count();
-    let mut travel = [0.0; fiveaxis_machine::MAX_AXES];
-    let mut tip_length = 0.0;
-    let mut prev = start;
-    for row in rows {
-        tip_length += (row.tip - prev.tip).norm();
-        for (t, (a, b)) in travel.iter_mut().zip(prev.joints.iter().zip(&row.joints)) {
-            *t += (b - a).abs();
-        }
-        prev = row;
-    }
-    pack::block_seconds(
-        seg.feed,
-        tip_length,
-        &travel[..axes],
-        rapids,
-        machine.linear.len(),
-    )
 }
 
 /// The JSON description of the page: the machine, the frames, the counts,
@@ -551,6 +639,7 @@ fn meta(
         "rows": g.rows,
         "bbox": bbox,
         "duration": g.ends.last().copied().unwrap_or(0.0),
+        "time": time_json(g),
         "tolerance": tolerance,
         "ended": g.alarm.is_none(),
         "alarm": g.alarm.as_ref().map(|a| json!({ "code": a.code.to_string(), "line": a.line, "message": a.message })),
@@ -559,9 +648,55 @@ fn meta(
     })
 }
 
+/// What the time axis is, for the page: the kind, the check report's two
+/// totals, and the words the viewer shows beside the clock.
+fn time_json(g: &Gathered) -> Value {
+    let (kind, label) = match g.time_kind {
+        fiveaxis_check::TimeKind::Estimated => (
+            "estimated",
+            "estimated machining time (velocity planner), as fiveaxis check",
+        ),
+        fiveaxis_check::TimeKind::Programmed => (
+            "programmed",
+            // The planner gave less or could not plan: check's estimate
+            // is the programmed time.
+            "programmed machining time (path over F, rapids at the rapid rates), \
+             as fiveaxis check",
+        ),
+    };
+    json!({
+        "kind": kind,
+        "label": label,
+        "programmed": g.time.programmed,
+        "estimated": g.time.estimated,
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn sizes_for_people() {
+        assert_eq!(size_text(0), "0 B");
+        assert_eq!(size_text(999), "999 B");
+        assert_eq!(size_text(1000), "1.0 kB");
+        assert_eq!(size_text(1_440_000), "1.4 MB");
+        assert_eq!(size_text(999_949), "999.9 kB");
+        assert_eq!(size_text(999_950), "1.0 MB");
+        assert_eq!(size_text(2_600_000_000), "2.6 GB");
+    }
+
+    #[test]
+    fn the_default_page_is_named_after_the_program_in_the_current_directory() {
+        assert_eq!(
+            default_output("examples/bracket.nc"),
+            Path::new("bracket.html")
+        );
+        assert_eq!(default_output("/a/b/prog"), Path::new("prog.html"));
+        assert_eq!(default_output("p.tar.nc"), Path::new("p.tar.html"));
+        assert_eq!(default_output("-"), Path::new("stdin.html"));
+    }
 
     #[test]
     fn frame_matrix_is_the_work_offset_alone_without_setup_error() {

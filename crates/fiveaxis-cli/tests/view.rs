@@ -77,6 +77,88 @@ fn an_alarm_is_shown_and_exits_1_a_bad_input_leaves_the_target_alone() {
     );
 }
 
+#[test]
+fn the_page_goes_into_the_current_directory_and_says_where() {
+    let dir = tempfile::tempdir().expect("a temporary directory");
+    let (src, out) = (dir.path().join("src"), dir.path().join("out"));
+    std::fs::create_dir(&src).expect("src");
+    std::fs::create_dir(&out).expect("out");
+    let program = "G0 X10. Y5.\nG1 Z-1. F100.\nM30\n";
+    std::fs::write(src.join("bracket.nc"), program).expect("written");
+
+    // Without -o: the program's name with .html, where the command runs,
+    // not beside the program.
+    let run = common::run_in(&out, &["view", "../src/bracket.nc"], b"");
+    assert_eq!(run.status.code(), Some(0), "{}", common::stderr(&run));
+    let page = std::fs::read(out.join("bracket.html")).expect("written where it ran");
+    assert!(
+        !src.join("bracket.html").exists(),
+        "nothing beside the program"
+    );
+    let said = common::stderr(&run);
+    let size = page.len();
+    assert!(size > 1000, "{size} bytes");
+    assert_eq!(
+        said,
+        format!(
+            "wrote bracket.html ({:.1} kB): open it in a browser\n",
+            size as f64 / 1e3
+        ),
+    );
+    assert!(common::stdout(&run).is_empty());
+
+    // With -o, there, and said so.
+    let run = common::run_in(
+        &out,
+        &["view", "../src/bracket.nc", "-o", "../src/b.html"],
+        b"",
+    );
+    assert_eq!(run.status.code(), Some(0), "{}", common::stderr(&run));
+    assert!(src.join("b.html").exists());
+    assert!(
+        common::stderr(&run).starts_with("wrote ../src/b.html ("),
+        "{}",
+        common::stderr(&run)
+    );
+
+    // Standard input: stdin.html.
+    let run = common::run_in(&out, &["view", "-"], program.as_bytes());
+    assert_eq!(run.status.code(), Some(0), "{}", common::stderr(&run));
+    assert!(out.join("stdin.html").exists());
+    assert!(
+        common::stderr(&run).starts_with("wrote stdin.html ("),
+        "{}",
+        common::stderr(&run)
+    );
+
+    // A program named .html run where it is would be replaced by its own
+    // page: refused before the run, the program kept.
+    std::fs::write(out.join("prog.html"), program).expect("written");
+    let run = common::run_in(&out, &["view", "prog.html"], b"");
+    assert_eq!(run.status.code(), Some(2));
+    assert!(
+        common::stderr(&run).contains("would replace the program"),
+        "{}",
+        common::stderr(&run)
+    );
+    assert_eq!(
+        std::fs::read_to_string(out.join("prog.html")).expect("kept"),
+        program
+    );
+    // Also through another path to the same file.
+    let run = common::run_in(&out, &["view", "prog.html", "-o", "../out/prog.html"], b"");
+    assert_eq!(run.status.code(), Some(2), "{}", common::stderr(&run));
+
+    // An alarm: the page is written and said so, after the alarm.
+    std::fs::write(src.join("alarm.nc"), "G0 X10.\nG94 G1 F0 X5.\n").expect("written");
+    let run = common::run_in(&out, &["view", "../src/alarm.nc"], b"");
+    assert_eq!(run.status.code(), Some(1));
+    let said = common::stderr(&run);
+    assert!(said.starts_with("ALARM "), "{said}");
+    assert!(said.contains("\nwrote alarm.html ("), "{said}");
+    assert!(out.join("alarm.html").exists());
+}
+
 /// The browser tests. They need node, `npm ci` in `viewer/` and Chromium
 /// (`.ci/run` installs all three); set `FIVEAXIS_NO_BROWSER=1` to leave
 /// them out on a machine without them.
@@ -109,4 +191,130 @@ fn viewer_in_a_real_browser() {
     );
     assert!(out.status.success(), "viewer tests failed:\n{text}");
     assert!(text.contains("# fail 0"), "{text}");
+}
+
+/// The page's JSON description.
+fn page_meta(page: &str) -> serde_json::Value {
+    let start = page.find("id=\"fiveaxis-meta\">").expect("the description")
+        + "id=\"fiveaxis-meta\">".len();
+    let end = start + page[start..].find("</script>").expect("its end");
+    serde_json::from_str(&page[start..end]).expect("JSON")
+}
+
+/// A packed `Float64Array` of the page.
+fn page_f64(page: &str, name: &str) -> Vec<f64> {
+    common::page_element(page, &format!("fiveaxis-array-{name}"))
+        .chunks(8)
+        .map(|c| f64::from_le_bytes(c.try_into().expect("8 bytes")))
+        .collect()
+}
+
+/// `check`'s times and the page's time axis of one program (the page
+/// written into `dir`).
+fn check_and_view(dir: &std::path::Path, args: &[&str]) -> (serde_json::Value, String) {
+    let root = common::root();
+    let mut check = vec!["check"];
+    check.extend(args);
+    check.extend(["--format", "json", "--fail-on", "never"]);
+    let out = common::run_in(root, &check, b"");
+    assert_eq!(out.status.code(), Some(0), "{}", common::stderr(&out));
+    let report: serde_json::Value =
+        serde_json::from_str(common::stdout(&out).lines().next().expect("a report")).expect("JSON");
+    let page = dir.join("page.html");
+    let mut view = vec!["view"];
+    view.extend(args);
+    let page_arg = page.to_str().expect("a UTF-8 path");
+    view.extend(["-o", page_arg]);
+    let out = common::run_in(root, &view, b"");
+    assert!(
+        matches!(out.status.code(), Some(0 | 1)),
+        "{}",
+        common::stderr(&out)
+    );
+    (
+        report["time"].clone(),
+        std::fs::read_to_string(&page).expect("the page"),
+    )
+}
+
+/// The view's timeline is `check`'s estimated time, block by block: its
+/// total is the report's `time.estimated`, and it says so.
+fn assert_same_time(what: &str, time: &serde_json::Value, page: &str) {
+    let meta = page_meta(page);
+    let estimated = time["estimated"].as_f64().expect("estimated");
+    let duration = meta["duration"].as_f64().expect("duration");
+    assert!(estimated > 0.0, "{what}: {time}");
+    assert_eq!(duration, estimated, "{what}: the view's total is check's");
+    assert_eq!(meta["time"]["estimated"], time["estimated"], "{what}");
+    assert_eq!(meta["time"]["programmed"], time["programmed"], "{what}");
+    let kind = meta["time"]["kind"].as_str().expect("kind");
+    let label = meta["time"]["label"].as_str().expect("label");
+    assert!(label.contains("as fiveaxis check"), "{what}: {label}");
+    assert!(label.starts_with(kind), "{what}: {kind}, {label}");
+    if time["estimated"] != time["programmed"] {
+        assert_eq!(kind, "estimated", "{what}");
+    }
+    // Blocks and vertices on that time axis (serde_json reads a number
+    // to within a unit in the last place: compared within that).
+    let close = |x: Option<f64>| x.is_some_and(|x| (x - duration).abs() <= 1e-14 * duration);
+    let ends = page_f64(page, "ends");
+    assert!(close(ends.last().copied()), "{what}: {:?}", ends.last());
+    assert!(ends.windows(2).all(|w| w[0] <= w[1]), "{what}: block ends");
+    let times = page_f64(page, "times");
+    assert!(
+        times.windows(2).all(|w| w[0] <= w[1]),
+        "{what}: vertex times"
+    );
+    assert!(close(times.last().copied()), "{what}: {:?}", times.last());
+}
+
+#[test]
+fn the_view_and_check_give_the_same_time() {
+    let dir = tempfile::tempdir().expect("a temporary directory");
+    for (program, machine) in [
+        ("examples/bracket.nc", "trunnion-ac"),
+        ("examples/tcpc-vector.nc", "head-table-bc"),
+        ("examples/tilted-holes.nc", "trunnion-ac"),
+        ("examples/subprogram.nc", "trunnion-ac"),
+        ("examples/tcpc-winding.nc", "head-table-bc"),
+    ] {
+        let args = [
+            program,
+            "--machine",
+            machine,
+            "--offsets",
+            "examples/offsets.toml",
+        ];
+        let (time, page) = check_and_view(dir.path(), &args);
+        assert_same_time(program, &time, &page);
+    }
+}
+
+/// The corpus program of the issue: the NX program for the NMV5000
+/// (`../shared/corpus`; left out with a message where it is missing).
+#[test]
+fn the_view_and_check_give_the_same_time_on_the_nmv5000_program() {
+    let program = common::corpus_dir().join("fanuc_nx_nmv5000_mm.nc");
+    if !program.exists() {
+        eprintln!(
+            "skipped: {} is missing (the shared corpus)",
+            program.display()
+        );
+        return;
+    }
+    let setups = common::root().join("crates/fiveaxis-cli/tests/corpus-setups");
+    let (machine, offsets) = (
+        setups.join("nmv5000.toml"),
+        setups.join("nmv5000-offsets.toml"),
+    );
+    let dir = tempfile::tempdir().expect("a temporary directory");
+    let args = [
+        program.to_str().expect("UTF-8"),
+        "--machine",
+        machine.to_str().expect("UTF-8"),
+        "--offsets",
+        offsets.to_str().expect("UTF-8"),
+    ];
+    let (time, page) = check_and_view(dir.path(), &args);
+    assert_same_time("the NMV5000 program", &time, &page);
 }

@@ -263,6 +263,8 @@ pub struct Planner {
     pending: Option<path::Interval>,
     /// The next joint is a stop.
     stop_next: bool,
+    /// Path length pushed so far, mm (the marks' parameter).
+    pushed: f64,
 }
 
 impl Planner {
@@ -316,6 +318,7 @@ impl Planner {
             position,
             pending: None,
             stop_next: true,
+            pushed: 0.0,
         })
     }
 
@@ -338,6 +341,37 @@ impl Planner {
     /// stop, a tool change).
     pub fn stop(&mut self) {
         self.stop_next = true;
+    }
+
+    /// Marks the end of what has been pushed so far (a block's end): its
+    /// time is known once the plan has committed past it, and is handed
+    /// over by [`take_mark_times`](Planner::take_mark_times) (or
+    /// [`finish_marked`](Planner::finish_marked)) in the order of the
+    /// marks. A block's time is the difference of the marks around it;
+    /// the last mark of a plan is its total time. Costs nothing unless
+    /// called.
+    pub fn mark(&mut self) {
+        self.window.mark(self.pushed);
+    }
+
+    /// Hands over, in order, the times (s from the start) of the marks the
+    /// plan has committed past since the last call.
+    pub fn take_mark_times(&mut self, take: impl FnMut(f64)) {
+        self.window.take_mark_times(take);
+    }
+
+    /// [`finish`](Planner::finish), handing over the times of every mark
+    /// not yet taken.
+    pub fn finish_marked(mut self, take: impl FnMut(f64)) -> Summary {
+        if let Some(p) = self.pending.take() {
+            self.emit(&p, path::Joint::Stop, None);
+        }
+        self.window.flush(None);
+        self.window.take_mark_times(take);
+        Summary {
+            time: self.window.time(),
+            length: self.window.length(),
+        }
     }
 
     /// Time committed so far, s (the look-ahead window still holds the
@@ -431,6 +465,7 @@ impl Planner {
                 // A rapid that moves no axis takes no time.
                 continue;
             }
+            self.pushed += len;
             if rapid && !moved {
                 self.stop_next = true;
             }

@@ -213,40 +213,109 @@ pub(crate) fn change_pieces(
     s: f64,
     out: &mut Vec<Piece>,
 ) -> (f64, f64) {
+    let (pieces, count) = change_phases(v0, v1, d, t, s);
+    out.extend_from_slice(&pieces[..count]);
+    let end = match pieces[..count].last() {
+        Some(last) => advance(*last),
+        None => piece(t, 0.0, s, v0, 0.0, 0.0),
+    };
+    (end.t, end.s)
+}
+
+/// The pieces of a speed change from `v0` to `v1` (at most three, the
+/// first `count` of the array) starting at time `t` and parameter `s`.
+fn change_phases(v0: f64, v1: f64, d: Dynamics, t: f64, s: f64) -> ([Piece; 3], usize) {
+    let mut pieces = [piece(t, 0.0, s, v0, 0.0, 0.0); 3];
     let dv = (v1 - v0).abs();
     if dv == 0.0 || d.acc.is_infinite() {
-        return (t, s);
+        return (pieces, 0);
     }
     let sign = if v1 > v0 { 1.0 } else { -1.0 };
-    // (duration, jerk) of each phase, the acceleration starting at zero.
-    let mut phases = [(0.0, 0.0); 3];
     if d.jerk.is_infinite() {
-        out.push(piece(t, dv / d.acc, s, v0, sign * d.acc, 0.0));
-    } else if dv >= d.full() {
+        pieces[0] = piece(t, dv / d.acc, s, v0, sign * d.acc, 0.0);
+        return (pieces, 1);
+    }
+    // (duration, jerk) of each phase, the acceleration starting at zero.
+    let phases = if dv >= d.full() {
         let tj = d.acc / d.jerk;
-        phases = [
+        [
             (tj, sign * d.jerk),
             (dv / d.acc - tj, 0.0),
             (tj, -sign * d.jerk),
-        ];
+        ]
     } else {
         let tj = (dv / d.jerk).sqrt();
-        phases = [(tj, sign * d.jerk), (tj, -sign * d.jerk), (0.0, 0.0)];
-    }
-    let mut p = piece(t, 0.0, s, v0, 0.0, 0.0);
+        [(tj, sign * d.jerk), (tj, -sign * d.jerk), (0.0, 0.0)]
+    };
+    let mut p = pieces[0];
+    let mut count = 0;
     for (duration, j) in phases {
         if duration > 0.0 {
             p.duration = duration;
             p.j = j;
-            out.push(p);
+            pieces[count] = p;
+            count += 1;
             p = advance(p);
         }
     }
-    let end = match out.last() {
-        Some(last) => advance(*last),
-        None => p,
+    (pieces, count)
+}
+
+/// Bisection steps that place a time inside a piece: 2⁻⁶⁰ of its duration.
+const TIME_AT_ITERATIONS: usize = 60;
+
+/// How long after its start a speed change from `v0` to `v1` has covered
+/// `x` mm (clamped to the change: its duration past its distance).
+fn change_time_at(v0: f64, v1: f64, d: Dynamics, x: f64) -> f64 {
+    let (pieces, count) = change_phases(v0, v1, d, 0.0, 0.0);
+    let pieces = &pieces[..count];
+    for p in pieces {
+        let end = advance(*p);
+        if x <= end.s {
+            // s(τ) never decreases (the speed stays at least 0): bisection.
+            let at =
+                |tau: f64| p.s + p.v * tau + p.a * tau * tau / 2.0 + p.j * tau * tau * tau / 6.0;
+            let (mut lo, mut hi) = (0.0, p.duration);
+            for _ in 0..TIME_AT_ITERATIONS {
+                let mid = 0.5 * (lo + hi);
+                if at(mid) < x {
+                    lo = mid;
+                } else {
+                    hi = mid;
+                }
+            }
+            return p.t + 0.5 * (lo + hi);
+        }
+    }
+    pieces.last().map_or(0.0, |p| p.t + p.duration)
+}
+
+/// How long after its start a stretch of `shape` entered at `v0`, left at
+/// `v1`, has covered `x` mm of its length (0 ≤ x ≤ its length; beyond it,
+/// its duration).
+pub(crate) fn time_at(v0: f64, v1: f64, shape: Shape, d: Dynamics, x: f64) -> f64 {
+    let x = x.max(0.0);
+    let up = change_distance(v0, shape.peak, d);
+    if x <= up {
+        return change_time_at(v0, shape.peak, d, x);
+    }
+    let up_time = change_time(v0, shape.peak, d);
+    let x = x - up;
+    if x <= shape.cruise {
+        return up_time
+            + if shape.peak > 0.0 {
+                x / shape.peak
+            } else {
+                0.0
+            };
+    }
+    let cruise_time = if shape.cruise > 0.0 {
+        shape.cruise / shape.peak
+    } else {
+        0.0
     };
-    (end.t, end.s)
+    let down = change_time_at(shape.peak, v1, d, x - shape.cruise);
+    (up_time + cruise_time + down).min(shape.time)
 }
 
 fn piece(t: f64, duration: f64, s: f64, v: f64, a: f64, j: f64) -> Piece {

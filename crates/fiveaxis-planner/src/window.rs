@@ -15,6 +15,10 @@ use std::collections::VecDeque;
 
 use crate::profile::{self, Dynamics, Piece};
 
+/// How far before a stretch's end, relative to the path length so far, a
+/// mark is at its end: the rounding of lengths summed in another order.
+const MARK_ROUNDING: f64 = 1e-9;
+
 /// A stretch of path with one speed cap and one set of dynamics: the
 /// planner's unit. Consecutive pieces of path whose limits are alike are
 /// merged into one stretch (with the smallest of their limits).
@@ -73,6 +77,11 @@ pub(crate) struct Window {
     v: f64,
     s: f64,
     t: f64,
+    /// Path parameters whose time is asked for (block ends), in order,
+    /// not yet committed past.
+    marks: VecDeque<f64>,
+    /// The times of the marks committed past, in order, not yet taken.
+    mark_times: Vec<f64>,
 }
 
 impl Window {
@@ -84,6 +93,21 @@ impl Window {
             v: 0.0,
             s: 0.0,
             t: 0.0,
+            marks: VecDeque::new(),
+            mark_times: Vec::new(),
+        }
+    }
+
+    /// Asks for the time at which the path parameter reaches `s` (at least
+    /// every earlier mark's).
+    pub(crate) fn mark(&mut self, s: f64) {
+        self.marks.push_back(s);
+    }
+
+    /// Hands over the times of the marks committed past, in order.
+    pub(crate) fn take_mark_times(&mut self, mut take: impl FnMut(f64)) {
+        for t in self.mark_times.drain(..) {
+            take(t);
         }
     }
 
@@ -134,6 +158,9 @@ impl Window {
     /// Plans what is left with a stop at its end and commits all of it.
     pub(crate) fn flush(&mut self, trace: Option<&mut Vec<Piece>>) {
         self.commit(self.queue.len(), trace);
+        // Marks past the end (rounding of the lengths): the end.
+        let end = self.t;
+        self.mark_times.extend(self.marks.drain(..).map(|_| end));
     }
 
     /// The two passes over the whole window, then the first `count`
@@ -165,6 +192,21 @@ impl Window {
                 .min(exit_limit)
                 .min(st.cap);
             let shape = profile::stretch(v0, v1, st.len, st.cap, st.dynamics);
+            let end = self.s + st.len;
+            while let Some(&m) = self.marks.front()
+                && m <= end
+            {
+                self.marks.pop_front();
+                // A mark at the stretch's end to the rounding of the summed
+                // lengths is its end: near a stop the time at a length is
+                // sensitive to the last digits of the length.
+                let within = if end - m <= MARK_ROUNDING * end {
+                    shape.time
+                } else {
+                    profile::time_at(v0, v1, shape, st.dynamics, m - self.s)
+                };
+                self.mark_times.push(self.t + within);
+            }
             if let Some(out) = trace.as_deref_mut() {
                 trace_stretch(v0, v1, self.t, self.s, &st, shape, out);
             }

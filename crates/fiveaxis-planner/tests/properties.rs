@@ -395,3 +395,75 @@ fn the_planned_motion_keeps_every_limit() {
         panic!("{e}");
     }
 }
+
+/// Marks after every block: each mark's time is when the traced motion
+/// reaches the block's end (the summed lengths of its samples), the times
+/// do not depend on tracing, never decrease, and the last is the total.
+fn check_marks(case: Case) -> Result<(), TestCaseError> {
+    let n = case.axes.len();
+    let (time, trace) = plan(&case);
+    let options = Options {
+        junction_tolerance: case.tolerance,
+        lookahead: case.lookahead,
+    };
+    let mut planner = Planner::new(&case.axes, options, &vec![0.0; n]).expect("valid limits");
+    let mut q = vec![0.0; n];
+    let mut ends = Vec::new();
+    let mut s = 0.0;
+    let mut times = Vec::new();
+    for (feed, exact, steps, factor) in &case.blocks {
+        let points: Vec<Point> = steps
+            .iter()
+            .map(|d| {
+                for i in 0..n {
+                    q[i] += d[i];
+                }
+                let len = d.iter().map(|x| x * x).sum::<f64>().sqrt() * factor;
+                s += len;
+                Point::new(&q, len)
+            })
+            .collect();
+        let block = Block {
+            feed: *feed,
+            exact_stop: *exact,
+            points: &points,
+        };
+        planner.push(&block).expect("valid block");
+        planner.mark();
+        ends.push(s);
+        // Taken as they come, as a streaming caller does.
+        planner.take_mark_times(|t| times.push(t));
+    }
+    let summary = planner.finish_marked(|t| times.push(t));
+    prop_assert_eq!(times.len(), ends.len());
+    prop_assert!(
+        (summary.time - time).abs() <= 1e-12 * time,
+        "{} {time}",
+        summary.time
+    );
+    prop_assert!(
+        (times[times.len() - 1] - time).abs() <= 1e-9 * time,
+        "last mark {} of {time}",
+        times[times.len() - 1]
+    );
+    for (k, (&t, &end)) in times.iter().zip(&ends).enumerate() {
+        prop_assert!(
+            k == 0 || t >= times[k - 1],
+            "mark {k} at {t} before the one before"
+        );
+        let reached = parameter(&trace, t);
+        prop_assert!(
+            (reached - end).abs() <= 1e-7 * (1.0 + s),
+            "mark {k}: at {t} s the motion is at {reached}, the block ends at {end}"
+        );
+    }
+    Ok(())
+}
+
+#[test]
+fn marks_give_the_time_of_each_block_end() {
+    let mut runner = TestRunner::new(config(256));
+    if let Err(e) = runner.run(&case(), check_marks) {
+        panic!("{e}");
+    }
+}

@@ -121,6 +121,12 @@ impl PathPacker {
         &self.times
     }
 
+    /// Times of the kept vertices, to be moved to another timeline
+    /// ([`retime`]).
+    pub fn times_mut(&mut self) -> &mut [f64] {
+        &mut self.times
+    }
+
     fn keep_pending_end(&mut self) {
         if let Some(end) = self.pending.pop() {
             self.pending.clear();
@@ -173,44 +179,44 @@ pub fn distance_to_segment(p: &Vec3, a: &Vec3, b: &Vec3) -> f64 {
     (a + ab * t - p).norm()
 }
 
-/// Programmed time of one block, seconds: a cutting move takes its tool-tip
-/// path length at the programmed feed, or, when the tip does not move (a
-/// rotary axis alone), its largest rotary turn at the feed read as deg/min
-/// (FANUC); a rapid move takes as long as its slowest axis at that axis'
-/// rapid rate (`rapids`, per minute: linear-interpolation positioning, all
-/// axes arrive together; `machine-model.md` "Axis dynamics", as `check`
-/// times rapids). `travel` holds each axis' travel (absolute), linear axes
-/// first; `first_rotary` is where the rotary axes start.
-pub fn block_seconds(
-    feed: Option<f64>,
-    tip_length: f64,
-    travel: &[f64],
-    rapids: &[f64],
-    first_rotary: usize,
-) -> f64 {
-    let longest = |t: &[f64]| t.iter().copied().fold(0.0, f64::max);
-    match feed {
-        Some(f) if f > 0.0 => {
-            let length = if tip_length > TIP_AT_REST {
-                tip_length
-            } else {
-                longest(&travel[first_rotary.min(travel.len())..])
-            };
-            length / f * 60.0
+/// Moves times from one timeline of blocks to another: a time inside
+/// block k of `from` goes to the same fraction of block k of `to`. `from`
+/// and `to` hold the blocks' end times (seconds from the start, never
+/// decreasing, as many of each); `times` must never decrease either. A
+/// time at the end of a block goes to its end in `to` (a vertex between
+/// two blocks, at the first whose end it is); a block that takes no time
+/// in `from` holds no time inside it. Times past the last end go to the
+/// last end of `to`.
+pub fn retime(times: &mut [f64], from: &[f64], to: &[f64]) {
+    let n = from.len().min(to.len());
+    let mut k = 0;
+    for t in times {
+        while k < n && from[k] < *t {
+            k += 1;
         }
-        _ => {
-            travel
-                .iter()
-                .zip(rapids)
-                .map(|(t, r)| t / r)
-                .fold(0.0, f64::max)
-                * 60.0
+        if k == n {
+            *t = to.get(n.wrapping_sub(1)).copied().unwrap_or(0.0);
+            continue;
         }
+        let (from0, to0) = if k == 0 {
+            (0.0, 0.0)
+        } else {
+            (from[k - 1], to[k - 1])
+        };
+        let span = from[k] - from0;
+        let f = if span > 0.0 {
+            ((*t - from0) / span).clamp(0.0, 1.0)
+        } else {
+            1.0
+        };
+        // A block's end is its end exactly (the last vertex is the total).
+        *t = if f < 1.0 {
+            to0 + (to[k] - to0) * f
+        } else {
+            to[k]
+        };
     }
 }
-
-/// Tip travel below which a cutting block is a rotary move alone, mm.
-pub const TIP_AT_REST: f64 = 1e-9;
 
 /// A typed array for the page: its values, as the browser's typed arrays
 /// read them (little-endian).
@@ -589,25 +595,20 @@ mod tests {
     }
 
     #[test]
-    fn block_seconds_by_hand() {
-        // 100 mm at F600: 10 s.
-        let rapids = [30_000.0, 30_000.0, 20_000.0, 9_000.0, 18_000.0];
-        assert_eq!(
-            block_seconds(Some(600.0), 100.0, &[60.0, 80.0, 0.0], &rapids, 3),
-            10.0
-        );
-        // A turn of 90 degrees alone at F900 (deg/min): 6 s.
-        assert_eq!(
-            block_seconds(Some(900.0), 0.0, &[0.0, 0.0, 0.0, 90.0, 30.0], &rapids, 3),
-            6.0
-        );
-        // Rapid: the slowest axis at its rate: Z's 300 mm at 20 m/min
-        // (0.9 s) outlasts X's 400 mm at 30 m/min (0.8 s).
-        let rapid = block_seconds(None, 0.0, &[400.0, 20.0, 300.0], &rapids, 3);
-        assert!((rapid - 0.9).abs() < 1e-12, "{rapid}");
-        // A rotary axis the slowest: A's 90 degrees at 9,000 deg/min, 0.6 s.
-        let rapid = block_seconds(None, 0.0, &[10.0, 0.0, 0.0, 90.0, 0.0], &rapids, 3);
-        assert!((rapid - 0.6).abs() < 1e-12, "{rapid}");
+    fn retime_moves_each_time_to_the_same_fraction_of_its_block() {
+        // Blocks of 10, 0 and 20 s become 5, 3 and 40 s.
+        let from = [10.0, 10.0, 30.0];
+        let to = [5.0, 8.0, 48.0];
+        let mut times = [0.0, 2.0, 10.0, 10.0, 20.0, 30.0, 31.0];
+        retime(&mut times, &from, &to);
+        // 2 s of 10 is a fifth of the first block (1 s of 5); the end of
+        // block 0 is its end in `to`; 20 s is half of block 2 (8 + 20);
+        // past the end, the end.
+        assert_eq!(times, [0.0, 1.0, 5.0, 5.0, 28.0, 48.0, 48.0]);
+        // Nothing to map by: the start.
+        let mut times = [0.0, 1.0];
+        retime(&mut times, &[], &[]);
+        assert_eq!(times, [0.0, 0.0]);
     }
 
     proptest! {
