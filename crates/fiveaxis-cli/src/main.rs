@@ -101,6 +101,11 @@ struct RunArgs {
     /// Output format.
     #[arg(long, value_enum, default_value_t = Format::Csv)]
     format: Format,
+    /// Round every number to at most this many decimals (0-15), trailing
+    /// zeros left out, for reading; default: the exact shortest form that
+    /// reads back as the same 64-bit float.
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u8).range(0..=i64::from(number::MAX_DIGITS)))]
+    digits: Option<u8>,
     /// Write to this file (whole or not at all) instead of standard output.
     #[arg(short = 'o', long = "output")]
     output: Option<PathBuf>,
@@ -481,7 +486,7 @@ fn run(args: &RunArgs) -> Result<u8, InputError> {
             &args.program,
         ),
     )?;
-    let writer = RowWriter::new(args.format, &machine);
+    let writer = RowWriter::new(args.format, &machine, args.digits);
 
     let status = match &args.output {
         None => {
