@@ -841,12 +841,14 @@ fn finish(result: Result<(), Stop>, program: &str, output: &str) -> Result<u8, I
                 let program = library_file.as_deref().unwrap_or(program);
                 let span = alarm.span.map(|s| (s.start, s.end));
                 let message = diagnostic::escape(&alarm.message);
-                let title = format!("{} {message}", alarm.code);
+                // The contract's line says it all; the location and the
+                // caret follow, without the message a second time.
                 report(&format!(
                     "ALARM {} line {}: {message}\n{}",
                     alarm.code,
                     alarm.line,
-                    diagnostic::render(program, alarm.line, &text, span, &title, "here")
+                    diagnostic::render_location(program, alarm.line, &text, span, "here")
+                        .trim_end()
                 ));
                 Ok(EXIT_ALARM)
             }
