@@ -262,7 +262,14 @@ fn list_machines() -> Result<u8, InputError> {
 }
 
 fn show_machine(name: &str) -> Result<u8, InputError> {
-    let machine = builtin(name).ok_or_else(|| unknown_machine(name))?;
+    let machine = builtin(name).ok_or_else(|| {
+        InputError(format!(
+            "error: `{}` is not a built-in machine name{}; built-in machines: {} (`fiveaxis machines` lists them)",
+            diagnostic::escape(name),
+            did_you_mean(name),
+            builtin_names().join(", ")
+        ))
+    })?;
     print_out(&machine.to_toml())
 }
 
@@ -299,10 +306,54 @@ fn import_machine(config: &Path) -> Result<u8, InputError> {
 
 fn unknown_machine(name: &str) -> InputError {
     InputError(format!(
-        "error: `{}` is neither a built-in machine nor a machine file; built-in machines: {}",
+        "error: `{}` is neither a built-in machine nor a machine file{}; built-in machines: {}",
         diagnostic::escape(name),
+        did_you_mean(name),
         builtin_names().join(", ")
     ))
+}
+
+/// `; did you mean `a`?` (or `` `a` or `b` ``) naming the built-in
+/// machines nearest to `name`, or nothing when none is near.
+fn did_you_mean(name: &str) -> String {
+    let nearest = nearest_names(name, builtin_names());
+    match nearest.as_slice() {
+        [] => String::new(),
+        names => format!(
+            "; did you mean {}?",
+            names
+                .iter()
+                .map(|n| format!("`{n}`"))
+                .collect::<Vec<_>>()
+                .join(" or ")
+        ),
+    }
+}
+
+/// The names nearest to `typed` by edit distance (letters swapped count
+/// one edit; case is ignored), when they are near enough to be a slip:
+/// at most a third of the name's letters (at least 2) apart. Every name
+/// at the smallest distance, in the given order.
+fn nearest_names<'a>(typed: &str, names: &[&'a str]) -> Vec<&'a str> {
+    let typed = typed.trim().to_lowercase();
+    let limit = (typed.chars().count() / 3).max(2);
+    let distances: Vec<(usize, &str)> = names
+        .iter()
+        .map(|&n| (strsim::damerau_levenshtein(&typed, &n.to_lowercase()), n))
+        .collect();
+    let best = distances
+        .iter()
+        .map(|&(d, _)| d)
+        .min()
+        .unwrap_or(usize::MAX);
+    if best > limit {
+        return Vec::new();
+    }
+    distances
+        .into_iter()
+        .filter(|&(d, _)| d == best)
+        .map(|(_, n)| n)
+        .collect()
 }
 
 /// The largest machine or offsets file read, bytes: a real one is a few
@@ -862,4 +913,25 @@ fn finish(result: Result<(), Stop>, program: &str, output: &str) -> Result<u8, I
 
 fn write_error(output: &str, error: &io::Error) -> InputError {
     InputError::io(output, error)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn near_names_are_suggested_and_far_ones_not() {
+        let names = builtin_names();
+        assert_eq!(nearest_names("trunion-ac", names), ["trunnion-ac"]);
+        assert_eq!(nearest_names("TRUNNION-CA", names), ["trunnion-ac"]);
+        assert_eq!(nearest_names("haas-umc-750", names), ["haas-umc750"]);
+        assert_eq!(nearest_names("mill-3", names), Vec::<&str>::new());
+        assert_eq!(nearest_names("my-machine.toml", names), Vec::<&str>::new());
+        assert_eq!(nearest_names("", names), Vec::<&str>::new());
+        // Two at the same distance: both.
+        assert_eq!(
+            nearest_names("trunnion-xc", names),
+            ["trunnion-ac", "trunnion-bc"]
+        );
+    }
 }

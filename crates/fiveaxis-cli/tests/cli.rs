@@ -424,6 +424,37 @@ fn machines_show_with_an_unknown_name_exits_2() {
     assert_input_refused(&fiveaxis(&["machines", "show", "hexapod"]), &["hexapod"]);
 }
 
+#[test]
+fn a_mistyped_machine_name_gets_the_nearest_built_in_names() {
+    for command in ["run", "check", "view", "post"] {
+        let output = fiveaxis(&[command, "program.nc", "--machine", "trunion-ac"]);
+        assert_input_refused(&output, &["`trunion-ac`", "did you mean `trunnion-ac`?"]);
+    }
+    // Two at the same distance: both; none near: no guess.
+    let output = fiveaxis(&["run", "program.nc", "--machine", "trunnion-xc"]);
+    assert_input_refused(&output, &["did you mean `trunnion-ac` or `trunnion-bc`?"]);
+    let output = fiveaxis(&["run", "program.nc", "--machine", "hexapod"]);
+    assert!(
+        !stderr(&output).contains("did you mean"),
+        "{}",
+        stderr(&output)
+    );
+}
+
+#[test]
+fn machines_show_takes_names_only_and_says_so() {
+    let output = fiveaxis(&["machines", "show", "haas-umc-750"]);
+    let mut mentions =
+        vec!["`haas-umc-750` is not a built-in machine name; did you mean `haas-umc750`?"];
+    mentions.extend(builtin_names());
+    assert_input_refused(&output, &mentions);
+    assert!(
+        !stderr(&output).contains("machine file"),
+        "{}",
+        stderr(&output)
+    );
+}
+
 // ----- alarm diagnostics -------------------------------------------------------
 
 /// Checks that an alarmed run renders `text`, the failing line, under the
@@ -446,13 +477,6 @@ fn assert_alarm_renders(program: &str, code: &str, line: usize, text: &str) {
 #[test]
 fn alarm_renders_the_failing_line_under_its_number() {
     assert_alarm_renders("G0 X1.\nG1 X2.\n", "PS0011", 2, "G1 X2.");
-}
-
-#[test]
-fn alarm_for_a_missing_subprogram_renders_the_calling_line() {
-    // The runner searches the rest of the file for O4242 and then renders
-    // the last line it read there instead of the M98 block.
-    assert_alarm_renders("G0 X5.\nM98 P4242\nG0 X0\nM30\n", "PS0078", 2, "M98 P4242");
 }
 
 #[test]
@@ -550,6 +574,13 @@ fn numbers(csv: &str) -> Vec<Vec<f64>> {
         .skip(1)
         .map(|l| l.split(',').filter_map(|c| c.parse().ok()).collect())
         .collect()
+}
+
+#[test]
+fn alarm_for_a_missing_subprogram_renders_the_calling_line() {
+    // The runner searches the rest of the file for O4242 and then renders
+    // the last line it read there instead of the M98 block.
+    assert_alarm_renders("G0 X5.\nM98 P4242\nG0 X0\nM30\n", "PS0078", 2, "M98 P4242");
 }
 
 #[test]
