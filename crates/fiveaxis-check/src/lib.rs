@@ -421,12 +421,22 @@ impl<'m> Checker<'m> {
             } else {
                 "deg/min"
             };
-            let message = format!(
-                "F{} needs {name} faster than its {} {unit}: the tip moves at {} mm/min at most",
-                round3(feed),
+            let needs = format!(
+                "{name} faster than its {} {unit}: the tip moves at {} mm/min at most",
                 round3(vmax),
                 round3(allowed)
             );
+            // In inverse time F is 1/minutes, not the tip feed the axes
+            // must keep: both are named.
+            let message = if seg.inverse_time && minutes > 0.0 {
+                format!(
+                    "the inverse-time F{} works out to a tip feed of {} mm/min, which needs {needs}",
+                    round6(1.0 / minutes),
+                    round3(feed)
+                )
+            } else {
+                format!("F{} needs {needs}", round3(feed))
+            };
             self.push(
                 Kind::FeedLimited,
                 seg.line,
