@@ -56,8 +56,9 @@ enum Command {
     /// machine (tool path, machine moving, timeline, axis plots, findings).
     View(view::ViewArgs),
     /// Turn a program that uses TCPC (G43.4 / G43.5) or the tilted working
-    /// plane into a machine-axis program for the same machine, within a
-    /// tolerance, with inverse time feed.
+    /// plane into a machine-axis program for the same machine and one tool
+    /// length, within a tolerance, with inverse time feed (a program with
+    /// neither is written unchanged).
     Post(post::PostArgs),
     /// List the built-in machines, or print one as a machine file.
     Machines {

@@ -345,6 +345,23 @@ impl<'m> Controller<'m> {
         self.limits_lifted = lifted;
     }
 
+    /// Whether a function is in force that makes the machine positions
+    /// of a block depend on the machine's kinematics and the tool: TCPC
+    /// (G43.4 / G43.5, Haas G234, LinuxCNC's TCP kinematics), length
+    /// compensation along the tool axis (G43.1), a feature frame (the
+    /// tilted working plane G68.2 / G68.3 / G68.4, the 3-D coordinate
+    /// conversion, Haas G254) or the workpiece setup error (G54.4). A
+    /// program that never has one is already a machine-axis program
+    /// (what `fiveaxis post` leaves unchanged).
+    pub fn kinematic_mode(&self) -> bool {
+        matches!(
+            self.state.modal.length,
+            LengthMode::Tcpc(_) | LengthMode::ToolAxis
+        ) || self.state.kinematics_tcp
+            || self.state.feature.is_some()
+            || self.state.setup_set != 0
+    }
+
     /// From now on, counts the axis words written without a decimal point
     /// while such words are read in least input increments (decimal point
     /// input off, No.3401#0 DPI = 0): what `fiveaxis check` reports.
