@@ -5,7 +5,9 @@
 //! [`Report`]: the axis ranges against their soft limits, the programmed
 //! machining time, and the findings of the `check` contract
 //! (`overtravel`, `alarm`, `singular_passage`, `rotary_flip`,
-//! `feed_limited`, `chord_error`). Pure: no I/O, the report is data.
+//! `feed_limited`, `chord_error`), and the project's own
+//! `no_decimal_point` ([`check_run`] only). Pure: no I/O, the report is
+//! data.
 //!
 //! How each finding is found (exactly, not by coarse sampling):
 //!
@@ -70,17 +72,22 @@ pub enum Kind {
     FeedLimited,
     /// The tip leaves the straight line between block ends (outside TCPC).
     ChordError,
+    /// Axis words without a decimal point read in least input increments
+    /// (decimal point input off): one finding for the program, at the
+    /// first such word, with their count.
+    NoDecimalPoint,
 }
 
 impl Kind {
     /// Every kind, in the order reports group them.
-    pub const ALL: [Kind; 6] = [
+    pub const ALL: [Kind; 7] = [
         Kind::Alarm,
         Kind::Overtravel,
         Kind::SingularPassage,
         Kind::RotaryFlip,
         Kind::FeedLimited,
         Kind::ChordError,
+        Kind::NoDecimalPoint,
     ];
 
     /// The contract's name.
@@ -92,6 +99,7 @@ impl Kind {
             Kind::RotaryFlip => "rotary_flip",
             Kind::FeedLimited => "feed_limited",
             Kind::ChordError => "chord_error",
+            Kind::NoDecimalPoint => "no_decimal_point",
         }
     }
 
@@ -99,6 +107,7 @@ impl Kind {
     pub fn severity(self) -> Severity {
         match self {
             Kind::Overtravel | Kind::Alarm => Severity::Error,
+            Kind::NoDecimalPoint => Severity::Info,
             _ => Severity::Warning,
         }
     }
@@ -469,12 +478,22 @@ impl<'m> Checker<'m> {
             } else {
                 "deg/min"
             };
-            let message = format!(
-                "F{} needs {name} faster than its {} {unit}: the tip moves at {} mm/min at most",
-                round3(feed),
+            let needs = format!(
+                "{name} faster than its {} {unit}: the tip moves at {} mm/min at most",
                 round3(vmax),
                 round3(allowed)
             );
+            // In inverse time F is 1/minutes, not the tip feed the axes
+            // must keep: both are named.
+            let message = if seg.inverse_time && minutes > 0.0 {
+                format!(
+                    "the inverse-time F{} works out to a tip feed of {} mm/min, which needs {needs}",
+                    round6(1.0 / minutes),
+                    round3(feed)
+                )
+            } else {
+                format!("F{} needs {needs}", round3(feed))
+            };
             self.push(
                 Kind::FeedLimited,
                 seg.line,
@@ -671,6 +690,7 @@ pub fn check_run<S: Source>(
     mut progress: impl FnMut(u64),
 ) -> Result<Report, RunError> {
     let machine = runner.controller().machine();
+    runner.count_words_without_point();
     let mut checker = Checker::new(machine);
     let mut segments = Vec::with_capacity(BATCH);
     let alarm = loop {
@@ -687,7 +707,7 @@ pub fn check_run<S: Source>(
             Err(other) => return Err(other),
         }
     };
-    Ok(checker.finish(Ending {
+    let mut report = checker.finish(Ending {
         ended: alarm.is_none(),
         alarm: alarm.map(|a| AlarmInfo {
             code: a.code.to_string(),
@@ -695,7 +715,59 @@ pub fn check_run<S: Source>(
             message: a.message,
         }),
         blocks: runner.blocks(),
-    }))
+    });
+    if let Some(words) = runner.controller().words_without_point() {
+        add_words_without_point(&mut report, machine, words);
+    }
+    Ok(report)
+}
+
+/// The `no_decimal_point` finding of a run that wrote axis words without
+/// a decimal point where they count in least input increments: placed
+/// before the first finding of a later line (the findings are in program
+/// order; this one is about the whole program, from its first such word).
+fn add_words_without_point(
+    report: &mut Report,
+    machine: &Machine,
+    words: fiveaxis_control::WordsWithoutPoint,
+) {
+    if words.count == 0 {
+        return;
+    }
+    let increment = machine.params.least_input_increment;
+    // As many decimals as the increment has (0.001: 3, 0.0001: 4).
+    let decimals = (-increment.log10()).ceil().clamp(0.0, 9.0) as usize;
+    let (many, are) = if words.count == 1 {
+        ("1 axis word", "is")
+    } else {
+        ("axis words", "are")
+    };
+    let count = if words.count == 1 {
+        String::new()
+    } else {
+        format!("{} ", words.count)
+    };
+    let message = format!(
+        "{count}{many} without a decimal point {are} read in least input increments (X10 = {:.decimals$} mm): first on line {}",
+        10.0 * increment,
+        words.first_line
+    );
+    let at = report
+        .findings
+        .iter()
+        .position(|f| f.line > words.first_line)
+        .unwrap_or(report.findings.len());
+    report.findings.insert(
+        at,
+        Finding {
+            kind: Kind::NoDecimalPoint,
+            line: words.first_line,
+            message,
+            axis: None,
+            value: Some(words.count as f64),
+            order: 0,
+        },
+    );
 }
 
 /// How far the true chord error may lie above the value reported, mm: a

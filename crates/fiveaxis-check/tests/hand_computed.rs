@@ -151,6 +151,41 @@ fn a_feed_the_c_axis_cannot_follow() {
 }
 
 #[test]
+fn an_inverse_time_feed_limit_names_the_f_word_and_the_tip_feed() {
+    // The quarter turn of C in G93 at F200: 1/200 min for the tip's chord
+    // of 100·√2 mm, a tip feed of 20000·√2 mm/min; C needs 90·200 =
+    // 18000 deg/min, more than its 7200. The tip feed C allows:
+    // 8000·√2 = 11313.708 mm/min.
+    let machine = builtin("trunnion-ac").expect("built in");
+    let report = check(
+        &machine,
+        "",
+        "G21 G90 G94\nG0 X100. Y0 Z0 A0 C0\nG93 G1 C90. F200.\nM30\n",
+    );
+    let (line, value, axis) = only(&report, Kind::FeedLimited);
+    assert_eq!((line, axis), (3, Some('C')));
+    assert!((value - 8000.0 * 2f64.sqrt()).abs() < 1e-6, "{value}");
+    let message = &report.findings[0].message;
+    assert_eq!(
+        message,
+        "the inverse-time F200 works out to a tip feed of 28284.271 mm/min, which needs C faster than its 7200 deg/min: the tip moves at 11313.708 mm/min at most"
+    );
+    // In G94 the F word is the tip feed.
+    let report = check(
+        &machine,
+        "",
+        "G21 G90 G94\nG0 X100. Y0 Z0 A0 C0\nG1 C90. F20000.\nM30\n",
+    );
+    assert!(
+        report.findings[0]
+            .message
+            .starts_with("F20000 needs C faster"),
+        "{}",
+        report.findings[0].message
+    );
+}
+
+#[test]
 fn inverse_time_feed_takes_one_over_f_minutes() {
     let machine = builtin("trunnion-ac").expect("built in");
     let report = check(&machine, "", "G21 G90 G93\nG1 X30. Y40. F2.\nM30\n");

@@ -456,10 +456,10 @@ fn text_report(t: &mut String, program: &str, report: &Report, source: &[u8]) {
         if of_kind.is_empty() {
             continue;
         }
-        let style = if kind.severity() == Severity::Error {
-            RED
-        } else {
-            YELLOW
+        let style = match kind.severity() {
+            Severity::Error => RED,
+            Severity::Warning => YELLOW,
+            Severity::Info => BOLD,
         };
         let _ = writeln!(
             t,

@@ -52,6 +52,26 @@ pub fn render(
     Renderer::plain().render(report).to_string()
 }
 
+/// The location of `span` in line `line` of `path` and the source line
+/// with a caret under it, without a heading: what follows a message that
+/// was already given in full (the contract's `ALARM` line), so that it is
+/// not said twice.
+pub fn render_location(
+    path: &str,
+    line: u32,
+    line_bytes: &[u8],
+    span: Option<(u32, u32)>,
+    label: &str,
+) -> String {
+    let rendered = render(path, line, line_bytes, span, "", label);
+    // The heading is the first line (`error: `); the title holds no line
+    // break, so the location starts on the second.
+    match rendered.split_once('\n') {
+        Some((_, rest)) => rest.to_owned(),
+        None => rendered,
+    }
+}
+
 /// `bytes` as printable text, and where each byte starts in it (plus the
 /// end): a byte inside a multi-byte character maps to its character's
 /// start.
@@ -119,6 +139,19 @@ mod tests {
         let caret = lines[source + 1];
         let q = lines[source].find('Q').unwrap_or(0);
         assert_eq!(caret.find('^'), Some(q), "{out}");
+    }
+
+    #[test]
+    fn a_location_has_no_heading_and_keeps_its_caret() {
+        let out = render_location("p.nc", 2, b"G1 X600.", Some((4, 9)), "here");
+        let lines: Vec<&str> = out.trim_end().lines().collect();
+        assert_eq!(lines[0], " --> p.nc:2:4", "{out}");
+        assert!(!out.contains("error"), "{out}");
+        let source = lines
+            .iter()
+            .position(|l| l.ends_with("G1 X600."))
+            .unwrap_or(0);
+        assert_eq!(lines[source + 1].trim_end(), "  |    ^^^^^ here", "{out}");
     }
 
     #[test]

@@ -57,8 +57,9 @@ enum Command {
     /// machine (tool path, machine moving, timeline, axis plots, findings).
     View(view::ViewArgs),
     /// Turn a program that uses TCPC (G43.4 / G43.5) or the tilted working
-    /// plane into a machine-axis program for the same machine, within a
-    /// tolerance, with inverse time feed.
+    /// plane into a machine-axis program for the same machine and one tool
+    /// length, within a tolerance, with inverse time feed (a program with
+    /// neither is written unchanged).
     Post(post::PostArgs),
     /// List the built-in machines, or print one as a machine file.
     Machines {
@@ -102,6 +103,11 @@ struct RunArgs {
     /// Output format.
     #[arg(long, value_enum, default_value_t = Format::Csv)]
     format: Format,
+    /// Round every number to at most this many decimals (0-15), trailing
+    /// zeros left out, for reading; default: the exact shortest form that
+    /// reads back as the same 64-bit float.
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u8).range(0..=i64::from(number::MAX_DIGITS)))]
+    digits: Option<u8>,
     /// Write to this file (whole or not at all) instead of standard output.
     #[arg(short = 'o', long = "output")]
     output: Option<PathBuf>,
@@ -258,7 +264,14 @@ fn list_machines() -> Result<u8, InputError> {
 }
 
 fn show_machine(name: &str) -> Result<u8, InputError> {
-    let machine = builtin(name).ok_or_else(|| unknown_machine(name))?;
+    let machine = builtin(name).ok_or_else(|| {
+        InputError(format!(
+            "error: `{}` is not a built-in machine name{}; built-in machines: {} (`fiveaxis machines` lists them)",
+            diagnostic::escape(name),
+            did_you_mean(name),
+            builtin_names().join(", ")
+        ))
+    })?;
     print_out(&machine.to_toml())
 }
 
@@ -295,10 +308,54 @@ fn import_machine(config: &Path) -> Result<u8, InputError> {
 
 fn unknown_machine(name: &str) -> InputError {
     InputError(format!(
-        "error: `{}` is neither a built-in machine nor a machine file; built-in machines: {}",
+        "error: `{}` is neither a built-in machine nor a machine file{}; built-in machines: {}",
         diagnostic::escape(name),
+        did_you_mean(name),
         builtin_names().join(", ")
     ))
+}
+
+/// `; did you mean `a`?` (or `` `a` or `b` ``) naming the built-in
+/// machines nearest to `name`, or nothing when none is near.
+fn did_you_mean(name: &str) -> String {
+    let nearest = nearest_names(name, builtin_names());
+    match nearest.as_slice() {
+        [] => String::new(),
+        names => format!(
+            "; did you mean {}?",
+            names
+                .iter()
+                .map(|n| format!("`{n}`"))
+                .collect::<Vec<_>>()
+                .join(" or ")
+        ),
+    }
+}
+
+/// The names nearest to `typed` by edit distance (letters swapped count
+/// one edit; case is ignored), when they are near enough to be a slip:
+/// at most a third of the name's letters (at least 2) apart. Every name
+/// at the smallest distance, in the given order.
+fn nearest_names<'a>(typed: &str, names: &[&'a str]) -> Vec<&'a str> {
+    let typed = typed.trim().to_lowercase();
+    let limit = (typed.chars().count() / 3).max(2);
+    let distances: Vec<(usize, &str)> = names
+        .iter()
+        .map(|&n| (strsim::damerau_levenshtein(&typed, &n.to_lowercase()), n))
+        .collect();
+    let best = distances
+        .iter()
+        .map(|&(d, _)| d)
+        .min()
+        .unwrap_or(usize::MAX);
+    if best > limit {
+        return Vec::new();
+    }
+    distances
+        .into_iter()
+        .filter(|&(d, _)| d == best)
+        .map(|(_, n)| n)
+        .collect()
 }
 
 /// The largest machine or offsets file read, bytes: a real one is a few
@@ -482,7 +539,7 @@ fn run(args: &RunArgs) -> Result<u8, InputError> {
             &args.program,
         ),
     )?;
-    let writer = RowWriter::new(args.format, &machine);
+    let writer = RowWriter::new(args.format, &machine, args.digits);
 
     let status = match &args.output {
         None => {
@@ -837,12 +894,14 @@ fn finish(result: Result<(), Stop>, program: &str, output: &str) -> Result<u8, I
                 let program = library_file.as_deref().unwrap_or(program);
                 let span = alarm.span.map(|s| (s.start, s.end));
                 let message = diagnostic::escape(&alarm.message);
-                let title = format!("{} {message}", alarm.code);
+                // The contract's line says it all; the location and the
+                // caret follow, without the message a second time.
                 report(&format!(
                     "ALARM {} line {}: {message}\n{}",
                     alarm.code,
                     alarm.line,
-                    diagnostic::render(program, alarm.line, &text, span, &title, "here")
+                    diagnostic::render_location(program, alarm.line, &text, span, "here")
+                        .trim_end()
                 ));
                 Ok(EXIT_ALARM)
             }
@@ -856,4 +915,25 @@ fn finish(result: Result<(), Stop>, program: &str, output: &str) -> Result<u8, I
 
 fn write_error(output: &str, error: &io::Error) -> InputError {
     InputError::io(output, error)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn near_names_are_suggested_and_far_ones_not() {
+        let names = builtin_names();
+        assert_eq!(nearest_names("trunion-ac", names), ["trunnion-ac"]);
+        assert_eq!(nearest_names("TRUNNION-CA", names), ["trunnion-ac"]);
+        assert_eq!(nearest_names("haas-umc-750", names), ["haas-umc750"]);
+        assert_eq!(nearest_names("mill-3", names), Vec::<&str>::new());
+        assert_eq!(nearest_names("my-machine.toml", names), Vec::<&str>::new());
+        assert_eq!(nearest_names("", names), Vec::<&str>::new());
+        // Two at the same distance: both.
+        assert_eq!(
+            nearest_names("trunnion-xc", names),
+            ["trunnion-ac", "trunnion-bc"]
+        );
+    }
 }

@@ -58,6 +58,66 @@ pub fn write_f64(out: &mut Text, x: f64) {
     }
 }
 
+/// The most decimals `--digits` takes: beyond 15 a double has no digits
+/// left to round at for numbers of machine size.
+pub const MAX_DIGITS: u8 = 15;
+
+/// Powers of ten up to `10^MAX_DIGITS`, each exact.
+const POWERS: [f64; MAX_DIGITS as usize + 1] = [
+    1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15,
+];
+
+/// Largest scaled magnitude written from an integer, 2^53: below it every
+/// whole number is a double, so `x · 10^n` rounds to the integer nearest
+/// the decimal (within the one rounding of the product).
+const SCALED_LIMIT: f64 = 9_007_199_254_740_992.0;
+
+/// Appends `x` rounded to at most `digits` decimals (at most
+/// [`MAX_DIGITS`]; half away from zero), trailing zeros and a bare point
+/// left out, never `-0`: `-25.000000000000004` is `-25`, `3.06e-17` is `0`
+/// at 6 digits. A number too large for that many decimals keeps as many
+/// as its magnitude leaves (a double has about 17 significant digits).
+pub fn write_rounded(out: &mut Text, x: f64, digits: u8) {
+    if !x.is_finite() {
+        write_f64(out, x);
+        return;
+    }
+    let mut n = usize::from(digits.min(MAX_DIGITS));
+    loop {
+        let scaled = (x * POWERS[n]).round();
+        if scaled.abs() < SCALED_LIMIT {
+            write_scaled(out, scaled as i64, n);
+            return;
+        }
+        if n == 0 {
+            // Beyond 2^53 every double is a whole number: nothing to round.
+            write_f64(out, x);
+            return;
+        }
+        n -= 1;
+    }
+}
+
+/// Writes `k / 10^decimals` without trailing zeros (and `0` for zero).
+fn write_scaled(out: &mut Text, k: i64, decimals: usize) {
+    let magnitude = k.unsigned_abs();
+    let unit = 10u64.pow(decimals as u32);
+    let (whole, mut frac) = (magnitude / unit, magnitude % unit);
+    let mut decimals = decimals;
+    while frac != 0 && frac.is_multiple_of(10) {
+        frac /= 10;
+        decimals -= 1;
+    }
+    if k < 0 {
+        out.push(b'-');
+    }
+    out.put_digits(whole, decimal_digits(whole));
+    if frac != 0 {
+        out.push(b'.');
+        out.put_digits(frac, decimals);
+    }
+}
+
 /// Writes `k / 1000` without trailing zeros.
 fn write_thousandths(out: &mut Text, k: i64) {
     let magnitude = k.unsigned_abs();
@@ -206,7 +266,48 @@ mod tests {
         }
     }
 
+    fn rounded(x: f64, digits: u8) -> String {
+        let mut out = Text::default();
+        write_rounded(&mut out, x, digits);
+        String::from_utf8(out.as_bytes().to_vec()).unwrap_or_default()
+    }
+
+    #[test]
+    fn rounded_numbers_lose_their_noise_and_trailing_zeros() {
+        assert_eq!(rounded(-25.000000000000004, 6), "-25");
+        assert_eq!(rounded(3.061616997868383e-17, 6), "0");
+        assert_eq!(rounded(-3.061616997868383e-17, 6), "0");
+        assert_eq!(rounded(-0.0, 3), "0");
+        assert_eq!(rounded(-0.0004, 3), "0");
+        assert_eq!(rounded(-0.0005, 3), "-0.001");
+        assert_eq!(rounded(std::f64::consts::FRAC_1_SQRT_2, 4), "0.7071");
+        assert_eq!(rounded(0.70715, 0), "1");
+        assert_eq!(rounded(123.450, 2), "123.45");
+        assert_eq!(rounded(123.4, 6), "123.4");
+        assert_eq!(rounded(1000.0, 3), "1000");
+        assert_eq!(rounded(359.99999999999994, 6), "360");
+        assert_eq!(rounded(1e300, 6), format!("{}", 1e300));
+        assert_eq!(rounded(123_456_789.123_456_79, 15), "123456789.1234568");
+        assert_eq!(rounded(f64::NAN, 3), "NaN");
+        assert_eq!(rounded(0.1, 99), "0.1");
+    }
+
     proptest! {
+        #[test]
+        fn rounded_numbers_are_within_half_a_unit_and_never_minus_zero(
+            x in -1e7..1e7f64, scale in 0i32..12, digits in 0u8..=15
+        ) {
+            let x = x / 10f64.powi(scale);
+            let t = rounded(x, digits);
+            let back: f64 = t.parse().unwrap_or(f64::NAN);
+            let decimals = t.split_once('.').map_or(0, |(_, f)| f.len());
+            prop_assert!(decimals <= usize::from(digits), "{} has more than {} decimals", t, digits);
+            prop_assert!(!t.ends_with('0') || !t.contains('.'), "{}", t);
+            prop_assert!(t != "-0", "{}", t);
+            let half = 0.5 * 10f64.powi(-i32::from(digits));
+            prop_assert!((back - x).abs() <= half * (1.0 + 1e-9) + x.abs() * 1e-15, "{} from {}", t, x);
+        }
+
         #[test]
         fn reads_back_exactly(bits in any::<u64>()) {
             let x = f64::from_bits(bits);

@@ -4,7 +4,7 @@
 use fiveaxis_control::{Alarm, Row, displayed};
 use fiveaxis_machine::Machine;
 
-use crate::number::{write_f64, write_u64};
+use crate::number::{write_f64, write_rounded, write_u64};
 use crate::text::Text;
 
 /// Output format.
@@ -23,16 +23,30 @@ pub struct RowWriter<'m> {
     machine: &'m Machine,
     /// Column names of the machine axes, in order.
     axes: Vec<String>,
+    /// `--digits`: every number rounded to at most this many decimals;
+    /// `None`: the contract's shortest round-trip form.
+    digits: Option<u8>,
 }
 
 impl<'m> RowWriter<'m> {
-    /// A writer for rows of `machine`.
-    pub fn new(format: Format, machine: &'m Machine) -> Self {
+    /// A writer for rows of `machine`, numbers in full (the contract's
+    /// form) or rounded to at most `digits` decimals.
+    pub fn new(format: Format, machine: &'m Machine, digits: Option<u8>) -> Self {
         let axes = machine.axis_names().map(String::from).collect();
         Self {
             format,
             machine,
             axes,
+            digits,
+        }
+    }
+
+    /// Appends one number as the writer shows numbers.
+    #[inline]
+    fn number(&self, out: &mut Text, x: f64) {
+        match self.digits {
+            None => write_f64(out, x),
+            Some(digits) => write_rounded(out, x, digits),
         }
     }
 
@@ -62,16 +76,16 @@ impl<'m> RowWriter<'m> {
             Format::Csv => {
                 write_u64(out, u64::from(row.line));
                 out.push(b',');
-                write_f64(out, row.s);
+                self.number(out, row.s);
                 out.push(b',');
                 out.put_slice(row.motion.name().as_bytes());
                 for x in values.chain(pose) {
                     out.push(b',');
-                    write_f64(out, x);
+                    self.number(out, x);
                 }
                 out.push(b',');
                 if let Some(f) = row.feed {
-                    write_f64(out, f);
+                    self.number(out, f);
                 }
                 out.push(b'\n');
             }
@@ -79,7 +93,7 @@ impl<'m> RowWriter<'m> {
                 out.put_slice(b"{\"line\":");
                 write_u64(out, u64::from(row.line));
                 out.put_slice(b",\"s\":");
-                write_f64(out, row.s);
+                self.number(out, row.s);
                 out.put_slice(b",\"motion\":\"");
                 out.put_slice(row.motion.name().as_bytes());
                 out.push(b'"');
@@ -88,11 +102,11 @@ impl<'m> RowWriter<'m> {
                     out.put_slice(b",\"");
                     out.put_slice(key.as_bytes());
                     out.put_slice(b"\":");
-                    write_f64(out, x);
+                    self.number(out, x);
                 }
                 out.put_slice(b",\"feed\":");
                 match row.feed {
-                    Some(f) => write_f64(out, f),
+                    Some(f) => self.number(out, f),
                     None => out.put_slice(b"null"),
                 }
                 out.put_slice(b"}\n");

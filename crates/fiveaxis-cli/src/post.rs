@@ -11,7 +11,7 @@ use fiveaxis_post::{Axes, PostOptions, program};
 
 use crate::{
     EXIT_OK, InputError, Stop, finish, library, load_machine, load_offsets, open_program,
-    print_out, write_error, write_whole,
+    write_error, write_whole,
 };
 
 /// Options of `fiveaxis post`.
@@ -22,8 +22,9 @@ pub struct PostArgs {
     /// Built-in machine name or machine file (TOML).
     #[arg(long, default_value = fiveaxis_machine::DEFAULT_MACHINE)]
     machine: String,
-    /// Offsets file (TOML): the output is for its tool lengths and is
-    /// written in its G54; default: all offsets zero.
+    /// Offsets file (TOML): the output is for the lengths of the tools
+    /// the program selects and is written in its G54; default: all
+    /// offsets zero (then give --tool-length).
     #[arg(long)]
     offsets: Option<PathBuf>,
     /// Write the program to this file (whole or not at all) instead of
@@ -72,10 +73,15 @@ pub struct PostArgs {
     /// Offsets file of `--from-machine` (default: `--offsets`).
     #[arg(long, requires = "from_machine")]
     from_offsets: Option<PathBuf>,
-    /// The tool length (mm) a machine-axis source was written for, whose
-    /// tip the output follows where no length compensation is in force;
-    /// default: the length the header of a `fiveaxis post` output names.
-    #[arg(long, value_parser = crate::positive)]
+    /// The tool length (mm) the output is for: the length of every tool
+    /// the offsets do not give one (no --offsets, or the program's H not
+    /// in the file), and the length a machine-axis source was written
+    /// for, whose tip the output follows where no length compensation is
+    /// in force (default there: the length the header of a `fiveaxis
+    /// post` output names). A machine-axis program is right for one tool
+    /// length only: without a length from the offsets or here, `post`
+    /// stops (exit status 2).
+    #[arg(long, value_name = "MM", value_parser = crate::positive)]
     tool_length: Option<f64>,
 }
 
@@ -88,15 +94,19 @@ fn feed_style(name: &str) -> Result<fiveaxis_post::FeedStyle, String> {
 /// Runs `fiveaxis post`.
 pub fn post(args: &PostArgs) -> Result<u8, InputError> {
     let machine = load_machine(&args.machine)?;
-    let offsets = crate::load_offsets_for(&args.machine, &machine, args.offsets.as_deref())?;
+    let mut offsets = crate::load_offsets_for(&args.machine, &machine, args.offsets.as_deref())?;
     let source_machine = match &args.from_machine {
         Some(name) => Some(load_machine(name)?),
         None => None,
     };
-    let source_offsets = match (&args.from_machine, &args.from_offsets) {
+    let mut source_offsets = match (&args.from_machine, &args.from_offsets) {
         (Some(_), Some(path)) => load_offsets(Some(path))?,
         _ => offsets.clone(),
     };
+    if let Some(length) = args.tool_length {
+        offsets = fiveaxis_post::with_tool_length(&offsets, length);
+        source_offsets = fiveaxis_post::with_tool_length(&source_offsets, length);
+    }
     let program_name = if args.program == "-" {
         "<stdin>"
     } else {
@@ -141,6 +151,7 @@ pub fn post(args: &PostArgs) -> Result<u8, InputError> {
         },
         None => fiveaxis_post::default_axes(is_apt, source_machine.is_some()),
     };
+    let header_length = program::header_tool_length(&String::from_utf8_lossy(&bytes));
     let options = PostOptions {
         tolerance: args.tolerance,
         angle_tolerance: args.angle_tolerance,
@@ -149,9 +160,7 @@ pub fn post(args: &PostArgs) -> Result<u8, InputError> {
         axes,
         retract: args.retract,
         feed: args.feed,
-        source_tool_length: args
-            .tool_length
-            .or_else(|| program::header_tool_length(&String::from_utf8_lossy(&bytes))),
+        source_tool_length: args.tool_length.or(header_length),
     };
     let carried = program::carried_words(&String::from_utf8_lossy(&bytes));
     let run_on = source_machine.as_ref().unwrap_or(&machine);
@@ -177,6 +186,21 @@ pub fn post(args: &PostArgs) -> Result<u8, InputError> {
             return finish(Err(Stop::Alarm(Box::new(error))), program_name, &output);
         }
     };
+    // Nothing to convert (no TCPC, no tilted plane, no CL data, the same
+    // machine): the program is a machine-axis program already.
+    if !post.kinematic && !is_apt && source_machine.is_none() {
+        crate::report(&format!(
+            "note: {}: nothing to convert: the program uses no TCPC or tilted working plane; written unchanged",
+            crate::diagnostic::escape(program_name)
+        ));
+        return emit_bytes(args.output.as_ref(), &bytes);
+    }
+    if !post.has_tool_length() && args.tool_length.or(header_length).is_none() {
+        return Err(InputError(format!(
+            "error: {}: no tool length: a machine-axis program is right only for the tool length it is made for, and the offsets give the program's tool none (no --offsets, or its H number is not in the file); give it with --tool-length MM, or with --offsets FILE holding the tool (`[tools]` `1 = {{ length = 120.0 }}`)",
+            crate::diagnostic::escape(program_name)
+        )));
+    }
     let header = program::Header {
         source: program_name,
         number: None,
@@ -189,16 +213,32 @@ pub fn post(args: &PostArgs) -> Result<u8, InputError> {
 
 /// Writes `text` to `output` (whole or not at all), or standard output.
 fn emit(output: Option<&PathBuf>, text: &str) -> Result<u8, InputError> {
+    emit_bytes(output, text.as_bytes())
+}
+
+/// Writes `bytes` to `output` (whole or not at all), or standard output.
+fn emit_bytes(output: Option<&PathBuf>, bytes: &[u8]) -> Result<u8, InputError> {
     match output {
-        None => print_out(text),
+        None => print_bytes(bytes),
         Some(path) => {
             let name = path.display().to_string();
             write_whole(path, |mut file| {
-                file.write_all(text.as_bytes())
+                file.write_all(bytes)
                     .and_then(|()| file.flush())
                     .map_err(|e| write_error(&name, &e))?;
                 Ok(EXIT_OK)
             })
         }
+    }
+}
+
+/// Writes `bytes` to standard output whole; a reader that went away
+/// (`| head`) is not an error.
+fn print_bytes(bytes: &[u8]) -> Result<u8, InputError> {
+    let mut out = std::io::stdout().lock();
+    match out.write_all(bytes).and_then(|()| out.flush()) {
+        Ok(()) => Ok(EXIT_OK),
+        Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => Ok(EXIT_OK),
+        Err(e) => Err(write_error("standard output", &e)),
     }
 }

@@ -156,3 +156,93 @@ fn golden_text_and_json_reports_of_the_examples() {
         );
     }
 }
+
+/// A program that writes lengths without a decimal point: `X10` is
+/// 0.010 mm on the FANUC built-ins (decimal point input off). Line 3
+/// has two (X10, Z-5), line 4 one (Y25; X0 is 0 in any unit), line 5 the
+/// arc's three (X20, Y25, R15; F and the G, M words are not counted).
+const NO_POINT: &str =
+    "G21 G90 G94 G17\nG0 X5. Y5. Z5.\nG1 X10 Z-5 F100\nG1 X0 Y25\nG2 X20 Y25 R15\nM30\n";
+
+#[test]
+fn axis_words_without_a_decimal_point_are_reported_once_as_info() {
+    let dir = scratch(&[("p.nc", NO_POINT), ("clean.nc", CLEAN)]);
+    let out = run(dir.path(), &["check", "p.nc", "--format", "json"]);
+    // Info only: the status stays 0, also with --fail-on warning.
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let objects = json_lines(&out);
+    let findings: Vec<&Value> = objects[0]["findings"]
+        .as_array()
+        .expect("list")
+        .iter()
+        .filter(|f| f["kind"] == "no_decimal_point")
+        .collect();
+    assert_eq!(findings.len(), 1, "{}", objects[0]);
+    let f = findings[0];
+    assert_eq!(f["severity"], "info");
+    assert_eq!(f["line"], 3);
+    assert_eq!(f["value"], 6.0);
+    assert_eq!(
+        f["message"],
+        "6 axis words without a decimal point are read in least input increments (X10 = 0.010 mm): first on line 3"
+    );
+    let status = run(dir.path(), &["check", "p.nc", "--fail-on", "warning"]);
+    assert_eq!(status.status.code(), Some(0));
+    // The text report lists it with its line.
+    let text = String::from_utf8_lossy(&status.stdout).into_owned();
+    assert!(text.contains("no_decimal_point (info, 1)"), "{text}");
+    assert!(text.contains("first on line 3"), "{text}");
+    // A program with points everywhere has none.
+    let out = run(dir.path(), &["check", "clean.nc", "--format", "json"]);
+    assert_eq!(
+        json_lines(&out)[0]["findings"].as_array().map(Vec::len),
+        Some(0)
+    );
+}
+
+#[test]
+fn words_without_a_point_count_nothing_where_they_are_whole_units() {
+    let dir = scratch(&[("p.nc", NO_POINT)]);
+    let machine = run(dir.path(), &["machines", "show", "trunnion-ac"]);
+    let text = String::from_utf8_lossy(&machine.stdout)
+        .replace("decimal_point_input = false", "decimal_point_input = true");
+    std::fs::write(dir.path().join("dpi.toml"), text).expect("written");
+    let out = run(
+        dir.path(),
+        &["check", "p.nc", "--machine", "dpi.toml", "--format", "json"],
+    );
+    let objects = json_lines(&out);
+    let kinds: Vec<&Value> = objects[0]["findings"]
+        .as_array()
+        .expect("list")
+        .iter()
+        .map(|f| &f["kind"])
+        .collect();
+    assert!(
+        !kinds.contains(&&Value::from("no_decimal_point")),
+        "{}",
+        objects[0]
+    );
+}
+
+#[test]
+fn a_g93_feed_limit_names_the_inverse_time_f_and_the_tip_feed() {
+    let dir = scratch(&[(
+        "g93.nc",
+        "G21 G90 G94\nG0 X100. Y0 Z0 A0 C0\nG93 G1 C90. F200.\nG94\nM30\n",
+    )]);
+    let out = run(dir.path(), &["check", "g93.nc", "--format", "json"]);
+    let objects = json_lines(&out);
+    let f = &objects[0]["findings"][0];
+    assert_eq!(f["kind"], "feed_limited", "{}", objects[0]);
+    let message = f["message"].as_str().unwrap_or("");
+    assert!(
+        message.starts_with("the inverse-time F200 works out to a tip feed of 28284.271 mm/min, which needs C faster than its"),
+        "{message}"
+    );
+}

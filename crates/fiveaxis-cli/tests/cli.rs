@@ -424,6 +424,37 @@ fn machines_show_with_an_unknown_name_exits_2() {
     assert_input_refused(&fiveaxis(&["machines", "show", "hexapod"]), &["hexapod"]);
 }
 
+#[test]
+fn a_mistyped_machine_name_gets_the_nearest_built_in_names() {
+    for command in ["run", "check", "view", "post"] {
+        let output = fiveaxis(&[command, "program.nc", "--machine", "trunion-ac"]);
+        assert_input_refused(&output, &["`trunion-ac`", "did you mean `trunnion-ac`?"]);
+    }
+    // Two at the same distance: both; none near: no guess.
+    let output = fiveaxis(&["run", "program.nc", "--machine", "trunnion-xc"]);
+    assert_input_refused(&output, &["did you mean `trunnion-ac` or `trunnion-bc`?"]);
+    let output = fiveaxis(&["run", "program.nc", "--machine", "hexapod"]);
+    assert!(
+        !stderr(&output).contains("did you mean"),
+        "{}",
+        stderr(&output)
+    );
+}
+
+#[test]
+fn machines_show_takes_names_only_and_says_so() {
+    let output = fiveaxis(&["machines", "show", "haas-umc-750"]);
+    let mut mentions =
+        vec!["`haas-umc-750` is not a built-in machine name; did you mean `haas-umc750`?"];
+    mentions.extend(builtin_names());
+    assert_input_refused(&output, &mentions);
+    assert!(
+        !stderr(&output).contains("machine file"),
+        "{}",
+        stderr(&output)
+    );
+}
+
 // ----- alarm diagnostics -------------------------------------------------------
 
 /// Checks that an alarmed run renders `text`, the failing line, under the
@@ -446,6 +477,103 @@ fn assert_alarm_renders(program: &str, code: &str, line: usize, text: &str) {
 #[test]
 fn alarm_renders_the_failing_line_under_its_number() {
     assert_alarm_renders("G0 X1.\nG1 X2.\n", "PS0011", 2, "G1 X2.");
+}
+
+#[test]
+fn an_alarm_is_said_once_then_located_with_a_caret() {
+    let output = fiveaxis_in(Path::new("."), &["run", "-"], "G0 X1.\nG1 X600. F100.\n");
+    let err = stderr(&output);
+    assert_eq!(output.status.code(), Some(1), "{err}");
+    let lines: Vec<&str> = err.lines().collect();
+    assert_eq!(
+        lines[0],
+        "ALARM OT0500 line 2: X+ over-travel: X would reach 600 beyond the soft limit 500",
+        "{err}"
+    );
+    assert_eq!(lines[1], " --> <stdin>:2:4", "{err}");
+    assert_eq!(err.matches("over-travel").count(), 1, "{err}");
+    assert!(!err.contains("error:"), "{err}");
+    let source = lines
+        .iter()
+        .position(|l| l.trim_start() == "2 | G1 X600. F100.")
+        .unwrap_or_else(|| panic!("no source line in\n{err}"));
+    assert_eq!(lines[source + 1].trim_end(), "  |    ^^^^^ here", "{err}");
+}
+
+#[test]
+fn a_letter_o_for_a_zero_is_pointed_out() {
+    let output = fiveaxis_in(Path::new("."), &["run", "-"], "G0 X1.\nG1O X10.\n");
+    let err = stderr(&output);
+    assert_eq!(output.status.code(), Some(1), "{err}");
+    assert!(
+        err.starts_with(
+            "ALARM PS0009 line 2: unknown word `OX10`: `O` after `G1` is the letter O; did you mean the digit 0 (`G10`)?\n"
+        ),
+        "{err}"
+    );
+}
+
+// ----- --digits ----------------------------------------------------------------
+
+#[test]
+fn digits_rounds_every_number_and_the_default_stays_exact() {
+    // A quarter turn of A on the A/C trunnion: the tool direction has
+    // 6.123233995736766e-17 and -0.49999999999999994 in it.
+    let program = "G0 X10. Y-25. Z30.\nG1 A-90. C30. F1000.\nM30\n";
+    let exact = fiveaxis_in(Path::new("."), &["run", "-"], program);
+    assert_eq!(exact.status.code(), Some(0), "{}", stderr(&exact));
+    assert!(
+        stdout(&exact).contains(
+            ",-0.49999999999999994,0.8660254037844387,0.00000000000000006123233995736766,"
+        ),
+        "{}",
+        stdout(&exact)
+    );
+    for format in ["csv", "jsonl"] {
+        let output = fiveaxis_in(
+            Path::new("."),
+            &["run", "-", "--digits", "3", "--format", format],
+            program,
+        );
+        assert_eq!(output.status.code(), Some(0), "{}", stderr(&output));
+        let text = stdout(&output);
+        for number in text
+            .split(|c: char| !(c.is_ascii_digit() || c == '.' || c == '-'))
+            .filter(|t| t.contains(|c: char| c.is_ascii_digit()))
+        {
+            let decimals = number.split_once('.').map_or(0, |(_, f)| f.len());
+            assert!(decimals <= 3, "{number} in\n{text}");
+            assert!(!number.ends_with('0') || !number.contains('.'), "{number}");
+            assert_ne!(number, "-0", "{text}");
+        }
+        // Each rounded number is the exact one rounded.
+        if format == "csv" {
+            let exact_rows: Vec<Vec<f64>> = numbers(&stdout(&exact));
+            let rounded_rows: Vec<Vec<f64>> = numbers(&text);
+            assert_eq!(exact_rows.len(), rounded_rows.len());
+            for (e, r) in exact_rows.iter().zip(&rounded_rows) {
+                for (a, b) in e.iter().zip(r) {
+                    assert!((a - b).abs() <= 0.0005 + 1e-12, "{a} vs {b}");
+                }
+            }
+            assert!(
+                text.contains(
+                    "\n2,1,linear,10,-25,30,-90,30,-56.34,117.583,-75,-0.5,0.866,0,1000\n"
+                ),
+                "{text}"
+            );
+        }
+    }
+    let output = fiveaxis_in(Path::new("."), &["run", "-", "--digits", "16"], program);
+    assert_eq!(output.status.code(), Some(2), "{}", stderr(&output));
+}
+
+/// The numeric cells of CSV rows (the motion column left out).
+fn numbers(csv: &str) -> Vec<Vec<f64>> {
+    csv.lines()
+        .skip(1)
+        .map(|l| l.split(',').filter_map(|c| c.parse().ok()).collect())
+        .collect()
 }
 
 #[test]

@@ -126,6 +126,8 @@ fn apt_input_gives_a_tcpc_program_or_machine_axes_and_bad_records_their_line() {
             "p.apt",
             "--machine",
             "head-table-bc",
+            "--tool-length",
+            "100",
             "-o",
             "axes.nc",
         ],
@@ -320,6 +322,8 @@ fn retargeting_to_a_three_axis_mill_keeps_the_tip() {
             "head-table-bc",
             "--machine",
             machine,
+            "--tool-length",
+            "100",
             "-o",
             "out.nc",
         ],
@@ -366,4 +370,91 @@ fn the_readme_winding_example_flips_three_times() {
     let text = common::stdout(&out);
     assert!(text.contains(", 3 FLIPS: RETRACT 5 MM"), "{text}");
     assert_eq!(text.matches("(FLIP END").count(), 3);
+}
+
+/// A G43.4 program whose H the offsets may not hold.
+const TCPC: &str =
+    "G21 G90 G94\nG0 X0 Y0 Z100. A0 C0\nG43.4 H1 X0 Y0 Z20.\nG1 X20. A10. F500.\nG49\nM30\n";
+
+#[test]
+fn a_post_without_a_tool_length_stops_and_says_how_to_give_one() {
+    let dir = tempfile::tempdir().expect("a temporary directory");
+    std::fs::write(dir.path().join("p.nc"), TCPC).expect("written");
+    std::fs::write(
+        dir.path().join("no-h1.toml"),
+        "[tools]\n2 = { length = 80.0 }\n",
+    )
+    .expect("written");
+    std::fs::write(
+        dir.path().join("h1.toml"),
+        "[tools]\n1 = { length = 120.0 }\n",
+    )
+    .expect("written");
+    for extra in [&[][..], &["--offsets", "no-h1.toml"][..]] {
+        let mut args = vec!["post", "p.nc", "-o", "out.nc"];
+        args.extend(extra);
+        let out = common::run_in(dir.path(), &args, b"");
+        let err = common::stderr(&out);
+        assert_eq!(out.status.code(), Some(2), "{err}");
+        for needle in [
+            "p.nc",
+            "no tool length",
+            "--tool-length MM",
+            "--offsets FILE",
+        ] {
+            assert!(err.contains(needle), "{needle} missing: {err}");
+        }
+        assert!(common::stdout(&out).is_empty());
+        assert!(!dir.path().join("out.nc").exists());
+    }
+    // From the offsets file's tool the program selects, or given.
+    for (extra, length) in [
+        (&["--offsets", "h1.toml"][..], "120.0000"),
+        (&["--tool-length", "95.5"][..], "95.5000"),
+        (
+            &["--offsets", "no-h1.toml", "--tool-length", "95.5"][..],
+            "95.5000",
+        ),
+        // The file's own length wins over --tool-length.
+        (
+            &["--offsets", "h1.toml", "--tool-length", "95.5"][..],
+            "120.0000",
+        ),
+    ] {
+        let mut args = vec!["post", "p.nc"];
+        args.extend(extra);
+        let out = common::run_in(dir.path(), &args, b"");
+        assert_eq!(out.status.code(), Some(0), "{}", common::stderr(&out));
+        let text = common::stdout(&out);
+        assert!(
+            text.contains(&format!("(FOR TOOL LENGTH {length} MM ONLY")),
+            "{extra:?}: {text}"
+        );
+    }
+}
+
+#[test]
+fn a_program_with_nothing_to_convert_is_written_unchanged() {
+    let dir = tempfile::tempdir().expect("a temporary directory");
+    // Arcs and G43 on a five-axis machine, but no TCPC and no tilted plane.
+    let program = "%\nO1000 (PLAIN)\nG21 G90 G94 G17\nG0 X0 Y0 Z50. A0 C0\nG43 H1 Z10.\nG2 X20. Y0 R10. F300.\nG1 A20. C45.\nG49\nM30\n%\n";
+    std::fs::write(dir.path().join("p.nc"), program).expect("written");
+    let out = common::run_in(dir.path(), &["post", "p.nc"], b"");
+    assert_eq!(out.status.code(), Some(0), "{}", common::stderr(&out));
+    assert_eq!(common::stdout(&out), program);
+    assert_eq!(
+        common::stderr(&out).trim_end(),
+        "note: p.nc: nothing to convert: the program uses no TCPC or tilted working plane; written unchanged"
+    );
+    let out = common::run_in(dir.path(), &["post", "p.nc", "-o", "out.nc"], b"");
+    assert_eq!(out.status.code(), Some(0), "{}", common::stderr(&out));
+    let written = std::fs::read(dir.path().join("out.nc")).expect("written");
+    assert_eq!(written, program.as_bytes());
+    // The same program with TCPC is converted (and needs its tool length).
+    let tcpc = program.replace("G43 H1", "G43.4 H1");
+    std::fs::write(dir.path().join("t.nc"), tcpc).expect("written");
+    let out = common::run_in(dir.path(), &["post", "t.nc", "--tool-length", "100"], b"");
+    assert_eq!(out.status.code(), Some(0), "{}", common::stderr(&out));
+    assert!(common::stdout(&out).contains("(FIVEAXIS POST"));
+    assert!(!common::stderr(&out).contains("nothing to convert"));
 }

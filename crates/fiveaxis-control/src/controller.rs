@@ -205,7 +205,27 @@ pub struct Controller<'m> {
     /// it), and its columns; the buffer is kept from block to block.
     comment: Vec<u8>,
     comment_span: Option<Span>,
+    /// Axis words written without a decimal point where they count in
+    /// least input increments, when asked for
+    /// ([`Controller::count_words_without_point`]); `None`: not counted.
+    without_point: Option<WordsWithoutPoint>,
 }
+
+/// Axis words a program writes without a decimal point on a control that
+/// reads them in least input increments (FANUC with decimal point input
+/// off: `X10` is 0.010 mm): the machine's axis addresses and I, J, K, R,
+/// except those whose value is 0 (`X0` is 0 in any unit).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct WordsWithoutPoint {
+    /// How many (each time a block is executed).
+    pub count: u64,
+    /// The line of the first (0 while `count` is 0).
+    pub first_line: u32,
+}
+
+/// The addresses counted in [`WordsWithoutPoint`] besides the machine's
+/// axes: arc centres and radius, the R level of canned cycles (lengths).
+const LENGTH_ADDRESSES: [u8; 4] = [b'I', b'J', b'K', b'R'];
 
 /// Where the control point goes, for each axis: programmed value if the
 /// block names the axis.
@@ -230,6 +250,7 @@ impl<'m> Controller<'m> {
             limits_lifted: false,
             comment: Vec::new(),
             comment_span: None,
+            without_point: None,
             optional_stop: false,
             stop: None,
             dialect: Dialect::of(machine.control),
@@ -322,6 +343,63 @@ impl<'m> Controller<'m> {
     /// verifier goes on and measures the excursions from the segments).
     pub fn lift_soft_limits(&mut self, lifted: bool) {
         self.limits_lifted = lifted;
+    }
+
+    /// Whether a function is in force that makes the machine positions
+    /// of a block depend on the machine's kinematics and the tool: TCPC
+    /// (G43.4 / G43.5, Haas G234, LinuxCNC's TCP kinematics), length
+    /// compensation along the tool axis (G43.1), a feature frame (the
+    /// tilted working plane G68.2 / G68.3 / G68.4, the 3-D coordinate
+    /// conversion, Haas G254) or the workpiece setup error (G54.4). A
+    /// program that never has one is already a machine-axis program
+    /// (what `fiveaxis post` leaves unchanged).
+    pub fn kinematic_mode(&self) -> bool {
+        matches!(
+            self.state.modal.length,
+            LengthMode::Tcpc(_) | LengthMode::ToolAxis
+        ) || self.state.kinematics_tcp
+            || self.state.feature.is_some()
+            || self.state.setup_set != 0
+    }
+
+    /// From now on, counts the axis words written without a decimal point
+    /// while such words are read in least input increments (decimal point
+    /// input off, No.3401#0 DPI = 0): what `fiveaxis check` reports.
+    /// Nothing is counted on a control that reads them as whole units.
+    pub fn count_words_without_point(&mut self) {
+        self.without_point = Some(WordsWithoutPoint::default());
+    }
+
+    /// The count of [`Controller::count_words_without_point`], if asked for.
+    pub fn words_without_point(&self) -> Option<WordsWithoutPoint> {
+        self.without_point
+    }
+
+    /// Counts the block's axis words without a decimal point (only when
+    /// asked for and read in increments).
+    fn count_without_point(&mut self, block: &Block) {
+        if self.without_point.is_none() || self.calculator_input() {
+            return;
+        }
+        let axes = &self.axis_letters[..self.machine.axis_count()];
+        let found = block
+            .words
+            .iter()
+            .filter(|w| {
+                // Zero is zero in any unit.
+                !w.decimal_point
+                    && w.value != 0.0
+                    && (axes.contains(&w.letter) || LENGTH_ADDRESSES.contains(&w.letter))
+            })
+            .count() as u64;
+        if let Some(counted) = &mut self.without_point
+            && found > 0
+        {
+            if counted.count == 0 {
+                counted.first_line = block.line;
+            }
+            counted.count += found;
+        }
     }
 
     /// Whether the last block executed would stop a real control (M00, M01
@@ -421,6 +499,9 @@ impl<'m> Controller<'m> {
     pub fn execute(&mut self, block: &Block, out: &mut Vec<Segment>) -> Result<Flow, Alarm> {
         let base = out.len();
         self.stop = None;
+        if self.without_point.is_some() {
+            self.count_without_point(block);
+        }
         self.words.load(block, self.machine)?;
         if self.dialect.haas_codes {
             // Haas G47 engraves the block's comment.

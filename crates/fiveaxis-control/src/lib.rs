@@ -22,7 +22,7 @@ mod words;
 pub use alarm::{Alarm, AlarmCode, Condition, alarm_reference};
 pub use controller::{
     ARC_RADIUS_TOLERANCE, Controller, Flow, POSITION_TOLERANCE, ProgramStop,
-    REFERENCE_CHECK_TOLERANCE, inclined, normalize_360, shortest_turn,
+    REFERENCE_CHECK_TOLERANCE, WordsWithoutPoint, inclined, normalize_360, shortest_turn,
 };
 pub use controller::{MAX_CYCLE_SEGMENTS, PECK_CLEARANCE, PECK_RETRACT};
 pub use dialect::Dialect;

@@ -427,6 +427,13 @@ impl<'m, S: Source> Runner<'m, S> {
         &self.controller
     }
 
+    /// From now on the controller counts the axis words written without a
+    /// decimal point where they are read in least input increments
+    /// ([`Controller::count_words_without_point`]; for verification).
+    pub fn count_words_without_point(&mut self) {
+        self.controller.count_words_without_point();
+    }
+
     /// The control's program memory: programs that `M98` / `G65` call and
     /// that the running file does not hold are looked up there.
     pub fn with_library(mut self, library: Box<dyn ProgramLibrary>) -> Self {

@@ -444,10 +444,36 @@ fn multi_letter_word(text: &[u8], start: usize) -> SyntaxError {
         name.push(byte);
         end += 1;
     }
-    SyntaxError::new(
-        SyntaxErrorKind::UnknownWord(UnknownWord::new(name.as_bytes())),
-        span(start, end),
-    )
+    let word = match letter_o(text, start, name.as_bytes()) {
+        Some(before) => UnknownWord::with_letter_o(name.as_bytes(), before),
+        None => UnknownWord::new(name.as_bytes()),
+    };
+    SyntaxError::new(SyntaxErrorKind::UnknownWord(word), span(start, end))
+}
+
+/// Whether the unknown word `name` at `start` looks like a letter O typed
+/// for the digit 0: `Some(Some(word))` when it starts with an O written
+/// right after the number of `word` (`G1O X10.`: `G1`), `Some(None)` when
+/// its second letter is an O written right after its address letter and
+/// only digits follow (`GO1`). Error path only.
+fn letter_o<'t>(text: &'t [u8], start: usize, name: &[u8]) -> Option<Option<&'t [u8]>> {
+    let is_o = |at: usize| text.get(at).is_some_and(|b| b.eq_ignore_ascii_case(&b'O'));
+    if is_o(start) {
+        // Back over the number before it to its address letter.
+        let mut from = start;
+        while from > 0 && text.get(from - 1).is_some_and(|&b| is_number_byte(b)) {
+            from -= 1;
+        }
+        let digits = text.get(from..start).unwrap_or_default();
+        let letter = from.checked_sub(1).and_then(|at| text.get(at));
+        let numbered = digits.iter().any(u8::is_ascii_digit);
+        return (numbered && letter.is_some_and(u8::is_ascii_alphabetic))
+            .then(|| text.get(from - 1..start));
+    }
+    let digits_after = name
+        .get(2..)
+        .is_some_and(|r| r.iter().all(u8::is_ascii_digit));
+    (is_o(start + 1) && name.len() >= 2 && digits_after).then_some(None)
 }
 
 /// The error for a byte that cannot start anything at `pos`.

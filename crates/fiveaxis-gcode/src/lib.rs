@@ -247,18 +247,91 @@ pub enum SyntaxErrorKind {
     Macro,
     /// A word with several letters that is not G-code (Siemens `TRAORI`,
     /// LinuxCNC `o100 sub`, …).
-    #[error("unknown word `{0}`")]
+    /// When it looks like a letter O typed for the digit 0 (`G1O X10.`,
+    /// `GO1`), the message says so.
+    #[error("unknown word `{0}`{hint}", hint = .0.hint())]
     UnknownWord(UnknownWord),
     /// A second `N` sequence number in the same block.
     #[error("more than one sequence number in the block")]
     DuplicateSequence,
 }
 
-/// Up to the first 12 bytes of an unrecognised word, for the message.
+/// Up to the first 12 bytes of an unrecognised word, for the message, and
+/// the digit 0 it may have been meant to hold.
 #[derive(Clone, Copy, PartialEq, Eq)]
 pub struct UnknownWord {
     bytes: [u8; Self::CAPACITY],
     len: u8,
+    letter_o: Option<LetterO>,
+}
+
+/// A letter O that stands where the digit 0 would make a word: right
+/// after a word's number (`G1O` for `G10`, `M3O` for `M30`) or right after
+/// an address letter (`GO1` for `G01`).
+#[derive(Clone, Copy, PartialEq, Eq)]
+struct LetterO {
+    /// The O follows the word `quoted` (else it stands inside it).
+    after: bool,
+    /// The word the O follows, or the word it stands in.
+    quoted: Short,
+    /// The word with the digit 0 in the O's place.
+    meant: Short,
+}
+
+/// A few bytes of ASCII text, kept without allocating.
+#[derive(Clone, Copy, PartialEq, Eq, Default)]
+struct Short {
+    bytes: [u8; Short::CAPACITY],
+    len: u8,
+}
+
+impl Short {
+    const CAPACITY: usize = UnknownWord::CAPACITY + 1;
+
+    /// `parts` one after the other, upper case; `None` when they do not
+    /// fit.
+    fn of(parts: &[&[u8]]) -> Option<Self> {
+        let mut short = Self::default();
+        for &byte in parts.iter().flat_map(|p| p.iter()) {
+            let slot = short.bytes.get_mut(usize::from(short.len))?;
+            *slot = byte.to_ascii_uppercase();
+            short.len += 1;
+        }
+        Some(short)
+    }
+
+    fn as_str(&self) -> &str {
+        std::str::from_utf8(&self.bytes[..usize::from(self.len)]).unwrap_or("?")
+    }
+}
+
+/// The hint of an [`UnknownWord`]'s message: nothing, or what a letter O
+/// may have been meant to be.
+#[derive(Clone, Copy, Debug)]
+pub struct Hint<'a>(Option<&'a LetterO>);
+
+impl std::fmt::Display for Hint<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let Some(o) = self.0 else { return Ok(()) };
+        let place = if o.after { "after" } else { "in" };
+        write!(
+            f,
+            ": `O` {place} `{}` is the letter O; did you mean the digit 0 (`{}`)?",
+            o.quoted.as_str(),
+            o.meant.as_str()
+        )
+    }
+}
+
+impl std::fmt::Debug for LetterO {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "{:?} for {:?}",
+            self.quoted.as_str(),
+            self.meant.as_str()
+        )
+    }
 }
 
 impl UnknownWord {
@@ -276,7 +349,43 @@ impl UnknownWord {
         Self {
             bytes,
             len: len as u8,
+            letter_o: None,
         }
+    }
+
+    /// The word `text` (its first 12 bytes), which would be a word with
+    /// the digit 0 where it has a letter O: after the word `before`
+    /// (`G1` + `OX10`: `G10`), or, without `before`, as its second letter
+    /// (`GO1`: `G01`).
+    pub fn with_letter_o(text: &[u8], before: Option<&[u8]>) -> Self {
+        let mut word = Self::new(text);
+        word.letter_o = match before {
+            Some(before) => {
+                Short::of(&[before])
+                    .zip(Short::of(&[before, b"0"]))
+                    .map(|(quoted, meant)| LetterO {
+                        after: true,
+                        quoted,
+                        meant,
+                    })
+            }
+            None => {
+                let (first, rest) = (text.get(..1), text.get(2..));
+                first.zip(rest).and_then(|(first, rest)| {
+                    Some(LetterO {
+                        after: false,
+                        quoted: Short::of(&[word.as_str().as_bytes()])?,
+                        meant: Short::of(&[first, b"0", rest])?,
+                    })
+                })
+            }
+        };
+        word
+    }
+
+    /// The hint its message carries (empty when there is none).
+    pub fn hint(&self) -> Hint<'_> {
+        Hint(self.letter_o.as_ref())
     }
 
     /// The kept text.

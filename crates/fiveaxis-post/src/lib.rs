@@ -214,6 +214,47 @@ pub struct Post {
     /// axes standing): the largest angle between its tool direction and
     /// the programmed one, degrees.
     pub fixed_direction_error: f64,
+    /// Whether the source ran blocks under a function whose machine
+    /// positions depend on the kinematics and the tool (TCPC, G43.1, a
+    /// tilted working plane, G54.4:
+    /// `fiveaxis_control::Controller::kinematic_mode`), as [`convert`]
+    /// saw it. Without any, on the same machine, there is nothing to
+    /// convert: the source is a machine-axis program already.
+    pub kinematic: bool,
+}
+
+impl Post {
+    /// Whether the output was made for a tool length (one of the cutting
+    /// blocks had a length other than 0). A machine-axis program is right
+    /// for that length only; without one it holds the gauge point's path.
+    pub fn has_tool_length(&self) -> bool {
+        self.tool_lengths.iter().any(|l| *l != 0.0)
+    }
+}
+
+/// The offsets with `length` as the length of every tool they do not
+/// give one (absent, or length and wear 0): the tool length a post is
+/// made for when the offsets file has none for the program's H (`fiveaxis
+/// post --tool-length`). Tools 1 to the highest the offsets hold, or to
+/// [`fiveaxis_machine::MAX_TOOL_OFFSET`] when they hold none; radii stay.
+pub fn with_tool_length(
+    offsets: &fiveaxis_machine::Offsets,
+    length: f64,
+) -> fiveaxis_machine::Offsets {
+    let mut offsets = offsets.clone();
+    let last = offsets
+        .tools
+        .keys()
+        .next_back()
+        .copied()
+        .unwrap_or(fiveaxis_machine::MAX_TOOL_OFFSET);
+    for n in 1..=last {
+        let tool = offsets.tools.entry(n).or_default();
+        if tool.length == 0.0 && tool.length_wear == 0.0 {
+            tool.length = length;
+        }
+    }
+    offsets
 }
 
 impl Post {
@@ -666,7 +707,7 @@ impl<'m> Converter<'m> {
     }
 }
 
-/// Segments taken from the runner at once by [`convert`].
+/// Room for the segments of a block in [`convert`].
 const BATCH: usize = 1024;
 
 /// Runs a program to its end and converts every segment into moves of
@@ -682,14 +723,20 @@ pub fn convert<S: Source>(
     let source = runner.controller().machine();
     let mut converter = Converter::retarget(source, target, options);
     let mut segments = Vec::with_capacity(BATCH);
+    let mut kinematic = false;
     loop {
         segments.clear();
-        let more = runner.fill(&mut segments, BATCH);
+        // A block at a time, so that the controller's state is seen after
+        // every block that moves (TCPC may be on for a few blocks only).
+        let more = runner.fill(&mut segments, 1);
+        kinematic |= runner.controller().kinematic_mode();
         for seg in &segments {
             converter.push(seg);
         }
         if !more? {
-            return Ok(converter.finish());
+            let mut post = converter.finish();
+            post.kinematic = kinematic;
+            return Ok(post);
         }
     }
 }

@@ -47,8 +47,72 @@ fn convert_is_the_segments_converted_one_by_one() {
         by_hand.push(&seg);
     }
     let by_hand = by_hand.finish();
-    assert_eq!(converted, by_hand);
+    // `convert` also says whether the source used TCPC or a tilted plane.
+    assert!(converted.kinematic);
+    let unmarked = fiveaxis_post::Post {
+        kinematic: false,
+        ..converted.clone()
+    };
+    assert_eq!(unmarked, by_hand);
     assert!(converted.source_blocks > 0 && !converted.moves.is_empty());
+    assert!(converted.has_tool_length());
+}
+
+#[test]
+fn convert_tells_a_program_without_tcpc_or_tilted_plane_apart() {
+    let machine = builtin("trunnion-ac").expect("built-in");
+    let post = |text: &'static str, offsets: &Offsets| {
+        let mut runner = Runner::new(
+            &machine,
+            offsets.clone(),
+            SliceSource::new(text.as_bytes()),
+            RunOptions::default(),
+        );
+        convert(&mut runner, &machine, PostOptions::default()).expect("runs")
+    };
+    let none = Offsets::default();
+    // Arcs, G43 and rotary moves: a machine-axis program already.
+    let plain = post(
+        "G0 X0 Y0 Z50. A0 C0\nG43 H1 Z10.\nG2 X20. Y0 R10. F300.\nG1 A-20. C45.\nG49\nM30\n",
+        &none,
+    );
+    assert!(!plain.kinematic);
+    // TCPC for two blocks only, the tilted working plane, G54.4.
+    for text in [
+        "G0 X0 Y0 Z50. A0 C0\nG43.4 H1 X0 Y0 Z20.\nG1 X10. A-10. F500.\nG49\nG0 Z100.\nM30\n",
+        "G68.2 X0 Y0 Z0 I0 J-30. K0\nG53.1\nG0 X10. Y0 Z30.\nG69\nM30\n",
+    ] {
+        assert!(post(text, &none).kinematic, "{text}");
+    }
+    // The tool length: none without the offsets' tool, the given one with
+    // `with_tool_length` (and the file's own where it has one).
+    let tcpc = "G0 X0 Y0 Z50. A0 C0\nG43.4 H1 X0 Y0 Z20.\nG1 X10. A-10. F500.\nG49\nM30\n";
+    assert!(!post(tcpc, &none).has_tool_length());
+    let filled = fiveaxis_post::with_tool_length(&none, 95.5);
+    assert_eq!(post(tcpc, &filled).tool_lengths[0], 95.5);
+    let mut own = Offsets::default();
+    own.tools.insert(
+        1,
+        ToolOffset {
+            length: 120.0,
+            radius: 5.0,
+            ..ToolOffset::default()
+        },
+    );
+    own.tools.insert(
+        3,
+        ToolOffset {
+            radius: 2.0,
+            ..ToolOffset::default()
+        },
+    );
+    let filled = fiveaxis_post::with_tool_length(&own, 95.5);
+    assert_eq!(filled.tool(1).length, 120.0);
+    assert_eq!((filled.tool(2).length, filled.tool(3).length), (95.5, 95.5));
+    assert_eq!(filled.tool(3).radius, 2.0);
+    // Only up to the highest tool the offsets hold (the tool memory).
+    assert!(!filled.tools.contains_key(&4));
+    assert_eq!(post(tcpc, &filled).tool_lengths[0], 120.0);
 }
 
 #[test]

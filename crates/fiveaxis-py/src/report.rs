@@ -183,16 +183,26 @@ pub fn post<'py>(
         bytes = apt_to_tcpc(py, text, &name)?.into_bytes();
     }
     let machine = &machine.get().machine;
-    let offsets_py = offsets;
-    let offsets = &offsets.get().offsets;
+    // A tool length given fills in the tools the offsets give none, as
+    // `fiveaxis post --tool-length` does.
+    let filled = |o: &PyOffsets| PyOffsets {
+        offsets: match tool_length {
+            Some(length) => fiveaxis_post::with_tool_length(&o.offsets, length),
+            None => o.offsets.clone(),
+        },
+    };
+    let target_offsets = filled(offsets.get());
+    let offsets = &target_offsets.offsets;
     // Retargeting: the source runs on its own machine (and offsets).
     let source_machine = from_machine.as_ref().map(|m| &m.get().machine);
     let run_on = source_machine.unwrap_or(machine);
     let run_offsets = match (&from_machine, &from_offsets) {
-        (Some(_), Some(o)) => o.get(),
-        _ => offsets_py.get(),
+        (Some(_), Some(o)) => filled(o.get()),
+        _ => filled(&target_offsets),
     };
-    let text = String::from_utf8_lossy(&bytes);
+    let source_text = String::from_utf8_lossy(&bytes).into_owned();
+    let text = &source_text;
+    let header_length = program::header_tool_length(text);
     let options = PostOptions {
         tolerance,
         angle_tolerance,
@@ -200,14 +210,14 @@ pub fn post<'py>(
         axes: fiveaxis_post::default_axes(apt, source_machine.is_some()),
         retract,
         feed,
-        source_tool_length: tool_length.or_else(|| program::header_tool_length(&text)),
+        source_tool_length: tool_length.or(header_length),
     };
-    let carried = program::carried_words(&text);
+    let carried = program::carried_words(text);
     let source = ReaderSource::new(Box::new(std::io::Cursor::new(bytes)) as Box<dyn ReadSeek>);
     let post = with_runner(
         py,
         run_on,
-        run_offsets,
+        &run_offsets,
         source,
         RunOptions::default(),
         &[],
@@ -215,14 +225,32 @@ pub fn post<'py>(
         |runner| fiveaxis_post::convert(runner, machine, options),
     )?
     .map_err(|e| run_error(py, &e, &name))?;
+    // Nothing to convert: the program is returned unchanged, as the
+    // command line writes it.
+    let converted = post.kinematic || apt || source_machine.is_some();
+    if converted && !post.has_tool_length() && tool_length.or(header_length).is_none() {
+        return Err(input_error(
+            py,
+            "no tool length: a machine-axis program is right only for the tool length it is made for, and the offsets give the program's tool none; give tool_length=MM, or offsets holding the tool ({\"tools\": {1: {\"length\": 120.0}}})",
+            Some(&name),
+            None,
+            None,
+            None,
+        ));
+    }
     let header = program::Header {
         source: &name,
         number: None,
         source_machine: source_machine.map(|m| m.name.as_str()),
         carried: &carried,
     };
-    let text = program::write(machine, &post, &options, &header);
+    let text = if converted {
+        program::write(machine, &post, &options, &header)
+    } else {
+        source_text
+    };
     let d = PyDict::new(py);
+    d.set_item("converted", converted)?;
     d.set_item("text", text)?;
     d.set_item("deviation_tip", post.deviation.tip)?;
     d.set_item("deviation_angle", post.deviation.angle)?;

@@ -142,3 +142,38 @@ def test_apt_converts_and_posts(tmp_path: Path, cli: Path) -> None:
     with pytest.raises(fx.InputError) as info:
         fx.apt_to_tcpc("GOTO/1,2\nFOO/BAR\n")
     assert info.value.line is not None
+
+
+TCPC = "G21 G90 G94\nG0 X0 Y0 Z100. A0 C0\nG43.4 H1 X0 Y0 Z20.\nG1 X20. A10. F500.\nG49\nM30\n"
+
+
+def test_post_needs_a_tool_length_as_the_cli_does(cli: Path, tmp_path: Path) -> None:
+    with pytest.raises(fx.InputError) as info:
+        fx.post(code=TCPC, machine="trunnion-ac")
+    assert "no tool length" in info.value.message and "tool_length=" in info.value.message
+    path = tmp_path / "p.nc"
+    path.write_text(TCPC)
+    done = subprocess.run([str(cli), "post", str(path), "--machine", "trunnion-ac"], capture_output=True, timeout=300)
+    assert done.returncode == 2 and b"--tool-length" in done.stderr
+    done = subprocess.run(
+        [str(cli), "post", str(path), "--machine", "trunnion-ac", "--tool-length", "95.5"],
+        capture_output=True, timeout=300,
+    )
+    assert done.returncode == 0, done.stderr
+    got = fx.post(path, "trunnion-ac", tool_length=95.5)
+    assert got.converted and got.text == done.stdout.decode()
+    assert got.tool_lengths[0] == 95.5
+    # The offsets' own tool is taken when they have it.
+    got = fx.post(path, "trunnion-ac", {"tools": {1: {"length": 120.0}}})
+    assert got.tool_lengths[0] == 120.0
+
+
+def test_post_returns_a_program_with_nothing_to_convert_unchanged(cli: Path, tmp_path: Path) -> None:
+    plain = "G21 G90\nG0 X0 Y0 Z50. A0 C0\nG43 H1 Z10.\nG2 X20. Y0 R10. F300.\nG49\nM30\n"
+    path = tmp_path / "plain.nc"
+    path.write_text(plain)
+    got = fx.post(path, "trunnion-ac")
+    assert not got.converted and got.text == plain
+    done = subprocess.run([str(cli), "post", str(path), "--machine", "trunnion-ac"], capture_output=True, timeout=300)
+    assert done.returncode == 0 and done.stdout.decode() == plain
+    assert b"nothing to convert" in done.stderr

@@ -516,6 +516,48 @@ fn unknown_words() {
     );
 }
 
+/// The message of a line's error.
+#[track_caller]
+fn message(text: &str) -> String {
+    err(text).0.to_string()
+}
+
+#[test]
+fn a_letter_o_typed_for_a_zero_is_named_in_the_message() {
+    assert_eq!(
+        message("G1O X10."),
+        "unknown word `OX10`: `O` after `G1` is the letter O; did you mean the digit 0 (`G10`)?"
+    );
+    assert_eq!(
+        message("X5 m3o x1"),
+        "unknown word `OX1`: `O` after `M3` is the letter O; did you mean the digit 0 (`M30`)?"
+    );
+    assert_eq!(
+        message("GO1 X1"),
+        "unknown word `GO1`: `O` in `GO1` is the letter O; did you mean the digit 0 (`G01`)?"
+    );
+    assert_eq!(
+        message("G1 XO.5"),
+        "unknown word `XO`: `O` in `XO` is the letter O; did you mean the digit 0 (`X0`)?"
+    );
+    // The span stays the word's.
+    assert_eq!(err("G1O X10.").1..err("G1O X10.").2, 3..8);
+}
+
+#[test]
+fn other_unknown_words_get_no_hint() {
+    for (text, word) in [
+        ("TRAORI", "TRAORI"),
+        ("G1 OX10", "OX10"),
+        ("o100 sub", "SUB"),
+        ("G1 XO1A", "XO1A"),
+        ("CYCLE800", "CYCLE800"),
+        ("G1 X1 O X2", "OX2"),
+    ] {
+        assert_eq!(message(text), format!("unknown word `{word}`"), "{text}");
+    }
+}
+
 #[test]
 fn letter_digit_letter_is_two_words() {
     assert_eq!(words("G1X10"), [('G', 1.0, false), ('X', 10.0, false)]);

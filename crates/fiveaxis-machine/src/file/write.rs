@@ -82,7 +82,17 @@ impl Machine {
         w.key(
             "decimal_point_input",
             &p.decimal_point_input.to_string(),
-            "a number without a point is mm/degrees, not increments",
+            &if p.decimal_point_input {
+                "on: a number without a point is mm/degrees (X10 = 10 mm)".to_owned()
+            } else {
+                // As many decimals as the increment has (0.001: X10 = 0.010).
+                let increment = p.least_input_increment;
+                let decimals = (-increment.log10()).ceil().clamp(0.0, 9.0) as usize;
+                format!(
+                    "off: a number without a point is in least input increments (X10 = {:.decimals$} mm)",
+                    10.0 * increment
+                )
+            },
         );
         w.key(
             "least_input_increment",

@@ -215,6 +215,34 @@ fn written_file_explains_its_keys() {
 }
 
 #[test]
+fn decimal_point_input_is_explained_the_right_way_round() {
+    let mut m = machine(DEFAULT_MACHINE);
+    let line = |m: &Machine| {
+        m.to_toml()
+            .lines()
+            .find(|l| l.starts_with("decimal_point_input = "))
+            .map(str::to_owned)
+            .unwrap_or_default()
+    };
+    assert!(!m.params.decimal_point_input);
+    assert!(
+        line(&m).ends_with(
+            "# off: a number without a point is in least input increments (X10 = 0.010 mm)"
+        ),
+        "{}",
+        line(&m)
+    );
+    m.params.least_input_increment = 0.0001;
+    assert!(line(&m).contains("(X10 = 0.0010 mm)"), "{}", line(&m));
+    m.params.decimal_point_input = true;
+    assert!(
+        line(&m).ends_with("# on: a number without a point is mm/degrees (X10 = 10 mm)"),
+        "{}",
+        line(&m)
+    );
+}
+
+#[test]
 fn unlimited_axis_round_trips() {
     let mut m = machine("head-table-bc");
     m.rotary[0].limits = None;

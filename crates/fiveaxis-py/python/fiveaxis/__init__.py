@@ -716,7 +716,9 @@ class PostResult:
     deviation of its tool tip (mm) and direction (degrees) from the
     programmed path, the source's cutting blocks, the output's blocks,
     pieces that could not meet the tolerance, and the tool lengths it is
-    for."""
+    for. ``converted`` is ``False`` when the program had nothing to
+    convert (no TCPC, no tilted working plane, no CL data, the same
+    machine): then ``text`` is the program unchanged."""
 
     text: str
     deviation_tip: float
@@ -725,6 +727,7 @@ class PostResult:
     blocks: int
     unresolved: int
     tool_lengths: List[float]
+    converted: bool = True
 
 
 def apt_to_tcpc(text: str, name: str = "<string>") -> str:
@@ -759,8 +762,13 @@ def post(
     ``"inverse-time"`` (G93), ``"dpm"`` or ``"programmed"``; ``retract``:
     mm along the tool axis at a flip; ``from_machine`` (with
     ``from_offsets``, ``tool_length``): a machine-axis program written for
-    that machine, retargeted to ``machine``, as ``--from-machine``. An
-    alarm in the source raises ``Alarm``."""
+    that machine, retargeted to ``machine``, as ``--from-machine``.
+    ``tool_length`` (mm) is also the length of every tool the offsets give
+    none: a machine-axis program is right for one tool length only, and
+    without a length from ``offsets`` or ``tool_length`` ``post`` raises
+    ``InputError``, as ``fiveaxis post`` stops. A program with nothing to
+    convert comes back unchanged (``converted`` ``False``). An alarm in
+    the source raises ``Alarm``."""
     path, text = _program(program, code)
     if apt is None:
         apt = path is not None and os.path.splitext(path)[1].lower() in (".apt", ".cl", ".cls")

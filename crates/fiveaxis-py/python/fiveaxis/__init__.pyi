@@ -198,6 +198,7 @@ class PostResult:
     blocks: int
     unresolved: int
     tool_lengths: List[float]
+    converted: bool
 
 def apt_to_tcpc(text: str, name: str = ...) -> str: ...
 def post(
