@@ -503,6 +503,44 @@ M2
     );
 }
 
+/// A subroutine name with a path in it is refused before the program
+/// memory is asked for it.
+#[test]
+fn subroutine_names_with_a_path_are_refused() {
+    for name in [
+        "../outside/evil",
+        "/abs/evil",
+        "a/b",
+        "..\\evil",
+        "c:evil",
+        "..",
+    ] {
+        let program = format!("o<{name}> call\nM2\n");
+        // The memory holds the file: only the refusal keeps it out.
+        let sub: &'static str = format!("o<{name}> sub\nG0 X99\no<{name}> endsub\n").leak();
+        let (rows, alarm, _) = run_with(&program, Files(vec![(name, sub)]), RunOptions::default());
+        let alarm = alarm.unwrap_or_else(|| panic!("{name}: no alarm"));
+        assert_eq!(alarm.condition, Condition::OWordFlow, "{name}");
+        assert_eq!(alarm.line, 1);
+        assert!(
+            alarm
+                .message
+                .starts_with(&format!("o<{name}> call: a subroutine name is a file name")),
+            "{}",
+            alarm.message
+        );
+        assert!(rows.is_empty(), "{name}");
+    }
+    // A name with a point in it is a file name.
+    let (rows, alarm, _) = run_with(
+        "o<a.b> call\nM2\n",
+        Files(vec![("a.b", "o<a.b> sub\nG0 X1\no<a.b> endsub\n")]),
+        RunOptions::default(),
+    );
+    assert!(alarm.is_none(), "{alarm:?}");
+    assert_eq!(rows.len(), 1);
+}
+
 #[test]
 fn predefined_parameters_answer_the_modal_state() {
     same_as_rs274(

@@ -1123,6 +1123,16 @@ impl<S: Source> Runner<'_, S> {
         after: Mark,
         span: Span,
     ) -> Result<(), RunError> {
+        if !is_plain_name(key) {
+            return Err(self.oword_error(
+                here.line,
+                span,
+                format!(
+                    "o<{key}> call: a subroutine name is a file name in the subroutine path, \
+                     without `/`, `\\`, `:` or `..`"
+                ),
+            ));
+        }
         let body = match self.ngc.subs.get(key) {
             Some(&body) => Some(body),
             None => self.find_sub(key)?,
@@ -1215,6 +1225,14 @@ impl<S: Source> Runner<'_, S> {
         self.next_line = resume.line;
         Ok(found)
     }
+}
+
+/// Whether a subroutine name can only name a file in the folders of the
+/// program memory: no path separator, drive or parent folder, so a
+/// program reaches the program memory it was given and nothing else
+/// (`o<../x> call`, `o</etc/x> call` are refused).
+fn is_plain_name(key: &str) -> bool {
+    !key.contains(['/', '\\', ':']) && !key.contains("..")
 }
 
 fn kind_name(kind: OKind) -> &'static str {
