@@ -11,7 +11,7 @@ use std::io::{self, BufRead, BufReader, Read, Seek, SeekFrom};
 use fiveaxis_gcode::{Block, Syntax, SyntaxError, SyntaxErrorKind, parse_line_as};
 use fiveaxis_machine::{Machine, Offsets};
 
-use crate::alarm::{Alarm, Condition};
+use crate::alarm::{Alarm, Condition, Num};
 use crate::controller::{Controller, Flow};
 use crate::dialect::Dialect;
 use crate::segment::{MAX_STEPS, Segment};
@@ -559,7 +559,8 @@ impl<'m, S: Source> Runner<'m, S> {
                                  {} mm and {} degrees apart: an axis moves too fast for the \
                                  step (a rotary axis swinging near the singular direction, or a \
                                  step too fine for the block's length)",
-                                bound.step, bound.step_angle
+                                Num(bound.step),
+                                Num(bound.step_angle)
                             ),
                         }));
                     }
@@ -1115,7 +1116,10 @@ impl<'m, S: Source> Runner<'m, S> {
         Ok(None)
     }
 
-    fn alarm_here(&self, alarm: Alarm) -> RunError {
+    fn alarm_here(&self, mut alarm: Alarm) -> RunError {
+        if let std::borrow::Cow::Owned(message) = crate::alarm::readable_numbers(&alarm.message) {
+            alarm.message = message;
+        }
         // An alarm about an earlier block (held back by the controller)
         // shows that block's text.
         let text = match self
