@@ -163,6 +163,15 @@ impl ProgramLibrary for Memory {
     }
 
     fn open_named(&mut self, name: &str) -> io::Result<Option<(Box<dyn Source>, String)>> {
+        // Only a file in the folders (the runner refuses such names
+        // first): no folders, no parent, no root.
+        let mut parts = Path::new(name).components();
+        if !matches!(
+            (parts.next(), parts.next()),
+            (Some(std::path::Component::Normal(_)), None)
+        ) {
+            return Ok(None);
+        }
         let file_name = format!("{name}.ngc");
         let programs = self.programs.as_ref().map(|d| d.dir.clone());
         for dir in self.ngc.iter().chain(programs.iter()) {

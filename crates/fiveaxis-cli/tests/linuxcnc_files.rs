@@ -165,3 +165,48 @@ fn a_missing_subroutine_file_names_the_file() {
         "{err}"
     );
 }
+
+/// A program reaches the program memory it was given and nothing else:
+/// a subroutine name with a path in it (`..`, a folder, an absolute
+/// path) is refused with the alarm naming the word, even where the file
+/// it names exists.
+#[test]
+fn subroutine_names_cannot_leave_the_subroutine_path() {
+    let dir = tempfile::tempdir().expect("a temporary directory");
+    let d = dir.path();
+    write(
+        d,
+        "machine/mill.toml",
+        &machine_file("subroutine_path = [\"subs\"]\n"),
+    );
+    let evil = "o<evil> sub\nG0 X99\no<evil> endsub\n";
+    write(d, "outside/evil.ngc", evil);
+    write(d, "machine/subs/inner/evil.ngc", evil);
+    let absolute = d.join("outside/evil");
+    let absolute = absolute.to_str().expect("a UTF-8 path");
+    for name in [
+        "../outside/evil",
+        "inner/evil",
+        absolute,
+        "..\\outside\\evil",
+    ] {
+        write(d, "prog/main.ngc", &format!("G0 X1\no<{name}> call\nM2\n"));
+        let out = common::run_in(
+            d,
+            &["run", "--machine", "machine/mill.toml", "prog/main.ngc"],
+            b"",
+        );
+        let err = common::stderr(&out);
+        assert_eq!(out.status.code(), Some(1), "{name}: {err}");
+        assert!(err.contains("FX0125"), "{name}: {err}");
+        assert!(err.contains("line 2"), "{name}: {err}");
+        assert!(
+            err.contains(&format!("o<{}> call", name.to_lowercase())),
+            "{name}: {err}"
+        );
+        assert!(
+            !String::from_utf8_lossy(&out.stdout).contains("99"),
+            "{name}"
+        );
+    }
+}

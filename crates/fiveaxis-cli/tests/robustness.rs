@@ -383,3 +383,49 @@ fn macro_variables_file_is_read_and_written_back() {
         stderr(&out)
     );
 }
+
+/// A message shows numbers as people read them: `--step 1e-300` is
+/// written `1e-300`, not as a 302-character decimal.
+#[test]
+fn messages_write_extreme_numbers_in_scientific_notation() {
+    let out = run(&["run", "-", "--step", "1e-300"], b"G0 X1.\n");
+    let err = stderr(&out);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(err.contains("FX0101"), "{err}");
+    assert!(err.contains("at most 1e-300 mm and 1 degrees"), "{err}");
+    assert!(!err.contains("0000000000"), "{err}");
+}
+
+/// RS274/NGC lines of 30,000 signs, `#` or operations (30 to 60 KB,
+/// under the line limit) end in the format alarm at their line; they
+/// overflowed the stack (exit 134).
+#[test]
+fn deep_ngc_expressions_alarm_instead_of_overflowing_the_stack() {
+    let dir = tempfile::tempdir().expect("a temporary directory");
+    let machine = fiveaxis_machine::builtin_source("mill-3axis")
+        .expect("built-in machine")
+        .lines()
+        .map(|line| {
+            if line.trim_start().starts_with("control") {
+                "control = \"linuxcnc\"\n".to_owned()
+            } else {
+                format!("{line}\n")
+            }
+        })
+        .collect::<String>();
+    std::fs::write(dir.path().join("lcnc.toml"), machine).expect("machine file");
+    const HOSTILE: usize = 30_000;
+    let chain = format!("[{}1]", "1+".repeat(HOSTILE));
+    for value in ["-".repeat(HOSTILE) + "1", "#".repeat(HOSTILE) + "1", chain] {
+        let program = format!("G0 X1\n#1 = {value}\nM2\n");
+        let out = run_in(
+            dir.path(),
+            &["run", "--machine", "lcnc.toml", "-"],
+            program.as_bytes(),
+        );
+        let err = stderr(&out);
+        let head: String = err.chars().take(400).collect();
+        assert_eq!(out.status.code(), Some(1), "{head}");
+        assert!(err.contains("ALARM FX0112 line 2"), "{head}");
+    }
+}

@@ -821,3 +821,128 @@ pub fn alarm_reference() -> String {
     }
     text
 }
+
+/// Significant digits of a number in a message.
+const MESSAGE_DIGITS: i32 = 6;
+
+/// Magnitudes a message writes out positionally; smaller and larger ones
+/// are written in scientific notation (`1e-300`, `2.5e12`).
+const POSITIONAL: std::ops::Range<f64> = 1e-4..1e9;
+
+/// A number from a program, a file or an option as a message shows it:
+/// at most [`MESSAGE_DIGITS`] significant digits, trailing zeros dropped,
+/// in scientific notation outside [`POSITIONAL`] (Rust's `{}` writes
+/// every digit: `1e-300` is a 302-character decimal).
+#[derive(Clone, Copy, Debug)]
+pub struct Num(pub f64);
+
+impl std::fmt::Display for Num {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let x = self.0;
+        if !x.is_finite() {
+            return write!(f, "{x}");
+        }
+        if x == 0.0 {
+            return f.write_str("0");
+        }
+        if POSITIONAL.contains(&x.abs()) {
+            // `log10` of at most 1e9: the integer digits, 0 … 9 (or a
+            // negative count of leading zeros after the point).
+            let whole = x.abs().log10().floor() as i32 + 1;
+            let decimals = usize::try_from((MESSAGE_DIGITS - whole).max(0)).unwrap_or(0);
+            let text = format!("{x:.decimals$}");
+            let text = if text.contains('.') {
+                text.trim_end_matches('0').trim_end_matches('.')
+            } else {
+                &text
+            };
+            return f.write_str(text);
+        }
+        let text = format!("{:.*e}", (MESSAGE_DIGITS - 1) as usize, x);
+        let (mantissa, exponent) = text.split_once('e').unwrap_or((&text, "0"));
+        let mantissa = mantissa.trim_end_matches('0').trim_end_matches('.');
+        write!(f, "{mantissa}e{exponent}")
+    }
+}
+
+/// Longest number a message keeps as written; Rust's `{}` of an `f64`
+/// is at most 17 significant digits plus sign and point unless the
+/// magnitude is extreme, which only zeros lengthen.
+const LONGEST_NUMBER: usize = 24;
+
+/// `message` with every number longer than [`LONGEST_NUMBER`] characters
+/// (a `{}` of a tiny or huge value) written as [`Num`] writes it: the
+/// net under every alarm message, whichever function formatted it.
+pub(crate) fn readable_numbers(message: &str) -> std::borrow::Cow<'_, str> {
+    let bytes = message.as_bytes();
+    let is_number_byte = |b: u8| b.is_ascii_digit() || b == b'.';
+    let long = bytes
+        .split(|&b| !is_number_byte(b))
+        .any(|run| run.len() > LONGEST_NUMBER);
+    if !long {
+        return std::borrow::Cow::Borrowed(message);
+    }
+    let mut out = String::with_capacity(message.len().min(1024));
+    let mut rest = message;
+    while let Some(start) = rest.bytes().position(is_number_byte) {
+        let len = rest[start..]
+            .bytes()
+            .position(|b| !is_number_byte(b))
+            .unwrap_or(rest.len() - start);
+        let run = &rest[start..start + len];
+        out.push_str(&rest[..start]);
+        match run.parse::<f64>() {
+            Ok(x) if run.len() > LONGEST_NUMBER => out.push_str(&Num(x).to_string()),
+            _ => out.push_str(run),
+        }
+        rest = &rest[start + len..];
+    }
+    out.push_str(rest);
+    std::borrow::Cow::Owned(out)
+}
+
+#[cfg(test)]
+mod number_tests {
+    use super::*;
+
+    #[test]
+    fn numbers_in_messages_are_for_people() {
+        for (x, want) in [
+            (0.0, "0"),
+            (1.0, "1"),
+            (-2.5, "-2.5"),
+            (0.001, "0.001"),
+            (1.0 / 3.0, "0.333333"),
+            (0.1 + 0.2, "0.3"),
+            (1234.56789, "1234.57"),
+            (100.0, "100"),
+            (999_999_999.0, "999999999"),
+            (1e9, "1e9"),
+            (2.5e12, "2.5e12"),
+            (1e-300, "1e-300"),
+            (-1.234_567e-7, "-1.23457e-7"),
+            (f64::MAX, "1.79769e308"),
+            (0.0001, "0.0001"),
+        ] {
+            assert_eq!(Num(x).to_string(), want, "{x:e}");
+        }
+    }
+
+    #[test]
+    fn only_extreme_numbers_in_a_message_are_rewritten() {
+        let plain = "the block cannot be interpolated in 1048576 rows at most 0.001 mm";
+        assert!(matches!(
+            readable_numbers(plain),
+            std::borrow::Cow::Borrowed(_)
+        ));
+        let tiny = format!("at most {} mm and {} degrees, line 12.5", 1e-300, 1e300);
+        assert_eq!(
+            readable_numbers(&tiny),
+            "at most 1e-300 mm and 1e300 degrees, line 12.5"
+        );
+        // Exactly at the bound it stays; one more digit is rewritten.
+        let at = "1".repeat(LONGEST_NUMBER);
+        assert_eq!(readable_numbers(&at), at);
+        assert_eq!(readable_numbers(&format!("{at}0")), "1.11111e24");
+    }
+}

@@ -19,7 +19,7 @@ pub mod search;
 mod segment;
 mod words;
 
-pub use alarm::{Alarm, AlarmCode, Condition, alarm_reference};
+pub use alarm::{Alarm, AlarmCode, Condition, Num, alarm_reference};
 pub use controller::{
     ARC_RADIUS_TOLERANCE, Controller, Flow, POSITION_TOLERANCE, ProgramStop,
     REFERENCE_CHECK_TOLERANCE, WordsWithoutPoint, inclined, normalize_360, shortest_turn,

@@ -11,7 +11,7 @@ use std::io::{self, BufRead, BufReader, Read, Seek, SeekFrom};
 use fiveaxis_gcode::{Block, Syntax, SyntaxError, SyntaxErrorKind, parse_line_as};
 use fiveaxis_machine::{Machine, Offsets};
 
-use crate::alarm::{Alarm, Condition};
+use crate::alarm::{Alarm, Condition, Num};
 use crate::controller::{Controller, Flow};
 use crate::dialect::Dialect;
 use crate::segment::{MAX_STEPS, Segment};
@@ -362,6 +362,9 @@ pub struct Runner<'m, S> {
     notes_dropped: u64,
     /// Lines read so far (the block budget counts them).
     blocks: u64,
+    /// Lines read past without running them (skips and searches that
+    /// read on; the block budget counts them too).
+    skipped: u64,
     /// Lowest and highest line of the current and of the last full window
     /// of [`LOOP_WINDOW`] lines, for the message of an endless loop.
     window: [(u32, u32); 2],
@@ -412,6 +415,7 @@ impl<'m, S: Source> Runner<'m, S> {
             notes: Vec::new(),
             notes_dropped: 0,
             blocks: 0,
+            skipped: 0,
             window: [(u32::MAX, 0); 2],
         }
     }
@@ -562,7 +566,8 @@ impl<'m, S: Source> Runner<'m, S> {
                                  {} mm and {} degrees apart: an axis moves too fast for the \
                                  step (a rotary axis swinging near the singular direction, or a \
                                  step too fine for the block's length)",
-                                bound.step, bound.step_angle
+                                Num(bound.step),
+                                Num(bound.step_angle)
                             ),
                         }));
                     }
@@ -826,7 +831,23 @@ impl<'m, S: Source> Runner<'m, S> {
         if self.blocks.is_multiple_of(LOOP_WINDOW) {
             self.window = [(u32::MAX, 0), self.window[0]];
         }
-        if self.blocks <= self.options.max_blocks {
+        self.check_budget(line)
+    }
+
+    /// Counts a line read past without running it (a skip or a search
+    /// that reads the text: `WHILE` to its `END`, `GOTO`, `M99 P`, o-word
+    /// flow without its index) against the block budget, so that the
+    /// budget bounds the time a run takes, not only the blocks it runs;
+    /// `line` is the line being run.
+    fn count_skipped(&mut self, line: u32) -> Result<(), RunError> {
+        self.skipped += 1;
+        self.check_budget(line)
+    }
+
+    /// The block budget alarm, when blocks run and lines skipped over
+    /// have passed it.
+    fn check_budget(&self, line: u32) -> Result<(), RunError> {
+        if self.blocks.saturating_add(self.skipped) <= self.options.max_blocks {
             return Ok(());
         }
         let (lo, hi) = if self.window[1].1 > 0 {
@@ -834,13 +855,20 @@ impl<'m, S: Source> Runner<'m, S> {
         } else {
             self.window[0]
         };
+        let ran = if self.skipped == 0 {
+            format!("ran {} blocks", self.options.max_blocks)
+        } else {
+            format!(
+                "read {} lines ({} blocks run, {} lines skipped over)",
+                self.options.max_blocks, self.blocks, self.skipped
+            )
+        };
         Err(self.runner_alarm(
             Condition::BlockBudget,
             line,
             format!(
-                "the program ran {} blocks without ending (--max-blocks); \
-                 it was repeating lines {lo} to {hi}",
-                self.options.max_blocks
+                "the program {ran} without ending (--max-blocks); \
+                 it was repeating lines {lo} to {hi}"
             ),
         ))
     }
@@ -891,7 +919,7 @@ impl<'m, S: Source> Runner<'m, S> {
         let Some(return_to) = self.call_room(repeats, line)? else {
             return Ok(());
         };
-        let Some(start) = self.find_sequence(sequence, return_to)? else {
+        let Some(start) = self.find_sequence(sequence, return_to, line)? else {
             return Err(self.runner_alarm(
                 Condition::ProgramNotFound,
                 line,
@@ -947,7 +975,7 @@ impl<'m, S: Source> Runner<'m, S> {
                 offset: self.source.position(),
                 line: self.next_line,
             };
-            return match self.find_sequence(n, here)? {
+            return match self.find_sequence(n, here, line)? {
                 Some(mark) => {
                     self.jump(mark)?;
                     self.at_program_start = false;
@@ -975,7 +1003,7 @@ impl<'m, S: Source> Runner<'m, S> {
         self.jump(return_to)?;
         self.at_program_start = false;
         if let Some(n) = sequence {
-            match self.find_sequence(n, return_to)? {
+            match self.find_sequence(n, return_to, line)? {
                 Some(mark) => self.jump(mark)?,
                 None => {
                     return Err(self.runner_alarm(
@@ -1051,9 +1079,20 @@ impl<'m, S: Source> Runner<'m, S> {
         Ok(Some(mark))
     }
 
+    /// [`Runner::scan_line`] for a line read past while line `at` runs:
+    /// counted against the block budget.
+    fn skip_line(&mut self, line: &mut u32, at: u32) -> Result<Option<Mark>, RunError> {
+        let mark = self.scan_line(line)?;
+        if mark.is_some() {
+            self.count_skipped(at)?;
+        }
+        Ok(mark)
+    }
+
     /// The line with sequence number `n`: searched from `from` to the end,
-    /// then from the start of the file.
-    fn find_sequence(&mut self, n: u32, from: Mark) -> Result<Option<Mark>, RunError> {
+    /// then from the start of the file, while line `at` runs (every line
+    /// read counts against the block budget).
+    fn find_sequence(&mut self, n: u32, from: Mark, at: u32) -> Result<Option<Mark>, RunError> {
         let file_start = Mark {
             offset: library::file_start(library::file_of(from.offset)),
             line: 1,
@@ -1061,7 +1100,7 @@ impl<'m, S: Source> Runner<'m, S> {
         for start in [from, file_start] {
             self.source.seek(start.offset)?;
             let mut line = start.line;
-            while let Some(mark) = self.scan_line(&mut line)? {
+            while let Some(mark) = self.skip_line(&mut line, at)? {
                 let sequence = match parse_line_as(
                     self.syntax,
                     &self.scan_text,
@@ -1084,7 +1123,10 @@ impl<'m, S: Source> Runner<'m, S> {
         Ok(None)
     }
 
-    fn alarm_here(&self, alarm: Alarm) -> RunError {
+    fn alarm_here(&self, mut alarm: Alarm) -> RunError {
+        if let std::borrow::Cow::Owned(message) = crate::alarm::readable_numbers(&alarm.message) {
+            alarm.message = message;
+        }
         // An alarm about an earlier block (held back by the controller)
         // shows that block's text.
         let text = match self

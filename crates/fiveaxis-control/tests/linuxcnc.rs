@@ -386,6 +386,164 @@ fn an_endless_loop_is_stopped_by_the_block_budget() {
     assert_eq!(alarm.expect("stopped").condition, Condition::BlockBudget);
 }
 
+/// A loop whose body skips 10,000 lines each pass: the skip is looked
+/// up in the file's index, so each pass costs its four blocks, and a
+/// small budget stops the loop at once (it read the 10,000 lines on
+/// every pass, unbounded by the budget).
+#[test]
+fn a_loop_over_skipped_lines_is_stopped_by_the_block_budget() {
+    const SKIPPED: usize = 10_000;
+    const BUDGET: u64 = 20_000;
+    let program = format!(
+        "o1 while [1]\no2 if [0]\n{}o2 endif\no1 endwhile\nM2\n",
+        "G0 X1\n".repeat(SKIPPED)
+    );
+    let options = RunOptions {
+        max_blocks: BUDGET,
+        ..RunOptions::default()
+    };
+    let (rows, alarm, _) = run_with(&program, Files(Vec::new()), options);
+    let alarm = alarm.expect("stopped");
+    assert_eq!(alarm.condition, Condition::BlockBudget);
+    assert_eq!(alarm.code.to_string(), "FX0102");
+    assert!(rows.is_empty());
+}
+
+/// `NESTED` loops inside one another, each run once: every false
+/// `while` skips to its `endwhile` by the index (reading on to it, each
+/// skip was as long as the loops inside it: quadratic, 28 s for 10,000).
+#[test]
+fn deeply_nested_loops_end() {
+    const NESTED: usize = 10_000;
+    let mut program = String::new();
+    for i in 0..NESTED {
+        program.push_str(&format!(
+            "#<_k{i}> = 0\no{i} while [#<_k{i}> EQ 0]\n#<_k{i}> = 1\n"
+        ));
+    }
+    program.push_str("G0 X1\n");
+    for i in (0..NESTED).rev() {
+        program.push_str(&format!("o{i} endwhile\n"));
+    }
+    program.push_str("G0 X2\nM2\n");
+    let (rows, alarm, _) = run_with(&program, Files(Vec::new()), RunOptions::default());
+    assert!(alarm.is_none(), "{alarm:?}");
+    let x: Vec<f64> = rows.iter().map(|r| r.joints[0]).collect();
+    assert_eq!(x, [1.0, 2.0]);
+}
+
+/// Skips by the index land where reading on landed: a label used again
+/// after its construct, `elseif` chains, `break`, `continue` in `do` and
+/// `repeat`, a definition skipped, in the main file and in a called file.
+#[test]
+fn indexed_skips_land_where_reading_on_did() {
+    let sub = "o<s> sub\no1 if [#1 EQ 1]\nG0 Y1\no1 elseif [#1 EQ 2]\nG0 Y2\no1 else\nG0 Y3\no1 endif\no<s> endsub\n";
+    let program = "\
+o9 sub
+G0 Z9
+o9 endsub
+o1 if [0]
+G0 X9
+o1 endif
+o1 if [0]
+G0 X8
+o1 elseif [0]
+G0 X7
+o1 elseif [1]
+G0 X1
+o1 else
+G0 X6
+o1 endif
+#1 = 0
+o2 do
+#1 = [#1 + 1]
+o3 if [#1 LT 3]
+o2 continue
+o3 endif
+G0 X[10 + #1]
+o2 while [#1 LT 4]
+o4 repeat [3]
+o5 if [1]
+o4 break
+o5 endif
+G0 X99
+o4 endrepeat
+o6 while [1]
+o6 break
+o6 endwhile
+o<s> call [2]
+o<s> call [3]
+o9 call
+M2
+";
+    let (rows, alarm, _) = run_with(program, Files(vec![("s", sub)]), RunOptions::default());
+    assert!(alarm.is_none(), "{alarm:?}");
+    let xyz: Vec<[f64; 3]> = rows
+        .iter()
+        .map(|r| [r.joints[0], r.joints[1], r.joints[2]])
+        .collect();
+    assert_eq!(
+        xyz,
+        [
+            [1.0, 0.0, 0.0],
+            [13.0, 0.0, 0.0],
+            [14.0, 0.0, 0.0],
+            [14.0, 2.0, 0.0],
+            [14.0, 3.0, 0.0],
+            [14.0, 3.0, 9.0],
+        ]
+    );
+    same_as_rs274(
+        program
+            .replace("o<s> call [2]\no<s> call [3]\n", "")
+            .as_str(),
+        &[
+            [1.0, 0.0, 0.0],
+            [13.0, 0.0, 0.0],
+            [14.0, 0.0, 0.0],
+            [14.0, 0.0, 9.0],
+        ],
+    );
+}
+
+/// A subroutine name with a path in it is refused before the program
+/// memory is asked for it.
+#[test]
+fn subroutine_names_with_a_path_are_refused() {
+    for name in [
+        "../outside/evil",
+        "/abs/evil",
+        "a/b",
+        "..\\evil",
+        "c:evil",
+        "..",
+    ] {
+        let program = format!("o<{name}> call\nM2\n");
+        // The memory holds the file: only the refusal keeps it out.
+        let sub: &'static str = format!("o<{name}> sub\nG0 X99\no<{name}> endsub\n").leak();
+        let (rows, alarm, _) = run_with(&program, Files(vec![(name, sub)]), RunOptions::default());
+        let alarm = alarm.unwrap_or_else(|| panic!("{name}: no alarm"));
+        assert_eq!(alarm.condition, Condition::OWordFlow, "{name}");
+        assert_eq!(alarm.line, 1);
+        assert!(
+            alarm
+                .message
+                .starts_with(&format!("o<{name}> call: a subroutine name is a file name")),
+            "{}",
+            alarm.message
+        );
+        assert!(rows.is_empty(), "{name}");
+    }
+    // A name with a point in it is a file name.
+    let (rows, alarm, _) = run_with(
+        "o<a.b> call\nM2\n",
+        Files(vec![("a.b", "o<a.b> sub\nG0 X1\no<a.b> endsub\n")]),
+        RunOptions::default(),
+    );
+    assert!(alarm.is_none(), "{alarm:?}");
+    assert_eq!(rows.len(), 1);
+}
+
 #[test]
 fn predefined_parameters_answer_the_modal_state() {
     same_as_rs274(

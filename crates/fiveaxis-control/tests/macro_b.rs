@@ -195,6 +195,51 @@ fn an_endless_macro_loop_is_stopped_by_the_block_budget() {
     assert!(alarm.message.contains("lines 2 to 4"), "{}", alarm.message);
 }
 
+/// Lines a `GOTO` or a false `WHILE` reads past count against the
+/// budget: a loop of two blocks that jumps over 10,000 lines each pass
+/// stops after a few passes, not after `max_blocks / 2` passes of 10,000
+/// lines read each.
+#[test]
+fn lines_skipped_by_goto_and_while_count_toward_the_block_budget() {
+    const SKIPPED: usize = 10_000;
+    const BUDGET: u64 = 100_000;
+    let body = "G0 X1.\n".repeat(SKIPPED);
+    let programs = [
+        format!("N1 GOTO 2\n{body}N2 GOTO 1\n"),
+        format!("N1 WHILE [1 EQ 0] DO1\n{body}END1\nGOTO 1\n"),
+    ];
+    for program in programs {
+        let machine = machine();
+        let options = fiveaxis_control::RunOptions {
+            max_blocks: BUDGET,
+            ..fiveaxis_control::RunOptions::default()
+        };
+        let mut runner = fiveaxis_control::Runner::new(
+            &machine,
+            Offsets::default(),
+            fiveaxis_control::SliceSource::new(program.as_bytes()),
+            options,
+        );
+        let alarm = loop {
+            match runner.next_segment() {
+                Ok(Some(_)) => {}
+                Ok(None) => break None,
+                Err(fiveaxis_control::RunError::Alarm { alarm, .. }) => break Some(alarm),
+                Err(e) => panic!("{e}"),
+            }
+        };
+        let alarm = alarm.expect("stopped");
+        assert_eq!(alarm.code.to_string(), "FX0102");
+        assert!(
+            alarm.message.contains("lines skipped over"),
+            "{}",
+            alarm.message
+        );
+        // The budget ran out on lines read past, not on blocks run.
+        assert!(runner.blocks() < BUDGET / 100, "{}", runner.blocks());
+    }
+}
+
 #[test]
 fn g66_calls_the_macro_after_every_move_until_g67() {
     // A drilling macro called modally: after each positioning block the

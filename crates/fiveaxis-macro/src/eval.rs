@@ -82,6 +82,19 @@ fn binary(
 ) -> Result<Value, MacroError> {
     let lhs = eval(vars, &b.lhs, sys, settings)?;
     let rhs = eval(vars, &b.rhs, sys, settings)?;
+    combine(b, lhs, rhs, settings)
+}
+
+/// `lhs op rhs`, both evaluated. Kept out of line so that the frames of
+/// the recursion (`eval`, `binary`) stay small: a line's deepest tree
+/// must evaluate on a small stack (the crate's `tests/depth.rs`).
+#[inline(never)]
+fn combine(
+    b: &Binary,
+    lhs: Value,
+    rhs: Value,
+    settings: &MacroSettings,
+) -> Result<Value, MacroError> {
     if settings.linuxcnc {
         return ngc_binary(b, num(lhs, b.span)?, num(rhs, b.span)?);
     }

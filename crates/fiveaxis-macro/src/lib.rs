@@ -132,7 +132,8 @@ pub use expr::{
     WordValue,
 };
 pub use ngc::{
-    Comment, MAX_NGC_DEPTH, NgcLine, OKind, OLabel, OWord, label_key, oword_of, parse_ngc_line,
+    Comment, MAX_NGC_DEPTH, MAX_NGC_INDIRECTION, MAX_NGC_OPERATIONS, MAX_NGC_SIGNS, NgcLine, OKind,
+    OLabel, OWord, label_key, oword_of, parse_ngc_line,
 };
 pub use parse::{MAX_BRACKET_DEPTH, MAX_OPERATIONS, parse_statement};
 pub use scan::{is_macro_line, loop_end, loop_start};

@@ -32,6 +32,11 @@
 //!   their bracketed arguments; nothing else may share the line.
 //!
 //! Recursion happens only at brackets, at most [`MAX_NGC_DEPTH`] deep.
+//! Signs and `#` in a row are read in a loop, at most [`MAX_NGC_SIGNS`]
+//! and [`MAX_NGC_INDIRECTION`] of them, and a line holds at most
+//! [`MAX_NGC_OPERATIONS`] binary operations: no line can make the tree
+//! deep enough to overflow a small stack when it is read, evaluated or
+//! dropped.
 
 use fiveaxis_gcode::{Code, Span};
 
@@ -41,6 +46,22 @@ use crate::expr::{BinOp, Binary, Call, Expr, Func, NcBlock, NcWord, Var, VarNumb
 /// How deep brackets may nest in one line (a bound of the kernel, so that
 /// no line can overflow the stack; LinuxCNC's own limit is not documented).
 pub const MAX_NGC_DEPTH: u8 = 32;
+
+/// Most unary signs in a row before one operand (`--1` has two). A bound
+/// of the kernel that real programs do not come near; LinuxCNC reads any
+/// number of them.
+pub const MAX_NGC_SIGNS: usize = 8;
+
+/// Most `#` in a row before a parameter number, name or bracket: `##1`
+/// (the parameter whose number is in `#1`) has two. A bound of the
+/// kernel; each `#` is one more level of the tree.
+pub const MAX_NGC_INDIRECTION: usize = 4;
+
+/// Most binary operations in one line. Operators of one group chain
+/// without brackets (`1+1+1+…`) into a tree as deep as the chain; this
+/// bound keeps evaluating and dropping the tree within a small stack (the
+/// same bound as custom macro B's `MAX_OPERATIONS`).
+pub const MAX_NGC_OPERATIONS: usize = 256;
 
 /// Longest named parameter or o-word name kept.
 const MAX_NAME: usize = 127;
@@ -212,7 +233,9 @@ struct Kept {
 ///
 /// The first error of the line, with its columns: a format error
 /// ([`MacroErrorKind::FormatError`]) for text that cannot be read,
-/// [`MacroErrorKind::BracketNesting`] past [`MAX_NGC_DEPTH`].
+/// [`MacroErrorKind::BracketNesting`] past [`MAX_NGC_DEPTH`], a format
+/// error past [`MAX_NGC_SIGNS`], [`MAX_NGC_INDIRECTION`] or
+/// [`MAX_NGC_OPERATIONS`].
 pub fn parse_ngc_line(text: &[u8], line: u32) -> Result<NgcLine, MacroError> {
     let mut kept = Vec::with_capacity(text.len());
     let mut out = NgcLine {
@@ -232,6 +255,7 @@ pub fn parse_ngc_line(text: &[u8], line: u32) -> Result<NgcLine, MacroError> {
         kept: &kept,
         pos: 0,
         depth: 0,
+        operations: 0,
         len: text.len(),
     };
     if p.peek() == Some(b'%') && kept.len() == 1 {
@@ -388,6 +412,7 @@ struct Parser<'a> {
     kept: &'a [Kept],
     pos: usize,
     depth: u8,
+    operations: usize,
     len: usize,
 }
 
@@ -555,16 +580,25 @@ impl Parser<'_> {
         Ok(name.into_boxed_str())
     }
 
-    /// `#n`, `##n`, `#[e]`, `#<name>`; the cursor is at `#`.
+    /// `#n`, `##n`, `#[e]`, `#<name>`; the cursor is at `#`. The `#` in
+    /// a row are counted in a loop (at most [`MAX_NGC_INDIRECTION`]), each
+    /// one a level of indirection around the innermost parameter.
     fn parameter(&mut self) -> Result<Var, MacroError> {
         let start = self.pos;
-        self.pos += 1;
+        while self.peek() == Some(b'#') {
+            if self.pos - start == MAX_NGC_INDIRECTION {
+                return Err(self.error(
+                    start,
+                    self.pos + 1,
+                    format!("more than {MAX_NGC_INDIRECTION} `#` in a row"),
+                ));
+            }
+            self.pos += 1;
+        }
+        let hashes = self.pos - start;
+        let innermost = start + hashes - 1;
         let number = match self.peek() {
             Some(b'<') => VarNumber::Named(self.name()?),
-            Some(b'#') => {
-                let inner = self.parameter()?;
-                VarNumber::Indirect(Box::new(Expr::Var(inner)))
-            }
             Some(b'[') => VarNumber::Indirect(Box::new(self.bracketed()?)),
             Some(b'0'..=b'9') => {
                 let at = self.pos;
@@ -574,12 +608,25 @@ impl Parser<'_> {
                 }
                 VarNumber::Direct(value.min(f64::from(u32::MAX)) as u32)
             }
-            _ => return Err(self.error(start, self.pos, "`#` without a parameter number or name")),
+            _ => {
+                return Err(self.error(
+                    innermost,
+                    self.pos,
+                    "`#` without a parameter number or name",
+                ));
+            }
         };
-        Ok(Var {
+        let mut var = Var {
             number,
-            span: self.span(start, self.pos),
-        })
+            span: self.span(innermost, self.pos),
+        };
+        for at in (start..innermost).rev() {
+            var = Var {
+                number: VarNumber::Indirect(Box::new(Expr::Var(var))),
+                span: self.span(at, self.pos),
+            };
+        }
+        Ok(var)
     }
 
     /// A bracketed expression; the cursor is at `[`.
@@ -625,6 +672,14 @@ impl Parser<'_> {
             let Some(&(word, op)) = found else {
                 return Ok(lhs);
             };
+            self.operations += 1;
+            if self.operations > MAX_NGC_OPERATIONS {
+                return Err(self.error(
+                    start,
+                    self.pos + word.len(),
+                    format!("more than {MAX_NGC_OPERATIONS} operations in one line"),
+                ));
+            }
             self.pos += word.len();
             let rhs = self.binary(group + 1)?;
             lhs = Expr::Binary(Box::new(Binary {
@@ -652,22 +707,34 @@ impl Parser<'_> {
     }
 
     /// A number, parameter, bracketed expression or function, optionally
-    /// signed.
+    /// signed: the signs in a row are counted in a loop (at most
+    /// [`MAX_NGC_SIGNS`]); an odd number of `-` negates the operand.
     fn operand(&mut self) -> Result<Expr, MacroError> {
+        let signs_at = self.pos;
+        let mut negative = false;
+        while let Some(sign @ (b'-' | b'+')) = self.peek() {
+            if self.pos - signs_at == MAX_NGC_SIGNS {
+                return Err(self.error(
+                    signs_at,
+                    self.pos + 1,
+                    format!("more than {MAX_NGC_SIGNS} signs in a row"),
+                ));
+            }
+            negative ^= sign == b'-';
+            self.pos += 1;
+        }
+        let operand = self.unsigned_operand()?;
+        Ok(match operand {
+            e if !negative => e,
+            Expr::Number(x) => Expr::Number(-x),
+            e => Expr::Neg(Box::new(e)),
+        })
+    }
+
+    /// A number, parameter, bracketed expression or function.
+    fn unsigned_operand(&mut self) -> Result<Expr, MacroError> {
         let start = self.pos;
         match self.peek() {
-            Some(b'-') => {
-                self.pos += 1;
-                let inner = self.operand()?;
-                Ok(match inner {
-                    Expr::Number(x) => Expr::Number(-x),
-                    e => Expr::Neg(Box::new(e)),
-                })
-            }
-            Some(b'+') => {
-                self.pos += 1;
-                self.operand()
-            }
             Some(b'0'..=b'9' | b'.') => Ok(Expr::Number(self.number()?.0)),
             Some(b'#') => Ok(Expr::Var(self.parameter()?)),
             Some(b'[') => self.bracketed(),

@@ -361,7 +361,7 @@ impl<S: Source> Runner<'_, S> {
             self.macros.loops.pop();
         }
         let mut line = self.next_line;
-        while let Some(_mark) = self.scan_line(&mut line)? {
+        while let Some(_mark) = self.skip_line(&mut line, here.line)? {
             if fiveaxis_macro::loop_end(&self.scan_text) == Some(id) {
                 self.next_line = line;
                 return Ok(());
@@ -407,7 +407,7 @@ impl<S: Source> Runner<'_, S> {
             offset: self.source.position(),
             line: self.next_line,
         };
-        match self.find_sequence(n, here)? {
+        match self.find_sequence(n, here, line)? {
             Some(mark) => {
                 let at = self.at_program_start;
                 self.source.seek(mark.offset)?;

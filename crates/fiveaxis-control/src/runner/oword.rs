@@ -24,6 +24,14 @@
 //!   local to their call level. A condition is true when not 0.
 //! * Every line read counts against the block budget, so an endless loop
 //!   is stopped.
+//! * Skips are looked up, not read: the first skip in a file reads the
+//!   file once and indexes the lines of the o-words skips end at
+//!   (`endsub`, `elseif`, `else`, `endif`, `while`, `endwhile`,
+//!   `endrepeat`) by label and kind ([`OIndex`]), so skipping a construct
+//!   costs a binary search however long it is and however deep
+//!   constructs nest. A file with more than [`MAX_INDEXED_OWORDS`] of them
+//!   (or one that cannot be read to its end) is not indexed: its skips
+//!   read the text, and every line read counts against the budget.
 
 use std::collections::HashMap;
 use std::rc::Rc;
@@ -44,6 +52,27 @@ pub(super) const NGC_MAX_CALLS: usize = 10;
 
 /// Most parsed lines kept.
 const CACHE_LINES: usize = 4096;
+
+/// Most o-word lines indexed, over all files (16 bytes and a share of
+/// their label each): far beyond real programs, a bound on the memory a
+/// file of nothing but o-words can take.
+const MAX_INDEXED_OWORDS: usize = 1 << 20;
+
+/// The o-word kinds a skip ends at (the only ones indexed).
+const SKIP_ENDS: [OKind; 7] = [
+    OKind::EndSub,
+    OKind::ElseIf,
+    OKind::Else,
+    OKind::EndIf,
+    OKind::While,
+    OKind::EndWhile,
+    OKind::EndRepeat,
+];
+
+/// Where the o-words that skips end at lie in one file: label key → per
+/// kind, the positions of their lines in file order (the line's mark and
+/// the position after it).
+type OIndex = HashMap<Box<str>, Vec<(OKind, Vec<(Mark, u64)>)>>;
 
 /// A number this close to an integer is that integer (overview.adoc,
 /// "Numbers": "within 0.0001 of an integer value").
@@ -74,6 +103,11 @@ pub(super) struct NgcState {
     pending: Vec<(Target, f64)>,
     /// The line being executed (`#<_line>`).
     line: u32,
+    /// The o-word index of each file skipped in (by file number); `None`
+    /// for a file not indexed (too many o-words, or unreadable).
+    index: HashMap<usize, Option<OIndex>>,
+    /// O-word lines indexed so far, over all files.
+    indexed: usize,
 }
 
 #[derive(Debug)]
@@ -947,13 +981,16 @@ impl<S: Source> Runner<'_, S> {
     /// o-word is `key` with one of `kinds`; the position is left where it
     /// was.
     fn find_ahead(&mut self, key: &str, kinds: &[OKind]) -> Result<Option<Mark>, RunError> {
+        if let Some(found) = self.indexed(key, kinds)? {
+            return Ok(found.map(|(mark, _)| mark));
+        }
         let resume = Mark {
             offset: self.source.position(),
             line: self.next_line,
         };
         let mut line = resume.line;
         let mut found = None;
-        while let Some(mark) = self.scan_line(&mut line)? {
+        while let Some(mark) = self.skip_line(&mut line, self.ngc.line)? {
             if let Some((k, kind)) = oword_of(&self.scan_text)
                 && k == key
                 && kinds.contains(&kind)
@@ -970,8 +1007,14 @@ impl<S: Source> Runner<'_, S> {
     /// Reads on past the next line whose o-word is `key` with one of
     /// `kinds`; `false` (at the end of the file) when there is none.
     fn skip_to(&mut self, key: &str, kinds: &[OKind]) -> Result<bool, RunError> {
+        if let Some(Some((mark, after))) = self.indexed(key, kinds)? {
+            self.source.seek(after)?;
+            self.next_line = mark.line + 1;
+            return Ok(true);
+        }
+        // Not indexed, or not there: read on to the end as before.
         let mut line = self.next_line;
-        while let Some(_mark) = self.scan_line(&mut line)? {
+        while let Some(_mark) = self.skip_line(&mut line, self.ngc.line)? {
             if let Some((k, kind)) = oword_of(&self.scan_text)
                 && k == key
                 && kinds.contains(&kind)
@@ -982,6 +1025,79 @@ impl<S: Source> Runner<'_, S> {
         }
         self.next_line = line;
         Ok(false)
+    }
+
+    /// The next line from the current position whose o-word is `key` with
+    /// one of `kinds` (all of them in [`SKIP_ENDS`]), from the file's
+    /// index: its mark and the position after it, or `Some(None)` when
+    /// the file has none; `None` when the file is not indexed.
+    fn indexed(
+        &mut self,
+        key: &str,
+        kinds: &[OKind],
+    ) -> Result<Option<Option<(Mark, u64)>>, RunError> {
+        let from = self.source.position();
+        let file = super::library::file_of(from);
+        if !self.ngc.index.contains_key(&file) {
+            let index = self.build_index(file)?;
+            self.ngc.index.insert(file, index);
+        }
+        let Some(Some(index)) = self.ngc.index.get(&file) else {
+            return Ok(None);
+        };
+        let Some(lists) = index.get(key) else {
+            return Ok(Some(None));
+        };
+        let mut best: Option<(Mark, u64)> = None;
+        for (_, list) in lists.iter().filter(|(kind, _)| kinds.contains(kind)) {
+            let i = list.partition_point(|(mark, _)| mark.offset < from);
+            if let Some(&next) = list.get(i)
+                && best.is_none_or(|b| next.0.offset < b.0.offset)
+            {
+                best = Some(next);
+            }
+        }
+        Ok(Some(best))
+    }
+
+    /// Reads file `file` once and indexes its o-words of [`SKIP_ENDS`];
+    /// the position is left where it was. `None` when the file holds
+    /// more than the bound allows or cannot be read to its end (its skips
+    /// then read the text).
+    fn build_index(&mut self, file: usize) -> Result<Option<OIndex>, RunError> {
+        let resume = Mark {
+            offset: self.source.position(),
+            line: self.next_line,
+        };
+        self.source.seek(super::library::file_start(file))?;
+        let mut index = OIndex::new();
+        let mut line = 1;
+        let complete = loop {
+            let mark = match self.scan_line(&mut line) {
+                Ok(Some(mark)) => mark,
+                Ok(None) => break true,
+                Err(_) => break false,
+            };
+            let Some((key, kind)) = oword_of(&self.scan_text) else {
+                continue;
+            };
+            if !SKIP_ENDS.contains(&kind) {
+                continue;
+            }
+            if self.ngc.indexed >= MAX_INDEXED_OWORDS {
+                break false;
+            }
+            self.ngc.indexed += 1;
+            let entry = (mark, self.source.position());
+            let lists = index.entry(key.into_boxed_str()).or_default();
+            match lists.iter_mut().find(|(k, _)| *k == kind) {
+                Some((_, list)) => list.push(entry),
+                None => lists.push((kind, vec![entry])),
+            }
+        };
+        self.source.seek(resume.offset)?;
+        self.next_line = resume.line;
+        Ok(complete.then_some(index))
     }
 
     fn skip_or_fail(
@@ -1007,6 +1123,16 @@ impl<S: Source> Runner<'_, S> {
         after: Mark,
         span: Span,
     ) -> Result<(), RunError> {
+        if !is_plain_name(key) {
+            return Err(self.oword_error(
+                here.line,
+                span,
+                format!(
+                    "o<{key}> call: a subroutine name is a file name in the subroutine path, \
+                     without `/`, `\\`, `:` or `..`"
+                ),
+            ));
+        }
         let body = match self.ngc.subs.get(key) {
             Some(&body) => Some(body),
             None => self.find_sub(key)?,
@@ -1099,6 +1225,14 @@ impl<S: Source> Runner<'_, S> {
         self.next_line = resume.line;
         Ok(found)
     }
+}
+
+/// Whether a subroutine name can only name a file in the folders of the
+/// program memory: no path separator, drive or parent folder, so a
+/// program reaches the program memory it was given and nothing else
+/// (`o<../x> call`, `o</etc/x> call` are refused).
+fn is_plain_name(key: &str) -> bool {
+    !key.contains(['/', '\\', ':']) && !key.contains("..")
 }
 
 fn kind_name(kind: OKind) -> &'static str {
