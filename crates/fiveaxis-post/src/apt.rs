@@ -36,10 +36,13 @@
 //!
 //! Anything else is an error with its line: a record that might move the
 //! tool is never dropped silently.
+//!
+//! Every number must be finite and at most `MAX_FILE_MAGNITUDE` (10^6, the
+//! bound of a machine file's numbers) in size, a point also after MSYS.
 
 use std::fmt::Write;
 
-use fiveaxis_machine::Vec3;
+use fiveaxis_machine::{MAX_FILE_MAGNITUDE, Vec3};
 
 /// An APT record that cannot be converted.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
@@ -148,7 +151,8 @@ pub fn to_tcpc(text: &str, name: &str) -> Result<String, AptError> {
     Ok(st.out)
 }
 
-/// The arguments of a record, as numbers where they are numbers.
+/// The arguments of a record, as numbers where they are numbers: each
+/// finite and within [`MAX_FILE_MAGNITUDE`].
 fn numbers(
     args: &str,
     line: u32,
@@ -156,7 +160,12 @@ fn numbers(
 ) -> Result<Vec<f64>, AptError> {
     let values: Result<Vec<f64>, _> = args.split(',').map(|a| a.trim().parse::<f64>()).collect();
     match values {
-        Ok(v) if count.contains(&v.len()) && v.iter().all(|x| x.is_finite()) => Ok(v),
+        Ok(v) if count.contains(&v.len()) => {
+            for (x, text) in v.iter().zip(args.split(',')) {
+                bounded(*x, text.trim(), line)?;
+            }
+            Ok(v)
+        }
         _ => Err(AptError {
             line,
             message: format!(
@@ -166,6 +175,28 @@ fn numbers(
             ),
         }),
     }
+}
+
+/// `x` (written `text` in the record) if it is finite and within
+/// [`MAX_FILE_MAGNITUDE`], the bound of every number of a machine: a
+/// larger coordinate, feed or speed is no machine's, and would be written
+/// as a word of hundreds of digits.
+fn bounded(x: f64, text: &str, line: u32) -> Result<f64, AptError> {
+    if !x.is_finite() {
+        return Err(AptError {
+            line,
+            message: format!("`{text}` is not a finite number"),
+        });
+    }
+    if x.abs() > MAX_FILE_MAGNITUDE {
+        return Err(AptError {
+            line,
+            message: format!(
+                "`{text}` is beyond what a machine can have: at most {MAX_FILE_MAGNITUDE:e} in size"
+            ),
+        });
+    }
+    Ok(x)
 }
 
 /// Text fit for a FANUC comment.
@@ -208,7 +239,7 @@ impl State {
                         "MMPM" | "IPM" => {}
                         "" => unit_ok = false,
                         p if p.parse::<f64>().is_ok() && value.is_none() => {
-                            value = p.parse::<f64>().ok();
+                            value = Some(bounded(p.parse::<f64>().unwrap_or(f64::NAN), p, line)?);
                         }
                         _ => unit_ok = false,
                     }
@@ -300,8 +331,8 @@ impl State {
                     match part {
                         "RPM" | "CLW" | "ON" => {}
                         "CCLW" => m = 4,
-                        p if speed.is_none() && p.parse::<f64>().is_ok_and(f64::is_finite) => {
-                            speed = p.parse::<f64>().ok();
+                        p if speed.is_none() && p.parse::<f64>().is_ok() => {
+                            speed = Some(bounded(p.parse::<f64>().unwrap_or(f64::NAN), p, line)?);
                         }
                         _ => {
                             return Err(err(format!(
@@ -373,6 +404,12 @@ impl State {
     fn goto(&mut self, v: &[f64], line: u32) -> Result<(), AptError> {
         let err = |message: String| AptError { line, message };
         let p = self.point(&Vec3::new(v[0], v[1], v[2]));
+        if p.iter().any(|x| x.abs() > MAX_FILE_MAGNITUDE) {
+            return Err(err(format!(
+                "the point {:e},{:e},{:e} (after MSYS) is beyond what a machine can have: at most {MAX_FILE_MAGNITUDE:e} in size",
+                p[0], p[1], p[2]
+            )));
+        }
         if v.len() == 3 && self.three_axis {
             // MULTAX/OFF: the tool along +Z of the frame.
             self.vector = self.direction(&Vec3::z());

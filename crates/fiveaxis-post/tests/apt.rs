@@ -149,6 +149,70 @@ fn bad_records_name_their_line() {
     }
 }
 
+/// Numbers beyond `MAX_FILE_MAGNITUDE` (the bound of every number of a
+/// machine) or not finite are refused with the record's line; the bound
+/// itself converts.
+#[test]
+fn numbers_are_bounded_like_the_machine_files() {
+    let max = fiveaxis_machine::MAX_FILE_MAGNITUDE;
+    let over = format!("{:e}", max * 1.000_001);
+    for (text, line, needle) in [
+        (
+            "FEDRAT/100\n$$ x\nGOTO/1e300,0,0,0,0,1\n".to_owned(),
+            3,
+            "`1e300` is beyond what a machine can have",
+        ),
+        (
+            format!("FEDRAT/100\nGOTO/0,{over},0\n"),
+            2,
+            "beyond what a machine can have",
+        ),
+        (
+            format!("FEDRAT/100\nGOTO/0,0,-{over}\n"),
+            2,
+            "beyond what a machine can have",
+        ),
+        (
+            "FEDRAT/100\nGOTO/inf,0,0\n".to_owned(),
+            2,
+            "not a finite number",
+        ),
+        (
+            "FEDRAT/100\nGOTO/0,0,0,NaN,0,1\n".to_owned(),
+            2,
+            "not a finite number",
+        ),
+        (
+            "FEDRAT/100\nGOTO/0,0,0\nCIRCLE/1e7,0,0,0,0,1\n".to_owned(),
+            3,
+            "beyond",
+        ),
+        (
+            "FEDRAT/1e300\n".to_owned(),
+            1,
+            "beyond what a machine can have",
+        ),
+        (
+            "SPINDL/1e300,RPM,CLW\n".to_owned(),
+            1,
+            "beyond what a machine can have",
+        ),
+        (
+            "MSYS/900000,0,0,1,0,0,0,1,0\nFEDRAT/100\nGOTO/900000,0,0\n".to_owned(),
+            3,
+            "after MSYS",
+        ),
+    ] {
+        let e = to_tcpc(&text, "t").expect_err(&text);
+        assert_eq!(e.line, line, "{text}: {e}");
+        assert!(e.message.contains(needle), "{text}: {e}");
+    }
+    let text = format!("FEDRAT/100\nGOTO/{max:e},-{max:e},0,0,0,1\n");
+    if let Err(e) = to_tcpc(&text, "t") {
+        panic!("{text}: {e}");
+    }
+}
+
 /// An NX CLSF: `MSYS` (a frame turned 30° about X, moved), 3-axis data
 /// under `MULTAX/OFF` (the tool along the frame's Z), `FEDRAT/MMPM,f`,
 /// `SPINDL/RPM,s,CLW`, `COOLNT/MIST`, `TLDATA`, `PAINT`, `$$` and then
