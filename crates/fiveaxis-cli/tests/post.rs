@@ -150,6 +150,41 @@ fn apt_input_gives_a_tcpc_program_or_machine_axes_and_bad_records_their_line() {
     assert!(!dir.path().join("no.nc").exists());
 }
 
+/// An alarm raised running the program converted from CL data names the
+/// CL record's own line and shows its text, not a line of the generated
+/// G-code.
+#[test]
+fn an_alarm_in_apt_input_names_the_records_line() {
+    let dir = tempfile::tempdir().expect("a temporary directory");
+    let record = "GOTO/999,0,0,0,0,1";
+    std::fs::write(
+        dir.path().join("prog.apt"),
+        format!(
+            "$$ over-travel on line 6\nLOAD/TOOL,1\nRAPID\nGOTO/0,0,10,0,0,1\nFEDRAT/500,MMPM\n{record}\nFINI\n"
+        ),
+    )
+    .expect("written");
+    let out = common::run_in(
+        dir.path(),
+        &[
+            "post",
+            "prog.apt",
+            "--machine",
+            "head-table-bc",
+            "--tool-length",
+            "100",
+        ],
+        b"",
+    );
+    let err = common::stderr(&out);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(err.contains(" line 6:"), "{err}");
+    assert!(err.contains("prog.apt:6"), "{err}");
+    assert!(err.contains(record), "{err}");
+    assert!(!err.contains("X999.000000"), "{err}");
+    assert!(common::stdout(&out).is_empty());
+}
+
 /// A G43.5 program that turns the tool around the vertical twice (the
 /// rotating axis winds through 720°), with spindle, coolant and a tool
 /// change to carry.

@@ -86,6 +86,33 @@ struct State {
 
 /// Converts APT CL text into a TCPC program; `name` goes into the header.
 pub fn to_tcpc(text: &str, name: &str) -> Result<String, AptError> {
+    to_tcpc_mapped(text, name).map(|c| c.program)
+}
+
+/// A TCPC program converted from CL data, with where each of its lines
+/// came from.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Converted {
+    /// The TCPC program.
+    pub program: String,
+    /// For each line of `program` (index 0: line 1), the 1-based line of
+    /// the CL file where the record it was written for starts; `None` for
+    /// the header and the end the converter adds.
+    pub source_lines: Vec<Option<u32>>,
+}
+
+impl Converted {
+    /// The CL line the program's 1-based `line` was written for.
+    pub fn source_line(&self, line: u32) -> Option<u32> {
+        let index = usize::try_from(line).ok()?.checked_sub(1)?;
+        self.source_lines.get(index).copied().flatten()
+    }
+}
+
+/// Converts APT CL text into a TCPC program, keeping for each of its
+/// lines the CL record's line (so that an alarm raised while running it
+/// names the file's own line).
+pub fn to_tcpc_mapped(text: &str, name: &str) -> Result<Converted, AptError> {
     let mut st = State {
         out: String::with_capacity(text.len()),
         position: None,
@@ -107,6 +134,10 @@ pub fn to_tcpc(text: &str, name: &str) -> Result<String, AptError> {
         comment_text(&format!("from APT/CL {name} by fiveaxis post"))
     );
     st.out.push_str("G21 G17 G90 G94 G40 G49 G80 G54\n");
+    // Every record's output ends its lines: the header's are counted
+    // here, each record's as it is written.
+    let mut source_lines = Vec::new();
+    mark(&mut source_lines, &st.out);
     let mut record = String::new();
     let mut start = 0u32;
     for (index, raw) in text.lines().enumerate() {
@@ -130,7 +161,10 @@ pub fn to_tcpc(text: &str, name: &str) -> Result<String, AptError> {
                 message: format!("`{r}` after the end of the tool path"),
             });
         }
+        let before = st.out.len();
         st.record(&r, start)?;
+        let written = st.out[before..].matches('\n').count();
+        source_lines.extend(std::iter::repeat_n(Some(start), written));
     }
     if !record.is_empty() {
         return Err(AptError {
@@ -148,7 +182,19 @@ pub fn to_tcpc(text: &str, name: &str) -> Result<String, AptError> {
         st.out.push_str("G49\n");
     }
     st.out.push_str("M30\n%\n");
-    Ok(st.out)
+    mark(&mut source_lines, &st.out);
+    Ok(Converted {
+        program: st.out,
+        source_lines,
+    })
+}
+
+/// Extends `lines` with `None` up to the number of lines `out` has ended.
+fn mark(lines: &mut Vec<Option<u32>>, out: &str) {
+    let ended = out.matches('\n').count();
+    if lines.len() < ended {
+        lines.resize(ended, None);
+    }
 }
 
 /// The arguments of a record, as numbers where they are numbers: each

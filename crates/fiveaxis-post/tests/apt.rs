@@ -322,3 +322,34 @@ fn nx_clsf_with_msys_and_multax() {
     assert!(at("M9\n") < at("M5\n"));
     assert!(at("M5\n") < at("M30\n"));
 }
+
+/// Every line written for a record maps to the line the record starts
+/// on (a continued GOTO, a full circle's four quarters and the G17 after
+/// a G18 arc); the header and the end map to none.
+#[test]
+fn each_program_line_maps_to_its_record() {
+    let text = "FEDRAT/100\nGOTO/10,0,0,$\n0,0,1\nCIRCLE/0,0,0,0,0,1\nGOTO/10,0,0\nCIRCLE/0,0,0,0,1,0\nGOTO/0,0,-10\nFINI\n";
+    let c = fiveaxis_post::apt::to_tcpc_mapped(text, "t").expect("converts");
+    let lines: Vec<&str> = c.program.lines().collect();
+    assert_eq!(lines.len(), c.source_lines.len(), "{}", c.program);
+    let from = |n: u32| -> Vec<&str> {
+        lines
+            .iter()
+            .zip(&c.source_lines)
+            .filter(|(_, l)| **l == Some(n))
+            .map(|(t, _)| *t)
+            .collect()
+    };
+    assert_eq!(from(2).len(), 2, "{}", c.program);
+    assert!(from(2)[1].starts_with("G1 X10.000000"), "{}", c.program);
+    assert_eq!(from(5).len(), 4, "{}", c.program);
+    assert_eq!(from(7).len(), 2, "{}", c.program);
+    assert_eq!(from(7)[1], "G17", "{}", c.program);
+    assert_eq!(c.source_line(1), None);
+    assert_eq!(
+        c.source_line(u32::try_from(lines.len()).expect("few lines")),
+        None
+    );
+    assert_eq!(c.source_line(0), None);
+    assert_eq!(c.source_line(u32::MAX), None);
+}
