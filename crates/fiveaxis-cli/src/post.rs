@@ -32,11 +32,11 @@ pub struct PostArgs {
     #[arg(short = 'o', long = "output")]
     output: Option<PathBuf>,
     /// Largest distance of the tool tip from the programmed path (mm).
-    #[arg(long, default_value_t = fiveaxis_post::DEFAULT_TOLERANCE, value_parser = crate::positive)]
+    #[arg(long, default_value_t = fiveaxis_post::DEFAULT_TOLERANCE, value_parser = tolerance)]
     tolerance: f64,
     /// Largest angle of the tool direction from the programmed one
     /// (degrees).
-    #[arg(long, default_value_t = fiveaxis_post::DEFAULT_ANGLE_TOLERANCE, value_parser = crate::positive)]
+    #[arg(long, default_value_t = fiveaxis_post::DEFAULT_ANGLE_TOLERANCE, value_parser = angle_tolerance)]
     angle_tolerance: f64,
     /// The control's program memory: a folder of programs that M98 / G65
     /// call by number.
@@ -83,6 +83,26 @@ pub struct PostArgs {
     /// stops (exit status 2).
     #[arg(long, value_name = "MM", value_parser = crate::positive)]
     tool_length: Option<f64>,
+}
+
+/// A tip tolerance: positive and at least [`fiveaxis_post::MIN_TOLERANCE`].
+fn tolerance(text: &str) -> Result<f64, String> {
+    at_least(text, fiveaxis_post::MIN_TOLERANCE, "mm")
+}
+
+/// A direction tolerance: at least [`fiveaxis_post::MIN_ANGLE_TOLERANCE`].
+fn angle_tolerance(text: &str) -> Result<f64, String> {
+    at_least(text, fiveaxis_post::MIN_ANGLE_TOLERANCE, "degrees")
+}
+
+fn at_least(text: &str, floor: f64, unit: &str) -> Result<f64, String> {
+    let x = crate::positive(text)?;
+    if x < floor {
+        return Err(format!(
+            "`{text}` is finer than a program can hold: at least {floor:e} {unit}"
+        ));
+    }
+    Ok(x)
 }
 
 /// A feed style by name.
@@ -207,6 +227,19 @@ pub fn post(args: &PostArgs) -> Result<u8, InputError> {
         return Err(InputError(format!(
             "error: {}: no tool length: a machine-axis program is right only for the tool length it is made for, and the offsets give the program's tool none (no --offsets, or its H number is not in the file); give it with --tool-length MM, or with --offsets FILE holding the tool (`[tools]` `1 = {{ length = 120.0 }}`)",
             crate::diagnostic::escape(program_name)
+        )));
+    }
+    if let Some(line) = post.capped_line {
+        let line = cl
+            .as_ref()
+            .and_then(|(converted, _)| converted.source_line(line))
+            .unwrap_or(line);
+        return Err(InputError(format!(
+            "error: {}: line {line}: the block needs more than {} pieces to hold --tolerance {} mm and --angle-tolerance {} degrees: give larger tolerances",
+            crate::diagnostic::escape(program_name),
+            fiveaxis_post::linearize::MAX_BLOCK_PIECES,
+            args.tolerance,
+            args.angle_tolerance
         )));
     }
     let header = program::Header {

@@ -105,6 +105,23 @@ fn a_tolerance_must_be_positive() {
         let out = common::run_in(dir.path(), &["post", "p.nc", "--tolerance", bad], b"");
         assert_eq!(out.status.code(), Some(2), "{bad}");
     }
+    // Below the floors (1e-6 mm, 1e-5 degrees: finer than any written
+    // program holds) post would never end: refused at once.
+    for (option, bad, says) in [
+        ("--tolerance", "9.9e-7", "at least 1e-6 mm"),
+        ("--tolerance", "1e-8", "at least 1e-6 mm"),
+        ("--angle-tolerance", "9.9e-6", "at least 1e-5 degrees"),
+        ("--angle-tolerance", "1e-6", "at least 1e-5 degrees"),
+    ] {
+        let out = common::run_in(
+            dir.path(),
+            &["post", "p.nc", "--tool-length", "100", option, bad],
+            b"",
+        );
+        let err = common::stderr(&out);
+        assert_eq!(out.status.code(), Some(2), "{option} {bad}: {err}");
+        assert!(err.contains(says), "{option} {bad}: {err}");
+    }
 }
 
 #[test]
