@@ -202,6 +202,35 @@ fn an_alarm_in_apt_input_names_the_records_line() {
     assert!(common::stdout(&out).is_empty());
 }
 
+/// `GOTO/1e300,...` wrote a 300-digit X word with `--tcpc` and, without,
+/// said "too many digits" at a line the file does not have: refused at
+/// the record's line either way.
+#[test]
+fn apt_numbers_beyond_a_machine_are_refused_at_their_line() {
+    let dir = tempfile::tempdir().expect("a temporary directory");
+    std::fs::write(
+        dir.path().join("big.apt"),
+        "LOAD/TOOL,1\nFEDRAT/500,MMPM\n$$ the next is too far\nGOTO/1e300,0,0,0,0,1\nFINI\n",
+    )
+    .expect("written");
+    for extra in [
+        &["--tcpc"][..],
+        &["--machine", "head-table-bc", "--tool-length", "100"],
+    ] {
+        let mut args = vec!["post", "big.apt"];
+        args.extend_from_slice(extra);
+        let out = common::run_in(dir.path(), &args, b"");
+        let err = common::stderr(&out);
+        assert_eq!(out.status.code(), Some(2), "{extra:?}: {err}");
+        assert!(err.contains("big.apt:line 4:"), "{extra:?}: {err}");
+        assert!(
+            err.contains("beyond what a machine can have"),
+            "{extra:?}: {err}"
+        );
+        assert!(common::stdout(&out).is_empty(), "{extra:?}");
+    }
+}
+
 /// A G43.5 program that turns the tool around the vertical twice (the
 /// rotating axis winds through 720°), with spindle, coolant and a tool
 /// change to carry.
