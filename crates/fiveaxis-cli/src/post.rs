@@ -6,7 +6,7 @@
 use std::io::{Read, Write};
 use std::path::PathBuf;
 
-use fiveaxis_control::{ReaderSource, RunOptions, Runner};
+use fiveaxis_control::{ReaderSource, RunError, RunOptions, Runner};
 use fiveaxis_post::{Axes, PostOptions, program};
 
 use crate::{
@@ -32,11 +32,11 @@ pub struct PostArgs {
     #[arg(short = 'o', long = "output")]
     output: Option<PathBuf>,
     /// Largest distance of the tool tip from the programmed path (mm).
-    #[arg(long, default_value_t = fiveaxis_post::DEFAULT_TOLERANCE, value_parser = crate::positive)]
+    #[arg(long, default_value_t = fiveaxis_post::DEFAULT_TOLERANCE, value_parser = tolerance)]
     tolerance: f64,
     /// Largest angle of the tool direction from the programmed one
     /// (degrees).
-    #[arg(long, default_value_t = fiveaxis_post::DEFAULT_ANGLE_TOLERANCE, value_parser = crate::positive)]
+    #[arg(long, default_value_t = fiveaxis_post::DEFAULT_ANGLE_TOLERANCE, value_parser = angle_tolerance)]
     angle_tolerance: f64,
     /// The control's program memory: a folder of programs that M98 / G65
     /// call by number.
@@ -85,6 +85,26 @@ pub struct PostArgs {
     tool_length: Option<f64>,
 }
 
+/// A tip tolerance: positive and at least [`fiveaxis_post::MIN_TOLERANCE`].
+fn tolerance(text: &str) -> Result<f64, String> {
+    at_least(text, fiveaxis_post::MIN_TOLERANCE, "mm")
+}
+
+/// A direction tolerance: at least [`fiveaxis_post::MIN_ANGLE_TOLERANCE`].
+fn angle_tolerance(text: &str) -> Result<f64, String> {
+    at_least(text, fiveaxis_post::MIN_ANGLE_TOLERANCE, "degrees")
+}
+
+fn at_least(text: &str, floor: f64, unit: &str) -> Result<f64, String> {
+    let x = crate::positive(text)?;
+    if x < floor {
+        return Err(format!(
+            "`{text}` is finer than a program can hold: at least {floor:e} {unit}"
+        ));
+    }
+    Ok(x)
+}
+
 /// A feed style by name.
 fn feed_style(name: &str) -> Result<fiveaxis_post::FeedStyle, String> {
     fiveaxis_post::FeedStyle::parse(name)
@@ -126,17 +146,21 @@ pub fn post(args: &PostArgs) -> Result<u8, InputError> {
             "error: --tcpc writes the TCPC program of APT / CL input: give --apt".into(),
         ));
     }
+    // CL input: the conversion with its line map, and the CL text.
+    let mut cl = None;
     if is_apt {
         let text = std::str::from_utf8(&bytes).map_err(|_| {
             InputError(format!(
                 "error: {program_name}: APT / CL data must be text (UTF-8)"
             ))
         })?;
-        let tcpc = fiveaxis_post::apt::to_tcpc(text, program_name)
+        let converted = fiveaxis_post::apt::to_tcpc_mapped(text, program_name)
             .map_err(|e| InputError(format!("error: {program_name}:{e}")))?;
         if args.tcpc {
-            return emit(args.output.as_ref(), &tcpc);
+            return emit(args.output.as_ref(), &converted.program);
         }
+        let tcpc = converted.program.clone();
+        cl = Some((converted, text.to_owned()));
         bytes = tcpc.into_bytes();
     }
     let axes = match args.axes.as_deref() {
@@ -179,6 +203,10 @@ pub fn post(args: &PostArgs) -> Result<u8, InputError> {
         Ok(post) => post,
         // An alarm: nothing is written.
         Err(error) => {
+            let error = match &cl {
+                Some((converted, text)) => on_cl_lines(error, converted, text, program_name),
+                None => error,
+            };
             let output = args
                 .output
                 .as_ref()
@@ -201,6 +229,19 @@ pub fn post(args: &PostArgs) -> Result<u8, InputError> {
             crate::diagnostic::escape(program_name)
         )));
     }
+    if let Some(line) = post.capped_line {
+        let line = cl
+            .as_ref()
+            .and_then(|(converted, _)| converted.source_line(line))
+            .unwrap_or(line);
+        return Err(InputError(format!(
+            "error: {}: line {line}: the block needs more than {} pieces to hold --tolerance {} mm and --angle-tolerance {} degrees: give larger tolerances",
+            crate::diagnostic::escape(program_name),
+            fiveaxis_post::linearize::MAX_BLOCK_PIECES,
+            args.tolerance,
+            args.angle_tolerance
+        )));
+    }
     let header = program::Header {
         source: program_name,
         number: None,
@@ -209,6 +250,47 @@ pub fn post(args: &PostArgs) -> Result<u8, InputError> {
     };
     let text = program::write(&machine, &post, &options, &header);
     emit(args.output.as_ref(), &text)
+}
+
+/// An error raised running the TCPC program converted from CL data, told
+/// at the CL record the failing line was written for (its line and text;
+/// the column of a word of the generated line means nothing there). A
+/// line the conversion adds (the header, the end) is named as a line of
+/// the converted program.
+fn on_cl_lines(
+    error: RunError,
+    converted: &fiveaxis_post::apt::Converted,
+    text: &str,
+    name: &str,
+) -> RunError {
+    match error {
+        RunError::Alarm {
+            mut alarm,
+            text: generated,
+            program: None,
+        } => match converted.source_line(alarm.line) {
+            Some(line) => {
+                alarm.line = line;
+                alarm.span = None;
+                let index = usize::try_from(line).map_or(usize::MAX, |l| l.saturating_sub(1));
+                let record = text.lines().nth(index).unwrap_or("");
+                RunError::Alarm {
+                    alarm,
+                    text: record.as_bytes().to_vec(),
+                    program: None,
+                }
+            }
+            None => RunError::Alarm {
+                alarm,
+                text: generated,
+                program: Some(format!("{name} converted to TCPC")),
+            },
+        },
+        RunError::LineTooLong { line } => RunError::LineTooLong {
+            line: converted.source_line(line).unwrap_or(line),
+        },
+        other => other,
+    }
 }
 
 /// Writes `text` to `output` (whole or not at all), or standard output.

@@ -105,6 +105,23 @@ fn a_tolerance_must_be_positive() {
         let out = common::run_in(dir.path(), &["post", "p.nc", "--tolerance", bad], b"");
         assert_eq!(out.status.code(), Some(2), "{bad}");
     }
+    // Below the floors (1e-6 mm, 1e-5 degrees: finer than any written
+    // program holds) post would never end: refused at once.
+    for (option, bad, says) in [
+        ("--tolerance", "9.9e-7", "at least 1e-6 mm"),
+        ("--tolerance", "1e-8", "at least 1e-6 mm"),
+        ("--angle-tolerance", "9.9e-6", "at least 1e-5 degrees"),
+        ("--angle-tolerance", "1e-6", "at least 1e-5 degrees"),
+    ] {
+        let out = common::run_in(
+            dir.path(),
+            &["post", "p.nc", "--tool-length", "100", option, bad],
+            b"",
+        );
+        let err = common::stderr(&out);
+        assert_eq!(out.status.code(), Some(2), "{option} {bad}: {err}");
+        assert!(err.contains(says), "{option} {bad}: {err}");
+    }
 }
 
 #[test]
@@ -148,6 +165,70 @@ fn apt_input_gives_a_tcpc_program_or_machine_axes_and_bad_records_their_line() {
         common::stderr(&out)
     );
     assert!(!dir.path().join("no.nc").exists());
+}
+
+/// An alarm raised running the program converted from CL data names the
+/// CL record's own line and shows its text, not a line of the generated
+/// G-code.
+#[test]
+fn an_alarm_in_apt_input_names_the_records_line() {
+    let dir = tempfile::tempdir().expect("a temporary directory");
+    let record = "GOTO/999,0,0,0,0,1";
+    std::fs::write(
+        dir.path().join("prog.apt"),
+        format!(
+            "$$ over-travel on line 6\nLOAD/TOOL,1\nRAPID\nGOTO/0,0,10,0,0,1\nFEDRAT/500,MMPM\n{record}\nFINI\n"
+        ),
+    )
+    .expect("written");
+    let out = common::run_in(
+        dir.path(),
+        &[
+            "post",
+            "prog.apt",
+            "--machine",
+            "head-table-bc",
+            "--tool-length",
+            "100",
+        ],
+        b"",
+    );
+    let err = common::stderr(&out);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(err.contains(" line 6:"), "{err}");
+    assert!(err.contains("prog.apt:6"), "{err}");
+    assert!(err.contains(record), "{err}");
+    assert!(!err.contains("X999.000000"), "{err}");
+    assert!(common::stdout(&out).is_empty());
+}
+
+/// `GOTO/1e300,...` wrote a 300-digit X word with `--tcpc` and, without,
+/// said "too many digits" at a line the file does not have: refused at
+/// the record's line either way.
+#[test]
+fn apt_numbers_beyond_a_machine_are_refused_at_their_line() {
+    let dir = tempfile::tempdir().expect("a temporary directory");
+    std::fs::write(
+        dir.path().join("big.apt"),
+        "LOAD/TOOL,1\nFEDRAT/500,MMPM\n$$ the next is too far\nGOTO/1e300,0,0,0,0,1\nFINI\n",
+    )
+    .expect("written");
+    for extra in [
+        &["--tcpc"][..],
+        &["--machine", "head-table-bc", "--tool-length", "100"],
+    ] {
+        let mut args = vec!["post", "big.apt"];
+        args.extend_from_slice(extra);
+        let out = common::run_in(dir.path(), &args, b"");
+        let err = common::stderr(&out);
+        assert_eq!(out.status.code(), Some(2), "{extra:?}: {err}");
+        assert!(err.contains("big.apt:line 4:"), "{extra:?}: {err}");
+        assert!(
+            err.contains("beyond what a machine can have"),
+            "{extra:?}: {err}"
+        );
+        assert!(common::stdout(&out).is_empty(), "{extra:?}");
+    }
 }
 
 /// A G43.5 program that turns the tool around the vertical twice (the

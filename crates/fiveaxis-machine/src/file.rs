@@ -8,7 +8,7 @@
 //! column of the offending text and, when there is one, the key at fault.
 
 mod machine;
-pub use machine::MAX_JERK;
+pub use machine::{MAX_JERK, MIN_ACCELERATION, MIN_JERK, MIN_VELOCITY};
 mod offsets;
 mod write;
 

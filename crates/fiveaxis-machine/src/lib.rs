@@ -19,8 +19,8 @@ mod setup_error;
 mod tool_table;
 
 pub use builtin::{DEFAULT_MACHINE, builtin, builtin_names, builtin_source};
-pub use file::MAX_JERK;
 pub use file::{FileError, MAX_FILE_MAGNITUDE};
+pub use file::{MAX_JERK, MIN_ACCELERATION, MIN_JERK, MIN_VELOCITY};
 pub use inverse::{Orientations, SINGULAR_TOLERANCE, principal, turn_angle};
 pub use kinematics::{Pose, rotation, sin_cos_degrees};
 pub use linuxcnc::{ImportError, Imported, Reader, import_linuxcnc};

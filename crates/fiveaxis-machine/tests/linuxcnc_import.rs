@@ -640,6 +640,23 @@ fn bad_configurations_are_refused_with_file_and_line() {
         .replace("MAX_VELOCITY = 1", "MAX_VELOCITY = -1");
     let e = import_in_memory(&[("/m/t.ini", &text)]).expect_err("negative velocity");
     assert_eq!(e.line, Some(20), "{e}");
+    // Dynamics beyond a machine file's bounds (MIN_VELOCITY, ...): the
+    // file written would not read.
+    for (from, to, line) in [
+        ("MAX_VELOCITY = 1", "MAX_VELOCITY = 1e-300", 20),
+        ("MAX_VELOCITY = 1", "MAX_VELOCITY = 1e300", 20),
+        ("MAX_ACCELERATION = 2", "MAX_ACCELERATION = 1e-300", 21),
+        (
+            "MAX_ACCELERATION = 2",
+            "MAX_ACCELERATION = 2\nMAX_JERK = 1e-300",
+            22,
+        ),
+    ] {
+        let text = TRT_INI.replace("CONV", "0").replace(from, to);
+        let e = import_in_memory(&[("/m/t.ini", &text)]).expect_err(to);
+        assert_eq!(e.line, Some(line), "{to}: {e}");
+        assert!(e.message.contains("a machine has from"), "{to}: {e}");
+    }
     let text = TRT_INI.replace("CONV", "0").replace(
         "HALCMD = net :tool motion.tooloffset.z xyzbc-trt-kins.tool-offset",
         "HALCMD = setp xyzbc-trt-kins.tool-offset 50",

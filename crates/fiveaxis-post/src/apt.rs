@@ -36,10 +36,13 @@
 //!
 //! Anything else is an error with its line: a record that might move the
 //! tool is never dropped silently.
+//!
+//! Every number must be finite and at most `MAX_FILE_MAGNITUDE` (10^6, the
+//! bound of a machine file's numbers) in size, a point also after MSYS.
 
 use std::fmt::Write;
 
-use fiveaxis_machine::Vec3;
+use fiveaxis_machine::{MAX_FILE_MAGNITUDE, Vec3};
 
 /// An APT record that cannot be converted.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
@@ -83,6 +86,33 @@ struct State {
 
 /// Converts APT CL text into a TCPC program; `name` goes into the header.
 pub fn to_tcpc(text: &str, name: &str) -> Result<String, AptError> {
+    to_tcpc_mapped(text, name).map(|c| c.program)
+}
+
+/// A TCPC program converted from CL data, with where each of its lines
+/// came from.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Converted {
+    /// The TCPC program.
+    pub program: String,
+    /// For each line of `program` (index 0: line 1), the 1-based line of
+    /// the CL file where the record it was written for starts; `None` for
+    /// the header and the end the converter adds.
+    pub source_lines: Vec<Option<u32>>,
+}
+
+impl Converted {
+    /// The CL line the program's 1-based `line` was written for.
+    pub fn source_line(&self, line: u32) -> Option<u32> {
+        let index = usize::try_from(line).ok()?.checked_sub(1)?;
+        self.source_lines.get(index).copied().flatten()
+    }
+}
+
+/// Converts APT CL text into a TCPC program, keeping for each of its
+/// lines the CL record's line (so that an alarm raised while running it
+/// names the file's own line).
+pub fn to_tcpc_mapped(text: &str, name: &str) -> Result<Converted, AptError> {
     let mut st = State {
         out: String::with_capacity(text.len()),
         position: None,
@@ -104,6 +134,10 @@ pub fn to_tcpc(text: &str, name: &str) -> Result<String, AptError> {
         comment_text(&format!("from APT/CL {name} by fiveaxis post"))
     );
     st.out.push_str("G21 G17 G90 G94 G40 G49 G80 G54\n");
+    // Every record's output ends its lines: the header's are counted
+    // here, each record's as it is written.
+    let mut source_lines = Vec::new();
+    mark(&mut source_lines, &st.out);
     let mut record = String::new();
     let mut start = 0u32;
     for (index, raw) in text.lines().enumerate() {
@@ -127,7 +161,10 @@ pub fn to_tcpc(text: &str, name: &str) -> Result<String, AptError> {
                 message: format!("`{r}` after the end of the tool path"),
             });
         }
+        let before = st.out.len();
         st.record(&r, start)?;
+        let written = st.out[before..].matches('\n').count();
+        source_lines.extend(std::iter::repeat_n(Some(start), written));
     }
     if !record.is_empty() {
         return Err(AptError {
@@ -145,10 +182,23 @@ pub fn to_tcpc(text: &str, name: &str) -> Result<String, AptError> {
         st.out.push_str("G49\n");
     }
     st.out.push_str("M30\n%\n");
-    Ok(st.out)
+    mark(&mut source_lines, &st.out);
+    Ok(Converted {
+        program: st.out,
+        source_lines,
+    })
 }
 
-/// The arguments of a record, as numbers where they are numbers.
+/// Extends `lines` with `None` up to the number of lines `out` has ended.
+fn mark(lines: &mut Vec<Option<u32>>, out: &str) {
+    let ended = out.matches('\n').count();
+    if lines.len() < ended {
+        lines.resize(ended, None);
+    }
+}
+
+/// The arguments of a record, as numbers where they are numbers: each
+/// finite and within [`MAX_FILE_MAGNITUDE`].
 fn numbers(
     args: &str,
     line: u32,
@@ -156,7 +206,12 @@ fn numbers(
 ) -> Result<Vec<f64>, AptError> {
     let values: Result<Vec<f64>, _> = args.split(',').map(|a| a.trim().parse::<f64>()).collect();
     match values {
-        Ok(v) if count.contains(&v.len()) && v.iter().all(|x| x.is_finite()) => Ok(v),
+        Ok(v) if count.contains(&v.len()) => {
+            for (x, text) in v.iter().zip(args.split(',')) {
+                bounded(*x, text.trim(), line)?;
+            }
+            Ok(v)
+        }
         _ => Err(AptError {
             line,
             message: format!(
@@ -166,6 +221,28 @@ fn numbers(
             ),
         }),
     }
+}
+
+/// `x` (written `text` in the record) if it is finite and within
+/// [`MAX_FILE_MAGNITUDE`], the bound of every number of a machine: a
+/// larger coordinate, feed or speed is no machine's, and would be written
+/// as a word of hundreds of digits.
+fn bounded(x: f64, text: &str, line: u32) -> Result<f64, AptError> {
+    if !x.is_finite() {
+        return Err(AptError {
+            line,
+            message: format!("`{text}` is not a finite number"),
+        });
+    }
+    if x.abs() > MAX_FILE_MAGNITUDE {
+        return Err(AptError {
+            line,
+            message: format!(
+                "`{text}` is beyond what a machine can have: at most {MAX_FILE_MAGNITUDE:e} in size"
+            ),
+        });
+    }
+    Ok(x)
 }
 
 /// Text fit for a FANUC comment.
@@ -208,7 +285,7 @@ impl State {
                         "MMPM" | "IPM" => {}
                         "" => unit_ok = false,
                         p if p.parse::<f64>().is_ok() && value.is_none() => {
-                            value = p.parse::<f64>().ok();
+                            value = Some(bounded(p.parse::<f64>().unwrap_or(f64::NAN), p, line)?);
                         }
                         _ => unit_ok = false,
                     }
@@ -300,8 +377,8 @@ impl State {
                     match part {
                         "RPM" | "CLW" | "ON" => {}
                         "CCLW" => m = 4,
-                        p if speed.is_none() && p.parse::<f64>().is_ok_and(f64::is_finite) => {
-                            speed = p.parse::<f64>().ok();
+                        p if speed.is_none() && p.parse::<f64>().is_ok() => {
+                            speed = Some(bounded(p.parse::<f64>().unwrap_or(f64::NAN), p, line)?);
                         }
                         _ => {
                             return Err(err(format!(
@@ -373,6 +450,12 @@ impl State {
     fn goto(&mut self, v: &[f64], line: u32) -> Result<(), AptError> {
         let err = |message: String| AptError { line, message };
         let p = self.point(&Vec3::new(v[0], v[1], v[2]));
+        if p.iter().any(|x| x.abs() > MAX_FILE_MAGNITUDE) {
+            return Err(err(format!(
+                "the point {:e},{:e},{:e} (after MSYS) is beyond what a machine can have: at most {MAX_FILE_MAGNITUDE:e} in size",
+                p[0], p[1], p[2]
+            )));
+        }
         if v.len() == 3 && self.three_axis {
             // MULTAX/OFF: the tool along +Z of the frame.
             self.vector = self.direction(&Vec3::z());

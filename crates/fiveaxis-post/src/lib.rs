@@ -39,6 +39,16 @@ pub use linearize::Deviation;
 pub const DEFAULT_TOLERANCE: f64 = 0.01;
 /// Default tool direction tolerance, degrees (issue 13).
 pub const DEFAULT_ANGLE_TOLERANCE: f64 = 0.1;
+/// Finest tip tolerance a post takes, mm: a tenth of the finest least
+/// input increment of a control (0.0001 mm, FANUC IS-C) the output is
+/// written in, and a thousand times the spacing of doubles at the
+/// largest travel a machine file may give (10^6 mm: 1.2e-10 mm). A finer
+/// tolerance cannot be met by any written program; the post would cut
+/// every block into its shortest pieces.
+pub const MIN_TOLERANCE: f64 = 1e-6;
+/// Finest tool direction tolerance a post takes, degrees: a tenth of the
+/// finest least input increment of a rotary axis (0.0001 degree, IS-C).
+pub const MIN_ANGLE_TOLERANCE: f64 = 1e-5;
 /// Default retract of a flip along the tool axis, mm: clear of the cut
 /// for the usual stock allowances (tenths of a millimetre to a few
 /// millimetres) and short enough not to leave the machine's travel.
@@ -221,6 +231,10 @@ pub struct Post {
     /// saw it. Without any, on the same machine, there is nothing to
     /// convert: the source is a machine-axis program already.
     pub kinematic: bool,
+    /// The source line of the first block that needed more than
+    /// [`linearize::MAX_BLOCK_PIECES`] pieces to hold the tolerances: the
+    /// output is not fit to write (tolerances too fine for the block).
+    pub capped_line: Option<u32>,
 }
 
 impl Post {
@@ -263,6 +277,18 @@ impl Post {
     fn record(&mut self, outcome: &linearize::Outcome) {
         self.deviation = self.deviation.max(outcome.deviation);
         self.unresolved += outcome.unresolved;
+        self.note_capped(outcome);
+    }
+
+    /// Keeps the line of the block (the last move's) if `outcome` reached
+    /// the bound of pieces, and no block did before.
+    fn note_capped(&mut self, outcome: &linearize::Outcome) {
+        if outcome.capped && self.capped_line.is_none() {
+            self.capped_line = self.moves.iter().rev().find_map(|m| match m {
+                Move::Feed { line, .. } => Some(*line),
+                _ => None,
+            });
+        }
     }
 }
 
@@ -665,6 +691,7 @@ impl<'m> Converter<'m> {
         );
         self.post.moves.extend(turned);
         self.post.unresolved += outcome.unresolved;
+        self.post.note_capped(&outcome);
         let down = self.snap(&self.pose_joints(to, tip, length));
         self.post.moves.push(Move::Feed {
             to: down,
@@ -733,7 +760,9 @@ pub fn convert<S: Source>(
         for seg in &segments {
             converter.push(seg);
         }
-        if !more? {
+        // A block past the bound of pieces: the output will not be
+        // written, the rest need not be made.
+        if !more? || converter.post.capped_line.is_some() {
             let mut post = converter.finish();
             post.kinematic = kinematic;
             return Ok(post);

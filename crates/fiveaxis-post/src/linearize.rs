@@ -62,7 +62,17 @@ pub struct Outcome {
     pub deviation: Deviation,
     /// Pieces kept at the shortest length without meeting the tolerances.
     pub unresolved: u64,
+    /// Whether the block reached [`MAX_BLOCK_PIECES`] with pieces still
+    /// outside the tolerances (the output is not made then).
+    pub capped: bool,
 }
+
+/// Most pieces one block may be cut into: 65,536 pieces hold a 1 m move
+/// to 15 µm steps, far finer than any tolerance a control's look-ahead
+/// can use. A block that needs more asks for a tolerance finer than the
+/// output's digits can hold; without a bound it never ends (the shortest
+/// piece, [`MIN_PIECE`], allows ten million pieces a block).
+pub const MAX_BLOCK_PIECES: u64 = 1 << 16;
 
 /// Most pending pieces (depth of the bisection).
 const STACK: usize = 64;
@@ -112,6 +122,7 @@ pub fn pieces_of(
     ); STACK];
     stack[0] = (0.0, *start, 1.0, snap(&law(1.0)));
     let mut depth = 1;
+    let mut emitted = 0u64;
     while depth > 0 {
         depth -= 1;
         let (s0, a, s1, b) = stack[depth];
@@ -120,11 +131,16 @@ pub fn pieces_of(
         let within = found.tip <= ACCEPT_SHARE * options.tolerance
             && found.angle <= ACCEPT_SHARE * options.angle_tolerance
             && max_turn(machine, &a, &b) <= MAX_PIECE_TURN;
-        if within || h < MIN_PIECE || depth + 2 > STACK {
+        // Every pending piece gives at least one more: splitting this one
+        // must leave room for them within the bound.
+        let full = emitted + depth as u64 + 2 > MAX_BLOCK_PIECES;
+        if within || h < MIN_PIECE || depth + 2 > STACK || full {
             if !within {
                 outcome.unresolved += 1;
+                outcome.capped |= full && h >= MIN_PIECE && depth + 2 <= STACK;
             }
             outcome.deviation = outcome.deviation.max(found);
+            emitted += 1;
             emit(b, h);
             continue;
         }

@@ -149,6 +149,70 @@ fn bad_records_name_their_line() {
     }
 }
 
+/// Numbers beyond `MAX_FILE_MAGNITUDE` (the bound of every number of a
+/// machine) or not finite are refused with the record's line; the bound
+/// itself converts.
+#[test]
+fn numbers_are_bounded_like_the_machine_files() {
+    let max = fiveaxis_machine::MAX_FILE_MAGNITUDE;
+    let over = format!("{:e}", max * 1.000_001);
+    for (text, line, needle) in [
+        (
+            "FEDRAT/100\n$$ x\nGOTO/1e300,0,0,0,0,1\n".to_owned(),
+            3,
+            "`1e300` is beyond what a machine can have",
+        ),
+        (
+            format!("FEDRAT/100\nGOTO/0,{over},0\n"),
+            2,
+            "beyond what a machine can have",
+        ),
+        (
+            format!("FEDRAT/100\nGOTO/0,0,-{over}\n"),
+            2,
+            "beyond what a machine can have",
+        ),
+        (
+            "FEDRAT/100\nGOTO/inf,0,0\n".to_owned(),
+            2,
+            "not a finite number",
+        ),
+        (
+            "FEDRAT/100\nGOTO/0,0,0,NaN,0,1\n".to_owned(),
+            2,
+            "not a finite number",
+        ),
+        (
+            "FEDRAT/100\nGOTO/0,0,0\nCIRCLE/1e7,0,0,0,0,1\n".to_owned(),
+            3,
+            "beyond",
+        ),
+        (
+            "FEDRAT/1e300\n".to_owned(),
+            1,
+            "beyond what a machine can have",
+        ),
+        (
+            "SPINDL/1e300,RPM,CLW\n".to_owned(),
+            1,
+            "beyond what a machine can have",
+        ),
+        (
+            "MSYS/900000,0,0,1,0,0,0,1,0\nFEDRAT/100\nGOTO/900000,0,0\n".to_owned(),
+            3,
+            "after MSYS",
+        ),
+    ] {
+        let e = to_tcpc(&text, "t").expect_err(&text);
+        assert_eq!(e.line, line, "{text}: {e}");
+        assert!(e.message.contains(needle), "{text}: {e}");
+    }
+    let text = format!("FEDRAT/100\nGOTO/{max:e},-{max:e},0,0,0,1\n");
+    if let Err(e) = to_tcpc(&text, "t") {
+        panic!("{text}: {e}");
+    }
+}
+
 /// An NX CLSF: `MSYS` (a frame turned 30° about X, moved), 3-axis data
 /// under `MULTAX/OFF` (the tool along the frame's Z), `FEDRAT/MMPM,f`,
 /// `SPINDL/RPM,s,CLW`, `COOLNT/MIST`, `TLDATA`, `PAINT`, `$$` and then
@@ -257,4 +321,35 @@ fn nx_clsf_with_msys_and_multax() {
     assert!(at("\nG1 ") < at("M9\n"));
     assert!(at("M9\n") < at("M5\n"));
     assert!(at("M5\n") < at("M30\n"));
+}
+
+/// Every line written for a record maps to the line the record starts
+/// on (a continued GOTO, a full circle's four quarters and the G17 after
+/// a G18 arc); the header and the end map to none.
+#[test]
+fn each_program_line_maps_to_its_record() {
+    let text = "FEDRAT/100\nGOTO/10,0,0,$\n0,0,1\nCIRCLE/0,0,0,0,0,1\nGOTO/10,0,0\nCIRCLE/0,0,0,0,1,0\nGOTO/0,0,-10\nFINI\n";
+    let c = fiveaxis_post::apt::to_tcpc_mapped(text, "t").expect("converts");
+    let lines: Vec<&str> = c.program.lines().collect();
+    assert_eq!(lines.len(), c.source_lines.len(), "{}", c.program);
+    let from = |n: u32| -> Vec<&str> {
+        lines
+            .iter()
+            .zip(&c.source_lines)
+            .filter(|(_, l)| **l == Some(n))
+            .map(|(t, _)| *t)
+            .collect()
+    };
+    assert_eq!(from(2).len(), 2, "{}", c.program);
+    assert!(from(2)[1].starts_with("G1 X10.000000"), "{}", c.program);
+    assert_eq!(from(5).len(), 4, "{}", c.program);
+    assert_eq!(from(7).len(), 2, "{}", c.program);
+    assert_eq!(from(7)[1], "G17", "{}", c.program);
+    assert_eq!(c.source_line(1), None);
+    assert_eq!(
+        c.source_line(u32::try_from(lines.len()).expect("few lines")),
+        None
+    );
+    assert_eq!(c.source_line(0), None);
+    assert_eq!(c.source_line(u32::MAX), None);
 }

@@ -129,3 +129,40 @@ fn convert_gives_the_source_alarm() {
         other => panic!("expected the alarm of line 3, got {other:?}"),
     }
 }
+
+/// A law no tolerance near the floor can follow in few pieces (X swinging
+/// 100 mm five times in one block) is cut into at most
+/// `MAX_BLOCK_PIECES` pieces and says it was capped; at the default
+/// tolerance it is not.
+#[test]
+fn one_block_is_cut_into_a_bounded_number_of_pieces() {
+    use fiveaxis_post::linearize::{MAX_BLOCK_PIECES, pieces_of};
+    use fiveaxis_post::program::Quantum;
+    let machine = builtin("head-table-bc").expect("built-in");
+    let law = |s: f64| {
+        let mut j = [0.0; fiveaxis_machine::MAX_AXES];
+        j[0] = 100.0 * (std::f64::consts::TAU * 5.0 * s).sin();
+        j[2] = 100.0;
+        j
+    };
+    let start = law(0.0);
+    for (tolerance, capped) in [
+        (fiveaxis_post::MIN_TOLERANCE, true),
+        (fiveaxis_post::DEFAULT_TOLERANCE, false),
+    ] {
+        let options = PostOptions {
+            tolerance,
+            ..PostOptions::default()
+        };
+        let quantum = Quantum::for_tolerance(tolerance);
+        let mut count = 0u64;
+        let outcome = pieces_of(&machine, &law, &start, 100.0, &options, &quantum, |_, _| {
+            count += 1;
+        });
+        assert_eq!(outcome.capped, capped, "{tolerance}: {count} pieces");
+        assert!(count <= MAX_BLOCK_PIECES, "{tolerance}: {count} pieces");
+        if capped {
+            assert!(count > MAX_BLOCK_PIECES / 2, "{count} pieces");
+        }
+    }
+}

@@ -6,7 +6,7 @@ use nalgebra::Unit;
 use serde::Deserialize;
 use toml::Spanned;
 
-use super::{FileError, Source, in_file_order};
+use super::{FileError, MAX_FILE_MAGNITUDE, Source, in_file_order};
 use crate::{
     Along, Control, Dynamics, InputUnit, Joints, LinearAxis, MAX_AXES, MAX_M_CODE, MAX_ROTARY,
     MCodes, MFunction, Machine, MachineType, Parameters, ProgrammingFrame, RESERVED_M_CODES,
@@ -802,42 +802,104 @@ fn cone(src: &Source<'_>, value: &Spanned<f64>) -> Result<f64, FileError> {
 /// lengths and angles.
 pub const MAX_JERK: f64 = 1e9;
 
+/// Smallest `max_velocity` or `rapid` a file may give, mm/min (deg/min for
+/// rotary axes): the finest feed a control can be programmed with (FANUC's
+/// F at IS-B is 0.001 mm/min). No real axis is slower; a slower figure is
+/// a typo or a unit mix-up, and makes times that no report can print
+/// (1e-300 mm/min gives 10^303 s).
+pub const MIN_VELOCITY: f64 = 1e-3;
+
+/// Smallest `max_acceleration` a file may give, mm/s² (deg/s²): real axes
+/// accelerate at 100 mm/s² or more, a hundred thousand times this floor.
+pub const MIN_ACCELERATION: f64 = 1e-3;
+
+/// Smallest `max_jerk` a file may give, mm/s³ (deg/s³): real axes reach
+/// their acceleration within a second or less, thousands of mm/s³.
+pub const MIN_JERK: f64 = 1e-3;
+
+/// A dynamics figure: finite, at least `floor` and at most `ceiling`, in
+/// `unit`.
+fn dynamic(
+    src: &Source<'_>,
+    value: &Spanned<f64>,
+    key: &str,
+    [floor, ceiling]: [f64; 2],
+    unit: &str,
+) -> Result<f64, FileError> {
+    let v = *value.get_ref();
+    if !v.is_finite() {
+        return Err(src.at(value, key, format!("`{key}` must be a finite number")));
+    }
+    if v <= 0.0 {
+        return Err(src.at(
+            value,
+            key,
+            format!("`{key}` must be greater than 0: at least {floor:e} {unit}"),
+        ));
+    }
+    if v < floor {
+        return Err(src.at(
+            value,
+            key,
+            format!(
+                "`{key}` is below what a machine can have: at least {floor:e} {unit} (found {v:e})"
+            ),
+        ));
+    }
+    if v > ceiling {
+        return Err(src.at(
+            value,
+            key,
+            format!(
+                "`{key}` is beyond what a machine can have: at most {ceiling:e} {unit} (found {v:e})"
+            ),
+        ));
+    }
+    Ok(v)
+}
+
 /// The dynamics keys of an axis (`max_velocity`, `rapid`,
-/// `max_acceleration`, `max_jerk`): each above 0; `rapid` defaults to
+/// `max_acceleration`, `max_jerk`): each within its floor
+/// ([`MIN_VELOCITY`], [`MIN_ACCELERATION`], [`MIN_JERK`]) and ceiling
+/// ([`MAX_FILE_MAGNITUDE`], [`MAX_JERK`]); `rapid` defaults to
 /// `max_velocity`, the others to `default`'s.
 fn dynamics(
     src: &Source<'_>,
     [velocity, rapid, acceleration, jerk]: [&Option<Spanned<f64>>; 4],
     default: Dynamics,
 ) -> Result<Dynamics, FileError> {
+    let velocity_bounds = [MIN_VELOCITY, MAX_FILE_MAGNITUDE];
+    let per_min = "mm/min (deg/min)";
     let max_velocity = match velocity {
-        Some(v) => positive(src, v, "max_velocity")?,
+        Some(v) => dynamic(src, v, "max_velocity", velocity_bounds, per_min)?,
         None => default.max_velocity,
-    };
-    let max_jerk = match jerk {
-        Some(v) if v.get_ref().is_finite() && *v.get_ref() > 0.0 && *v.get_ref() <= MAX_JERK => {
-            Some(*v.get_ref())
-        }
-        Some(v) => {
-            return Err(src.at(
-                v,
-                "max_jerk",
-                format!("`max_jerk` must be greater than 0 and at most {MAX_JERK:e}"),
-            ));
-        }
-        None => default.max_jerk,
     };
     Ok(Dynamics {
         max_velocity,
         rapid: match rapid {
-            Some(v) => positive(src, v, "rapid")?,
+            Some(v) => dynamic(src, v, "rapid", velocity_bounds, per_min)?,
             None => max_velocity,
         },
         max_acceleration: match acceleration {
-            Some(v) => positive(src, v, "max_acceleration")?,
+            Some(v) => dynamic(
+                src,
+                v,
+                "max_acceleration",
+                [MIN_ACCELERATION, MAX_FILE_MAGNITUDE],
+                "mm/s² (deg/s²)",
+            )?,
             None => default.max_acceleration,
         },
-        max_jerk,
+        max_jerk: match jerk {
+            Some(v) => Some(dynamic(
+                src,
+                v,
+                "max_jerk",
+                [MIN_JERK, MAX_JERK],
+                "mm/s³ (deg/s³)",
+            )?),
+            None => default.max_jerk,
+        },
     })
 }
 

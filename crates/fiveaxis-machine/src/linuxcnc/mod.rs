@@ -23,7 +23,8 @@ use std::fmt;
 use std::path::{Component, Path, PathBuf};
 
 use crate::{
-    Control, Dynamics, InputUnit, LinearAxis, MAX_FILE_MAGNITUDE, MCodes, Machine, Parameters,
+    Control, Dynamics, InputUnit, LinearAxis, MAX_FILE_MAGNITUDE, MAX_JERK, MCodes,
+    MIN_ACCELERATION, MIN_JERK, MIN_VELOCITY, Machine, Parameters,
 };
 
 use ini::{Entry, Ini};
@@ -375,16 +376,29 @@ pub(crate) fn dynamics(
     notes: &mut Vec<String>,
 ) -> Result<Dynamics, ImportError> {
     let mut d = default;
-    let positive = |e: &Entry| -> Result<f64, ImportError> {
+    // In the machine file's units, within its bounds (a machine file
+    // with the figure would not read).
+    let bounded = |e: &Entry, factor: f64, [floor, ceiling]: [f64; 2], unit: &str| {
         let v = e.number()?;
         if v <= 0.0 {
             return Err(e.error("must be above 0"));
         }
-        Ok(v * scale)
+        let v = v * factor;
+        if !(floor..=ceiling).contains(&v) {
+            return Err(e.error(format!(
+                "is {v:e} {unit}: a machine has from {floor:e} to {ceiling:e}"
+            )));
+        }
+        Ok(v)
     };
     match ini.get(section, "MAX_VELOCITY") {
         Some(e) => {
-            d.max_velocity = positive(e)? * 60.0;
+            d.max_velocity = bounded(
+                e,
+                scale * 60.0,
+                [MIN_VELOCITY, MAX_FILE_MAGNITUDE],
+                "mm/min (deg/min)",
+            )?;
             d.rapid = d.max_velocity;
         }
         None => notes.push(format!(
@@ -392,7 +406,14 @@ pub(crate) fn dynamics(
         )),
     }
     match ini.get(section, "MAX_ACCELERATION") {
-        Some(e) => d.max_acceleration = positive(e)?,
+        Some(e) => {
+            d.max_acceleration = bounded(
+                e,
+                scale,
+                [MIN_ACCELERATION, MAX_FILE_MAGNITUDE],
+                "mm/s² (deg/s²)",
+            )?;
+        }
         None => notes.push(format!(
             "[{section}] gives no MAX_ACCELERATION: the machine file's default written"
         )),
@@ -402,7 +423,11 @@ pub(crate) fn dynamics(
         if v < 0.0 {
             return Err(e.error("must not be below 0"));
         }
-        d.max_jerk = (v > 0.0).then_some(v * scale);
+        d.max_jerk = if v > 0.0 {
+            Some(bounded(e, scale, [MIN_JERK, MAX_JERK], "mm/s³ (deg/s³)")?)
+        } else {
+            None
+        };
     }
     Ok(d)
 }

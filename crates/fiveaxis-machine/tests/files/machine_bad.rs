@@ -1,6 +1,6 @@
 //! Machine files that must not read, and where their errors point.
 
-use fiveaxis_machine::{FileError, Machine};
+use fiveaxis_machine::{FileError, MIN_ACCELERATION, MIN_JERK, MIN_VELOCITY, Machine};
 
 use super::machine_good::{TABLE_C, file};
 use super::{assert_error, pos};
@@ -688,6 +688,37 @@ fn dynamics_must_be_positive_and_bounded() {
             Some(key),
             says,
         );
+    }
+}
+
+/// Dynamics below the floors (`MIN_VELOCITY`, `MIN_ACCELERATION`,
+/// `MIN_JERK`) are refused where they are written; the floors themselves
+/// read.
+#[test]
+fn dynamics_have_a_floor() {
+    for (key, floor) in [
+        ("max_velocity", MIN_VELOCITY),
+        ("rapid", MIN_VELOCITY),
+        ("max_acceleration", MIN_ACCELERATION),
+        ("max_jerk", MIN_JERK),
+    ] {
+        for value in ["1e-300".to_owned(), format!("{:e}", floor * 0.999)] {
+            let text = file("type = \"table\"\n", &format!("{TABLE_C}{key} = {value}\n"));
+            assert_error(
+                &fail(&text),
+                &text,
+                &format!("{key} = ^{value}"),
+                Some(key),
+                "below what a machine can have",
+            );
+        }
+        let text = file(
+            "type = \"table\"\n",
+            &format!("{TABLE_C}{key} = {floor:e}\n"),
+        );
+        if let Err(e) = Machine::from_toml(&text) {
+            panic!("{key} = {floor:e} should read: {e:?}");
+        }
     }
 }
 
