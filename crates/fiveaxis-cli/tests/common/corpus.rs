@@ -13,7 +13,17 @@ use std::path::{Path, PathBuf};
 /// The corpus folder beside the workspace, canonical when it exists.
 pub fn corpus_root() -> PathBuf {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/corpus");
-    std::fs::canonicalize(&path).unwrap_or(path)
+    if let Ok(found) = std::fs::canonicalize(&path) {
+        return found;
+    }
+    // Not there: name it plainly, beside the repository's own folder.
+    let repository = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    match std::fs::canonicalize(&repository) {
+        Ok(root) => root
+            .parent()
+            .map_or(path, |beside| beside.join("shared/corpus")),
+        Err(_) => path,
+    }
 }
 
 /// `relative` inside the corpus, or `None` when it is not there: the
