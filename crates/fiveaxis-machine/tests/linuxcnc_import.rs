@@ -914,3 +914,35 @@ fn hal_pin_and_ini_values_are_written_for_the_program() {
     let e = Machine::from_toml(&text).expect_err("fanuc with HAL pins");
     assert!(e.to_string().contains("only a linuxcnc machine"), "{e}");
 }
+
+#[test]
+fn limits_beyond_a_machine_file_are_written_at_its_bound_and_noted() {
+    // X −2,000,000 in (inch units: 5.08e7 mm) and B ±3,600,000°: both
+    // sides given, each beyond ±10⁶, written at the bound with a note
+    // naming the key; not "one side only".
+    let text = TRT_INI
+        .replace("CONV", "0")
+        .replace(
+            "[AXIS_X]\nMIN_LIMIT = -10",
+            "[AXIS_X]\nMIN_LIMIT = -2000000",
+        )
+        .replace(
+            "[AXIS_B]\nMIN_LIMIT = -90\nMAX_LIMIT = 90",
+            "[AXIS_B]\nMIN_LIMIT = -3600000\nMAX_LIMIT = 3600000",
+        );
+    let imported = import_in_memory(&[("/m/t.ini", &text)]).unwrap_or_else(|e| panic!("{e}"));
+    let x = &imported.machine.linear[0];
+    assert_eq!((x.min, x.max), (-1e6, 10.0 * 25.4));
+    let b = &imported.machine.rotary[0];
+    assert_eq!(b.limits, Some((-1e6, 1e6)));
+    let noted = |needle: &str| imported.notes.iter().any(|n| n.contains(needle));
+    assert!(
+        noted("X: [AXIS_X]MIN_LIMIT -50800000 mm is beyond what a machine file holds"),
+        "{:#?}",
+        imported.notes
+    );
+    assert!(noted("B: [AXIS_B]MIN_LIMIT -3600000 degrees is beyond"));
+    assert!(noted("B: [AXIS_B]MAX_LIMIT 3600000 degrees is beyond"));
+    assert!(!noted("one side only"), "{:#?}", imported.notes);
+    round_trip(&imported);
+}

@@ -629,8 +629,12 @@ pub(crate) fn rotary_limits(
             .map(|e| e.number())
             .transpose()?
             .map(|v| v * units.degrees);
-        let bounded = |v: Option<f64>| v.filter(|v| v.abs() <= MAX_FILE_MAGNITUDE);
-        match (bounded(lo), bounded(hi)) {
+        let name = axis.name;
+        let mut bounded = |v: Option<f64>, key: &str| {
+            v.map(|v| super::file_limit(v, name, &section, key, "degrees", notes))
+        };
+        let (lo, hi) = (bounded(lo, "MIN_LIMIT"), bounded(hi, "MAX_LIMIT"));
+        match (lo, hi) {
             (Some(a), Some(b)) => {
                 if a >= b {
                     let message = format!("MAX_LIMIT {b} is not above MIN_LIMIT {a}");

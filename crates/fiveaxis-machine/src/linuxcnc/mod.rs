@@ -319,6 +319,27 @@ fn units(ini: &Ini, ini_path: &Path, notes: &mut Vec<String>) -> Result<Units, I
     Ok(Units { mm, degrees })
 }
 
+/// A soft limit `value` (mm or degrees) read from `[section]key` as the
+/// machine file holds it: beyond +/-[`MAX_FILE_MAGNITUDE`] (LinuxCNC
+/// configurations write "unlimited" as a huge limit) it is written at that
+/// bound, and the notes say so.
+pub(crate) fn file_limit(
+    value: f64,
+    axis: char,
+    section: &str,
+    key: &str,
+    unit: &str,
+    notes: &mut Vec<String>,
+) -> f64 {
+    let bounded = value.clamp(-MAX_FILE_MAGNITUDE, MAX_FILE_MAGNITUDE);
+    if bounded != value {
+        notes.push(format!(
+            "{axis}: [{section}]{key} {value} {unit} is beyond what a machine file holds (+/-{MAX_FILE_MAGNITUDE}): written as {bounded}"
+        ));
+    }
+    bounded
+}
+
 /// A linear axis from `[AXIS_L]`: soft limits and dynamics.
 fn linear_axis(
     ini: &Ini,
@@ -329,16 +350,23 @@ fn linear_axis(
     let section = format!("AXIS_{letter}");
     let min = ini.get(&section, "MIN_LIMIT");
     let max = ini.get(&section, "MAX_LIMIT");
-    let limit = |e: Option<&Entry>, side: f64| -> Result<f64, ImportError> {
+    let mut limit = |e: Option<&Entry>, key: &str, side: f64| -> Result<f64, ImportError> {
         match e {
-            Some(e) => {
-                let v = e.number()? * units.mm;
-                Ok(v.clamp(-MAX_FILE_MAGNITUDE, MAX_FILE_MAGNITUDE))
-            }
+            Some(e) => Ok(file_limit(
+                e.number()? * units.mm,
+                letter,
+                &section,
+                key,
+                "mm",
+                notes,
+            )),
             None => Ok(side * MAX_FILE_MAGNITUDE),
         }
     };
-    let (lo, hi) = (limit(min, -1.0)?, limit(max, 1.0)?);
+    let (lo, hi) = (
+        limit(min, "MIN_LIMIT", -1.0)?,
+        limit(max, "MAX_LIMIT", 1.0)?,
+    );
     if let (Some(a), Some(b)) = (min, max) {
         if lo >= hi {
             return Err(b.error(format!(
