@@ -33,7 +33,7 @@ pub fn write_f64(out: &mut Text, x: f64) {
             k -= 1;
         }
         if k as f64 / THOUSAND == x {
-            write_thousandths(out, k);
+            write_scaled(out, k, 3);
             return;
         }
     }
@@ -104,25 +104,6 @@ fn write_scaled(out: &mut Text, k: i64, decimals: usize) {
     let unit = 10u64.pow(decimals as u32);
     let (whole, mut frac) = (magnitude / unit, magnitude % unit);
     let mut decimals = decimals;
-    while frac != 0 && frac.is_multiple_of(10) {
-        frac /= 10;
-        decimals -= 1;
-    }
-    if k < 0 {
-        out.push(b'-');
-    }
-    out.put_digits(whole, decimal_digits(whole));
-    if frac != 0 {
-        out.push(b'.');
-        out.put_digits(frac, decimals);
-    }
-}
-
-/// Writes `k / 1000` without trailing zeros.
-fn write_thousandths(out: &mut Text, k: i64) {
-    let magnitude = k.unsigned_abs();
-    let (whole, mut frac) = (magnitude / 1000, magnitude % 1000);
-    let mut decimals = 3;
     while frac != 0 && frac.is_multiple_of(10) {
         frac /= 10;
         decimals -= 1;
