@@ -4,14 +4,14 @@
 
 mod common;
 
-use common::builtin;
+use common::builtin_at_zero;
 use fiveaxis_control::{Alarm, Row, RunOptions, Runner, SliceSource};
 use fiveaxis_machine::{Control, LinearAxis, Machine, Offsets, ToolOffset, Vec3};
 
 const EPS: f64 = 1e-9;
 
 fn mill(control: Control) -> Machine {
-    let mut m = builtin("mill-3axis").expect("built-in");
+    let mut m = builtin_at_zero("mill-3axis").expect("built-in");
     m.control = control;
     m
 }
@@ -208,7 +208,7 @@ fn on_a_five_axis_machine_the_vector_is_in_the_programming_frame() {
     // Under TCPC (type 1) on the A/C trunnion, with the table turned C90
     // before start-up: the programming frame is turned with it, and the
     // compensated tip is P + V in that frame, at block ends.
-    let m = builtin("trunnion-ac").expect("built-in");
+    let m = builtin_at_zero("trunnion-ac").expect("built-in");
     let program = "G0 C90.\nG43.4 H1 X0 Y0 Z0\nG41 G1 X10. Y0 Z0 I1. J0 K0 D1 F500.\n";
     let (rows, alarm) = run_on(&m, program);
     assert!(alarm.is_none(), "{alarm:?}");

@@ -3,7 +3,7 @@
 
 mod common;
 
-use common::builtin;
+use common::builtin_at_zero;
 use fiveaxis_control::{Alarm, Row};
 use fiveaxis_machine::{Control, Machine, Offsets, ToolOffset};
 use proptest::prelude::*;
@@ -12,7 +12,7 @@ use proptest::test_runner::{Config, RngSeed};
 const EPS: f64 = 1e-9;
 
 fn mill() -> Machine {
-    let mut m = builtin("mill-3axis").expect("built-in");
+    let mut m = builtin_at_zero("mill-3axis").expect("built-in");
     m.control = Control::Fanuc16;
     m
 }
@@ -245,7 +245,7 @@ fn length_compensation_and_work_offsets_apply_to_the_compensated_path() {
 
 #[test]
 fn tcpc_with_cutter_compensation_c_is_refused() {
-    let m = builtin("trunnion-ac").expect("built-in");
+    let m = builtin_at_zero("trunnion-ac").expect("built-in");
     let (_, alarm) = run_on(&m, "G43.4 H1 X0 Y0 Z0\nG41 G1 X10. D1 F500.\n");
     assert_eq!(alarm.map(|a| a.code.to_string()), Some("FX0092".into()));
 }

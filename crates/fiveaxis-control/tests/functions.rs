@@ -5,14 +5,14 @@
 
 mod common;
 
-use common::builtin;
+use common::builtin_at_zero;
 use fiveaxis_control::{Alarm, Row, RunError, RunOptions, Runner, SliceSource};
 use fiveaxis_machine::{Control, Machine, Offsets, ToolOffset, Vec3};
 
 const EPS: f64 = 1e-9;
 
 fn machine(name: &str) -> Machine {
-    builtin(name).expect("built-in machine")
+    builtin_at_zero(name).expect("built-in machine")
 }
 
 fn offsets() -> Offsets {

@@ -6,7 +6,7 @@
 
 mod common;
 
-use common::builtin;
+use common::builtin_at_zero;
 use fiveaxis_control::{Alarm, Condition, Motion, Row, RunError, RunOptions, Runner, SliceSource};
 use fiveaxis_gcode::{Block, Syntax, SyntaxErrorKind, parse_line, parse_line_as};
 use fiveaxis_machine::{Control, InputUnit, Machine, Offsets};
@@ -16,7 +16,7 @@ const MM_PER_INCH: f64 = 25.4;
 
 /// The three-axis mill of the built-ins with `control`.
 fn mill(control: Control) -> Machine {
-    let mut m = builtin("mill-3axis").expect("built-in machine");
+    let mut m = builtin_at_zero("mill-3axis").expect("built-in machine");
     m.control = control;
     m
 }
@@ -312,7 +312,7 @@ fn the_power_on_unit_shows_in_4006_and_millimetres_stay_the_default() {
 #[test]
 fn machine_file_input_unit_reads_writes_and_refuses_other_words() {
     // A file as `to_toml` writes it (which has both keys), edited.
-    let text = builtin("mill-3axis").expect("built in").to_toml();
+    let text = builtin_at_zero("mill-3axis").expect("built in").to_toml();
     assert!(text.contains("input_unit = \"mm\""), "{text}");
     let with = |unit: &str| {
         text.lines()
@@ -398,7 +398,7 @@ fn haas_numbers_programs_o00001_to_o99999_and_names_an_unnumbered_one_ononame() 
 
 /// The built-in UMC-750 (control = "haas"), metric words.
 fn umc() -> Machine {
-    builtin("haas-umc750").expect("built-in")
+    builtin_at_zero("haas-umc750").expect("built-in")
 }
 
 #[test]

@@ -16,7 +16,7 @@
 
 mod common;
 
-use common::builtin;
+use common::builtin_at_zero;
 use fiveaxis_control::{
     Alarm, Condition, LengthMode, Row, RunError, RunOptions, Runner, SliceSource, TcpcType,
 };
@@ -42,7 +42,7 @@ fn umc() -> Machine {
 /// which a Haas set to inch refuses (the built-ins are inch, the US
 /// default).
 fn metric(name: &str) -> Machine {
-    let mut m = builtin(name).expect("built-in");
+    let mut m = builtin_at_zero(name).expect("built-in");
     m.params.input_unit = fiveaxis_machine::InputUnit::Millimetre;
     m
 }
@@ -496,7 +496,7 @@ fn g187_smoothness_is_kept_and_moves_nothing() {
     let a = accuracy("G21 G187 P3 E0.01\n");
     assert_eq!((a.smoothness, a.corner_rounding), (3, Some(0.01)));
     // Inch (Setting 9 = INCH, the built-in's own): E0.001 in is 0.0254 mm.
-    let inch = builtin("haas-umc750").expect("built-in");
+    let inch = builtin_at_zero("haas-umc750").expect("built-in");
     let r = run_on(&inch, "G20 G187 P1 E.001\n");
     assert!(r.alarm.is_none(), "{:?}", r.alarm);
     let a = r.runner.controller().modal().accuracy;
@@ -515,7 +515,7 @@ fn g187_smoothness_is_kept_and_moves_nothing() {
 
 #[test]
 fn g154_and_g110_select_the_additional_work_offsets() {
-    let mut m = builtin("mill-3axis").expect("built-in");
+    let mut m = builtin_at_zero("mill-3axis").expect("built-in");
     m.control = Control::Haas;
     let x = |p: &'static str| run(&m, p)[0].joints[0];
     assert!((x("G154 P7 G0 X0.\n") - 7.0).abs() < EPS);
@@ -581,7 +581,7 @@ fn haas_standard_m_codes_run_and_others_are_refused() {
 fn haas_m97_calls_a_local_subprogram_by_sequence_number() {
     // The manual's pattern: M97 P1000 L… runs N1000 up to its M99, L
     // times, then the block after the call.
-    let mut m = builtin("mill-3axis").expect("built-in");
+    let mut m = builtin_at_zero("mill-3axis").expect("built-in");
     m.control = Control::Haas;
     let program = "G21 G53 G0 X0. Y0. Z0.\nM97 P1000 L3\nG53 G0 X-5.\nM30\nN1000 G91 G1 X1. F100.\nG90\nM99\n";
     let rows = run(&m, program);
@@ -605,7 +605,7 @@ fn haas_m97_calls_a_local_subprogram_by_sequence_number() {
 
 #[test]
 fn haas_tool_variables_and_g10_follow_haas_s_numbering() {
-    let mut m = builtin("mill-3axis").expect("built-in");
+    let mut m = builtin_at_zero("mill-3axis").expect("built-in");
     m.control = Control::Haas;
     let x = |p: &'static str| run(&m, p)[0].joints[0];
     // #2001 + n - 1: length (tool 1 = 100 mm); #2201: length wear.

@@ -13,7 +13,7 @@ mod common;
 use std::io;
 use std::process::Command;
 
-use common::builtin;
+use common::builtin_at_zero;
 use fiveaxis_control::{
     Alarm, Condition, ProgramLibrary, Row, RunError, RunOptions, Runner, SliceSource, Source,
 };
@@ -23,7 +23,7 @@ use fiveaxis_machine::{Control, Machine, Offsets};
 const RS274_DIGITS: f64 = 1e-4;
 
 fn mill() -> Machine {
-    let mut m = builtin("mill-3axis").expect("built-in machine");
+    let mut m = builtin_at_zero("mill-3axis").expect("built-in machine");
     m.control = Control::LinuxCnc;
     m
 }

@@ -3,7 +3,7 @@
 
 mod common;
 
-use common::builtin;
+use common::builtin_at_zero;
 use fiveaxis_control::{
     Alarm, ContourControl, Controller, CuttingMode, Flow, LengthMode, ProgramStop, Segment,
     TcpcType,
@@ -14,7 +14,7 @@ use fiveaxis_machine::{MCodes, MFunction, Machine, Offsets, ToolOffset};
 const EPS: f64 = 1e-9;
 
 fn machine(name: &str) -> Machine {
-    builtin(name).expect("built-in machine")
+    builtin_at_zero(name).expect("built-in machine")
 }
 
 /// Tools 1 (H 100) and 2 (H 50) in the offset memory.

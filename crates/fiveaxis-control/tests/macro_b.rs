@@ -5,12 +5,12 @@
 
 mod common;
 
-use common::builtin;
+use common::builtin_at_zero;
 use fiveaxis_control::{Alarm, Row};
 use fiveaxis_machine::{DEFAULT_MACHINE, Machine, Offsets, ToolOffset};
 
 fn machine() -> Machine {
-    builtin(DEFAULT_MACHINE).expect("built in")
+    builtin_at_zero(DEFAULT_MACHINE).expect("built in")
 }
 
 fn run(program: &str) -> (Vec<Row>, Option<Alarm>) {

@@ -24,7 +24,7 @@
 
 mod common;
 
-use common::builtin;
+use common::builtin_at_zero;
 use fiveaxis_control::{
     Alarm, LengthMode, Modal, Row, RunError, RunOptions, Runner, Segment, SliceSource, TcpcType,
     normalize_360,
@@ -38,7 +38,7 @@ const EPS: f64 = 1e-9;
 const L: f64 = 100.0;
 
 fn machine(name: &str) -> Machine {
-    builtin(name).expect("built-in machine")
+    builtin_at_zero(name).expect("built-in machine")
 }
 
 /// A built-in machine read from its file text with `control` in place of
@@ -54,12 +54,9 @@ fn machine_with(name: &str, control: &str, parameters: &str) -> Machine {
         &format!("[parameters]\n{parameters}\n"),
         1,
     );
-    let mut machine =
-        Machine::from_toml(&text).unwrap_or_else(|e| panic!("{name} as {control}: {e}"));
-    // From machine zero, as `common::builtin`.
-    machine.params.reference_1 = [0.0; fiveaxis_machine::MAX_AXES];
-    machine.params.reference_2 = [0.0; fiveaxis_machine::MAX_AXES];
-    machine
+    common::at_machine_zero(
+        Machine::from_toml(&text).unwrap_or_else(|e| panic!("{name} as {control}: {e}")),
+    )
 }
 
 /// A four-axis machine: the A tilting table of `trunnion-ac` alone.
@@ -988,12 +985,8 @@ fn keep_tilt_sign_from_zero_takes_the_side_with_the_wider_stroke() {
     let text = builtin_source("head-head-ca")
         .expect("built-in")
         .replace("min = -110.0", "min = -60.0");
-    let from_zero = |text: &str| {
-        let mut machine = Machine::from_toml(text).expect("machine");
-        machine.params.reference_1 = [0.0; fiveaxis_machine::MAX_AXES];
-        machine.params.reference_2 = [0.0; fiveaxis_machine::MAX_AXES];
-        machine
-    };
+    let from_zero =
+        |text: &str| common::at_machine_zero(Machine::from_toml(text).expect("machine"));
     let shortest = from_zero(&text);
     let keep = from_zero(&text.replacen(
         "[parameters]\n",

@@ -8,7 +8,7 @@
 
 mod common;
 
-use common::builtin;
+use common::builtin_at_zero;
 use fiveaxis_control::{Alarm, Row};
 use fiveaxis_machine::{Machine, Offsets, ToolOffset};
 use proptest::prelude::*;
@@ -218,7 +218,7 @@ proptest! {
             [o[0] + v[0], o[1] + v[1], o[2] + v[2]]
         };
         for name in MACHINES {
-            let machine = builtin(name).expect("built in");
+            let machine = builtin_at_zero(name).expect("built in");
             let (rows, alarm) = run(&machine, &program);
             if let Some(a) = &alarm {
                 // A frame the machine cannot tilt to is the control's alarm;
@@ -266,7 +266,7 @@ proptest! {
 
 #[test]
 fn g53_1_needs_a_frame_and_the_plane_refuses_what_it_does_not_combine() {
-    let m = builtin("trunnion-ac").expect("built in");
+    let m = builtin_at_zero("trunnion-ac").expect("built in");
     let code = |program: &str| run(&m, program).1.map(|a| a.code.to_string());
     assert_eq!(code("G53.1\n").as_deref(), Some("FX0150"));
     for inside in ["G55", "G54.4 P1"] {
@@ -308,7 +308,7 @@ fn g53_1_needs_a_frame_and_the_plane_refuses_what_it_does_not_combine() {
 fn g68_4_defines_the_frame_inside_the_frame_in_force() {
     // G68.2 tilts 30 degrees about X at X10; G68.4 then moves 5 along the
     // tilted Y and turns 90 degrees about the tilted Z.
-    let m = builtin("trunnion-bc").expect("built in");
+    let m = builtin_at_zero("trunnion-bc").expect("built in");
     let (rows, alarm) = run(
         &m,
         "G43 H1 G0 Z250.\nG68.2 X10. J30.\nG68.4 Y5. I90.\nG53.1\nG0 X1. Y2. Z3.\n",
@@ -335,7 +335,7 @@ fn g68_4_defines_the_frame_inside_the_frame_in_force() {
 #[test]
 fn g53_6_turns_the_tool_with_its_tip_held() {
     for name in MACHINES {
-        let m = builtin(name).expect("built in");
+        let m = builtin_at_zero(name).expect("built in");
         let (rows, alarm) = common::run_sampled(
             &m,
             offsets(),
@@ -368,7 +368,7 @@ fn g53_6_turns_the_tool_with_its_tip_held() {
 #[test]
 fn g68_3_takes_the_tool_axis_as_the_frames_z() {
     for name in MACHINES {
-        let m = builtin(name).expect("built in");
+        let m = builtin_at_zero(name).expect("built in");
         let (r0, r1) = (m.rotary[0].name, m.rotary[1].name);
         // Tilt the tool (rotary words as the machine names them), then
         // build the frame from it at the current position.
@@ -401,7 +401,7 @@ fn g68_3_takes_the_tool_axis_as_the_frames_z() {
         );
     }
     // One or two origin words: PS5457.
-    let m = builtin("trunnion-ac").expect("built in");
+    let m = builtin_at_zero("trunnion-ac").expect("built in");
     let (_, alarm) = run(&m, "G68.3 X1. Y2.\n");
     assert_eq!(alarm.map(|a| a.code.to_string()).as_deref(), Some("PS5457"));
 }
@@ -411,7 +411,7 @@ fn cutter_compensation_c_runs_in_the_feature_plane() {
     // The same compensated contour (lines, an arc, start-up and cancel),
     // once in the workpiece plane and once in a tilted plane: every row of
     // the tilted run is the frame's transform of the plain run's row.
-    let m = builtin("trunnion-bc").expect("built in");
+    let m = builtin_at_zero("trunnion-bc").expect("built in");
     let contour = "G0 X-20. Y-20. Z5.\nG41 G1 X0 Y0 D1 F300.\nY30.\nG2 X20. Y50. R20.\nG1 X40.\nY0\nX0\nG40 G0 X-20. Y-20.\n";
     let mut offsets = offsets();
     offsets.tools.insert(
@@ -466,7 +466,7 @@ fn tcpc_inside_the_tilted_plane_programs_in_the_feature_frame() {
         [o[0] + v[0], o[1] + v[1], o[2] + v[2]]
     };
     for name in MACHINES {
-        let m = builtin(name).expect("built in");
+        let m = builtin_at_zero(name).expect("built in");
         let program = "G43 H1 G0 Z250.\nG68.2 X10. Y-5. Z2. I15. J30.\nG53.1\nG49\n\
                        G43.5 H1 X0 Y0 Z20.\nG1 X10. I0 J.2 K1. F500.\nG1 Y10. I.1 J0 K1.\nG49\nG69\n";
         let (rows, alarm) = run(&m, program);
@@ -516,7 +516,7 @@ fn g68_2_p2_three_points_by_hand() {
     // +Z: a quarter turn about Z. Q0 shifts the origin by 1 along the new
     // X (workpiece +Y). Program point (1, 2, 3) is then
     // (10,1,0) + (-2, 1, 3) = (8, 2, 3).
-    let m = builtin("trunnion-ac").expect("built in");
+    let m = builtin_at_zero("trunnion-ac").expect("built in");
     let (rows, alarm) = run(
         &m,
         "G68.2 P2 Q0 X1.\nG68.2 P2 Q1 X10.\nG68.2 P2 Q2 X10. Y5.\nG68.2 P2 Q3 X4.\nG53.1\nG0 X1. Y2. Z3.\n",
@@ -542,7 +542,7 @@ fn g68_2_p2_three_points_by_hand() {
 fn g68_2_p4_with_one_angle_is_that_rotation() {
     // One projection angle alone is the rotation about that axis (the
     // plane's other trace stays on its axis): P4 Ia = P1 Ia, P4 Jb = P1 Jb.
-    let m = builtin("trunnion-bc").expect("built in");
+    let m = builtin_at_zero("trunnion-bc").expect("built in");
     for (words, program_point) in [("I25.", [3.0, -4.0, 5.0]), ("J-35.", [-6.0, 2.0, 7.0])] {
         let motion = format!(
             "G53.1\nG0 X{:?} Y{:?} Z{:?}\n",
@@ -560,7 +560,7 @@ fn g68_2_p4_with_one_angle_is_that_rotation() {
 
 #[test]
 fn g68_2_definitions_the_control_refuses() {
-    let m = builtin("trunnion-ac").expect("built in");
+    let m = builtin_at_zero("trunnion-ac").expect("built in");
     let alarm = |program: &str| {
         run(&m, program)
             .1
@@ -609,7 +609,7 @@ fn rodrigues(k: [f64; 3], deg: f64, v: [f64; 3]) -> [f64; 3] {
 
 #[test]
 fn g68_three_dimensional_conversion_by_hand() {
-    let m = builtin("trunnion-ac").expect("built in");
+    let m = builtin_at_zero("trunnion-ac").expect("built in");
     let check = |program: &str, line: u32, want: [f64; 3]| {
         let (rows, alarm) = run(&m, program);
         assert_eq!(alarm, None, "{program}");
@@ -694,7 +694,7 @@ proptest! {
         );
         let turned = rodrigues(k, r, sub(p, c));
         let want = [0, 1, 2].map(|i| c[i] + turned[i]);
-        let m = builtin("head-table-bc").expect("built in");
+        let m = builtin_at_zero("head-table-bc").expect("built in");
         let (rows, alarm) = run(&m, &program);
         prop_assert!(alarm.is_none(), "{alarm:?}");
         close(&end_tip(&rows, 2), &want, "conversion")?;
@@ -715,7 +715,7 @@ fn tcpc_on_the_workpiece_frame_inside_the_tilted_plane() {
         [o[0] + v[0], o[1] + v[1], o[2] + v[2]]
     };
     for name in ["trunnion-ac", "trunnion-bc", "head-table-bc"] {
-        let mut m = builtin(name).expect("built in");
+        let mut m = builtin_at_zero(name).expect("built in");
         m.params.programming_frame = fiveaxis_machine::ProgrammingFrame::Workpiece;
         let (r0, r1) = (m.rotary[0].name, m.rotary[1].name);
         let program = format!(
@@ -773,7 +773,7 @@ fn three_dimensional_tool_compensation_inside_the_tilted_plane() {
     let body = "G0 X10. Y0 Z20.\nG41 D2 G1 X12. Y1. Z18. I1. J0 K1. F300.\n\
                 X20. Y5. I0 J1. K0\nX25. Z15. I-1. J1. K1.\nG40 X30.\n";
     for name in MACHINES {
-        let m = builtin(name).expect("built in");
+        let m = builtin_at_zero(name).expect("built in");
         let run_with =
             |program: &str| common::run_sampled(&m, offsets.clone(), program, &[0.5, 1.0]);
         let (flat, a0) = run_with(&format!("G43 H1 G0 Z250.\n{body}"));

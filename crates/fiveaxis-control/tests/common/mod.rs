@@ -70,14 +70,19 @@ pub fn run_ends(machine: &Machine, offsets: Offsets, program: &str) -> (Vec<Row>
     run_sampled(machine, offsets, program, &[1.0])
 }
 
-/// A built-in machine with its reference positions at machine zero
-/// (FANUC's default when No.1240 / No.1241 are 0) instead of the top of
-/// Z travel, so that a program starts from machine zero: the hand-written
-/// positions of these tests are measured from there. Travels, rotary
-/// geometry and parameters are the built-in's.
-pub fn builtin(name: &str) -> Option<Machine> {
-    let mut machine = fiveaxis_machine::builtin(name)?;
+/// `machine` with its reference positions at machine zero (FANUC's
+/// default when No.1240 / No.1241 are 0) instead of where its file puts
+/// them, so that a program starts from machine zero: the hand-written
+/// positions of these tests are measured from there.
+pub fn at_machine_zero(mut machine: Machine) -> Machine {
     machine.params.reference_1 = [0.0; fiveaxis_machine::MAX_AXES];
     machine.params.reference_2 = [0.0; fiveaxis_machine::MAX_AXES];
-    Some(machine)
+    machine
+}
+
+/// A built-in machine [`at_machine_zero`] (the built-ins start at the top
+/// of Z travel). Travels, rotary geometry and parameters are the
+/// built-in's.
+pub fn builtin_at_zero(name: &str) -> Option<Machine> {
+    fiveaxis_machine::builtin(name).map(at_machine_zero)
 }
