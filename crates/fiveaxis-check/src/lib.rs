@@ -90,6 +90,20 @@ impl Kind {
         Kind::NoDecimalPoint,
     ];
 
+    /// The position of this kind in [`Kind::ALL`] (and in
+    /// [`Report::counts`]).
+    pub fn index(self) -> usize {
+        match self {
+            Kind::Alarm => 0,
+            Kind::Overtravel => 1,
+            Kind::SingularPassage => 2,
+            Kind::RotaryFlip => 3,
+            Kind::FeedLimited => 4,
+            Kind::ChordError => 5,
+            Kind::NoDecimalPoint => 6,
+        }
+    }
+
     /// The contract's name.
     pub fn name(self) -> &'static str {
         match self {
@@ -227,8 +241,12 @@ pub struct Report {
     pub time: Time,
     /// Every axis, in machine order.
     pub axes: Vec<AxisRange>,
-    /// Findings in program order.
+    /// Findings in program order: every one from [`check_run`], none from
+    /// [`check_run_into`] (which hands them over as they settle).
     pub findings: Vec<Finding>,
+    /// How many findings of each kind the run had, by [`Kind::index`]
+    /// (whether the report holds them or they were handed over).
+    pub counts: [usize; Kind::ALL.len()],
     /// The time the feed-limited blocks lose, seconds: their cutting time
     /// at the tip feed the axes allow less that at the programmed feed (not
     /// part of `time.programmed`, which is the program's own figure).
@@ -238,12 +256,28 @@ pub struct Report {
 impl Report {
     /// Whether any finding is at or above `severity`.
     pub fn fails(&self, severity: Severity) -> bool {
-        self.findings.iter().any(|f| f.severity() >= severity)
+        Kind::ALL
+            .iter()
+            .any(|k| k.severity() >= severity && self.count(*k) > 0)
     }
 
     /// How many findings of a kind.
     pub fn count(&self, kind: Kind) -> usize {
-        self.findings.iter().filter(|f| f.kind == kind).count()
+        self.counts[kind.index()]
+    }
+
+    /// How many findings of a severity.
+    pub fn count_severity(&self, severity: Severity) -> usize {
+        Kind::ALL
+            .iter()
+            .filter(|k| k.severity() == severity)
+            .map(|k| self.count(*k))
+            .sum()
+    }
+
+    /// How many findings in all.
+    pub fn total(&self) -> usize {
+        self.counts.iter().sum()
     }
 }
 
@@ -275,6 +309,8 @@ pub struct Checker<'m> {
     /// Over-travel runs in progress, below and above the limits.
     runs: [[Option<Run>; 2]; MAX_AXES],
     findings: Vec<Finding>,
+    /// Findings of each kind so far, by [`Kind::index`].
+    counts: [usize; Kind::ALL.len()],
     /// Segments seen.
     order: u64,
     /// Programmed time so far, minutes.
@@ -308,6 +344,7 @@ impl<'m> Checker<'m> {
             limits,
             runs: [[None; 2]; MAX_AXES],
             findings: Vec::new(),
+            counts: [0; Kind::ALL.len()],
             order: 0,
             minutes: 0.0,
             limited_minutes: 0.0,
@@ -331,7 +368,7 @@ impl<'m> Checker<'m> {
         value: Option<f64>,
         message: String,
     ) {
-        self.findings.push(Finding {
+        self.add(Finding {
             kind,
             line,
             message,
@@ -339,6 +376,11 @@ impl<'m> Checker<'m> {
             value,
             order: self.order,
         });
+    }
+
+    fn add(&mut self, finding: Finding) {
+        self.counts[finding.kind.index()] += 1;
+        self.findings.push(finding);
     }
 
     /// Checks one segment.
@@ -445,7 +487,7 @@ impl<'m> Checker<'m> {
             round6(run.farthest),
             round6((run.farthest - limit).abs()),
         );
-        self.findings.push(Finding {
+        self.add(Finding {
             kind: Kind::Overtravel,
             line: run.line,
             message,
@@ -667,6 +709,7 @@ impl<'m> Checker<'m> {
             },
             axes,
             findings: self.findings,
+            counts: self.counts,
             feed_limited_seconds: self.limited_minutes * 60.0,
         };
         (report, times)
@@ -687,8 +730,36 @@ const BATCH: usize = 1024;
 /// an alarm is not an error here but part of the report.
 pub fn check_run<S: Source>(
     runner: &mut Runner<'_, S>,
-    mut progress: impl FnMut(u64),
+    progress: impl FnMut(u64),
 ) -> Result<Report, RunError> {
+    let mut findings = Vec::new();
+    let (mut report, whole_program) = check_run_into(runner, progress, |f| findings.push(f))?;
+    if let Some(finding) = whole_program {
+        let at = findings
+            .iter()
+            .position(|f| f.line > finding.line)
+            .unwrap_or(findings.len());
+        findings.insert(at, finding);
+    }
+    report.findings = findings;
+    Ok(report)
+}
+
+/// [`check_run`] for programs of any length: the findings are handed to
+/// `take` in report order as they settle instead of being held, so memory
+/// does not grow with them; the report holds their counts. The finding
+/// about the whole program (`no_decimal_point`), known only at the end,
+/// comes back beside the report: it goes before the first finding handed
+/// over whose line is after its own.
+///
+/// # Errors
+///
+/// As [`check_run`].
+pub fn check_run_into<S: Source>(
+    runner: &mut Runner<'_, S>,
+    mut progress: impl FnMut(u64),
+    mut take: impl FnMut(Finding),
+) -> Result<(Report, Option<Finding>), RunError> {
     let machine = runner.controller().machine();
     runner.count_words_without_point();
     let mut checker = Checker::new(machine);
@@ -699,6 +770,7 @@ pub fn check_run<S: Source>(
         for seg in &segments {
             checker.segment(seg);
         }
+        checker.drain_settled(&mut take);
         progress(runner.blocks());
         match filled {
             Ok(true) => {}
@@ -716,23 +788,28 @@ pub fn check_run<S: Source>(
         }),
         blocks: runner.blocks(),
     });
-    if let Some(words) = runner.controller().words_without_point() {
-        add_words_without_point(&mut report, machine, words);
+    for finding in std::mem::take(&mut report.findings) {
+        take(finding);
     }
-    Ok(report)
+    let whole_program = runner
+        .controller()
+        .words_without_point()
+        .and_then(|words| words_without_point(machine, words));
+    if let Some(f) = &whole_program {
+        report.counts[f.kind.index()] += 1;
+    }
+    Ok((report, whole_program))
 }
 
 /// The `no_decimal_point` finding of a run that wrote axis words without
-/// a decimal point where they count in least input increments: placed
-/// before the first finding of a later line (the findings are in program
-/// order; this one is about the whole program, from its first such word).
-fn add_words_without_point(
-    report: &mut Report,
+/// a decimal point where they count in least input increments (about the
+/// whole program, from its first such word).
+fn words_without_point(
     machine: &Machine,
     words: fiveaxis_control::WordsWithoutPoint,
-) {
+) -> Option<Finding> {
     if words.count == 0 {
-        return;
+        return None;
     }
     let increment = machine.params.least_input_increment;
     // As many decimals as the increment has (0.001: 3, 0.0001: 4).
@@ -752,22 +829,14 @@ fn add_words_without_point(
         10.0 * increment,
         words.first_line
     );
-    let at = report
-        .findings
-        .iter()
-        .position(|f| f.line > words.first_line)
-        .unwrap_or(report.findings.len());
-    report.findings.insert(
-        at,
-        Finding {
-            kind: Kind::NoDecimalPoint,
-            line: words.first_line,
-            message,
-            axis: None,
-            value: Some(words.count as f64),
-            order: 0,
-        },
-    );
+    Some(Finding {
+        kind: Kind::NoDecimalPoint,
+        line: words.first_line,
+        message,
+        axis: None,
+        value: Some(words.count as f64),
+        order: 0,
+    })
 }
 
 /// How far the true chord error may lie above the value reported, mm: a

@@ -5,12 +5,13 @@
 //! terminal once a check has taken more than a second.
 
 use std::fmt::Write as _;
-use std::io::{self, Write};
+use std::fs::File;
+use std::io::{self, BufRead, BufReader, Read, Seek, Write};
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicU64, Ordering};
 
 use anstyle::{AnsiColor, Style};
-use fiveaxis_check::{Kind, Report, Severity, check_run};
+use fiveaxis_check::{Finding, Kind, Report, Severity, check_run_into};
 use fiveaxis_control::{DEFAULT_MAX_BLOCKS, ReaderSource, RunError, RunOptions, Runner};
 use fiveaxis_machine::{DEFAULT_MACHINE, Machine, Offsets};
 use rayon::prelude::*;
@@ -88,8 +89,25 @@ pub struct CheckArgs {
     programs_dir: Option<PathBuf>,
 }
 
-/// One program's outcome.
-type Outcome = Result<(Report, Vec<u8>), InputError>;
+/// One program's outcome: its report and its findings as the format keeps
+/// them.
+type Outcome = Result<(Report, Kept), InputError>;
+
+/// Findings held in memory for one program before the rest go to an
+/// anonymous temporary file, bytes of JSON.
+const SPILL_MEMORY: usize = 1 << 20;
+
+/// The findings of one program, kept as its report needs them: a program
+/// of millions of blocks may have millions of findings, and `check` holds
+/// none of them whole.
+enum Kept {
+    /// Every finding as its JSON object, in report order, spilled to a
+    /// temporary file past [`SPILL_MEMORY`].
+    Json(JsonFindings),
+    /// The first [`SHOWN_PER_KIND`] findings of each kind (the report has
+    /// the counts) with the source lines they name.
+    Text(TextFindings),
+}
 
 /// `fiveaxis check`.
 pub fn check(args: &CheckArgs) -> Result<u8, InputError> {
@@ -105,7 +123,7 @@ pub fn check(args: &CheckArgs) -> Result<u8, InputError> {
         ));
     }
     let progress = Progress::new(args.programs.len());
-    let outcomes: Vec<Outcome> = args
+    let mut outcomes: Vec<Outcome> = args
         .programs
         .par_iter()
         .map(|program| {
@@ -126,20 +144,10 @@ pub fn check(args: &CheckArgs) -> Result<u8, InputError> {
     let mut out = anstream::stdout().lock();
     let mut status = EXIT_OK;
     let mut text = String::new();
-    let mut json = Vec::new();
-    for (program, outcome) in args.programs.iter().zip(&outcomes) {
+    for (program, outcome) in args.programs.iter().zip(outcomes.iter_mut()) {
         text.clear();
-        json.clear();
-        match outcome {
-            Ok((report, source)) => {
-                match args.format {
-                    CheckFormat::Json => {
-                        json.clear();
-                        json_line(&mut json, program, report);
-                        json.push(b'\n');
-                    }
-                    CheckFormat::Text => text_report(&mut text, program, report, source),
-                }
+        let written = match outcome {
+            Ok((report, kept)) => {
                 let fails = match args.fail_on {
                     FailOn::Error => report.fails(Severity::Error),
                     FailOn::Warning => report.fails(Severity::Warning),
@@ -148,21 +156,25 @@ pub fn check(args: &CheckArgs) -> Result<u8, InputError> {
                 if fails && status == EXIT_OK {
                     status = EXIT_FINDINGS;
                 }
+                match kept {
+                    // JSON has no colours: it goes to standard output as it
+                    // is, past the stripping of escape sequences a pipe gets
+                    // for text.
+                    Kept::Json(findings) => out.flush().and_then(|()| {
+                        let mut raw = io::BufWriter::new(io::stdout().lock());
+                        write_json(&mut raw, program, report, findings).and_then(|()| raw.flush())
+                    }),
+                    Kept::Text(findings) => {
+                        text_report(&mut text, program, report, findings);
+                        out.write_all(text.as_bytes())
+                    }
+                }
             }
             Err(InputError(message)) => {
                 crate::report(message);
                 status = EXIT_INPUT;
+                Ok(())
             }
-        }
-        // JSON has no colours: it goes to standard output as it is, past
-        // the stripping of escape sequences a pipe gets for text.
-        let written = if json.is_empty() {
-            out.write_all(text.as_bytes())
-        } else {
-            out.flush().and_then(|()| {
-                let mut raw = io::stdout().lock();
-                raw.write_all(&json).and_then(|()| raw.flush())
-            })
         };
         if let Err(e) = written {
             return broken_pipe_or(e, status);
@@ -190,8 +202,8 @@ fn broken_pipe_or(e: io::Error, status: u8) -> Result<u8, InputError> {
     }
 }
 
-/// Checks one program: its report and, for the text report, its bytes
-/// (for the source lines of findings; empty for standard input).
+/// Checks one program: its report and its findings as the format keeps
+/// them.
 fn check_one(
     args: &CheckArgs,
     program: &str,
@@ -201,6 +213,12 @@ fn check_one(
     progress: &Progress,
 ) -> Outcome {
     let file = open_program(program)?;
+    // The text report quotes the lines of its findings: read again from
+    // the start once the run is over (standard input is a spooled file).
+    let source = match args.format {
+        CheckFormat::Text => Some(file.try_clone().map_err(|e| InputError::io(program, &e))?),
+        CheckFormat::Json => None,
+    };
     let options = RunOptions {
         block_delete: args.block_delete,
         interpolation: None,
@@ -215,10 +233,26 @@ fn check_one(
         crate::library::ngc_folders(&args.machine, &machine.params.subroutine_path, program),
     )?;
     let mut last = 0;
-    let report = check_run(&mut runner, |blocks| {
-        progress.blocks(blocks - last);
-        last = blocks;
-    })
+    let mut json = JsonFindings::default();
+    let mut text = TextFindings::default();
+    let mut spill_error = None;
+    let (report, whole_program) = check_run_into(
+        &mut runner,
+        |blocks| {
+            progress.blocks(blocks - last);
+            last = blocks;
+        },
+        |finding| match args.format {
+            CheckFormat::Json => {
+                if spill_error.is_none()
+                    && let Err(e) = json.push(&finding)
+                {
+                    spill_error = Some(e);
+                }
+            }
+            CheckFormat::Text => text.push(finding),
+        },
+    )
     .map_err(|e| match e {
         RunError::LineTooLong { line } => InputError(format!(
             "error: {program}: line {line} is longer than {MAX_LINE_BYTES} bytes: this is not a program text"
@@ -226,12 +260,24 @@ fn check_one(
         RunError::Io(e) => InputError::io(program, &e),
         RunError::Alarm { alarm, .. } => InputError(format!("error: {program}: {alarm}")),
     })?;
-    let source = if args.format == CheckFormat::Text && program != "-" {
-        std::fs::read(program).unwrap_or_default()
-    } else {
-        Vec::new()
+    if let Some(e) = spill_error {
+        return Err(InputError::io("temporary file", &e));
+    }
+    let kept = match source {
+        None => {
+            json.whole_program = whole_program;
+            Kept::Json(json)
+        }
+        Some(file) => {
+            if let Some(f) = whole_program {
+                text.push(f);
+            }
+            text.read_lines(file)
+                .map_err(|e| InputError::io(program, &e))?;
+            Kept::Text(text)
+        }
     };
-    Ok((report, source))
+    Ok((report, kept))
 }
 
 /// The progress bar on standard error: hidden for the first second, and
@@ -285,11 +331,143 @@ fn string(w: &mut Vec<u8>, text: &str) {
     let _ = serde_json::to_writer(&mut *w, text);
 }
 
-/// The contract's object for one program, appended to `w` as one line
-/// (without its newline). Written directly, keys in alphabetical order,
-/// with no tree of values in between: a report may hold hundreds of
-/// thousands of findings.
-pub fn json_line(w: &mut Vec<u8>, program: &str, report: &Report) {
+/// One finding as the contract's object.
+fn finding_json(w: &mut Vec<u8>, f: &Finding) {
+    w.push(b'{');
+    if let Some(axis) = f.axis {
+        w.extend_from_slice(b"\"axis\":");
+        string(w, &axis.to_string());
+        w.push(b',');
+    }
+    w.extend_from_slice(b"\"kind\":");
+    string(w, f.kind.name());
+    w.extend_from_slice(format!(",\"line\":{},\"message\":", f.line).as_bytes());
+    string(w, &f.message);
+    w.extend_from_slice(b",\"severity\":");
+    string(w, f.severity().name());
+    if let Some(v) = f.value {
+        w.extend_from_slice(b",\"value\":");
+        number(w, v);
+    }
+    w.push(b'}');
+}
+
+/// Every finding of one program as JSON objects, in report order, each
+/// after its line (4 bytes) and length (4 bytes): in memory up to
+/// [`SPILL_MEMORY`], then in an anonymous temporary file. The finding
+/// about the whole program comes at the end of the run and is placed as it
+/// is copied out.
+#[derive(Default)]
+pub struct JsonFindings {
+    memory: Vec<u8>,
+    file: Option<io::BufWriter<File>>,
+    record: Vec<u8>,
+    whole_program: Option<Finding>,
+}
+
+impl JsonFindings {
+    /// Adds the next finding.
+    ///
+    /// # Errors
+    ///
+    /// The temporary file cannot be made or written.
+    pub fn push(&mut self, f: &Finding) -> io::Result<()> {
+        self.record.clear();
+        finding_json(&mut self.record, f);
+        let len = u32::try_from(self.record.len()).unwrap_or(u32::MAX);
+        let head = [f.line.to_le_bytes(), len.to_le_bytes()].concat();
+        if self.file.is_none() && self.memory.len() + self.record.len() > SPILL_MEMORY {
+            let mut file = io::BufWriter::new(tempfile::tempfile()?);
+            file.write_all(&self.memory)?;
+            self.memory = Vec::new();
+            self.file = Some(file);
+        }
+        match &mut self.file {
+            Some(file) => {
+                file.write_all(&head)?;
+                file.write_all(&self.record)
+            }
+            None => {
+                self.memory.extend_from_slice(&head);
+                self.memory.extend_from_slice(&self.record);
+                Ok(())
+            }
+        }
+    }
+
+    /// Writes the findings, comma-separated, with the whole-program one in
+    /// its place (before the first of a later line).
+    fn copy_to(&mut self, w: &mut dyn Write) -> io::Result<()> {
+        let mut whole = self.whole_program.as_ref().map(|f| {
+            let mut json = Vec::new();
+            finding_json(&mut json, f);
+            (f.line, json)
+        });
+        let mut reader: Box<dyn Read + '_> = match self.file.take() {
+            Some(file) => {
+                let mut file = file.into_inner().map_err(io::IntoInnerError::into_error)?;
+                file.rewind()?;
+                Box::new(BufReader::new(file))
+            }
+            None => Box::new(&self.memory[..]),
+        };
+        let mut first = true;
+        let mut head = [0u8; 8];
+        let mut record = Vec::new();
+        loop {
+            match reader.read_exact(&mut head) {
+                Ok(()) => {}
+                Err(e) if e.kind() == io::ErrorKind::UnexpectedEof => break,
+                Err(e) => return Err(e),
+            }
+            let line = u32::from_le_bytes([head[0], head[1], head[2], head[3]]);
+            let len = u32::from_le_bytes([head[4], head[5], head[6], head[7]]) as usize;
+            record.resize(len, 0);
+            reader.read_exact(&mut record)?;
+            if let Some((_, json)) = whole.take_if(|(at, _)| line > *at) {
+                separate(w, &mut first)?;
+                w.write_all(&json)?;
+            }
+            separate(w, &mut first)?;
+            w.write_all(&record)?;
+        }
+        if let Some((_, json)) = whole {
+            separate(w, &mut first)?;
+            w.write_all(&json)?;
+        }
+        Ok(())
+    }
+}
+
+/// A comma before every element of a list but its first.
+fn separate(w: &mut dyn Write, first: &mut bool) -> io::Result<()> {
+    if !std::mem::take(first) {
+        w.write_all(b",")?;
+    }
+    Ok(())
+}
+
+/// The contract's object for one program as one line: written directly,
+/// keys in alphabetical order, with no tree of values in between; the
+/// findings are copied from where they were kept.
+fn write_json(
+    out: &mut dyn Write,
+    program: &str,
+    report: &Report,
+    findings: &mut JsonFindings,
+) -> io::Result<()> {
+    let mut w = Vec::new();
+    json_head(&mut w, report);
+    out.write_all(&w)?;
+    findings.copy_to(out)?;
+    w.clear();
+    json_tail(&mut w, program, report);
+    w.push(b'\n');
+    out.write_all(&w)
+}
+
+/// The object up to the findings' list, opened.
+fn json_head(w: &mut Vec<u8>, report: &Report) {
     w.extend_from_slice(b"{\"alarm\":");
     match &report.alarm {
         Some(a) => {
@@ -327,28 +505,10 @@ pub fn json_line(w: &mut Vec<u8>, program: &str, report: &Report) {
         )
         .as_bytes(),
     );
-    for (k, f) in report.findings.iter().enumerate() {
-        if k > 0 {
-            w.push(b',');
-        }
-        w.push(b'{');
-        if let Some(axis) = f.axis {
-            w.extend_from_slice(b"\"axis\":");
-            string(w, &axis.to_string());
-            w.push(b',');
-        }
-        w.extend_from_slice(b"\"kind\":");
-        string(w, f.kind.name());
-        w.extend_from_slice(format!(",\"line\":{},\"message\":", f.line).as_bytes());
-        string(w, &f.message);
-        w.extend_from_slice(b",\"severity\":");
-        string(w, f.severity().name());
-        if let Some(v) = f.value {
-            w.extend_from_slice(b",\"value\":");
-            number(w, v);
-        }
-        w.push(b'}');
-    }
+}
+
+/// The object from the end of the findings' list.
+fn json_tail(w: &mut Vec<u8>, program: &str, report: &Report) {
     w.extend_from_slice(b"],\"machine\":");
     string(w, &report.machine);
     w.extend_from_slice(b",\"program\":");
@@ -358,6 +518,60 @@ pub fn json_line(w: &mut Vec<u8>, program: &str, report: &Report) {
     w.extend_from_slice(b",\"programmed\":");
     number(w, report.time.programmed);
     w.extend_from_slice(b"}}");
+}
+
+/// What the text report shows of the findings: the first
+/// [`SHOWN_PER_KIND`] of each kind, and the source lines they name.
+#[derive(Default)]
+pub struct TextFindings {
+    shown: Vec<Finding>,
+    /// The text of the lines the shown findings name, by line number.
+    lines: std::collections::BTreeMap<u32, String>,
+}
+
+impl TextFindings {
+    /// Adds the next finding: kept if fewer than [`SHOWN_PER_KIND`] of its
+    /// kind are.
+    pub fn push(&mut self, f: Finding) {
+        let of_kind = self.shown.iter().filter(|s| s.kind == f.kind).count();
+        if of_kind < SHOWN_PER_KIND {
+            self.shown.push(f);
+        }
+    }
+
+    /// Reads the lines the shown findings name from the program, from its
+    /// start, as far as the last of them.
+    fn read_lines(&mut self, mut file: File) -> io::Result<()> {
+        for f in &self.shown {
+            self.lines.entry(f.line).or_default();
+        }
+        let Some(&last) = self.lines.keys().next_back() else {
+            return Ok(());
+        };
+        file.rewind()?;
+        // The run read every line up to the last finding's, each within
+        // the line limit; a longer one is cut, not held.
+        let mut reader = BufReader::new(file).take(u64::MAX);
+        let mut buf = Vec::new();
+        for number in 1..=last {
+            buf.clear();
+            let limit = (MAX_LINE_BYTES + 2) as u64;
+            reader.set_limit(limit);
+            if reader.read_until(b'\n', &mut buf)? == 0 {
+                break;
+            }
+            reader.set_limit(u64::MAX);
+            if !buf.ends_with(b"\n") && buf.len() as u64 == limit {
+                break;
+            }
+            if let Some(text) = self.lines.get_mut(&number) {
+                let line = buf.strip_suffix(b"\n").unwrap_or(&buf);
+                let line = line.strip_suffix(b"\r").unwrap_or(line);
+                *text = String::from_utf8_lossy(line).chars().take(100).collect();
+            }
+        }
+        Ok(())
+    }
 }
 
 // ----- text ------------------------------------------------------------------
@@ -404,18 +618,10 @@ fn plural(n: usize, word: &str) -> String {
 
 /// A report for people: verdict, time, axis ranges as bars against their
 /// limits, findings grouped by kind with their lines and source text.
-fn text_report(t: &mut String, program: &str, report: &Report, source: &[u8]) {
+fn text_report(t: &mut String, program: &str, report: &Report, findings: &TextFindings) {
     let (word, style) = verdict(report);
-    let errors = report
-        .findings
-        .iter()
-        .filter(|f| f.severity() == Severity::Error)
-        .count();
-    let warnings = report
-        .findings
-        .iter()
-        .filter(|f| f.severity() == Severity::Warning)
-        .count();
+    let errors = report.count_severity(Severity::Error);
+    let warnings = report.count_severity(Severity::Warning);
     let _ = writeln!(
         t,
         "{style}{word}{style:#}  {BOLD}{}{BOLD:#} on {}: {}, {}",
@@ -447,13 +653,12 @@ fn text_report(t: &mut String, program: &str, report: &Report, source: &[u8]) {
     for axis in &report.axes {
         axis_line(t, axis);
     }
-    if report.findings.is_empty() {
+    if report.total() == 0 {
         let _ = writeln!(t, "  {GREEN}no findings{GREEN:#}");
     }
-    let lines: Vec<&[u8]> = source.split(|&b| b == b'\n').collect();
     for kind in Kind::ALL {
-        let of_kind: Vec<_> = report.findings.iter().filter(|f| f.kind == kind).collect();
-        if of_kind.is_empty() {
+        let count = report.count(kind);
+        if count == 0 {
             continue;
         }
         let style = match kind.severity() {
@@ -466,18 +671,17 @@ fn text_report(t: &mut String, program: &str, report: &Report, source: &[u8]) {
             "  {style}{}{style:#} ({}, {})",
             kind.name(),
             kind.severity().name(),
-            of_kind.len()
+            count
         );
-        for f in of_kind.iter().take(SHOWN_PER_KIND) {
+        let shown = findings.shown.iter().filter(|f| f.kind == kind);
+        for f in shown.clone() {
             let _ = writeln!(
                 t,
                 "    line {:<6} {}",
                 f.line,
                 diagnostic::escape(&f.message)
             );
-            if let Some(text) = lines.get(f.line.saturating_sub(1) as usize) {
-                let text = String::from_utf8_lossy(text.strip_suffix(b"\r").unwrap_or(text));
-                let text: String = text.chars().take(100).collect();
+            if let Some(text) = findings.lines.get(&f.line) {
                 let _ = writeln!(
                     t,
                     "    {DIM}{:>6} | {}{DIM:#}",
@@ -486,8 +690,9 @@ fn text_report(t: &mut String, program: &str, report: &Report, source: &[u8]) {
                 );
             }
         }
-        if of_kind.len() > SHOWN_PER_KIND {
-            let _ = writeln!(t, "    … and {} more", of_kind.len() - SHOWN_PER_KIND);
+        let more = count - shown.count();
+        if more > 0 {
+            let _ = writeln!(t, "    … and {more} more (the JSON report lists every one)");
         }
     }
     t.push('\n');
@@ -553,8 +758,7 @@ fn summary(t: &mut String, programs: &[String], outcomes: &[Outcome]) {
         match outcome {
             Ok((report, _)) => {
                 let (word, style) = verdict(report);
-                let count =
-                    |s: Severity| report.findings.iter().filter(|f| f.severity() == s).count();
+                let count = |s: Severity| report.count_severity(s);
                 let _ = writeln!(
                     t,
                     "{name:<width$}  {style}{word:<7}{style:#}  {:>6}  {:>8}  {:<12}  {:>6}",

@@ -246,3 +246,77 @@ fn a_g93_feed_limit_names_the_inverse_time_f_and_the_tip_feed() {
         "{message}"
     );
 }
+
+/// A program with more findings than `check` holds in memory (their JSON
+/// goes to a temporary file past 1 MiB): every one is in the report, in
+/// program order, the whole-program finding in its place, and the text
+/// report lists the first ones of each kind with their source lines and
+/// counts the rest.
+#[test]
+fn findings_beyond_what_check_holds_are_all_reported_in_order() {
+    // 12,000 flips of A (100° in one cutting block) on the default
+    // trunnion: a rotary_flip warning each (with a chord error), about
+    // 150 bytes of JSON each.
+    let mut program = String::from("G21 G90 G94 F20000.\nG0 X0. Y0. Z100.\n");
+    for k in 0..12_000 {
+        program.push_str(if k % 2 == 0 {
+            "G1 A-100.\n"
+        } else {
+            "G1 A0.\n"
+        });
+        if k == 6_000 {
+            // An axis word without a decimal point: the whole-program
+            // finding goes before the first finding of a later line.
+            program.push_str("G0 X10\n");
+        }
+    }
+    program.push_str("M30\n");
+    let dir = scratch(&[("flips.nc", &program)]);
+    let out = run(
+        dir.path(),
+        &[
+            "check",
+            "flips.nc",
+            "--format",
+            "json",
+            "--fail-on",
+            "never",
+        ],
+    );
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(out.stdout.len() > 1 << 21, "{} bytes", out.stdout.len());
+    let objects = json_lines(&out);
+    let findings = objects[0]["findings"].as_array().expect("list");
+    let flips = findings
+        .iter()
+        .filter(|f| f["kind"] == "rotary_flip")
+        .count();
+    assert_eq!(flips, 12_000);
+    let lines: Vec<u64> = findings
+        .iter()
+        .map(|f| f["line"].as_u64().unwrap_or(0))
+        .collect();
+    assert!(lines.windows(2).all(|w| w[0] <= w[1]), "program order");
+    let at = findings
+        .iter()
+        .position(|f| f["kind"] == "no_decimal_point")
+        .expect("the whole-program finding");
+    assert_eq!(findings[at]["line"], 6_004);
+    assert_eq!(findings[at + 1]["line"], 6_005);
+    assert_eq!(findings[at - 1]["line"], 6_003);
+
+    let out = run(dir.path(), &["check", "flips.nc", "--fail-on", "never"]);
+    let text = String::from_utf8_lossy(&out.stdout).into_owned();
+    assert!(text.contains("rotary_flip (warning, 12000)"), "{text}");
+    assert!(
+        text.contains("… and 11992 more (the JSON report lists every one)"),
+        "{text}"
+    );
+    assert!(text.contains("     3 | G1 A-100."), "{text}");
+    assert!(text.contains("  6004 | G0 X10"), "{text}");
+}
