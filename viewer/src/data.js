@@ -180,3 +180,35 @@ export function findingAt(findings, k) {
   if (!Number.isNaN(findings.values[k])) f.value = findings.values[k];
   return f;
 }
+
+/** A count with thousands separators, as the page writes them. */
+const count = (n) => Number(n).toLocaleString('en-US');
+
+/**
+ * What the page's bounds left out or made coarser (`meta.thinned`, written
+ * by `fiveaxis view`), as sentences for people; none for a page that holds
+ * everything (or one written before the bounds).
+ */
+export function thinnedNotes(meta) {
+  const t = meta.thinned;
+  if (!t) return [];
+  const notes = [];
+  if (t.path) notes.push(`path drawn to ${Number(meta.tolerance.toPrecision(3))} mm, not ${t.tolerance} mm: the page holds at most ${count(t.limits.vertices)} vertices`);
+  if (t.blocks) notes.push(`neighbouring blocks merged: the page holds at most ${count(t.limits.blocks)} blocks`);
+  return notes;
+}
+
+/** The findings list's title: how many, and how many the page holds. */
+export function findingsTitle(meta, shown) {
+  const total = meta.thinned ? meta.thinned.findings_total : shown;
+  if (!total) return 'No findings';
+  if (total > shown) return `Findings (the first ${count(shown)} of ${count(total)}; fiveaxis check lists every one)`;
+  return `Findings (${count(total)})`;
+}
+
+/** The line shown after the program text when the page holds only its start. */
+export function textLeftOutLine(meta) {
+  const n = meta.thinned ? meta.thinned.text_lines_left_out : 0;
+  if (!n) return null;
+  return `… ${count(n)} more line${n === 1 ? '' : 's'}: the page holds the first ${Math.round(meta.thinned.limits.text_bytes / (1 << 20))} MiB of the program`;
+}

@@ -3,7 +3,7 @@
 // controls, links them by time and by line, and exposes `window.__viewer`
 // (statistics and probes for tests and for people at the console).
 
-import { findingAt, readPage, readProgramLines } from './data.js';
+import { findingAt, findingsTitle, readPage, readProgramLines, textLeftOutLine } from './data.js';
 import { forward, toPart, toPartVector } from './kinematics.js';
 import { AxisPlots } from './plots.js';
 import { MachineScene } from './scene.js';
@@ -59,7 +59,7 @@ async function start() {
     if (data.times.length) scene.setMarkers(at, severities);
   }
   mark('findings');
-  ui.findingsTitle.textContent = findings.count ? `Findings (${findings.count})` : 'No findings';
+  ui.findingsTitle.textContent = findingsTitle(data.meta, findings.count);
   new FindingsList(ui.findings, findings, (k) => selectLine(findings.lines[k]));
 
   const text = new ProgramText(ui.text, ui.textInner, [], (line) => selectLine(line));
@@ -247,7 +247,8 @@ async function start() {
   scene.rest();
   data.programLines = await readProgramLines(document);
   mark('programLines');
-  text.setLines(data.programLines);
+  const leftOut = textLeftOutLine(data.meta);
+  text.setLines(leftOut ? [...data.programLines, leftOut] : data.programLines);
   for (let k = 0; k < findings.count; k++) text.mark(findings.lines[k]);
   text.setCurrent(state.block >= 0 ? data.lines[state.block] : 0);
   window.__viewer.stats.programLines = data.programLines.length;

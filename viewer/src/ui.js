@@ -2,7 +2,7 @@
 // list: only the lines in sight are in the page, so two million lines
 // scroll as fast as twenty), the findings list and the playback controls.
 
-import { findingAt } from './data.js';
+import { findingAt, thinnedNotes } from './data.js';
 
 export const STYLE = `
 *{box-sizing:border-box}
@@ -12,6 +12,7 @@ html,body{margin:0;height:100%;background:#0d1117;color:#c9d1d9;font:13px/1.4 sy
 #fa-head{padding:6px 8px;border-bottom:1px solid #30363d}
 #fa-head b{color:#fff}
 #fa-head small{color:#8b949e;display:block}
+#fa-head #fa-notes{color:#d29922}
 #fa-text{flex:1;overflow:auto;position:relative;font:12px/18px ui-monospace,monospace;min-height:0}
 #fa-text .ln{position:absolute;left:0;right:0;height:18px;white-space:pre;padding-left:4px;cursor:pointer}
 #fa-text .ln i{display:inline-block;width:6ch;color:#6e7681;font-style:normal;text-align:right;margin-right:1ch}
@@ -52,7 +53,7 @@ export function layout(doc, meta) {
   root.id = 'fa';
   root.innerHTML = `
 <div id="fa-left">
-  <div id="fa-head"><b></b><small></small></div>
+  <div id="fa-head"><b></b><small></small><small id="fa-notes"></small></div>
   <div id="fa-text"><div id="fa-text-inner"></div></div>
   <div id="fa-findings"><h3></h3><div id="fa-findings-list"></div></div>
 </div>
@@ -91,6 +92,7 @@ export function layout(doc, meta) {
   const $ = (id) => doc.getElementById(id);
   root.querySelector('#fa-head b').textContent = meta.program;
   root.querySelector('#fa-head small').textContent = meta.machine.name;
+  $('fa-notes').textContent = thinnedNotes(meta).join('. ');
   // Which time the timeline is: `fiveaxis check`'s, as the page says
   // (pages before it had the programmed time).
   const timeLabel = meta.time ? meta.time.label : 'programmed machining time';

@@ -34,6 +34,15 @@ export function runRows(c, extra = []) {
   return { rows: objects.filter((o) => !o.alarm), alarm: (objects.find((o) => o.alarm) || {}).alarm || null, status: r.status };
 }
 
+/**
+ * The rows of the page's blocks: the last row of each run of rows of one
+ * line and motion (the page holds such a run, the chords of a spline or
+ * the feeds of a cycle, as one block).
+ */
+export function blockRows(rows) {
+  return rows.filter((r, i) => i + 1 === rows.length || rows[i + 1].line !== r.line || rows[i + 1].motion !== r.motion);
+}
+
 /** The report of `fiveaxis check` on a case (the contract's JSON). */
 export function checkReport(c) {
   const r = spawnSync(FIVEAXIS, ['check', ...args(c), '--format', 'json', '--fail-on', 'never'], { encoding: 'utf8', maxBuffer: 1 << 30 });

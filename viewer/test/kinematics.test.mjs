@@ -7,7 +7,7 @@
 import assert from 'node:assert/strict';
 import { test } from 'node:test';
 import { forward, prepareMachine, toPart, toPartVector } from '../src/kinematics.js';
-import { CASES, makePage, runRows } from './cases.mjs';
+import { CASES, blockRows, makePage, runRows } from './cases.mjs';
 
 const close = (a, b, tol, what) => {
   for (let k = 0; k < 3; k++) assert.ok(Math.abs(a[k] - b[k]) <= tol, `${what}: ${a} vs ${b}`);
@@ -48,8 +48,10 @@ for (const c of CASES) {
   test(`forward kinematics equals the kernel's rows: ${c.program} on ${c.machine}`, () => {
     const { meta } = makePage(c);
     const machine = prepareMachine(meta.machine);
-    const { rows } = runRows(c);
-    assert.equal(rows.length, meta.blocks, 'one row per block without --step');
+    const all = runRows(c).rows;
+    assert.equal(all.length, meta.segments, 'one row per segment without --step');
+    const rows = blockRows(all);
+    assert.equal(rows.length, meta.blocks, 'a block per run of segments of one line and motion');
     const runs = meta.frame_runs;
     let r = 0;
     rows.forEach((row, b) => {

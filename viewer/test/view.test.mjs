@@ -10,7 +10,7 @@ import assert from 'node:assert/strict';
 import { after, before, test } from 'node:test';
 import { join } from 'node:path';
 import { launch, open } from './browser.mjs';
-import { CASES, OUT, checkReport, makePage, runRows } from './cases.mjs';
+import { CASES, OUT, blockRows, checkReport, makePage, runRows } from './cases.mjs';
 
 let browser;
 before(async () => {
@@ -39,6 +39,9 @@ for (const c of CASES) {
   test(`view: ${name}`, async () => {
     const { file, status, meta } = makePage(c);
     const plain = runRows(c);
+    const segments = plain.rows.length;
+    plain.rows = blockRows(plain.rows);
+    assert.equal(meta.segments, segments, 'segments = rows of run without --step');
     const stepped = runRows(c, ['--step', '1', '--step-angle', '1']);
     assert.equal(status, c.alarm ? 1 : 0, 'exit status as run');
     assert.equal(plain.status, status);
@@ -50,7 +53,7 @@ for (const c of CASES) {
       const stats = await page.evaluate(() => window.__viewer.stats);
 
       // Statistics against `fiveaxis run`.
-      assert.equal(stats.segments, plain.rows.length, 'segments = rows of run without --step');
+      assert.equal(stats.segments, plain.rows.length, 'blocks = runs of rows of one line and motion');
       assert.equal(stats.rows, stepped.rows.length, 'rows sampled = rows of run --step 1');
       // Findings: those of `fiveaxis check` on the same program, in order.
       const report = checkReport(c);
@@ -77,7 +80,7 @@ for (const c of CASES) {
       // Duration: the time of `fiveaxis check` (its estimated time, block
       // by block), and the page says which time it shows.
       const ends = await page.evaluate(() => window.__viewer.blockEnds());
-      assert.equal(ends.length, plain.rows.length, 'a block end per segment');
+      assert.equal(ends.length, plain.rows.length, 'an end per block');
       for (let b = 1; b < ends.length; b++) assert.ok(ends[b] >= ends[b - 1], `block ${b + 1} ends before the one before (line ${plain.rows[b].line})`);
       near(stats.duration, ends.at(-1) ?? 0, 1e-9, 'duration = end of the last block');
       assert.equal(stats.duration, report.time.estimated, "duration = check's estimated time");

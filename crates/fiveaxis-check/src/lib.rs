@@ -211,8 +211,13 @@ pub struct SegmentTimes {
 /// Segment end times being gathered.
 #[derive(Debug, Default)]
 struct Timeline {
+    /// Each segment's programmed end (not kept when streamed).
     programmed: Vec<f64>,
+    /// The estimated ends the plan has committed past (not yet taken,
+    /// when streamed).
     estimated: Vec<f64>,
+    /// Handed over as they come ([`Checker::stream_segment_times`]).
+    streamed: bool,
 }
 
 /// How a run ended, as the caller saw it.
@@ -360,6 +365,51 @@ impl<'m> Checker<'m> {
         self.timeline = Some(Timeline::default());
     }
 
+    /// Marks each segment's end in the plan, for a caller that keeps its
+    /// own timeline of any length: [`Checker::take_segment_times`] hands
+    /// over the estimated ends as the plan commits past them and
+    /// [`Checker::finish_streamed`] the rest. Nothing is held but the
+    /// ends not yet taken (the planner's look-ahead).
+    pub fn stream_segment_times(&mut self) {
+        self.timeline = Some(Timeline {
+            streamed: true,
+            ..Timeline::default()
+        });
+    }
+
+    /// Hands over, in segment order, the estimated end times (seconds from
+    /// the start) known since the last call (after
+    /// [`Checker::stream_segment_times`]).
+    pub fn take_segment_times(&mut self, mut take: impl FnMut(f64)) {
+        if let Some(timeline) = &mut self.timeline {
+            for t in timeline.estimated.drain(..) {
+                take(t);
+            }
+        }
+    }
+
+    /// The report, once the run is over, handing over the estimated end
+    /// times not yet taken (after [`Checker::stream_segment_times`]), and
+    /// which time the ends follow: [`TimeKind::Estimated`] when the plan's
+    /// total is the report's estimate (the last end is then that total, to
+    /// rounding), else [`TimeKind::Programmed`] and the caller times the
+    /// segments by their programmed ends.
+    pub fn finish_streamed(mut self, ending: Ending, mut take: impl FnMut(f64)) -> (Report, TimeKind) {
+        let timeline = self.timeline.get_or_insert_with(|| Timeline {
+            streamed: true,
+            ..Timeline::default()
+        });
+        timeline.streamed = true;
+        let (report, times) = self.finish_with_times(ending);
+        let kind = times.map_or(TimeKind::Programmed, |t| {
+            for end in t.ends {
+                take(end);
+            }
+            t.kind
+        });
+        (report, kind)
+    }
+
     fn push(
         &mut self,
         kind: Kind,
@@ -387,7 +437,9 @@ impl<'m> Checker<'m> {
     pub fn segment(&mut self, seg: &Segment) {
         self.check_segment(seg);
         if let Some(timeline) = &mut self.timeline {
-            timeline.programmed.push(self.minutes * 60.0);
+            if !timeline.streamed {
+                timeline.programmed.push(self.minutes * 60.0);
+            }
             self.plan.mark(&mut timeline.estimated);
         }
     }
@@ -677,7 +729,7 @@ impl<'m> Checker<'m> {
             timeline.as_mut().map_or(&mut marks, |t| &mut t.estimated),
         );
         let times = timeline.map(|t| {
-            if planned && t.estimated.len() == t.programmed.len() {
+            if planned && (t.streamed || t.estimated.len() == t.programmed.len()) {
                 let mut ends = t.estimated;
                 // The last mark is the plan's end, to the rounding of the
                 // summed lengths: made exactly the total.
@@ -694,7 +746,8 @@ impl<'m> Checker<'m> {
             } else {
                 SegmentTimes {
                     kind: TimeKind::Programmed,
-                    ends: t.programmed,
+                    // Streamed: the caller has the programmed ends.
+                    ends: if t.streamed { Vec::new() } else { t.programmed },
                 }
             }
         });

@@ -7,10 +7,11 @@
 //! --step` does); [`pack`] packs it into typed arrays; [`html`] writes the
 //! page.
 
+pub mod blocks;
 pub mod html;
 pub mod pack;
 
-use std::io::{BufWriter, Cursor, Read, Write};
+use std::io::{BufWriter, Read, Write};
 use std::path::{Path, PathBuf};
 
 use fiveaxis_control::{
@@ -24,6 +25,7 @@ use crate::{
     EXIT_ALARM, EXIT_OK, InputError, MAX_LINE_BYTES, diagnostic, load_machine, load_variables,
     open_program, report, write_error, write_whole,
 };
+use blocks::BlockTable;
 use pack::{PathPacker, Point};
 
 /// Options of `fiveaxis view`.
@@ -86,6 +88,15 @@ pub struct ViewArgs {
 /// block, 150 bytes of message each.
 pub const FINDING_MESSAGES: usize = 10_000;
 
+/// Findings the page holds (line, kind, axis, value: 14 bytes each);
+/// beyond them it gives their count by kind (the check report has every
+/// one).
+pub const FINDING_ROWS: usize = 100_000;
+
+/// Program text the page holds, bytes (whole lines); beyond it the page
+/// says how many lines it leaves out.
+pub const TEXT_BYTES: usize = 16 << 20;
+
 /// The findings of the program as the `check` contract has them
 /// (`check-contract.md`: `severity`, `kind`, `line`, `message`, and `axis`,
 /// `value` where they apply): the check report of the same run
@@ -109,8 +120,12 @@ pub struct FindingColumns {
 }
 
 impl FindingColumns {
-    /// Adds the next finding of the report.
+    /// Adds the next finding of the report, if fewer than [`FINDING_ROWS`]
+    /// are held.
     pub fn push(&mut self, f: fiveaxis_check::Finding) {
+        if self.lines.len() >= FINDING_ROWS {
+            return;
+        }
         self.lines.push(f.line);
         let kind = fiveaxis_check::Kind::ALL
             .iter()
@@ -134,6 +149,15 @@ fn finding_kinds() -> Value {
         .iter()
         .map(|k| json!({ "kind": k.name(), "severity": k.severity().name() }))
         .collect()
+}
+
+/// How many findings of each kind the run had, by kind name.
+fn finding_counts(counts: &[usize]) -> Value {
+    fiveaxis_check::Kind::ALL
+        .iter()
+        .map(|k| (k.name().to_string(), json!(counts[k.index()])))
+        .collect::<serde_json::Map<_, _>>()
+        .into()
 }
 
 /// Motion codes of the `motion` array (`viewer/src/data.js`).
@@ -190,12 +214,8 @@ const DEFAULT_TOOL_RADIUS: f64 = 5.0;
 /// Everything gathered from the run.
 struct Gathered {
     path: PathPacker,
-    lines: Vec<u32>,
-    ends: Vec<f64>,
-    motions: Vec<u8>,
-    frames: Vec<Frame>,
-    /// `[first block, frame index]` for each change of frame.
-    frame_runs: Vec<[usize; 2]>,
+    /// The blocks: lines, motions, frames, end times.
+    blocks: BlockTable<Frame>,
     rows: u64,
     alarm: Option<Alarm>,
     bbox: Option<(Vec3, Vec3)>,
@@ -203,6 +223,9 @@ struct Gathered {
     /// taken from the checker as they settle: a program with millions of
     /// findings is held as these columns, not as millions of messages.
     findings: FindingColumns,
+    /// How many findings of each kind the run had, by
+    /// [`fiveaxis_check::Kind::index`] (the page may hold fewer).
+    finding_counts: [usize; fiveaxis_check::Kind::ALL.len()],
     /// The check report's machining time.
     time: fiveaxis_check::Time,
     /// Which of them the timeline (`ends`, the vertex times) follows.
@@ -218,10 +241,12 @@ pub fn view(args: &ViewArgs) -> Result<u8, InputError> {
     } else {
         args.program.as_str()
     };
-    let mut bytes = Vec::new();
-    open_program(&args.program)?
-        .read_to_end(&mut bytes)
-        .map_err(|e| InputError::io(program_name, &e))?;
+    // The program is read as it runs (standard input spooled to a file);
+    // the page's copy of its text is read again afterwards, bounded.
+    let file = open_program(&args.program)?;
+    let io_error = |e: &std::io::Error| InputError::io(program_name, e);
+    let mut source = file.try_clone().map_err(|e| io_error(&e))?;
+    let lines = count_lines(&mut source).map_err(|e| io_error(&e))?;
     let options = RunOptions {
         block_delete: args.block_delete,
         interpolation: (!args.ends_only).then_some(Interpolation {
@@ -237,7 +262,7 @@ pub fn view(args: &ViewArgs) -> Result<u8, InputError> {
     let mut runner = Runner::new(
         &machine,
         offsets,
-        ReaderSource::new(Cursor::new(&bytes[..])),
+        ReaderSource::new(file),
         options,
     );
     let variables = match &args.variables {
@@ -273,7 +298,6 @@ pub fn view(args: &ViewArgs) -> Result<u8, InputError> {
     }
     let name = output.display().to_string();
 
-    let lines = bytes.iter().filter(|&&b| b == b'\n').count() as u64 + 1;
     let progress = DelayedBar::new(
         lines,
         "{spinner} view [{bar:30}] line {pos}/{len}, {msg} {elapsed}",
@@ -290,16 +314,17 @@ pub fn view(args: &ViewArgs) -> Result<u8, InputError> {
     } else {
         EXIT_OK
     };
+    let text = read_text(&mut source, TEXT_BYTES).map_err(|e| io_error(&e))?;
     let findings = &gathered.findings;
-    let meta = meta(&machine, &gathered, findings, program_name, args.tolerance);
-    let text = String::from_utf8_lossy(&bytes);
+    let meta = meta(&machine, &gathered, findings, program_name, args.tolerance, &text);
     use pack::Column;
+    let blocks = &gathered.blocks;
     let arrays = [
         ("joints", Column::F32(gathered.path.joints())),
         ("times", Column::F64(gathered.path.times())),
-        ("lines", Column::U32(&gathered.lines)),
-        ("ends", Column::F64(&gathered.ends)),
-        ("motions", Column::U8(&gathered.motions)),
+        ("lines", Column::U32(&blocks.lines)),
+        ("ends", Column::F64(&blocks.ends)),
+        ("motions", Column::U8(&blocks.motions)),
         ("finding_lines", Column::U32(&findings.lines)),
         ("finding_kinds", Column::U8(&findings.kinds)),
         ("finding_axes", Column::U8(&findings.axes)),
@@ -312,7 +337,7 @@ pub fn view(args: &ViewArgs) -> Result<u8, InputError> {
     }
     let written = write_whole(&output, |file| {
         let mut out = BufWriter::new(file);
-        html::write_page(&mut out, program_name, &meta, &arrays, &text)
+        html::write_page(&mut out, program_name, &meta, &arrays, &text.text)
             .and_then(|()| out.flush())
             .map_err(|e| write_error(&name, &e))?;
         Ok(status)
@@ -346,6 +371,80 @@ pub fn view(args: &ViewArgs) -> Result<u8, InputError> {
         diagnostic::escape(&name)
     ));
     Ok(status)
+}
+
+/// Counts the program's lines (for the progress bar), reading it once from
+/// the start, and goes back to the start.
+fn count_lines(file: &mut std::fs::File) -> std::io::Result<u64> {
+    use std::io::{BufRead, Seek};
+    file.rewind()?;
+    let mut reader = std::io::BufReader::with_capacity(1 << 16, &mut *file);
+    let mut lines = 1;
+    loop {
+        let chunk = reader.fill_buf()?;
+        if chunk.is_empty() {
+            break;
+        }
+        lines += chunk.iter().filter(|&&b| b == b'\n').count() as u64;
+        let n = chunk.len();
+        reader.consume(n);
+    }
+    drop(reader);
+    file.rewind()?;
+    Ok(lines)
+}
+
+/// The program text the page holds: whole lines from the start, at most
+/// `limit` bytes, and how many lines were left out.
+struct PageText {
+    text: String,
+    left_out: u64,
+}
+
+/// Reads the program's text for the page from its start: whole lines up
+/// to `limit` bytes (a single longer first line is cut), then counts the
+/// lines left out.
+fn read_text(file: &mut std::fs::File, limit: usize) -> std::io::Result<PageText> {
+    use std::io::{BufRead, Seek};
+    file.rewind()?;
+    let mut bytes = Vec::new();
+    (&mut *file)
+        .take(limit as u64 + 1)
+        .read_to_end(&mut bytes)?;
+    if bytes.len() <= limit {
+        return Ok(PageText {
+            text: String::from_utf8_lossy(&bytes).into_owned(),
+            left_out: 0,
+        });
+    }
+    // Past the limit: back to the end of the last whole line held, and
+    // the lines after it counted as the viewer counts them (a last line
+    // without its newline is one).
+    let keep = bytes[..limit]
+        .iter()
+        .rposition(|&b| b == b'\n')
+        .map_or(limit, |i| i + 1);
+    let mut left_out = bytes[keep..].iter().filter(|&&b| b == b'\n').count() as u64;
+    let mut last = bytes.last().copied();
+    bytes.truncate(keep);
+    let mut reader = std::io::BufReader::with_capacity(1 << 16, &mut *file);
+    loop {
+        let chunk = reader.fill_buf()?;
+        if chunk.is_empty() {
+            break;
+        }
+        left_out += chunk.iter().filter(|&&b| b == b'\n').count() as u64;
+        last = chunk.last().copied();
+        let n = chunk.len();
+        reader.consume(n);
+    }
+    if last != Some(b'\n') {
+        left_out += 1;
+    }
+    Ok(PageText {
+        text: String::from_utf8_lossy(&bytes).into_owned(),
+        left_out,
+    })
 }
 
 /// The page's default path: the program file's name with `.html`, in the
@@ -401,15 +500,12 @@ fn gather<S: fiveaxis_control::Source>(
     let axes = machine.axis_count();
     let mut g = Gathered {
         path: PathPacker::new(axes, tolerance),
-        lines: Vec::new(),
-        ends: Vec::new(),
-        motions: Vec::new(),
-        frames: Vec::new(),
-        frame_runs: Vec::new(),
+        blocks: BlockTable::new(),
         rows: 0,
         alarm: None,
         bbox: None,
         findings: FindingColumns::default(),
+        finding_counts: [0; fiveaxis_check::Kind::ALL.len()],
         time: fiveaxis_check::Time {
             programmed: 0.0,
             estimated: 0.0,
@@ -421,11 +517,11 @@ fn gather<S: fiveaxis_control::Source>(
     // time. Those come once the planner has looked ahead past them, so the
     // path is timed by the programmed time first and moved to the
     // estimated time at the end, block by block (`pack::retime`).
-    checker.keep_segment_times();
+    checker.stream_segment_times();
     let mut segments = Vec::new();
     let mut rows: Vec<Row> = Vec::new();
     let mut time = 0.0;
-    let mut last: Option<(Motion, usize, fiveaxis_machine::Joints)> = None;
+    let mut last: Option<(Motion, fiveaxis_machine::Joints)> = None;
     let mut ticks: u64 = 0;
     loop {
         segments.clear();
@@ -454,20 +550,19 @@ fn gather<S: fiveaxis_control::Source>(
                 work: seg.work,
                 setup: seg.setup,
             };
-            if g.frames.last() != Some(&frame) {
-                g.frames.push(frame);
-                g.frame_runs.push([g.lines.len(), g.frames.len() - 1]);
-            }
-            let frame_index = g.frames.len() - 1;
-            checker.segment(seg);
-            checker.drain_settled(|f| g.findings.push(f));
-            sample(seg, machine, &mut rows);
-            let start = seg.row(machine, 0.0);
             let seconds = if seg.moves() {
                 fiveaxis_check::block_minutes(machine, seg) * 60.0
             } else {
                 0.0
             };
+            let new_frame = g
+                .blocks
+                .push(seg.line, motion_code(seg.motion), frame, time + seconds);
+            checker.segment(seg);
+            checker.drain_settled(|f| g.findings.push(f));
+            checker.take_segment_times(|t| g.blocks.estimated_end(t));
+            sample(seg, machine, &mut rows);
+            let start = seg.row(machine, 0.0);
             // A new motion or frame, or a jump of the axes between blocks
             // (none in practice): the vertex before stays.
             let corner = match last {
@@ -483,7 +578,7 @@ fn gather<S: fiveaxis_control::Source>(
                     );
                     false
                 }
-                Some((motion, frame, end)) => {
+                Some((motion, end)) => {
                     let jumped = end != seg.start;
                     if jumped {
                         g.path.push(
@@ -495,7 +590,7 @@ fn gather<S: fiveaxis_control::Source>(
                             true,
                         );
                     }
-                    motion != seg.motion || frame != frame_index || jumped
+                    motion != seg.motion || new_frame || jumped
                 }
             };
             for (k, row) in rows.iter().enumerate() {
@@ -509,11 +604,8 @@ fn gather<S: fiveaxis_control::Source>(
                 );
             }
             time += seconds;
-            g.lines.push(seg.line);
-            g.ends.push(time);
-            g.motions.push(motion_code(seg.motion));
             g.rows += rows.len() as u64;
-            last = Some((seg.motion, frame_index, seg.end));
+            last = Some((seg.motion, seg.end));
         }
         match filled {
             Ok(true) => {}
@@ -531,22 +623,36 @@ fn gather<S: fiveaxis_control::Source>(
         }
     }
     g.path.finish();
-    let (report, times) = checker.finish_with_times(fiveaxis_check::Ending {
-        ended: g.alarm.is_none(),
-        alarm: g.alarm.as_ref().map(|a| fiveaxis_check::AlarmInfo {
-            code: a.code.to_string(),
-            line: a.line,
-            message: a.message.clone(),
-        }),
-        blocks: runner.blocks(),
-    });
+    let (report, kind) = checker.finish_streamed(
+        fiveaxis_check::Ending {
+            ended: g.alarm.is_none(),
+            alarm: g.alarm.as_ref().map(|a| fiveaxis_check::AlarmInfo {
+                code: a.code.to_string(),
+                line: a.line,
+                message: a.message.clone(),
+            }),
+            blocks: runner.blocks(),
+        },
+        |t| g.blocks.estimated_end(t),
+    );
     for f in report.findings {
         g.findings.push(f);
     }
-    if let Some(times) = times {
-        pack::retime(g.path.times_mut(), &g.ends, &times.ends);
-        g.ends = times.ends;
-        g.time_kind = times.kind;
+    g.finding_counts = report.counts;
+    if kind == fiveaxis_check::TimeKind::Estimated && g.blocks.fully_estimated() {
+        let blocks = &mut g.blocks;
+        // The last end is the plan's total, to the rounding of the summed
+        // lengths: made exactly the total.
+        let total = report.time.estimated;
+        for end in blocks.estimated.iter_mut().rev() {
+            if (*end - total).abs() > 1e-9 * total {
+                break;
+            }
+            *end = total;
+        }
+        pack::retime(g.path.times_mut(), &blocks.ends, &blocks.estimated);
+        std::mem::swap(&mut blocks.ends, &mut blocks.estimated);
+        g.time_kind = fiveaxis_check::TimeKind::Estimated;
     }
     g.time = report.time;
     Ok(g)
@@ -590,6 +696,7 @@ fn meta(
     findings: &FindingColumns,
     program: &str,
     tolerance: f64,
+    text: &PageText,
 ) -> Value {
     let kind = match machine.machine_type() {
         MachineType::None => "none",
@@ -632,15 +739,34 @@ fn meta(
             "linear": linear,
             "rotary": rotary,
         },
-        "frames": g.frames.iter().map(|f| f.to_json()).collect::<Vec<_>>(),
-        "frame_runs": g.frame_runs,
+        "frames": g.blocks.frames.iter().map(|f| f.to_json()).collect::<Vec<_>>(),
+        "frame_runs": g.blocks.frame_runs,
         "vertices": g.path.vertex_count(),
-        "blocks": g.lines.len(),
+        "blocks": g.blocks.len(),
+        "segments": g.blocks.segments(),
         "rows": g.rows,
         "bbox": bbox,
-        "duration": g.ends.last().copied().unwrap_or(0.0),
+        "duration": g.blocks.ends.last().copied().unwrap_or(0.0),
         "time": time_json(g),
-        "tolerance": tolerance,
+        "tolerance": g.path.tolerance(),
+        // What the page's bounds changed: the path simplified to a coarser
+        // tolerance than asked, neighbouring blocks merged, findings and
+        // text left out.
+        "thinned": {
+            "tolerance": tolerance,
+            "path": g.path.tolerance() > tolerance,
+            "blocks": g.blocks.merged(),
+            "findings": finding_counts(&g.finding_counts),
+            "findings_total": g.finding_counts.iter().sum::<usize>(),
+            "text_lines_left_out": text.left_out,
+            "limits": {
+                "vertices": pack::MAX_VERTICES,
+                "blocks": blocks::MAX_BLOCKS,
+                "findings": FINDING_ROWS,
+                "messages": FINDING_MESSAGES,
+                "text_bytes": TEXT_BYTES,
+            },
+        },
         "ended": g.alarm.is_none(),
         "alarm": g.alarm.as_ref().map(|a| json!({ "code": a.code.to_string(), "line": a.line, "message": a.message })),
         "finding_kinds": finding_kinds(),
@@ -685,6 +811,27 @@ mod tests {
         assert_eq!(size_text(999_949), "999.9 kB");
         assert_eq!(size_text(999_950), "1.0 MB");
         assert_eq!(size_text(2_600_000_000), "2.6 GB");
+    }
+
+    #[test]
+    fn the_page_text_is_whole_lines_up_to_the_limit_and_counts_the_rest() {
+        let mut file = tempfile::tempfile().expect("a temporary file");
+        file.write_all(b"G0 X1\nG0 X2\nG0 X3\nG0 X4").expect("written");
+        // All of it within the limit.
+        let text = read_text(&mut file, 100).expect("read");
+        assert_eq!((text.text.as_str(), text.left_out), ("G0 X1\nG0 X2\nG0 X3\nG0 X4", 0));
+        // 14 bytes: two whole lines; the third and the last (without its
+        // newline) are left out.
+        let text = read_text(&mut file, 14).expect("read");
+        assert_eq!((text.text.as_str(), text.left_out), ("G0 X1\nG0 X2\n", 2));
+        // Exactly at a line's end.
+        let text = read_text(&mut file, 12).expect("read");
+        assert_eq!((text.text.as_str(), text.left_out), ("G0 X1\nG0 X2\n", 2));
+        // A first line longer than the limit is cut.
+        let text = read_text(&mut file, 3).expect("read");
+        assert_eq!((text.text.as_str(), text.left_out), ("G0 ", 4));
+        // The line count for the progress bar, from the start.
+        assert_eq!(count_lines(&mut file).expect("counted"), 4);
     }
 
     #[test]

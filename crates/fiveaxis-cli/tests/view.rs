@@ -176,6 +176,7 @@ fn viewer_in_a_real_browser() {
     let out = Command::new("node")
         .args([
             "--test",
+            "test/data.test.mjs",
             "test/kinematics.test.mjs",
             "test/simplify.test.mjs",
             "test/view.test.mjs",

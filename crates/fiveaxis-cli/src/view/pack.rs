@@ -37,6 +37,12 @@ pub const DEFAULT_TOLERANCE: f64 = 0.001;
 /// vertex).
 pub const MAX_DROPPED_RUN: usize = 256;
 
+/// Most vertices a page holds. Past them the path is simplified again
+/// with twice the tolerance, as often as it takes: a screen shows far
+/// fewer distinct points (a million vertices are 28 MB of arrays for five
+/// axes, about what a browser reads in a second or two).
+pub const MAX_VERTICES: usize = 1_000_000;
+
 /// A sampled point of the path: machine position, tool tip (any fixed
 /// frame: it is only compared with its neighbours) and time from the start
 /// of the program, seconds.
@@ -59,6 +65,13 @@ pub struct PathPacker {
     joints: Vec<f32>,
     /// Kept vertices: time, seconds.
     times: Vec<f64>,
+    /// Kept vertices: tool tip (for simplifying them again).
+    tips: Vec<[f32; 3]>,
+    /// Kept vertices that stay whatever the tolerance (a corner, the
+    /// first and the last).
+    stays: Vec<bool>,
+    /// Most vertices kept ([`MAX_VERTICES`]).
+    budget: usize,
     /// The last kept vertex.
     anchor: Option<Point>,
     /// Points after the anchor that may still be left out; the last is the
@@ -75,21 +88,40 @@ impl PathPacker {
             tolerance,
             joints: Vec::new(),
             times: Vec::new(),
+            tips: Vec::new(),
+            stays: Vec::new(),
+            budget: MAX_VERTICES,
             anchor: None,
             pending: Vec::with_capacity(MAX_DROPPED_RUN),
         }
+    }
+
+    /// The same packer holding at most `budget` vertices (at least 16).
+    #[cfg(test)]
+    #[must_use]
+    pub fn with_budget(mut self, budget: usize) -> Self {
+        self.budget = budget.max(16);
+        self
+    }
+
+    /// The tolerance the kept vertices are simplified to: the one given,
+    /// or a multiple of it when the budget made the path coarser.
+    pub fn tolerance(&self) -> f64 {
+        self.tolerance
     }
 
     /// Adds the next point. `corner`: the point starts something new (a
     /// block of another motion or frame), so the one before it must stay.
     pub fn push(&mut self, point: Point, corner: bool) {
         let Some(anchor) = self.anchor else {
-            self.keep(point);
+            self.keep(point, true);
             return;
         };
         let bent = || !self.pending.iter().all(|p| self.within(&anchor, &point, p));
-        if corner || self.pending.len() >= MAX_DROPPED_RUN || bent() {
-            self.keep_pending_end();
+        if corner {
+            self.keep_pending_end(true);
+        } else if self.pending.len() >= MAX_DROPPED_RUN || bent() {
+            self.keep_pending_end(false);
         }
         self.pending.push(point);
     }
@@ -97,13 +129,13 @@ impl PathPacker {
     /// Adds the next point and keeps it whatever its neighbours (the one
     /// before it stays too).
     pub fn push_kept(&mut self, point: Point) {
-        self.keep_pending_end();
-        self.keep(point);
+        self.keep_pending_end(true);
+        self.keep(point, true);
     }
 
     /// Keeps the last point (call once after the last [`PathPacker::push`]).
     pub fn finish(&mut self) {
-        self.keep_pending_end();
+        self.keep_pending_end(true);
     }
 
     /// Kept vertices so far.
@@ -127,18 +159,104 @@ impl PathPacker {
         &mut self.times
     }
 
-    fn keep_pending_end(&mut self) {
+    fn keep_pending_end(&mut self, stays: bool) {
         if let Some(end) = self.pending.pop() {
             self.pending.clear();
-            self.keep(end);
+            self.keep(end, stays);
+        } else if stays && let Some(last) = self.stays.last_mut() {
+            *last = true;
         }
     }
 
-    fn keep(&mut self, point: Point) {
+    fn keep(&mut self, point: Point, stays: bool) {
         self.joints
             .extend(point.joints[..self.axes].iter().map(|&x| x as f32));
         self.times.push(point.time);
+        self.tips
+            .push([point.tip.x as f32, point.tip.y as f32, point.tip.z as f32]);
+        self.stays.push(stays);
         self.anchor = Some(point);
+        if self.times.len() > self.budget {
+            self.thin();
+        }
+    }
+
+    /// Simplifies the kept vertices again with twice the tolerance until
+    /// at most half the budget stay. Once the tolerance is past any
+    /// machine's size the corners go too (only the first and last vertex
+    /// stay), so that every pass leaves at most one in
+    /// [`MAX_DROPPED_RUN`] of a run and the budget is always met.
+    fn thin(&mut self) {
+        while self.times.len() > self.budget / 2 {
+            self.tolerance *= 2.0;
+            if self.tolerance > LOOSEST {
+                let n = self.stays.len();
+                for (i, stays) in self.stays.iter_mut().enumerate() {
+                    *stays = i == 0 || i + 1 == n;
+                }
+            }
+            self.simplify_kept();
+        }
+    }
+
+    /// The kept vertex `i` as a point (the joints and tip to `f32`).
+    fn vertex(&self, i: usize) -> Point {
+        let mut joints = [0.0; fiveaxis_machine::MAX_AXES];
+        for (k, x) in self.joints[i * self.axes..(i + 1) * self.axes].iter().enumerate() {
+            joints[k] = f64::from(*x);
+        }
+        let [x, y, z] = self.tips[i];
+        Point {
+            joints,
+            tip: Vec3::new(f64::from(x), f64::from(y), f64::from(z)),
+            time: self.times[i],
+        }
+    }
+
+    /// Moves kept vertex `from` to place `to` (`to <= from`).
+    fn move_vertex(&mut self, from: usize, to: usize) {
+        let a = self.axes;
+        self.joints.copy_within(from * a..(from + 1) * a, to * a);
+        self.times[to] = self.times[from];
+        self.tips[to] = self.tips[from];
+        self.stays[to] = self.stays[from];
+    }
+
+    /// One pass of the simplification over the kept vertices, in place,
+    /// at the current tolerance; the last vertex (the anchor of what is
+    /// still pending) stays.
+    fn simplify_kept(&mut self) {
+        let n = self.times.len();
+        if n < 3 {
+            return;
+        }
+        self.stays[n - 1] = true;
+        // Vertices before `out` are the new path; those after `i` are not
+        // yet read, and the pending run lies between (never overwritten:
+        // `out` is at most the anchor's old place plus one).
+        let mut out = 1;
+        let mut run: Vec<usize> = Vec::with_capacity(MAX_DROPPED_RUN);
+        for i in 1..n {
+            if let Some(&last) = run.last() {
+                let anchor = self.vertex(out - 1);
+                let point = self.vertex(i);
+                let bent = || !run.iter().all(|&q| self.within(&anchor, &point, &self.vertex(q)));
+                if self.stays[last] || run.len() >= MAX_DROPPED_RUN || bent() {
+                    self.move_vertex(last, out);
+                    out += 1;
+                    run.clear();
+                }
+            }
+            run.push(i);
+        }
+        if let Some(&last) = run.last() {
+            self.move_vertex(last, out);
+            out += 1;
+        }
+        self.joints.truncate(out * self.axes);
+        self.times.truncate(out);
+        self.tips.truncate(out);
+        self.stays.truncate(out);
     }
 
     /// Whether `p`, between `a` and `b`, is on their straight stretch: its
@@ -166,6 +284,10 @@ impl PathPacker {
         distance_to_segment(&p.tip, &a.tip, &b.tip) <= self.tolerance
     }
 }
+
+/// The tolerance past which the budget drops corners too, mm (and
+/// degrees): a kilometre, beyond the travel of any machine.
+const LOOSEST: f64 = 1e6;
 
 /// Distance of `p` from the segment `a`–`b`.
 pub fn distance_to_segment(p: &Vec3, a: &Vec3, b: &Vec3) -> f64 {
@@ -592,6 +714,50 @@ mod tests {
         );
         assert!(p.vertex_count() >= 2);
         assert_eq!(p.times().last(), Some(&(n as f64)));
+    }
+
+    #[test]
+    fn the_budget_bounds_the_vertices_and_coarsens_the_tolerance() {
+        // 20,000 points on a wavy line: a vertex each at 1 µm.
+        let mut p = PathPacker::new(2, DEFAULT_TOLERANCE).with_budget(200);
+        let mut all = Vec::new();
+        for i in 0..20_000 {
+            let x = f64::from(i) * 0.1;
+            let pt = point(x, (x * 0.05).sin() * 20.0, f64::from(i));
+            all.push(pt);
+            p.push(pt, false);
+        }
+        p.finish();
+        assert!(p.vertex_count() <= 200, "{} kept", p.vertex_count());
+        assert!(p.tolerance() > DEFAULT_TOLERANCE);
+        assert_eq!(p.times().first(), Some(&0.0));
+        assert_eq!(p.times().last(), Some(&19_999.0));
+        // Every point lies within twice the final tolerance of the kept
+        // path (each pass within its own tolerance, which doubles), to
+        // the rounding of f32.
+        let kept: Vec<(f64, Vec3)> = p
+            .times()
+            .iter()
+            .zip(p.joints().chunks(2))
+            .map(|(&t, j)| (t, Vec3::new(f64::from(j[0]), f64::from(j[1]), 0.0)))
+            .collect();
+        for pt in &all {
+            let k = kept.partition_point(|k| k.0 < pt.time).max(1);
+            let d = distance_to_segment(&pt.tip, &kept[k - 1].1, &kept[k.min(kept.len() - 1)].1);
+            assert!(d <= 2.0 * p.tolerance() + 1e-3, "{d} at {}", pt.time);
+        }
+    }
+
+    #[test]
+    fn the_budget_holds_when_every_point_is_a_corner() {
+        let mut p = PathPacker::new(2, DEFAULT_TOLERANCE).with_budget(100);
+        for i in 0..50_000 {
+            let x = f64::from(i % 7);
+            p.push(point(x, f64::from(i % 3), f64::from(i)), true);
+        }
+        p.finish();
+        assert!(p.vertex_count() <= 100, "{} kept", p.vertex_count());
+        assert_eq!(p.times().last(), Some(&49_999.0));
     }
 
     #[test]
