@@ -47,6 +47,12 @@ def main() -> int:
         help="write a G43.5 finishing raster (zig-zag over a sphere cap of radius 250 mm, 200 x 200 mm,"
         " the tool along the surface normal, up to 34 degrees): a smooth path of BLOCKS short blocks",
     )
+    parser.add_argument(
+        "--splines",
+        action="store_true",
+        help="write BLOCKS random LinuxCNC G5 cubic splines in G17 (run on a machine file with"
+        " control = \"linuxcnc\"): each a few hundred chords, the program that amplifies most",
+    )
     args = parser.parse_args()
     if args.blocks < 1:
         parser.error("blocks must be at least 1")
@@ -58,6 +64,13 @@ def main() -> int:
         return 0
     if args.finish:
         write_finish(args.blocks, args.output)
+        return 0
+    if args.splines:
+        with open(args.output, "w", encoding="ascii", newline="\n") as out:
+            out.write("G21 G90 G17 G0 X0 Y0 Z100\nG1 F1000\n")
+            for _ in range(args.blocks):
+                out.write("G5 I%.3f J%.3f P%.3f Q%.3f X%.3f Y%.3f\n" % tuple(uniform(-50.0, 50.0) for _ in range(6)))
+            out.write("M2\n")
         return 0
     with open(args.output, "w", encoding="ascii", newline="\n") as out:
         out.write("G21 G90 G94 G17\nG0 X0 Y0 Z0\nF1000.\n")

@@ -13,7 +13,9 @@
 # Exits 2 when a tool is missing or does not run the whole program, and
 # 1 when fiveaxis is less than MIN_RATIO times as fast as
 # rs274 in blocks per second, or when its peak RSS on the 2M-block program
-# reaches MAX_RSS_MB (decimal megabytes). Both can be overridden from the
+# reaches MAX_RSS_MB (decimal megabytes), or when `check` or `view` peak
+# at MAX_CHECK_RSS_MB / MAX_VIEW_RSS_MB or a page reaches MAX_PAGE_MB. All
+# can be overridden from the
 # environment, e.g. `MIN_RATIO=2 bench/run.sh`; BENCH_NO_HYPERFINE=1 times
 # with best of 5 runs instead of hyperfine.
 set -euo pipefail
@@ -24,6 +26,9 @@ MIN_TCPC=${MIN_TCPC:-0.3}
 MAX_COMP=${MAX_COMP:-2}
 MIN_LOOP=${MIN_LOOP:-10}
 MAX_RSS_MB=${MAX_RSS_MB:-50}
+MAX_CHECK_RSS_MB=${MAX_CHECK_RSS_MB:-50}
+MAX_VIEW_RSS_MB=${MAX_VIEW_RSS_MB:-400}
+MAX_PAGE_MB=${MAX_PAGE_MB:-120}
 SEED=${SEED:-5}
 SMALL=200000
 LARGE=2000000
@@ -198,6 +203,40 @@ for v in "$FA_RSS_SMALL" "$FA_RSS_LARGE" "$RS_RSS_SMALL"; do
   [[ "$v" =~ ^[0-9]+$ ]] || die "could not read a peak RSS from /usr/bin/time -v"
 done
 
+# `check` and `view` on large inputs: peak memory, time and page size.
+# Sets M_RSS (kB), M_SECONDS and M_PAGE (bytes, for view) for a command.
+measure() { # page command...
+  local page=$1 report start end
+  shift
+  start=$(date +%s%N)
+  report=$(/usr/bin/time -v "$@" 2>&1 >/dev/null) || true
+  end=$(date +%s%N)
+  M_RSS=$(awk -F': *' '/Maximum resident set size/ { print $2 }' <<<"$report")
+  [[ "$M_RSS" =~ ^[0-9]+$ ]] || die "$* failed: $(tail -n 3 <<<"$report")"
+  M_SECONDS=$(awk -v n=$(( end - start )) 'BEGIN { printf "%.2f", n / 1e9 }')
+  M_PAGE=0
+  [ "$page" = - ] || M_PAGE=$(stat -c %s "$page")
+}
+SPLINES=$OUT/splines20k.ngc
+generate 20000 "$SPLINES" --splines
+"$FIVEAXIS" machines show trunnion-ac | sed 's/^control = "fanuc30i"/control = "linuxcnc"/' >"$OUT/trunnion-linuxcnc.toml"
+MEM_ROWS=()
+mem_row() { # label page command...
+  local label=$1
+  shift
+  measure "$@"
+  MEM_ROWS+=("$label|$M_RSS|$M_SECONDS|$M_PAGE")
+}
+log "peak memory of check and view on large inputs"
+mem_row "check --format json, $SMALL random blocks" - "$FIVEAXIS" check "$SMALL_PROG" --format json --fail-on never
+mem_row "check --format json, $LARGE random blocks" - "$FIVEAXIS" check "$LARGE_PROG" --format json --fail-on never
+mem_row "check (text), $LARGE random blocks" - "$FIVEAXIS" check "$LARGE_PROG" --fail-on never
+mem_row "check, 20000 G5 splines" - "$FIVEAXIS" check "$SPLINES" --machine "$OUT/trunnion-linuxcnc.toml" --fail-on never
+mem_row "view --ends-only, $SMALL random blocks" "$OUT/view-200k.html" "$FIVEAXIS" view "$SMALL_PROG" --ends-only -o "$OUT/view-200k.html"
+mem_row "view --ends-only, $LARGE random blocks" "$OUT/view-2M.html" "$FIVEAXIS" view "$LARGE_PROG" --ends-only -o "$OUT/view-2M.html"
+mem_row "view, 20000 G5 splines" "$OUT/view-splines.html" "$FIVEAXIS" view "$SPLINES" --machine "$OUT/trunnion-linuxcnc.toml" -o "$OUT/view-splines.html"
+MEM_TABLE=$(printf '%s\n' "${MEM_ROWS[@]}")
+
 # --- summary ---------------------------------------------------------------
 cpu=$(awk -F': *' '/^model name/ { print $2; exit }' /proc/cpuinfo)
 rs_version=$(dpkg-query -W -f '${Version}' linuxcnc-uspace 2>/dev/null || echo unknown)
@@ -216,6 +255,8 @@ ck_ratio = (small / ck_best) / (small / rs_best)
 c_plain, c_cutter, c_3d, max_comp = $CONTOUR_PLAIN, $CONTOUR_CUTTER, $CONTOUR_COMP3D, float("$MAX_COMP")
 fa_rss_s, fa_rss_l, rs_rss_s = $FA_RSS_SMALL, $FA_RSS_LARGE, $RS_RSS_SMALL
 loop_fa, loop_rs, min_loop = $LOOP_FA, $LOOP_RS, float("$MIN_LOOP")
+max_check_mb, max_view_mb, max_page_mb = float("$MAX_CHECK_RSS_MB"), float("$MAX_VIEW_RSS_MB"), float("$MAX_PAGE_MB")
+mem = [row.split("|") for row in '''$MEM_TABLE'''.strip().splitlines()]
 loop_ratio = loop_rs / loop_fa
 ok_loop = loop_ratio >= min_loop
 min_ratio, max_rss_mb = float("$MIN_RATIO"), float("$MAX_RSS_MB")
@@ -228,6 +269,14 @@ tcpc_share = fa_best / tc_best
 ok_tcpc = tcpc_share >= min_tcpc
 comp_cost = max(c_cutter, c_3d) / c_plain
 ok_comp = comp_cost <= max_comp
+mem_rows, ok_mem = [], True
+for label, rss, seconds, page in mem:
+    rss_mb, page_mb = mb(int(rss)), int(page) / 1e6
+    limit = max_view_mb if label.startswith("view") else max_check_mb
+    ok = rss_mb < limit and page_mb < max_page_mb
+    ok_mem = ok_mem and ok
+    page_text = f"{page_mb:.1f} MB" if label.startswith("view") else ""
+    mem_rows.append(f"| \`{label}\` | {rss_mb:.1f} MB | {float(seconds):.2f} s | {page_text} | {'PASS' if ok else 'FAIL'} |")
 lines = [
     "# fiveaxis vs rs274",
     "",
@@ -258,9 +307,16 @@ lines = [
     f"- memory: {mb(fa_rss_l):.1f} MB on {large:,} blocks, required < {max_rss_mb:g} MB: **{'PASS' if ok_rss else 'FAIL'}**",
     f"- TCPC type 2 throughput: {tcpc_share:.2f} of plain G1, required >= {min_tcpc:g}: **{'PASS' if ok_tcpc else 'FAIL'}**",
     f"- compensation cost: {comp_cost:.2f}x a plain contour, required <= {max_comp:g}: **{'PASS' if ok_comp else 'FAIL'}**",
+    "",
+    f"Peak memory (GNU time) of check and view on large inputs; required below {max_check_mb:g} MB for check,"
+    f" {max_view_mb:g} MB for view, pages below {max_page_mb:g} MB:",
+    "",
+    "| command | peak RSS | wall time | page | |",
+    "|---|---:|---:|---:|---|",
+    *mem_rows,
 ]
 text = "\n".join(lines) + "\n"
 open(sys.argv[1], "w").write(text)
 print(text, end="")
-sys.exit(0 if ok_ratio and ok_rss and ok_tcpc and ok_comp and ok_loop else 1)
+sys.exit(0 if ok_ratio and ok_rss and ok_tcpc and ok_comp and ok_loop and ok_mem else 1)
 EOF

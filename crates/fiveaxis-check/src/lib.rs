@@ -394,7 +394,11 @@ impl<'m> Checker<'m> {
     /// total is the report's estimate (the last end is then that total, to
     /// rounding), else [`TimeKind::Programmed`] and the caller times the
     /// segments by their programmed ends.
-    pub fn finish_streamed(mut self, ending: Ending, mut take: impl FnMut(f64)) -> (Report, TimeKind) {
+    pub fn finish_streamed(
+        mut self,
+        ending: Ending,
+        mut take: impl FnMut(f64),
+    ) -> (Report, TimeKind) {
         let timeline = self.timeline.get_or_insert_with(|| Timeline {
             streamed: true,
             ..Timeline::default()

@@ -6,7 +6,7 @@
 use std::io::{Read, Write};
 use std::path::PathBuf;
 
-use fiveaxis_control::{ReaderSource, RunError, RunOptions, Runner};
+use fiveaxis_control::{ReaderSource, RunOptions, Runner};
 use fiveaxis_post::{Axes, PostOptions, program};
 
 use crate::{
@@ -204,7 +204,7 @@ pub fn post(args: &PostArgs) -> Result<u8, InputError> {
         // An alarm: nothing is written.
         Err(error) => {
             let error = match &cl {
-                Some((converted, text)) => on_cl_lines(error, converted, text, program_name),
+                Some((converted, text)) => converted.on_cl_lines(error, text, program_name),
                 None => error,
             };
             let output = args
@@ -235,11 +235,9 @@ pub fn post(args: &PostArgs) -> Result<u8, InputError> {
             .and_then(|(converted, _)| converted.source_line(line))
             .unwrap_or(line);
         return Err(InputError(format!(
-            "error: {}: line {line}: the block needs more than {} pieces to hold --tolerance {} mm and --angle-tolerance {} degrees: give larger tolerances",
+            "error: {}: {} (--tolerance, --angle-tolerance)",
             crate::diagnostic::escape(program_name),
-            fiveaxis_post::linearize::MAX_BLOCK_PIECES,
-            args.tolerance,
-            args.angle_tolerance
+            fiveaxis_post::capped_message(line, args.tolerance, args.angle_tolerance)
         )));
     }
     let header = program::Header {
@@ -250,47 +248,6 @@ pub fn post(args: &PostArgs) -> Result<u8, InputError> {
     };
     let text = program::write(&machine, &post, &options, &header);
     emit(args.output.as_ref(), &text)
-}
-
-/// An error raised running the TCPC program converted from CL data, told
-/// at the CL record the failing line was written for (its line and text;
-/// the column of a word of the generated line means nothing there). A
-/// line the conversion adds (the header, the end) is named as a line of
-/// the converted program.
-fn on_cl_lines(
-    error: RunError,
-    converted: &fiveaxis_post::apt::Converted,
-    text: &str,
-    name: &str,
-) -> RunError {
-    match error {
-        RunError::Alarm {
-            mut alarm,
-            text: generated,
-            program: None,
-        } => match converted.source_line(alarm.line) {
-            Some(line) => {
-                alarm.line = line;
-                alarm.span = None;
-                let index = usize::try_from(line).map_or(usize::MAX, |l| l.saturating_sub(1));
-                let record = text.lines().nth(index).unwrap_or("");
-                RunError::Alarm {
-                    alarm,
-                    text: record.as_bytes().to_vec(),
-                    program: None,
-                }
-            }
-            None => RunError::Alarm {
-                alarm,
-                text: generated,
-                program: Some(format!("{name} converted to TCPC")),
-            },
-        },
-        RunError::LineTooLong { line } => RunError::LineTooLong {
-            line: converted.source_line(line).unwrap_or(line),
-        },
-        other => other,
-    }
 }
 
 /// Writes `text` to `output` (whole or not at all), or standard output.

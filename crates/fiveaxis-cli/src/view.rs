@@ -259,12 +259,7 @@ pub fn view(args: &ViewArgs) -> Result<u8, InputError> {
         // the program goes on.
         lift_soft_limits: true,
     };
-    let mut runner = Runner::new(
-        &machine,
-        offsets,
-        ReaderSource::new(file),
-        options,
-    );
+    let mut runner = Runner::new(&machine, offsets, ReaderSource::new(file), options);
     let variables = match &args.variables {
         Some(path) => {
             let name = path.display().to_string();
@@ -316,7 +311,14 @@ pub fn view(args: &ViewArgs) -> Result<u8, InputError> {
     };
     let text = read_text(&mut source, TEXT_BYTES).map_err(|e| io_error(&e))?;
     let findings = &gathered.findings;
-    let meta = meta(&machine, &gathered, findings, program_name, args.tolerance, &text);
+    let meta = meta(
+        &machine,
+        &gathered,
+        findings,
+        program_name,
+        args.tolerance,
+        &text,
+    );
     use pack::Column;
     let blocks = &gathered.blocks;
     let arrays = [
@@ -816,10 +818,14 @@ mod tests {
     #[test]
     fn the_page_text_is_whole_lines_up_to_the_limit_and_counts_the_rest() {
         let mut file = tempfile::tempfile().expect("a temporary file");
-        file.write_all(b"G0 X1\nG0 X2\nG0 X3\nG0 X4").expect("written");
+        file.write_all(b"G0 X1\nG0 X2\nG0 X3\nG0 X4")
+            .expect("written");
         // All of it within the limit.
         let text = read_text(&mut file, 100).expect("read");
-        assert_eq!((text.text.as_str(), text.left_out), ("G0 X1\nG0 X2\nG0 X3\nG0 X4", 0));
+        assert_eq!(
+            (text.text.as_str(), text.left_out),
+            ("G0 X1\nG0 X2\nG0 X3\nG0 X4", 0)
+        );
         // 14 bytes: two whole lines; the third and the last (without its
         // newline) are left out.
         let text = read_text(&mut file, 14).expect("read");

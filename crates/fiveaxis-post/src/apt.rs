@@ -42,6 +42,7 @@
 
 use std::fmt::Write;
 
+use fiveaxis_control::RunError;
 use fiveaxis_machine::{MAX_FILE_MAGNITUDE, Vec3};
 
 /// An APT record that cannot be converted.
@@ -106,6 +107,42 @@ impl Converted {
     pub fn source_line(&self, line: u32) -> Option<u32> {
         let index = usize::try_from(line).ok()?.checked_sub(1)?;
         self.source_lines.get(index).copied().flatten()
+    }
+
+    /// An error raised running the converted program, told at the CL
+    /// record the failing line was written for: its line and text (`text`
+    /// is the CL data; the column of a word of the generated line means
+    /// nothing there). A line the conversion adds (the header, the end) is
+    /// named as a line of the program `name` converted to TCPC.
+    pub fn on_cl_lines(&self, error: RunError, text: &str, name: &str) -> RunError {
+        match error {
+            RunError::Alarm {
+                mut alarm,
+                text: generated,
+                program: None,
+            } => match self.source_line(alarm.line) {
+                Some(line) => {
+                    alarm.line = line;
+                    alarm.span = None;
+                    let index = usize::try_from(line).map_or(usize::MAX, |l| l.saturating_sub(1));
+                    let record = text.lines().nth(index).unwrap_or("");
+                    RunError::Alarm {
+                        alarm,
+                        text: record.as_bytes().to_vec(),
+                        program: None,
+                    }
+                }
+                None => RunError::Alarm {
+                    alarm,
+                    text: generated,
+                    program: Some(format!("{name} converted to TCPC")),
+                },
+            },
+            RunError::LineTooLong { line } => RunError::LineTooLong {
+                line: self.source_line(line).unwrap_or(line),
+            },
+            other => other,
+        }
     }
 }
 

@@ -49,6 +49,47 @@ pub const MIN_TOLERANCE: f64 = 1e-6;
 /// Finest tool direction tolerance a post takes, degrees: a tenth of the
 /// finest least input increment of a rotary axis (0.0001 degree, IS-C).
 pub const MIN_ANGLE_TOLERANCE: f64 = 1e-5;
+/// Why a tip tolerance (mm) or a direction tolerance (degrees) cannot be
+/// used, if one cannot: not a positive number, or finer than
+/// [`MIN_TOLERANCE`] / [`MIN_ANGLE_TOLERANCE`].
+///
+/// # Errors
+///
+/// The message, naming the value and the floor.
+pub fn check_tolerances(tolerance: f64, angle_tolerance: f64) -> Result<(), String> {
+    for (value, floor, what, unit) in [
+        (tolerance, MIN_TOLERANCE, "tolerance", "mm"),
+        (
+            angle_tolerance,
+            MIN_ANGLE_TOLERANCE,
+            "angle tolerance",
+            "degrees",
+        ),
+    ] {
+        if !(value > 0.0 && value.is_finite()) {
+            return Err(format!(
+                "the {what} must be a positive number of {unit}, not {value}"
+            ));
+        }
+        if value < floor {
+            return Err(format!(
+                "the {what} {value:e} {unit} is finer than a program can hold: at least {floor:e} {unit}"
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// The message of a post that stopped at a block needing more than
+/// [`linearize::MAX_BLOCK_PIECES`] pieces (`Post::capped_line`), the line
+/// given as the caller names it.
+pub fn capped_message(line: u32, tolerance: f64, angle_tolerance: f64) -> String {
+    format!(
+        "line {line}: the block needs more than {} pieces to hold a tolerance of {tolerance} mm and {angle_tolerance} degrees: give larger tolerances",
+        linearize::MAX_BLOCK_PIECES
+    )
+}
+
 /// Default retract of a flip along the tool axis, mm: clear of the cut
 /// for the usual stock allowances (tenths of a millimetre to a few
 /// millimetres) and short enough not to leave the machine's travel.

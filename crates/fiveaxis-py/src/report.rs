@@ -143,15 +143,7 @@ pub fn post<'py>(
     tool_length: Option<f64>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let programs = programs.unwrap_or_default();
-    let positive = |x: f64| x > 0.0 && x.is_finite();
-    if !positive(tolerance) || !positive(angle_tolerance) {
-        return Err(invalid(
-            py,
-            format!(
-                "tolerance and angle_tolerance must be positive numbers, not {tolerance} and {angle_tolerance}"
-            ),
-        ));
-    }
+    fiveaxis_post::check_tolerances(tolerance, angle_tolerance).map_err(|e| invalid(py, e))?;
     if !(retract >= 0.0 && retract.is_finite()) {
         return Err(invalid(
             py,
@@ -169,6 +161,9 @@ pub fn post<'py>(
     })?;
     let (mut bytes, name) =
         read_program(py, program.as_deref(), code.map(|c| c.as_bytes().to_vec()))?;
+    // CL input: the conversion with its line map (an alarm names the CL
+    // record's line and text), and the CL text.
+    let mut cl = None;
     if apt {
         let text = std::str::from_utf8(&bytes).map_err(|_| {
             input_error(
@@ -180,7 +175,11 @@ pub fn post<'py>(
                 None,
             )
         })?;
-        bytes = apt_to_tcpc(py, text, &name)?.into_bytes();
+        let converted = fiveaxis_post::apt::to_tcpc_mapped(text, &name)
+            .map_err(|e| input_error(py, e.message, Some(&name), Some(e.line), None, None))?;
+        let text = text.to_owned();
+        bytes = converted.program.clone().into_bytes();
+        cl = Some((converted, text));
     }
     let machine = &machine.get().machine;
     // A tool length given fills in the tools the offsets give none, as
@@ -224,7 +223,27 @@ pub fn post<'py>(
         &programs,
         |runner| fiveaxis_post::convert(runner, machine, options),
     )?
-    .map_err(|e| run_error(py, &e, &name))?;
+    .map_err(|e| {
+        let e = match &cl {
+            Some((converted, text)) => converted.on_cl_lines(e, text, &name),
+            None => e,
+        };
+        run_error(py, &e, &name)
+    })?;
+    if let Some(line) = post.capped_line {
+        let line = cl
+            .as_ref()
+            .and_then(|(converted, _)| converted.source_line(line))
+            .unwrap_or(line);
+        return Err(input_error(
+            py,
+            fiveaxis_post::capped_message(line, tolerance, angle_tolerance),
+            Some(&name),
+            Some(line),
+            None,
+            None,
+        ));
+    }
     // Nothing to convert: the program is returned unchanged, as the
     // command line writes it.
     let converted = post.kinematic || apt || source_machine.is_some();

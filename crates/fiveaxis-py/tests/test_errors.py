@@ -234,3 +234,22 @@ def test_random_programs_never_crash_the_interpreter(seed: int) -> None:
     done = subprocess.run([sys.executable, "-c", FUZZ, str(seed)], capture_output=True, timeout=600)
     assert done.returncode == 0, done.stderr.decode(errors="replace")[-2000:]
     assert done.stdout.strip() == b"ok"
+
+
+def test_post_refuses_tolerances_finer_than_a_program_can_hold() -> None:
+    program = "G43.5 H1\nG1 X10. I0 J0 K1. F100.\nM30\n"
+    for kw in [{"tolerance": 1e-8}, {"angle_tolerance": 1e-6}]:
+        with pytest.raises(fx.InputError, match="finer than a program can hold"):
+            fx.post(code=program, machine="head-table-bc", tool_length=100.0, **kw)
+    # At the floors it runs.
+    fx.post(code=program, machine="head-table-bc", tool_length=100.0, tolerance=1e-6, angle_tolerance=1e-5)
+
+
+def test_an_alarm_in_apt_input_names_the_records_line_and_text() -> None:
+    record = "GOTO/999,0,0,0,0,1"
+    cl = f"$$ over-travel on line 6\nLOAD/TOOL,1\nRAPID\nGOTO/0,0,10,0,0,1\nFEDRAT/500,MMPM\n{record}\nFINI\n"
+    with pytest.raises(fx.Alarm) as info:
+        fx.post(code=cl, machine="head-table-bc", apt=True, tool_length=100.0)
+    a = info.value
+    assert a.line == 6 and a.text == record and a.column is None
+    assert "X999" not in str(a)

@@ -85,14 +85,16 @@ impl<F: PartialEq> BlockTable<F> {
         if new_frame {
             self.frames.push(frame);
         }
-        let same = !new_frame && self.lines.last() == Some(&line) && self.motions.last() == Some(&motion);
+        let same =
+            !new_frame && self.lines.last() == Some(&line) && self.motions.last() == Some(&motion);
         if same {
             if let Some(last) = self.ends.last_mut() {
                 *last = end;
             }
         } else {
             if new_frame {
-                self.frame_runs.push([self.lines.len(), self.frames.len() - 1]);
+                self.frame_runs
+                    .push([self.lines.len(), self.frames.len() - 1]);
             }
             self.lines.push(line);
             self.ends.push(end);

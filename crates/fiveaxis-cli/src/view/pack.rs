@@ -181,14 +181,17 @@ impl PathPacker {
         }
     }
 
-    /// Simplifies the kept vertices again with twice the tolerance until
-    /// at most half the budget stay. Once the tolerance is past any
+    /// Simplifies the kept vertices again with twice the tolerance (eight
+    /// times, after a pass that left nine in ten) until at most half the
+    /// budget stay. Once the tolerance is past any
     /// machine's size the corners go too (only the first and last vertex
     /// stay), so that every pass leaves at most one in
     /// [`MAX_DROPPED_RUN`] of a run and the budget is always met.
     fn thin(&mut self) {
+        let mut factor = 2.0;
         while self.times.len() > self.budget / 2 {
-            self.tolerance *= 2.0;
+            let before = self.times.len();
+            self.tolerance *= factor;
             if self.tolerance > LOOSEST {
                 let n = self.stays.len();
                 for (i, stays) in self.stays.iter_mut().enumerate() {
@@ -196,13 +199,21 @@ impl PathPacker {
                 }
             }
             self.simplify_kept();
+            // A pass that left nearly all (a path of sharp turns, far
+            // apart): the next one jumps further.
+            if self.times.len() * 10 > before * 9 {
+                factor = 8.0;
+            }
         }
     }
 
     /// The kept vertex `i` as a point (the joints and tip to `f32`).
     fn vertex(&self, i: usize) -> Point {
         let mut joints = [0.0; fiveaxis_machine::MAX_AXES];
-        for (k, x) in self.joints[i * self.axes..(i + 1) * self.axes].iter().enumerate() {
+        for (k, x) in self.joints[i * self.axes..(i + 1) * self.axes]
+            .iter()
+            .enumerate()
+        {
             joints[k] = f64::from(*x);
         }
         let [x, y, z] = self.tips[i];
@@ -240,7 +251,10 @@ impl PathPacker {
             if let Some(&last) = run.last() {
                 let anchor = self.vertex(out - 1);
                 let point = self.vertex(i);
-                let bent = || !run.iter().all(|&q| self.within(&anchor, &point, &self.vertex(q)));
+                let bent = || {
+                    !run.iter()
+                        .all(|&q| self.within(&anchor, &point, &self.vertex(q)))
+                };
                 if self.stays[last] || run.len() >= MAX_DROPPED_RUN || bent() {
                     self.move_vertex(last, out);
                     out += 1;
