@@ -237,7 +237,7 @@ def test_random_programs_never_crash_the_interpreter(seed: int) -> None:
 
 
 def test_post_refuses_tolerances_finer_than_a_program_can_hold() -> None:
-    program = "G43.5 H1\nG1 X10. I0 J0 K1. F100.\nM30\n"
+    program = "G43.5 H1 X0 Y0 Z50.\nG1 X10. I0 J0 K1. F100.\nM30\n"
     for kw in [{"tolerance": 1e-8}, {"angle_tolerance": 1e-6}]:
         with pytest.raises(fx.InputError, match="finer than a program can hold"):
             fx.post(code=program, machine="head-table-bc", tool_length=100.0, **kw)
