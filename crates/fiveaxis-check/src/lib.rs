@@ -437,6 +437,15 @@ impl<'m> Checker<'m> {
         self.findings.push(finding);
     }
 
+    /// An alarm finding, in its place after the segments so far: the alarm
+    /// that stopped the run (from [`Ending::alarm`]), or one the run went
+    /// on after (`check --keep-going`).
+    pub fn alarm(&mut self, alarm: &AlarmInfo) {
+        self.order += 1;
+        let message = format!("{} {}", alarm.code, alarm.message);
+        self.push(Kind::Alarm, alarm.line, None, None, message);
+    }
+
     /// Checks one segment.
     pub fn segment(&mut self, seg: &Segment) {
         self.check_segment(seg);
@@ -466,7 +475,11 @@ impl<'m> Checker<'m> {
             // direction or leaves the chord there does not matter.
             if seg.motion != Motion::Rapid {
                 self.rotary_flip(seg);
-                self.singular_passage(seg);
+                // Only where the control chose the rotary axes: a program
+                // that writes them passes where it says.
+                if seg.rotary_chosen {
+                    self.singular_passage(seg);
+                }
                 if !matches!(seg.path, Path::Tcpc(_)) {
                     self.chord_error(seg);
                 }
@@ -522,6 +535,12 @@ impl<'m> Checker<'m> {
                         }
                     }
                     (None, None) => {}
+                }
+                // Back inside at the block's end: the excursion ends here
+                // (a later departure is a new one, even in the next block).
+                let back_inside = limit.is_some_and(|l| sign * seg.end[i] <= l + LIMIT_TOLERANCE);
+                if back_inside && let Some(run) = self.runs[i][side].take() {
+                    self.close_run(i, side, run);
                 }
             }
         }
@@ -709,9 +728,7 @@ impl<'m> Checker<'m> {
             }
         }
         if let Some(alarm) = &ending.alarm {
-            self.order += 1;
-            let message = format!("{} {}", alarm.code, alarm.message);
-            self.push(Kind::Alarm, alarm.line, None, None, message);
+            self.alarm(alarm);
         }
         self.findings.sort_by_key(|f| f.order);
         let machine = self.machine;
@@ -790,7 +807,8 @@ pub fn check_run<S: Source>(
     progress: impl FnMut(u64),
 ) -> Result<Report, RunError> {
     let mut findings = Vec::new();
-    let (mut report, whole_program) = check_run_into(runner, progress, |f| findings.push(f))?;
+    let (mut report, whole_program) =
+        check_run_into(runner, false, progress, |f| findings.push(f))?;
     if let Some(finding) = whole_program {
         let at = findings
             .iter()
@@ -809,17 +827,24 @@ pub fn check_run<S: Source>(
 /// comes back beside the report: it goes before the first finding handed
 /// over whose line is after its own.
 ///
+/// `keep_going`: an alarm after which the control's state is defined
+/// ([`Runner::resume`]) becomes an `alarm` finding and the run goes on
+/// from the next line; the report's `alarm` is then the first alarm, and
+/// `ended` whether the program reached its end.
+///
 /// # Errors
 ///
 /// As [`check_run`].
 pub fn check_run_into<S: Source>(
     runner: &mut Runner<'_, S>,
+    keep_going: bool,
     mut progress: impl FnMut(u64),
     mut take: impl FnMut(Finding),
 ) -> Result<(Report, Option<Finding>), RunError> {
     let machine = runner.controller().machine();
     runner.count_words_without_point();
     let mut checker = Checker::new(machine);
+    let mut first_alarm: Option<AlarmInfo> = None;
     let mut segments = Vec::with_capacity(BATCH);
     let alarm = loop {
         segments.clear();
@@ -832,19 +857,30 @@ pub fn check_run_into<S: Source>(
         match filled {
             Ok(true) => {}
             Ok(false) => break None,
-            Err(RunError::Alarm { alarm, .. }) => break Some(alarm),
+            Err(RunError::Alarm { alarm, .. }) => {
+                let info = AlarmInfo {
+                    code: alarm.code.to_string(),
+                    line: alarm.line,
+                    message: alarm.message,
+                };
+                if keep_going && runner.resume() {
+                    checker.alarm(&info);
+                    first_alarm.get_or_insert(info);
+                    continue;
+                }
+                break Some(info);
+            }
             Err(other) => return Err(other),
         }
     };
     let mut report = checker.finish(Ending {
         ended: alarm.is_none(),
-        alarm: alarm.map(|a| AlarmInfo {
-            code: a.code.to_string(),
-            line: a.line,
-            message: a.message,
-        }),
+        alarm,
         blocks: runner.blocks(),
     });
+    if let Some(first) = first_alarm {
+        report.alarm = Some(first);
+    }
     for finding in std::mem::take(&mut report.findings) {
         take(finding);
     }

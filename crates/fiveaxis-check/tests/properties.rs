@@ -187,7 +187,7 @@ fn tcpc_program() -> impl Strategy<Value = (usize, bool, bool, String)> {
 
 #[test]
 fn singular_passages_are_real_and_none_is_missed() {
-    check(48, tcpc_program(), |(m, _, posture, program)| {
+    check(48, tcpc_program(), |(m, vectors, posture, program)| {
         let mut machine = builtin(FIVE_AXIS[m]).expect("built in");
         machine.params.tool_posture_control = posture;
         machine.params.singular_cone = 5.0;
@@ -199,6 +199,19 @@ fn singular_passages_are_real_and_none_is_missed() {
                 .findings
                 .iter()
                 .find(|f| f.kind == Kind::SingularPassage && f.line == seg.line);
+            // Only where the control chooses the rotary axes: from the
+            // tool vectors of G43.5, or along the great circle of tool
+            // posture control; not the rotary words of G43.4 alone.
+            let posture_law =
+                matches!(&seg.path, fiveaxis_control::Path::Tcpc(t) if t.posture.is_some());
+            if !vectors && !posture_law {
+                prop_assert!(
+                    found.is_none(),
+                    "line {}: programmed axes reported\n{program}",
+                    seg.line
+                );
+                continue;
+            }
             if let Some(f) = found {
                 SINGULAR_SEEN.fetch_add(1, Ordering::Relaxed);
                 let v = f.value.expect("value");
@@ -243,7 +256,8 @@ fn overtravel_runs_are_real_and_none_is_missed() {
         let (segments, report) = run(&machine, &program);
         for i in 0..3 {
             let name = machine.linear[i].name;
-            // The runs of consecutive segments beyond +60, from samples.
+            // The excursions beyond +60, from samples: from the segment
+            // that leaves the limit to the one that ends back inside it.
             let mut runs: Vec<(u32, f64)> = Vec::new();
             let mut open = false;
             for seg in &segments {
@@ -257,6 +271,9 @@ fn overtravel_runs_are_real_and_none_is_missed() {
                         runs.push((seg.line, top));
                         open = true;
                     }
+                    let end = seg.end[i];
+                    prop_assume!((end - 60.0).abs() > 1e-6);
+                    open = end > 60.0;
                 } else {
                     prop_assume!(top < 60.0 - 1e-6 || top == 60.0);
                     open = false;

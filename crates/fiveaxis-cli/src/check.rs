@@ -79,6 +79,14 @@ pub struct CheckArgs {
     /// FX0102, reported as a finding).
     #[arg(long, default_value_t = DEFAULT_MAX_BLOCKS, value_parser = clap::value_parser!(u64).range(1..))]
     max_blocks: u64,
+    /// Go on after an alarm that leaves the control's state defined (a
+    /// block the control refuses as a whole: an unknown G or M code, a
+    /// missing feed, a word it cannot read): it is reported as an `alarm`
+    /// finding and the check goes on from the next line. An alarm of the
+    /// program's flow (macro statements, calls, O-words) or of the block
+    /// budget still ends the check.
+    #[arg(long)]
+    keep_going: bool,
     /// Custom macro variables file (TOML, `500 = 1.25`) read at the start
     /// of each program.
     #[arg(long)]
@@ -238,6 +246,7 @@ fn check_one(
     let mut spill_error = None;
     let (report, whole_program) = check_run_into(
         &mut runner,
+        args.keep_going,
         |blocks| {
             progress.blocks(blocks - last);
             last = blocks;

@@ -320,3 +320,145 @@ fn findings_beyond_what_check_holds_are_all_reported_in_order() {
     assert!(text.contains("     3 | G1 A-100."), "{text}");
     assert!(text.contains("  6004 | G0 X10"), "{text}");
 }
+
+/// Issue 24, item 9: one over-travel finding per excursion. Against the
+/// A limit of +30 of trunnion-ac, A leaves on line 4, is back inside at the
+/// end of line 6 and leaves again on line 7: two excursions.
+#[test]
+fn every_excursion_is_a_finding() {
+    let program =
+        "G21 G90 G94\nG0 X0 Y0 Z100.\nG1 A0 F1000.\nG1 A45.\nG1 A50.\nG1 A0.\nG1 A40.\nM30\n";
+    let dir = scratch(&[("p.nc", program)]);
+    let out = run(dir.path(), &["check", "p.nc", "--format", "json"]);
+    let objects = json_lines(&out);
+    let over: Vec<(u64, f64)> = objects[0]["findings"]
+        .as_array()
+        .expect("list")
+        .iter()
+        .filter(|f| f["kind"] == "overtravel")
+        .map(|f| {
+            (
+                f["line"].as_u64().unwrap_or(0),
+                f["value"].as_f64().unwrap_or(0.0),
+            )
+        })
+        .collect();
+    assert_eq!(over, [(4, 50.0), (7, 40.0)], "{}", objects[0]);
+}
+
+/// Singular passages only where the control chooses the rotary axes: a
+/// programmed `G1 A45.` through the singular direction (A0, C free) is
+/// not one; the same turn under TCPC with tool vectors is.
+#[test]
+fn a_programmed_rotary_move_is_not_a_singular_passage() {
+    let programmed = "G21 G90 G94\nG0 X0 Y0 Z100. A-45.\nG1 A45. F1000.\nM30\n";
+    // From the vertical (the singular direction) out to 30°: the control
+    // chooses A and C there; then to 30° the other way, which it does by
+    // turning C half a turn at A -30°, far from the vertical.
+    let chosen = "G21 G90 G94\nG43.5 H1 X0 Y0 Z50.\nG1 I0 J-0.5 K0.8660254 F1000.\nG1 I0 J0.5 K0.8660254\nG49\nM30\n";
+    let offsets = "[tools]\n1 = { length = 100.0 }\n";
+    let dir = scratch(&[("a.nc", programmed), ("b.nc", chosen), ("o.toml", offsets)]);
+    let out = run(
+        dir.path(),
+        &[
+            "check",
+            "a.nc",
+            "b.nc",
+            "--offsets",
+            "o.toml",
+            "--format",
+            "json",
+            "--fail-on",
+            "never",
+        ],
+    );
+    let objects = json_lines(&out);
+    let passages = |o: &Value| {
+        o["findings"]
+            .as_array()
+            .expect("list")
+            .iter()
+            .filter(|f| f["kind"] == "singular_passage")
+            .map(|f| f["line"].as_u64().unwrap_or(0))
+            .collect::<Vec<_>>()
+    };
+    assert_eq!(passages(&objects[0]), Vec::<u64>::new(), "{}", objects[0]);
+    assert_eq!(passages(&objects[1]), [3], "{}", objects[1]);
+}
+
+/// `--keep-going`: alarms after which the control's state is defined are
+/// findings and the check goes on; an alarm of the program's flow ends it.
+#[test]
+fn keep_going_reports_every_alarm_it_can_go_on_after() {
+    let program =
+        "G21 G90 G94\nG0 X0 Y0 Z100.\nM123\nG1 X10.\nG1 X20. F500.\nG1 Q5.\nG0 A50.\nM30\n";
+    let flow = "G21 G90\nG0 X1.\nM123\nGOTO 99\nG0 X2.\nM30\n";
+    let dir = scratch(&[("p.nc", program), ("flow.nc", flow)]);
+    // Without it the check stops at the first alarm.
+    let out = run(dir.path(), &["check", "p.nc", "--format", "json"]);
+    let o = &json_lines(&out)[0];
+    assert_eq!(
+        (o["alarm"]["line"].as_u64(), o["ended"].as_bool()),
+        (Some(3), Some(false))
+    );
+    let out = run(
+        dir.path(),
+        &["check", "p.nc", "--keep-going", "--format", "json"],
+    );
+    assert_eq!(out.status.code(), Some(1));
+    let o = &json_lines(&out)[0];
+    let kinds: Vec<(u64, String)> = o["findings"]
+        .as_array()
+        .expect("list")
+        .iter()
+        .map(|f| {
+            (
+                f["line"].as_u64().unwrap_or(0),
+                f["kind"].as_str().unwrap_or("").to_owned(),
+            )
+        })
+        .collect();
+    let alarm = |l: u64| (l, "alarm".to_owned());
+    assert_eq!(
+        kinds,
+        [alarm(3), alarm(4), alarm(6), (7, "overtravel".to_owned())],
+        "{o}"
+    );
+    assert!(
+        o["findings"][0]["message"]
+            .as_str()
+            .unwrap_or("")
+            .starts_with("FX0011 "),
+        "{o}"
+    );
+    assert!(
+        o["findings"][1]["message"]
+            .as_str()
+            .unwrap_or("")
+            .starts_with("PS0011 "),
+        "{o}"
+    );
+    // The first alarm, and the program ran to its end.
+    assert_eq!(
+        (o["alarm"]["line"].as_u64(), o["ended"].as_bool()),
+        (Some(3), Some(true))
+    );
+    assert_eq!(o["blocks"], 8);
+    // GOTO to a sequence number that is not there: the flow is lost.
+    let out = run(
+        dir.path(),
+        &["check", "flow.nc", "--keep-going", "--format", "json"],
+    );
+    let o = &json_lines(&out)[0];
+    let lines: Vec<u64> = o["findings"]
+        .as_array()
+        .expect("list")
+        .iter()
+        .map(|f| f["line"].as_u64().unwrap_or(0))
+        .collect();
+    assert_eq!(lines, [3, 4], "{o}");
+    assert_eq!(
+        (o["alarm"]["line"].as_u64(), o["ended"].as_bool()),
+        (Some(3), Some(false))
+    );
+}

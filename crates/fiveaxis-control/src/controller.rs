@@ -189,6 +189,9 @@ pub struct Controller<'m> {
     block_posture: Option<crate::segment::Posture>,
     /// G09 in the block being executed (its segments end in an exact stop).
     block_exact_stop: bool,
+    /// The block being executed chose rotary axes from a tool direction
+    /// (set where the inverse kinematics is asked; `Segment::rotary_chosen`).
+    block_chose_rotary: std::cell::Cell<bool>,
     /// Cutter compensation C: the engine and the blocks it holds.
     cutter: cutter_c::CutterC,
     /// The optional-stop switch: M01 stops like M00.
@@ -296,6 +299,7 @@ impl<'m> Controller<'m> {
             words: Words::new(machine.control),
             block_posture: None,
             block_exact_stop: false,
+            block_chose_rotary: std::cell::Cell::new(false),
             cutter: cutter_c::CutterC::new(machine.params.cutter_startup_b),
             axis_letters: {
                 let mut letters = [0u8; MAX_AXES];
@@ -527,6 +531,7 @@ impl<'m> Controller<'m> {
         }
         let mut codes = self.classify_g_codes()?;
         self.block_exact_stop = codes.exact_stop;
+        self.block_chose_rotary.set(false);
         self.feature_restrictions(&codes)?;
         self.m_code_length(&mut codes)?;
         self.apply_modal(&codes)?;
@@ -1293,6 +1298,12 @@ impl<'m> Controller<'m> {
         }
         self.cutter.vector = Some(crate::cutter::P2::new(i, j));
         Ok(())
+    }
+
+    /// Whether cutter compensation C holds a block back (its look-ahead):
+    /// an alarm then drops the held block.
+    pub fn holds_blocks(&self) -> bool {
+        self.cutter.routing()
     }
 
     /// The end of the program: blocks held by cutter compensation C are

@@ -339,6 +339,9 @@ pub struct Runner<'m, S> {
     /// No block has run since the start or the last jump to a program.
     at_program_start: bool,
     done: bool,
+    /// The last alarm left the control's state defined: the run may go
+    /// on from the next line ([`Runner::resume`]).
+    resumable: bool,
     /// The controller has emitted what it held at the end.
     flushed: bool,
     /// The last lines read, for messages about blocks the controller held
@@ -400,6 +403,7 @@ impl<'m, S: Source> Runner<'m, S> {
             scanned: Mark { offset: 0, line: 1 },
             at_program_start: true,
             done: false,
+            resumable: false,
             flushed: false,
             recent: std::array::from_fn(|_| (0, Vec::new())),
             recent_next: 0,
@@ -490,6 +494,19 @@ impl<'m, S: Source> Runner<'m, S> {
             self.queue = queue;
             result?;
         }
+    }
+
+    /// After an alarm from [`Runner::fill`] or [`Runner::next_segment`]:
+    /// whether the control's state is defined (the failing block was not
+    /// executed at all: an alarm of the controller on one block, with no
+    /// block held by cutter compensation, or a line the front end could
+    /// not read), so that the run may go on from the next line, as
+    /// `check --keep-going` does. An alarm of the program's flow (macro
+    /// statements, subprogram calls, O-words), of the block budget, of a
+    /// position that is not finite or of the end of the file leaves it
+    /// undefined: `false`, and the run stays stopped.
+    pub fn resume(&mut self) -> bool {
+        std::mem::take(&mut self.resumable)
     }
 
     /// Appends the program's next segments to `out` until it holds at
@@ -591,6 +608,7 @@ impl<'m, S: Source> Runner<'m, S> {
 
     /// Reads and executes one line, appending its segments to `out`.
     fn step(&mut self, out: &mut Vec<Segment>) -> Result<(), RunError> {
+        self.resumable = false;
         if !self.started {
             self.started = true;
             self.skip_leader()?;
@@ -675,7 +693,11 @@ impl<'m, S: Source> Runner<'m, S> {
                 }
                 return Err(alarm);
             }
-            Err(error) => return Err(self.syntax_alarm(here.line, error)),
+            Err(error) => {
+                // Nothing of the line was executed.
+                self.resumable = true;
+                return Err(self.syntax_alarm(here.line, error));
+            }
         }
         self.execute_block(here, sequential, out)
     }
@@ -737,7 +759,12 @@ impl<'m, S: Source> Runner<'m, S> {
         }
         let flow = match self.controller.execute(&self.block, out) {
             Ok(flow) => flow,
-            Err(alarm) => return Err(self.alarm_here(alarm)),
+            Err(alarm) => {
+                // The controller put its state back as before the block,
+                // unless cutter compensation dropped a block it held.
+                self.resumable = !self.controller.holds_blocks();
+                return Err(self.alarm_here(alarm));
+            }
         };
         if engraves && let Some(serial) = self.controller.serial_number() {
             self.set_serial_number(serial, here.line)?;

@@ -369,6 +369,12 @@ pub struct Segment {
     /// The block was fed in inverse time (G93): it lasts 1/F, and `feed`
     /// is its tip chord over that time.
     pub inverse_time: bool,
+    /// The control chose the rotary axes of this block from a tool
+    /// direction (TCPC with a tool vector or with tool posture control,
+    /// the tilted working plane's axis choice, a setup-error correction of
+    /// the tool direction): only then is passing near the singular
+    /// direction the control's doing rather than the program's.
+    pub rotary_chosen: bool,
     /// Rows the block is sampled into: 1 (its end row only) unless the run
     /// interpolates (`--step`), when the runner sets it from
     /// [`Segment::steps`].

@@ -395,6 +395,8 @@ impl Controller<'_> {
                 setup: self.state.setup,
                 exact_stop: self.state.modal.cutting == crate::modal::CuttingMode::ExactStop,
                 inverse_time: self.state.modal.feed_mode == crate::modal::FeedMode::InverseTime,
+                // Cutter compensation C: in plane, no tool direction.
+                rotary_chosen: false,
                 rows: 1,
             };
             if seg.moves() {

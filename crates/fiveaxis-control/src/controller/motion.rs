@@ -34,6 +34,9 @@ impl Controller<'_> {
         end: Joints,
         path: Path,
     ) -> Segment {
+        // Tool posture control turns the axes on the great circle the
+        // control works out.
+        let posture = matches!(&path, Path::Tcpc(t) if t.posture.is_some());
         Segment {
             line: self.words.line,
             motion,
@@ -47,6 +50,7 @@ impl Controller<'_> {
             exact_stop: self.block_exact_stop
                 || self.state.modal.cutting == crate::modal::CuttingMode::ExactStop,
             inverse_time: self.state.modal.feed_mode == FeedMode::InverseTime,
+            rotary_chosen: self.block_chose_rotary.get() || posture,
             rows: 1,
         }
     }

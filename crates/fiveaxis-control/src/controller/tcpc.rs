@@ -991,6 +991,7 @@ impl Controller<'_> {
         choice: Choice,
     ) -> Result<[f64; 2], Alarm> {
         let machine = self.machine;
+        self.block_chose_rotary.set(true);
         let found = machine.orientations(dir, current);
         let rotating = self.rotating_axis();
         let (rule, tilt_sign, scored) = match choice {

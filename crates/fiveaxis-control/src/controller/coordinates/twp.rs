@@ -524,6 +524,7 @@ impl Controller<'_> {
         name: &str,
     ) -> Result<[f64; 2], Alarm> {
         let joints = &self.state.joints;
+        self.block_chose_rotary.set(true);
         let found = self.machine.orientations_held(dir, pair, joints);
         let prio = usize::from(self.machine.params.twp_priority == 2);
         let current = pair.map(|k| joints[self.machine.rotary_index(k)]);
