@@ -200,9 +200,26 @@ impl Words {
     }
 
     /// A word's value as a non-negative integer (H, D, P, L, T, S numbers):
-    /// alarms on a decimal point, a sign or a value beyond `max`.
+    /// alarms on a decimal point written on the tape, a sign or a value
+    /// beyond `max`. A computed value (`P#1`, `H[#2+1]`) is rounded to the
+    /// integer, half away from zero, as FANUC rounds a variable's value to
+    /// the address's least increment.
     pub fn integer(&self, word: &Word, max: u32) -> Result<u32, Alarm> {
         let letter = char::from(word.letter);
+        if word.computed {
+            let value = word.value.round();
+            if !(0.0..=f64::from(max)).contains(&value) {
+                return Err(self.alarm(
+                    Condition::ValueOutOfRange,
+                    Some(word.span),
+                    format!(
+                        "{letter}{} (the value of its variable or expression, rounded) is out of range 0 to {max}",
+                        word.value
+                    ),
+                ));
+            }
+            return Ok(value as u32);
+        }
         if word.decimal_point {
             return Err(self.alarm(
                 Condition::DecimalPointNotAllowed,

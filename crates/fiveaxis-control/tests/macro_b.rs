@@ -312,3 +312,31 @@ fn a_3006_stop_is_noted_and_the_run_goes_on() {
         runner.notes()
     );
 }
+
+/// Issue 24, item 1: the value of a variable or expression in an address
+/// that takes an integer is rounded to the integer (FANUC rounds a
+/// variable's value to the address's least increment); the decimal point
+/// rule is for what the tape says. `G10 L11 P#1 R-1.0` writes tool 1's
+/// length wear; `H#2` with #2 = 0.6 is H1.
+#[test]
+fn variables_in_integer_addresses_are_rounded_values() {
+    let z = |program: &str| {
+        let (rows, alarm) = run(program);
+        assert!(alarm.is_none(), "{alarm:?}\n{program}");
+        rows.last().map(|r| r.joints[2]).expect("a row")
+    };
+    // Length 100, wear -0.5: the gauge point 99.5 above the tip.
+    assert!((z("G21 G90 G0 X0 Y0\nG43 H1 Z0\nM30\n") - 99.5).abs() < 1e-9);
+    assert!((z("G21 G90 G0 X0 Y0\n#1=1\nG43 H#1 Z0\nM30\n") - 99.5).abs() < 1e-9);
+    assert!((z("G21 G90 G0 X0 Y0\n#2=0.6\nG43 H#2 Z0\nM30\n") - 99.5).abs() < 1e-9);
+    assert!((z("G21 G90 G0 X0 Y0\n#1=1\nG43 H[#1+0.4] Z0\nM30\n") - 99.5).abs() < 1e-9);
+    // G10 L11 P#1: tool 1's wear becomes -1.0.
+    let program = "G21 G90 G0 X0 Y0\n#4=0.5\nG10 L11 P[#4*2] R-1.0\nG43 H1 Z0\nM30\n";
+    assert!((z(program) - 99.0).abs() < 1e-9);
+    // A decimal point written on the tape is still refused.
+    let (_, alarm) = run("G21 G90\nG43 H1. Z0\nM30\n");
+    assert_eq!(alarm.map(|a| a.code.to_string()), Some("PS0007".into()));
+    // The rounded value must be in range.
+    let (_, alarm) = run("G21 G90\n#1=-0.6\nG43 H#1 Z0\nM30\n");
+    assert!(alarm.is_some());
+}

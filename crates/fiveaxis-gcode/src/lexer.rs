@@ -271,6 +271,7 @@ fn read_word(
             value: number.value,
             decimal_point: number.decimal_point,
             code: number.code(),
+            computed: false,
             span,
         });
     }

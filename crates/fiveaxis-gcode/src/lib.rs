@@ -166,6 +166,12 @@ pub struct Word {
     /// The code form of the number when it has at most one digit after the
     /// decimal point and no sign (`G43.4`, `M98`); `None` otherwise.
     pub code: Option<Code>,
+    /// The value was computed (a macro variable or expression, `P#1`,
+    /// `H[#2+1]`), not written on the tape: the rule of the decimal point
+    /// does not apply to it, and an address that takes an integer takes it
+    /// rounded (FANUC: a variable's value is rounded to the address's
+    /// least increment).
+    pub computed: bool,
     /// Where the word stands in its line.
     pub span: Span,
 }

@@ -55,15 +55,15 @@ fn fill(
     out.tape_mark = nc.tape_mark;
     out.sequence = nc.sequence;
     for word in &nc.words {
-        let (value, decimal_point, code) = match &word.value {
+        let (value, decimal_point, code, computed) = match &word.value {
             WordValue::Literal {
                 value,
                 decimal_point,
                 code,
-            } => (*value, *decimal_point, *code),
+            } => (*value, *decimal_point, *code, false),
             WordValue::Expr(expr) => match vars.eval(expr, sys, settings)? {
                 Value::Vacant => continue,
-                Value::Number(x) => (x, true, computed_code(x)),
+                Value::Number(x) => (x, true, computed_code(x), true),
                 Value::Bool(_) => {
                     return Err(MacroError::new(
                         MacroErrorKind::FormatError,
@@ -78,6 +78,7 @@ fn fill(
             value,
             decimal_point,
             code,
+            computed,
             span: word.span,
         });
     }

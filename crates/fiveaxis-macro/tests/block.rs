@@ -25,6 +25,7 @@ fn block(text: &str, setup: &[(u32, f64)]) -> Result<Block, fiveaxis_macro::Macr
         value: 9.0,
         decimal_point: false,
         code: None,
+        computed: false,
         span: Span::default(),
     });
     evaluate_block(&nc, &vars, &sys, &s, &mut out).map(|()| out)

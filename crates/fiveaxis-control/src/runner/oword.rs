@@ -410,6 +410,8 @@ fn is_plain(text: &[u8]) -> bool {
 /// rounded.
 fn normalize_words(block: &mut Block) {
     for word in &mut block.words {
+        // Written or computed, LinuxCNC reads every number by this rule.
+        word.computed = false;
         let rounded = word.value.round();
         if (word.value - rounded).abs() < INTEGER_TOLERANCE {
             word.decimal_point = false;
@@ -699,6 +701,7 @@ impl<S: Source> Runner<'_, S> {
                         value: f64::from(n),
                         decimal_point: false,
                         code: None,
+                        computed: false,
                         span,
                     });
                 }

@@ -81,6 +81,7 @@ mod reference {
                 value: number.value,
                 decimal_point: number.decimal_point,
                 code: number.code(),
+                computed: false,
                 span,
             });
         }

@@ -403,7 +403,7 @@ impl Controller<'_> {
                         seen[d as usize - 1] = true;
                     }
                 }
-                if !seen.iter().all(|s| *s) || word.decimal_point {
+                if !seen.iter().all(|s| *s) || (word.decimal_point && !word.computed) {
                     return Err(self.alarm(
                         Condition::FeatureDefinition,
                         Some(word.span),

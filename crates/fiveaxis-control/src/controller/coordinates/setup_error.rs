@@ -52,9 +52,10 @@ impl Controller<'_> {
                 "G54.4 needs P, the data set number".into(),
             ));
         };
-        if p.decimal_point
-            || !(0.0..=f64::from(MAX_SET)).contains(&p.value)
-            || p.value.fract() != 0.0
+        let value = if p.computed { p.value.round() } else { p.value };
+        if (p.decimal_point && !p.computed)
+            || !(0.0..=f64::from(MAX_SET)).contains(&value)
+            || value.fract() != 0.0
         {
             return Err(self.alarm(
                 Condition::SetupErrorNumberRange,
@@ -62,7 +63,7 @@ impl Controller<'_> {
                 format!("G54.4 P{}: data sets are 0 (cancel) to {MAX_SET}", p.value),
             ));
         }
-        let n = p.value as u32;
+        let n = value as u32;
         if n != 0 && self.machine.rotary.len() > 2 {
             // The correction turns the tool back onto its attitude on the
             // real workpiece, an inverse that needs two rotary axes.
