@@ -269,7 +269,6 @@ fn overtravel_runs_are_real_and_none_is_missed() {
                         last.1 = last.1.max(top);
                     } else {
                         runs.push((seg.line, top));
-                        open = true;
                     }
                     let end = seg.end[i];
                     prop_assume!((end - 60.0).abs() > 1e-6);

@@ -124,6 +124,10 @@ struct State {
     spindle_on: bool,
     /// Selected tool (T).
     tool: u32,
+    /// The last M code given (`#4113`), as a number (`M98` is 98).
+    last_m: Option<f64>,
+    /// The last sequence number read (`N`, `#4114`).
+    sequence: Option<u32>,
     /// The tool in the spindle (the selected tool at the last tool change).
     spindle_tool: u32,
     /// Coolant on.
@@ -275,6 +279,8 @@ impl<'m> Controller<'m> {
                 spindle_speed: 0.0,
                 spindle_on: false,
                 tool: 0,
+                last_m: None,
+                sequence: None,
                 spindle_tool: 0,
                 coolant: false,
                 rigid_tap: false,
@@ -514,6 +520,9 @@ impl<'m> Controller<'m> {
             self.comment_span = block.comment_span;
         }
         let saved = self.state.clone();
+        if let Some(n) = block.sequence {
+            self.state.sequence = Some(n);
+        }
         let result = self.execute_loaded(base, out);
         if result.is_err() {
             self.state = saved;

@@ -338,6 +338,8 @@ pub struct Runner<'m, S> {
     scanned: Mark,
     /// No block has run since the start or the last jump to a program.
     at_program_start: bool,
+    /// The main program's number (its `O` line), if it has one.
+    main_program: Option<u32>,
     done: bool,
     /// The last alarm left the control's state defined: the run may go
     /// on from the next line ([`Runner::resume`]).
@@ -402,6 +404,7 @@ impl<'m, S: Source> Runner<'m, S> {
             labels: Vec::new(),
             scanned: Mark { offset: 0, line: 1 },
             at_program_start: true,
+            main_program: None,
             done: false,
             resumable: false,
             flushed: false,
@@ -720,6 +723,12 @@ impl<'m, S: Source> Runner<'m, S> {
             && sequential
         {
             self.labels.push((number, here));
+        }
+        if let Some(number) = program
+            && self.at_program_start
+            && self.stack.is_empty()
+        {
+            self.main_program = Some(number);
         }
         if self.block.tape_mark {
             // The opening % of the main program or of a library program's
@@ -1050,6 +1059,19 @@ impl<'m, S: Source> Runner<'m, S> {
         self.next_line = mark.line;
         self.at_program_start = true;
         Ok(())
+    }
+
+    /// The number of the program running (`#4115`): the called one's, or
+    /// the main program's; `None` for a program without an `O` number.
+    pub(super) fn program_number(&self) -> Option<u32> {
+        match self.stack.last() {
+            Some(frame) => self
+                .labels
+                .iter()
+                .find(|(_, mark)| mark.offset == frame.start.offset)
+                .map(|(n, _)| *n),
+            None => self.main_program,
+        }
     }
 
     /// Where program `number` starts: a label seen already, or the first

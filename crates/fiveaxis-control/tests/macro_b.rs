@@ -340,3 +340,55 @@ fn variables_in_integer_addresses_are_rounded_values() {
     let (_, alarm) = run("G21 G90\n#1=-0.6\nG43 H#1 Z0\nM30\n");
     assert!(alarm.is_some());
 }
+
+/// Issue 24, item 2: every modal information variable reads (FANUC 30i,
+/// "System variables", modal information): the G code groups of the
+/// preceding block (`#4001`–`#4030`) and of the block being executed
+/// (`#4201`–`#4230`), the values B D E F H M N O S T P (`#4101`–`#4130`,
+/// `#4301`–`#4330`); a group or address the kernel has no function of is
+/// vacant, never an alarm; writing one is refused.
+#[test]
+fn every_modal_information_variable_reads() {
+    let program = "O1234\nN10 G21 G90 G17 G0 X0 Y0 Z0\nM8\n\
+        #100=#4003\n#101=#4113\n#102=#4114\nG0 X#100 Y#101 Z#102\n\
+        #103=#4012\n#104=#4015\n#105=#4115/1000\nG0 X#103 Y#104 Z#105\n\
+        G0 X[#4203] Y#4023 Z[#4130]\n\
+        G66 P9000\n#110=#4012\n#111=#4212\nG67\n#112=#4012\nG0 X#110 Y#111 Z#112\n\
+        M30\nO9000\nM99\n";
+    let (rows, alarm) = run(program);
+    assert!(alarm.is_none(), "{alarm:?}");
+    let ends: Vec<(u32, f64, f64, f64)> = tips(&rows);
+    let at = |line: u32| {
+        ends.iter()
+            .rev()
+            .find(|r| r.0 == line)
+            .map(|r| [r.1, r.2, r.3])
+            .expect("a row of the line")
+    };
+    let near = |got: [f64; 3], want: [f64; 3]| {
+        assert!(
+            got.iter().zip(want).all(|(g, w)| (g - w).abs() < 1e-9),
+            "{got:?} vs {want:?}"
+        );
+    };
+    // G90, the last M (M8), the last sequence number (N10).
+    near(at(7), [90.0, 8.0, 10.0]);
+    // No G66: G67; G64 (cutting mode); the program O1234.
+    near(at(11), [67.0, 64.0, 1.234]);
+    // The block being executed: G90; group 23 (none): vacant, Y stays;
+    // P of G54.1: none, 0.
+    near(at(12), [90.0, 64.0, 0.0]);
+    // G66 in force, then G67.
+    near(at(18), [66.0, 66.0, 67.0]);
+    // Every number of the four tables reads, vacant or not.
+    for base in [4000, 4100, 4200, 4300] {
+        for k in 1..=30 {
+            let program = format!("G21\n#1=#{}\nM30\n", base + k);
+            let (_, alarm) = run(&program);
+            assert!(alarm.is_none(), "#{}: {alarm:?}", base + k);
+        }
+    }
+    // They are read-only.
+    let (_, alarm) = run("G21\n#4001=1\nM30\n");
+    assert!(alarm.is_some());
+}

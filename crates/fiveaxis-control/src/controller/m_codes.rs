@@ -229,6 +229,7 @@ impl Controller<'_> {
         }
         for i in 0..self.words.m_len {
             let (code, span) = self.words.m[i];
+            self.state.last_m = Some(f64::from(code.major) + f64::from(code.minor) / 10.0);
             match (code.major, code.minor) {
                 (98, 0) => flow = self.call()?,
                 (97, 0) if self.dialect.haas_codes => flow = self.local_call(span)?,

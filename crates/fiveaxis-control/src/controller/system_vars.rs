@@ -13,8 +13,8 @@
 //! | `#5201`–`#5203` | external work offset X, Y, Z |
 //! | `#5221`–`#5223` … `#5321`–`#5323` | G54 … G59 X, Y, Z (20 apart) |
 //! | `#7001`–`#7003` … `#7941`–`#7943` | G54.1 P1 … P48 X, Y, Z (20 apart) |
-//! | `#4001`–`#4022` | modal G codes of groups 1 … 22 (the kernel's groups) |
-//! | `#4107`, `#4109`, `#4111`, `#4119`, `#4120` | D, F, H, S, T |
+//! | `#4001`–`#4030`, `#4201`–`#4230` | modal G codes of groups 1 … 30 |
+//! | `#4101`–`#4130`, `#4301`–`#4330` | B D E F H M N O S T P codes |
 //! | `#5001`+ | end point of the last block, workpiece coordinates, per axis |
 //! | `#5021`+ | machine coordinates, per axis |
 //! | `#5041`+ | current position, workpiece coordinates (= `#5001`+ here) |
@@ -29,7 +29,7 @@ use fiveaxis_machine::MAX_TOOL_OFFSET;
 
 use super::Controller;
 use crate::modal::{
-    Distance, FeedMode, LengthMode, MotionMode, Plane, TcpcType, Units, WorkSelect,
+    CuttingMode, Distance, FeedMode, LengthMode, MotionMode, Plane, TcpcType, Units, WorkSelect,
 };
 
 /// Why a system variable cannot be read or written.
@@ -138,9 +138,7 @@ impl Controller<'_> {
         if let Some(i) = position(5020) {
             return Ok(Some(self.state.joints[i]));
         }
-        self.modal_variable(n)
-            .map(Some)
-            .ok_or(SystemVarFault::Unknown)
+        self.modal_variable(n).ok_or(SystemVarFault::Unknown)
     }
 
     /// Writes system variable `n` (tool and work offsets only).
@@ -199,41 +197,62 @@ impl Controller<'_> {
         }
     }
 
-    /// `#4001`+: the G code of each modal group, and the modal values.
-    fn modal_variable(&self, n: u32) -> Option<f64> {
+    /// Modal information (FANUC 30i, "System variables", modal
+    /// information): `#4001`–`#4030` the G code of groups 1–30 and
+    /// `#4101`–`#4130` the B D E F H M N O S T P values of the blocks up
+    /// to the preceding one; `#4201`–`#4230` and `#4301`–`#4330` the same
+    /// of the block being executed. The kernel reads no block ahead of a
+    /// macro statement, so the two are the same. `Some(None)`: a variable
+    /// of the table that is vacant here (a group or address the kernel has
+    /// no function of, docs/functions.md); `None`: not modal information.
+    fn modal_variable(&self, n: u32) -> Option<Option<f64>> {
+        match n {
+            4001..=4030 => Some(self.modal_group(n - 4000)),
+            4201..=4230 => Some(self.modal_group(n - 4200)),
+            4101..=4130 => Some(self.modal_value(n - 4100)),
+            4301..=4330 => Some(self.modal_value(n - 4300)),
+            _ => None,
+        }
+    }
+
+    /// The G code in force of modal group `group` (FANUC 30i-M numbering).
+    fn modal_group(&self, group: u32) -> Option<f64> {
         let m = &self.state.modal;
-        Some(match n {
-            4001 => match m.motion {
+        Some(match group {
+            1 => match m.motion {
                 MotionMode::Rapid => 0.0,
                 MotionMode::Linear => 1.0,
                 MotionMode::Cw => 2.0,
                 MotionMode::Ccw => 3.0,
             },
-            4002 => match m.plane {
+            2 => match m.plane {
                 Plane::Xy => 17.0,
                 Plane::Zx => 18.0,
                 Plane::Yz => 19.0,
             },
-            4003 => match m.distance {
+            3 => match m.distance {
                 Distance::Absolute => 90.0,
                 Distance::Incremental => 91.0,
             },
-            4005 => match m.feed_mode {
+            // Stored stroke check 2 and 3 (barriers): the kernel has none,
+            // so they are off.
+            4 => 23.0,
+            5 => match m.feed_mode {
                 FeedMode::InverseTime => 93.0,
                 FeedMode::PerMinute => 94.0,
                 FeedMode::PerRevolution => 95.0,
             },
-            4006 => match m.units {
+            6 => match m.units {
                 Units::Inch => 20.0,
                 Units::Metric => 21.0,
             },
-            4007 => match self.cutter.side {
+            7 => match self.cutter.side {
                 None if self.state.comp3d.active => 41.0,
                 None => 40.0,
                 Some(crate::cutter::Side::Left) => 41.0,
                 Some(crate::cutter::Side::Right) => 42.0,
             },
-            4008 => match m.length {
+            8 => match m.length {
                 LengthMode::Off => 49.0,
                 LengthMode::Plus => 43.0,
                 LengthMode::Minus => 44.0,
@@ -241,31 +260,63 @@ impl Controller<'_> {
                 LengthMode::Tcpc(TcpcType::Angles) => 43.4,
                 LengthMode::Tcpc(TcpcType::Vector) => 43.5,
             },
-            4009 => self
+            9 => self
                 .state
                 .cycle
                 .cycle
                 .map_or(80.0, super::cycles::Cycle::g_number),
-            4010 => {
+            10 => {
                 if self.state.cycle.return_initial {
                     98.0
                 } else {
                     99.0
                 }
             }
-            4014 => match m.work {
+            // The macro modal call (G66 / G66.1) is the runner's: it
+            // answers while one is in force.
+            12 => 67.0,
+            // Constant surface speed is a turning function: off.
+            13 => 97.0,
+            14 => match m.work {
                 WorkSelect::Standard(i) => 54.0 + f64::from(i),
                 WorkSelect::Extended(_) => 54.1,
                 WorkSelect::Haas(_) => 154.0,
             },
-            4011 | 4016 | 4017 | 4022 => self.state.frames.modal_g(n),
-            4107 => f64::from(self.state.d),
-            4109 => self.state.feed,
-            4111 => f64::from(self.state.h),
-            4119 => self.state.spindle_speed,
-            4120 => f64::from(self.state.tool),
+            15 => match m.cutting {
+                CuttingMode::ExactStop => 61.0,
+                CuttingMode::CornerOverride => 62.0,
+                CuttingMode::Tapping => 63.0,
+                CuttingMode::Cutting => 64.0,
+            },
+            16 if self.feature().is_some() => 68.2,
+            11 | 16 | 17 | 22 => self.state.frames.modal_g(4000 + group),
+            // Normal direction control and polar coordinate interpolation:
+            // functions the kernel does not have, cancelled.
+            18 => 40.1,
+            21 => 13.1,
             _ => return None,
         })
+    }
+
+    /// The value of address code `k` of `#4100 + k` (B 2, D 7, E 8, F 9,
+    /// H 11, M 13, N 14, O 15, S 19, T 20, P 30).
+    fn modal_value(&self, k: u32) -> Option<f64> {
+        match k {
+            7 => Some(f64::from(self.state.d)),
+            9 => Some(self.state.feed),
+            11 => Some(f64::from(self.state.h)),
+            13 => self.state.last_m,
+            14 => self.state.sequence.map(f64::from),
+            19 => Some(self.state.spindle_speed),
+            20 => Some(f64::from(self.state.tool)),
+            30 => Some(match self.state.modal.work {
+                WorkSelect::Extended(p) | WorkSelect::Haas(p) => f64::from(p),
+                WorkSelect::Standard(_) => 0.0,
+            }),
+            // B (second auxiliary function) and E (thread lead): the kernel
+            // has neither; O (the program number) is the runner's.
+            _ => None,
+        }
     }
 }
 

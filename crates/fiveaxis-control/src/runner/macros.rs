@@ -107,6 +107,10 @@ pub(super) enum MacroFlow {
 pub(super) struct System<'c, 'm> {
     controller: &'c mut Controller<'m>,
     inputs: &'c [f64; INPUTS],
+    /// `#4012` / `#4212`: 66 while a `G66` modal call is in force.
+    modal_call: bool,
+    /// `#4115` / `#4315`: the number of the program running, if it has one.
+    program: Option<u32>,
 }
 
 impl std::fmt::Debug for System<'_, '_> {
@@ -120,6 +124,8 @@ impl SystemVariables for System<'_, '_> {
         match number {
             1000..=1035 => Ok(self.inputs.get((number - 1000) as usize).copied()),
             3001 | 3002 | 3901 | 3902 => Ok(Some(0.0)),
+            4012 | 4212 if self.modal_call => Ok(Some(66.0)),
+            4115 | 4315 => Ok(self.program.map(f64::from)),
             _ => self.controller.read_system_variable(number).map_err(fault),
         }
     }
@@ -182,9 +188,12 @@ impl<S: Source> Runner<'_, S> {
             return Ok(MacroFlow::Done);
         }
         self.at_program_start = false;
+        let program = self.program_number();
         let mut sys = System {
             controller: &mut self.controller,
             inputs: &self.macros.inputs,
+            modal_call: self.macros.modal_call.is_some(),
+            program,
         };
         let settings = self.macros.settings;
         let result: Result<MacroFlow, MacroError> = match &line.statement {
