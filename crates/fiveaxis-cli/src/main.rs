@@ -416,6 +416,18 @@ fn load_offsets(path: Option<&Path>) -> Result<Offsets, InputError> {
     }
 }
 
+/// [`load_offsets`] for a machine: a work offset may not give more values
+/// than the machine has axes.
+fn load_offsets_checked(path: Option<&Path>, machine: &Machine) -> Result<Offsets, InputError> {
+    let offsets = load_offsets(path)?;
+    if let Some(path) = path {
+        offsets
+            .check_axes(machine.axis_count())
+            .map_err(|e| InputError(format!("error: {}: {e}", path.display())))?;
+    }
+    Ok(offsets)
+}
+
 /// The offsets of a run: the `--offsets` file (TOML, or a LinuxCNC tool
 /// table `.tbl`), else the tool table the machine file names
 /// (`[parameters] tool_table`, relative to the machine file's folder),
@@ -426,7 +438,7 @@ fn load_offsets_for(
     path: Option<&Path>,
 ) -> Result<Offsets, InputError> {
     if path.is_some() {
-        return load_offsets(path);
+        return load_offsets_checked(path, machine);
     }
     let machine_file = Path::new(machine_spec);
     match &machine.params.tool_table {

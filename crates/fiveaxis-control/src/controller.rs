@@ -1461,12 +1461,15 @@ impl<'m> Controller<'m> {
     }
 
     /// The shift between the programmed and the machine position of axis
-    /// `i` beyond X, Y, Z: G92's, and on LinuxCNC the work offset of the
-    /// coordinate system in use.
+    /// `i` beyond X, Y, Z: G92's and the work offset's of that axis (on
+    /// LinuxCNC the coordinate system in use; on the other controls the
+    /// work offset selected, plus the external one).
     pub(super) fn rotary_shift(&self, i: usize) -> f64 {
-        let work = self
-            .linuxcnc_system()
-            .map_or(0.0, |k| self.state.rotary_work[k][i]);
+        let work = match self.linuxcnc_system() {
+            Some(k) => self.state.rotary_work[k][i],
+            None if self.dialect.rs274ngc => 0.0,
+            None => self.work_beyond(i),
+        };
         self.state.axis_shift[i] + work
     }
 
@@ -1749,21 +1752,43 @@ impl<'m> Controller<'m> {
                         format!("G10 L{l_value} P{n}: no such work offset"),
                     ));
                 }
-                let mut value = match (l_value, n) {
-                    (2, 0) => self.offsets.external,
-                    (2, n) => self.offsets.work[n as usize - 1],
-                    (_, n) => self.offsets.extended_work[n as usize - 1],
+                let (mut value, mut beyond) = match (l_value, n) {
+                    (2, 0) => (self.offsets.external, self.offsets.external_beyond),
+                    (2, n) => (
+                        self.offsets.work[n as usize - 1],
+                        self.offsets.work_beyond[n as usize - 1],
+                    ),
+                    (_, n) => (
+                        self.offsets.extended_work[n as usize - 1],
+                        self.offsets.extended_work_beyond[n as usize - 1],
+                    ),
                 };
-                for (axis, letter) in [b'X', b'Y', b'Z'].into_iter().enumerate() {
+                // One value per controlled axis, rotary axes included.
+                for i in 0..self.machine.axis_count() {
+                    let letter = self.axis_letters[i];
                     if let Some(word) = self.words.take(letter) {
-                        let v = self.length(&word);
-                        value[axis] = if incremental { value[axis] + v } else { v };
+                        let v = self.axis_value(i, &word);
+                        let slot = if i < 3 {
+                            &mut value[i]
+                        } else {
+                            &mut beyond[i - 3]
+                        };
+                        *slot = if incremental { *slot + v } else { v };
                     }
                 }
                 match (l_value, n) {
-                    (2, 0) => self.offsets.external = value,
-                    (2, n) => self.offsets.work[n as usize - 1] = value,
-                    (_, n) => self.offsets.extended_work[n as usize - 1] = value,
+                    (2, 0) => {
+                        self.offsets.external = value;
+                        self.offsets.external_beyond = beyond;
+                    }
+                    (2, n) => {
+                        self.offsets.work[n as usize - 1] = value;
+                        self.offsets.work_beyond[n as usize - 1] = beyond;
+                    }
+                    (_, n) => {
+                        self.offsets.extended_work[n as usize - 1] = value;
+                        self.offsets.extended_work_beyond[n as usize - 1] = beyond;
+                    }
                 }
                 Ok(())
             }

@@ -392,3 +392,45 @@ fn every_modal_information_variable_reads() {
     let (_, alarm) = run("G21\n#4001=1\nM30\n");
     assert!(alarm.is_some());
 }
+
+/// Issue 24, item 4: a work offset holds one value per controlled axis,
+/// rotary axes included (FANUC: `#5221`–`#5240` are G54's axes 1–20):
+/// the offset of C shifts programmed C from machine C as X's does X; the
+/// variables read and write it, and so does G10 L2 / L20 with the axis
+/// word.
+#[test]
+fn work_offsets_hold_every_axis() {
+    let machine = machine();
+    assert_eq!(machine.axis_count(), 5, "X Y Z A C");
+    let c_of = |offsets: Offsets, program: &str| {
+        let (rows, alarm) = common::run_ends(&machine, offsets, program);
+        assert!(alarm.is_none(), "{alarm:?}\n{program}");
+        rows.iter()
+            .map(|r| (r.line, r.joints[4]))
+            .collect::<Vec<_>>()
+    };
+    let mut offsets = Offsets::default();
+    offsets.work_beyond[0][1] = 10.0; // G54 C
+    offsets.work_beyond[1][1] = -5.0; // G55 C
+    offsets.external_beyond[1] = 1.0; // EXT C
+    let c = c_of(
+        offsets.clone(),
+        "G21 G90 G54 G0 X0 Y0 Z100. C0\nG0 C20.\nG55 G0 C0\nM30\n",
+    );
+    assert_eq!(c, [(1, 11.0), (2, 31.0), (3, -4.0)]);
+    // #5225 is G54's fifth axis (C), #5245 G55's, #5205 the external one.
+    let c = c_of(
+        offsets.clone(),
+        "G21 G90 G54\n#1=#5225\n#2=#5245\n#3=#5205\nG0 X#1 Y#2 Z#3 C0\n#5225=3.\nG0 C0\nM30\n",
+    );
+    assert_eq!(c, [(5, 11.0), (7, 4.0)]);
+    // G10 L2 P1 with the axis word: absolute, then incremental.
+    let c = c_of(
+        offsets,
+        "G21 G90 G54\nG10 L2 P1 C15.\nG0 C0\nG91 G10 L2 P1 C-5.\nG90 G0 C0\nM30\n",
+    );
+    assert_eq!(c, [(3, 16.0), (5, 11.0)]);
+    // A machine with five axes has no sixth: #5226 is not a variable.
+    let (_, alarm) = run("G21\n#1=#5226\n#5226=1.\nM30\n");
+    assert!(alarm.is_some());
+}

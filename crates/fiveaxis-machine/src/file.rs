@@ -177,6 +177,33 @@ impl<'a> Source<'a> {
     }
 
     /// A 3-vector of finite numbers.
+    /// A work offset: X, Y, Z and the values of the axes beyond them (3
+    /// to [`crate::MAX_AXES`] numbers).
+    pub(crate) fn work_values(
+        &self,
+        value: &Spanned<Vec<f64>>,
+        key: &str,
+    ) -> Result<(Vec3, crate::offsets::BeyondXyz, usize), FileError> {
+        let v = value.get_ref();
+        if !(3..=crate::MAX_AXES).contains(&v.len()) {
+            let msg = format!(
+                "`{key}` must have 3 numbers (X, Y, Z) or one per machine axis (at most {}), found {}",
+                crate::MAX_AXES,
+                v.len()
+            );
+            return Err(self.at(value, key, msg));
+        }
+        if v.iter().any(|x| !x.is_finite()) {
+            return Err(self.at(value, key, format!("`{key}` must hold finite numbers")));
+        }
+        if v.iter().any(|x| x.abs() > MAX_FILE_MAGNITUDE) {
+            return Err(self.at(value, key, magnitude_message(key)));
+        }
+        let mut beyond = [0.0; crate::MAX_AXES - 3];
+        beyond[..v.len() - 3].copy_from_slice(&v[3..]);
+        Ok((Vec3::new(v[0], v[1], v[2]), beyond, v.len()))
+    }
+
     pub(crate) fn vec3(&self, value: &Spanned<Vec<f64>>, key: &str) -> Result<Vec3, FileError> {
         let v = value.get_ref();
         if v.len() != 3 {

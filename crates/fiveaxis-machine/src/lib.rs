@@ -26,7 +26,8 @@ pub use kinematics::{Pose, rotation, sin_cos_degrees};
 pub use linuxcnc::{ImportError, Imported, Reader, import_linuxcnc};
 pub use m_codes::{MAX_M_CODE, MCodes, MFunction, RESERVED_M_CODES};
 pub use offsets::{
-    MAX_EXTENDED_WORK, MAX_HAAS_WORK, MAX_TOOL_OFFSET, Offsets, SetupErrorSet, ToolOffset,
+    BeyondXyz, MAX_EXTENDED_WORK, MAX_HAAS_WORK, MAX_TOOL_OFFSET, Offsets, SetupErrorSet,
+    ToolOffset,
 };
 pub use setup_error::SetupError;
 

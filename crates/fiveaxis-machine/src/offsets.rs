@@ -3,7 +3,12 @@
 
 use std::collections::BTreeMap;
 
-use crate::Vec3;
+use crate::{MAX_AXES, Vec3};
+
+/// The values of one work offset for the axes beyond X, Y, Z, in machine
+/// axis order (the fourth axis first): a FANUC keeps one value per
+/// controlled axis, rotary axes included.
+pub type BeyondXyz = [f64; MAX_AXES - 3];
 
 /// Highest tool offset number (H, D) the offsets file and G10 accept.
 pub const MAX_TOOL_OFFSET: u32 = 999;
@@ -56,6 +61,16 @@ pub struct Offsets {
     /// External work zero offset, added to every work offset (FANUC "EXT",
     /// number 00).
     pub external: Vec3,
+    /// The values of `work` for the axes beyond X, Y, Z.
+    pub work_beyond: [BeyondXyz; 6],
+    /// The values of `extended_work` for the axes beyond X, Y, Z.
+    pub extended_work_beyond: [BeyondXyz; MAX_HAAS_WORK as usize],
+    /// The value of `external` for the axes beyond X, Y, Z.
+    pub external_beyond: BeyondXyz,
+    /// The most values a work offset of the file gives (3: X, Y, Z only),
+    /// and the key that gives them, for the check against the machine's
+    /// axes ([`Offsets::check_axes`]).
+    pub widest_work: Option<(String, usize)>,
     /// Setup error data sets by number (0 is FANUC's common set).
     pub setup_error: BTreeMap<u32, SetupErrorSet>,
 }
@@ -67,6 +82,10 @@ impl Default for Offsets {
             work: [Vec3::zeros(); 6],
             extended_work: [Vec3::zeros(); MAX_HAAS_WORK as usize],
             external: Vec3::zeros(),
+            work_beyond: [[0.0; MAX_AXES - 3]; 6],
+            extended_work_beyond: [[0.0; MAX_AXES - 3]; MAX_HAAS_WORK as usize],
+            external_beyond: [0.0; MAX_AXES - 3],
+            widest_work: None,
             setup_error: BTreeMap::new(),
         }
     }
@@ -76,5 +95,20 @@ impl Offsets {
     /// The tool offset of number `n`, zero when it was never set.
     pub fn tool(&self, n: u32) -> ToolOffset {
         self.tools.get(&n).copied().unwrap_or_default()
+    }
+
+    /// Whether the work offsets give no more values than a machine of
+    /// `axes` axes has.
+    ///
+    /// # Errors
+    ///
+    /// The key that gives more, and how many.
+    pub fn check_axes(&self, axes: usize) -> Result<(), String> {
+        match &self.widest_work {
+            Some((key, n)) if *n > axes => Err(format!(
+                "work offset `{key}` gives {n} values: the machine has {axes} axes (one value per axis, in the machine file's order)"
+            )),
+            _ => Ok(()),
+        }
     }
 }

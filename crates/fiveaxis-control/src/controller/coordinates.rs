@@ -52,6 +52,21 @@ impl Controller<'_> {
         base + self.offsets.external + self.state.shift
     }
 
+    /// The work offset of axis `i` beyond X, Y, Z (joint index, 3 or
+    /// more) in force: the selected work offset's value for that axis and
+    /// the external offset's (FANUC keeps one value per controlled axis;
+    /// `#5224`…, the offsets file's fourth value on).
+    pub(super) fn work_beyond(&self, i: usize) -> f64 {
+        let k = i - 3;
+        let base = match self.state.modal.work {
+            WorkSelect::Standard(s) => self.offsets.work_beyond[usize::from(s)][k],
+            WorkSelect::Extended(p) | WorkSelect::Haas(p) => {
+                self.offsets.extended_work_beyond[usize::from(p) - 1][k]
+            }
+        };
+        base + self.offsets.external_beyond[k]
+    }
+
     /// A programmed point (after the program transforms) as a point of
     /// the real workpiece in the table frame at table position 0: stages 2
     /// to 5 of the chain (feature frame, local shifts, setup error, work

@@ -121,7 +121,13 @@ impl Controller<'_> {
             let Some(vector) = self.work_vector(select) else {
                 return Err(SystemVarFault::Unknown);
             };
-            return Ok(Some(if axis < 3 { vector[axis] } else { 0.0 }));
+            return Ok(Some(if axis < 3 {
+                vector[axis]
+            } else if axis < self.machine.axis_count() {
+                self.work_beyond_slot(select).map_or(0.0, |b| b[axis - 3])
+            } else {
+                0.0
+            }));
         }
         let axes = self.machine.axis_count() as u32;
         let position = |base: u32| {
@@ -162,8 +168,26 @@ impl Controller<'_> {
             return Ok(());
         }
         if let Some((select, axis)) = work_variable(n) {
+            if axis >= self.machine.axis_count() {
+                // No such axis on this machine.
+                return Err(SystemVarFault::Unknown);
+            }
             if axis >= 3 {
-                return Err(SystemVarFault::ReadOnly);
+                let slot = match select {
+                    None => Some(&mut self.offsets.external_beyond),
+                    Some(WorkSelect::Standard(i)) => {
+                        self.offsets.work_beyond.get_mut(usize::from(i))
+                    }
+                    Some(WorkSelect::Extended(p) | WorkSelect::Haas(p)) => self
+                        .offsets
+                        .extended_work_beyond
+                        .get_mut(usize::from(p).wrapping_sub(1)),
+                };
+                let Some(slot) = slot else {
+                    return Err(SystemVarFault::Unknown);
+                };
+                slot[axis - 3] = v;
+                return Ok(());
             }
             let slot = match select {
                 None => Some(&mut self.offsets.external),
@@ -183,6 +207,18 @@ impl Controller<'_> {
             return Err(SystemVarFault::ReadOnly);
         }
         Err(SystemVarFault::Unknown)
+    }
+
+    fn work_beyond_slot(&self, select: Option<WorkSelect>) -> Option<fiveaxis_machine::BeyondXyz> {
+        match select {
+            None => Some(self.offsets.external_beyond),
+            Some(WorkSelect::Standard(i)) => self.offsets.work_beyond.get(usize::from(i)).copied(),
+            Some(WorkSelect::Extended(p) | WorkSelect::Haas(p)) => self
+                .offsets
+                .extended_work_beyond
+                .get(usize::from(p).wrapping_sub(1))
+                .copied(),
+        }
     }
 
     fn work_vector(&self, select: Option<WorkSelect>) -> Option<fiveaxis_machine::Vec3> {

@@ -85,9 +85,15 @@ impl Offsets {
         }
         let mut extended_given = [false; MAX_HAAS_WORK as usize];
         for (key, value) in in_file_order(&raw.work) {
-            let v = src.vec3(value, key.get_ref())?;
+            let (v, beyond, count) = src.work_values(value, key.get_ref())?;
+            if offsets.widest_work.as_ref().is_none_or(|(_, n)| count > *n) {
+                offsets.widest_work = Some((key.get_ref().clone(), count));
+            }
             match work_slot(&src, key)? {
-                WorkSlot::Standard(i) => offsets.work[i] = v,
+                WorkSlot::Standard(i) => {
+                    offsets.work[i] = v;
+                    offsets.work_beyond[i] = beyond;
+                }
                 WorkSlot::Extended(i) => {
                     // `"G154 P7"` and `"G54.1 P7"` name one offset.
                     if std::mem::replace(&mut extended_given[i], true) {
@@ -98,8 +104,12 @@ impl Offsets {
                         ));
                     }
                     offsets.extended_work[i] = v;
+                    offsets.extended_work_beyond[i] = beyond;
                 }
-                WorkSlot::External => offsets.external = v,
+                WorkSlot::External => {
+                    offsets.external = v;
+                    offsets.external_beyond = beyond;
+                }
             }
         }
         for (key, set) in in_file_order(&raw.setup_error) {

@@ -237,14 +237,38 @@ fn haas_work_offsets_g154_and_g110_share_the_extended_memory() {
 }
 
 #[test]
-fn work_offsets_are_three_numbers() {
+fn work_offsets_are_three_numbers_or_one_per_axis() {
     let text = "[work]\nG54 = [1, 2]\n";
     assert_error(
         &fail(text),
         text,
         "[1, 2]",
         Some("G54"),
-        "3 numbers, found 2",
+        "3 numbers (X, Y, Z) or one per machine axis (at most 8), found 2",
+    );
+    let text = "[work]\nG54 = [1, 2, 3, 4, 5, 6, 7, 8, 9]\n";
+    assert_error(
+        &fail(text),
+        text,
+        "[1, 2, 3, 4, 5, 6, 7, 8, 9]",
+        Some("G54"),
+        "found 9",
+    );
+    // X, Y, Z and then the axes beyond them in machine order.
+    let o = Offsets::from_toml(
+        "[work]\nG55 = [1, 2, 3, 4, 5]\nEXT = [0, 0, 0, 0, -1]\n\"G54.1 P2\" = [0, 0, 0, 7]\n",
+    )
+    .expect("read");
+    assert_eq!(o.work[1], Vec3::new(1.0, 2.0, 3.0));
+    assert_eq!(o.work_beyond[1][..2], [4.0, 5.0]);
+    assert_eq!(o.external_beyond[1], -1.0);
+    assert_eq!(o.extended_work_beyond[1][0], 7.0);
+    // The check against a machine's axes names the widest key.
+    assert_eq!(o.check_axes(5), Ok(()));
+    let e = o.check_axes(4).expect_err("five values on four axes");
+    assert!(
+        e.contains("`G55` gives 5 values: the machine has 4 axes"),
+        "{e}"
     );
     let text = "[work]\nG55 = 5\n";
     assert_error(&fail(text), text, "= ^5", Some("G55"), "invalid type");
