@@ -642,7 +642,7 @@ fn load_variables(name: &str, path: &Path) -> Result<Vec<(u32, f64)>, InputError
 fn save_variables(path: &Path, values: &[(u32, f64)]) -> Result<(), InputError> {
     let name = path.display().to_string();
     let mut text = String::from(
-        "# fiveaxis custom macro variables: #500-#999 kept between runs, #1000-#1035 interface signals\n",
+        "# fiveaxis custom macro variables: #500-#999 (and #500000- with the option) kept between runs, #1000-#1035 interface signals\n",
     );
     if let Ok(old) = std::fs::read_to_string(path) {
         for line in old.lines() {

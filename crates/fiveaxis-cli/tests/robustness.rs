@@ -429,3 +429,58 @@ fn deep_ngc_expressions_alarm_instead_of_overflowing_the_stack() {
         assert!(err.contains("ALARM FX0112 line 2"), "{head}");
     }
 }
+
+/// FANUC 30i-B's additional common variables (issue 24, item 3): a
+/// machine file with the option (`additional_common_variables`) has the
+/// shop's `#900000`…; `--variables` sets them and `--save-variables`
+/// writes them back. Without the option they are refused, naming it.
+#[test]
+fn additional_common_variables_are_read_and_written_back() {
+    let dir = tempfile::tempdir().expect("dir");
+    let machine = run_in(dir.path(), &["machines", "show", "trunnion-ac"], b"");
+    let mut text = String::from_utf8_lossy(&machine.stdout).into_owned();
+    text = text.replace(
+        "[parameters]",
+        "[parameters]\nadditional_common_variables = 500000",
+    );
+    std::fs::write(dir.path().join("m.toml"), text).expect("write");
+    std::fs::write(dir.path().join("vars.toml"), "900000 = 2\n").expect("write");
+    let program = b"#900001=#900000+1\n#100000=5\nG0 X#900001 Y#100000\nM30\n";
+    let args = [
+        "run",
+        "-",
+        "--machine",
+        "m.toml",
+        "--variables",
+        "vars.toml",
+        "--save-variables",
+    ];
+    let out = run_in(dir.path(), &args, program);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    let rows = String::from_utf8_lossy(&out.stdout).into_owned();
+    assert!(
+        rows.lines()
+            .nth(1)
+            .is_some_and(|l| l.starts_with("3,1,rapid,3,5,")),
+        "{rows}"
+    );
+    let saved = std::fs::read_to_string(dir.path().join("vars.toml")).expect("read");
+    assert!(
+        saved.contains("900000 = 2.0") && saved.contains("900001 = 3.0"),
+        "{saved}"
+    );
+    // #100000… are cleared at reset: not saved.
+    assert!(!saved.contains("100000 ="), "{saved}");
+    // The default machine has no such option.
+    let out = run_in(
+        dir.path(),
+        &["run", "-", "--variables", "vars.toml"],
+        program,
+    );
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        stderr(&out).contains("additional_common_variables"),
+        "{}",
+        stderr(&out)
+    );
+}

@@ -413,7 +413,10 @@ impl<'m, S: Source> Runner<'m, S> {
             macros: if Dialect::of(machine.control).rs274ngc {
                 MacroState::linuxcnc(oword::NGC_MAX_CALLS)
             } else {
-                MacroState::new(Dialect::of(machine.control).max_macro_nesting)
+                MacroState::new(
+                    Dialect::of(machine.control).max_macro_nesting,
+                    machine.params.additional_common_variables,
+                )
             },
             rs274ngc: Dialect::of(machine.control).rs274ngc,
             haas: Dialect::of(machine.control).haas_codes,

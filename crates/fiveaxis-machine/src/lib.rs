@@ -321,6 +321,11 @@ pub struct Parameters {
     /// turn the P word of those codes chooses; the other takes the
     /// shortest way.
     pub twp_priority: u8,
+    /// The size of FANUC 30i-B's additional custom macro common variables
+    /// option: how many of `#100000`… (at most 100,000, cleared at reset)
+    /// and of `#500000`… (at most 500,000, kept) exist; 0 (the default):
+    /// none.
+    pub additional_common_variables: u32,
     /// LinuxCNC: the values a program reads as `#<_hal[pin]>` (HAL pins
     /// as they stand when the program starts; names in lower case).
     pub hal_pins: BTreeMap<String, f64>,
@@ -354,6 +359,7 @@ impl Default for Parameters {
             tcpc_at_start: false,
             twp_remap: false,
             twp_priority: 1,
+            additional_common_variables: 0,
             hal_pins: BTreeMap::new(),
             ini_values: BTreeMap::new(),
         }

@@ -16,6 +16,12 @@ pub struct MacroSettings {
     /// extended common variables option). Default `false`: they are
     /// undefined (PS0115).
     pub extended_common: bool,
+    /// The size of the 30i's additional common variables option (FANUC
+    /// 30i-B, "addition of custom macro common variables"): how many of
+    /// `#100000`… (cleared at reset, at most 100,000) and of `#500000`…
+    /// (kept, at most 500,000) exist. Default 0: the option is absent and
+    /// they are undefined (PS0115).
+    pub additional_common: u32,
     /// `ADP[x]` multiplies by `10^adp_digits`: it gives back the number
     /// as written for an argument passed without decimal point and scaled
     /// by the least input increment (3 for IS-B in mm: `A10` → 0.010 →
@@ -35,6 +41,7 @@ impl MacroSettings {
     pub const LINUXCNC: Self = Self {
         nat: true,
         extended_common: false,
+        additional_common: 0,
         adp_digits: 3,
         linuxcnc: true,
     };
@@ -45,6 +52,7 @@ impl Default for MacroSettings {
         Self {
             nat: false,
             extended_common: false,
+            additional_common: 0,
             adp_digits: 3,
             linuxcnc: false,
         }

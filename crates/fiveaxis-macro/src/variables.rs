@@ -35,6 +35,13 @@ const COMMON_STANDARD: std::ops::RangeInclusive<u32> = 100..=199;
 const PERSISTENT: std::ops::RangeInclusive<u32> = 500..=999;
 /// The first system variable.
 const FIRST_SYSTEM: u32 = 1000;
+/// The 30i's additional common variables (option "addition of custom
+/// macro common variables"): cleared at reset like `#100`…, and kept like
+/// `#500`… The option's size (`MacroSettings::additional_common`) says
+/// how many of each range exist, from its first number.
+pub const ADDITIONAL_VOLATILE: std::ops::RangeInclusive<u32> = 100_000..=199_999;
+/// The kept range of the additional common variables.
+pub const ADDITIONAL_KEPT: std::ops::RangeInclusive<u32> = 500_000..=999_999;
 /// The highest `GOTO` target (five-digit sequence numbers).
 const MAX_SEQUENCE: f64 = 99_999.0;
 
@@ -111,6 +118,9 @@ pub struct Variables {
     common: Vec<Option<f64>>,
     /// `#500` … `#999`.
     persistent: Vec<Option<f64>>,
+    /// The additional common variables that are set (`#100000`… and
+    /// `#500000`…): few of a range of up to 600,000 are used.
+    additional: HashMap<u32, f64>,
     /// LinuxCNC's parameters (empty unless made by [`Variables::linuxcnc`]).
     ngc: NgcParams,
 }
@@ -138,6 +148,15 @@ pub const NGC_CALL_ARGS: usize = 30;
 /// (positions, offsets, tool data); those it does not answer are stored.
 const NGC_FIRST_SYSTEM: u32 = 5001;
 
+/// Whether `n` is one of the additional common variables the option has:
+/// the first `additional_common` of `#100000`… (at most 100,000) and of
+/// `#500000`… (at most 500,000).
+fn additional_exists(n: u32, settings: &MacroSettings) -> bool {
+    let size = settings.additional_common;
+    (ADDITIONAL_VOLATILE.contains(&n) && n - ADDITIONAL_VOLATILE.start() < size)
+        || (ADDITIONAL_KEPT.contains(&n) && n - ADDITIONAL_KEPT.start() < size)
+}
+
 /// The message for a variable that does not exist.
 fn undefined(number: impl std::fmt::Display, span: Span) -> MacroError {
     MacroError::new(
@@ -163,6 +182,7 @@ impl Variables {
             max_depth: max_call_depth,
             common: vec![None; range_len(&COMMON)],
             persistent: vec![None; range_len(&PERSISTENT)],
+            additional: HashMap::new(),
             ngc: NgcParams::default(),
         }
     }
@@ -404,21 +424,24 @@ impl Variables {
             *main = [None; LOCAL_COUNT];
         }
         self.common.fill(None);
+        self.additional
+            .retain(|n, _| !ADDITIONAL_VOLATILE.contains(n));
     }
 
-    /// Loads `#500` … `#999` from a variables file.
+    /// Loads kept common variables from a variables file: `#500` …
+    /// `#999`, and of the additional ones those of `#500000` … the option
+    /// has (`settings.additional_common`).
     ///
     /// # Errors
     ///
-    /// PS0115 for a number outside 500 … 999, PS0111 for a value that is
-    /// not finite; the values before it are loaded.
-    pub fn load_persistent(&mut self, values: &[(u16, f64)]) -> Result<(), MacroError> {
+    /// PS0115 for a number outside them, PS0111 for a value that is not
+    /// finite; the values before it are loaded.
+    pub fn load_persistent(
+        &mut self,
+        values: &[(u32, f64)],
+        settings: &MacroSettings,
+    ) -> Result<(), MacroError> {
         for &(number, value) in values {
-            let slot = u32::from(number)
-                .checked_sub(*PERSISTENT.start())
-                .filter(|_| PERSISTENT.contains(&u32::from(number)))
-                .and_then(|i| self.persistent.get_mut(i as usize))
-                .ok_or_else(|| undefined(number, Span::default()))?;
             if !value.is_finite() {
                 return Err(MacroError::new(
                     MacroErrorKind::Overflow,
@@ -426,17 +449,34 @@ impl Variables {
                     format!("#{number}: the value is not a finite number"),
                 ));
             }
+            if additional_exists(number, settings) && ADDITIONAL_KEPT.contains(&number) {
+                self.additional.insert(number, value);
+                continue;
+            }
+            let slot = number
+                .checked_sub(*PERSISTENT.start())
+                .filter(|_| PERSISTENT.contains(&number))
+                .and_then(|i| self.persistent.get_mut(i as usize))
+                .ok_or_else(|| undefined(number, Span::default()))?;
             *slot = Some(value);
         }
         Ok(())
     }
 
-    /// The set variables among `#500` … `#999`, in order, for the CLI to
-    /// save.
-    pub fn persistent(&self) -> impl Iterator<Item = (u16, f64)> + '_ {
+    /// The kept common variables that are set (`#500` … `#999`, then the
+    /// additional `#500000` …), in order, for the CLI to save.
+    pub fn persistent(&self) -> impl Iterator<Item = (u32, f64)> + '_ {
+        let mut kept: Vec<(u32, f64)> = self
+            .additional
+            .iter()
+            .filter(|(n, _)| ADDITIONAL_KEPT.contains(n))
+            .map(|(&n, &v)| (n, v))
+            .collect();
+        kept.sort_by_key(|&(n, _)| n);
         (*PERSISTENT.start()..)
             .zip(&self.persistent)
-            .filter_map(|(n, v)| Some((u16::try_from(n).ok()?, (*v)?)))
+            .filter_map(|(n, v)| Some((n, (*v)?)))
+            .chain(kept)
     }
 
     /// Reads variable `number` (vacant is `None`).
@@ -639,6 +679,7 @@ impl Variables {
                 .get((n - PERSISTENT.start()) as usize)
                 .copied()
                 .flatten()),
+            n if additional_exists(n, settings) => Ok(self.additional.get(&n).copied()),
             n if n >= FIRST_SYSTEM => sys.read(n).map_err(|e| system_error(e, n, span, None)),
             n => Err(undefined(n, span)),
         }
@@ -684,6 +725,13 @@ impl Variables {
             }
             n if PERSISTENT.contains(&n) => {
                 self.persistent.get_mut((n - PERSISTENT.start()) as usize)
+            }
+            n if additional_exists(n, settings) => {
+                match value {
+                    Some(v) => self.additional.insert(n, v),
+                    None => self.additional.remove(&n),
+                };
+                return Ok(());
             }
             n if n >= FIRST_SYSTEM => {
                 return sys

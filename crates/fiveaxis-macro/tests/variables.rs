@@ -154,7 +154,7 @@ fn frames_and_nesting() {
 #[test]
 fn reset_and_persistent_variables() {
     let (mut vars, mut sys, s) = setup();
-    vars.load_persistent(&[(500, 1.5), (999, -2.0)])
+    vars.load_persistent(&[(500, 1.5), (999, -2.0)], &s)
         .expect("load");
     vars.set(100, Some(1.0), &mut sys, &s).expect("set");
     vars.set(1, Some(1.0), &mut sys, &s).expect("set");
@@ -164,15 +164,65 @@ fn reset_and_persistent_variables() {
     assert_eq!(vars.depth(), 0);
     assert_eq!(vars.get(100, &sys, &s).expect("get"), None);
     assert_eq!(vars.get(1, &sys, &s).expect("get"), None);
-    let kept: Vec<(u16, f64)> = vars.persistent().collect();
+    let kept: Vec<(u32, f64)> = vars.persistent().collect();
     assert_eq!(kept, [(500, 1.5), (600, 6.0), (999, -2.0)]);
     assert_eq!(
-        vars.load_persistent(&[(499, 1.0)]).map_err(|e| e.kind),
+        vars.load_persistent(&[(499, 1.0)], &s).map_err(|e| e.kind),
         Err(K::UndefinedVariable)
     );
     assert_eq!(
-        vars.load_persistent(&[(501, f64::NAN)]).map_err(|e| e.kind),
+        vars.load_persistent(&[(501, f64::NAN)], &s)
+            .map_err(|e| e.kind),
         Err(K::Overflow)
+    );
+}
+
+/// FANUC 30i-B's additional common variables: without the option
+/// undefined; with it (its size N) the first N of `#100000`… (cleared at
+/// reset) and of `#500000`… (kept), vacant until set.
+#[test]
+fn additional_common_variables_exist_as_the_option_sizes_them() {
+    let (mut vars, mut sys, s) = setup();
+    for n in [100_000, 500_000, 900_000] {
+        assert_eq!(
+            vars.get(n, &sys, &s).map_err(|e| e.kind),
+            Err(K::UndefinedVariable)
+        );
+        assert_eq!(
+            vars.set(n, Some(1.0), &mut sys, &s).map_err(|e| e.kind),
+            Err(K::UndefinedVariable)
+        );
+    }
+    let s = MacroSettings {
+        additional_common: 401_250,
+        ..s
+    };
+    // #900000 … #901249 are the last 1,250 of 401,250.
+    assert_eq!(vars.get(901_249, &sys, &s).expect("exists"), None);
+    assert_eq!(
+        vars.get(901_250, &sys, &s).map_err(|e| e.kind),
+        Err(K::UndefinedVariable)
+    );
+    // The volatile range holds at most 100,000.
+    assert_eq!(vars.get(199_999, &sys, &s).expect("exists"), None);
+    assert_eq!(
+        vars.get(200_000, &sys, &s).map_err(|e| e.kind),
+        Err(K::UndefinedVariable)
+    );
+    vars.set(100_000, Some(1.0), &mut sys, &s).expect("set");
+    vars.set(900_000, Some(2.5), &mut sys, &s).expect("set");
+    vars.set(500_001, Some(-1.0), &mut sys, &s).expect("set");
+    vars.set(500_001, None, &mut sys, &s).expect("vacant again");
+    vars.load_persistent(&[(901_000, 7.0)], &s).expect("load");
+    vars.reset();
+    assert_eq!(vars.get(100_000, &sys, &s).expect("get"), None);
+    assert_eq!(vars.get(900_000, &sys, &s).expect("get"), Some(2.5));
+    let kept: Vec<(u32, f64)> = vars.persistent().collect();
+    assert_eq!(kept, [(900_000, 2.5), (901_000, 7.0)]);
+    assert_eq!(
+        vars.load_persistent(&[(100_000, 1.0)], &s)
+            .map_err(|e| e.kind),
+        Err(K::UndefinedVariable)
     );
 }
 

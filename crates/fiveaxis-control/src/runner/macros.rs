@@ -73,14 +73,17 @@ impl MacroState {
         Self {
             vars: Variables::linuxcnc(max_calls),
             settings: MacroSettings::LINUXCNC,
-            ..Self::new(max_calls)
+            ..Self::new(max_calls, 0)
         }
     }
 
-    pub(super) fn new(max_nesting: usize) -> Self {
+    pub(super) fn new(max_nesting: usize, additional_common: u32) -> Self {
         Self {
             vars: Variables::new(max_nesting),
-            settings: MacroSettings::default(),
+            settings: MacroSettings {
+                additional_common,
+                ..MacroSettings::default()
+            },
             loops: Vec::new(),
             cache: HashMap::new(),
             inputs: [0.0; INPUTS],
@@ -292,37 +295,50 @@ impl<S: Source> Runner<'_, S> {
         self.macros
             .vars
             .persistent()
-            .find(|&(number, _)| u32::from(number) == crate::controller::SERIAL_VARIABLE)
+            .find(|&(number, _)| number == crate::controller::SERIAL_VARIABLE)
             .map(|(_, value)| value)
     }
 
     /// Writes `#599` after a G47 P1.
     pub(super) fn set_serial_number(&mut self, value: f64, line: u32) -> Result<(), RunError> {
-        let number = crate::controller::SERIAL_VARIABLE as u16;
+        let number = crate::controller::SERIAL_VARIABLE;
+        let settings = self.macros.settings;
         self.macros
             .vars
-            .load_persistent(&[(number, value)])
+            .load_persistent(&[(number, value)], &settings)
             .map_err(|e| self.macro_alarm(line, e))
     }
 
     /// Sets variables before the run (a variables file): the kept common
-    /// variables `#500`–`#999` and the interface signal inputs
-    /// `#1000`–`#1035`. An error names the first number that is neither.
+    /// variables `#500`–`#999` (and the additional `#500000`… the machine's
+    /// option has) and the interface signal inputs `#1000`–`#1035`. An
+    /// error names the first number that is none of them.
     pub fn set_variables(&mut self, values: &[(u32, f64)]) -> Result<(), String> {
+        let settings = self.macros.settings;
+        let additional = settings.additional_common;
         for &(number, value) in values {
             if !value.is_finite() {
                 return Err(format!("#{number}: {value} is not a finite number"));
             }
             match number {
-                500..=999 => self
+                1000..=1035 => self.macros.inputs[(number - 1000) as usize] = value,
+                500..=999 | 500_000..=999_999 => self
                     .macros
                     .vars
-                    .load_persistent(&[(number as u16, value)])
-                    .map_err(|e| e.message)?,
-                1000..=1035 => self.macros.inputs[(number - 1000) as usize] = value,
+                    .load_persistent(&[(number, value)], &settings)
+                    .map_err(|e| {
+                        if additional == 0 && number >= 500_000 {
+                            format!(
+                                "{}: the machine has no additional common variables (parameter additional_common_variables)",
+                                e.message
+                            )
+                        } else {
+                            e.message
+                        }
+                    })?,
                 _ => {
                     return Err(format!(
-                        "#{number} cannot be set from a variables file: only #500-#999 (kept common variables) and #1000-#1035 (interface signals)"
+                        "#{number} cannot be set from a variables file: only #500-#999 and the machine's #500000-range (kept common variables) and #1000-#1035 (interface signals)"
                     ));
                 }
             }
@@ -333,11 +349,7 @@ impl<S: Source> Runner<'_, S> {
     /// The kept common variables `#500`–`#999` that are not vacant, as
     /// the program left them (for writing the variables file back).
     pub fn kept_variables(&self) -> Vec<(u32, f64)> {
-        self.macros
-            .vars
-            .persistent()
-            .map(|(n, v)| (u32::from(n), v))
-            .collect()
+        self.macros.vars.persistent().collect()
     }
 
     /// `WHILE` true or `DO`: the loop is open (again, when `END` jumped

@@ -164,6 +164,7 @@ struct RawParameters {
     tcpc_at_start: Option<Spanned<bool>>,
     twp_remap: Option<Spanned<bool>>,
     twp_priority: Option<Spanned<i64>>,
+    additional_common_variables: Option<Spanned<i64>>,
     hal_pins: Option<Spanned<BTreeMap<String, f64>>>,
     ini: Option<Spanned<BTreeMap<String, BTreeMap<String, f64>>>>,
 }
@@ -265,6 +266,11 @@ impl From<RawFrame> for ProgrammingFrame {
 }
 
 /// The one-letter axis name written in `name`, if it is one of `allowed`.
+
+/// The largest size of the additional common variables option: every one
+/// of `#500000` … `#999999`.
+const MAX_ADDITIONAL_COMMON: u32 = 500_000;
+
 fn axis_letter(name: &Spanned<String>, allowed: &[char]) -> Option<char> {
     let mut chars = name.get_ref().chars();
     match (chars.next(), chars.next()) {
@@ -649,6 +655,21 @@ fn parameters(
                 }
             },
             None => defaults.twp_priority,
+        },
+        additional_common_variables: match &raw.additional_common_variables {
+            Some(v) => match u32::try_from(*v.get_ref()) {
+                Ok(n) if n <= MAX_ADDITIONAL_COMMON => n,
+                _ => {
+                    return Err(src.at(
+                        v,
+                        "additional_common_variables",
+                        format!(
+                            "`additional_common_variables` is how many of #500000… the option has: 0 to {MAX_ADDITIONAL_COMMON}"
+                        ),
+                    ));
+                }
+            },
+            None => defaults.additional_common_variables,
         },
         hal_pins: match &raw.hal_pins {
             Some(pins) => {

@@ -190,6 +190,13 @@ impl Machine {
                 "LinuxCNC [TWP] PRIORITY: the rotary axis the G53.x P word steers",
             );
         }
+        if p.additional_common_variables != 0 {
+            w.key(
+                "additional_common_variables",
+                &p.additional_common_variables.to_string(),
+                "FANUC 30i-B additional common variables: how many of #100000… and #500000…",
+            );
+        }
         if let Some(table) = &p.tool_table {
             w.key(
                 "tool_table",
