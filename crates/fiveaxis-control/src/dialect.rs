@@ -49,6 +49,12 @@ pub struct Dialect {
     /// The program is read as RS274/NGC (LinuxCNC): o-words, named
     /// parameters, `;` comments, assignments after the line is read.
     pub rs274ngc: bool,
+    /// Structured IF: `IF [cond] THEN` alone on its line, blocks, an
+    /// optional `ELSE`, `ENDIF` (Mitsubishi M800/M80 programming manual,
+    /// user macro control commands; Mazak's EIA/ISO programs on its
+    /// Mitsubishi-based controls). FANUC's custom macro B has the one-line
+    /// `IF [cond] THEN #n = value` only.
+    pub structured_if: bool,
 }
 
 impl Dialect {
@@ -67,6 +73,7 @@ impl Dialect {
             dwell_p_seconds: false,
             calculator_input: false,
             rs274ngc: false,
+            structured_if: false,
         };
         match control {
             Control::Fanuc30i => fanuc(10),
@@ -84,6 +91,7 @@ impl Dialect {
                 dwell_p_seconds: false,
                 calculator_input: false,
                 rs274ngc: false,
+                structured_if: true,
             },
             Control::Mazak => Self {
                 max_nesting: 8,
@@ -98,6 +106,7 @@ impl Dialect {
                 dwell_p_seconds: false,
                 calculator_input: false,
                 rs274ngc: false,
+                structured_if: true,
             },
             // Haas's reading rules; its M98 nesting depth and M codes per
             // block are not sourced yet (issue #15): FANUC 30i's stand in.

@@ -416,6 +416,7 @@ impl<'m, S: Source> Runner<'m, S> {
                 MacroState::new(
                     Dialect::of(machine.control).max_macro_nesting,
                     machine.params.additional_common_variables,
+                    Dialect::of(machine.control).structured_if,
                 )
             },
             rs274ngc: Dialect::of(machine.control).rs274ngc,

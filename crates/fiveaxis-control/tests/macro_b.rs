@@ -434,3 +434,44 @@ fn work_offsets_hold_every_axis() {
     let (_, alarm) = run("G21\n#1=#5226\n#5226=1.\nM30\n");
     assert!(alarm.is_some());
 }
+
+/// Issue 24, item 5: structured IF (`IF […] THEN` alone on its line,
+/// blocks, an optional `ELSE`, `ENDIF`) on the controls whose manuals have
+/// it (Mitsubishi, Mazak), nested; FANUC's custom macro B refuses it.
+#[test]
+fn structured_if_runs_on_mitsubishi_and_mazak() {
+    let program = "G21 G90 G0 X0 Y0 Z100.\n#1=2\nIF [#1 EQ 2] THEN\nG0 X10.\nIF [#1 GT 5] THEN\nG0 X99.\nELSE\nG0 Y20.\nENDIF\nELSE\nG0 X-10.\nENDIF\nIF [#1 EQ 3] THEN\nG0 Z50.\nENDIF\nG0 Z90.\nM30\n";
+    for control in [
+        fiveaxis_machine::Control::Mazak,
+        fiveaxis_machine::Control::Mitsubishi,
+    ] {
+        let mut m = machine();
+        m.control = control;
+        let (rows, alarm) = common::run_ends(&m, Offsets::default(), program);
+        assert!(alarm.is_none(), "{control:?}: {alarm:?}");
+        assert_eq!(
+            tips(&rows),
+            [
+                (1, 0.0, 0.0, 100.0),
+                (4, 10.0, 0.0, 100.0),
+                (8, 10.0, 20.0, 100.0),
+                (16, 10.0, 20.0, 90.0)
+            ],
+            "{control:?}"
+        );
+        // An IF … THEN without its ENDIF.
+        let (_, alarm) = common::run_ends(
+            &m,
+            Offsets::default(),
+            "G21\n#1=0\nIF [#1 EQ 1] THEN\nG0 X1.\nM30\n",
+        );
+        let alarm = alarm.expect("no ENDIF");
+        assert_eq!(alarm.line, 3);
+        assert!(alarm.message.contains("no ENDIF"), "{}", alarm.message);
+    }
+    // FANUC: not a statement of the control.
+    let (_, alarm) = run(program);
+    let alarm = alarm.expect("refused");
+    assert_eq!(alarm.line, 3);
+    assert!(alarm.message.contains("structured IF"), "{}", alarm.message);
+}

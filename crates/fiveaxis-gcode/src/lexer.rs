@@ -54,11 +54,12 @@ const EXPONENT: u8 = b'e';
 const IDENTIFIER_PUNCTUATION: u8 = b'_';
 /// Custom macro punctuation: `#` variables and `[ ]` expressions.
 const MACRO_CHARS: [u8; 3] = [b'#', b'[', b']'];
-/// The words of FANUC custom macro B that are made of letters only.
-const MACRO_KEYWORDS: [&[u8]; 29] = [
-    b"IF", b"WHILE", b"GOTO", b"DO", b"END", b"THEN", b"EQ", b"NE", b"GT", b"LT", b"GE", b"LE",
-    b"AND", b"OR", b"XOR", b"SIN", b"COS", b"TAN", b"ATAN", b"SQRT", b"ABS", b"ROUND", b"FIX",
-    b"FUP", b"BIN", b"BCD", b"POPEN", b"PCLOS", b"DPRNT",
+/// The words of FANUC custom macro B that are made of letters only (and
+/// the structured IF's `ELSE` and `ENDIF` of Mitsubishi and Mazak).
+const MACRO_KEYWORDS: [&[u8]; 31] = [
+    b"IF", b"WHILE", b"GOTO", b"DO", b"END", b"THEN", b"ELSE", b"ENDIF", b"EQ", b"NE", b"GT",
+    b"LT", b"GE", b"LE", b"AND", b"OR", b"XOR", b"SIN", b"COS", b"TAN", b"ATAN", b"SQRT", b"ABS",
+    b"ROUND", b"FIX", b"FUP", b"BIN", b"BCD", b"POPEN", b"PCLOS", b"DPRNT",
 ];
 /// The powers of ten that `f64` holds exactly: 10^0 … 10^22.
 const EXACT_POWERS_OF_TEN: [f64; 23] = [

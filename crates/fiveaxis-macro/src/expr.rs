@@ -304,6 +304,17 @@ pub enum Statement {
         /// The value.
         value: Expr,
     },
+    /// `IF [cond] THEN` alone on its line: the lines up to the matching
+    /// `ELSE` or `ENDIF` run when the condition holds (structured IF of
+    /// the controls that have it: Mitsubishi, Mazak).
+    IfBlock {
+        /// The condition (a truth value).
+        cond: Expr,
+    },
+    /// `ELSE` of a structured IF.
+    Else,
+    /// `ENDIF` of a structured IF.
+    EndIf,
     /// `WHILE [cond] DO m`.
     While {
         /// The condition (a truth value).

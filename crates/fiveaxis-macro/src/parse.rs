@@ -112,7 +112,9 @@ struct Parser<'a> {
 }
 
 /// Statement keywords, longest first where one is a prefix of another.
-const STATEMENT_KEYWORDS: [&[u8]; 5] = [b"WHILE", b"GOTO", b"END", b"IF", b"DO"];
+/// `ENDIF` before `END` and `ELSE` before neither: a keyword is found as
+/// the start of a run of letters.
+const STATEMENT_KEYWORDS: [&[u8]; 7] = [b"WHILE", b"GOTO", b"ENDIF", b"ELSE", b"END", b"IF", b"DO"];
 
 impl Parser<'_> {
     fn peek(&self) -> Option<u8> {
@@ -252,6 +254,8 @@ impl Parser<'_> {
                 b"DO" => Statement::Do {
                     id: self.loop_id(start)?,
                 },
+                b"ENDIF" => Statement::EndIf,
+                b"ELSE" => Statement::Else,
                 _ => Statement::End {
                     id: self.loop_id(start)?,
                 },
@@ -352,6 +356,9 @@ impl Parser<'_> {
             Ok(Statement::IfGoto { cond, target })
         } else if self.at_word(b"THEN") {
             self.pos += 4;
+            if self.at_end() {
+                return Ok(Statement::IfBlock { cond });
+            }
             if self.peek() != Some(b'#') {
                 return Err(self.statement_error(start, "THEN must be followed by `#n = value`"));
             }

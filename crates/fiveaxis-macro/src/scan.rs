@@ -112,7 +112,7 @@ pub(crate) fn prepare(text: &[u8]) -> Result<Prepared, MacroError> {
 }
 
 /// Macro keywords that start a statement, for [`is_macro_line`].
-const STATEMENT_KEYWORDS: [&[u8]; 5] = [b"IF", b"GOTO", b"WHILE", b"DO", b"END"];
+const STATEMENT_KEYWORDS: [&[u8]; 7] = [b"IF", b"GOTO", b"WHILE", b"DO", b"END", b"ELSE", b"ENDIF"];
 
 /// Calls `f` with every run of letters outside comments (blanks between
 /// letters do not end a run; letters are upper-cased, at most 8 kept) and

@@ -37,6 +37,8 @@ pub(super) struct MacroState {
     pub(super) inputs: [f64; INPUTS],
     /// The `G66` modal call in force.
     modal_call: Option<MacroCall>,
+    /// The control has structured IF (`Dialect::structured_if`).
+    structured_if: bool,
 }
 
 /// Addresses whose values are lengths or angles: as macro arguments
@@ -73,12 +75,13 @@ impl MacroState {
         Self {
             vars: Variables::linuxcnc(max_calls),
             settings: MacroSettings::LINUXCNC,
-            ..Self::new(max_calls, 0)
+            ..Self::new(max_calls, 0, false)
         }
     }
 
-    pub(super) fn new(max_nesting: usize, additional_common: u32) -> Self {
+    pub(super) fn new(max_nesting: usize, additional_common: u32, structured_if: bool) -> Self {
         Self {
+            structured_if,
             vars: Variables::new(max_nesting),
             settings: MacroSettings {
                 additional_common,
@@ -269,6 +272,41 @@ impl<S: Source> Runner<'_, S> {
                 self.open_loop(*id, here);
                 return Ok(MacroFlow::Done);
             }
+            Statement::IfBlock { .. } | Statement::Else | Statement::EndIf
+                if !self.macros.structured_if =>
+            {
+                let word = match &line.statement {
+                    Statement::IfBlock { .. } => "IF […] THEN without `#n = value` after it",
+                    Statement::Else => "ELSE",
+                    _ => "ENDIF",
+                };
+                return Err(self.macro_alarm(
+                    here.line,
+                    MacroError::new(
+                        MacroErrorKind::FormatError,
+                        Span::default(),
+                        format!(
+                            "{word}: structured IF (IF […] THEN, ELSE, ENDIF on lines of their own) is not a statement of this control"
+                        ),
+                    ),
+                ));
+            }
+            Statement::IfBlock { cond } => {
+                let holds = match self.macros.vars.eval_condition(cond, &sys, &settings) {
+                    Ok(holds) => holds,
+                    Err(e) => return Err(self.macro_alarm(here.line, e)),
+                };
+                if !holds {
+                    self.skip_if_branch(here, true)?;
+                }
+                return Ok(MacroFlow::Done);
+            }
+            Statement::Else => {
+                // The branch that ran ends here: on after its ENDIF.
+                self.skip_if_branch(here, false)?;
+                return Ok(MacroFlow::Done);
+            }
+            Statement::EndIf => return Ok(MacroFlow::Done),
             Statement::End { id } => {
                 self.loop_back(*id, here.line)?;
                 return Ok(MacroFlow::Done);
@@ -397,6 +435,47 @@ impl<S: Source> Runner<'_, S> {
                 MacroErrorKind::MissingEnd,
                 Span::default(),
                 format!("WHILE … DO{id} has no END{id} in its program"),
+            ),
+        ))
+    }
+
+    /// Structured IF: on after the `ELSE` (when `to_else`) or the `ENDIF`
+    /// that matches the `IF […] THEN` or `ELSE` of line `here`, nested
+    /// structured IFs skipped whole; every line read counts against the
+    /// block budget.
+    fn skip_if_branch(&mut self, here: Mark, to_else: bool) -> Result<(), RunError> {
+        let mut depth = 0usize;
+        let mut line = self.next_line;
+        while let Some(mark) = self.skip_line(&mut line, here.line)? {
+            if super::program_number(&self.scan_text).is_some() {
+                break;
+            }
+            if !fiveaxis_macro::is_macro_line(&self.scan_text) {
+                continue;
+            }
+            let Ok(parsed) = parse_statement(&self.scan_text, mark.line) else {
+                continue;
+            };
+            match parsed.statement {
+                Statement::IfBlock { .. } => depth += 1,
+                Statement::EndIf if depth == 0 => {
+                    self.next_line = line;
+                    return Ok(());
+                }
+                Statement::EndIf => depth -= 1,
+                Statement::Else if depth == 0 && to_else => {
+                    self.next_line = line;
+                    return Ok(());
+                }
+                _ => {}
+            }
+        }
+        Err(self.macro_alarm(
+            here.line,
+            MacroError::new(
+                MacroErrorKind::MissingEnd,
+                Span::default(),
+                "IF … THEN has no ENDIF in its program",
             ),
         ))
     }
