@@ -218,6 +218,7 @@ fn parameters(count: usize) -> impl Strategy<Value = Parameters> {
                 tcpc_at_start: false,
                 twp_remap: false,
                 twp_priority: if singular_zone > 4.0 { 2 } else { 1 },
+                additional_common_variables: 0,
                 // HAL pins and INI values belong to linuxcnc machines; their
                 // round trip has a test of its own.
                 hal_pins: Default::default(),
