@@ -156,6 +156,15 @@ pub fn post(args: &PostArgs) -> Result<u8, InputError> {
         })?;
         let converted = fiveaxis_post::apt::to_tcpc_mapped(text, program_name)
             .map_err(|e| InputError(format!("error: {program_name}:{e}")))?;
+        // Records skipped: unknown words (warning), known words not
+        // carried out (note); one line per word.
+        for w in &converted.warnings {
+            crate::report(&format!(
+                "{}: {}:{w}",
+                if w.note { "note" } else { "warning" },
+                crate::diagnostic::escape(program_name)
+            ));
+        }
         if args.tcpc {
             return emit(args.output.as_ref(), &converted.program);
         }
