@@ -646,7 +646,10 @@ impl State {
                 }
                 match value {
                     Some(f) if ok && f > 0.0 => {
-                        self.feed = Some(make_feed(f, unit.unwrap_or((self.scale, false))));
+                        let feed = make_feed(f, unit.unwrap_or((self.scale, false)));
+                        let (Feed::PerMinute(mm) | Feed::PerRev(mm)) = feed;
+                        bounded(mm, &format!("{mm} mm"), line)?;
+                        self.feed = Some(feed);
                         self.feed_written = false;
                         Ok(())
                     }
@@ -719,6 +722,7 @@ impl State {
                     }
                 };
                 let center = self.point(&(Vec3::new(v[0], v[1], v[2]) * self.scale));
+                check_point(&center, line)?;
                 self.circle = Some((center, axis, line));
                 Ok(())
             }
@@ -929,9 +933,8 @@ impl State {
                 clip(args)
             )));
         };
-        let rate = match feed {
-            Feed::PerMinute(f) | Feed::PerRev(f) => f,
-        };
+        let (Feed::PerMinute(rate) | Feed::PerRev(rate)) = feed;
+        bounded(rate, &format!("{rate} mm"), line)?;
         if depth < 0.0 || clear < 0.0 || rate <= 0.0 || clear - rapto <= -depth {
             return Err(err(format!(
                 "CYCLE/{}: the depth and clearance must not be negative, the feed positive, and the rapid must stop above the bottom",

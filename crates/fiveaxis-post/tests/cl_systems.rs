@@ -394,3 +394,41 @@ fn continuations_comments_and_unknown_words() {
         "line 2: GOTO: expected 3 to 6 numbers, found `1,2`"
     );
 }
+
+proptest::proptest! {
+    #![proptest_config(common::config(256))]
+
+    /// Any text made of CL words, numbers, separators, continuations and
+    /// comments converts or is refused with a line inside the file and
+    /// never panics; the program converted runs or alarms, never panics.
+    #[test]
+    fn hostile_cl_text_never_panics(
+        lines in proptest::collection::vec(
+            proptest::collection::vec(
+                proptest::sample::select(vec![
+                    "GOTO/", "FROM/", "GODLTA/", "CIRCLE/", "CYCLE/", "DRILL", "DEPTH", "CLEAR",
+                    "RAPTO", "OFF", "RAPID", "FEDRAT/", "MMPR", "IPR", "IPM", "MMPM", "SPINDL/",
+                    "RPM", "UNITS/", "INCHES", "MM", "MSYS/", "TLAXIS/", "MULTAX/", "LOADTL/",
+                    "REMARK ", "PPRINT ", "FINI", "END", "TRANS/", "FOO/", ",", ",", ",", "/",
+                    "$", "$$", " ", "0", "1", "-1", "10", "0.5", "25.4", "1e6", "1e7", "NaN",
+                    "inf", "-0", "é", "\t",
+                ]),
+                0..14,
+            ),
+            0..12,
+        )
+    ) {
+        let text: String = lines.iter().map(|l| l.concat() + "\n").collect();
+        let count = u32::try_from(lines.len()).expect("small");
+        match to_tcpc_mapped(&text, "p") {
+            Ok(c) => {
+                for w in &c.warnings {
+                    proptest::prop_assert!(w.line >= 1 && w.line <= count);
+                }
+                let machine = builtin("head-table-bc").expect("built-in");
+                let _ = run(&machine, &offsets(), &c.program, None, false);
+            }
+            Err(e) => proptest::prop_assert!(e.line >= 1 && e.line <= count.max(1), "{e}"),
+        }
+    }
+}
