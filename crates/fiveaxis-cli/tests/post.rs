@@ -565,3 +565,36 @@ fn unknown_cl_words_are_warned_with_their_line() {
     assert_eq!(err.lines().count(), 2, "{err}");
     assert!(common::stdout(&out).contains("(REMARK CREO WRITES REMARKS WITHOUT A SLASH)"));
 }
+
+/// Creo's CL file, named as Creo names it (`.ncl` with a version), is
+/// read as CL data and converted to machine axes; `STOP` and `OPSTOP`
+/// become M0 and M1, carried into the output.
+#[test]
+fn a_creo_cl_file_with_its_version_converts() {
+    let dir = tempfile::tempdir().expect("a temporary directory");
+    let creo = include_str!("../../fiveaxis-post/tests/cl/creo.ncl")
+        .replace("SPINDL / OFF", "STOP\nOPSTOP\nSPINDL / OFF");
+    std::fs::write(dir.path().join("seq00005.ncl.1"), creo).expect("written");
+    let out = common::run_in(
+        dir.path(),
+        &[
+            "post",
+            "seq00005.ncl.1",
+            "--machine",
+            "head-table-bc",
+            "--tool-length",
+            "100",
+            "-o",
+            "out.nc",
+        ],
+        b"",
+    );
+    let err = common::stderr(&out);
+    assert_eq!(out.status.code(), Some(0), "{err}");
+    assert!(err.is_empty(), "{err}");
+    let text = std::fs::read_to_string(dir.path().join("out.nc")).expect("written");
+    assert!(text.contains("(SOURCE: SEQ00005.NCL.1)"), "{text}");
+    let m0 = text.find("M0\n").expect("M0");
+    let m1 = text.find("M1\n").expect("M1");
+    assert!(m0 < m1 && m1 < text.find("M5\n").expect("M5"), "{text}");
+}
