@@ -14,7 +14,8 @@
 //!
 //! * `GOTO/x,y,z[,i,j,k]`: the tool end point and, if given, the tool axis
 //!   vector (kept until the next one); a cutting move, or positioning after
-//!   `RAPID`. `FROM/...`: the start point, positioning. `GODLTA/dx,dy,dz`
+//!   `RAPID`. Lines of numbers alone after it are more points of it (Creo
+//!   writes an arc's points so: each an arc about the CIRCLE's centre). `FROM/...`: the start point, positioning. `GODLTA/dx,dy,dz`
 //!   (or `GODLTA/d` along the tool axis): a move by that much.
 //! * `RAPID`: the next `GOTO` is positioning.
 //! * `FEDRAT/f[,unit]` or `FEDRAT/unit,f`: unit `MMPM`, `IPM`, `FPM`,
@@ -31,8 +32,8 @@
 //! * `MSYS/x,y,z,xi,xj,xk,yi,yj,yk` (NX CLSF): the following points,
 //!   vectors and circles are in the frame with that origin and those X
 //!   and Y axes (Z = X × Y), turned into the absolute frame.
-//! * `CIRCLE/xc,yc,zc,i,j,k[,r,...]` (Creo also `CIRCLE/xc,yc,zc,r`, the
-//!   axis the tool axis): the next `GOTO` ends an arc about that centre,
+//! * `CIRCLE/xc,yc,zc,i,j,k[,r,...]`: the next `GOTO` ends an arc about
+//!   that centre (and each further point of that GOTO another),
 //!   counter-clockwise about the axis vector (right-hand rule, as the
 //!   record's axis is the arc's normal); written `G2`/`G3` with `R` in the
 //!   plane the axis is normal to (G17 / G18 / G19), the tool standing.
@@ -216,6 +217,9 @@ struct Drill {
     feed: Feed,
 }
 
+/// A `CIRCLE` in force: centre and axis (absolute frame), its line.
+type Circle = (Vec3, Vec3, u32);
+
 /// The state of the reader between records.
 struct State {
     out: String,
@@ -226,7 +230,10 @@ struct State {
     feed_written: bool,
     /// Spindle speed in force, rpm (`SPINDL`), for feeds per revolution.
     spindle: Option<f64>,
-    circle: Option<(Vec3, Vec3, u32)>,
+    circle: Option<Circle>,
+    /// After a GOTO: a line of numbers alone is another point of it,
+    /// positioning or not as it was, on its arc if it ended one.
+    more_points: Option<(bool, Option<Circle>)>,
     cycle: Option<Drill>,
     tool: Option<u32>,
     tcpc: bool,
@@ -321,6 +328,7 @@ pub fn to_tcpc_mapped(text: &str, name: &str) -> Result<Converted, AptError> {
         feed_written: false,
         spindle: None,
         circle: None,
+        more_points: None,
         cycle: None,
         tool: None,
         tcpc: false,
@@ -586,7 +594,15 @@ impl State {
             word: word.clone(),
             message,
         };
+        let more = self.more_points.take();
         if word.is_empty() || word.starts_with(|c: char| c.is_ascii_digit() || c == '-') {
+            if let Some((rapid, arc)) = more {
+                // Another point of the GOTO before, on a line of its own
+                // (Creo writes an arc's points so, the last its end).
+                self.rapid = rapid;
+                self.circle = arc;
+                return self.goto(&numbers(r, line, 3..=6)?, line);
+            }
             return Err(err(format!(
                 "`{}` is not a record: a major word (GOTO, FEDRAT, ...) comes first",
                 clip(r)
@@ -705,22 +721,19 @@ impl State {
             }
             "CIRCLE" => {
                 let v = numbers(args, line, 4..=11)?;
-                let axis = match v.len() {
-                    // Creo's `CIRCLE/x,y,z,r`: about the tool axis.
-                    4 => self.vector,
-                    5 => {
-                        return Err(err(
-                            "CIRCLE takes x,y,z,r or x,y,z,i,j,k[,r,...]: 5 numbers given".into(),
-                        ));
-                    }
-                    _ => {
-                        let axis = Vec3::new(v[3], v[4], v[5]);
-                        if axis.norm() < MIN_VECTOR {
-                            return Err(err("CIRCLE with a zero axis vector".into()));
-                        }
-                        self.direction(&axis.normalize())
-                    }
-                };
+                if v.len() < 6 {
+                    // APT's `CIRCLE/x,y,z,r` is a surface for GOFWD, with
+                    // no direction of travel.
+                    return Err(err(
+                        "CIRCLE/x,y,z,r names no direction of travel: x,y,z,i,j,k[,r,...] is read"
+                            .into(),
+                    ));
+                }
+                let axis = Vec3::new(v[3], v[4], v[5]);
+                if axis.norm() < MIN_VECTOR {
+                    return Err(err("CIRCLE with a zero axis vector".into()));
+                }
+                let axis = self.direction(&axis.normalize());
                 let center = self.point(&(Vec3::new(v[0], v[1], v[2]) * self.scale));
                 check_point(&center, line)?;
                 self.circle = Some((center, axis, line));
@@ -1070,9 +1083,13 @@ impl State {
             if self.circle.is_some() {
                 return Err(err("CIRCLE in a drilling cycle: not converted".into()));
             }
-            return self.drill(&p, &drill, line);
+            self.drill(&p, &drill, line)?;
+            self.more_points = Some((false, None));
+            return Ok(());
         }
         self.start_tcpc(&p);
+        let rapid = self.rapid;
+        let arc = self.circle;
         if self.rapid {
             self.out.push_str("G0");
             xyz(&mut self.out, &p);
@@ -1095,6 +1112,7 @@ impl State {
         }
         self.out.push('\n');
         self.position = Some(p);
+        self.more_points = Some((rapid, arc));
         Ok(())
     }
 

@@ -141,9 +141,19 @@ fn bad_records_name_their_line() {
         ("0.0,1.0,0.0\n", 1, "not a record"),
         ("GODLTA/0,0,5\n", 1, "before any position"),
         (
-            "FEDRAT/100\nGOTO/0,0,0\nCIRCLE/0,0,0,5\nGOTO/1,1,1,1,2\n",
+            "FEDRAT/100\nGOTO/0,0,0\nCIRCLE/0,0,0,0,0,1\nGOTO/1,1,1,1,2\n",
             4,
             "3 or 6",
+        ),
+        (
+            "FEDRAT/100\nGOTO/5,0,0\nCIRCLE/0,0,0,5\nGOTO/0,5,0\n",
+            3,
+            "no direction",
+        ),
+        (
+            "FEDRAT/100\nGOTO/5,0,0\nFEDRAT/200\n0,5,0\n",
+            4,
+            "not a record",
         ),
         (
             "FEDRAT/100\nGOTO/1,2,3\nFINI\nGOTO/1,2,4\n",
