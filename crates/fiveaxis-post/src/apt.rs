@@ -45,7 +45,8 @@
 //! * `LOAD/TOOL,n` (`LOADTL/n`): `Tn M6`, then TCPC with `Hn`.
 //! * `SPINDL/s,RPM,CLW|CCLW` (NX: `SPINDL/RPM,s,CLW`): `S s M3|M4`;
 //!   `SPINDL/OFF`: `M5`; `COOLNT/ON|FLOOD`: `M8`, `COOLNT/MIST`: `M7`,
-//!   `COOLNT/OFF`: `M9`; `STOP`: `M0`, `OPSTOP`: `M1`. The machine-axis
+//!   `COOLNT/OFF`: `M9` (other coolants: a note); `STOP`: `M0`,
+//!   `OPSTOP`: `M1`. The machine-axis
 //!   output carries these words.
 //! * `FINI`: the end (a record after it is an error). `END` (APT: a stop
 //!   of the machine between sections) writes nothing, reading goes on.
@@ -79,14 +80,15 @@ use fiveaxis_machine::{MAX_FILE_MAGNITUDE, Vec3};
 
 /// An APT record that cannot be converted.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
-#[error("line {line}: {}", with_word(.word, .message))]
+#[error("line {line}: {message}")]
 pub struct AptError {
     /// 1-based line where the record starts.
     pub line: u32,
     /// The record's major word (`GOTO`, `CYCLE`, ...); empty where the
     /// error is the file's, not a record's.
     pub word: String,
-    /// What is wrong.
+    /// What is wrong, beginning with the word where the record has one
+    /// (`GOTO: expected 3 to 6 numbers, found ...`).
     pub message: String,
 }
 
@@ -378,6 +380,7 @@ pub fn to_tcpc_mapped(text: &str, name: &str) -> Result<Converted, AptError> {
             if e.word.is_empty() {
                 e.word = major_word(&r).0;
             }
+            e.message = with_word(&e.word, &e.message);
             e
         })?;
         let written = st.out[before..].matches('\n').count();
@@ -795,7 +798,17 @@ impl State {
                     "ON" | "FLOOD" => 8,
                     "MIST" => 7,
                     "OFF" => 9,
-                    _ => return Err(err(format!("COOLNT/{}: not read", clip(args)))),
+                    _ => {
+                        // THRU, TAP, AIR, ...: the machine builder's M
+                        // code, no path.
+                        self.warn(
+                            line,
+                            "COOLNT",
+                            "a coolant other than ON, FLOOD, MIST, OFF has no standard M code: not written",
+                            true,
+                        );
+                        return Ok(());
+                    }
                 };
                 let _ = writeln!(self.out, "M{m}");
                 Ok(())

@@ -393,6 +393,16 @@ fn continuations_comments_and_unknown_words() {
         e.to_string(),
         "line 2: GOTO: expected 3 to 6 numbers, found `1,2`"
     );
+    // The message names the word (the Python binding reports it alone).
+    assert_eq!(e.message, "GOTO: expected 3 to 6 numbers, found `1,2`");
+    // Coolants without a standard M code: a note, no M code.
+    let c = to_tcpc_mapped("COOLNT/THRU,HIGH\nCOOLNT/ON,LOW\n", "t").expect("converts");
+    assert_eq!(warnings(&c), [("COOLNT".into(), 1, true)]);
+    assert!(
+        c.program.contains("M8\n") && !c.program.contains("M7"),
+        "{}",
+        c.program
+    );
 }
 
 proptest::proptest! {
