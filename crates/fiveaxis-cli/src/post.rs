@@ -43,7 +43,8 @@ pub struct PostArgs {
     #[arg(long)]
     programs: Option<PathBuf>,
     /// Read the program as APT / CL data (`GOTO/x,y,z,i,j,k`, `FEDRAT`,
-    /// `CIRCLE`, ...); the default for files named `.apt`, `.cl`, `.cls`.
+    /// `CIRCLE`, ...); the default for files named `.apt`, `.cl`, `.cls`,
+    /// `.ncl` (also `.ncl.N`), `.aptsource`.
     #[arg(long)]
     apt: bool,
     /// With APT / CL input: write the TCPC program (`G43.5` with tool
@@ -83,6 +84,26 @@ pub struct PostArgs {
     /// stops (exit status 2).
     #[arg(long, value_name = "MM", value_parser = crate::positive)]
     tool_length: Option<f64>,
+}
+
+/// A file name of CL data: `.apt`, `.cl`, `.cls` (NX), `.ncl` (Creo, also
+/// with its version number, `.ncl.3`), `.aptsource` (CATIA).
+fn is_cl_name(name: &str) -> bool {
+    let path = std::path::Path::new(name);
+    let extension = |p: &std::path::Path| {
+        p.extension()
+            .and_then(|e| e.to_str())
+            .map(str::to_ascii_lowercase)
+    };
+    let ext = match extension(path) {
+        // Creo's versions: `seq00005.ncl.1`.
+        Some(e) if !e.is_empty() && e.bytes().all(|b| b.is_ascii_digit()) => path
+            .file_stem()
+            .map(std::path::Path::new)
+            .and_then(extension),
+        e => e,
+    };
+    ext.is_some_and(|e| ["apt", "cl", "cls", "ncl", "aptsource"].contains(&e.as_str()))
 }
 
 /// A tip tolerance: positive and at least [`fiveaxis_post::MIN_TOLERANCE`].
@@ -136,11 +157,7 @@ pub fn post(args: &PostArgs) -> Result<u8, InputError> {
     open_program(&args.program)?
         .read_to_end(&mut bytes)
         .map_err(|e| InputError::io(program_name, &e))?;
-    let is_apt = args.apt
-        || std::path::Path::new(&args.program)
-            .extension()
-            .and_then(|e| e.to_str())
-            .is_some_and(|e| ["apt", "cl", "cls"].contains(&e.to_ascii_lowercase().as_str()));
+    let is_apt = args.apt || is_cl_name(&args.program);
     if args.tcpc && !is_apt {
         return Err(InputError(
             "error: --tcpc writes the TCPC program of APT / CL input: give --apt".into(),
@@ -156,6 +173,15 @@ pub fn post(args: &PostArgs) -> Result<u8, InputError> {
         })?;
         let converted = fiveaxis_post::apt::to_tcpc_mapped(text, program_name)
             .map_err(|e| InputError(format!("error: {program_name}:{e}")))?;
+        // Records skipped: unknown words (warning), known words not
+        // carried out (note); one line per word.
+        for w in &converted.warnings {
+            crate::report(&format!(
+                "{}: {}:{w}",
+                if w.note { "note" } else { "warning" },
+                crate::diagnostic::escape(program_name)
+            ));
+        }
         if args.tcpc {
             return emit(args.output.as_ref(), &converted.program);
         }

@@ -156,11 +156,12 @@ fn apt_input_gives_a_tcpc_program_or_machine_axes_and_bad_records_their_line() {
         axes.contains("(SOURCE: P.APT)") && axes.contains("\nG1 X"),
         "{axes}"
     );
-    std::fs::write(dir.path().join("bad.apt"), "FEDRAT/100\nTLAXIS/0,0,1\n").expect("written");
+    std::fs::write(dir.path().join("bad.apt"), "FEDRAT/100\nROTABL/90,CLW\n").expect("written");
     let out = common::run_in(dir.path(), &["post", "bad.apt", "-o", "no.nc"], b"");
     assert_eq!(out.status.code(), Some(2));
+    // The file, the CL line and the word.
     assert!(
-        common::stderr(&out).contains("line 2"),
+        common::stderr(&out).contains("bad.apt:line 2: `ROTABL`"),
         "{}",
         common::stderr(&out)
     );
@@ -538,4 +539,62 @@ fn a_program_with_nothing_to_convert_is_written_unchanged() {
     assert_eq!(out.status.code(), Some(0), "{}", common::stderr(&out));
     assert!(common::stdout(&out).contains("(FIVEAXIS POST"));
     assert!(!common::stderr(&out).contains("nothing to convert"));
+}
+
+/// CL words the reader does not know are skipped with a warning naming
+/// the word and its first line, known words it does not carry out with a
+/// note; the program is written all the same.
+#[test]
+fn unknown_cl_words_are_warned_with_their_line() {
+    let dir = tempfile::tempdir().expect("a temporary directory");
+    std::fs::write(
+        dir.path().join("w.cl"),
+        "REMARK Creo writes remarks without a slash\nMACHIN/UNCX01,1\nFROBNICATE/3\nPPWORD/MYWORD,1\n\
+         RAPID\nGOTO/0,0,10\nFROBNICATE/4\nFEDRAT/500,MMPM\nGOTO/20,0,10\nFINI\n",
+    )
+    .expect("written");
+    let out = common::run_in(dir.path(), &["post", "w.cl", "--tcpc"], b"");
+    let err = common::stderr(&out);
+    assert_eq!(out.status.code(), Some(0), "{err}");
+    assert!(
+        err.contains("warning: w.cl:line 3: FROBNICATE: ")
+            && err.contains("(2 records, the first here)"),
+        "{err}"
+    );
+    assert!(err.contains("note: w.cl:line 4: PPWORD: "), "{err}");
+    assert_eq!(err.lines().count(), 2, "{err}");
+    assert!(common::stdout(&out).contains("(REMARK CREO WRITES REMARKS WITHOUT A SLASH)"));
+}
+
+/// Creo's CL file, named as Creo names it (`.ncl` with a version), is
+/// read as CL data and converted to machine axes; `STOP` and `OPSTOP`
+/// become M0 and M1, carried into the output.
+#[test]
+fn a_creo_cl_file_with_its_version_converts() {
+    let dir = tempfile::tempdir().expect("a temporary directory");
+    let creo = include_str!("../../fiveaxis-post/tests/cl/creo.ncl")
+        .replace("SPINDL / OFF", "STOP\nOPSTOP\nSPINDL / OFF");
+    std::fs::write(dir.path().join("seq00005.ncl.1"), creo).expect("written");
+    let out = common::run_in(
+        dir.path(),
+        &[
+            "post",
+            "seq00005.ncl.1",
+            "--machine",
+            "head-table-bc",
+            "--tool-length",
+            "100",
+            "-o",
+            "out.nc",
+        ],
+        b"",
+    );
+    let err = common::stderr(&out);
+    assert_eq!(out.status.code(), Some(0), "{err}");
+    assert!(err.is_empty(), "{err}");
+    let text = std::fs::read_to_string(dir.path().join("out.nc")).expect("written");
+    assert!(text.contains("(SOURCE: SEQ00005.NCL.1)"), "{text}");
+    let m0 = text.find("M0\n").expect("M0");
+    let m1 = text.find("M1\n").expect("M1");
+    assert!(m0 < m1 && m1 < text.find("M5\n").expect("M5"), "{text}");
 }

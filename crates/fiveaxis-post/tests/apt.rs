@@ -126,7 +126,35 @@ fn bad_records_name_their_line() {
     for (text, line, needle) in [
         ("GOTO/1,2,3\n", 1, "before any FEDRAT"),
         ("FEDRAT/100\nGOTO/1,2\n", 2, "3 to 6 numbers"),
-        ("FEDRAT/100\nTLAXIS/0,0,1\n", 2, "not read"),
+        ("FEDRAT/100\nROTABL/90,CLW\n", 2, "not carried out"),
+        ("FEDRAT/100\nORIGIN/10,0,0\n", 2, "ORIGIN"),
+        ("CYCLE/TAP,DEPTH,10,MMPM,100,CLEAR,2\n", 1, "CYCLE/TAP"),
+        (
+            "CYCLE/DRILL,DEPTH,10,MMPM,100,CLEAR,2,RETURN,0\n",
+            1,
+            "RETURN",
+        ),
+        ("CYCLE/DRILL,DEPTH,10,CLEAR,2\n", 1, "feed"),
+        ("FEDRAT/0.1,MMPR\nGOTO/1,2,3\n", 2, "no spindle speed"),
+        ("FEDRAT/100,FURLONGS\n", 1, "unit"),
+        ("UNITS/CUBITS\n", 1, "MM or INCHES"),
+        ("0.0,1.0,0.0\n", 1, "not a record"),
+        ("GODLTA/0,0,5\n", 1, "before any position"),
+        (
+            "FEDRAT/100\nGOTO/0,0,0\nCIRCLE/0,0,0,0,0,1\nGOTO/1,1,1,1,2\n",
+            4,
+            "3 or 6",
+        ),
+        (
+            "FEDRAT/100\nGOTO/5,0,0\nCIRCLE/0,0,0,5\nGOTO/0,5,0\n",
+            3,
+            "no direction",
+        ),
+        (
+            "FEDRAT/100\nGOTO/5,0,0\nFEDRAT/200\n0,5,0\n",
+            4,
+            "not a record",
+        ),
         (
             "FEDRAT/100\nGOTO/1,2,3\nFINI\nGOTO/1,2,4\n",
             4,
