@@ -671,8 +671,12 @@ impl Controller<'_> {
                         "the end of the tilted plane under TCPC: cancel TCPC first",
                     )
                 }),
+            // Haas's DWO takes its work zero from the offset in force, so
+            // the offset may be selected again in it (the NX UMC post
+            // writes `G254` then `G54 G90 G00 X… Y…`).
             codes
                 .work
+                .filter(|_| !self.feature().is_some_and(|f| f.dwo))
                 .map(|(c, s)| (c, s, "a change of the work offset")),
             codes
                 .setup
