@@ -853,6 +853,41 @@ fn the_nx_nmv_block_drills_at_the_programmed_tip_with_the_table_turned() {
 }
 
 #[test]
+fn g91_under_a_tilted_tool_measures_r_and_z_along_it() {
+    // G91: R from the initial level and Z from R, along the tool; the
+    // plane increment repeated K times moves the hole by the increment's
+    // part square to the tool (the levels stay the same).
+    use fiveaxis_machine::Vec3;
+    let m = machine("trunnion-bc");
+    let (rows, alarm) = run_on(
+        "G90 G0 X0. Y0. Z100.\nG43.4 H1 Z50.\nG0 B-30. C45.\nG91 G98 G81 X10. Y5. Z-7. R-48. K2 F100.\nG80\n",
+        &m,
+    );
+    assert!(alarm.is_none(), "{alarm:?}");
+    let hole: Vec<&Row> = rows.iter().filter(|r| r.line == 4).collect();
+    assert_eq!(hole.len(), 8, "{hole:?}");
+    let dir = hole[0].dir;
+    assert!(dir.z < 0.95, "{dir:?}");
+    for k in [0, 4] {
+        let (at, r, bottom, back) = (
+            hole[k].tip,
+            hole[k + 1].tip,
+            hole[k + 2].tip,
+            hole[k + 3].tip,
+        );
+        assert!(near(&(r - at), &(-48.0 * dir)), "{k}: {at:?} {r:?}");
+        assert!(near(&(bottom - r), &(-7.0 * dir)), "{k}: {r:?} {bottom:?}");
+        assert!(near(&back, &at), "{k}");
+    }
+    let step = Vec3::new(10.0, 5.0, 0.0);
+    let square = step - step.dot(&dir) * dir;
+    assert!(near(&(hole[6].tip - hole[2].tip), &square), "{hole:?}");
+    // The first positioning starts at the tip (0, 0, 50) and stays at
+    // its level along the tool.
+    assert!(((hole[0].tip - Vec3::new(0.0, 0.0, 50.0)).dot(&dir)).abs() < 1e-9);
+}
+
+#[test]
 fn g76_under_a_tilted_tool_shifts_square_to_it() {
     use fiveaxis_machine::Vec3;
     let m = machine("head-table-bc");

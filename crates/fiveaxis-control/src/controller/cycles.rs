@@ -35,13 +35,23 @@
 //!   begins (FX0130); G80 and group-01 codes clear Z, R, Q and P.
 //! * A block drills when it has an axis word or R (a block with only F, Q,
 //!   P, K, M codes stores data); K0 stores the data and drills nothing.
-//! * Under TCPC (G43.4 / G43.5) a cycle drills in the programming frame
-//!   with the rotary axes standing (the NX posts for FANUC 5-axis machines
-//!   write `G43.4 … G98 G73 …` for 3+2 holes): each move is a straight
-//!   line of the tip in that frame, exact as a joint line because the
-//!   rotary axes do not move. A rotary word in a cycle block under TCPC,
-//!   and any cycle under cutter compensation C or 3-D tool compensation,
-//!   is refused (FX0133).
+//! * Under TCPC (G43.4 / G43.5, Haas G234; not on LinuxCNC) a cycle
+//!   drills along the tool in the programming frame (the NX posts for
+//!   FANUC 5-axis machines write `G43.4 … G98 G73 …` for 3+2 holes, and
+//!   the Mori Seiki NMV post `G98 G82 X Y Z B90. C2700. R …` with the
+//!   rotary words in the cycle block). Rotary words turn the axes with
+//!   the positioning, as a G00 block of TCPC (`tcpc.rs`, `tcpc_rapid`);
+//!   then every move is a straight line of the tip along the tool, exact
+//!   as a joint line because the rotary axes stand. In G90 the programmed
+//!   X Y Z is the tip at the hole bottom and the levels (R, the initial
+//!   level, where the tool stands) are measured along the tool through
+//!   it ([`HoleAxis::Tool`]); in G91 the levels keep the initial level's
+//!   origin. With the tool along the plane's normal the cycle is the
+//!   plain one ([`HoleAxis::Normal`]), to the last bit. The manuals give
+//!   no alarm for it: docs/functions.md, "Canned cycles", has the
+//!   decision. A rotary word under G43.5 is type 2's alarm (FX0073); any
+//!   cycle under cutter compensation C or 3-D tool compensation is refused
+//!   (FX0133).
 
 use fiveaxis_gcode::{Code, Span};
 use fiveaxis_machine::{Joints, Vec3};
@@ -567,8 +577,8 @@ impl Controller<'_> {
         }
     }
 
-    /// TCPC, cutter compensation C and 3-D tool compensation refuse canned
-    /// cycles.
+    /// Cutter compensation C and 3-D tool compensation refuse canned
+    /// cycles; under G43.5 a rotary word is type 2's alarm.
     fn cycle_allowed(&self, span: Option<Span>) -> Result<(), Alarm> {
         let rotary_word = (self.machine.linear.len()..self.machine.axis_count())
             .any(|i| self.words.has(self.axis_letters[i]));

@@ -53,7 +53,8 @@
 //! Decisions where this kernel is stricter than the control (each alarm
 //! FX0150 naming the function): G68.2 is not started while TCPC or 3-D
 //! tool compensation is on; the work offset and G54.4 cannot change in
-//! the mode; `G68.2` in the mode replaces the frame (FANUC nests it with
+//! the mode (except the work offset in Haas's G254, whose frame takes its
+//! zero from the offset in force); `G68.2` in the mode replaces the frame (FANUC nests it with
 //! parameter No.11221; here the new frame is always relative to the
 //! workpiece).
 
