@@ -531,7 +531,7 @@ impl Condition {
                 "A tilted working plane (G68.2, G53.1) where the kernel does not combine it; LinuxCNC TWP remap: G68.4 or G53.x with no plane defined, a plane defined outside G54"
             }
             Condition::CycleNotAllowed => {
-                "A canned cycle with a rotary word under TCPC, or under cutter compensation C or 3-D tool compensation"
+                "A canned cycle under cutter compensation C or 3-D tool compensation (a rotary word in a cycle block under G43.5 is the type-2 alarm, FX0073)"
             }
             Condition::FramePlaneChange => {
                 "G17 / G18 / G19 changes the plane in coordinate system rotation (G68)"

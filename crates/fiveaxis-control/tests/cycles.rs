@@ -743,14 +743,184 @@ fn cycles_drill_along_the_programming_frame_under_tcpc() {
     }
 }
 
+/// Rows at `s` = 0.5 and 1 of every segment, and the alarm, if any.
+fn halves_on(program: &str, machine: &Machine) -> (Vec<(Row, Row)>, Option<Alarm>) {
+    let mut runner = Runner::new(
+        machine,
+        offsets(),
+        SliceSource::new(program.as_bytes()),
+        RunOptions::default(),
+    );
+    let mut rows = Vec::new();
+    loop {
+        match runner.next_segment() {
+            Ok(Some(seg)) => rows.push((seg.row(machine, 0.5), seg.row(machine, 1.0))),
+            Ok(None) => return (rows, None),
+            Err(RunError::Alarm { alarm, .. }) => return (rows, Some(alarm)),
+            Err(e) => panic!("io error {e}"),
+        }
+    }
+}
+
+fn near(a: &fiveaxis_machine::Vec3, b: &fiveaxis_machine::Vec3) -> bool {
+    (a - b).norm() < 1e-9
+}
+
 #[test]
-fn cycles_are_refused_with_rotary_words_under_tcpc_and_under_cutter_compensation() {
+fn rotary_words_in_a_cycle_block_under_tcpc_turn_the_tool_and_the_hole_runs_along_it() {
+    // `G98 G81 X Y Z <rotary words> R F` inside G43.4 (the form NX's Mori
+    // Seiki NMV post writes): the rotary axes turn with the positioning,
+    // the hole bottom is the programmed tip X Y Z, R and the initial level
+    // lie on the tool's line through it. The programming frame is the
+    // table's at rotary 0 (WKP = 0), so the tool is tilted in it; tips
+    // and directions come from forward kinematics (the rows).
+    use fiveaxis_machine::Vec3;
+    for (name, words, angles) in [
+        ("trunnion-bc", "B-30. C45.", [(3, -30.0), (4, 45.0)]),
+        ("head-table-bc", "B30. C45.", [(3, 30.0), (4, 45.0)]),
+        ("head-head-ca", "C45. A30.", [(3, 45.0), (4, 30.0)]),
+    ] {
+        let m = machine(name);
+        let program = format!(
+            "G90 G0 X0. Y0. Z100.\nG43.4 H1 Z50.\nG98 G81 X10. Y5. Z-5. {words} R2. F100.\nX20.\nG80\n"
+        );
+        let (rows, alarm) = halves_on(&program, &m);
+        assert!(alarm.is_none(), "{name}: {alarm:?}");
+        let p0 = Vec3::new(0.0, 0.0, 50.0);
+        for (line, x) in [(3, 10.0), (4, 20.0)] {
+            let hole: Vec<&(Row, Row)> = rows.iter().filter(|r| r.1.line == line).collect();
+            assert_eq!(hole.len(), 4, "{name} line {line}: {hole:?}");
+            let dir = hole[3].1.dir;
+            assert!(dir.z < 0.95, "{name}: the tool is tilted, {dir:?}");
+            let bottom = Vec3::new(x, 5.0, -5.0);
+            let initial = bottom + (p0 - bottom).dot(&dir) * dir;
+            let at = |level: f64| bottom + (level + 5.0) * dir;
+            // Positioning at the initial level, R, the bottom, back.
+            for (row, want) in hole.iter().zip([initial, at(2.0), bottom, initial]) {
+                assert!(
+                    near(&row.1.tip, &want),
+                    "{name} {line}: {:?} vs {want:?}",
+                    row.1.tip
+                );
+                for (i, angle) in angles {
+                    assert!((row.1.joints[i] - angle).abs() < 1e-9, "{name}: {row:?}");
+                }
+                assert!(near(&row.1.dir, &dir), "{name}: {row:?}");
+            }
+            // The feed runs on the tool's line: its middle too.
+            let middle = hole[2].0.tip;
+            assert!(near(&middle, &at(-1.5)), "{name}: {middle:?}");
+        }
+        // The first positioning turned the rotary axes with the tip
+        // straight in the frame: from where it stood to the initial level.
+        let first = rows.iter().find(|r| r.1.line == 3).expect("positioning");
+        let bottom = Vec3::new(10.0, 5.0, -5.0);
+        let target = bottom + (p0 - bottom).dot(&first.1.dir) * first.1.dir;
+        assert!(
+            near(&first.0.tip, &((p0 + target) / 2.0)),
+            "{name}: {first:?}"
+        );
+    }
+}
+
+#[test]
+fn the_nx_nmv_block_drills_at_the_programmed_tip_with_the_table_turned() {
+    // The NX NMV post's block in the metric form of the corpus program,
+    // on a B/C trunnion whose programming frame does not turn (WKP = 1):
+    // the tool stays the frame's Z, the table turns to B90 C180 on the
+    // way to the hole, the hole is X Y with its bottom at Z, dwell P.
+    let mut m = machine("trunnion-bc");
+    m.params.programming_frame = fiveaxis_machine::ProgrammingFrame::Workpiece;
+    let (rows, alarm) = run_on(
+        "G90 G0 X0. Y0. Z100.\nG43.4 H1 Z50.\nG98 G82 X-25. Y-21.336 Z-7. B90. C180. R3. F250. P5\nG80\n",
+        &m,
+    );
+    assert!(alarm.is_none(), "{alarm:?}");
+    let hole: Vec<&Row> = rows.iter().filter(|r| r.line == 3).collect();
+    assert_eq!(hole.len(), 4, "{hole:?}");
+    for (row, z) in hole.iter().zip([50.0, 3.0, -7.0, 50.0]) {
+        let table = m.chain(fiveaxis_machine::Side::Table, &row.joints);
+        let tip = table.transform_point(&row.tip.into()).coords;
+        assert!(
+            (tip.x + 25.0).abs() < 1e-9
+                && (tip.y + 21.336).abs() < 1e-9
+                && (tip.z - z).abs() < 1e-9,
+            "{tip:?} vs {z}"
+        );
+        assert!((table.transform_vector(&row.dir).z - 1.0).abs() < 1e-9);
+        assert_eq!((row.joints[3], row.joints[4]), (90.0, 180.0));
+    }
+}
+
+#[test]
+fn g91_under_a_tilted_tool_measures_r_and_z_along_it() {
+    // G91: R from the initial level and Z from R, along the tool; the
+    // plane increment repeated K times moves the hole by the increment's
+    // part square to the tool (the levels stay the same).
+    use fiveaxis_machine::Vec3;
+    let m = machine("trunnion-bc");
+    let (rows, alarm) = run_on(
+        "G90 G0 X0. Y0. Z100.\nG43.4 H1 Z50.\nG0 B-30. C45.\nG91 G98 G81 X10. Y5. Z-7. R-48. K2 F100.\nG80\n",
+        &m,
+    );
+    assert!(alarm.is_none(), "{alarm:?}");
+    let hole: Vec<&Row> = rows.iter().filter(|r| r.line == 4).collect();
+    assert_eq!(hole.len(), 8, "{hole:?}");
+    let dir = hole[0].dir;
+    assert!(dir.z < 0.95, "{dir:?}");
+    for k in [0, 4] {
+        let (at, r, bottom, back) = (
+            hole[k].tip,
+            hole[k + 1].tip,
+            hole[k + 2].tip,
+            hole[k + 3].tip,
+        );
+        assert!(near(&(r - at), &(-48.0 * dir)), "{k}: {at:?} {r:?}");
+        assert!(near(&(bottom - r), &(-7.0 * dir)), "{k}: {r:?} {bottom:?}");
+        assert!(near(&back, &at), "{k}");
+    }
+    let step = Vec3::new(10.0, 5.0, 0.0);
+    let square = step - step.dot(&dir) * dir;
+    assert!(near(&(hole[6].tip - hole[2].tip), &square), "{hole:?}");
+    // The first positioning starts at the tip (0, 0, 50) and stays at
+    // its level along the tool.
+    assert!(((hole[0].tip - Vec3::new(0.0, 0.0, 50.0)).dot(&dir)).abs() < 1e-9);
+}
+
+#[test]
+fn g76_under_a_tilted_tool_shifts_square_to_it() {
+    use fiveaxis_machine::Vec3;
+    let m = machine("head-table-bc");
+    let (rows, alarm) = run_on(
+        "G90 G0 X0. Y0. Z100.\nG43.4 H1 Z50.\nG99 G76 X10. Y5. Z-5. B30. C0. R2. Q1. F100.\nG80\n",
+        &m,
+    );
+    assert!(alarm.is_none(), "{alarm:?}");
+    let hole: Vec<&Row> = rows.iter().filter(|r| r.line == 3).collect();
+    // Positioning, R, bottom, shift, out shifted, shift back.
+    assert_eq!(hole.len(), 6, "{hole:?}");
+    let dir = hole[2].dir;
+    let shift = hole[3].tip - hole[2].tip;
+    assert!((shift.norm() - 1.0).abs() < 1e-9, "{shift:?}");
+    assert!(
+        shift.dot(&dir).abs() < 1e-9 && shift.x > 0.8,
+        "{shift:?} {dir:?}"
+    );
+    assert!(near(&hole[2].tip, &Vec3::new(10.0, 5.0, -5.0)));
+    assert!(near(
+        &hole[5].tip,
+        &(Vec3::new(10.0, 5.0, -5.0) + 7.0 * dir)
+    ));
+}
+
+#[test]
+fn cycles_are_refused_with_rotary_words_in_g43_5_and_under_cutter_compensation() {
     let (alarm, text) = alarm_of(
-        "G90 G0 X0. Y0. Z50.\nG43.4 H1 Z50.\nG81 X10. A5. Z-5. R2. F100.\n",
+        "G90 G0 X0. Y0. Z50.\nG43.5 H1 Z50.\nG81 X10. A5. Z-5. R2. F100.\n",
         &machine("trunnion-ac"),
     );
-    assert_eq!(alarm.code.to_string(), "FX0133");
-    assert_eq!(text.as_deref(), Some("G81"));
+    assert_eq!(alarm.code.to_string(), "FX0073");
+    assert_eq!(text.as_deref(), Some("A5."));
     let (alarm, _) = alarm_of(
         &program("G41 D1 G01 X10. F100.\nG81 X20. Z-5. R2.\n"),
         &machine("mill-3axis"),

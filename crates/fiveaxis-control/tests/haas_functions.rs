@@ -389,15 +389,63 @@ fn g254_at_rotary_zero_is_plain_length_compensation() {
 }
 
 #[test]
+fn work_offsets_selected_again_in_g254_as_the_nx_umc_post_writes_them() {
+    // NX's Haas UMC-750 post: `G254`, then `G54 G90 G00 X… Y…`. Selecting
+    // the offset in DWO is accepted; the DWO frame's work zero is the
+    // offset now in force, turned with the table.
+    let m = umc();
+    let rows = run(
+        &m,
+        "G21 G90 G54 G43 H1 X0. Y0. Z150.\nG0 B90. C0.\nG254\nG54 G90 G00 X10. Y5.\nZ20.\nG255\n",
+    );
+    let zero = b90(G54);
+    let row = end_of(&rows, 5);
+    let expected = [zero[0] + 10.0, zero[1] + 5.0, zero[2] + 20.0 + L, 90.0, 0.0];
+    assert_close(&row.joints[..5], &expected, "G54 again: axes");
+    // On the part: (x, y, z) turned back by B90 is (−z, y, x) from G54.
+    assert_close(&tip(&m, row), &work([-20.0, 5.0, 10.0]), "G54 again: tip");
+    // Another offset selected in DWO: G55, 40 mm off the C line, turned
+    // by C90 to (−381, −214); the same as G55 selected before G254.
+    let rows = run(
+        &m,
+        "G21 G90 G54 G43 H1 X0. Y0. Z150.\nG0 B0. C90.\nG254\nG55 G90 G00 X10. Y5.\nZ20.\nG255\n",
+    );
+    let row = end_of(&rows, 5);
+    let expected = [-381.0 + 10.0, -214.0 + 5.0, G55[2] + 20.0 + L, 0.0, 90.0];
+    assert_close(&row.joints[..5], &expected, "G55 in DWO: axes");
+    let on_part = [G55[0] + 5.0, G55[1] - 10.0, G55[2] + 20.0];
+    assert_close(&tip(&m, row), &on_part, "G55 in DWO: tip");
+}
+
+#[test]
+fn work_offsets_selected_again_in_g234_as_the_nx_umc_post_writes_them() {
+    // NX's form: `G234 H02`, then `G54 G90 X Y Z`. The TCPC frame (the
+    // table's at rotary 0) takes the offset in force: the tip lands on
+    // G54 + (x, y, z) of the part, then on G55 + (x, y, z) after G55.
+    let m = umc();
+    let rows = run(
+        &m,
+        "G21 G90 G53 G0 Z-300.\nG234 H1\nG54 G90 X10. Y5. Z20. B90. C0.\nG55 G90 X10. Y5. Z20.\nG54 X30.\nG49\n",
+    );
+    for (line, zero, p) in [
+        (3, G54, [10.0, 5.0, 20.0]),
+        (4, G55, [10.0, 5.0, 20.0]),
+        (5, G54, [30.0, 5.0, 20.0]),
+    ] {
+        let row = end_of(&rows, line);
+        let on_part = [zero[0] + p[0], zero[1] + p[1], zero[2] + p[2]];
+        assert_close(&tip(&m, row), &on_part, &format!("line {line} tip"));
+        assert_close(&row.joints[3..5], &[90.0, 0.0], &format!("line {line} B C"));
+    }
+}
+
+#[test]
 fn g254_alarms() {
     let m = umc();
     // Rotary motion in DWO.
     let a = alarm(&m, "G21 G43 H1 X0. Y0. Z150.\nG254\nG0 B10.\n");
     assert_eq!((a.condition, a.line), (Condition::FeatureNotAllowed, 3));
     assert!(a.message.contains("G255"), "{}", a.message);
-    // A work offset change in DWO.
-    let a = alarm(&m, "G21 G43 H1 X0. Y0. Z150.\nG254\nG55\n");
-    assert_eq!((a.condition, a.line), (Condition::FeatureNotAllowed, 3));
     // Not in TCPC.
     let a = alarm(&m, "G21 G53 G0 Z-300.\nG234 H1\nG254\n");
     assert_eq!((a.condition, a.line), (Condition::FeatureNotAllowed, 3));

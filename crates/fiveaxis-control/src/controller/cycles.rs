@@ -35,20 +35,30 @@
 //!   begins (FX0130); G80 and group-01 codes clear Z, R, Q and P.
 //! * A block drills when it has an axis word or R (a block with only F, Q,
 //!   P, K, M codes stores data); K0 stores the data and drills nothing.
-//! * Under TCPC (G43.4 / G43.5) a cycle drills in the programming frame
-//!   with the rotary axes standing (the NX posts for FANUC 5-axis machines
-//!   write `G43.4 … G98 G73 …` for 3+2 holes): each move is a straight
-//!   line of the tip in that frame, exact as a joint line because the
-//!   rotary axes do not move. A rotary word in a cycle block under TCPC,
-//!   and any cycle under cutter compensation C or 3-D tool compensation,
-//!   is refused (FX0133).
+//! * Under TCPC (G43.4 / G43.5, Haas G234; not on LinuxCNC) a cycle
+//!   drills along the tool in the programming frame (the NX posts for
+//!   FANUC 5-axis machines write `G43.4 … G98 G73 …` for 3+2 holes, and
+//!   the Mori Seiki NMV post `G98 G82 X Y Z B90. C2700. R …` with the
+//!   rotary words in the cycle block). Rotary words turn the axes with
+//!   the positioning, as a G00 block of TCPC (`tcpc.rs`, `tcpc_rapid`);
+//!   then every move is a straight line of the tip along the tool, exact
+//!   as a joint line because the rotary axes stand. In G90 the programmed
+//!   X Y Z is the tip at the hole bottom and the levels (R, the initial
+//!   level, where the tool stands) are measured along the tool through
+//!   it ([`HoleAxis::Tool`]); in G91 the levels keep the initial level's
+//!   origin. With the tool along the plane's normal the cycle is the
+//!   plain one ([`HoleAxis::Normal`]), to the last bit. The manuals give
+//!   no alarm for it: docs/functions.md, "Canned cycles", has the
+//!   decision. A rotary word under G43.5 is type 2's alarm (FX0073); any
+//!   cycle under cutter compensation C or 3-D tool compensation is refused
+//!   (FX0133).
 
 use fiveaxis_gcode::{Code, Span};
-use fiveaxis_machine::Joints;
+use fiveaxis_machine::{Joints, Vec3};
 
 use super::{Controller, GCodes};
 use crate::alarm::{Alarm, Condition};
-use crate::modal::Distance;
+use crate::modal::{Distance, TcpcType};
 use crate::segment::{Motion, Segment};
 
 /// G73's retraction d after each peck, mm (FANUC No.5114; the kernel uses
@@ -156,6 +166,12 @@ pub(super) struct CycleState {
     /// LinuxCNC's D of G73 / G83, the peck clearance, mm (None: the
     /// configuration's or the default).
     d: Option<f64>,
+    /// Under TCPC with the tool off the plane's normal: the last hole's
+    /// position (its bottom in G90, the positioned point in G91) and the
+    /// tip where the cycle left the tool, so that the next block's
+    /// omitted plane words and G91 increments start from the hole and not
+    /// from the tip on the tilted hole axis.
+    last_hole: Option<([f64; 3], [f64; 3])>,
 }
 
 impl Default for CycleState {
@@ -170,6 +186,7 @@ impl Default for CycleState {
             q: 0.0,
             p: 0,
             d: None,
+            last_hole: None,
         }
     }
 }
@@ -193,6 +210,56 @@ struct Levels {
     bottom: f64,
     /// Where the tool goes after the hole (G98: initial, G99: R).
     back: f64,
+}
+
+/// How far (as a difference of unit vectors) the tool may be from the
+/// plane's normal and the cycle still drill along the normal itself.
+const NORMAL_SNAP: f64 = 1e-12;
+
+/// The line a hole is drilled along, in programmed coordinates.
+#[derive(Clone, Copy, Debug)]
+enum HoleAxis {
+    /// Along the plane's normal: a level is that axis's coordinate and
+    /// the plane position is the hole's.
+    Normal,
+    /// Along the tool under TCPC: the point at level `l` is `anchor + (l -
+    /// anchor_level) dir`; G76 / G87 shift along `shift`.
+    Tool {
+        anchor: Vec3,
+        anchor_level: f64,
+        dir: Vec3,
+        shift: Vec3,
+    },
+}
+
+impl HoleAxis {
+    /// The programmed point at `level` (with Q's shift when `shifted`);
+    /// the rotary words and other axes as in `hole`.
+    fn at(&self, hole: &Joints, axes: [usize; 3], level: f64, shift: f64, shifted: bool) -> Joints {
+        let [first, _, n] = axes;
+        let mut p = *hole;
+        match *self {
+            HoleAxis::Normal => {
+                p[n] = level;
+                if shifted {
+                    p[first] += shift;
+                }
+            }
+            HoleAxis::Tool {
+                anchor,
+                anchor_level,
+                dir,
+                shift: along,
+            } => {
+                let mut q = anchor + (level - anchor_level) * dir;
+                if shifted {
+                    q += shift * along;
+                }
+                p[..3].copy_from_slice(q.as_slice());
+            }
+        }
+        p
+    }
 }
 
 impl Controller<'_> {
@@ -347,7 +414,7 @@ impl Controller<'_> {
                 "G86 with the spindle stopped: LinuxCNC needs it turning (M3 or M4)".into(),
             ));
         }
-        let levels = self.cycle_levels(cycle, code_span)?;
+        let levels = self.cycle_levels(cycle, code_span, self.state.cycle.initial[n])?;
         let pecks = if matches!(cycle, Cycle::G73 | Cycle::G83) {
             let q = self.state.cycle.q;
             if q <= 0.0 {
@@ -372,22 +439,71 @@ impl Controller<'_> {
         } else {
             0
         };
+        // Under TCPC (FANUC, Mitsubishi, Mazak, Haas G234) the hole runs
+        // along the tool; LinuxCNC's interpreter knows no tool direction.
+        let tool_axis = self.tcpc_type().is_some() && !self.dialect.rs274ngc;
+        let incremental = self.state.modal.distance == Distance::Incremental;
+        let mut tip = Vec3::new(from[0], from[1], from[2]);
         let mut hole = *from;
+        if let Some((anchor, left)) = self.state.cycle.last_hole.take()
+            && (Vec3::from(left) - tip).norm() < 1e-9
+        {
+            hole[..3].copy_from_slice(&anchor);
+        }
         let mut cur = start;
         if self.dialect.rs274ngc && (levels.r - hole[n]) * (levels.bottom - levels.r) < 0.0 {
             // LinuxCNC's preliminary motion: from below R the drilling
             // axis goes to R first, once whatever L is (g-code.adoc,
             // Preliminary and In-Between Motion).
             hole[n] = levels.r;
+            tip[n] = levels.r;
             let end = self.machine_position(&hole);
             self.push_line(Motion::Rapid, cur, end, out)?;
             cur = end;
         }
+        let axes = self.state.modal.plane.axes();
         for _ in 0..repeats {
-            // Positioning in the plane (and any other named axis) at the
-            // level where the tool stands.
+            // Positioning in the plane (and any other named axis, the
+            // rotary axes too) at the level where the tool stands.
             let (mut end_p, travel) = self.end_point(&hole, &targets);
-            end_p[n] = hole[n];
+            let mut lv = levels;
+            let direction = if tool_axis {
+                self.drilling_direction(&end_p)
+            } else {
+                None
+            };
+            let (axis, here) = match direction {
+                None => {
+                    end_p[n] = tip[n];
+                    (HoleAxis::Normal, tip[n])
+                }
+                Some(dir) => {
+                    // Levels along the tool: l(p) = p.dir + c, with c such
+                    // that the programmed point X Y Z is the hole bottom
+                    // (G90), or the initial level the tip's own (G91).
+                    let mut anchor = Vec3::new(end_p[0], end_p[1], end_p[2]);
+                    let p0 = Vec3::from(self.state.cycle.initial);
+                    let c = if incremental {
+                        p0[n] - p0.dot(&dir)
+                    } else {
+                        anchor[n] = levels.bottom;
+                        levels.bottom - anchor.dot(&dir)
+                    };
+                    if !incremental {
+                        lv = self.cycle_levels(cycle, code_span, p0.dot(&dir) + c)?;
+                    }
+                    let anchor_level = anchor.dot(&dir) + c;
+                    let here = tip.dot(&dir) + c;
+                    let axis = HoleAxis::Tool {
+                        anchor,
+                        anchor_level,
+                        dir,
+                        shift: self.shift_direction(&dir),
+                    };
+                    end_p = axis.at(&end_p, axes, here, 0.0, false);
+                    (axis, here)
+                }
+            };
             let end = self.machine_position(&end_p);
             let mut start = cur;
             for i in 3..self.machine.axis_count() {
@@ -395,32 +511,95 @@ impl Controller<'_> {
                     start[i] = end[i] - travel[i];
                 }
             }
-            // No positioning when the hole is where the tool stands (under
-            // TCPC the machine position computed again may differ by a
-            // rounding, which is no move).
-            if end_p != hole {
+            let mut standing = hole;
+            standing[..3].copy_from_slice(tip.as_slice());
+            let turns = (3..self.machine.axis_count()).any(|i| travel[i] != 0.0);
+            if self.tcpc_type().is_some() && turns {
+                // The rotary axes turn with the positioning (operation 1),
+                // the tip straight in the programming frame as in G00.
+                self.tcpc_rapid(start, &end_p, end, &travel, out)?;
+                cur = end;
+            } else if end_p != standing {
+                // No positioning when the hole is where the tool stands
+                // (under TCPC the machine position computed again may
+                // differ by a rounding, which is no move).
                 self.push_line(Motion::Rapid, start, end, out)?;
                 cur = end;
             }
-            hole = end_p;
-            cur = self.hole(cycle, &levels, pecks, &hole, cur, out)?;
-            hole[n] = if cycle == Cycle::G87 && !self.dialect.g87_manual_retract {
-                levels.initial
+            cur = self.hole(cycle, &lv, pecks, &end_p, here, &axis, cur, out)?;
+            let left = if cycle == Cycle::G87 && !self.dialect.g87_manual_retract {
+                lv.initial
             } else {
-                levels.back
+                lv.back
             };
+            let after = axis.at(&end_p, axes, left, 0.0, false);
+            tip = Vec3::new(after[0], after[1], after[2]);
+            hole = end_p;
+            match axis {
+                HoleAxis::Normal => hole[n] = left,
+                HoleAxis::Tool { anchor, .. } => hole[..3].copy_from_slice(anchor.as_slice()),
+            }
+        }
+        if hole[..3] != *tip.as_slice() {
+            self.state.cycle.last_hole = Some(([hole[0], hole[1], hole[2]], tip.into()));
         }
         Ok(())
     }
 
-    /// TCPC, cutter compensation C and 3-D tool compensation refuse canned
-    /// cycles.
+    /// The direction a hole is drilled along under TCPC with the rotary
+    /// axes of `end_p`: the tool's, turned to the side of the plane's
+    /// normal; `None` when that is the normal itself.
+    fn drilling_direction(&self, end_p: &Joints) -> Option<Vec3> {
+        let [_, _, n] = self.state.modal.plane.axes();
+        let joints = self.machine_position(end_p);
+        let tool = self.tcpc_tool_direction(&joints).normalize();
+        let dir = if tool[n] < 0.0 { -tool } else { tool };
+        let mut normal = Vec3::zeros();
+        normal[n] = 1.0;
+        ((dir - normal).norm() > NORMAL_SNAP).then_some(dir)
+    }
+
+    /// G76 / G87's shift under a tool off the normal: the plane's first
+    /// axis made square to the tool (its second when the tool lies along
+    /// the first).
+    fn shift_direction(&self, dir: &Vec3) -> Vec3 {
+        let [first, second, _] = self.state.modal.plane.axes();
+        let square = |k: usize| {
+            let mut e = Vec3::zeros();
+            e[k] = 1.0;
+            e - e.dot(dir) * dir
+        };
+        let v = square(first);
+        if v.norm() > 1e-6 {
+            v.normalize()
+        } else {
+            square(second).normalize()
+        }
+    }
+
+    /// Cutter compensation C and 3-D tool compensation refuse canned
+    /// cycles; under G43.5 a rotary word is type 2's alarm.
     fn cycle_allowed(&self, span: Option<Span>) -> Result<(), Alarm> {
         let rotary_word = (self.machine.linear.len()..self.machine.axis_count())
             .any(|i| self.words.has(self.axis_letters[i]));
-        let mode = if self.tcpc_type().is_some() && rotary_word {
-            "tool centre point control (G43.4/G43.5) with a rotary axis word (turn the rotary axes in a block of their own)"
-        } else if self.state.comp3d.active {
+        if self.tcpc_type() == Some(TcpcType::Vector)
+            && rotary_word
+            && let Some(i) = (self.machine.linear.len()..self.machine.axis_count())
+                .find(|&i| self.words.has(self.axis_letters[i]))
+        {
+            // Type 2 gives the tool by I J K, never by rotary words: the
+            // alarm of any G43.5 block with one.
+            let name = self.axis_letters[i];
+            return Err(self.alarm(
+                Condition::TcpcRotaryWordInType2,
+                self.words.peek(name).map(|w| w.span),
+                format!(
+                    "rotary axis word {} in TCPC type 2: program the tool vector I, J, K",
+                    char::from(name)
+                ),
+            ));
+        }
+        let mode = if self.state.comp3d.active {
             "3-D tool compensation"
         } else if self.cutter.side.is_some() {
             "cutter compensation C (G41/G42)"
@@ -434,8 +613,14 @@ impl Controller<'_> {
         ))
     }
 
-    /// The levels of the holes from the stored R and Z.
-    fn cycle_levels(&self, cycle: Cycle, span: Option<Span>) -> Result<Levels, Alarm> {
+    /// The levels of the holes from the stored R and Z, the initial level
+    /// being `initial`.
+    fn cycle_levels(
+        &self,
+        cycle: Cycle,
+        span: Option<Span>,
+        initial: f64,
+    ) -> Result<Levels, Alarm> {
         let [_, _, n] = self.state.modal.plane.axes();
         let letter = char::from(self.axis_letters[n]);
         let c = &self.state.cycle;
@@ -451,7 +636,6 @@ impl Controller<'_> {
                 format!("the canned cycle {cycle:?} has no {missing}"),
             ));
         };
-        let initial = c.initial[n];
         let (r, bottom) = if self.state.modal.distance == Distance::Incremental {
             (initial + r, initial + r + z)
         } else {
@@ -495,27 +679,26 @@ impl Controller<'_> {
         }
     }
 
-    /// One hole at `hole` (plane position; its drilling coordinate is
-    /// where the tool stands), from machine position `cur`. Returns where
-    /// the machine ends.
+    /// One hole along `axis` (the other axes as in `hole`), the tool at
+    /// level `here`, from machine position `cur`. Returns where the
+    /// machine ends.
+    #[allow(clippy::too_many_arguments)]
     fn hole(
         &self,
         cycle: Cycle,
         lv: &Levels,
         pecks: u32,
         hole: &Joints,
+        here: f64,
+        axis: &HoleAxis,
         cur: Joints,
         out: &mut Vec<Segment>,
     ) -> Result<Joints, Alarm> {
-        let [first, _, n] = self.state.modal.plane.axes();
+        let axes = self.state.modal.plane.axes();
         let shift = self.state.cycle.q;
         let mut cur = cur;
         let mut go = |motion: Motion, level: f64, shifted: bool, out: &mut Vec<Segment>| {
-            let mut p: Joints = *hole;
-            p[n] = level;
-            if shifted {
-                p[first] += shift;
-            }
+            let p = axis.at(hole, axes, level, shift, shifted);
             let end = self.machine_position(&p);
             self.push_line(motion, cur, end, out)?;
             cur = end;
@@ -540,8 +723,7 @@ impl Controller<'_> {
         };
         let back_boring = cycle == Cycle::G87 && !self.dialect.g87_manual_retract;
         if back_boring {
-            let level = hole[n];
-            go(rapid, level, true, out)?;
+            go(rapid, here, true, out)?;
             go(rapid, lv.r, true, out)?;
             go(rapid, lv.r, false, out)?;
             go(feed, lv.bottom, false, out)?;

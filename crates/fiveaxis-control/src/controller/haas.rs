@@ -18,8 +18,10 @@
 //!   the tool; canned cycles drill along the tool. `G255` cancels. The
 //!   manual's rules: rotary motion is complete before G254 and G254 is
 //!   cancelled before any rotary motion (an axis word of a rotary axis in
-//!   DWO is an alarm here); the work offset is applied before G254 (a
-//!   change of it in DWO is an alarm, as in the tilted plane); G254 is
+//!   DWO is an alarm here); the work offset is applied before G254, and
+//!   one selected in DWO (NX's UMC-750 post: `G254`, then `G54 G90 G00 X…
+//!   Y…`) is accepted, the DWO frame taking its work zero from the offset
+//!   in force at each block (as G234 does); G254 is
 //!   not for simultaneous motion (G234 in DWO, and G254 in TCPC, are
 //!   alarms).
 //! * `G268 X Y Z I J K Q` feature coordinates is the tilted working plane

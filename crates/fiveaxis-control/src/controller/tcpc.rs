@@ -315,6 +315,42 @@ impl Controller<'_> {
         map.transform_point(&ideal.into()).coords - self.work() - self.state.comp3d.vector
     }
 
+    /// The tool direction (tip towards spindle) in the programming frame
+    /// with the rotary axes at `joints`: what a canned cycle under TCPC
+    /// drills along (`cycles.rs`).
+    pub(super) fn tcpc_tool_direction(&self, joints: &Joints) -> Vec3 {
+        let dir = self.machine.programmed_pose(joints, self.tool_length()).dir;
+        let ideal = self.state.setup.inverse_vector(&dir);
+        self.programming_map(joints).transform_vector(&ideal)
+    }
+
+    /// A positioning under TCPC that turns the rotary axes (a canned
+    /// cycle's move to its hole with rotary words): as a G00 block of
+    /// type 1, the tip on the straight line in the programming frame from
+    /// where it stands to `end_p` (machine position `end`), the rotary
+    /// axes linear in s.
+    pub(super) fn tcpc_rapid(
+        &self,
+        start: Joints,
+        end_p: &Joints,
+        end: Joints,
+        travel: &Joints,
+        out: &mut Vec<Segment>,
+    ) -> Result<(), Alarm> {
+        self.check_singular_passage(&start, end_p, travel)?;
+        let tip = self.tcpc_line(end_p, &start);
+        if start == end && tip.length() == 0.0 {
+            return Ok(());
+        }
+        let path = Path::Tcpc(TcpcPath {
+            tip,
+            turning: self.state.tcpc.turning,
+            posture: None,
+        });
+        out.push(self.segment(Motion::Rapid, start, end, path));
+        Ok(())
+    }
+
     /// What the programmed point depends on besides the joints: the work
     /// offset, the 3-D compensation vector and the setup error.
     fn frames_key(&self) -> FramesKey {

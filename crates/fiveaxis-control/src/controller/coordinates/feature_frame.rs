@@ -53,7 +53,8 @@
 //! Decisions where this kernel is stricter than the control (each alarm
 //! FX0150 naming the function): G68.2 is not started while TCPC or 3-D
 //! tool compensation is on; the work offset and G54.4 cannot change in
-//! the mode; `G68.2` in the mode replaces the frame (FANUC nests it with
+//! the mode (except the work offset in Haas's G254, whose frame takes its
+//! zero from the offset in force); `G68.2` in the mode replaces the frame (FANUC nests it with
 //! parameter No.11221; here the new frame is always relative to the
 //! workpiece).
 
@@ -671,8 +672,12 @@ impl Controller<'_> {
                         "the end of the tilted plane under TCPC: cancel TCPC first",
                     )
                 }),
+            // Haas's DWO takes its work zero from the offset in force, so
+            // the offset may be selected again in it (the NX UMC post
+            // writes `G254` then `G54 G90 G00 X… Y…`).
             codes
                 .work
+                .filter(|_| !self.feature().is_some_and(|f| f.dwo))
                 .map(|(c, s)| (c, s, "a change of the work offset")),
             codes
                 .setup
