@@ -86,26 +86,6 @@ pub struct PostArgs {
     tool_length: Option<f64>,
 }
 
-/// A file name of CL data: `.apt`, `.cl`, `.cls` (NX), `.ncl` (Creo, also
-/// with its version number, `.ncl.3`), `.aptsource` (CATIA).
-fn is_cl_name(name: &str) -> bool {
-    let path = std::path::Path::new(name);
-    let extension = |p: &std::path::Path| {
-        p.extension()
-            .and_then(|e| e.to_str())
-            .map(str::to_ascii_lowercase)
-    };
-    let ext = match extension(path) {
-        // Creo's versions: `seq00005.ncl.1`.
-        Some(e) if !e.is_empty() && e.bytes().all(|b| b.is_ascii_digit()) => path
-            .file_stem()
-            .map(std::path::Path::new)
-            .and_then(extension),
-        e => e,
-    };
-    ext.is_some_and(|e| ["apt", "cl", "cls", "ncl", "aptsource"].contains(&e.as_str()))
-}
-
 /// A tip tolerance: positive and at least [`fiveaxis_post::MIN_TOLERANCE`].
 fn tolerance(text: &str) -> Result<f64, String> {
     at_least(text, fiveaxis_post::MIN_TOLERANCE, "mm")
@@ -157,7 +137,7 @@ pub fn post(args: &PostArgs) -> Result<u8, InputError> {
     open_program(&args.program)?
         .read_to_end(&mut bytes)
         .map_err(|e| InputError::io(program_name, &e))?;
-    let is_apt = args.apt || is_cl_name(&args.program);
+    let is_apt = args.apt || fiveaxis_post::apt::is_cl_file_name(&args.program);
     if args.tcpc && !is_apt {
         return Err(InputError(
             "error: --tcpc writes the TCPC program of APT / CL input: give --apt".into(),

@@ -273,6 +273,26 @@ pub struct Converted {
     pub warnings: Vec<ClWarning>,
 }
 
+/// A file name of CL data: `.apt`, `.cl`, `.cls` (NX), `.ncl` (Creo, also
+/// with its version number, `.ncl.3`), `.aptsource` (CATIA).
+pub fn is_cl_file_name(name: &str) -> bool {
+    let path = std::path::Path::new(name);
+    let extension = |p: &std::path::Path| {
+        p.extension()
+            .and_then(|e| e.to_str())
+            .map(str::to_ascii_lowercase)
+    };
+    let ext = match extension(path) {
+        // Creo's versions: `seq00005.ncl.1`.
+        Some(e) if !e.is_empty() && e.bytes().all(|b| b.is_ascii_digit()) => path
+            .file_stem()
+            .map(std::path::Path::new)
+            .and_then(extension),
+        e => e,
+    };
+    ext.is_some_and(|e| ["apt", "cl", "cls", "ncl", "aptsource"].contains(&e.as_str()))
+}
+
 impl Converted {
     /// The CL line the program's 1-based `line` was written for.
     pub fn source_line(&self, line: u32) -> Option<u32> {

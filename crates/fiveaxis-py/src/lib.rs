@@ -40,6 +40,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(report::check, m)?)?;
     m.add_function(wrap_pyfunction!(report::post, m)?)?;
     m.add_function(wrap_pyfunction!(report::apt_to_tcpc, m)?)?;
+    m.add_function(wrap_pyfunction!(report::is_cl_file_name, m)?)?;
     m.add_function(wrap_pyfunction!(kinematics::forward, m)?)?;
     m.add_function(wrap_pyfunction!(kinematics::inverse, m)?)?;
     m.add_function(wrap_pyfunction!(kinematics::inverse_choice, m)?)?;

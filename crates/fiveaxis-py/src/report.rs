@@ -108,6 +108,13 @@ pub fn check<'py>(
     Ok(d)
 }
 
+/// Whether a file name is one of CL data (`.apt`, `.cl`, `.cls`, `.ncl`,
+/// `.ncl.N`, `.aptsource`), as `fiveaxis post` decides.
+#[pyfunction]
+pub fn is_cl_file_name(name: &str) -> bool {
+    fiveaxis_post::apt::is_cl_file_name(name)
+}
+
 /// APT / CL text to a TCPC program (`G43.5` with tool vectors).
 #[pyfunction]
 #[pyo3(signature = (text, name = "<string>"))]
@@ -277,5 +284,11 @@ pub fn post<'py>(
     d.set_item("blocks", post.moves.len())?;
     d.set_item("unresolved", post.unresolved)?;
     d.set_item("tool_lengths", post.tool_lengths.clone())?;
+    let warnings: Vec<_> = cl
+        .iter()
+        .flat_map(|(converted, _)| &converted.warnings)
+        .map(|w| (w.line, w.word.as_str(), w.message.as_str(), w.count, w.note))
+        .collect();
+    d.set_item("cl_warnings", warnings)?;
     Ok(d)
 }

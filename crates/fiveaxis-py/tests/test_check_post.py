@@ -177,3 +177,13 @@ def test_post_returns_a_program_with_nothing_to_convert_unchanged(cli: Path, tmp
     done = subprocess.run([str(cli), "post", str(path), "--machine", "trunnion-ac"], capture_output=True, timeout=300)
     assert done.returncode == 0 and done.stdout.decode() == plain
     assert b"nothing to convert" in done.stderr
+
+
+def test_cl_words_not_carried_out_come_back_as_warnings(tmp_path: Path) -> None:
+    cl = tmp_path / "part.ncl.1"
+    cl.write_text("PARTNO/BRACKET\nLOADTL/1\nPPWORD/XYZ\nFOOBAR/1,2\nFEDRAT/500,MMPM\nGOTO/0,0,10,0,0,1\nGOTO/10,0,10,0,0,1\nFINI\n")
+    got = fx.post(cl, "head-table-bc", tool_length=100.0)
+    assert got.converted
+    words = {w[1]: w for w in got.cl_warnings}
+    assert words["FOOBAR"][0] == 4 and not words["FOOBAR"][4]
+    assert words["PPWORD"][0] == 3 and words["PPWORD"][4]

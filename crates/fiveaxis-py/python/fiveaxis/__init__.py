@@ -718,7 +718,10 @@ class PostResult:
     pieces that could not meet the tolerance, and the tool lengths it is
     for. ``converted`` is ``False`` when the program had nothing to
     convert (no TCPC, no tilted working plane, no CL data, the same
-    machine): then ``text`` is the program unchanged."""
+    machine): then ``text`` is the program unchanged. ``cl_warnings``: for
+    CL input, the major words not carried out, each ``(line, word,
+    message, count, note)`` (``note``: a known word skipped on purpose, else
+    a word the reader does not know), as ``fiveaxis post`` prints them."""
 
     text: str
     deviation_tip: float
@@ -728,6 +731,7 @@ class PostResult:
     unresolved: int
     tool_lengths: List[float]
     converted: bool = True
+    cl_warnings: List[Tuple[int, str, str, int, bool]] = field(default_factory=list)
 
 
 def apt_to_tcpc(text: str, name: str = "<string>") -> str:
@@ -758,7 +762,8 @@ def post(
     working plane into a machine-axis program for the same machine without
     those options, within `tolerance` (mm) and `angle_tolerance` (degrees),
     as ``fiveaxis post``. APT / CL input (``apt=True``, default for files
-    named ``.apt``, ``.cl``, ``.cls``) is converted first. ``feed``:
+    named ``.apt``, ``.cl``, ``.cls``, ``.ncl``, ``.aptsource``) is
+    converted first. ``feed``:
     ``"inverse-time"`` (G93), ``"dpm"`` or ``"programmed"``; ``retract``:
     mm along the tool axis at a flip; ``from_machine`` (with
     ``from_offsets``, ``tool_length``): a machine-axis program written for
@@ -771,7 +776,7 @@ def post(
     the source raises ``Alarm``."""
     path, text = _program(program, code)
     if apt is None:
-        apt = path is not None and os.path.splitext(path)[1].lower() in (".apt", ".cl", ".cls")
+        apt = path is not None and _native.is_cl_file_name(str(path))
     d = _native.post(
         _machine(machine), _offsets(offsets), path, text,
         tolerance=float(tolerance), angle_tolerance=float(angle_tolerance), apt=bool(apt),

@@ -199,6 +199,7 @@ class PostResult:
     unresolved: int
     tool_lengths: List[float]
     converted: bool
+    cl_warnings: List[Tuple[int, str, str, int, bool]]
 
 def apt_to_tcpc(text: str, name: str = ...) -> str: ...
 def post(
