@@ -453,7 +453,7 @@ fn exercise(bytes: &[u8]) {
         Statement::Goto(e) | Statement::IfGoto { target: e, .. } => {
             let _ = vars.eval_sequence(e, &sys, &s);
         }
-        Statement::While { cond, .. } => {
+        Statement::While { cond, .. } | Statement::IfBlock { cond } => {
             let _ = vars.eval_condition(cond, &sys, &s);
         }
         Statement::Nc(nc) => {
@@ -462,7 +462,7 @@ fn exercise(bytes: &[u8]) {
                 let _ = fiveaxis_macro::arguments(&block);
             }
         }
-        Statement::Do { .. } | Statement::End { .. } => {}
+        Statement::Do { .. } | Statement::End { .. } | Statement::Else | Statement::EndIf => {}
     }
     if let Statement::IfGoto { cond, .. } | Statement::IfThen { cond, .. } = &line.statement {
         let _ = vars.eval_condition(cond, &sys, &s);
