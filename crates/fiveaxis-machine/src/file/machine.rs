@@ -265,12 +265,11 @@ impl From<RawFrame> for ProgrammingFrame {
     }
 }
 
-/// The one-letter axis name written in `name`, if it is one of `allowed`.
-
 /// The largest size of the additional common variables option: every one
 /// of `#500000` … `#999999`.
 const MAX_ADDITIONAL_COMMON: u32 = 500_000;
 
+/// The one-letter axis name written in `name`, if it is one of `allowed`.
 fn axis_letter(name: &Spanned<String>, allowed: &[char]) -> Option<char> {
     let mut chars = name.get_ref().chars();
     match (chars.next(), chars.next()) {
