@@ -364,12 +364,39 @@ fn misplaced_owords_are_alarms() {
         ("o3 sub\nG0 X1\n", 1),
         ("o1 break\n", 1),
         ("o1 endrepeat\n", 1),
+        // As rs274 2.9: `break` and `continue` leave `while` and `do` loops
+        // only ("no matching while/do label … found 'repeat' in line 1").
+        ("o1 repeat [3]\nG0 X1\no1 break\no1 endrepeat\nM2\n", 3),
+        ("o1 repeat [3]\nG0 X1\no1 continue\no1 endrepeat\nM2\n", 3),
+        // A label opened again on another line of the same subroutine
+        // ("duplicate O-word label - already defined in line 1"); in
+        // another subroutine it is another label.
+        (
+            "o1 if [1]\nG0 X1\no1 endif\no1 if [1]\nG0 X2\no1 endif\nM2\n",
+            4,
+        ),
+        (
+            "#1=0\no1 while [#1 LT 2]\n#1=[#1+1]\no1 endwhile\no1 if [1]\no1 endif\nM2\n",
+            5,
+        ),
     ] {
         let (_, a) = run_on(program);
         let a = a.unwrap_or_else(|| panic!("{program:?}: no alarm"));
         assert_eq!(a.condition, Condition::OWordFlow, "{program:?}");
         assert_eq!(a.line, line, "{program:?}");
     }
+}
+
+/// The same label in two subroutines, each called twice: no duplicate.
+#[test]
+fn labels_are_scoped_by_subroutine() {
+    let program = "o<a> sub\no100 if [1]\nG1 X1 F100\no100 endif\no<a> endsub\n\
+        o<b> sub\no100 if [1]\nG1 X2 F100\no100 endif\no<b> endsub\n\
+        o<a> call\no<b> call\no<a> call\no<b> call\nM2\n";
+    let (rows, alarm) = run_on(program);
+    assert!(alarm.is_none(), "{alarm:?}");
+    let xs: Vec<f64> = rows.iter().map(|r| r.tip.x).collect();
+    assert_eq!(xs, [1.0, 2.0, 1.0, 2.0]);
 }
 
 #[test]

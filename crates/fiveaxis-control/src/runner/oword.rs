@@ -108,11 +108,18 @@ pub(super) struct NgcState {
     index: HashMap<usize, Option<OIndex>>,
     /// O-word lines indexed so far, over all files.
     indexed: usize,
+    /// The line of the `if` / `while` / `do` / `repeat` each label opened
+    /// first, by the subroutine it is in (its body's position; `u64::MAX`
+    /// for the main program) and the label: rs274 stops on a label opened
+    /// again on another line of the same subroutine.
+    opened: HashMap<(u64, String), u32>,
 }
 
 #[derive(Debug)]
 struct NgcCall {
     return_to: Mark,
+    /// Where the subroutine's body starts: the scope of its labels.
+    body: u64,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -689,6 +696,29 @@ impl<S: Source> Runner<'_, S> {
             line: here.line + 1,
         };
         let span = oword.span;
+        let opens = match oword.kind {
+            OKind::If | OKind::Do | OKind::Repeat => true,
+            // `while` opens a loop unless it is the tail of a `do`.
+            OKind::While => self
+                .open_block(&key, level, &[BlockKind::Do])
+                .is_none_or(|k| self.ngc.blocks[k].kind != BlockKind::Do),
+            _ => false,
+        };
+        if opens {
+            let scope = self.ngc.calls.last().map_or(u64::MAX, |c| c.body);
+            let first = *self
+                .ngc
+                .opened
+                .entry((scope, key.clone()))
+                .or_insert(here.line);
+            if first != here.line {
+                return Err(self.oword_error(
+                    here.line,
+                    span,
+                    format!("duplicate O-word label: o{key} was already opened on line {first}"),
+                ));
+            }
+        }
         match oword.kind {
             OKind::Program => {
                 // A bare `o100`: a numbered program for M98 (o-code.adoc,
@@ -883,7 +913,21 @@ impl<S: Source> Runner<'_, S> {
                 self.repeat_again(top)?;
             }
             OKind::Break | OKind::Continue => {
-                let loops = [BlockKind::While, BlockKind::Do, BlockKind::Repeat];
+                // rs274 2.9 leaves `while` and `do` loops only: in a
+                // `repeat` it stops ("no matching while/do label").
+                if let Some(top) = self.open_block(&key, level, &[BlockKind::Repeat]) {
+                    // A repeat's start is the line after it.
+                    let line = self.ngc.blocks[top].start.line.saturating_sub(1);
+                    return Err(self.oword_error(
+                        here.line,
+                        span,
+                        format!(
+                            "o{key} {} leaves a while or do loop only: o{key} is the repeat of line {line}",
+                            kind_name(oword.kind)
+                        ),
+                    ));
+                }
+                let loops = [BlockKind::While, BlockKind::Do];
                 let Some(top) = self.open_block(&key, level, &loops) else {
                     return Err(self.oword_error(
                         here.line,
@@ -1161,7 +1205,10 @@ impl<S: Source> Runner<'_, S> {
             return Err(self.macro_alarm(here.line, e));
         }
         self.macros.vars.set_global("_value_returned", 0.0);
-        self.ngc.calls.push(NgcCall { return_to: after });
+        self.ngc.calls.push(NgcCall {
+            return_to: after,
+            body: body.offset,
+        });
         self.jump_on(body)
     }
 
