@@ -108,7 +108,14 @@ impl Words {
 
     fn push_code(&mut self, word: &Word) -> Result<(), Alarm> {
         let letter = char::from(word.letter);
-        let Some(code) = word.code else {
+        // M codes are whole numbers: a computed value (`M#1`) is rounded to
+        // one, as FANUC rounds a variable's value to the address's least
+        // increment (`M#1` with #1 = 2.6 is M3).
+        let rounded = (letter == 'M' && word.computed)
+            .then(|| word.value.round())
+            .filter(|v| (0.0..=f64::from(u16::MAX)).contains(v))
+            .map(|v| fiveaxis_gcode::Code::new(v as u16, 0));
+        let Some(code) = rounded.or(word.code) else {
             let condition = if letter == 'G' {
                 Condition::ImproperGCode
             } else {

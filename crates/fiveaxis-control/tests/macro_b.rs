@@ -339,6 +339,10 @@ fn variables_in_integer_addresses_are_rounded_values() {
     // The rounded value must be in range.
     let (_, alarm) = run("G21 G90\n#1=-0.6\nG43 H#1 Z0\nM30\n");
     assert!(alarm.is_some());
+    // M codes are whole numbers: M#1 with #1 = 7.6 is M8 (#4113 reads 8).
+    let (rows, alarm) = run("G21 G90 G0 X0 Y0 Z100.\n#1=7.6\nM#1\nG0 X#4113\nM30\n");
+    assert!(alarm.is_none(), "{alarm:?}");
+    assert!((rows.last().map_or(0.0, |r| r.tip.x) - 8.0).abs() < 1e-9);
 }
 
 /// Issue 24, item 2: every modal information variable reads (FANUC 30i,
