@@ -2,7 +2,7 @@
 //!
 //! Names are upper-cased. A name made of one letter and digits in a
 //! place where a word may begin (`G53G0X0M5`, `N10`, `X9.285`) is split
-//! into the address letter and a number; where an expression, a
+//! into the address letter and a number (after a label's `:` too); where an expression, a
 //! declaration or a jump target goes (`X=R1*2`, `DEF REAL X1`, `GOTOF L1`),
 //! and before `=`, `(`, `[` or `:` (`A3=0`, `M202(…)`, `L1:`), it is kept
 //! whole. Blanks separate tokens and are otherwise dropped.
@@ -284,8 +284,12 @@ fn constant(text: &[u8], start: usize, tokens: &mut Vec<Token>) -> Result<usize,
 /// Whether the token before lets a new word begin after it.
 fn word_may_begin(tokens: &[Token]) -> bool {
     match tokens.last().map(|t| &t.tok) {
-        None | Some(Tok::Number(_) | Tok::Str(_) | Tok::RParen | Tok::RBracket) => true,
+        None | Some(Tok::Number(_) | Tok::Str(_) | Tok::RParen | Tok::RBracket | Tok::Colon) => {
+            true
+        }
         Some(Tok::Name(n)) => !keeps_next_name_whole(n),
+        // The skip slash at the start of the block.
+        Some(Tok::Slash) => tokens.len() == 1,
         Some(_) => false,
     }
 }
