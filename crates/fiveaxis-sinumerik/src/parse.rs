@@ -139,15 +139,13 @@ impl<'a> Parser<'a> {
         self.peek_name() == Some(name)
     }
 
-    /// The columns of the next token, or the end of the line.
+    /// The columns of the next token or, at the end of the block, of the
+    /// last one (an error there is about what is missing after it).
     fn here(&self) -> Span {
-        match self.toks.get(self.pos) {
-            Some(t) => t.span,
-            None => {
-                let end = self.toks.last().map_or(1, |t| t.span.end);
-                Span::new(end, end)
-            }
-        }
+        self.toks
+            .get(self.pos)
+            .or(self.toks.last())
+            .map_or(Span::new(1, 2), |t| t.span)
     }
 
     /// The end column of the last token taken.

@@ -332,7 +332,7 @@ fn an_address_needs_a_value() {
     assert_eq!(e.span, sp(4, 5));
     assert_eq!(e.line, 7);
     let e = fail("X=");
-    assert_eq!(e.span, sp(3, 3));
+    assert_eq!(e.span, sp(2, 3));
     assert!(e.message.contains("expected a value"), "{}", e.message);
 }
 
@@ -907,14 +907,14 @@ fn synchronized_actions() {
 fn syntax_errors_have_columns() {
     let cases: [(&str, (u32, u32), &str); 10] = [
         ("G1 X10 )", (8, 9), "expected an address"),
-        ("R1=(1+2", (8, 8), "`)`"),
+        ("R1=(1+2", (7, 8), "`)`"),
         ("MSG(\"abc", (5, 9), "closing"),
         ("G1 #5", (4, 5), "`#`"),
         ("/12 G1", (2, 4), "skip level"),
-        ("X=SIN(", (7, 7), "a value"),
+        ("X=SIN(", (6, 7), "a value"),
         ("G1 X10.5.3", (9, 11), "expected an address"),
-        ("R1=1 +", (7, 7), "a value"),
-        ("IF R1>1 GOTOF", (14, 14), "label"),
+        ("R1=1 +", (6, 7), "a value"),
+        ("IF R1>1 GOTOF", (9, 14), "label"),
         ("X=. ", (3, 4), "decimal point"),
     ];
     for (text, (start, end), part) in cases {
