@@ -50,7 +50,8 @@
 //! * **Expressions** with the precedence of ONE p444 / 828JP p72, from the
 //!   tightest: `NOT B_NOT` and signs; `* / DIV MOD`; `+ -`; `B_AND`;
 //!   `B_XOR`; `B_OR`; `AND`; `XOR`; `OR`; `<<`; the comparisons
-//!   `== <> > < >= <=` last ([`BinOp::precedence`]). Functions and their
+//!   `== <> > < >= <=` last ([`BinOp::precedence`]); the frame chain `:`
+//!   below them all, as it mixes with none. Functions and their
 //!   arguments by name (`SIN(30)`, `ATAN2(1,2)`, `CTRANS(X,10)`), left to
 //!   the evaluator.
 //! * **Statements**: `DEF` (ONE; 840Di p62–63), `DEFINE … AS`, `PROC` with

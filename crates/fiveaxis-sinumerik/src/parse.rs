@@ -3,7 +3,7 @@
 //! Recursion happens only where the text nests (parentheses, function
 //! arguments, indices, unary operators), each level counted against
 //! [`MAX_DEPTH`]; binary operators are read by precedence climbing, whose
-//! recursion is bounded by the ten precedence levels, and a line holds at
+//! recursion is bounded by the eleven precedence levels, and a line holds at
 //! most [`MAX_OPERATIONS`] of them. No line can build a tree deep enough
 //! to overflow a small stack when it is read, walked or dropped.
 
@@ -960,8 +960,8 @@ impl<'a> Parser<'a> {
         Ok(args)
     }
 
-    pub(crate) fn expr(&mut self) -> Result<Expr> {
-        self.binary(1)
+    fn expr(&mut self) -> Result<Expr> {
+        self.binary(0)
     }
 
     fn binary_op(&self) -> Option<BinOp> {
@@ -977,6 +977,7 @@ impl<'a> Parser<'a> {
             Tok::Lt => BinOp::Lt,
             Tok::Ge => BinOp::Ge,
             Tok::Le => BinOp::Le,
+            Tok::Colon => BinOp::Chain,
             Tok::Name(n) => BinOp::from_word(n)?,
             _ => return None,
         })

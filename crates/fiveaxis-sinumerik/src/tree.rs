@@ -505,11 +505,15 @@ pub enum BinOp {
     Ge,
     /// `<=`
     Le,
+    /// `:`: frames chained (`CTRANS(X,10):CROT(Z,45)`); not mixed with
+    /// the other operators (ONE p444), so it binds weakest of all here.
+    Chain,
 }
 
 impl BinOp {
     /// How tightly the operator binds: 10 for `* / DIV MOD` down to 1 for
-    /// the comparisons, which bind weakest (ONE p444).
+    /// the comparisons, which bind weakest (ONE p444); 0 for the frame
+    /// chain `:`.
     pub fn precedence(self) -> u8 {
         match self {
             Self::Mul | Self::Div | Self::IntDiv | Self::Mod => 10,
@@ -522,6 +526,7 @@ impl BinOp {
             Self::Or => 3,
             Self::Concat => 2,
             Self::Eq | Self::Ne | Self::Gt | Self::Lt | Self::Ge | Self::Le => 1,
+            Self::Chain => 0,
         }
     }
 
@@ -547,6 +552,7 @@ impl BinOp {
             Self::Lt => "<",
             Self::Ge => ">=",
             Self::Le => "<=",
+            Self::Chain => ":",
         }
     }
 

@@ -117,8 +117,8 @@ fn operations_per_line_are_bounded() {
 #[test]
 fn deepest_lines_read_print_clone_and_drop_on_a_small_stack() {
     on_small_stack(|| {
-        let level = "1==1<<1 OR 1 XOR 1 AND 1 B_OR 1 B_XOR 1 B_AND 1+1*(";
-        let per_level = 10;
+        let level = "1:1==1<<1 OR 1 XOR 1 AND 1 B_OR 1 B_XOR 1 B_AND 1+1*(";
+        let per_level = 11;
         let levels = (MAX_OPERATIONS / per_level).min(usize::from(MAX_DEPTH));
         let rest = usize::from(MAX_DEPTH) - levels;
         let text = format!(

@@ -409,6 +409,11 @@ fn precedence_of_one_p444() {
     assert_eq!(r1("-2*3"), "(-2 * 3)");
     assert_eq!(r1("2--3"), "(2 - -3)");
     assert_eq!(r1("TRUE"), "true");
+    // Frames chained (a frame variable's value).
+    assert_eq!(
+        shape(&value("$P_UIFR[1]=CTRANS(X,10,Y,20):CROT(Z,45)")),
+        "(CTRANS(X,10,Y,20) : CROT(Z,45))"
+    );
 }
 
 #[test]
