@@ -83,6 +83,12 @@
 //!   which names are addresses with an axis index is left to the
 //!   interpreter.
 //! * A sign before a number is folded into it (`-5` is the number -5).
+//! * Names are kept as written, upper-cased: `R01` stays `R01` (the same
+//!   parameter as `R1`, 840Di p62, for the interpreter to fold). Any name
+//!   that is not a keyword, followed by `:` at the start of a block, is a
+//!   label; the rule of two leading letters is the interpreter's to check.
+//! * Line ends (`\r`, `\n`) at the end of `text` are dropped; a `%` line
+//!   is a header whatever follows the `%`.
 
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]

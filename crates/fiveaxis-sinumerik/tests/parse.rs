@@ -197,6 +197,19 @@ fn blank_and_comment_lines_are_empty() {
 }
 
 #[test]
+fn line_ends_and_case() {
+    assert_eq!(read("g1 x10\r\n").statement, read("G1 X10").statement);
+    assert_eq!(
+        items("msg()"),
+        vec![call("MSG", CallKind::Procedure, Some(vec![]), sp(1, 6))]
+    );
+    let Item::Assign(a) = one("r01=1") else {
+        panic!()
+    };
+    assert_eq!(a.target.name, "R01");
+}
+
+#[test]
 fn headers() {
     assert_eq!(
         statement("%_N_SHAFT123_MPF"),
