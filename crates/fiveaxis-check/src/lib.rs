@@ -795,8 +795,9 @@ const BATCH: usize = 1024;
 
 /// Runs a program to its end or its alarm and checks every segment.
 /// The runner should lift the soft limits (`RunOptions::lift_soft_limits`)
-/// so that an over-travel is measured and the run goes on. `progress` is
-/// called after each batch of segments with the blocks run so far.
+/// so that an over-travel is measured and the run goes on. `keep_going`:
+/// as [`check_run_into`]'s. `progress` is called after each batch of
+/// segments with the blocks run so far.
 ///
 /// # Errors
 ///
@@ -804,11 +805,12 @@ const BATCH: usize = 1024;
 /// an alarm is not an error here but part of the report.
 pub fn check_run<S: Source>(
     runner: &mut Runner<'_, S>,
+    keep_going: bool,
     progress: impl FnMut(u64),
 ) -> Result<Report, RunError> {
     let mut findings = Vec::new();
     let (mut report, whole_program) =
-        check_run_into(runner, false, progress, |f| findings.push(f))?;
+        check_run_into(runner, keep_going, progress, |f| findings.push(f))?;
     if let Some(finding) = whole_program {
         let at = findings
             .iter()

@@ -23,7 +23,7 @@ use crate::run::with_runner;
 #[pyfunction]
 #[pyo3(signature = (machine, offsets, program = None, code = None, *,
     block_delete = false, optional_stop = false, max_blocks = DEFAULT_MAX_BLOCKS,
-    variables = None, programs = None))]
+    variables = None, programs = None, keep_going = false))]
 #[allow(clippy::too_many_arguments)]
 pub fn check<'py>(
     py: Python<'py>,
@@ -36,6 +36,7 @@ pub fn check<'py>(
     max_blocks: u64,
     variables: Option<Vec<(u32, f64)>>,
     programs: Option<Programs>,
+    keep_going: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
     let programs = programs.unwrap_or_default();
     if max_blocks == 0 {
@@ -59,7 +60,7 @@ pub fn check<'py>(
         options,
         &variables,
         &programs,
-        |runner| check_run(runner, |_| {}),
+        |runner| check_run(runner, keep_going, |_| {}),
     )?
     .map_err(|e| run_error(py, &e, &name))?;
 

@@ -187,3 +187,21 @@ def test_cl_words_not_carried_out_come_back_as_warnings(tmp_path: Path) -> None:
     words = {w[1]: w for w in got.cl_warnings}
     assert words["FOOBAR"][0] == 4 and not words["FOOBAR"][4]
     assert words["PPWORD"][0] == 3 and words["PPWORD"][4]
+
+
+def test_check_keep_going_as_the_command_line(cli: Path, tmp_path: Path) -> None:
+    program = "G21 G90 G94\nG0 X0 Y0 Z100.\nM123\nG1 X10.\nG1 X20. F500.\nG0 A50.\nM30\n"
+    path = tmp_path / "p.nc"
+    path.write_text(program)
+    stopped = fx.check(path)
+    assert stopped.alarm is not None and stopped.alarm.line == 3 and not stopped.ended
+    report = fx.check(path, keep_going=True)
+    assert report.ended and report.alarm is not None and report.alarm.line == 3
+    got = [(f.kind, f.line) for f in report.findings]
+    assert got == [("alarm", 3), ("alarm", 4), ("overtravel", 6)]
+    done = subprocess.run(
+        [str(cli), "check", str(path), "--keep-going", "--format", "json", "--fail-on", "never"],
+        capture_output=True, timeout=300,
+    )
+    want = json.loads(done.stdout)
+    assert got == [(f["kind"], f["line"]) for f in want["findings"]]

@@ -681,17 +681,21 @@ def check(
     max_blocks: int = DEFAULT_MAX_BLOCKS,
     variables: Optional[Mapping[int, float]] = None,
     programs: ProgramsLike = None,
+    keep_going: bool = False,
 ) -> CheckReport:
     """Checks a program as ``fiveaxis check`` does: the soft limits lifted,
     every over-travel, singular passage, rotary flip, feed limit and chord
     error found, the machining time. An alarm is a finding (and
-    ``report.alarm``), not an exception."""
+    ``report.alarm``), not an exception. ``keep_going``: as ``check
+    --keep-going``, an alarm after which the control's state is defined is
+    a finding and the check goes on from the next line (``report.alarm``
+    is then the first)."""
     path, text = _program(program, code)
     d = _native.check(
         _machine(machine), _offsets(offsets), path, text,
         block_delete=bool(block_delete), optional_stop=bool(optional_stop),
         max_blocks=_count(max_blocks, "max_blocks"), variables=_variables(variables),
-        programs=_programs(programs),
+        programs=_programs(programs), keep_going=bool(keep_going),
     )
     alarm = AlarmInfo(**d["alarm"]) if d["alarm"] is not None else None
     return CheckReport(

@@ -187,6 +187,7 @@ def check(
     max_blocks: int = ...,
     variables: Optional[Mapping[int, float]] = ...,
     programs: _Programs = ...,
+    keep_going: bool = ...,
 ) -> CheckReport: ...
 
 @dataclass(frozen=True)
