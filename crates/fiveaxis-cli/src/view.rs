@@ -378,22 +378,29 @@ pub fn view(args: &ViewArgs) -> Result<u8, InputError> {
 /// Counts the program's lines (for the progress bar), reading it once from
 /// the start, and goes back to the start.
 fn count_lines(file: &mut std::fs::File) -> std::io::Result<u64> {
-    use std::io::{BufRead, Seek};
+    use std::io::Seek;
     file.rewind()?;
-    let mut reader = std::io::BufReader::with_capacity(1 << 16, &mut *file);
-    let mut lines = 1;
+    let (newlines, _) = count_newlines(&mut *file)?;
+    file.rewind()?;
+    Ok(newlines + 1)
+}
+
+/// The newlines from the reader's position to its end, and the last byte
+/// read.
+fn count_newlines(read: impl Read) -> std::io::Result<(u64, Option<u8>)> {
+    use std::io::BufRead;
+    let mut reader = std::io::BufReader::with_capacity(1 << 16, read);
+    let (mut newlines, mut last) = (0, None);
     loop {
         let chunk = reader.fill_buf()?;
         if chunk.is_empty() {
-            break;
+            return Ok((newlines, last));
         }
-        lines += chunk.iter().filter(|&&b| b == b'\n').count() as u64;
+        newlines += chunk.iter().filter(|&&b| b == b'\n').count() as u64;
+        last = chunk.last().copied();
         let n = chunk.len();
         reader.consume(n);
     }
-    drop(reader);
-    file.rewind()?;
-    Ok(lines)
 }
 
 /// The program text the page holds: whole lines from the start, at most
@@ -407,7 +414,7 @@ struct PageText {
 /// to `limit` bytes (a single longer first line is cut), then counts the
 /// lines left out.
 fn read_text(file: &mut std::fs::File, limit: usize) -> std::io::Result<PageText> {
-    use std::io::{BufRead, Seek};
+    use std::io::Seek;
     file.rewind()?;
     let mut bytes = Vec::new();
     (&mut *file)
@@ -426,23 +433,12 @@ fn read_text(file: &mut std::fs::File, limit: usize) -> std::io::Result<PageText
         .iter()
         .rposition(|&b| b == b'\n')
         .map_or(limit, |i| i + 1);
-    let mut left_out = bytes[keep..].iter().filter(|&&b| b == b'\n').count() as u64;
-    let mut last = bytes.last().copied();
+    let held_after = bytes[keep..].iter().filter(|&&b| b == b'\n').count() as u64;
+    let (rest, rest_last) = count_newlines(&mut *file)?;
+    let last = rest_last.or(bytes.last().copied());
+    // A last line without its newline is a line too.
+    let left_out = held_after + rest + u64::from(last != Some(b'\n'));
     bytes.truncate(keep);
-    let mut reader = std::io::BufReader::with_capacity(1 << 16, &mut *file);
-    loop {
-        let chunk = reader.fill_buf()?;
-        if chunk.is_empty() {
-            break;
-        }
-        left_out += chunk.iter().filter(|&&b| b == b'\n').count() as u64;
-        last = chunk.last().copied();
-        let n = chunk.len();
-        reader.consume(n);
-    }
-    if last != Some(b'\n') {
-        left_out += 1;
-    }
     Ok(PageText {
         text: String::from_utf8_lossy(&bytes).into_owned(),
         left_out,

@@ -2,103 +2,93 @@
 
 use crate::tree::CallKind;
 
+/// The operators written as words (ONE p444).
+fn is_operator_word(word: &str) -> bool {
+    matches!(
+        word,
+        "AND" | "OR" | "XOR" | "NOT" | "B_AND" | "B_OR" | "B_XOR" | "B_NOT" | "DIV" | "MOD"
+    )
+}
+
 /// Words after which a name is read whole even when it looks like an
 /// address and a number (`IF R1==2`, `GOTOF L1`, `DEF REAL X1`): the
 /// reader is inside an expression, a declaration or a jump target there.
 pub(crate) fn keeps_next_name_whole(word: &str) -> bool {
-    matches!(
-        word,
-        "IF" | "WHILE"
-            | "UNTIL"
-            | "TO"
-            | "CASE"
-            | "OF"
-            | "DEFAULT"
-            | "GOTO"
-            | "GOTOF"
-            | "GOTOB"
-            | "GOTOC"
-            | "GOTOS"
-            | "AND"
-            | "OR"
-            | "XOR"
-            | "NOT"
-            | "B_AND"
-            | "B_OR"
-            | "B_XOR"
-            | "B_NOT"
-            | "DIV"
-            | "MOD"
-            | "BLOCK"
-            | "WHEN"
-            | "WHENEVER"
-            | "FROM"
-            | "EVERY"
-            | "DEF"
-            | "DEFINE"
-            | "PROC"
-            | "VAR"
-            | "INT"
-            | "REAL"
-            | "BOOL"
-            | "CHAR"
-            | "STRING"
-            | "AXIS"
-            | "FRAME"
-            | "NCK"
-            | "CHAN"
-            | "MCALL"
-            | "CALL"
-            | "FOR"
-    )
+    is_operator_word(word)
+        || matches!(
+            word,
+            "IF" | "WHILE"
+                | "UNTIL"
+                | "TO"
+                | "CASE"
+                | "OF"
+                | "DEFAULT"
+                | "GOTO"
+                | "GOTOF"
+                | "GOTOB"
+                | "GOTOC"
+                | "GOTOS"
+                | "BLOCK"
+                | "WHEN"
+                | "WHENEVER"
+                | "FROM"
+                | "EVERY"
+                | "DEF"
+                | "DEFINE"
+                | "PROC"
+                | "VAR"
+                | "INT"
+                | "REAL"
+                | "BOOL"
+                | "CHAR"
+                | "STRING"
+                | "AXIS"
+                | "FRAME"
+                | "NCK"
+                | "CHAN"
+                | "MCALL"
+                | "CALL"
+                | "FOR"
+        )
 }
 
 /// Words that open or close a statement and can never be a label, a
 /// variable or a call.
 pub(crate) fn is_keyword(word: &str) -> bool {
-    matches!(
-        word,
-        "IF" | "ELSE"
-            | "ENDIF"
-            | "WHILE"
-            | "ENDWHILE"
-            | "FOR"
-            | "TO"
-            | "ENDFOR"
-            | "REPEAT"
-            | "UNTIL"
-            | "LOOP"
-            | "ENDLOOP"
-            | "CASE"
-            | "OF"
-            | "DEFAULT"
-            | "GOTO"
-            | "GOTOF"
-            | "GOTOB"
-            | "GOTOC"
-            | "GOTOS"
-            | "DEF"
-            | "DEFINE"
-            | "PROC"
-            | "CALL"
-            | "MCALL"
-            | "BLOCK"
-            | "WHEN"
-            | "WHENEVER"
-            | "FROM"
-            | "EVERY"
-            | "DO"
-            | "AND"
-            | "OR"
-            | "XOR"
-            | "NOT"
-            | "B_AND"
-            | "B_OR"
-            | "B_XOR"
-            | "B_NOT"
-            | "DIV"
-            | "MOD"
-    )
+    is_operator_word(word)
+        || matches!(
+            word,
+            "IF" | "ELSE"
+                | "ENDIF"
+                | "WHILE"
+                | "ENDWHILE"
+                | "FOR"
+                | "TO"
+                | "ENDFOR"
+                | "REPEAT"
+                | "UNTIL"
+                | "LOOP"
+                | "ENDLOOP"
+                | "CASE"
+                | "OF"
+                | "DEFAULT"
+                | "GOTO"
+                | "GOTOF"
+                | "GOTOB"
+                | "GOTOC"
+                | "GOTOS"
+                | "DEF"
+                | "DEFINE"
+                | "PROC"
+                | "CALL"
+                | "MCALL"
+                | "BLOCK"
+                | "WHEN"
+                | "WHENEVER"
+                | "FROM"
+                | "EVERY"
+                | "DO"
+        )
 }
 
 /// Whether `name=` is an address rather than a variable: one address

@@ -52,7 +52,7 @@ fn kinds(statement: &Statement, tally: &mut BTreeMap<String, usize>) {
 fn every_siemens_program_of_the_corpus_reads() {
     let mut errors = Vec::new();
     for name in PROGRAMS {
-        let Some(path) = common::corpus_file(name) else {
+        let Some(path) = common::corpus::corpus_path(name) else {
             return;
         };
         let bytes = std::fs::read(&path).expect("read the program");
