@@ -110,11 +110,7 @@ fn check(name: &str, text: &str, targets: &[(Vec3, Vec3)]) -> Converted {
     let (text, result) = common::post(&machine, &machine, &segments, options);
     assert_eq!(result.unresolved, 0, "{name}");
     assert_eq!(result.out_of_limits, 0, "{name}");
-    let rules = Rules {
-        great_circle: true,
-        singular_margin: Some(fiveaxis_post::follow::KNOT_TURN),
-        ..Rules::of(&options)
-    };
+    let rules = Rules::great_circle_of(&options);
     let side = |text| Side {
         machine: &machine,
         offsets: &offsets,

@@ -45,11 +45,7 @@ fn the_corpus_cl_file_to_machine_axes_within_tolerance() {
         let (text, result) = common::post(&machine, &machine, &segments, options);
         assert_eq!(result.unresolved, 0);
         assert_eq!(result.out_of_limits, 0);
-        let rules = Rules {
-            great_circle: true,
-            singular_margin: Some(fiveaxis_post::follow::KNOT_TURN),
-            ..Rules::of(&options)
-        };
+        let rules = Rules::great_circle_of(&options);
         let side = |text| Side {
             machine: &machine,
             offsets: &offsets,

@@ -196,11 +196,7 @@ fn singular_passages_keep_the_rotating_axis_and_the_direction_within_the_cone() 
             };
             let (text, result) = post(&machine, &machine, &segments, options);
             assert!(result.singular_blocks >= 1, "{name} {miss}\n{text}");
-            let rules = Rules {
-                great_circle: true,
-                singular_margin: Some(fiveaxis_post::follow::KNOT_TURN),
-                ..Rules::of(&options)
-            };
+            let rules = Rules::great_circle_of(&options);
             let src = Side {
                 machine: &machine,
                 offsets: &offsets,

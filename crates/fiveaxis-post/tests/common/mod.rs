@@ -127,6 +127,17 @@ impl Rules {
             output_limits: true,
         }
     }
+
+    /// The rules of a post whose own axes turn the tool on the great
+    /// circle (`Axes::Post { great_circle: true }`: CL input), its
+    /// direction free by the knot turn near the singular line.
+    pub fn great_circle_of(options: &PostOptions) -> Self {
+        Self {
+            great_circle: true,
+            singular_margin: Some(fiveaxis_post::follow::KNOT_TURN),
+            ..Self::of(options)
+        }
+    }
 }
 
 /// Worst deviations found.
