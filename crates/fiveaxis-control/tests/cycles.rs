@@ -3,6 +3,7 @@
 //! operator's manual's descriptions. Tool tips come from the rows (forward
 //! kinematics), never from the controller's own arithmetic.
 
+mod common;
 use fiveaxis_control::{
     Alarm, Motion, PECK_CLEARANCE, PECK_RETRACT, Row, RunError, RunOptions, Runner, SliceSource,
 };
@@ -745,21 +746,13 @@ fn cycles_drill_along_the_programming_frame_under_tcpc() {
 
 /// Rows at `s` = 0.5 and 1 of every segment, and the alarm, if any.
 fn halves_on(program: &str, machine: &Machine) -> (Vec<(Row, Row)>, Option<Alarm>) {
-    let mut runner = Runner::new(
-        machine,
-        offsets(),
-        SliceSource::new(program.as_bytes()),
-        RunOptions::default(),
-    );
-    let mut rows = Vec::new();
-    loop {
-        match runner.next_segment() {
-            Ok(Some(seg)) => rows.push((seg.row(machine, 0.5), seg.row(machine, 1.0))),
-            Ok(None) => return (rows, None),
-            Err(RunError::Alarm { alarm, .. }) => return (rows, Some(alarm)),
-            Err(e) => panic!("io error {e}"),
-        }
-    }
+    let out = common::run(machine, offsets(), program);
+    let rows = out
+        .segments
+        .iter()
+        .map(|seg| (seg.row(machine, 0.5), seg.row(machine, 1.0)))
+        .collect();
+    (rows, out.alarm)
 }
 
 fn near(a: &fiveaxis_machine::Vec3, b: &fiveaxis_machine::Vec3) -> bool {
