@@ -304,6 +304,9 @@ struct Frame {
     start: Mark,
     /// Runs still to do after the current one.
     repeats_left: u32,
+    /// The number of the program running in it (`#4115`): the called
+    /// program's, or the caller's for a call within it (M97).
+    program: Option<u32>,
     /// A `G65` / `G66` macro call: it has a level of local variables of
     /// its own.
     macro_call: bool,
@@ -991,9 +994,16 @@ impl<'m, S: Source> Runner<'m, S> {
     /// Runs a subprogram from `start`, `repeats` times, then back to
     /// `return_to`.
     fn enter(&mut self, start: Mark, return_to: Mark, repeats: u32) -> Result<(), RunError> {
+        let program = self
+            .labels
+            .iter()
+            .find(|(_, mark)| mark.offset == start.offset)
+            .map(|(n, _)| *n)
+            .or_else(|| self.program_number());
         self.stack.push(Frame {
             return_to,
             start,
+            program,
             repeats_left: repeats - 1,
             macro_call: false,
             modal_call: false,
@@ -1068,14 +1078,9 @@ impl<'m, S: Source> Runner<'m, S> {
     /// The number of the program running (`#4115`): the called one's, or
     /// the main program's; `None` for a program without an `O` number.
     pub(super) fn program_number(&self) -> Option<u32> {
-        match self.stack.last() {
-            Some(frame) => self
-                .labels
-                .iter()
-                .find(|(_, mark)| mark.offset == frame.start.offset)
-                .map(|(n, _)| *n),
-            None => self.main_program,
-        }
+        self.stack
+            .last()
+            .map_or(self.main_program, |frame| frame.program)
     }
 
     /// Where program `number` starts: a label seen already, or the first

@@ -358,7 +358,8 @@ fn every_modal_information_variable_reads() {
         #103=#4012\n#104=#4015\n#105=#4115/1000\nG0 X#103 Y#104 Z#105\n\
         G0 X[#4203] Y#4023 Z[#4130]\n\
         G66 P9000\n#110=#4012\n#111=#4212\nG67\n#112=#4012\nG0 X#110 Y#111 Z#112\n\
-        M30\nO9000\nM99\n";
+        M98 P9001\nG0 X[#120/1000]\n\
+        M30\nO9000\nM99\nO9001\n#120=#4115\nM99\n";
     let (rows, alarm) = run(program);
     assert!(alarm.is_none(), "{alarm:?}");
     let ends: Vec<(u32, f64, f64, f64)> = tips(&rows);
@@ -384,6 +385,8 @@ fn every_modal_information_variable_reads() {
     near(at(12), [90.0, 64.0, 0.0]);
     // G66 in force, then G67.
     near(at(18), [66.0, 66.0, 67.0]);
+    // Inside O9001, #4115 is 9001.
+    near(at(20), [9.001, 66.0, 67.0]);
     // Every number of the four tables reads, vacant or not.
     for base in [4000, 4100, 4200, 4300] {
         for k in 1..=30 {
