@@ -121,6 +121,17 @@ impl Dialect {
             // LinuxCNC's interpreter (o-code.adoc: "The maximum subroutine
             // nesting level is 10"; overview.adoc: "A line may have zero to
             // four M words").
+            // SINUMERIK reads its own language (the `fiveaxis-sinumerik`
+            // front end): what reaches the controller are commands, whose
+            // values are whole units (a Siemens number without a decimal
+            // point is not counted in increments).
+            Control::Sinumerik => Self {
+                max_nesting: 16,
+                max_macro_nesting: 16,
+                max_m_codes: 5,
+                calculator_input: true,
+                ..fanuc(10)
+            },
             Control::LinuxCnc => Self {
                 max_nesting: 10,
                 max_m_codes: 4,

@@ -93,6 +93,9 @@ pub enum Control {
     /// LinuxCNC 2.9 / 2.10: the RS274/NGC language (O-word control flow,
     /// named parameters) and its kinematics modules' machines.
     LinuxCnc,
+    /// SINUMERIK 840D sl / 828D: the Siemens language (R parameters, `DEF`
+    /// variables, frames, `TRAORI`, `CYCLE800`), read by its own front end.
+    Sinumerik,
 }
 
 /// The unit a program's lengths are read in until it gives G20 or G21
@@ -239,9 +242,11 @@ impl RotaryChoice {
     /// otherwise.
     pub fn default_for(control: Control) -> Self {
         match control {
-            Control::Fanuc30i | Control::Fanuc16 | Control::Haas | Control::LinuxCnc => {
-                RotaryChoice::Shortest
-            }
+            Control::Fanuc30i
+            | Control::Fanuc16
+            | Control::Haas
+            | Control::LinuxCnc
+            | Control::Sinumerik => RotaryChoice::Shortest,
             Control::Mitsubishi => RotaryChoice::RotatingAxis,
             Control::Mazak => RotaryChoice::KeepTiltSign,
         }

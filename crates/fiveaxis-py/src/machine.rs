@@ -29,6 +29,7 @@ fn control_name(control: Control) -> &'static str {
         Control::Mazak => "mazak",
         Control::Haas => "haas",
         Control::LinuxCnc => "linuxcnc",
+        Control::Sinumerik => "sinumerik",
     }
 }
 

@@ -61,6 +61,7 @@ enum RawControl {
     Haas,
     #[serde(rename = "linuxcnc")]
     LinuxCnc,
+    Sinumerik,
 }
 
 #[derive(Clone, Copy, Deserialize)]
@@ -243,6 +244,7 @@ impl From<RawControl> for Control {
             RawControl::Mazak => Control::Mazak,
             RawControl::Haas => Control::Haas,
             RawControl::LinuxCnc => Control::LinuxCnc,
+            RawControl::Sinumerik => Control::Sinumerik,
         }
     }
 }

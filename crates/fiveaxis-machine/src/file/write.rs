@@ -417,5 +417,6 @@ fn control_name(c: Control) -> &'static str {
         Control::Mazak => "mazak",
         Control::Haas => "haas",
         Control::LinuxCnc => "linuxcnc",
+        Control::Sinumerik => "sinumerik",
     }
 }
