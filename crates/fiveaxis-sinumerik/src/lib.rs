@@ -94,12 +94,17 @@
 #![warn(missing_docs)]
 
 mod error;
+mod exec;
 mod lex;
 mod names;
 mod parse;
 mod tree;
 
 pub use error::{ParseError, ParseErrorKind};
+pub use exec::{
+    Action, Executed, FrameAxis, FrameValue, LangError, ProgramStore, ProgramText, Step, System,
+    Value,
+};
 pub use fiveaxis_gcode::Span;
 pub use parse::{MAX_DEPTH, MAX_OPERATIONS, parse_line};
 pub use tree::{
