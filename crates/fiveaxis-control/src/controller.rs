@@ -20,6 +20,7 @@ use crate::reach;
 use crate::segment::{Arc, Motion, Path, Segment, TipPath};
 use crate::words::Words;
 
+mod commands;
 mod comp3d;
 mod coordinates;
 mod cutter_c;
@@ -173,6 +174,9 @@ struct State {
     cycle: cycles::CycleState,
     /// G52, G16, G51.1, G51, G68 (`controller/coordinates/program_transforms.rs`).
     frames: coordinates::Frames,
+    /// The swivel and programmable frames of the command front ends
+    /// (`commands.rs`), composed into `feature`.
+    neutral: commands::NeutralFrames,
     /// Haas: the serial number G47 P1 engraves next (macro variable
     /// `#599`, which the runner keeps; `None`: vacant).
     serial: Option<f64>,
@@ -193,6 +197,8 @@ pub struct Controller<'m> {
     block_posture: Option<crate::segment::Posture>,
     /// G09 in the block being executed (its segments end in an exact stop).
     block_exact_stop: bool,
+    /// A block of commands asks for an exact stop at its end.
+    pending_exact_stop: bool,
     /// The block being executed chose rotary axes from a tool direction
     /// (set where the inverse kinematics is asked; `Segment::rotary_chosen`).
     block_chose_rotary: std::cell::Cell<bool>,
@@ -301,10 +307,12 @@ impl<'m> Controller<'m> {
                 cycle: cycles::CycleState::default(),
                 frames: coordinates::Frames::default(),
                 serial: None,
+                neutral: commands::NeutralFrames::default(),
             },
             words: Words::new(machine.control),
             block_posture: None,
             block_exact_stop: false,
+            pending_exact_stop: false,
             block_chose_rotary: std::cell::Cell::new(false),
             cutter: cutter_c::CutterC::new(machine.params.cutter_startup_b),
             axis_letters: {
@@ -539,7 +547,7 @@ impl<'m> Controller<'m> {
             self.haas_program_number(&word)?;
         }
         let mut codes = self.classify_g_codes()?;
-        self.block_exact_stop = codes.exact_stop;
+        self.block_exact_stop = codes.exact_stop || self.pending_exact_stop;
         self.block_chose_rotary.set(false);
         self.feature_restrictions(&codes)?;
         self.m_code_length(&mut codes)?;

@@ -9,6 +9,7 @@
 //! handed in by the caller.
 
 mod alarm;
+pub mod command;
 mod controller;
 pub mod cutter;
 mod dialect;

@@ -95,6 +95,9 @@ pub enum TcpcType {
 /// Group 14: the selected work coordinate system.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum WorkSelect {
+    /// No work offset: work zero at machine zero (SINUMERIK `G500` with
+    /// a null settable frame 0).
+    Null,
     /// G54 … G59 (0 … 5).
     Standard(u8),
     /// G54.1 P1 … P48.
@@ -110,6 +113,7 @@ impl std::fmt::Display for WorkSelect {
             WorkSelect::Standard(i) => write!(f, "G{}", 54 + u32::from(*i)),
             WorkSelect::Extended(p) => write!(f, "G54.1 P{p}"),
             WorkSelect::Haas(p) => write!(f, "G154 P{p}"),
+            WorkSelect::Null => write!(f, "G500"),
         }
     }
 }

@@ -48,6 +48,7 @@ impl Controller<'_> {
             WorkSelect::Extended(p) | WorkSelect::Haas(p) => {
                 self.offsets.extended_work[usize::from(p) - 1]
             }
+            WorkSelect::Null => Vec3::zeros(),
         };
         base + self.offsets.external + self.state.shift
     }
@@ -63,6 +64,7 @@ impl Controller<'_> {
             WorkSelect::Extended(p) | WorkSelect::Haas(p) => {
                 self.offsets.extended_work_beyond[usize::from(p) - 1][k]
             }
+            WorkSelect::Null => 0.0,
         };
         base + self.offsets.external_beyond[k]
     }

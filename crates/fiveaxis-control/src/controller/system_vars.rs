@@ -182,6 +182,7 @@ impl Controller<'_> {
                         .offsets
                         .extended_work_beyond
                         .get_mut(usize::from(p).wrapping_sub(1)),
+                    Some(WorkSelect::Null) => None,
                 };
                 let Some(slot) = slot else {
                     return Err(SystemVarFault::Unknown);
@@ -196,6 +197,7 @@ impl Controller<'_> {
                     .offsets
                     .extended_work
                     .get_mut(usize::from(p).wrapping_sub(1)),
+                Some(WorkSelect::Null) => None,
             };
             let Some(slot) = slot else {
                 return Err(SystemVarFault::Unknown);
@@ -218,6 +220,7 @@ impl Controller<'_> {
                 .extended_work_beyond
                 .get(usize::from(p).wrapping_sub(1))
                 .copied(),
+            Some(WorkSelect::Null) => Some(fiveaxis_machine::BeyondXyz::default()),
         }
     }
 
@@ -230,6 +233,7 @@ impl Controller<'_> {
                 .extended_work
                 .get(usize::from(p).wrapping_sub(1))
                 .copied(),
+            Some(WorkSelect::Null) => Some(fiveaxis_machine::Vec3::zeros()),
         }
     }
 
@@ -317,6 +321,7 @@ impl Controller<'_> {
                 WorkSelect::Standard(i) => 54.0 + f64::from(i),
                 WorkSelect::Extended(_) => 54.1,
                 WorkSelect::Haas(_) => 154.0,
+                WorkSelect::Null => 500.0,
             },
             15 => match m.cutting {
                 CuttingMode::ExactStop => 61.0,
@@ -347,7 +352,7 @@ impl Controller<'_> {
             20 => Some(f64::from(self.state.tool)),
             30 => Some(match self.state.modal.work {
                 WorkSelect::Extended(p) | WorkSelect::Haas(p) => f64::from(p),
-                WorkSelect::Standard(_) => 0.0,
+                WorkSelect::Standard(_) | WorkSelect::Null => 0.0,
             }),
             // B (second auxiliary function) and E (thread lead): the kernel
             // has neither; O (the program number) is the runner's.

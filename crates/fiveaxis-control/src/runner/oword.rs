@@ -225,7 +225,7 @@ impl SystemVariables for NgcSystem<'_, '_> {
                 WorkSelect::Standard(i) => Some(f64::from(i) + 1.0),
                 WorkSelect::Extended(k) if k <= 3 => Some(6.0 + f64::from(k)),
                 // Haas's G154 systems are not LinuxCNC's.
-                WorkSelect::Extended(_) | WorkSelect::Haas(_) => None,
+                WorkSelect::Extended(_) | WorkSelect::Haas(_) | WorkSelect::Null => None,
             },
             n if work_parameter(n) => {
                 let k = (n - 5221) % 20;
@@ -342,7 +342,7 @@ impl SystemVariables for NgcSystem<'_, '_> {
                 WorkSelect::Standard(i) if i < 6 => 540.0 + 10.0 * f64::from(i),
                 WorkSelect::Standard(i) => 591.0 + f64::from(i - 6),
                 WorkSelect::Extended(k) if k <= 3 => 590.0 + f64::from(k),
-                WorkSelect::Extended(_) | WorkSelect::Haas(_) => {
+                WorkSelect::Extended(_) | WorkSelect::Haas(_) | WorkSelect::Null => {
                     return Err(SystemVarError::NotAVariable);
                 }
             },

@@ -103,7 +103,7 @@ impl Feature {
     }
 
     /// A feature frame of the tilted working plane (not a conversion).
-    pub(super) fn plane(origin: Vec3, rotation: Rotation3<f64>) -> Self {
+    pub(in crate::controller) fn plane(origin: Vec3, rotation: Rotation3<f64>) -> Self {
         Self {
             origin,
             rotation,

@@ -1,0 +1,254 @@
+//! The control-neutral commands: what a front end tells the controller,
+//! whatever language the program is written in.
+//!
+//! A front end reads its language (the SINUMERIK front end its variables,
+//! frames and cycles) and hands the controller one [`CommandBlock`] per
+//! block: typed values in the kernel's units (mm, degrees, mm/min,
+//! seconds), every language rule already applied (a Siemens `G70` inch
+//! value is mm here, a `CR=` radius is a radius, a cycle is its moves).
+//! No control-specific text reaches the controller: no letters, no G or M
+//! numbers of a language, only functions. The controller carries a block
+//! out as one unit, as it does a FANUC block: on an alarm nothing of it
+//! happened.
+//!
+//! The FANUC family's words reach the same functions through
+//! [`crate::Controller::execute`]; see ARCHITECTURE.md, "Front ends".
+
+use fiveaxis_gcode::Span;
+use fiveaxis_machine::{MAX_AXES, Vec3};
+use nalgebra::Rotation3;
+
+use crate::modal::{CuttingMode, Distance, FeedMode, MotionMode, Plane, TcpcType};
+
+/// One block of commands, reused from block to block (its buffer is kept:
+/// no allocation per block once it has grown).
+#[derive(Clone, Debug, Default)]
+pub struct CommandBlock {
+    /// The line of the block in its program, for segments and alarms.
+    pub line: u32,
+    /// The block number, when written.
+    pub number: Option<u32>,
+    /// The commands, in the order the control carries them out.
+    pub commands: Vec<Command>,
+}
+
+impl CommandBlock {
+    /// Empties the block for the next line, keeping its buffer.
+    pub fn clear(&mut self, line: u32) {
+        self.line = line;
+        self.number = None;
+        self.commands.clear();
+    }
+}
+
+/// How one target coordinate is read.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TargetMode {
+    /// As the block's distance mode says.
+    Modal,
+    /// Absolute, whatever the distance mode.
+    Absolute,
+    /// Incremental, whatever the distance mode.
+    Incremental,
+    /// A rotary axis, absolute, the shorter way round.
+    Shortest,
+    /// A rotary axis, absolute, turning in the positive direction.
+    Positive,
+    /// A rotary axis, absolute, turning in the negative direction.
+    Negative,
+}
+
+/// A target coordinate of one axis.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Target {
+    /// mm for a linear axis, degrees for a rotary one.
+    pub value: f64,
+    /// How it is read.
+    pub mode: TargetMode,
+    /// Where it is written.
+    pub span: Span,
+}
+
+/// Which frames a move leaves out (for this block only).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Suppress {
+    /// None: the move is in the workpiece coordinates.
+    #[default]
+    Nothing,
+    /// Every frame and work offset: the targets are machine coordinates
+    /// (SINUMERIK `G53`, `G153`, `SUPA`; FANUC `G53`).
+    Frames,
+}
+
+/// A move: where each named axis goes, and how the path gets there (the
+/// interpolation in force, [`Command::Interpolation`]).
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+pub struct Move {
+    /// Targets by joint index (machine-file axis order).
+    pub targets: [Option<Target>; MAX_AXES],
+    /// A circle's centre, from its start point (per axis of the machine's
+    /// X, Y, Z), mm; `None` where not given (0).
+    pub center: [Option<f64>; 3],
+    /// The centre is given in absolute workpiece coordinates instead.
+    pub center_absolute: bool,
+    /// A circle's radius (negative: the sweep exceeds 180°), mm.
+    pub radius: Option<f64>,
+    /// Whole turns a helix makes beyond the last part turn.
+    pub turns: Option<u32>,
+    /// The tool direction at the end point in the workpiece frame (under
+    /// tool centre point control by vector), not necessarily unit.
+    pub tool_vector: Option<[f64; 3]>,
+    /// Frames left out for this move.
+    pub suppress: Suppress,
+    /// Where the block's words are, for alarms about the move as a whole.
+    pub span: Span,
+}
+
+/// Which side of the contour the tool runs on under radius compensation.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CutterSide {
+    /// No radius compensation.
+    Off,
+    /// Left of the contour.
+    Left,
+    /// Right of the contour.
+    Right,
+}
+
+/// A programmable frame: applied to programmed points as
+/// `translation + rotation · (scale ⊙ mirror ⊙ p)` before the work
+/// offset.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Frame {
+    /// The origin of the frame in the work coordinate system, mm.
+    pub translation: Vec3,
+    /// The frame's axes in the work coordinate system.
+    pub rotation: Rotation3<f64>,
+    /// Shifts of the axes beyond X, Y, Z (by joint index), degrees or mm.
+    pub axis_shift: [f64; MAX_AXES],
+}
+
+impl Frame {
+    /// The neutral frame.
+    pub const IDENTITY: Frame = Frame {
+        translation: Vec3::new(0.0, 0.0, 0.0),
+        rotation: Rotation3::from_matrix_unchecked(nalgebra::Matrix3::new(
+            1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0,
+        )),
+        axis_shift: [0.0; MAX_AXES],
+    };
+
+    /// Whether the frame changes nothing.
+    pub fn is_identity(&self) -> bool {
+        self.translation == Vec3::zeros()
+            && self.rotation == Rotation3::identity()
+            && self.axis_shift.iter().all(|&s| s == 0.0)
+    }
+}
+
+impl Default for Frame {
+    fn default() -> Self {
+        Self::IDENTITY
+    }
+}
+
+/// Which work offset (settable frame) is in force.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum WorkOffset {
+    /// None: work zero at machine zero (SINUMERIK `G500` with a null
+    /// frame 0).
+    Null,
+    /// The n-th of the offsets file's work offsets G54… (0-based).
+    Standard(u8),
+    /// The n-th of the extended work offsets (1-based).
+    Extended(u8),
+}
+
+/// One command to the controller.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Command {
+    /// The interpolation of the following moves (rapid, line, circle).
+    Interpolation(MotionMode),
+    /// The working plane (circles, radius compensation, cycles).
+    Plane(Plane),
+    /// Absolute or incremental targets.
+    Distance(Distance),
+    /// How feeds are read: per minute, per revolution, inverse time.
+    FeedMode(FeedMode),
+    /// Exact stop or continuous path (modal).
+    PathMode(CuttingMode),
+    /// This block ends in an exact stop.
+    ExactStop,
+    /// The path feed, mm/min (per revolution: mm/rev; inverse time: 1/min).
+    Feed {
+        /// The value.
+        value: f64,
+        /// Where it is written.
+        span: Span,
+    },
+    /// The spindle speed, rev/min.
+    SpindleSpeed(f64),
+    /// A function of the machine's M-function table (spindle, coolant,
+    /// tool change, stops, program end, builder functions), by number.
+    MFunction {
+        /// The number.
+        number: u16,
+        /// Where it is written.
+        span: Span,
+    },
+    /// A tool is selected (the next tool change puts it in the spindle).
+    ToolSelect {
+        /// The tool number (a named tool: its number in the offsets file).
+        tool: u32,
+        /// Where it is written.
+        span: Span,
+    },
+    /// The offset memory whose length (along the tool) and radius are in
+    /// force; 0 ends them. The axes do not move for the change: the next
+    /// programmed position takes it in.
+    ToolOffset {
+        /// The offset number.
+        number: u32,
+        /// Where it is written.
+        span: Span,
+    },
+    /// Radius compensation on one side, or off.
+    Radius {
+        /// The side.
+        side: CutterSide,
+        /// Where it is written.
+        span: Span,
+    },
+    /// The work offset in force.
+    WorkOffset(WorkOffset),
+    /// The programmable frame, replaced whole.
+    ProgrammableFrame(Frame),
+    /// The swivel frame (a tilted working plane): its frame in the work
+    /// coordinate system, or none.
+    SwivelFrame(Option<Frame>),
+    /// Turn the rotary axes so that the tool stands along the Z axis of
+    /// the frames in force (the swivel cycle's positioning), choosing
+    /// the solution whose first rotary axis is higher (`true`) or lower.
+    AlignTool {
+        /// Prefer the higher angle of the first rotary axis.
+        higher: bool,
+        /// Where it is written.
+        span: Span,
+    },
+    /// Tool centre point control on (with its orientation mode) or off.
+    Tcp {
+        /// On and how orientations are given, or off.
+        mode: Option<TcpcType>,
+        /// Where it is written.
+        span: Span,
+    },
+    /// A dwell, seconds.
+    Dwell {
+        /// The time.
+        seconds: f64,
+        /// Where it is written.
+        span: Span,
+    },
+    /// A move (at most one per block, the last command).
+    Move(Move),
+}
