@@ -18,6 +18,7 @@ mod reach;
 mod runner;
 pub mod search;
 mod segment;
+mod sinumerik;
 mod words;
 
 pub use alarm::{Alarm, AlarmCode, Condition, Num, alarm_reference};

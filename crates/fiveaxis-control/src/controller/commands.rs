@@ -8,7 +8,7 @@
 //! it and nothing of it is released.
 
 use fiveaxis_gcode::Span;
-use fiveaxis_machine::{Joints, MAX_AXES, Vec3};
+use fiveaxis_machine::{Joints, MAX_AXES};
 
 use super::coordinates::Feature;
 use super::{Controller, Flow, MAX_DWELL_SECONDS, normalize_360, shortest_turn};
