@@ -14,12 +14,12 @@ use fiveaxis_machine::Control;
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct AlarmCode {
     prefix: &'static str,
-    number: u16,
+    number: u32,
     width: u8,
 }
 
 impl AlarmCode {
-    const fn new(prefix: &'static str, number: u16, width: u8) -> Self {
+    const fn new(prefix: &'static str, number: u32, width: u8) -> Self {
         Self {
             prefix,
             number,
@@ -27,7 +27,7 @@ impl AlarmCode {
         }
     }
 
-    fn fanuc(control: Control, number: u16) -> Self {
+    fn fanuc(control: Control, number: u32) -> Self {
         match control {
             Control::Fanuc16 => Self::new("PS", number, 3),
             _ => Self::new("PS", number, 4),
@@ -40,16 +40,23 @@ impl AlarmCode {
     /// added to 1000 … Programmable alarms are always numbered between 1000
     /// and 1999"), the kernel's `FX` code 3000 + n elsewhere.
     pub fn program_alarm(control: Control, n: u32) -> Self {
-        let number = |base: u32| u16::try_from(n.saturating_add(base)).unwrap_or(u16::MAX);
+        let number = |base: u32| n.saturating_add(base);
         match control {
             Control::Fanuc30i | Control::Fanuc16 => Self::new("", number(3000), 4),
             Control::Haas => Self::new("", number(1000), 4),
+            Control::Sinumerik => Self::new("", n, 1),
             _ => Self::kernel(number(3000)),
         }
     }
 
+    /// A SINUMERIK alarm number as the control shows it (`12080`,
+    /// `14080`, `61101`).
+    pub fn sinumerik(n: u32) -> Self {
+        Self::new("", n, 1)
+    }
+
     /// The kernel's own code for a condition no manual numbers.
-    const fn kernel(number: u16) -> Self {
+    const fn kernel(number: u32) -> Self {
         Self::new("FX", number, 4)
     }
 }
@@ -266,6 +273,9 @@ pub enum Condition {
     FrameNotAllowed,
     /// An arc under scaling with different factors on the plane's axes.
     FrameArcScaling,
+    /// A SINUMERIK program or cycle alarm under the number the control
+    /// gives it (the language's, the cycles', `SETAL`).
+    SinumerikAlarm,
 }
 
 impl Condition {
@@ -362,6 +372,7 @@ impl Condition {
         Condition::FrameNesting,
         Condition::FrameNotAllowed,
         Condition::FrameArcScaling,
+        Condition::SinumerikAlarm,
     ];
 
     /// One line saying when the condition arises.
@@ -548,6 +559,9 @@ impl Condition {
             Condition::FrameArcScaling => {
                 "An arc under scaling with different factors on its plane's axes"
             }
+            Condition::SinumerikAlarm => {
+                "A SINUMERIK language, cycle or program alarm (SETAL), under its own number"
+            }
         }
     }
 }
@@ -658,6 +672,22 @@ impl Condition {
                 _ => {}
             }
         }
+        // SINUMERIK 840D sl alarms (brief §8: 10720 software limit switch,
+        // 12470 G function unknown, 14011 program not available, 14040
+        // error in the end point of a circle).
+        if control == Control::Sinumerik {
+            let n = match self {
+                C::OvertravelPlus | C::OvertravelMinus => Some(10720),
+                C::ImproperGCode | C::GCodeConflict => Some(12470),
+                C::ProgramNotFound => Some(14011),
+                C::ArcRadiusTolerance => Some(14040),
+                C::NestingTooDeep => Some(15100),
+                _ => None,
+            };
+            if let Some(n) = n {
+                return AlarmCode::sinumerik(n);
+            }
+        }
         // Mazak alarms (seed 002).
         if control == Control::Mazak {
             match self {
@@ -675,7 +705,7 @@ impl Condition {
     }
 
     /// The kernel's own number, used where the control's manual gives none.
-    fn kernel_number(self) -> u16 {
+    fn kernel_number(self) -> u32 {
         use Condition as C;
         match self {
             C::NoDataAfterAddress => 1,
@@ -768,6 +798,7 @@ impl Condition {
             C::FrameNesting => 142,
             C::FrameNotAllowed => 143,
             C::FrameArcScaling => 144,
+            C::SinumerikAlarm => 160,
             C::OvertravelMinus => 501,
         }
     }
@@ -799,6 +830,7 @@ pub fn alarm_reference() -> String {
         Control::Mazak,
         Control::Haas,
         Control::LinuxCnc,
+        Control::Sinumerik,
     ];
     let mut text = String::from(
         "# Alarm reference\n\n\
@@ -809,8 +841,8 @@ pub fn alarm_reference() -> String {
          `docs/functions.md`, \"Haas\", for the sources). This file is generated from\n\
          `crates/fiveaxis-control/src/alarm.rs`; a test keeps it in step\n\
          (`FIVEAXIS_BLESS=1 cargo test -p fiveaxis-control alarm_reference` rewrites it).\n\n\
-         | condition | fanuc30i | fanuc16 | mitsubishi | mazak | haas | linuxcnc |\n\
-         |---|---|---|---|---|---|---|\n",
+         | condition | fanuc30i | fanuc16 | mitsubishi | mazak | haas | linuxcnc | sinumerik |\n\
+         |---|---|---|---|---|---|---|---|\n",
     );
     for condition in Condition::ALL {
         text.push_str(&format!("| {} |", condition.describe()));

@@ -480,6 +480,25 @@ impl<'m> Controller<'m> {
         self.state.spindle_on
     }
 
+    /// The programmed position of every axis now: the tool tip (or the
+    /// gauge point without a length offset) in the frames in force.
+    pub fn programmed_position(&self) -> Joints {
+        if self.cutter.routing() {
+            return self.cutter.point;
+        }
+        self.programmed(&self.state.joints)
+    }
+
+    /// The feed in force (mm/min, mm/rev or 1/min as the feed mode says).
+    pub fn feed(&self) -> f64 {
+        self.state.feed
+    }
+
+    /// The tool offset number in force (H; D on SINUMERIK), 0 for none.
+    pub fn length_offset(&self) -> u32 {
+        self.state.h
+    }
+
     /// Spindle speed, rev/min (last S).
     pub fn spindle_speed(&self) -> f64 {
         self.state.spindle_speed

@@ -382,4 +382,3 @@ impl Controller<'_> {
         Ok(())
     }
 }
-
