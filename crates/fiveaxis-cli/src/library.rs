@@ -186,6 +186,78 @@ impl ProgramLibrary for Memory {
         }
         Ok(None)
     }
+
+    fn open_sinumerik(&mut self, name: &str) -> io::Result<Option<(Box<dyn Source>, String)>> {
+        let Some(dir) = self.programs.as_ref() else {
+            return Ok(None);
+        };
+        match sinumerik_program(&dir.dir, name)? {
+            Some(path) => {
+                let file = File::open(&path)?;
+                Ok(Some((
+                    Box::new(ReaderSource::new(file)),
+                    path.display().to_string(),
+                )))
+            }
+            None => Ok(None),
+        }
+    }
+
+    fn sinumerik_definitions(&mut self) -> io::Result<Vec<(Box<dyn Source>, String)>> {
+        let Some(dir) = self.programs.as_ref() else {
+            return Ok(Vec::new());
+        };
+        let mut paths = Vec::new();
+        for entry in std::fs::read_dir(&dir.dir)? {
+            let path = entry?.path();
+            let name = path.file_name().and_then(|s| s.to_str()).unwrap_or("");
+            let upper = name.to_ascii_uppercase();
+            if path.is_file() && (upper.ends_with(".DEF") || upper.ends_with("_DEF")) {
+                paths.push(path);
+            }
+        }
+        // In name order, so that a run does not depend on the folder's.
+        paths.sort();
+        let mut files = Vec::with_capacity(paths.len());
+        for path in paths {
+            let file = File::open(&path)?;
+            files.push((
+                Box::new(ReaderSource::new(file)) as Box<dyn Source>,
+                path.display().to_string(),
+            ));
+        }
+        Ok(files)
+    }
+}
+
+/// The file of SINUMERIK program `name` in `dir`: `NAME.SPF`, `NAME.MPF`,
+/// `_N_NAME_SPF`, `_N_NAME_MPF` (the control's internal names, ONE
+/// p43–45), or `NAME` alone, in any case.
+fn sinumerik_program(dir: &Path, name: &str) -> io::Result<Option<PathBuf>> {
+    let name = name.to_ascii_uppercase();
+    if name.is_empty() || name.contains(['/', '\\']) || name.starts_with('.') {
+        return Ok(None);
+    }
+    let wanted = [
+        format!("{name}.SPF"),
+        format!("{name}.MPF"),
+        format!("_N_{name}_SPF"),
+        format!("_N_{name}_MPF"),
+        name.clone(),
+    ];
+    let mut best: Option<(usize, PathBuf)> = None;
+    for entry in std::fs::read_dir(dir)? {
+        let path = entry?.path();
+        let file = path.file_name().and_then(|s| s.to_str()).unwrap_or("");
+        let upper = file.to_ascii_uppercase();
+        if let Some(rank) = wanted.iter().position(|w| *w == upper)
+            && path.is_file()
+            && best.as_ref().is_none_or(|(r, _)| rank < *r)
+        {
+            best = Some((rank, path));
+        }
+    }
+    Ok(best.map(|(_, path)| path))
 }
 
 /// LinuxCNC's subroutine folders for a run: the machine file's

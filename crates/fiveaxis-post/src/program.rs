@@ -1,5 +1,9 @@
 //! The output program: FANUC-style text (G93 inverse time feed, absolute
-//! machine positions in G54 with length compensation and TCPC off).
+//! machine positions in G54 with length compensation and TCPC off), or,
+//! for a machine whose control is a SINUMERIK, the same in the Siemens
+//! form: a `%_N_NAME_MPF` header, `;` comments, `D0` instead of `G49` and
+//! `TRAFOOF` instead of the cancels of TCPC and the tilted plane (ONE
+//! p43–45; brief §1, §4).
 //!
 //! Word formats: lengths in mm and angles in degrees with at least four
 //! decimals (the FANUC least input increment of IS-C is 0.0001 mm / deg;
@@ -8,7 +12,7 @@
 
 use std::fmt::Write;
 
-use fiveaxis_machine::{Joints, Machine, Vec3};
+use fiveaxis_machine::{Control, Joints, Machine, Vec3};
 
 use crate::feed::{composite_travel, tip_feed_error};
 use crate::{Axes, FeedStyle, Move, Note, Post, PostOptions};
@@ -151,9 +155,11 @@ pub fn carried_words(text: &str) -> Vec<(u32, String)> {
 /// Writes the whole program.
 pub fn write(machine: &Machine, post: &Post, options: &PostOptions, header: &Header<'_>) -> String {
     let quantum = Quantum::for_tolerance(options.tolerance);
+    let siemens = machine.control == Control::Sinumerik;
     let mut out = String::with_capacity(64 * (post.moves.len() + 16));
     let comment = |out: &mut String, text: &str| {
-        // Parentheses cannot nest in a FANUC comment.
+        // Parentheses cannot nest in a FANUC comment; a Siemens comment
+        // runs to the end of the line.
         let clean: String = text
             .chars()
             .map(|c| match c {
@@ -162,7 +168,11 @@ pub fn write(machine: &Machine, post: &Post, options: &PostOptions, header: &Hea
                 _ => '?',
             })
             .collect();
-        let _ = writeln!(out, "({clean})");
+        if siemens {
+            let _ = writeln!(out, ";{clean}");
+        } else {
+            let _ = writeln!(out, "({clean})");
+        }
     };
     // The F words and what they do to the tip feed.
     // The F words, and what they do to the tip feed. Time-keeping styles
@@ -210,9 +220,18 @@ pub fn write(machine: &Machine, post: &Post, options: &PostOptions, header: &Hea
         }
         words.push(word);
     }
-    out.push_str("%\n");
-    if let Some(n) = header.number {
-        let _ = writeln!(out, "O{n:04}");
+    if siemens {
+        // The transfer header names the program (`%_N_NAME_MPF`).
+        let name = header
+            .number
+            .map_or("FIVEAXIS".to_owned(), |n| format!("P{n:04}"));
+        let _ = writeln!(out, "%_N_{name}_MPF");
+        out.push_str(";$PATH=/_N_MPF_DIR\n");
+    } else {
+        out.push_str("%\n");
+        if let Some(n) = header.number {
+            let _ = writeln!(out, "O{n:04}");
+        }
     }
     comment(
         &mut out,
@@ -242,11 +261,16 @@ pub fn write(machine: &Machine, post: &Post, options: &PostOptions, header: &Hea
     comment(
         &mut out,
         &format!(
-            "for tool length {} mm only: G43.4/G43.5, G68.2 and G43 removed, G49",
+            "for tool length {} mm only: {}",
             if lengths.is_empty() {
                 "-".to_owned()
             } else {
                 lengths.join(", ")
+            },
+            if siemens {
+                "TRAORI, CYCLE800 and the tool length removed, D0"
+            } else {
+                "G43.4/G43.5, G68.2 and G43 removed, G49"
             }
         ),
     );
@@ -328,11 +352,19 @@ pub fn write(machine: &Machine, post: &Post, options: &PostOptions, header: &Hea
         ),
     );
     // The feed mode stays on throughout: positioning does not read F.
-    let _ = writeln!(
-        out,
-        "G21 G17 G90 G40 G49 G69 G80 G54 {}",
-        options.feed.g_code()
-    );
+    if siemens {
+        let _ = writeln!(
+            out,
+            "G71 G17 G90 G40 G54 D0 TRAFOOF {}",
+            options.feed.g_code()
+        );
+    } else {
+        let _ = writeln!(
+            out,
+            "G21 G17 G90 G40 G49 G69 G80 G54 {}",
+            options.feed.g_code()
+        );
+    }
     let mut carried = header.carried.iter().peekable();
     for (m, word) in post.moves.iter().zip(&words) {
         let line = match m {
@@ -383,7 +415,11 @@ pub fn write(machine: &Machine, post: &Post, options: &PostOptions, header: &Hea
         out.push_str(w);
         out.push('\n');
     }
-    out.push_str("M30\n%\n");
+    if siemens {
+        out.push_str("M30\n");
+    } else {
+        out.push_str("M30\n%\n");
+    }
     out
 }
 
@@ -434,13 +470,13 @@ fn feed_text(out: &mut String, f: f64) {
 }
 
 /// The tool length a `fiveaxis post` output was made for (its header's
-/// `(FOR TOOL LENGTH L MM ONLY ...)`, the first length when it names
-/// several).
+/// `(FOR TOOL LENGTH L MM ONLY ...)`, on a SINUMERIK `;FOR TOOL LENGTH
+/// …`, the first length when it names several).
 pub fn header_tool_length(text: &str) -> Option<f64> {
-    let line = text
-        .lines()
-        .take(32)
-        .find_map(|l| l.strip_prefix("(FOR TOOL LENGTH "))?;
+    let line = text.lines().take(32).find_map(|l| {
+        l.strip_prefix("(FOR TOOL LENGTH ")
+            .or_else(|| l.strip_prefix(";FOR TOOL LENGTH "))
+    })?;
     line.split([' ', ','])
         .next()?
         .parse()
