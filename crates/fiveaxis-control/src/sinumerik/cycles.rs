@@ -882,8 +882,19 @@ fn cycle84(
 /// A point `d` from `p` at `angle` degrees (from the first axis towards
 /// the second).
 fn polar(p: [f64; 2], d: f64, angle: f64) -> [f64; 2] {
-    let (sin, cos) = angle.to_radians().sin_cos();
+    let (sin, cos) = sin_cos(angle);
     [p[0] + d * cos, p[1] + d * sin]
+}
+
+/// Sine and cosine of `angle` degrees, exact at multiples of 90°.
+fn sin_cos(angle: f64) -> (f64, f64) {
+    match angle.rem_euclid(360.0) {
+        0.0 => (0.0, 1.0),
+        90.0 => (1.0, 0.0),
+        180.0 => (0.0, -1.0),
+        270.0 => (-1.0, 0.0),
+        _ => angle.to_radians().sin_cos(),
+    }
 }
 
 /// The hole positions of pattern cycle `name` (HOLES1, HOLES2, CYCLE801)
@@ -944,11 +955,16 @@ pub(crate) fn pattern(
             }
             let dis1 = spacing(3, num1)?;
             let dis2 = spacing(4, num2)?;
+            let (sin, cos) = sin_cos(sta);
             for row in 0..num2 {
-                let row_start = polar(reference, row as f64 * dis2, sta + 90.0);
+                let v = row as f64 * dis2;
                 for k in 0..num1 {
                     let column = if row % 2 == 0 { k } else { num1 - 1 - k };
-                    out.push(polar(row_start, column as f64 * dis1, sta));
+                    let u = column as f64 * dis1;
+                    out.push([
+                        reference[0] + u * cos - v * sin,
+                        reference[1] + u * sin + v * cos,
+                    ]);
                 }
             }
         }
@@ -1022,7 +1038,7 @@ pub(crate) fn engrave(
         Some(cw) if cw > 0.0 => cw / f64::from(GLYPH_WIDTH),
         Some(_) => return Err(a.error(ALARM_OUT_OF_RANGE, 8, "must be positive")),
     };
-    let (sin, cos) = a.value(10).unwrap_or(0.0).to_radians().sin_cos();
+    let (sin, cos) = sin_cos(a.value(10).unwrap_or(0.0));
     let place = |x: f64, y: f64| [pa + x * cos - y * sin, po + x * sin + y * cos];
 
     let mut steps = Vec::new();
@@ -1056,4 +1072,753 @@ pub(crate) fn engrave(
     steps.push(CycleStep::Rapid(on(ax, lv.rtp)));
     out.extend(steps);
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const G17: [usize; 3] = [0, 1, 2];
+    const G18: [usize; 3] = [2, 0, 1];
+    const G19: [usize; 3] = [1, 2, 0];
+
+    /// At X10 Y20 Z50, F100, S1000 M3, metric.
+    fn ctx(plane: [usize; 3]) -> CycleContext {
+        CycleContext {
+            plane,
+            position: [10.0, 20.0, 50.0],
+            feed: 100.0,
+            spindle: 1000.0,
+            spindle_ccw: false,
+            inch: false,
+        }
+    }
+
+    /// Arguments as written between the parentheses: `"10,,2,-15"`.
+    fn args(text: &str) -> Vec<Option<f64>> {
+        text.split(',')
+            .map(|a| {
+                let a = a.trim();
+                (!a.is_empty()).then(|| a.parse().expect("a number"))
+            })
+            .collect()
+    }
+
+    fn run_in(name: &str, text: &str, c: &CycleContext) -> Vec<CycleStep> {
+        let mut out = Vec::new();
+        drilling(name, &args(text), c, &mut out).expect("the cycle runs");
+        out
+    }
+
+    fn run(name: &str, text: &str) -> Vec<CycleStep> {
+        run_in(name, text, &ctx(G17))
+    }
+
+    fn fail(name: &str, text: &str) -> CycleError {
+        let mut out = vec![CycleStep::M(8)];
+        let e = drilling(name, &args(text), &ctx(G17), &mut out).expect_err("refused");
+        assert_eq!(out, [CycleStep::M(8)], "out is left as it was");
+        e
+    }
+
+    fn rz(v: f64) -> CycleStep {
+        CycleStep::Rapid([None, None, Some(v)])
+    }
+    fn fz(v: f64) -> CycleStep {
+        CycleStep::Feed {
+            to: [None, None, Some(v)],
+            feed: None,
+        }
+    }
+    fn fzf(v: f64, f: f64) -> CycleStep {
+        CycleStep::Feed {
+            to: [None, None, Some(v)],
+            feed: Some(f),
+        }
+    }
+    use CycleStep::{Dwell, M, Speed};
+
+    #[test]
+    fn names() {
+        for n in [
+            "CYCLE81", "cycle82", "CYCLE83", "CYCLE84", "CYCLE840", "CYCLE85", "CYCLE86",
+            "CYCLE87", "CYCLE88", "CYCLE89", "HOLES1", "HOLES2", "CYCLE801", "CYCLE60",
+        ] {
+            assert!(is_cycle(n), "{n}");
+        }
+        for n in ["CYCLE800", "CYCLE832", "POCKET1", "CYCLE8", "CYCLE95", ""] {
+            assert!(!is_cycle(n), "{n}");
+        }
+    }
+
+    #[test]
+    fn cycle81_drills_at_the_feed_in_force() {
+        assert_eq!(run("CYCLE81", "10,0,2,-15"), [rz(2.0), fz(-15.0), rz(10.0)]);
+        // The brief's real-program call: RFP left out is 0, DPR 0 with DP.
+        assert_eq!(run("CYCLE81", "5,,3,-15,0"), [rz(3.0), fz(-15.0), rz(5.0)]);
+        // Lower-case name.
+        assert_eq!(run("cycle81", "10,0,2,-15"), [rz(2.0), fz(-15.0), rz(10.0)]);
+        // Later Operate parameters left out or 0 are fine.
+        assert_eq!(
+            run("CYCLE81", "10,0,2,-15,,0,,0"),
+            [rz(2.0), fz(-15.0), rz(10.0)]
+        );
+    }
+
+    #[test]
+    fn dpr_is_below_rfp_and_dp_wins() {
+        let want = [rz(7.0), fz(-10.0), rz(10.0)];
+        assert_eq!(run("CYCLE81", "10,5,2,,15"), want);
+        assert_eq!(run("CYCLE81", "10,5,2,,-15"), want, "DPR's sign ignored");
+        assert_eq!(run("CYCLE81", "10,5,2,-10,3"), want, "DP wins over DPR");
+        // SDIS without its sign.
+        assert_eq!(run("CYCLE81", "10,5,-2,-10"), want);
+    }
+
+    #[test]
+    fn the_applicate_follows_the_plane() {
+        // G18: the applicate is Y.
+        assert_eq!(
+            run_in("CYCLE81", "10,0,2,-15", &ctx(G18)),
+            [
+                CycleStep::Rapid([None, Some(2.0), None]),
+                CycleStep::Feed {
+                    to: [None, Some(-15.0), None],
+                    feed: None
+                },
+                CycleStep::Rapid([None, Some(10.0), None]),
+            ]
+        );
+        // G19: the applicate is X.
+        assert_eq!(
+            run_in("CYCLE82", "10,0,2,-15,,1", &ctx(G19)),
+            [
+                CycleStep::Rapid([Some(2.0), None, None]),
+                CycleStep::Feed {
+                    to: [Some(-15.0), None, None],
+                    feed: None
+                },
+                Dwell(1.0),
+                CycleStep::Rapid([Some(10.0), None, None]),
+            ]
+        );
+    }
+
+    #[test]
+    fn cycle82_dwells_at_depth() {
+        assert_eq!(
+            run("CYCLE82", "10,0,2,-15,,1.5"),
+            [rz(2.0), fz(-15.0), Dwell(1.5), rz(10.0)]
+        );
+        assert_eq!(run("CYCLE82", "10,0,2,-15"), [rz(2.0), fz(-15.0), rz(10.0)]);
+    }
+
+    #[test]
+    fn inch_arguments_are_converted() {
+        let mut c = ctx(G17);
+        c.inch = true;
+        assert_eq!(
+            run_in("CYCLE81", "1,0,0.25,-0.5", &c),
+            [rz(6.35), fz(-12.7), rz(25.4)]
+        );
+        // The pitch too (1/16 in).
+        let feed = 0.0625 * 25.4 * 1000.0;
+        assert_eq!(
+            run_in("CYCLE84", "1,0,0.25,-0.5,,,,,0.0625", &c),
+            [
+                rz(6.35),
+                M(3),
+                fzf(-12.7, feed),
+                M(4),
+                fzf(6.35, feed),
+                M(3),
+                rz(25.4)
+            ]
+        );
+    }
+
+    #[test]
+    fn cycle83_chip_breaking_with_degression() {
+        // First depth -5, DAM 1, _MDEP = DAM: pecks 5, 4, 3, 2, then 1
+        // left; retract 1 mm (_VRT default) after each.
+        assert_eq!(
+            run("CYCLE83", "50,0,2,-15,,-5,,1,,,,0"),
+            [
+                rz(2.0),
+                fz(-5.0),
+                rz(-4.0),
+                fz(-9.0),
+                rz(-8.0),
+                fz(-12.0),
+                rz(-11.0),
+                fz(-14.0),
+                rz(-13.0),
+                fz(-15.0),
+                rz(50.0),
+            ]
+        );
+        // _MDEP 2, _VRT 0.5, DTB 0.25: pecks 5 4 3 2 2 2 2 to -20.
+        let s = run("CYCLE83", "50,0,2,-20,,-5,,1,0.25,,,0,,2,0.5");
+        let mut want = vec![rz(2.0), fz(-5.0)];
+        for (from, to) in [(-5.0, -9.0), (-9.0, -12.0), (-12.0, -14.0), (-14.0, -16.0)] {
+            want.extend([Dwell(0.25), rz(from + 0.5), fz(to)]);
+        }
+        for (from, to) in [(-16.0, -18.0), (-18.0, -20.0)] {
+            want.extend([Dwell(0.25), rz(from + 0.5), fz(to)]);
+        }
+        want.extend([Dwell(0.25), rz(50.0)]);
+        assert_eq!(s, want);
+    }
+
+    #[test]
+    fn cycle83_chip_removal() {
+        // FDPR 5 at F100 × FRF 0.5; DAM 2 (_MDEP = 2): pecks 5, 3, 2, 2;
+        // DTB 0.5, DTS 1, _DTD 2, _DIS1 0.3.
+        assert_eq!(
+            run("CYCLE83", "50,0,2,-12,,,5,2,0.5,1,0.5,1,,,,2,0.3"),
+            [
+                rz(2.0),
+                fzf(-5.0, 50.0),
+                Dwell(0.5),
+                rz(2.0),
+                Dwell(1.0),
+                rz(-4.7),
+                fz(-8.0),
+                Dwell(0.5),
+                rz(2.0),
+                Dwell(1.0),
+                rz(-7.7),
+                fz(-10.0),
+                Dwell(0.5),
+                rz(2.0),
+                Dwell(1.0),
+                rz(-9.7),
+                fz(-12.0),
+                Dwell(2.0),
+                rz(50.0),
+            ]
+        );
+        // _DIS1 automatic: PECK_CLEARANCE; constant pecks without DAM.
+        assert_eq!(
+            run("CYCLE83", "50,0,2,-8,,-4,,,,,,1"),
+            [
+                rz(2.0),
+                fz(-4.0),
+                rz(2.0),
+                rz(-4.0 + PECK_CLEARANCE),
+                fz(-8.0),
+                rz(50.0)
+            ]
+        );
+        // A first depth past the final depth is one peck.
+        assert_eq!(
+            run("CYCLE83", "50,0,2,-8,,-20,,,,,,1"),
+            [rz(2.0), fz(-8.0), rz(50.0)]
+        );
+    }
+
+    #[test]
+    fn cycle83_refusals() {
+        let e = fail("CYCLE83", "50,0,2,-15,,,,1,,,,0");
+        assert_eq!((e.alarm, e.argument), (ALARM_MISSING, Some(5)));
+        let e = fail("CYCLE83", "50,0,2,-15,,-5,,-10,,,,0");
+        assert_eq!((e.alarm, e.argument), (ALARM_NOT_CARRIED_OUT, Some(7)));
+        assert!(e.message.contains("DAM"), "{}", e.message);
+        let e = fail("CYCLE83", "50,0,2,-15,,-5,,1,,,,2");
+        assert_eq!((e.alarm, e.argument), (ALARM_MACHINING_TYPE, Some(11)));
+        let e = fail("CYCLE83", "50,0,2,-15,,-5,,1,,,,0,3");
+        assert_eq!((e.alarm, e.argument), (ALARM_NOT_CARRIED_OUT, Some(12)));
+        let e = fail("CYCLE83", "50,0,2,-15,,5,,1,,,,0");
+        assert_eq!((e.alarm, e.argument), (ALARM_OUT_OF_RANGE, Some(5)));
+        let e = fail("CYCLE83", "50,0,2,-15,,-5,,1,-1,,,0");
+        assert_eq!((e.alarm, e.argument), (ALARM_NOT_CARRIED_OUT, Some(8)));
+        // Pecks of a micrometre: too many steps.
+        let e = fail("CYCLE83", "50,0,2,-100,,-0.000001,,,,,,0");
+        assert_eq!(e.alarm, ALARM_OUT_OF_RANGE);
+    }
+
+    #[test]
+    fn cycle84_rigid_tapping() {
+        // MPIT 8: M8 coarse, 1.25 mm at S1000.
+        assert_eq!(
+            run("CYCLE84", "10,0,2,-15,,0.5,3,8"),
+            [
+                rz(2.0),
+                M(3),
+                fzf(-15.0, 1250.0),
+                Dwell(0.5),
+                M(4),
+                fzf(2.0, 1250.0),
+                M(3),
+                rz(10.0)
+            ]
+        );
+        // Left-hand M10 (1.5), SST 500 in, SST1 800 out, spindle off after.
+        assert_eq!(
+            run("CYCLE84", "10,0,2,-15,,,5,-10,,,500,800"),
+            [
+                rz(2.0),
+                Speed(500.0),
+                M(4),
+                fzf(-15.0, 750.0),
+                Speed(800.0),
+                M(3),
+                fzf(2.0, 1200.0),
+                Speed(1000.0),
+                M(5),
+                rz(10.0)
+            ]
+        );
+        // PIT 1.5 (wins over MPIT), SDAC left out: the direction in force;
+        // POSS is ignored.
+        let mut c = ctx(G17);
+        c.spindle_ccw = true;
+        assert_eq!(
+            run_in("CYCLE84", "10,0,2,-15,,,,6,1.5,90", &c),
+            [
+                rz(2.0),
+                M(3),
+                fzf(-15.0, 1500.0),
+                M(4),
+                fzf(2.0, 1500.0),
+                M(4),
+                rz(10.0)
+            ]
+        );
+    }
+
+    #[test]
+    fn cycle84_refusals() {
+        let e = fail("CYCLE84", "10,0,2,-15,,,3");
+        assert_eq!((e.alarm, e.argument), (ALARM_PITCH, Some(7)));
+        let e = fail("CYCLE84", "10,0,2,-15,,,3,7");
+        assert_eq!((e.alarm, e.argument), (ALARM_PITCH, Some(7)));
+        let e = fail("CYCLE84", "10,0,2,-15,,,6,8");
+        assert_eq!((e.alarm, e.argument), (ALARM_MACHINING_TYPE, Some(6)));
+        let e = fail("CYCLE84", "10,0,2,-15,,,3,8,,,,,1");
+        assert_eq!((e.alarm, e.argument), (ALARM_NOT_CARRIED_OUT, Some(12)));
+        let mut c = ctx(G17);
+        c.spindle = 0.0;
+        let e = drilling("CYCLE84", &args("10,0,2,-15,,,3,8"), &c, &mut Vec::new())
+            .expect_err("no speed");
+        assert_eq!((e.alarm, e.argument), (ALARM_OUT_OF_RANGE, Some(10)));
+    }
+
+    #[test]
+    fn coarse_pitches() {
+        assert_eq!(coarse_pitch(3.0), Some(0.5));
+        assert_eq!(coarse_pitch(12.0), Some(1.75));
+        assert_eq!(coarse_pitch(48.0), Some(5.0));
+        assert_eq!(coarse_pitch(7.0), None);
+        assert_eq!(coarse_pitch(2.0), None);
+    }
+
+    #[test]
+    fn cycle840_compensating_chuck() {
+        // MPIT 6 (1 mm) at S1000; SDR left out: reverse of M3; SDAC: M3.
+        assert_eq!(
+            run("CYCLE840", "10,0,2,-15,,1,,,,6"),
+            [
+                rz(2.0),
+                fzf(-15.0, 1000.0),
+                Dwell(1.0),
+                M(4),
+                fzf(2.0, 1000.0),
+                M(3),
+                rz(10.0)
+            ]
+        );
+        // No lead: the feed in force; SDR 4, SDAC 5, ENC 1.
+        assert_eq!(
+            run("CYCLE840", "10,0,2,-15,,,4,5,1"),
+            [rz(2.0), fz(-15.0), M(4), fz(2.0), M(5), rz(10.0)]
+        );
+        let e = fail("CYCLE840", "10,0,2,-15,,,5");
+        assert_eq!((e.alarm, e.argument), (ALARM_MACHINING_TYPE, Some(6)));
+    }
+
+    #[test]
+    fn cycle85_reams_in_and_out() {
+        assert_eq!(
+            run("CYCLE85", "10,0,2,-15,,0.5,200,400"),
+            [
+                rz(2.0),
+                fzf(-15.0, 200.0),
+                Dwell(0.5),
+                fzf(2.0, 400.0),
+                rz(10.0)
+            ]
+        );
+        assert_eq!(
+            run("CYCLE85", "10,0,2,-15,,,200"),
+            [rz(2.0), fzf(-15.0, 200.0), fzf(2.0, 200.0), rz(10.0)]
+        );
+        assert_eq!(
+            run("CYCLE85", "10,0,2,-15"),
+            [rz(2.0), fz(-15.0), fz(2.0), rz(10.0)]
+        );
+    }
+
+    #[test]
+    fn cycle86_boring_with_lift_off() {
+        // At X10 Y20: lift by RPA -1, RPO 0.5, RPAP 0.2.
+        assert_eq!(
+            run("CYCLE86", "10,0,2,-15,,1,3,-1,0.5,0.2"),
+            [
+                rz(2.0),
+                fz(-15.0),
+                Dwell(1.0),
+                M(5),
+                M(19),
+                CycleStep::Rapid([Some(9.0), Some(20.5), Some(-14.8)]),
+                rz(2.0),
+                CycleStep::Rapid([Some(10.0), Some(20.0), None]),
+                rz(10.0),
+                M(3)
+            ]
+        );
+        // G18: first axis Z, second X, applicate Y; no lift-off given.
+        let c = ctx(G18);
+        assert_eq!(
+            run_in("CYCLE86", "10,0,2,-15,,,4,1", &c),
+            [
+                CycleStep::Rapid([None, Some(2.0), None]),
+                CycleStep::Feed {
+                    to: [None, Some(-15.0), None],
+                    feed: None
+                },
+                M(5),
+                M(19),
+                CycleStep::Rapid([None, None, Some(51.0)]),
+                CycleStep::Rapid([None, Some(2.0), None]),
+                CycleStep::Rapid([Some(10.0), None, Some(50.0)]),
+                CycleStep::Rapid([None, Some(10.0), None]),
+                M(4)
+            ]
+        );
+        let e = fail("CYCLE86", "10,0,2,-15,,,3,,,,90");
+        assert_eq!((e.alarm, e.argument), (ALARM_NOT_CARRIED_OUT, Some(10)));
+    }
+
+    #[test]
+    fn cycles_87_88_89() {
+        assert_eq!(
+            run("CYCLE87", "10,0,2,-15,,4"),
+            [rz(2.0), fz(-15.0), M(5), M(0), rz(10.0), M(4)]
+        );
+        assert_eq!(
+            run("CYCLE88", "10,0,2,-15,,2,3"),
+            [rz(2.0), fz(-15.0), Dwell(2.0), M(5), M(0), rz(10.0), M(3)]
+        );
+        // SDIR left out: the direction in force.
+        assert_eq!(
+            run("CYCLE87", "10,0,2,-15"),
+            [rz(2.0), fz(-15.0), M(5), M(0), rz(10.0), M(3)]
+        );
+        assert_eq!(
+            run("CYCLE89", "10,0,2,-15,,1"),
+            [rz(2.0), fz(-15.0), Dwell(1.0), fz(2.0), rz(10.0)]
+        );
+        let e = fail("CYCLE87", "10,0,2,-15,,5");
+        assert_eq!((e.alarm, e.argument), (ALARM_MACHINING_TYPE, Some(5)));
+    }
+
+    #[test]
+    fn level_refusals() {
+        let e = fail("CYCLE81", ",0,2,-15");
+        assert_eq!((e.alarm, e.argument), (ALARM_MISSING, Some(0)));
+        assert!(e.message.contains("RTP"), "{}", e.message);
+        let e = fail("CYCLE81", "10,0,2");
+        assert_eq!((e.alarm, e.argument), (ALARM_MISSING, Some(3)));
+        let e = fail("CYCLE81", "10,0,2,2");
+        assert_eq!((e.alarm, e.argument), (ALARM_REFERENCE_PLANE, Some(1)));
+        let e = fail("CYCLE81", "10,0,0,,0");
+        assert_eq!((e.alarm, e.argument), (ALARM_REFERENCE_PLANE, Some(1)));
+        let e = fail("CYCLE81", "-5,0,2,-15");
+        assert_eq!((e.alarm, e.argument), (ALARM_REFERENCE_PLANE, Some(0)));
+        let e = fail("CYCLE81", "10,0,2,-15,,1");
+        assert_eq!((e.alarm, e.argument), (ALARM_NOT_CARRIED_OUT, Some(5)));
+        let e = fail("CYCLE82", "10,0,2,-15,,-1");
+        assert_eq!((e.alarm, e.argument), (ALARM_NOT_CARRIED_OUT, Some(5)));
+        let e = fail("CYCLE81", &format!("10,0,2,{}", f64::NAN));
+        assert_eq!((e.alarm, e.argument), (ALARM_OUT_OF_RANGE, Some(3)));
+        let e = fail("CYCLE800", "10,0,2,-15");
+        assert_eq!((e.alarm, e.argument), (ALARM_NOT_CARRIED_OUT, None));
+        let e = fail("HOLES1", "0,0,0,0,10,3");
+        assert_eq!(e.alarm, ALARM_NOT_CARRIED_OUT);
+    }
+
+    fn holes(name: &str, text: &str) -> Vec<[f64; 2]> {
+        let mut out = Vec::new();
+        pattern(name, &args(text), &ctx(G17), &mut out).expect("the pattern");
+        out
+    }
+
+    fn close(got: &[[f64; 2]], want: &[[f64; 2]]) {
+        assert_eq!(got.len(), want.len(), "{got:?}");
+        for (g, w) in got.iter().zip(want) {
+            assert!(
+                (g[0] - w[0]).abs() < 1e-9 && (g[1] - w[1]).abs() < 1e-9,
+                "{got:?} != {want:?}"
+            );
+        }
+    }
+
+    #[test]
+    fn holes1_row() {
+        assert_eq!(
+            holes("HOLES1", "10,20,0,5,10,3"),
+            [[15.0, 20.0], [25.0, 20.0], [35.0, 20.0]]
+        );
+        // Multiples of 90° are exact.
+        assert_eq!(
+            holes("HOLES1", "10,20,90,5,10,2"),
+            [[10.0, 25.0], [10.0, 35.0]]
+        );
+        assert_eq!(
+            holes("HOLES1", "10,20,-90,5,10,2"),
+            [[10.0, 15.0], [10.0, 5.0]]
+        );
+        close(
+            &holes("HOLES1", "0,0,30,0,2,2"),
+            &[[0.0, 0.0], [2.0 * 0.866_025_403_784_438_6, 1.0]],
+        );
+        // One hole needs no spacing.
+        assert_eq!(holes("HOLES1", "0,0,0,4,,1"), [[4.0, 0.0]]);
+        let mut c = ctx(G17);
+        c.inch = true;
+        let mut out = Vec::new();
+        pattern("HOLES1", &args("0,0,0,0.5,0.25,2"), &c, &mut out).expect("inch");
+        assert_eq!(out, [[12.7, 0.0], [12.7 + 6.35, 0.0]]);
+    }
+
+    #[test]
+    fn holes2_circle() {
+        // Four holes, radius 10, from 45°: 360/4 = 90° apart.
+        let h = 10.0 * std::f64::consts::FRAC_1_SQRT_2; // 7.0710678…
+        close(
+            &holes("HOLES2", "0,0,10,45,,4"),
+            &[[h, h], [-h, h], [-h, -h], [h, -h]],
+        );
+        // About (100, 50), 3 holes 30° apart from 0°.
+        close(
+            &holes("HOLES2", "100,50,20,0,30,3"),
+            &[
+                [120.0, 50.0],
+                [100.0 + 20.0 * 0.866_025_403_784_438_6, 60.0],
+                [100.0 + 10.0, 50.0 + 20.0 * 0.866_025_403_784_438_6],
+            ],
+        );
+    }
+
+    #[test]
+    fn cycle801_grid_meander() {
+        assert_eq!(
+            holes("CYCLE801", "0,0,0,10,5,3,2"),
+            [
+                [0.0, 0.0],
+                [10.0, 0.0],
+                [20.0, 0.0],
+                [20.0, 5.0],
+                [10.0, 5.0],
+                [0.0, 5.0]
+            ]
+        );
+        // Turned by 90°: columns along +Y, rows along -X.
+        close(
+            &holes("CYCLE801", "1,2,90,10,5,2,3"),
+            &[
+                [1.0, 2.0],
+                [1.0, 12.0],
+                [-4.0, 12.0],
+                [-4.0, 2.0],
+                [-9.0, 2.0],
+                [-9.0, 12.0],
+            ],
+        );
+    }
+
+    #[test]
+    fn pattern_refusals() {
+        let fail = |name: &str, text: &str| {
+            let mut out = vec![[1.0, 1.0]];
+            let e = pattern(name, &args(text), &ctx(G17), &mut out).expect_err("refused");
+            assert_eq!(out, [[1.0, 1.0]]);
+            (e.alarm, e.argument)
+        };
+        assert_eq!(
+            fail("HOLES1", "0,0,0,0,10,0"),
+            (ALARM_OUT_OF_RANGE, Some(5))
+        );
+        assert_eq!(
+            fail("HOLES1", "0,0,0,0,10,2.5"),
+            (ALARM_OUT_OF_RANGE, Some(5))
+        );
+        assert_eq!(fail("HOLES1", "0,0,0,0,10"), (ALARM_MISSING, Some(5)));
+        assert_eq!(fail("HOLES1", "0,0,0,0,,3"), (ALARM_MISSING, Some(4)));
+        assert_eq!(fail("HOLES2", "0,0,,0,,3"), (ALARM_MISSING, Some(2)));
+        assert_eq!(fail("CYCLE801", "0,0,0,10,,3,2"), (ALARM_MISSING, Some(4)));
+        assert_eq!(
+            fail("CYCLE801", "0,0,0,1,1,1000,1000"),
+            (ALARM_OUT_OF_RANGE, Some(6))
+        );
+        assert_eq!(fail("CYCLE81", "10,0,2,-15"), (ALARM_NOT_CARRIED_OUT, None));
+    }
+
+    fn text_args(text: &str, rest: &str) -> Vec<CycleArg> {
+        let mut a = vec![CycleArg::Text(text.into())];
+        a.extend(args(rest).into_iter().map(|v| match v {
+            Some(v) => CycleArg::Number(v),
+            None => CycleArg::Omitted,
+        }));
+        a
+    }
+
+    fn engraved(text: &str, rest: &str, c: &CycleContext) -> Vec<CycleStep> {
+        let mut out = Vec::new();
+        engrave(&text_args(text, rest), c, &mut out).expect("engraves");
+        out
+    }
+
+    fn xy(x: f64, y: f64) -> [Option<f64>; 3] {
+        [Some(x), Some(y), None]
+    }
+
+    #[test]
+    fn cycle60_one_letter() {
+        // L: "0,6 0,0 4,0"; CH 6 = CAP_HEIGHT: one grid unit per mm.
+        assert_eq!(
+            engraved("L", "10,0,2,-0.5,,10,20,,6", &ctx(G17)),
+            [
+                rz(2.0),
+                CycleStep::Rapid(xy(10.0, 26.0)),
+                fz(-0.5),
+                CycleStep::Feed {
+                    to: xy(10.0, 20.0),
+                    feed: None
+                },
+                CycleStep::Feed {
+                    to: xy(14.0, 20.0),
+                    feed: None
+                },
+                rz(2.0),
+                rz(10.0)
+            ]
+        );
+        // CW 8 (capital 4 units wide: 2 mm per unit), CH 3 (0.5 mm per
+        // unit); the second character starts ADVANCE × 2 = 12 mm on; a
+        // space only advances. PA, PO left out: where the tool stands.
+        let s = engraved(" L", "10,0,2,,0.5,,,8,3", &ctx(G17));
+        assert_eq!(s[1], CycleStep::Rapid(xy(10.0 + 12.0, 20.0 + 3.0)));
+        assert_eq!(s[2], fz(-0.5));
+        assert_eq!(
+            s[4],
+            CycleStep::Feed {
+                to: xy(22.0 + 8.0, 20.0),
+                feed: None
+            }
+        );
+    }
+
+    #[test]
+    fn cycle60_follows_the_font_turned() {
+        // A at 90°, CH 3 (scale 0.5), about (10, 20): the font's first
+        // stroke's first point and its last stroke's last point.
+        let strokes: Vec<Vec<(i8, i8)>> = font::glyph(b'A')
+            .expect("A")
+            .map(|s| s.points().collect())
+            .collect();
+        let s = engraved("A", "10,0,2,-1,,10,20,,3,90", &ctx(G17));
+        let turned = |(x, y): (i8, i8)| {
+            let (x, y) = (f64::from(x) * 0.5, f64::from(y) * 0.5);
+            [10.0 - y, 20.0 + x]
+        };
+        let point = |step: &CycleStep| match step {
+            CycleStep::Rapid(p) | CycleStep::Feed { to: p, .. } => {
+                [p[0].expect("X"), p[1].expect("Y")]
+            }
+            other => panic!("{other:?}"),
+        };
+        let first = turned(strokes[0][0]);
+        let last = turned(*strokes.last().and_then(|s| s.last()).expect("a point"));
+        close(&[point(&s[1])], &[first]);
+        close(&[point(&s[s.len() - 3])], &[last]);
+        // Per stroke: rapid, plunge, the points after the first, rapid up.
+        let count: usize = strokes.iter().map(|s| s.len() + 2).sum();
+        assert_eq!(s.len(), count + 2);
+        assert_eq!(s[s.len() - 1], rz(10.0));
+        // A dot: plunge and retract in place.
+        assert_eq!(
+            engraved(".", "10,0,2,-1,,0,0,,6", &ctx(G17)),
+            [
+                rz(2.0),
+                CycleStep::Rapid(xy(2.0, 0.0)),
+                fz(-1.0),
+                rz(2.0),
+                rz(10.0)
+            ]
+        );
+    }
+
+    #[test]
+    fn cycle60_in_g18() {
+        // G18: first axis Z, second X, applicate Y.
+        let s = engraved("L", "10,0,2,-0.5,,0,0,,6", &ctx(G18));
+        assert_eq!(s[0], CycleStep::Rapid([None, Some(2.0), None]));
+        assert_eq!(s[1], CycleStep::Rapid([Some(6.0), None, Some(0.0)]));
+        assert_eq!(
+            s[2],
+            CycleStep::Feed {
+                to: [None, Some(-0.5), None],
+                feed: None
+            }
+        );
+    }
+
+    #[test]
+    fn cycle60_refusals() {
+        let c = ctx(G17);
+        let fail = |a: Vec<CycleArg>| {
+            let mut out = vec![M(8)];
+            let e = engrave(&a, &c, &mut out).expect_err("refused");
+            assert_eq!(out, [M(8)]);
+            (e.alarm, e.argument)
+        };
+        assert_eq!(fail(vec![]), (ALARM_MISSING, Some(0)));
+        assert_eq!(
+            fail(vec![CycleArg::Number(1.0), CycleArg::Number(10.0)]),
+            (ALARM_OUT_OF_RANGE, Some(0))
+        );
+        assert_eq!(
+            fail(text_args("", "10,0,2,-1,,0,0,,6")),
+            (ALARM_OUT_OF_RANGE, Some(0))
+        );
+        assert_eq!(
+            fail(text_args("Aé", "10,0,2,-1,,0,0,,6")),
+            (ALARM_OUT_OF_RANGE, Some(0))
+        );
+        assert_eq!(
+            fail(text_args("A", "10,0,2,-1,,0,0")),
+            (ALARM_MISSING, Some(9))
+        );
+        assert_eq!(
+            fail(text_args("A", "10,0,2,-1,,0,0,,0")),
+            (ALARM_OUT_OF_RANGE, Some(9))
+        );
+        assert_eq!(
+            fail(text_args("A", ",0,2,-1,,0,0,,6")),
+            (ALARM_MISSING, Some(1))
+        );
+        assert_eq!(
+            fail(text_args("A", "10,0,2,3,,0,0,,6")),
+            (ALARM_REFERENCE_PLANE, Some(2))
+        );
+        let mut a = text_args("A", "10,0,2,-1");
+        a.push(CycleArg::Text("X".into()));
+        assert_eq!(fail(a), (ALARM_OUT_OF_RANGE, Some(5)));
+        assert_eq!(
+            fail(text_args(&"A".repeat(MAX_TEXT + 1), "10,0,2,-1,,0,0,,6")),
+            (ALARM_OUT_OF_RANGE, Some(0))
+        );
+    }
 }
