@@ -41,10 +41,14 @@
 //! # Arguments
 //!
 //! `args[i]` is the i-th argument in the manual's order, `None` when
-//! omitted. An omitted or 0 argument takes its default. Arguments past the
-//! ones the kernel reads (the later Operate additions GMODE, DMODE, AMODE,
-//! CYCLE83's `_AXN`, CYCLE84's `_AXN, _PTAB, _TECHNO, _VARI, …`) must be
-//! omitted or 0; any other value is refused (61098) rather than guessed.
+//! omitted. A parameter with a default below (SDIS, DTB, FRF, _MDEP,
+//! _VRT, _DTD, _DIS1, SDAC, SDIR, SDR, SST, SST1, FFR, RFF, INDA) takes
+//! it when omitted or 0, as the control passes an omitted argument as 0
+//! (brief §1, [ONE p494]); levels, depths, positions and angles are taken
+//! as written, 0 included, and only their omission counts. Arguments past
+//! the ones the kernel reads (the later Operate additions GMODE, DMODE,
+//! AMODE, CYCLE84's `_AXN, _PTAB, _TECHNO, _VARI, …`) must be omitted or
+//! 0; any other value is refused (61098) rather than guessed.
 //! Under G70/G700 (`CycleContext::inch`) every length argument (levels,
 //! depths, pecks, pitch, lift-off, pattern positions and spacings,
 //! character sizes) is in inches and multiplied by 25.4. Feed arguments
@@ -55,8 +59,9 @@
 //!
 //! # Cycles (brief §7; details marked *kernel* are the kernel's reading)
 //!
-//! * CYCLE81(RTP,RFP,SDIS,DP,DPR): rapid RFP+SDIS, feed to depth at the
-//!   feed in force, rapid RTP. CYCLE82(…,DTB): + dwell DTB at depth.
+//! * CYCLE81(RTP,RFP,SDIS,DP,DPR) (brief §7, from helmancnc and ADSK):
+//!   rapid RFP+SDIS, feed to depth at the feed in force, rapid RTP.
+//!   CYCLE82(…,DTB): + dwell DTB at depth.
 //! * CYCLE83(RTP,RFP,SDIS,DP,DPR,FDEP,FDPR,DAM,DTB,DTS,FRF,VARI,_AXN,
 //!   _MDEP,_VRT,_DTD,_DIS1): deep-hole drilling. The first depth is FDEP
 //!   (absolute) or FDPR (below RFP), FDEP winning, at the feed × FRF
@@ -96,7 +101,7 @@
 //!   RTP. ENC is ignored (the moves are the same with or without encoder).
 //! * CYCLE85(RTP,RFP,SDIS,DP,DPR,DTB,FFR,RFF): feed in at FFR (omitted or
 //!   0: the feed in force), dwell, feed out to RFP+SDIS at RFF (omitted or
-//!   0: as in), rapid RTP.
+//!   0: as in), rapid RTP (brief §7, from ADSK).
 //! * CYCLE86(RTP,RFP,SDIS,DP,DPR,DTB,SDIR,RPA,RPO,RPAP,POSS) (brief:
 //!   list UNVERIFIED): feed to depth, dwell, M5, M19 (oriented stop), one
 //!   rapid lift-off by RPA, RPO (first, second axis of the plane) and RPAP
@@ -104,10 +109,11 @@
 //!   other two), rapid to RFP+SDIS, rapid back to the hole in the plane,
 //!   rapid RTP, spindle on SDIR. A non-zero POSS is refused (61098): M19
 //!   carries no angle, and the lift-off direction depends on it.
-//! * CYCLE87(RTP,RFP,SDIS,DP,DPR,SDIR): feed to depth, M5, M0, rapid RTP,
-//!   spindle on SDIR. CYCLE88(…,DTB,SDIR) (UNVERIFIED list): the same with
-//!   a dwell at depth. CYCLE89(…,DTB) (UNVERIFIED list): feed to depth,
-//!   dwell, feed out to RFP+SDIS, rapid RTP.
+//! * CYCLE87(RTP,RFP,SDIS,DP,DPR,SDIR) (brief §7, from ADSK): feed to
+//!   depth, M5, M0, rapid RTP, spindle on SDIR. CYCLE88(…,DTB,SDIR)
+//!   (UNVERIFIED list): the same with a dwell at depth. CYCLE89(…,DTB)
+//!   (UNVERIFIED list): feed to depth, dwell, feed out to RFP+SDIS, rapid
+//!   RTP.
 //! * SDIR omitted or 0: the direction before the cycle (*kernel*); other
 //!   values than 3, 4: 61002.
 //!
@@ -170,7 +176,8 @@ pub(crate) const ALARM_PITCH: u32 = 61001;
 /// Type of machining wrongly defined (VARI, SDIR, SDR, SDAC out of their
 /// sets). Kernel's choice of number.
 pub(crate) const ALARM_MACHINING_TYPE: u32 = 61002;
-/// A value out of its range (counts, speeds, feeds, the text, too many
+/// A value out of its range (counts, speeds, feeds, a CYCLE83 first depth
+/// not below RFP, the text or its type, non-finite numbers, too many
 /// steps). Kernel's choice of number.
 pub(crate) const ALARM_OUT_OF_RANGE: u32 = 61097;
 /// A parameter form the kernel does not carry out (negative DAM, later
@@ -214,7 +221,8 @@ pub(crate) enum CycleStep {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) struct CycleContext {
     /// Indices of the plane's first axis, second axis and applicate (G17:
-    /// `[0, 1, 2]`, G18: `[2, 0, 1]`, G19: `[1, 2, 0]`).
+    /// `[0, 1, 2]`, G18: `[2, 0, 1]`, G19: `[1, 2, 0]`); a permutation of
+    /// 0, 1, 2.
     pub plane: [usize; 3],
     /// Programmed X Y Z now, mm.
     pub position: [f64; 3],
