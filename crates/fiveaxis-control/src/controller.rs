@@ -25,7 +25,7 @@ mod comp3d;
 mod coordinates;
 mod cutter_c;
 mod cycles;
-mod engrave;
+pub(crate) mod engrave;
 mod haas;
 mod linuxcnc;
 mod m_codes;

@@ -48,7 +48,7 @@
 //!   program transforms (G68, G51, G51.1, G16), inverse time feed, rotary
 //!   axis words in the G47 block.
 
-mod font;
+pub(crate) mod font;
 
 use fiveaxis_gcode::Span;
 use fiveaxis_machine::Joints;
