@@ -23,7 +23,8 @@ fn library_lists_every_machine_and_the_default() {
             "head-head-ca",
             "mill-3axis",
             "haas-umc750",
-            "haas-vf2-tr160"
+            "haas-vf2-tr160",
+            "sinumerik-dmu-bc"
         ]
     );
     assert!(names.contains(&DEFAULT_MACHINE));
@@ -31,12 +32,13 @@ fn library_lists_every_machine_and_the_default() {
     assert!(builtin_source("no-such-machine").is_none());
 }
 
-/// The built-ins of the FANUC 30i (the Haas machines are tested below).
+/// The built-ins of the FANUC 30i (the Haas and SINUMERIK machines are
+/// tested below).
 fn fanuc_builtins() -> impl Iterator<Item = &'static str> {
     builtin_names()
         .iter()
         .copied()
-        .filter(|n| !n.starts_with("haas-"))
+        .filter(|n| machine(n).control == fiveaxis_machine::Control::Fanuc30i)
 }
 
 #[test]
