@@ -96,7 +96,13 @@ fn the_builtin_record_has_the_builtin_machines_kinematics() {
     for (got, want) in m.rotary.iter().zip(&b.rotary) {
         assert_eq!(
             (got.name, got.on, got.limits, got.rollover, got.dynamics),
-            (want.name, want.on, want.limits, want.rollover, want.dynamics)
+            (
+                want.name,
+                want.on,
+                want.limits,
+                want.rollover,
+                want.dynamics
+            )
         );
         assert_close(got.axis.into_inner(), want.axis.into_inner(), "axis");
     }
@@ -130,11 +136,16 @@ fn the_builtin_record_against_the_45_degree_head_by_hand() {
     let m = import(SINUMERIK_BUILTIN_TC_CARR);
     let xyz = [12.0, -30.0, 200.0];
     let length = 80.0;
-    for (b, c) in [(0.0, 0.0), (90.0, 0.0), (180.0, 0.0), (180.0, 90.0), (45.0, -30.0)] {
+    for (b, c) in [
+        (0.0, 0.0),
+        (90.0, 0.0),
+        (180.0, 0.0),
+        (180.0, 90.0),
+        (45.0, -30.0),
+    ] {
         let (s, co) = f64::to_radians(b).sin_cos();
         let rz_b = Vec3::new(s / 2f64.sqrt(), (1.0 - co) / 2.0, (1.0 + co) / 2.0);
-        let machine_tip =
-            Vec3::from(xyz) + Vec3::new(0.0, 0.0, 150.0) - (150.0 + length) * rz_b;
+        let machine_tip = Vec3::from(xyz) + Vec3::new(0.0, 0.0, 150.0) - (150.0 + length) * rz_b;
         let tip = rz(c) * machine_tip;
         let dir = rz(c) * rz_b;
         let pose = m.forward(&joints(xyz, b, c), length);
@@ -197,7 +208,13 @@ fn a_t_type_head_turns_the_tool_as_its_vector_chain_says() {
     //   R_y(b)·R_x(a)·(0, 0, h) = (h cos a sin b, −h sin a, h cos a cos b)
     let xyz = [100.0, -50.0, 20.0];
     let length = 60.0;
-    for (b, a) in [(0.0, 0.0), (30.0, 0.0), (0.0, -45.0), (-60.0, 20.0), (90.0, 90.0)] {
+    for (b, a) in [
+        (0.0, 0.0),
+        (30.0, 0.0),
+        (0.0, -45.0),
+        (-60.0, 20.0),
+        (90.0, 90.0),
+    ] {
         let (sb, cb) = f64::to_radians(b).sin_cos();
         let (sa, ca) = f64::to_radians(a).sin_cos();
         let h = 100.0 + length;
@@ -283,7 +300,13 @@ fn a_p_type_trunnion_turns_the_table_as_its_vector_chain_says() {
     );
     let xyz = [40.0, 25.0, 150.0];
     let length = 90.0;
-    for (a, c) in [(0.0, 0.0), (-90.0, 0.0), (0.0, 90.0), (-30.0, 45.0), (20.0, -200.0)] {
+    for (a, c) in [
+        (0.0, 0.0),
+        (-90.0, 0.0),
+        (0.0, 90.0),
+        (-30.0, 45.0),
+        (20.0, -200.0),
+    ] {
         let machine_tip = Vec3::from(xyz) - length * Vec3::z();
         let tip = rz(c) * (rx(a) * (machine_tip - l2) - l3) - l4;
         let (sa, ca) = f64::to_radians(a).sin_cos();
@@ -324,8 +347,7 @@ fn an_m_type_machine_turns_tool_and_table_as_its_vector_chains_say() {
     for (b, c) in [(0.0, 0.0), (90.0, 0.0), (-45.0, 90.0), (30.0, 135.0)] {
         let (sb, cb) = f64::to_radians(b).sin_cos();
         let head = Vec3::new(sb, 0.0, cb);
-        let machine_tip =
-            Vec3::from(xyz) + Vec3::new(0.0, 0.0, 200.0) - (200.0 + length) * head;
+        let machine_tip = Vec3::from(xyz) + Vec3::new(0.0, 0.0, 200.0) - (200.0 + length) * head;
         let tip = rz(c) * (machine_tip - l3) - l4;
         let dir = rz(c) * head;
         let pose = m.forward(&joints(xyz, b, c), length);
@@ -495,7 +517,11 @@ fn a_kinematic_type_other_than_t_p_m_is_alarm_14153() {
 #[test]
 fn syntax_errors_give_line_and_column() {
     let cases = [
-        ("$TC_CARR1[1]=1\n$TC_CARR2[1]=", (2, 14), "a value must follow"),
+        (
+            "$TC_CARR1[1]=1\n$TC_CARR2[1]=",
+            (2, 14),
+            "a value must follow",
+        ),
         ("$TC_CARR1[1] 5", (1, 14), "`=` expected"),
         ("$TC_CARR1(1)=5", (1, 10), "[<record>]"),
         ("$TC_CARR1[x]=5", (1, 11), "whole number"),

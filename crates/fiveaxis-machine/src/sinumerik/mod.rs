@@ -569,9 +569,8 @@ impl Builder<'_> {
             let (min_f, max_f) = (29 + k, 31 + k);
             let (lo, hi) = (self.number(min_f), self.number(max_f));
             let limits = if lo == 0.0 && hi == 0.0 {
-                self.notes.push(format!(
-                    "{name}: $TC_CARR{min_f}/{max_f} both 0: no limits"
-                ));
+                self.notes
+                    .push(format!("{name}: $TC_CARR{min_f}/{max_f} both 0: no limits"));
                 None
             } else if lo < hi {
                 self.notes.push(format!(
@@ -678,11 +677,6 @@ impl Builder<'_> {
     fn finish(&mut self, rotary: Vec<RotaryAxis>, tool_direction: Unit<Vec3>) -> Machine {
         let base = self.base;
         let linear = base.linear.clone();
-        self.notes.push(format!(
-            "linear axes {} from the base machine \"{}\"",
-            linear.iter().map(|a| a.name).collect::<String>(),
-            base.name
-        ));
         let mut params = base.params.clone();
         let first = linear.len();
         for refs in [&mut params.reference_1, &mut params.reference_2] {
@@ -695,11 +689,14 @@ impl Builder<'_> {
         }
         debug_assert!(first + rotary.len() <= MAX_AXES);
         let names: Vec<char> = rotary.iter().map(|r| r.name).collect();
-        let m_codes = MCodes::new(base.m_codes.iter().filter(|(_, f)| {
-            f.axis().is_none_or(|axis| names.contains(&axis))
-        }));
+        let m_codes = MCodes::new(
+            base.m_codes
+                .iter()
+                .filter(|(_, f)| f.axis().is_none_or(|axis| names.contains(&axis))),
+        );
         self.notes.push(format!(
-            "parameters, reference positions of the linear axes and M codes from the base machine \"{}\"",
+            "linear axes {}, their reference positions, the parameters and the M codes from the base machine \"{}\"",
+            linear.iter().map(|a| a.name).collect::<String>(),
             base.name
         ));
         let name = text_field(self.rec, 34).map_or_else(

@@ -133,7 +133,10 @@ impl Line {
     }
 
     fn skip_blanks(&mut self) {
-        while self.peek().is_some_and(|c| c == ' ' || c == '\t' || c == '\r') {
+        while self
+            .peek()
+            .is_some_and(|c| c == ' ' || c == '\t' || c == '\r')
+        {
             self.at += 1;
         }
     }
@@ -344,15 +347,15 @@ impl Line {
                 self.at += 1;
                 Ok((Value::Text(text), start))
             }
-            Some(c) if c.is_ascii_alphabetic() || c == '_' => {
-                Ok((Value::Name(self.word()), start))
-            }
+            Some(c) if c.is_ascii_alphabetic() || c == '_' => Ok((Value::Name(self.word()), start)),
             Some(c) if c.is_ascii_digit() || matches!(c, '+' | '-' | '.') => {
                 self.number().map(|v| (Value::Number(v), start))
             }
             Some(c) => Err(self.error(
                 start,
-                format!("unexpected `{c}`: a value is a number, a \"string\", a 'character' or a name"),
+                format!(
+                    "unexpected `{c}`: a value is a number, a \"string\", a 'character' or a name"
+                ),
             )),
             None => Err(self.error(start, "a value must follow `=`")),
         }
