@@ -480,7 +480,7 @@ fn a_record_is_picked_by_name_or_number_and_the_others_are_noted() {
     assert_eq!(by_name.machine.name, "TRUNNION");
     let by_number = import_tc_carr(&text, None, Some("2")).expect("imports");
     assert_eq!(by_number.machine, by_name.machine);
-    let e = import_tc_carr(&text, None, Some("SPINDLE")).unwrap_err();
+    let e = import_tc_carr(&text, None, Some("SPINDLE")).expect_err("refused");
     assert_eq!(e.line, 0);
     assert!(
         e.message.contains("`SPINDLE`") && e.message.contains("1 \"HEAD_BA\""),

@@ -76,9 +76,9 @@
 //! L·t0)) (each vector turned by the axes that carry it). Put the model's
 //! gauge point G at the tool adapter reference with the angles at 0, G =
 //! P_ref − (l1 + l2 + l3); then axis 1 passes through G + l2 + l3 and axis
-//! 2 through G + l3. The model's head map about those lines (`center1 = l2
-//! + l3`, `center2 = l3`, relative to the gauge point, §3 `H = M1 ∘ M2`)
-//! gives `G + H(−L·t0) = P_ref − l1 − R1·l2 − R1·R2·l3 − R1·R2·L·t0`,
+//! 2 through G + l3. The model's head map about those lines
+//! (`center1 = l2 + l3`, `center2 = l3`, relative to the gauge point, §3
+//! `H = M1 ∘ M2`) gives `G + H(−L·t0) = P_ref − l1 − R1·l2 − R1·R2·l3 − R1·R2·L·t0`,
 //! which is the SINUMERIK's tip. The model's X, Y, Z are therefore the
 //! SINUMERIK's minus l1 + l2 + l3, nothing when the chain closes.
 //!

@@ -484,15 +484,15 @@ mod tests {
 
     #[test]
     fn errors_name_line_and_column() {
-        let e = parse("$TC_CARR1[1]=0\n  $TC_CARR1[1]=1.2.3\n").unwrap_err();
+        let e = parse("$TC_CARR1[1]=0\n  $TC_CARR1[1]=1.2.3\n").expect_err("refused");
         assert_eq!((e.line, e.column), (2, 19));
-        let e = parse("$TC_CARR50[1]=0").unwrap_err();
+        let e = parse("$TC_CARR50[1]=0").expect_err("refused");
         assert_eq!((e.line, e.column), (1, 9));
-        let e = parse("$TC_CARR1[1]=\"x\"").unwrap_err();
+        let e = parse("$TC_CARR1[1]=\"x\"").expect_err("refused");
         assert_eq!((e.line, e.column), (1, 14));
-        let e = parse("X10").unwrap_err();
+        let e = parse("X10").expect_err("refused");
         assert_eq!((e.line, e.column), (1, 1));
-        let e = parse("$TC_CARR23[3]=\"Q\"").unwrap_err();
+        let e = parse("$TC_CARR23[3]=\"Q\"").expect_err("refused");
         assert!(e.message.contains("14153"), "{e}");
     }
 }

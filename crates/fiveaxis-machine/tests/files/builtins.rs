@@ -337,7 +337,10 @@ fn sinumerik_builtin_is_a_45_degree_head_with_a_table_and_the_control_s_m_codes(
     assert_eq!(m.control, Control::Sinumerik);
     assert_eq!(m.machine_type(), MachineType::Mixed);
     let b = &m.rotary[0];
-    assert_eq!((b.name, b.on, b.limits), ('B', Side::Head, Some((-5.0, 180.0))));
+    assert_eq!(
+        (b.name, b.on, b.limits),
+        ('B', Side::Head, Some((-5.0, 180.0)))
+    );
     let half = std::f64::consts::FRAC_1_SQRT_2;
     assert!((b.axis.into_inner() - Vec3::new(0.0, half, half)).norm() < 1e-15);
     let c = &m.rotary[1];
