@@ -574,3 +574,36 @@ fn a_record_without_axes_is_a_three_axis_machine_and_one_axis_a_four_axis_one() 
     // C of the base machine (sinumerik-dmu-bc) is endless.
     assert!(m.rotary[0].rollover);
 }
+
+#[test]
+fn table_axis_offsets_only_turn_the_table_frame() {
+    // A C table about −Z through (50, 20, 0), its initial state at C = 45.
+    // SINUMERIK: q = R_z(c − 45)·(m − l2) − l3 (l3 closes the chain): the
+    // table frame at C 45 is the reference. The model's table frame is the
+    // one at C 0, so at C = c the tip on the table is R_z(c)·(m − l2) + l2,
+    // the record's q turned by R_z(45) about the axis.
+    let text = "$TC_CARR23[1]=P\r\n$TC_CARR9[1]=-1 $TC_CARR4[1]=50 $TC_CARR5[1]=20\r\n\
+                $TC_CARR15[1]=-50 $TC_CARR16[1]=-20 $TC_CARR24[1]=45\r\n";
+    let imported = import_tc_carr(text, None, None).expect("imports");
+    assert!(
+        imported
+            .notes
+            .iter()
+            .any(|n| n.contains("the axis offsets turn the table")),
+        "{:?}",
+        imported.notes
+    );
+    let m = &imported.machine;
+    assert_eq!(m.tool_direction.into_inner(), Vec3::z());
+    let l2 = Vec3::new(50.0, 20.0, 0.0);
+    let xyz = [10.0, -40.0, 60.0];
+    let length = 30.0;
+    for c in [0.0, 45.0, 90.0, -120.0] {
+        let machine_tip = Vec3::from(xyz) - length * Vec3::z();
+        let record_q = rz(c - 45.0) * (machine_tip - l2) + l2;
+        let tip = rz(45.0) * (record_q - l2) + l2;
+        let pose = m.forward(&joints(xyz, c, 0.0), length);
+        assert_close(pose.tip, tip, &format!("tip at C{c}"));
+        assert_close(pose.dir, Vec3::z(), &format!("direction at C{c}"));
+    }
+}
