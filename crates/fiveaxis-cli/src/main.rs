@@ -76,10 +76,19 @@ enum MachinesAction {
         name: String,
     },
     /// Import a LinuxCNC configuration (its INI file, the HAL files it
-    /// names, its kinematics module) and print it as a machine file.
+    /// names, its kinematics module) or a SINUMERIK swivel data record (a
+    /// file of `$TC_CARR…` assignments) and print it as a machine file.
     Import {
-        /// The configuration's INI file.
+        /// The configuration's INI file, or the swivel data file.
         config: PathBuf,
+        /// Swivel data only: the machine (built-in name or machine file)
+        /// that gives the linear axes, parameters and M codes.
+        #[arg(long)]
+        machine: Option<String>,
+        /// Swivel data only: the record to import, by name ($TC_CARR34) or
+        /// number; the first when not given.
+        #[arg(long)]
+        record: Option<String>,
     },
 }
 
@@ -218,8 +227,13 @@ fn main() -> ExitCode {
             action: Some(MachinesAction::Show { name }),
         } => show_machine(&name),
         Command::Machines {
-            action: Some(MachinesAction::Import { config }),
-        } => import_machine(&config),
+            action:
+                Some(MachinesAction::Import {
+                    config,
+                    machine,
+                    record,
+                }),
+        } => import_machine(&config, machine.as_deref(), record.as_deref()),
     };
     match status {
         Ok(code) => ExitCode::from(code),
@@ -279,8 +293,25 @@ fn show_machine(name: &str) -> Result<u8, InputError> {
 /// file on standard output. The INI file's folder is made absolute first,
 /// so that the file's `tool_table` and `subroutine_path` hold wherever the
 /// output is saved. Every file is read with the data-file bounds (1 MiB,
-/// UTF-8).
-fn import_machine(config: &Path) -> Result<u8, InputError> {
+/// UTF-8). A file whose text holds `$TC_CARR` is a SINUMERIK swivel data
+/// file instead ([`import_swivel_data`]).
+fn import_machine(
+    config: &Path,
+    base: Option<&str>,
+    record: Option<&str>,
+) -> Result<u8, InputError> {
+    let name = config.display().to_string();
+    if let Ok((bytes, text)) = read_data_file(&name, config)
+        && text.to_ascii_uppercase().contains("$TC_CARR")
+    {
+        return import_swivel_data(&name, &bytes, &text, base, record);
+    }
+    if base.is_some() || record.is_some() {
+        return Err(InputError(format!(
+            "error: {}: --machine and --record are for SINUMERIK swivel data files ($TC_CARR…)",
+            diagnostic::escape(&name)
+        )));
+    }
     let config = std::path::absolute(config)
         .map_err(|e| InputError::io(&config.display().to_string(), &e))?;
     let mut read = |path: &Path| -> io::Result<String> {
@@ -303,6 +334,37 @@ fn import_machine(config: &Path) -> Result<u8, InputError> {
     };
     let imported = fiveaxis_machine::import_linuxcnc(&config, &mut read)
         .map_err(|e| InputError(format!("error: {}", diagnostic::escape(&e.to_string()))))?;
+    print_out(&imported.to_toml())
+}
+
+/// `machines import FILE` of a SINUMERIK swivel data file: one record
+/// as a machine file, the linear axes from `--machine` (or the built-in
+/// SINUMERIK machine). Errors point at the file's line and column.
+fn import_swivel_data(
+    name: &str,
+    bytes: &[u8],
+    text: &str,
+    base: Option<&str>,
+    record: Option<&str>,
+) -> Result<u8, InputError> {
+    let base = base.map(load_machine).transpose()?;
+    let imported = fiveaxis_machine::import_tc_carr(text, base.as_ref(), record).map_err(|e| {
+        if e.line == 0 {
+            InputError(format!(
+                "error: {}: {}",
+                diagnostic::escape(name),
+                diagnostic::escape(&e.message)
+            ))
+        } else {
+            let error = FileError {
+                line: e.line,
+                column: e.column,
+                key: None,
+                message: e.message,
+            };
+            InputError::file(name, bytes, &error)
+        }
+    })?;
     print_out(&imported.to_toml())
 }
 

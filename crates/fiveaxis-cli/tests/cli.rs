@@ -455,6 +455,47 @@ fn machines_show_takes_names_only_and_says_so() {
     );
 }
 
+#[test]
+fn machines_import_reads_a_sinumerik_swivel_data_record_and_points_at_its_errors() {
+    let record = fiveaxis_machine::SINUMERIK_BUILTIN_TC_CARR;
+    let bad = "$TC_CARR7[1]=1\n$TC_CARR23[1]=\"X\"\n";
+    let dir = scratch(&[("dmu.spf", record), ("bad.spf", bad)]);
+    let imported = fiveaxis_in(dir.path(), &["machines", "import", "dmu.spf"], "");
+    assert_eq!(imported.status.code(), Some(0), "{}", stderr(&imported));
+    let text = stdout(&imported);
+    let machine = fiveaxis_machine::Machine::from_toml(&text).expect("a machine file");
+    assert_eq!(machine.control, fiveaxis_machine::Control::Sinumerik);
+    assert!(text.contains("# kinematic type M"), "{text}");
+    // The linear axes of another machine.
+    let on_base = fiveaxis_in(
+        dir.path(),
+        &[
+            "machines",
+            "import",
+            "dmu.spf",
+            "--machine",
+            "haas-umc750",
+            "--record",
+            "DMU_BC",
+        ],
+        "",
+    );
+    assert_eq!(on_base.status.code(), Some(0), "{}", stderr(&on_base));
+    assert!(
+        stdout(&on_base).contains("min = -762.0"),
+        "{}",
+        stdout(&on_base)
+    );
+    let refused = fiveaxis_in(dir.path(), &["machines", "import", "bad.spf"], "");
+    assert_input_refused(&refused, &["bad.spf:2:15:", "14153"]);
+    let refused = fiveaxis_in(
+        dir.path(),
+        &["machines", "import", "dmu.spf", "--record", "NOPE"],
+        "",
+    );
+    assert_input_refused(&refused, &["dmu.spf", "`NOPE`", "DMU_BC"]);
+}
+
 // ----- alarm diagnostics -------------------------------------------------------
 
 /// Checks that an alarmed run renders `text`, the failing line, under the

@@ -2,6 +2,14 @@
 //! program runs with no machine file. Each is kept as machine-file text and
 //! read with [`Machine::from_toml`], so the library also exercises the
 //! file format.
+//!
+//! The FANUC 30i machines: `trunnion-ac` (the default), `trunnion-bc`,
+//! `head-table-bc`, `head-head-ca`, `mill-3axis`. Haas: `haas-umc750`,
+//! `haas-vf2-tr160`. SINUMERIK: `sinumerik-dmu-bc`, a 45° swivel head B
+//! with a rotary table C, also kept as the swivel data record
+//! (`$TC_CARR`, kinematic type M) that
+//! [`import_tc_carr`](crate::import_tc_carr) turns into the same machine
+//! (`data/sinumerik-dmu-bc.spf`).
 
 use crate::Machine;
 
@@ -372,8 +380,78 @@ input_unit = "inch"
 "#
 );
 
+/// The M functions of a SINUMERIK (840D sl / 828D programming manuals,
+/// "M functions"): M0 stop, M1 optional stop, M2 and M30 program end,
+/// M3 / M4 / M5 spindle, M6 tool change, M8 / M9 coolant. M17 (end of a
+/// subprogram) is a word of the language, not a function of this table.
+macro_rules! sinumerik_m_codes {
+    () => {
+        r#"
+[m_codes]
+0 = "stop"
+1 = "optional_stop"
+2 = "end"
+3 = "spindle_cw"
+4 = "spindle_ccw"
+5 = "spindle_stop"
+6 = "tool_change"
+8 = "coolant_on"
+9 = "coolant_off"
+30 = "end"
+"#
+    };
+}
+
+/// A SINUMERIK machine of a common five-axis kind, after the DMU eVo and
+/// DMU monoBLOCK machines: a swivel head B whose axis lies in the Y-Z
+/// plane at 45° (B 0: spindle vertical; B 180: spindle horizontal, the
+/// tool pointing towards −Y), carrying the spindle, and a rotary table C.
+/// SINUMERIK kinematic type M: axis 1 (B) in the head, axis 2 (C) in the
+/// table. The same machine as a swivel data record is
+/// [`crate::SINUMERIK_BUILTIN_TC_CARR`]. Assumed, not a maker's figures:
+/// the B axis crosses the spindle axis 150 mm above the gauge point, B
+/// travels −5° … 180°, C is endless; linear axes, reference positions and
+/// dynamics as the FANUC built-ins (`linear_axes`).
+const SINUMERIK_DMU_BC: &str = concat!(
+    r#"
+name = "Swivel head B at 45 degrees with rotary table C (SINUMERIK, DMU style)"
+type = "mixed"
+control = "sinumerik"
+"#,
+    linear_axes!(),
+    r#"
+[[rotary]]
+name = "B"
+on = "head"
+axis = [0, 1, 1]
+center = [0, 0, 150]
+min = -5.0
+max = 180.0
+max_velocity = 7200.0
+rapid = 10800.0
+max_acceleration = 3000.0
+max_jerk = 60000.0
+
+[[rotary]]
+name = "C"
+on = "table"
+axis = [0, 0, -1]
+center = [0, 0, 0]
+rollover = true
+max_velocity = 7200.0
+rapid = 10800.0
+max_acceleration = 2000.0
+max_jerk = 40000.0
+
+[parameters]
+reference_1 = { Z = 500.0 }
+reference_2 = { Z = 500.0 }
+"#,
+    sinumerik_m_codes!()
+);
+
 /// The library: name and machine-file text.
-const LIBRARY: [(&str, &str); 7] = [
+const LIBRARY: [(&str, &str); 8] = [
     ("trunnion-ac", TRUNNION_AC),
     ("trunnion-bc", TRUNNION_BC),
     ("head-table-bc", HEAD_TABLE_BC),
@@ -381,6 +459,7 @@ const LIBRARY: [(&str, &str); 7] = [
     ("mill-3axis", MILL_3AXIS),
     ("haas-umc750", HAAS_UMC750),
     ("haas-vf2-tr160", HAAS_VF2_TR160),
+    ("sinumerik-dmu-bc", SINUMERIK_DMU_BC),
 ];
 
 /// Names of the built-in machines.

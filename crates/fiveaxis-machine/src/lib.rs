@@ -7,6 +7,15 @@
 //! rotary axes listed from the bed outwards, tool direction from the tip
 //! towards the spindle. Nothing here does I/O: files are parsed from
 //! strings that the caller has read.
+//!
+//! Machines come from a machine file ([`Machine::from_toml`]), the
+//! built-in library ([`builtin`]), or an importer that turns a control's
+//! own description into a machine file with notes of where each value
+//! came from ([`Imported`]): [`import_linuxcnc`] for a LinuxCNC
+//! configuration, [`import_tc_carr`] for a SINUMERIK swivel data record
+//! (`$TC_CARR1` … `$TC_CARR65`, kinematic types T, P and M; the module
+//! `sinumerik` derives how the record's vector chain maps to the head and
+//! table chains of the model).
 
 mod builtin;
 mod file;
@@ -16,6 +25,7 @@ mod linuxcnc;
 mod m_codes;
 mod offsets;
 mod setup_error;
+mod sinumerik;
 mod tool_table;
 
 pub use builtin::{DEFAULT_MACHINE, builtin, builtin_names, builtin_source};
@@ -30,6 +40,7 @@ pub use offsets::{
     ToolOffset,
 };
 pub use setup_error::SetupError;
+pub use sinumerik::{SINUMERIK_BUILTIN, SINUMERIK_BUILTIN_TC_CARR, TcCarrError, import_tc_carr};
 
 use std::collections::BTreeMap;
 

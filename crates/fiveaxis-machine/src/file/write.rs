@@ -30,7 +30,7 @@ impl Machine {
         w.key(
             "control",
             &quote(control_name(self.control)),
-            "\"fanuc30i\", \"fanuc16\", \"mitsubishi\", \"mazak\", \"haas\" or \"linuxcnc\"",
+            "\"fanuc30i\", \"fanuc16\", \"mitsubishi\", \"mazak\", \"haas\", \"linuxcnc\" or \"sinumerik\"",
         );
         w.key(
             "tool_direction",

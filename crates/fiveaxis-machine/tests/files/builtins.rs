@@ -23,7 +23,8 @@ fn library_lists_every_machine_and_the_default() {
             "head-head-ca",
             "mill-3axis",
             "haas-umc750",
-            "haas-vf2-tr160"
+            "haas-vf2-tr160",
+            "sinumerik-dmu-bc"
         ]
     );
     assert!(names.contains(&DEFAULT_MACHINE));
@@ -31,12 +32,13 @@ fn library_lists_every_machine_and_the_default() {
     assert!(builtin_source("no-such-machine").is_none());
 }
 
-/// The built-ins of the FANUC 30i (the Haas machines are tested below).
+/// The built-ins of the FANUC 30i (the Haas and SINUMERIK machines are
+/// tested below).
 fn fanuc_builtins() -> impl Iterator<Item = &'static str> {
     builtin_names()
         .iter()
         .copied()
-        .filter(|n| !n.starts_with("haas-"))
+        .filter(|n| machine(n).control == fiveaxis_machine::Control::Fanuc30i)
 }
 
 #[test]
@@ -326,4 +328,41 @@ fn haas_builtins_have_the_published_strokes_and_the_control_s_m_codes() {
         // Home is reference position 1 and inside every stroke.
         assert!(m.params.reference_1.iter().all(|v| *v == 0.0));
     }
+}
+
+#[test]
+fn sinumerik_builtin_is_a_45_degree_head_with_a_table_and_the_control_s_m_codes() {
+    use fiveaxis_machine::{Control, MFunction as F};
+    let m = machine("sinumerik-dmu-bc");
+    assert_eq!(m.control, Control::Sinumerik);
+    assert_eq!(m.machine_type(), MachineType::Mixed);
+    let b = &m.rotary[0];
+    assert_eq!(
+        (b.name, b.on, b.limits),
+        ('B', Side::Head, Some((-5.0, 180.0)))
+    );
+    let half = std::f64::consts::FRAC_1_SQRT_2;
+    assert!((b.axis.into_inner() - Vec3::new(0.0, half, half)).norm() < 1e-15);
+    let c = &m.rotary[1];
+    assert_eq!((c.name, c.on, c.rollover), ('C', Side::Table, true));
+    // The linear axes and reference positions of the FANUC built-ins.
+    assert_eq!(m.linear, machine("head-table-bc").linear);
+    assert_eq!(m.params.reference_1[2], 500.0);
+    let t = &m.m_codes;
+    for (n, f) in [
+        (0, F::Stop),
+        (1, F::OptionalStop),
+        (2, F::End),
+        (3, F::SpindleCw),
+        (4, F::SpindleCcw),
+        (5, F::SpindleStop),
+        (6, F::ToolChange),
+        (8, F::CoolantOn),
+        (9, F::CoolantOff),
+        (30, F::End),
+    ] {
+        assert_eq!(t.get(n), Some(f), "M{n}");
+    }
+    // M17 ends a subprogram in the language; no clamps, no M19, no M29.
+    assert_eq!(t.len(), 10);
 }
