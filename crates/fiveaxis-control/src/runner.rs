@@ -9,7 +9,7 @@
 use std::io::{self, BufRead, BufReader, Read, Seek, SeekFrom};
 
 use fiveaxis_gcode::{Block, Syntax, SyntaxError, SyntaxErrorKind, parse_line_as};
-use fiveaxis_machine::{Machine, Offsets};
+use fiveaxis_machine::{Control, Machine, Offsets};
 
 use crate::alarm::{Alarm, Condition, Num};
 use crate::controller::{Controller, Flow};
@@ -19,6 +19,7 @@ use crate::segment::{MAX_STEPS, Segment};
 mod library;
 mod macros;
 mod oword;
+mod sinumerik;
 
 pub use library::ProgramLibrary;
 use library::Sources;
@@ -373,6 +374,9 @@ pub struct Runner<'m, S> {
     /// Lines read past without running them (skips and searches that
     /// read on; the block budget counts them too).
     skipped: u64,
+    /// A SINUMERIK program's interpreter and front end, made at the first
+    /// step (when the program memory is known).
+    sinumerik: Option<Box<sinumerik::SinumerikRun<'m>>>,
     /// Lowest and highest line of the current and of the last full window
     /// of [`LOOP_WINDOW`] lines, for the message of an endless loop.
     window: [(u32, u32); 2],
@@ -384,7 +388,7 @@ const MAX_NOTES: usize = 100;
 /// How many recent lines the runner keeps for messages.
 const RECENT_LINES: usize = 16;
 
-impl<'m, S: Source> Runner<'m, S> {
+impl<'m, S: Source + 'm> Runner<'m, S> {
     /// A run of the program in `source` on `machine` with `offsets`.
     pub fn new(machine: &'m Machine, offsets: Offsets, source: S, options: RunOptions) -> Self {
         let mut controller = Controller::new(machine, offsets);
@@ -431,6 +435,7 @@ impl<'m, S: Source> Runner<'m, S> {
             blocks: 0,
             skipped: 0,
             window: [(u32::MAX, 0); 2],
+            sinumerik: None,
         }
     }
 
@@ -618,6 +623,9 @@ impl<'m, S: Source> Runner<'m, S> {
 
     /// Reads and executes one line, appending its segments to `out`.
     fn step(&mut self, out: &mut Vec<Segment>) -> Result<(), RunError> {
+        if self.controller.control() == Control::Sinumerik {
+            return self.sinumerik_step(out);
+        }
         self.resumable = false;
         if !self.started {
             self.started = true;

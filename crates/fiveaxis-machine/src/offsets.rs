@@ -73,6 +73,8 @@ pub struct Offsets {
     pub widest_work: Option<(String, usize)>,
     /// Setup error data sets by number (0 is FANUC's common set).
     pub setup_error: BTreeMap<u32, SetupErrorSet>,
+    /// Tools by name (upper-cased) with the offset number each holds.
+    pub tool_names: Vec<(String, u32)>,
 }
 
 impl Default for Offsets {
@@ -87,11 +89,21 @@ impl Default for Offsets {
             external_beyond: [0.0; MAX_AXES - 3],
             widest_work: None,
             setup_error: BTreeMap::new(),
+            tool_names: Vec::new(),
         }
     }
 }
 
 impl Offsets {
+    /// The offset number of the tool named `name` (any case), if the
+    /// offsets file names it.
+    pub fn tool_number(&self, name: &str) -> Option<u32> {
+        self.tool_names
+            .iter()
+            .find(|(n, _)| n.eq_ignore_ascii_case(name))
+            .map(|(_, k)| *k)
+    }
+
     /// The tool offset of number `n`, zero when it was never set.
     pub fn tool(&self, n: u32) -> ToolOffset {
         self.tools.get(&n).copied().unwrap_or_default()

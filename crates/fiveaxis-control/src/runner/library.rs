@@ -31,6 +31,27 @@ pub trait ProgramLibrary {
     fn open_named(&mut self, _name: &str) -> io::Result<Option<(Box<dyn Source>, String)>> {
         Ok(None)
     }
+
+    /// The SINUMERIK program `name` (a subprogram or user cycle called
+    /// by name: `NAME.SPF`, `NAME.MPF`, `_N_NAME_SPF`, `_N_NAME_MPF`,
+    /// found case-insensitively), or `None`. Default: none.
+    ///
+    /// # Errors
+    ///
+    /// The file exists but cannot be read.
+    fn open_sinumerik(&mut self, _name: &str) -> io::Result<Option<(Box<dyn Source>, String)>> {
+        Ok(None)
+    }
+
+    /// The SINUMERIK definition files (`*.DEF`: global user data and
+    /// macros), each with its name. Default: none.
+    ///
+    /// # Errors
+    ///
+    /// A file cannot be read.
+    fn sinumerik_definitions(&mut self) -> io::Result<Vec<(Box<dyn Source>, String)>> {
+        Ok(Vec::new())
+    }
 }
 
 /// Bits of a position that hold the file index.
@@ -53,7 +74,11 @@ pub(super) fn file_start(file: usize) -> u64 {
 
 /// The main program and the library programs opened so far.
 pub(super) struct Sources<S> {
-    main: S,
+    /// The main program; `None` once handed over whole
+    /// ([`Sources::take_main`]).
+    main: Option<S>,
+    /// What reads in its place then: nothing.
+    drained: super::SliceSource<'static>,
     library: Option<Box<dyn ProgramLibrary>>,
     open: Vec<(u32, String, Box<dyn Source>)>,
     /// Files opened by name (LinuxCNC subroutines): name, file index.
@@ -73,7 +98,8 @@ impl<S> std::fmt::Debug for Sources<S> {
 impl<S: Source> Sources<S> {
     pub(super) fn new(main: S) -> Self {
         Self {
-            main,
+            main: Some(main),
+            drained: super::SliceSource::new(b""),
             library: None,
             open: Vec::new(),
             named: Vec::new(),
@@ -83,6 +109,18 @@ impl<S: Source> Sources<S> {
 
     pub(super) fn set_library(&mut self, library: Box<dyn ProgramLibrary>) {
         self.library = Some(library);
+    }
+
+    /// The program memory, handed over whole (a SINUMERIK run reads it
+    /// through its own interpreter).
+    pub(super) fn take_library(&mut self) -> Option<Box<dyn ProgramLibrary>> {
+        self.library.take()
+    }
+
+    /// The main program, handed over whole (a SINUMERIK run reads it
+    /// through its own interpreter); `None` once taken.
+    pub(super) fn take_main(&mut self) -> Option<S> {
+        self.main.take()
     }
 
     /// The start of program `number` in the library, opening it; `None`
@@ -148,7 +186,10 @@ impl<S: Source> Sources<S> {
             .and_then(|k| self.open.get_mut(k))
         {
             Some((_, _, source)) => source.as_mut(),
-            None => &mut self.main,
+            None => match self.main.as_mut() {
+                Some(main) => main,
+                None => &mut self.drained,
+            },
         }
     }
 }
@@ -161,7 +202,10 @@ impl<S: Source> Source for Sources<S> {
     fn position(&self) -> u64 {
         let inner = match self.current.checked_sub(1).and_then(|k| self.open.get(k)) {
             Some((_, _, source)) => source.position(),
-            None => self.main.position(),
+            None => self
+                .main
+                .as_ref()
+                .map_or(0, |main| main.position()),
         };
         file_start(self.current) | (inner & OFFSET_MASK)
     }

@@ -21,7 +21,7 @@ mod swivel;
 pub(crate) mod system;
 
 use fiveaxis_gcode::Span;
-use fiveaxis_machine::{MAX_AXES, Machine, Vec3};
+use fiveaxis_machine::{MAX_AXES, Machine, Offsets, Vec3};
 use fiveaxis_sinumerik::{Action, Executed, PositionMode, Value};
 use nalgebra::Rotation3;
 
@@ -106,6 +106,12 @@ const PATH_NEUTRAL_NAMES: &[&str] = &[
     "SPIF2",
 ];
 
+/// The pattern cycles, which call the modal drilling cycle at each of
+/// their positions.
+fn is_pattern(name: &str) -> bool {
+    matches!(name, "HOLES1" | "HOLES2" | "CYCLE801")
+}
+
 /// What the front end keeps between blocks.
 #[derive(Debug)]
 pub(crate) struct Front {
@@ -137,6 +143,15 @@ pub(crate) struct Front {
     holes: Vec<[f64; 2]>,
     /// Messages (MSG) and notes for the run's notes.
     pub(crate) notes: Vec<String>,
+}
+
+/// A word of an executed block.
+#[derive(Clone, Copy)]
+struct Word<'a> {
+    address: &'a str,
+    value: &'a Value,
+    mode: Option<PositionMode>,
+    span: Span,
 }
 
 /// A frame instruction of the block and its words.
@@ -189,6 +204,16 @@ impl Front {
         }
     }
 
+    /// The selected tool.
+    pub(crate) fn tool(&self) -> u32 {
+        self.tool
+    }
+
+    /// The cutting edge in force.
+    pub(crate) fn edge(&self) -> u32 {
+        self.edge
+    }
+
     fn length(&self, x: f64) -> f64 {
         if self.inch { x * MM_PER_INCH } else { x }
     }
@@ -216,6 +241,7 @@ impl Front {
         self.block.clear(line);
         self.block.number = ex.number;
         let mut parts = Parts::default();
+        let offsets = ctrl.offsets();
         for action in &ex.actions {
             match action {
                 Action::Word {
@@ -223,7 +249,15 @@ impl Front {
                     value,
                     mode,
                     span,
-                } => self.word(machine, line, address, value, *mode, *span, &mut parts)?,
+                } => {
+                    let word = Word {
+                        address,
+                        value,
+                        mode: *mode,
+                        span: *span,
+                    };
+                    self.word(machine, offsets, line, &word, &mut parts)?;
+                }
                 Action::Instruction { name, args, span } => {
                     self.instruction(line, name, args.as_deref(), *span, &mut parts)?;
                 }
@@ -285,17 +319,20 @@ impl Front {
         Ok(flow)
     }
 
-    #[allow(clippy::too_many_arguments)]
     fn word(
         &mut self,
         machine: &Machine,
+        offsets: &Offsets,
         line: u32,
-        address: &str,
-        value: &Value,
-        mode: Option<PositionMode>,
-        span: Span,
+        word: &Word<'_>,
         parts: &mut Parts,
     ) -> Result<(), Alarm> {
+        let Word {
+            address,
+            value,
+            mode,
+            span,
+        } = *word;
         let number = |what: &str| {
             value.as_f64().ok_or_else(|| {
                 Self::alarm(
@@ -345,7 +382,7 @@ impl Front {
             }
             "T" => {
                 let tool = match value {
-                    Value::Str(name) => self.named_tool(name),
+                    Value::Str(name) => self.named_tool(offsets, line, name, span)?,
                     _ => {
                         let t = number("T")?;
                         if t < 0.0 || t.fract() != 0.0 || t > f64::from(u32::MAX) {
@@ -632,15 +669,33 @@ impl Front {
         Ok(())
     }
 
-    /// The tool number a named tool stands for: its place among the
-    /// names met in this run, from 1 on.
-    fn named_tool(&mut self, name: &str) -> u32 {
+    /// The tool number a named tool stands for: the offsets file's tool
+    /// of that name; with no tools in the offsets file (a run without
+    /// tool data), its place among the names met in this run, from 1 on.
+    fn named_tool(
+        &mut self,
+        offsets: &Offsets,
+        line: u32,
+        name: &str,
+        span: Span,
+    ) -> Result<u32, Alarm> {
+        if let Some(n) = offsets.tool_number(name) {
+            return Ok(n);
+        }
+        if !offsets.tools.is_empty() {
+            return Err(Self::alarm(
+                line,
+                17190,
+                Some(span),
+                format!("tool \"{name}\" is not in the offsets file's [tools]"),
+            ));
+        }
         if let Some((_, n)) = self.tool_names.iter().find(|(t, _)| t == name) {
-            return *n;
+            return Ok(*n);
         }
         let n = self.tool_names.len() as u32 + 1;
         self.tool_names.push((name.to_owned(), n));
-        n
+        Ok(n)
     }
 
     /// TRANS, ATRANS, ROT, AROT with the block's words (ONE p309, p316).
@@ -939,7 +994,7 @@ impl Front {
         };
         let mut steps = std::mem::take(&mut self.steps);
         steps.clear();
-        if cycles::is_pattern(name) {
+        if is_pattern(name) {
             let mut holes = std::mem::take(&mut self.holes);
             holes.clear();
             cycles::pattern(name, &numbers, &ctx, &mut holes).map_err(error)?;
@@ -1024,18 +1079,18 @@ impl Front {
                         .push(Command::Interpolation(MotionMode::Rapid));
                     block.commands.push(Command::Move(target(to)));
                 }
-                cycles::CycleStep::Feed { to, feed } => {
+                cycles::CycleStep::Feed { to, feed: step_feed } => {
+                    // A step's own feed holds for that step only.
                     block
                         .commands
                         .push(Command::Interpolation(MotionMode::Linear));
-                    if let Some(value) = feed {
-                        block.commands.push(Command::Feed {
-                            value,
-                            span: Span::default(),
-                        });
-                    }
+                    block.commands.push(Command::Feed {
+                        value: step_feed.unwrap_or(feed),
+                        span: Span::default(),
+                    });
                     block.commands.push(Command::Move(target(to)));
                 }
+                cycles::CycleStep::Speed(s) => block.commands.push(Command::SpindleSpeed(s)),
                 cycles::CycleStep::Dwell(seconds) => block.commands.push(Command::Dwell {
                     seconds,
                     span: Span::default(),

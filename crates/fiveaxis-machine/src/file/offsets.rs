@@ -58,8 +58,10 @@ enum WorkSlot {
 
 impl Offsets {
     /// Reads an offsets file (`machine-model.md` §5): `[tools]` by offset
-    /// number (`length`, `radius`, and the wear values `length_wear`,
-    /// `radius_wear`, each 0 when left out), `[work]` (`G54` … `G59`,
+    /// number or by name (a key that does not start with a digit: a
+    /// SINUMERIK tool called by name, given the offset numbers after the
+    /// numbered ones) (`length`, `radius`, and the wear values
+    /// `length_wear`, `radius_wear`, each 0 when left out), `[work]` (`G54` … `G59`,
     /// `"G54.1 P1"` … `"G54.1 P48"`, Haas's `"G154 P1"` … `"G154 P99"` and
     /// `G110` … `G129`, `EXT`) and `[setup_error.N]` data sets
     /// (N = 0 … 7). Anything not given is 0.
@@ -73,7 +75,16 @@ impl Offsets {
         let src = Source::new(text);
         let raw: RawOffsets = src.deserialize()?;
         let mut offsets = Offsets::default();
+        let is_name = |key: &Spanned<String>| {
+            key.get_ref()
+                .bytes()
+                .next()
+                .is_some_and(|b| !b.is_ascii_digit())
+        };
         for (key, tool) in in_file_order(&raw.tools) {
+            if is_name(key) {
+                continue;
+            }
             let n = number(&src, key, 1, MAX_TOOL_OFFSET, "a tool offset number")?;
             if offsets.tools.insert(n, tool_offset(&src, tool)?).is_some() {
                 return Err(src.at(
@@ -82,6 +93,24 @@ impl Offsets {
                     format!("tool offset {n} is given twice"),
                 ));
             }
+        }
+        // Named tools (`"FRA-D12" = {…}`, SINUMERIK `T="FRA-D12"`) take
+        // the offset numbers after the highest numbered one, in file
+        // order.
+        for (key, tool) in in_file_order(&raw.tools) {
+            if !is_name(key) {
+                continue;
+            }
+            let n = offsets.tools.keys().next_back().map_or(1, |n| n + 1);
+            if n > MAX_TOOL_OFFSET {
+                return Err(src.at(
+                    key,
+                    key.get_ref(),
+                    format!("no offset number is left for tool {:?}", key.get_ref()),
+                ));
+            }
+            offsets.tools.insert(n, tool_offset(&src, tool)?);
+            offsets.tool_names.push((key.get_ref().to_ascii_uppercase(), n));
         }
         let mut extended_given = [false; MAX_HAAS_WORK as usize];
         for (key, value) in in_file_order(&raw.work) {
