@@ -95,6 +95,7 @@
 
 mod error;
 mod exec;
+mod interp;
 mod lex;
 mod names;
 mod parse;
@@ -106,6 +107,9 @@ pub use exec::{
     Value,
 };
 pub use fiveaxis_gcode::Span;
+pub use interp::{
+    Interpreter, MAX_LEVELS, MAX_NOTES, Options, REAL_TOLERANCE, TextProgram, format_real,
+};
 pub use parse::{MAX_DEPTH, MAX_OPERATIONS, parse_line};
 pub use tree::{
     Assign, BinOp, BlockNumber, Call, CallKind, Comment, Declarator, Def, Expr, ExprKind,
