@@ -101,6 +101,9 @@
 //!   parameters is alarm 12080.
 //! * Synchronized actions are not simulated: they add a note (at most
 //!   [`MAX_NOTES`] are kept) and yield nothing.
+//! * A word whose address is the name of a user variable (`DEF INT I`
+//!   then `I=5`; the reader takes `I=` for an address) assigns the
+//!   variable.
 //! * `POS[X]=…`, `FA[X]=…` and the like (an address with an axis index,
 //!   written as an assignment) are yielded as words with the address
 //!   `POS[X]`.
@@ -829,11 +832,13 @@ impl Interpreter {
             }
             Statement::Block(items) => self.block(&meta, items, sys, out),
             Statement::SyncAction(_) => {
-                self.note(format!(
-                    "line {} of {}: synchronized action read, not simulated",
-                    at.line,
-                    self.program_name(self.top().program)
-                ));
+                let program = self.top().program;
+                let place = if program == 0 {
+                    format!("line {}", at.line)
+                } else {
+                    format!("line {} of {}", at.line, self.program_name(program))
+                };
+                self.note(format!("{place}: synchronized action read, not simulated"));
                 Ok(false)
             }
             other => {
@@ -1070,10 +1075,22 @@ impl Interpreter {
         let mut ret = false;
         let mut end = false;
         let mut actions = Vec::new();
-        for item in items {
+        let mut items = items.into_iter().peekable();
+        while let Some(item) = items.next() {
             match item {
                 Item::Word(w) => {
                     let value = self.ctx(sys).eval(&w.value).map_err(|f| self.fault(f))?;
+                    if w.equals
+                        && w.mode.is_none()
+                        && let Some(place) = self.vars.resolve_user(self.level(), &w.address)
+                    {
+                        // A user variable named like an address (`DEF INT I`,
+                        // `DEF FRAME F`): `I=5` assigns it.
+                        self.ctx(sys)
+                            .write_place(&place, value, w.span)
+                            .map_err(|f| self.fault(f))?;
+                        continue;
+                    }
                     if w.address == "M" {
                         match value.as_f64() {
                             Some(x) if x == 17.0 => {
@@ -1127,6 +1144,16 @@ impl Interpreter {
                     CallKind::Cycle | CallKind::User => {
                         if let Some(text) = self.open(&c.name, c.span)? {
                             let args = self.call_args(c.args.as_ref(), sys)?;
+                            let mut c = c;
+                            // `L100 P=R2`: a P word right after the call
+                            // is its number of passes too.
+                            if c.passes.is_none()
+                                && let Some(Item::Word(w)) = items.peek()
+                                && w.address == "P"
+                            {
+                                c.passes = Some(w.value.clone());
+                                items.next();
+                            }
                             let passes = self.passes(&c, sys)?;
                             calls.push(Pending::Call(CallSpec {
                                 name: c.name,
