@@ -127,8 +127,7 @@ use vars::{ALARM_CONVERSION, ALARM_INDEX_1, MAX_ELEMENTS, Place, Slot, Variable,
 
 use crate::{
     Action, Call, CallKind, Def, Executed, ExprKind, Init, Item, Jump, JumpTarget, LangError, Line,
-    ParseError, Proc, ProgramStore, ProgramText, Statement, Step, System, Value, Var,
-    parse_line,
+    ParseError, Proc, ProgramStore, ProgramText, Statement, Step, System, Value, Var, parse_line,
 };
 
 /// Program levels: the main program and up to 15 subprogram levels
@@ -420,7 +419,11 @@ impl Interpreter {
         Ok(me)
     }
 
-    fn read_definitions(&mut self, name: &str, text: &mut dyn ProgramText) -> Result<(), LangError> {
+    fn read_definitions(
+        &mut self,
+        name: &str,
+        text: &mut dyn ProgramText,
+    ) -> Result<(), LangError> {
         let mut buf = Vec::new();
         let mut line = 0u32;
         let fail = |e: LangError| LangError {
@@ -483,7 +486,11 @@ impl Interpreter {
     /// An alarm of the language, a program that cannot be read, or the
     /// block budget exhausted. After an error every later call gives it
     /// again.
-    pub fn next_block(&mut self, sys: &mut dyn System, out: &mut Executed) -> Result<Step, LangError> {
+    pub fn next_block(
+        &mut self,
+        sys: &mut dyn System,
+        out: &mut Executed,
+    ) -> Result<Step, LangError> {
         *out = Executed::default();
         if let Some(e) = &self.failed {
             return Err(e.clone());
@@ -645,7 +652,10 @@ impl Interpreter {
                 continue;
             };
             let (label, number) = match &read.parsed {
-                Ok(line) => (line.label.as_ref().map(|l| l.text.clone()), line.number.map(|n| n.value)),
+                Ok(line) => (
+                    line.label.as_ref().map(|l| l.text.clone()),
+                    line.number.map(|n| n.value),
+                ),
                 Err(_) => (None, None),
             };
             let yielded = if read.skipped {
@@ -774,9 +784,9 @@ impl Interpreter {
 
     /// Opens program `name` of the store: `None` when the store has none.
     fn open(&mut self, name: &str, span: Span) -> Result<Option<Box<dyn ProgramText>>, LangError> {
-        self.store.open(name).map_err(|e| {
-            self.error(None, span, format!("program {name} cannot be read: {e}"))
-        })
+        self.store
+            .open(name)
+            .map_err(|e| self.error(None, span, format!("program {name} cannot be read: {e}")))
     }
 
     /// Runs one line; `true` when it wrote a block to `out`.
@@ -899,7 +909,10 @@ impl Interpreter {
                 }
                 let mut var = Variable::new(param.ty, Vec::new());
                 if let Some(arg) = arg {
-                    let caller = (self.frames[level - 1].program, self.frames[level - 1].cur.line);
+                    let caller = (
+                        self.frames[level - 1].program,
+                        self.frames[level - 1].cur.line,
+                    );
                     let value = arg
                         .value
                         .map_err(|f| self.fault_at(f, caller.0, caller.1))?;
@@ -1092,13 +1105,13 @@ impl Interpreter {
                         continue;
                     }
                     if w.address == "M" {
-                        match value.as_f64() {
-                            Some(x) if x == 17.0 => {
-                                ret = true;
-                                continue;
-                            }
-                            Some(x) if x == 2.0 || x == 30.0 => end = true,
-                            _ => {}
+                        let code = value.as_f64().unwrap_or(-1.0);
+                        if code == 17.0 {
+                            ret = true;
+                            continue;
+                        }
+                        if code == 2.0 || code == 30.0 {
+                            end = true;
                         }
                     }
                     if sys.is_axis(&w.address) {
@@ -1189,7 +1202,10 @@ impl Interpreter {
                                 return Err(self.error(
                                     Some(ALARM_CONVERSION),
                                     e.span,
-                                    format!("CALL takes a program name, not {}", eval::type_name(&other)),
+                                    format!(
+                                        "CALL takes a program name, not {}",
+                                        eval::type_name(&other)
+                                    ),
                                 ));
                             }
                         };
@@ -1216,7 +1232,10 @@ impl Interpreter {
         }
         let modal = self.top().modal.clone();
         let top = self.frames.len() - 1;
-        if modal_before && moved_axis && let Some(m) = modal {
+        if modal_before
+            && moved_axis
+            && let Some(m) = modal
+        {
             let span = Span::new(1, 1);
             match self.open(&m.name, span)? {
                 Some(text) => self.frames[top].pending.push_back(Pending::Call(CallSpec {
@@ -1318,7 +1337,11 @@ impl Interpreter {
 
     /// An assignment; a word when the target is an address with an axis
     /// index (`POS[X]=10`).
-    fn assign(&mut self, a: &crate::Assign, sys: &mut dyn System) -> Result<Option<Action>, LangError> {
+    fn assign(
+        &mut self,
+        a: &crate::Assign,
+        sys: &mut dyn System,
+    ) -> Result<Option<Action>, LangError> {
         let value = self.ctx(sys).eval(&a.value).map_err(|f| self.fault(f))?;
         let target = &a.target;
         let mut ctx = self.ctx(sys);

@@ -24,8 +24,14 @@ fn proc_with_value_and_var_parameters() {
     assert_eq!(r.ok()[0].program, 1);
     assert_eq!(r.ok()[0].line, 3);
     // An omitted argument gets the type's default.
-    assert_eq!(words_of("DEF REAL Q\nSUB1(1.5, Q)\nY=Q\nM30\n", store.clone()), ["X=1.5", "Y=3"]);
-    assert_eq!(words_of("DEF REAL Q\nSUB1(, Q, 1)\nY=Q\nM30\n", store.clone()), ["X=0", "Y=1"]);
+    assert_eq!(
+        words_of("DEF REAL Q\nSUB1(1.5, Q)\nY=Q\nM30\n", store.clone()),
+        ["X=1.5", "Y=3"]
+    );
+    assert_eq!(
+        words_of("DEF REAL Q\nSUB1(, Q, 1)\nY=Q\nM30\n", store.clone()),
+        ["X=0", "Y=1"]
+    );
     // VAR by reference to an R parameter and to an array element.
     let store2 = FakeStore::with(&[("INC", "PROC INC(VAR REAL B)\nB=B+1\nM17\n")]);
     assert_eq!(
@@ -33,7 +39,10 @@ fn proc_with_value_and_var_parameters() {
         ["X=4"]
     );
     assert_eq!(
-        words_of("DEF REAL A[3]\nINC(A[1])\nX=A[1] Y=A[0]\nM30\n", store2.clone()),
+        words_of(
+            "DEF REAL A[3]\nINC(A[1])\nX=A[1] Y=A[0]\nM30\n",
+            store2.clone()
+        ),
         ["X=1", "Y=0"]
     );
     // A VAR parameter passed on by reference again.
@@ -66,8 +75,14 @@ fn passes_returns_and_ends() {
         ("STOPS", "X8 M30\nX9\n"),
         ("RETWORD", "Y1\nRET\nY2\n"),
     ]);
-    assert_eq!(words_of("L100 P3\nM30\n", store.clone()), ["X=0", "X=1", "X=2"]);
-    assert_eq!(words_of("R2=2\nL100 P=R2\nM30\n", store.clone()), ["X=0", "X=1"]);
+    assert_eq!(
+        words_of("L100 P3\nM30\n", store.clone()),
+        ["X=0", "X=1", "X=2"]
+    );
+    assert_eq!(
+        words_of("R2=2\nL100 P=R2\nM30\n", store.clone()),
+        ["X=0", "X=1"]
+    );
     // M17 in a block with words: the block without M17, then back.
     let r = run_store("RETS\nY1\nM30\n", store.clone());
     assert_eq!(r.words(), ["G=1", "X=5", "Y=1", "M=30"]);
@@ -146,7 +161,10 @@ fn builtins_and_instructions_reach_the_control() {
     );
     // A store program wins over a builtin of the same name.
     assert_eq!(
-        words_of("CYCLE81(1)\nM30\n", FakeStore::with(&[("CYCLE81", "PROC CYCLE81(REAL D)\nZ=D\n")])),
+        words_of(
+            "CYCLE81(1)\nM30\n",
+            FakeStore::with(&[("CYCLE81", "PROC CYCLE81(REAL D)\nZ=D\n")])
+        ),
         ["Z=1"]
     );
 }
@@ -161,7 +179,10 @@ fn modal_calls() {
     );
     // A cycle the control carries out: a modal call action.
     assert_eq!(
-        words_of("MCALL CYCLE81(10,0,2,-5)\nX1\nMCALL\nM30\n", FakeStore::default()),
+        words_of(
+            "MCALL CYCLE81(10,0,2,-5)\nX1\nMCALL\nM30\n",
+            FakeStore::default()
+        ),
         ["MCALL CYCLE81(10,0,2,-5)", "X=1", "MCALL"]
     );
 }
@@ -169,11 +190,17 @@ fn modal_calls() {
 #[test]
 fn macros_and_global_data() {
     assert_eq!(
-        words_of("DEFINE LIFT AS G0 Z100\nLIFT\nX1 ; LIFT\nMSG(\"LIFT\")\nM30\n", FakeStore::default()),
+        words_of(
+            "DEFINE LIFT AS G0 Z100\nLIFT\nX1 ; LIFT\nMSG(\"LIFT\")\nM30\n",
+            FakeStore::default()
+        ),
         ["G=0", "Z=100", "X=1", "MSG(\"LIFT\")"]
     );
     let store = FakeStore::with(&[("SUB4", "Y=E_ZDARZ\nZ=GTOL\nGTOL=1\n")])
-        .define("GUD", "%_N_GUD_DEF\nDEF NCK INT E_ZDARZ\nDEF CHAN REAL GTOL=0.5\nM30\n")
+        .define(
+            "GUD",
+            "%_N_GUD_DEF\nDEF NCK INT E_ZDARZ\nDEF CHAN REAL GTOL=0.5\nM30\n",
+        )
         .define("MMAC", "DEFINE HOME AS G53 Z0\n");
     let r = run_store("E_ZDARZ=1.6\nX=GTOL\nSUB4\nHOME\nX=GTOL\nM30\n", store);
     assert_eq!(
@@ -187,14 +214,22 @@ fn macros_and_global_data() {
     // A GUD is written through a VAR parameter too.
     let store = FakeStore::with(&[("INC", "PROC INC(VAR INT B)\nB=B+1\n")])
         .define("GUD", "DEF NCK INT COUNT\n");
-    assert_eq!(words_of("INC(COUNT)\nINC(COUNT)\nX=COUNT\nM30\n", store), ["X=2"]);
+    assert_eq!(
+        words_of("INC(COUNT)\nINC(COUNT)\nX=COUNT\nM30\n", store),
+        ["X=2"]
+    );
 }
 
 #[test]
 fn system_variables_by_reference() {
     let store = FakeStore::with(&[("SETV", "PROC SETV(VAR REAL B)\nB=42\n")]);
     let mut sys = FakeSystem::default();
-    let r = run_with("SETV($AC_MARKER[3])\nM30\n", store, &mut sys, Options::default());
+    let r = run_with(
+        "SETV($AC_MARKER[3])\nM30\n",
+        store,
+        &mut sys,
+        Options::default(),
+    );
     r.ok();
     assert_eq!(sys.vars.get("$AC_MARKER[3]"), Some(&Value::Int(42)));
 }

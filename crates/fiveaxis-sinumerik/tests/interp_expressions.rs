@@ -142,7 +142,10 @@ fn alarms_of_expressions() {
         let r = run(&format!("{text}\nM30\n"));
         match &r.error {
             Some(e) => {
-                if e.alarm != Some(*alarm) || (e.span.start, e.span.end) != (*start, *end) || e.line != 1 {
+                if e.alarm != Some(*alarm)
+                    || (e.span.start, e.span.end) != (*start, *end)
+                    || e.line != 1
+                {
                     failures.push(format!(
                         "{text}: alarm {:?} at {}..{} line {}, want {alarm} at {start}..{end}: {}",
                         e.alarm, e.span.start, e.span.end, e.line, e.message
@@ -175,8 +178,14 @@ const PROGRAMS: &[(&str, &[&str])] = &[
     ("R1=7\nDEF INT I=R1/2\nX=I", &["X=4"]),
     // Arrays with SET and REP (840Di p62–63).
     ("DEF REAL A[3]=SET(1,2,3)\nX=A[0]+A[1]*A[2]", &["X=7"]),
-    ("DEF INT M[2,3]=REP(4)\nM[1,2]=9\nX=M[1,2]+M[0,0]", &["X=13"]),
-    ("DEF INT N[2,2]=SET(1,2,3)\nX=N[1,0] Y=N[1,1]", &["X=3", "Y=0"]),
+    (
+        "DEF INT M[2,3]=REP(4)\nM[1,2]=9\nX=M[1,2]+M[0,0]",
+        &["X=13"],
+    ),
+    (
+        "DEF INT N[2,2]=SET(1,2,3)\nX=N[1,0] Y=N[1,1]",
+        &["X=3", "Y=0"],
+    ),
     ("DEF REAL A[4]\nR1=2\nA[R1+1]=1.5\nX=A[3]", &["X=1.5"]),
     // R parameters: R01 is R1, indexed R[…].
     ("R01=5\nX=R1", &["X=5"]),

@@ -43,7 +43,11 @@ const PROGRAMS: &[(&str, &str, &[&str])] = &[
         "FOR R1=0.5 TO 2.5\nX=R1\nENDFOR",
         &["X=0.5", "X=1.5", "X=2.5"],
     ),
-    ("FOR that does not run", "FOR R1=5 TO 1\nX1\nENDFOR\nX2", &["X=2"]),
+    (
+        "FOR that does not run",
+        "FOR R1=5 TO 1\nX1\nENDFOR\nX2",
+        &["X=2"],
+    ),
     (
         "nested FOR",
         "DEF INT I, J\nFOR I=1 TO 2\nFOR J=1 TO 2\nX=I*10+J\nENDFOR\nENDFOR",
@@ -109,7 +113,11 @@ const PROGRAMS: &[(&str, &str, &[&str])] = &[
         "IF R1==1 GOTOF NOWHERE\nX1",
         &["X=1"],
     ),
-    ("GOTOC to a missing target goes on", "GOTOC NOWHERE\nX1", &["X=1"]),
+    (
+        "GOTOC to a missing target goes on",
+        "GOTOC NOWHERE\nX1",
+        &["X=1"],
+    ),
     (
         "GOTOS back to the start",
         "R1=R1+1\nX=R1\nIF R1<2 GOTOS",
@@ -154,7 +162,12 @@ fn structures_and_jumps() {
 /// Programs that stop with an alarm on a line.
 const ALARMS: &[(&str, &str, u32, u32)] = &[
     ("a missing jump target", "X1\nGOTOF NOWHERE\nX2", 14080, 2),
-    ("GOTOB finds no label after", "GOTOB LATER\nLATER: X1", 14080, 1),
+    (
+        "GOTOB finds no label after",
+        "GOTOB LATER\nLATER: X1",
+        14080,
+        1,
+    ),
     ("a missing block number", "GOTO N99\nN10 X1", 14080, 1),
     ("ENDIF without IF", "X1\nENDIF", 12080, 2),
     ("ELSE without IF", "ELSE", 12080, 1),
@@ -183,7 +196,10 @@ fn alarms_of_flow() {
 fn missing_target_is_reported_at_the_target() {
     let r = run("X1\nGOTOF NOWHERE\n");
     let e = r.err();
-    assert_eq!((e.alarm, e.line, e.span.start, e.span.end), (Some(14080), 2, 7, 14));
+    assert_eq!(
+        (e.alarm, e.line, e.span.start, e.span.end),
+        (Some(14080), 2, 7, 14)
+    );
     assert!(e.message.contains("NOWHERE"), "{}", e.message);
     assert_eq!(r.blocks.len(), 1);
 }
@@ -196,7 +212,12 @@ fn skip_levels() {
             skip_levels: levels,
             ..Options::default()
         };
-        let r = run_with(text, FakeStore::default(), &mut FakeSystem::default(), options);
+        let r = run_with(
+            text,
+            FakeStore::default(),
+            &mut FakeSystem::default(),
+            options,
+        );
         let mut w = r.words();
         w.retain(|w| w != "M=30");
         w
@@ -254,7 +275,9 @@ fn runaway_loops_stop_at_the_budget() {
 
 #[test]
 fn lines_headers_comments_numbers() {
-    let r = run("%_N_TEST_MPF\n;$PATH=/_N_MPF_DIR\n; a comment alone\n\nN10 G1 X1 ; cut\nLBL:\nR1=1\nSTOPRE\nN20 M30\n");
+    let r = run(
+        "%_N_TEST_MPF\n;$PATH=/_N_MPF_DIR\n; a comment alone\n\nN10 G1 X1 ; cut\nLBL:\nR1=1\nSTOPRE\nN20 M30\n",
+    );
     let blocks = r.ok();
     assert_eq!(blocks.len(), 2);
     assert_eq!(blocks[0].line, 5);

@@ -350,7 +350,9 @@ pub(crate) fn binary(op: BinOp, a: Value, b: Value, span: Span) -> Result<Value,
             }
             Ok(Value::Str(text_of(&a) + &text_of(&b)))
         }
-        B::Eq | B::Ne | B::Gt | B::Lt | B::Ge | B::Le => Ok(Value::Bool(compare(&a, &b, op, span)?)),
+        B::Eq | B::Ne | B::Gt | B::Lt | B::Ge | B::Le => {
+            Ok(Value::Bool(compare(&a, &b, op, span)?))
+        }
         B::Chain => match (a, b) {
             (Value::Frame(x), Value::Frame(y)) => Ok(Value::Frame(Box::new(frames::chain(&x, &y)))),
             _ => Err(conversion(span, "the chain operator : joins two frames")),
@@ -596,17 +598,17 @@ impl Ctx<'_> {
                 format!("function {name} not defined"),
             ));
         }
-        if name == "AXSTRING" {
-            if let [Some(e)] = args {
-                let v = self.loose(e)?;
-                return match v {
-                    Value::Axis(a) => Ok(Value::Str(a)),
-                    other => Err(conversion(
-                        span,
-                        &format!("AXSTRING takes an AXIS, not {}", type_name(&other)),
-                    )),
-                };
-            }
+        if name == "AXSTRING"
+            && let [Some(e)] = args
+        {
+            let v = self.loose(e)?;
+            return match v {
+                Value::Axis(a) => Ok(Value::Str(a)),
+                other => Err(conversion(
+                    span,
+                    &format!("AXSTRING takes an AXIS, not {}", type_name(&other)),
+                )),
+            };
         }
         let (min, max) = match name {
             "ATAN2" | "MINVAL" | "MAXVAL" | "INDEX" | "RINDEX" => (2, 2),
@@ -683,7 +685,10 @@ impl Ctx<'_> {
             "LN" => {
                 let x = num(0)?;
                 if x <= 0.0 {
-                    return domain(&format!("the logarithm of {} is not defined", format_real(x)));
+                    return domain(&format!(
+                        "the logarithm of {} is not defined",
+                        format_real(x)
+                    ));
                 }
                 real(x.ln(), span)
             }
@@ -727,8 +732,12 @@ impl Ctx<'_> {
                 }
                 let bytes = s.as_bytes();
                 let from = (start as usize).min(bytes.len());
-                let to = from.saturating_add(len.min(bytes.len() as i64) as usize).min(bytes.len());
-                Ok(Value::Str(String::from_utf8_lossy(&bytes[from..to]).into_owned()))
+                let to = from
+                    .saturating_add(len.min(bytes.len() as i64) as usize)
+                    .min(bytes.len());
+                Ok(Value::Str(
+                    String::from_utf8_lossy(&bytes[from..to]).into_owned(),
+                ))
             }
             "TOUPPER" => Ok(Value::Str(text(0)?.to_ascii_uppercase())),
             "TOLOWER" => Ok(Value::Str(text(0)?.to_ascii_lowercase())),
@@ -736,7 +745,10 @@ impl Ctx<'_> {
                 let s = text(0)?;
                 match parse_number(&s) {
                     Some(x) => real(x, span),
-                    None => Err(conversion(span, &format!("NUMBER: \"{s}\" is not a number"))),
+                    None => Err(conversion(
+                        span,
+                        &format!("NUMBER: \"{s}\" is not a number"),
+                    )),
                 }
             }
             "ISNUMBER" => Ok(Value::Bool(parse_number(&text(0)?).is_some())),

@@ -112,10 +112,14 @@ impl Interpreter {
     ) -> Result<(), LangError> {
         match statement {
             Statement::If(cond) => {
-                if self.condition(&cond, sys)? {
-                    self.top_mut().structures.push(Structure::If { open: at.pos });
-                } else if self.skip_to_end(Kind::If, at, true)? == Stop::Else {
-                    self.top_mut().structures.push(Structure::If { open: at.pos });
+                // True: run the branch; false: on after the ELSE (the
+                // structure stays open to its ENDIF) or the ENDIF.
+                let open = self.condition(&cond, sys)?
+                    || self.skip_to_end(Kind::If, at, true)? == Stop::Else;
+                if open {
+                    self.top_mut()
+                        .structures
+                        .push(Structure::If { open: at.pos });
                 }
             }
             Statement::Else => {
@@ -127,7 +131,9 @@ impl Interpreter {
             }
             Statement::While(cond) => {
                 if self.condition(&cond, sys)? {
-                    self.top_mut().structures.push(Structure::While { open: at });
+                    self.top_mut()
+                        .structures
+                        .push(Structure::While { open: at });
                 } else {
                     self.skip_to_end(Kind::While, at, false)?;
                 }
@@ -164,15 +170,14 @@ impl Interpreter {
                 let n = self.find(Kind::For, "ENDFOR")?;
                 let top = self.frames.len() - 1;
                 self.frames[top].structures.truncate(n + 1);
-                let Some(Structure::For { var, to, body, .. }) =
-                    self.frames[top].structures.last()
+                let Some(Structure::For { var, to, body, .. }) = self.frames[top].structures.last()
                 else {
                     return Ok(());
                 };
                 let (var, to, body) = (var.clone(), *to, *body);
                 let value = self.read_var(&var, sys)?;
-                let next = binary(BinOp::Add, value, literal(1.0), var.span)
-                    .map_err(|f| self.fault(f))?;
+                let next =
+                    binary(BinOp::Add, value, literal(1.0), var.span).map_err(|f| self.fault(f))?;
                 self.write_var(&var, next, sys)?;
                 if self.counter_within(&var, to, sys)? {
                     self.seek(body)?;
@@ -182,10 +187,9 @@ impl Interpreter {
             }
             Statement::Repeat => {
                 let body = self.top().next;
-                self.top_mut().structures.push(Structure::Repeat {
-                    open: at.pos,
-                    body,
-                });
+                self.top_mut()
+                    .structures
+                    .push(Structure::Repeat { open: at.pos, body });
             }
             Statement::Until(cond) => {
                 let n = self.find(Kind::Repeat, "UNTIL")?;
@@ -203,10 +207,9 @@ impl Interpreter {
             }
             Statement::Loop => {
                 let body = self.top().next;
-                self.top_mut().structures.push(Structure::Loop {
-                    open: at.pos,
-                    body,
-                });
+                self.top_mut()
+                    .structures
+                    .push(Structure::Loop { open: at.pos, body });
             }
             Statement::EndLoop => {
                 let n = self.find(Kind::Loop, "ENDLOOP")?;
@@ -217,10 +220,8 @@ impl Interpreter {
                     self.seek(body)?;
                 }
             }
-            Statement::IfJump { condition, jump } => {
-                if self.condition(&condition, sys)? {
-                    self.jump(&jump)?;
-                }
+            Statement::IfJump { condition, jump } if self.condition(&condition, sys)? => {
+                self.jump(&jump)?;
             }
             Statement::Case {
                 selector,
@@ -246,7 +247,12 @@ impl Interpreter {
     }
 
     /// Whether a `FOR` counter is still at most the end value.
-    fn counter_within(&mut self, var: &Var, to: f64, sys: &mut dyn System) -> Result<bool, LangError> {
+    fn counter_within(
+        &mut self,
+        var: &Var,
+        to: f64,
+        sys: &mut dyn System,
+    ) -> Result<bool, LangError> {
         let value = self.read_var(var, sys)?;
         let Some(x) = value.as_f64() else {
             return Err(self.error(
@@ -286,7 +292,12 @@ impl Interpreter {
     /// Reads forward from the structure opened at `at` to its `ELSE`
     /// (when `stop_at_else`) or its end, counting nested structures of
     /// the same kind. The next line read is the one after the stop.
-    fn skip_to_end(&mut self, kind: Kind, at: LinePos, stop_at_else: bool) -> Result<Stop, LangError> {
+    fn skip_to_end(
+        &mut self,
+        kind: Kind,
+        at: LinePos,
+        stop_at_else: bool,
+    ) -> Result<Stop, LangError> {
         let mut depth = 0usize;
         loop {
             let Some(read) = self.read_line()? else {
@@ -296,10 +307,7 @@ impl Interpreter {
                     program: top.program,
                     line: at.line,
                     span: Span::new(1, 1),
-                    message: format!(
-                        "{} without its end: the program ends first",
-                        kind.opener()
-                    ),
+                    message: format!("{} without its end: the program ends first", kind.opener()),
                 });
             };
             if read.skipped {
@@ -409,7 +417,11 @@ impl Interpreter {
     }
 
     /// The nearest line at or before `at` that `target` names.
-    fn search_backward(&mut self, target: &JumpTarget, at: LinePos) -> Result<Option<LinePos>, LangError> {
+    fn search_backward(
+        &mut self,
+        target: &JumpTarget,
+        at: LinePos,
+    ) -> Result<Option<LinePos>, LangError> {
         let program = self.top().program;
         match target {
             JumpTarget::Label(name) => Ok(self.programs[program]
@@ -447,10 +459,7 @@ impl Interpreter {
             return Err(self.error(
                 None,
                 span,
-                format!(
-                    "CALL BLOCK nested more than {} deep",
-                    super::MAX_LEVELS
-                ),
+                format!("CALL BLOCK nested more than {} deep", super::MAX_LEVELS),
             ));
         }
         let found = match self.search_forward(start, at, after)? {

@@ -73,7 +73,10 @@ fn rot(axis: usize, degrees: f64) -> M3 {
 
 /// The rotation of RPY angles (about X, Y, Z): `Rz · Ry · Rx`.
 fn rpy(angles: [f64; 3]) -> M3 {
-    mul(&mul(&rot(2, angles[2]), &rot(1, angles[1])), &rot(0, angles[0]))
+    mul(
+        &mul(&rot(2, angles[2]), &rot(1, angles[1])),
+        &rot(0, angles[0]),
+    )
 }
 
 /// The RPY angles (about X, Y, Z, degrees) of a rotation matrix.
@@ -194,21 +197,30 @@ mod tests {
 
     #[test]
     fn translation_then_rotation_keeps_the_translation() {
-        let f = chain(&frame("CTRANS", &[("X", 10.0)]), &frame("CROT", &[("Z", 90.0)]));
+        let f = chain(
+            &frame("CTRANS", &[("X", 10.0)]),
+            &frame("CROT", &[("Z", 90.0)]),
+        );
         assert_eq!(get(&f, "X").tr, 10.0);
         assert!((get(&f, "Z").rt - 90.0).abs() < 1e-9);
     }
 
     #[test]
     fn rotation_then_translation_turns_the_translation() {
-        let f = chain(&frame("CROT", &[("Z", 90.0)]), &frame("CTRANS", &[("X", 10.0)]));
+        let f = chain(
+            &frame("CROT", &[("Z", 90.0)]),
+            &frame("CTRANS", &[("X", 10.0)]),
+        );
         assert!(get(&f, "X").tr.abs() < 1e-9);
         assert!((get(&f, "Y").tr - 10.0).abs() < 1e-9);
     }
 
     #[test]
     fn rotations_about_two_axes_compose_as_matrices() {
-        let f = chain(&frame("CROT", &[("Z", 90.0)]), &frame("CROT", &[("X", 90.0)]));
+        let f = chain(
+            &frame("CROT", &[("Z", 90.0)]),
+            &frame("CROT", &[("X", 90.0)]),
+        );
         let back = rpy([get(&f, "X").rt, get(&f, "Y").rt, get(&f, "Z").rt]);
         let want = mul(&rot(2, 90.0), &rot(0, 90.0));
         for i in 0..3 {

@@ -157,7 +157,11 @@ mod tests {
         }
         assert_eq!(
             lines,
-            [("A".to_string(), 3), ("B".to_string(), 5), ("C".to_string(), 6)]
+            [
+                ("A".to_string(), 3),
+                ("B".to_string(), 5),
+                ("C".to_string(), 6)
+            ]
         );
         p.seek(3).expect("seek");
         assert!(p.read_line(&mut buf).expect("read"));

@@ -191,7 +191,10 @@ impl Vars {
                         Fault::new(
                             Some(ALARM_INDEX_1),
                             span,
-                            format!("index {i} past the end of a string of {} characters", s.len()),
+                            format!(
+                                "index {i} past the end of a string of {} characters",
+                                s.len()
+                            ),
                         )
                     });
                 }
@@ -201,7 +204,10 @@ impl Vars {
     }
 
     fn last_r(&self) -> String {
-        self.r.len().checked_sub(1).map_or("none".into(), |n| n.to_string())
+        self.r
+            .len()
+            .checked_sub(1)
+            .map_or("none".into(), |n| n.to_string())
     }
 
     /// Writes `value` (converted to the variable's type) at `place`.

@@ -203,7 +203,9 @@ pub fn action_text(a: &Action) -> String {
     };
     match a {
         Action::Word { address, value, .. } => format!("{address}={}", value_text(value)),
-        Action::Instruction { name, args: None, .. } => name.clone(),
+        Action::Instruction {
+            name, args: None, ..
+        } => name.clone(),
         Action::Instruction {
             name,
             args: Some(a),
@@ -221,19 +223,19 @@ pub fn action_text(a: &Action) -> String {
 /// Runs `main` with `store`, `sys` and `options` to the end or an error
 /// (at most 100 000 blocks).
 pub fn run_with(main: &str, store: FakeStore, sys: &mut FakeSystem, options: Options) -> Run {
-    let mut interp = match Interpreter::new(Box::new(TextProgram::new(main)), Box::new(store), options)
-    {
-        Ok(i) => i,
-        Err(e) => {
-            return Run {
-                blocks: Vec::new(),
-                error: Some(e),
-                notes: Vec::new(),
-                names: Vec::new(),
-                lines: 0,
-            };
-        }
-    };
+    let mut interp =
+        match Interpreter::new(Box::new(TextProgram::new(main)), Box::new(store), options) {
+            Ok(i) => i,
+            Err(e) => {
+                return Run {
+                    blocks: Vec::new(),
+                    error: Some(e),
+                    notes: Vec::new(),
+                    names: Vec::new(),
+                    lines: 0,
+                };
+            }
+        };
     let mut blocks = Vec::new();
     let mut names = Vec::new();
     let mut error = None;
