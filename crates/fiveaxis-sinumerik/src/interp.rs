@@ -208,6 +208,7 @@ struct CallSpec {
 struct ModalSub {
     name: String,
     args: Vec<Option<Arg>>,
+    span: Span,
 }
 
 /// `CALL BLOCK`: where to return and which line ends it.
@@ -234,6 +235,8 @@ struct CallFrame {
     text: Box<dyn ProgramText>,
     /// The line being run.
     cur: LinePos,
+    /// The columns of its text (first non-blank to the end).
+    cur_span: Span,
     /// The next line to read.
     next: LinePos,
     structures: Vec<Structure>,
@@ -295,6 +298,19 @@ impl System for NoSystem {
     fn is_builtin(&self, _: &str) -> bool {
         false
     }
+}
+
+/// The columns of a line's text, from its first non-blank to its end.
+fn text_span(text: &[u8]) -> Span {
+    let len = u32::try_from(text.len()).unwrap_or(u32::MAX - 1);
+    let first = text
+        .iter()
+        .position(|b| !matches!(b, b' ' | b'\t'))
+        .map_or(len, |i| u32::try_from(i).unwrap_or(0));
+    Span::new(
+        first.saturating_add(1),
+        len.saturating_add(1).max(first.saturating_add(2)),
+    )
 }
 
 /// Whether a line begins with a skip level that is active.
@@ -391,6 +407,7 @@ impl Interpreter {
                 program: 0,
                 text: main,
                 cur: LinePos::START,
+                cur_span: Span::new(1, 1),
                 next: LinePos::START,
                 structures: Vec::new(),
                 sections: Vec::new(),
@@ -542,6 +559,11 @@ impl Interpreter {
         self.fault_at(f, top.program, top.cur.line)
     }
 
+    /// The columns of the line being run.
+    fn line_span(&self) -> Span {
+        self.top().cur_span
+    }
+
     fn error(&self, alarm: Option<u32>, span: Span, message: String) -> LangError {
         self.fault(Fault::new(alarm, span, message))
     }
@@ -573,12 +595,18 @@ impl Interpreter {
         let top = self.frames.len() - 1;
         let program = self.frames[top].program;
         if self.blocks >= self.options.max_blocks {
-            let line = self.frames[top].next.line;
+            // At the last line read (the first line when none was).
+            let frame = &self.frames[top];
+            let (line, span) = if self.blocks == 0 {
+                (frame.next.line, Span::new(1, 1))
+            } else {
+                (frame.cur.line, frame.cur_span)
+            };
             return Err(LangError {
                 alarm: None,
                 program,
                 line,
-                span: Span::new(1, 1),
+                span,
                 message: format!(
                     "block budget of {} lines exhausted at line {line} of program {}: the program does not end (a runaway loop?)",
                     self.options.max_blocks,
@@ -604,6 +632,7 @@ impl Interpreter {
         }
         self.blocks += 1;
         frame.cur = at;
+        frame.cur_span = text_span(&self.buf);
         frame.next = LinePos {
             pos: frame.text.position(),
             line: at.line.saturating_add(1),
@@ -757,7 +786,7 @@ impl Interpreter {
         if self.frames.len() >= MAX_LEVELS {
             return Err(self.error(
                 None,
-                Span::new(1, 1),
+                self.line_span(),
                 format!(
                     "calling {} would nest more than {MAX_LEVELS} program levels",
                     spec.name
@@ -769,6 +798,7 @@ impl Interpreter {
             program,
             text: spec.text,
             cur: LinePos::START,
+            cur_span: Span::new(1, 1),
             next: LinePos::START,
             structures: Vec::new(),
             sections: Vec::new(),
@@ -808,7 +838,7 @@ impl Interpreter {
             if has_args && !matches!(line.statement, Statement::Proc(_)) {
                 return Err(self.error(
                     Some(ALARM_SYNTAX),
-                    Span::new(1, 1),
+                    self.line_span(),
                     format!(
                         "program {} is called with arguments but does not begin with PROC",
                         self.program_name(self.top().program)
@@ -1236,7 +1266,7 @@ impl Interpreter {
             && moved_axis
             && let Some(m) = modal
         {
-            let span = Span::new(1, 1);
+            let span = m.span;
             match self.open(&m.name, span)? {
                 Some(text) => self.frames[top].pending.push_back(Pending::Call(CallSpec {
                     name: m.name,
@@ -1322,6 +1352,7 @@ impl Interpreter {
             self.top_mut().modal = Some(ModalSub {
                 name: call.name,
                 args,
+                span,
             });
             return Ok(None);
         }

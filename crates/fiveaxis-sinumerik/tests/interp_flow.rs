@@ -205,6 +205,18 @@ fn missing_target_is_reported_at_the_target() {
 }
 
 #[test]
+fn structure_errors_point_at_their_line() {
+    let r = run("X1\n  ENDIF ; stray\n");
+    let e = r.err();
+    assert_eq!((e.alarm, e.line, e.span.start, e.span.end), (Some(12080), 2, 3, 16));
+    assert!(e.message.contains("ENDIF without IF"), "{}", e.message);
+    let r = run("X1\nWHILE R1>0\nX2\n");
+    let e = r.err();
+    assert_eq!((e.alarm, e.line, e.span.start, e.span.end), (Some(12080), 2, 1, 11));
+    assert!(e.message.contains("WHILE"), "{}", e.message);
+}
+
+#[test]
 fn skip_levels() {
     let text = "/X1\n/1 X2\n/2 X3\nX4\nM30\n";
     let words = |levels: u16| {
@@ -255,6 +267,8 @@ fn runaway_loops_stop_at_the_budget() {
     assert!(e.message.contains("budget"), "{}", e.message);
     assert!(e.message.contains("1000"), "{}", e.message);
     assert_eq!(r.lines, 1000);
+    assert!(e.line >= 2 && e.line <= 4, "{e:?}");
+    assert!(e.span.start < e.span.end);
     // GOTOB loops count too, searched lines included.
     let r = run_with(
         "TOP: X1\nGOTOB TOP\n",

@@ -223,7 +223,7 @@ fn run_one(text: &str) -> (usize, bool) {
             Ok(Step::End) => break,
             Err(e) => {
                 assert!(!e.message.is_empty());
-                assert!(e.span.start >= 1);
+                assert!(e.span.start >= 1 && e.span.start < e.span.end, "{e:?}");
                 let _ = interp.program_name(e.program);
                 failed = true;
                 break;

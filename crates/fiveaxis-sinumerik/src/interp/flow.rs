@@ -274,7 +274,7 @@ impl Interpreter {
             .ok_or_else(|| {
                 self.error(
                     Some(ALARM_SYNTAX),
-                    Span::new(1, 1),
+                    self.line_span(),
                     format!("{keyword} without {}", kind.opener()),
                 )
             })
@@ -299,6 +299,7 @@ impl Interpreter {
         stop_at_else: bool,
     ) -> Result<Stop, LangError> {
         let mut depth = 0usize;
+        let opener = self.line_span();
         loop {
             let Some(read) = self.read_line()? else {
                 let top = self.top();
@@ -306,7 +307,7 @@ impl Interpreter {
                     alarm: Some(ALARM_SYNTAX),
                     program: top.program,
                     line: at.line,
-                    span: Span::new(1, 1),
+                    span: opener,
                     message: format!("{} without its end: the program ends first", kind.opener()),
                 });
             };
