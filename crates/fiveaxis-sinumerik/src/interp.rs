@@ -255,7 +255,8 @@ struct ReadLine {
     parsed: Result<Line, ParseError>,
 }
 
-/// The SINUMERIK language interpreter: see the module documentation.
+/// The SINUMERIK language interpreter: design and decisions in the
+/// [module documentation](self).
 pub struct Interpreter {
     options: Options,
     store: Box<dyn ProgramStore>,

@@ -245,3 +245,12 @@ fn jumps_inside_a_subprogram_search_its_own_text() {
         ["X=1", "X=2", "X=1", "X=2", "X=3"]
     );
 }
+
+#[test]
+fn locals_of_the_caller_are_not_visible() {
+    let store = FakeStore::with(&[("PEEK", "X=K\n")]);
+    let r = run_store("DEF INT K=1\nPEEK\n", store);
+    let e = r.err();
+    assert_eq!((e.alarm, e.program, e.line), (Some(12550), 1, 1));
+    assert_eq!((e.span.start, e.span.end), (3, 4));
+}

@@ -208,11 +208,17 @@ fn missing_target_is_reported_at_the_target() {
 fn structure_errors_point_at_their_line() {
     let r = run("X1\n  ENDIF ; stray\n");
     let e = r.err();
-    assert_eq!((e.alarm, e.line, e.span.start, e.span.end), (Some(12080), 2, 3, 16));
+    assert_eq!(
+        (e.alarm, e.line, e.span.start, e.span.end),
+        (Some(12080), 2, 3, 16)
+    );
     assert!(e.message.contains("ENDIF without IF"), "{}", e.message);
     let r = run("X1\nWHILE R1>0\nX2\n");
     let e = r.err();
-    assert_eq!((e.alarm, e.line, e.span.start, e.span.end), (Some(12080), 2, 1, 11));
+    assert_eq!(
+        (e.alarm, e.line, e.span.start, e.span.end),
+        (Some(12080), 2, 1, 11)
+    );
     assert!(e.message.contains("WHILE"), "{}", e.message);
 }
 
@@ -335,4 +341,23 @@ fn the_end_comes_once_and_stays() {
     assert!(out.actions.is_empty());
     assert_eq!(interp.program_name(0), "main");
     assert_eq!(interp.program_name(7), "?");
+}
+
+#[test]
+fn labels_are_found_in_the_index_block_numbers_by_reading() {
+    // A backward jump to a label seeks to the position remembered; one
+    // to a block number reads the program again from its start to the
+    // jump. Every line read counts.
+    let label = run("AA: X1\nX2\nX3\nR1=R1+1\nIF R1<2 GOTOB AA\nM30\n");
+    assert_eq!(label.ok().len(), 7);
+    assert_eq!(label.lines, 5 + 6);
+    let number = run("N10 X1\nX2\nX3\nR1=R1+1\nIF R1<2 GOTOB N10\nM30\n");
+    assert_eq!(number.ok().len(), 7);
+    assert_eq!(number.lines, 5 + 5 + 6);
+    // A forward label not read yet is searched once, then known.
+    // A forward label not read yet is searched by reading on: the jump
+    // line, lines 2 to 4 searched, then 4 and 5 run.
+    let ahead = run("GOTOF FAR\nX1\nX2\nFAR: X3\nM30\n");
+    assert_eq!(ahead.words(), ["X=3", "M=30"]);
+    assert_eq!(ahead.lines, 1 + 3 + 2);
 }
