@@ -99,6 +99,15 @@
 //!   `M2` / `M30` in a subprogram end the whole program. A subprogram
 //!   called with arguments must begin with `PROC`; more arguments than
 //!   parameters is alarm 12080.
+//! * `P n` passes run at most [`MAX_PASSES`] times; `P0` or more passes
+//!   than that is alarm 12080. Each new pass counts as a line read against the budget.
+//! * Label positions and the furthest position read are kept per
+//!   program name and shared by every opening of it: the store must give
+//!   the same text each time a name is opened.
+//! * A `DEFINE` in a program holds from its line on, for every program
+//!   level (macros are global, as those of the definition files).
+//! * INT values are checked against ±(2^31 − 1) when stored in an INT
+//!   variable (alarm 14051 past it); expressions compute in 64 bits.
 //! * Synchronized actions are not simulated: they add a note (at most
 //!   [`MAX_NOTES`] are kept) and yield nothing.
 //! * A word whose address is the name of a user variable (`DEF INT I`
@@ -133,6 +142,9 @@ use crate::{
 /// Program levels: the main program and up to 15 subprogram levels
 /// (design brief §1: "16?", UNVERIFIED).
 pub const MAX_LEVELS: usize = 16;
+/// The most passes of one call, `P1` … `P9999` (the value range of `P`
+/// as commonly given for the 840D; UNVERIFIED against a retrieved manual).
+pub const MAX_PASSES: u64 = 9999;
 /// The most notes kept ([`Interpreter::notes`]).
 pub const MAX_NOTES: usize = 100;
 /// Alarm for a program not in the store (`14011`, as the brief asks).
@@ -590,31 +602,45 @@ impl Interpreter {
         Ok(())
     }
 
+    /// Counts one line against the budget, or the runaway error.
+    fn charge(&mut self) -> Result<(), LangError> {
+        self.budget()?;
+        self.blocks += 1;
+        Ok(())
+    }
+
+    /// The runaway error when the budget is used up.
+    fn budget(&self) -> Result<(), LangError> {
+        if self.blocks < self.options.max_blocks {
+            return Ok(());
+        }
+        let top = self.top();
+        let program = top.program;
+        // At the last line read (the first line when none was).
+        let (line, span) = if self.blocks == 0 {
+            (top.next.line, Span::new(1, 1))
+        } else {
+            (top.cur.line, top.cur_span)
+        };
+        Err(LangError {
+            alarm: None,
+            program,
+            line,
+            span,
+            message: format!(
+                "block budget of {} lines exhausted at line {line} of program {}: the program does not end (a runaway loop?)",
+                self.options.max_blocks,
+                self.program_name(program)
+            ),
+        })
+    }
+
     /// Reads the next line of the running program: counted, skip level
     /// checked, macros substituted, parsed, its label indexed when new.
     fn read_line(&mut self) -> Result<Option<ReadLine>, LangError> {
         let top = self.frames.len() - 1;
         let program = self.frames[top].program;
-        if self.blocks >= self.options.max_blocks {
-            // At the last line read (the first line when none was).
-            let frame = &self.frames[top];
-            let (line, span) = if self.blocks == 0 {
-                (frame.next.line, Span::new(1, 1))
-            } else {
-                (frame.cur.line, frame.cur_span)
-            };
-            return Err(LangError {
-                alarm: None,
-                program,
-                line,
-                span,
-                message: format!(
-                    "block budget of {} lines exhausted at line {line} of program {}: the program does not end (a runaway loop?)",
-                    self.options.max_blocks,
-                    self.program_name(program)
-                ),
-            });
-        }
+        self.budget()?;
         let frame = &mut self.frames[top];
         let at = LinePos {
             pos: frame.text.position(),
@@ -751,6 +777,9 @@ impl Interpreter {
         }
         let level = self.level();
         if self.top().passes_left > 1 {
+            // A new pass counts as a line read: an empty program run many
+            // times still uses up the budget.
+            self.charge()?;
             let top = self.top_mut();
             top.passes_left -= 1;
             top.structures.clear();
@@ -1094,7 +1123,7 @@ impl Interpreter {
         };
         let v = self.ctx(sys).eval(e).map_err(|f| self.fault(f))?;
         let n = v.as_f64().unwrap_or(0.0).round();
-        if !(1.0..=1e9).contains(&n) {
+        if !(1.0..=MAX_PASSES as f64).contains(&n) {
             return Err(self.error(
                 Some(ALARM_SYNTAX),
                 e.span,

@@ -169,7 +169,8 @@ pub use exec::{
 };
 pub use fiveaxis_gcode::Span;
 pub use interp::{
-    Interpreter, MAX_LEVELS, MAX_NOTES, Options, REAL_TOLERANCE, TextProgram, format_real,
+    Interpreter, MAX_LEVELS, MAX_NOTES, MAX_PASSES, Options, REAL_TOLERANCE, TextProgram,
+    format_real,
 };
 pub use parse::{MAX_DEPTH, MAX_OPERATIONS, parse_line};
 pub use tree::{

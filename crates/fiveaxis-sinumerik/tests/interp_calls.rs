@@ -254,3 +254,26 @@ fn locals_of_the_caller_are_not_visible() {
     assert_eq!((e.alarm, e.program, e.line), (Some(12550), 1, 1));
     assert_eq!((e.span.start, e.span.end), (3, 4));
 }
+
+#[test]
+fn passes_are_bounded_and_counted() {
+    let store = FakeStore::with(&[("EMPTY", ""), ("L1", "X1\n")]);
+    let r = run_store("EMPTY P10000\n", store.clone());
+    assert_eq!(r.err().alarm, Some(12080));
+    let r = run_store("EMPTY P0\n", store.clone());
+    assert_eq!(r.err().alarm, Some(12080));
+    // An empty program run 9999 times uses the budget up all the same.
+    let options = Options {
+        max_blocks: 500,
+        ..Options::default()
+    };
+    let r = run_with(
+        "EMPTY P9999\nM30\n",
+        store.clone(),
+        &mut FakeSystem::default(),
+        options,
+    );
+    assert!(r.err().message.contains("budget"), "{:?}", r.err());
+    let r = run_store("EMPTY P9999\nL1 P3\nM30\n", store);
+    assert_eq!(r.words(), ["X=1", "X=1", "X=1", "M=30"]);
+}

@@ -227,6 +227,7 @@ const PROGRAM_ALARMS: &[(&str, u32, u32)] = &[
     ("DEF FRAME F=5", 14096, 1),
     ("DEF AXIS AX1=\"X\"", 14096, 1),
     ("DEF CHAR C=300", 14051, 1),
+    ("DEF INT K=2147483647\nK=K+1", 14051, 2),
 ];
 
 #[test]

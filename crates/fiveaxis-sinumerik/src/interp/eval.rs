@@ -105,7 +105,7 @@ pub(crate) fn convert(value: Value, ty: Type, span: Span) -> Result<Value, Fault
     let fail = |to: &str| conversion(span, &format!("{from} to {to}"));
     Ok(match ty {
         Type::Int => match value {
-            Value::Int(i) => Value::Int(i),
+            Value::Int(i) => Value::Int(round_int(i as f64, span)?),
             Value::Real(x) => Value::Int(round_int(x, span)?),
             Value::Bool(b) => Value::Int(i64::from(b)),
             Value::Char(c) => Value::Int(i64::from(c)),
