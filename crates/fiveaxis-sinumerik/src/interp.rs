@@ -14,10 +14,11 @@
 //! **Positions.** A program's lines are only ever read in order; a
 //! backward move is a [`ProgramText::seek`] to a line start remembered
 //! before (the opening line of a loop, a label), never a rescan. Per
-//! program (by name, shared by every call of it) the interpreter keeps
-//! the furthest position read and the positions of the labels in the
-//! text up to there: memory grows with labels, not with lines. Block
-//! numbers are not indexed (CAM output numbers every line).
+//! opening of a program (each call opens its text afresh, and seeks only
+//! to positions that opening has reported) the interpreter keeps the
+//! furthest position read and the positions of the labels in the text up
+//! to there: memory grows with labels, not with lines. Block numbers are
+//! not indexed (CAM output numbers every line).
 //!
 //! **Jumps** (AV11 p107) are directional text searches from the jump's
 //! line: `GOTOF` forward to the end of the program, `GOTOB` backward to
@@ -101,9 +102,6 @@
 //!   parameters is alarm 12080.
 //! * `P n` passes run at most [`MAX_PASSES`] times; `P0` or more passes
 //!   than that is alarm 12080. Each new pass counts as a line read against the budget.
-//! * Label positions and the furthest position read are kept per
-//!   program name and shared by every opening of it: the store must give
-//!   the same text each time a name is opened.
 //! * A `DEFINE` in a program holds from its line on, for every program
 //!   level (macros are global, as those of the definition files).
 //! * INT values are checked against ±(2^31 − 1) when stored in an INT
@@ -185,15 +183,10 @@ impl LinePos {
     const START: Self = Self { pos: 0, line: 1 };
 }
 
-/// What the interpreter knows of one program's text (shared by every
-/// call of it).
+/// A program known by number (for [`Executed::program`]).
 #[derive(Debug)]
 struct ProgramInfo {
     name: String,
-    /// Label positions in the text read so far, in order.
-    labels: HashMap<String, Vec<LinePos>>,
-    /// The first line not read yet.
-    high_water: LinePos,
 }
 
 /// An argument of a call, evaluated in the caller.
@@ -245,6 +238,10 @@ enum Pending {
 struct CallFrame {
     program: usize,
     text: Box<dyn ProgramText>,
+    /// Label positions in the text read so far, in order.
+    labels: HashMap<String, Vec<LinePos>>,
+    /// The first line not read yet.
+    high_water: LinePos,
     /// The line being run.
     cur: LinePos,
     /// The columns of its text (first non-blank to the end).
@@ -419,6 +416,8 @@ impl Interpreter {
             frames: vec![CallFrame {
                 program: 0,
                 text: main,
+                labels: HashMap::new(),
+                high_water: LinePos::START,
                 cur: LinePos::START,
                 cur_span: Span::new(1, 1),
                 next: LinePos::START,
@@ -432,8 +431,6 @@ impl Interpreter {
             }],
             programs: vec![ProgramInfo {
                 name: "main".to_string(),
-                labels: HashMap::new(),
-                high_water: LinePos::START,
             }],
             by_name: HashMap::new(),
             macros: HashMap::new(),
@@ -670,16 +667,15 @@ impl Interpreter {
             Some(text) => parse_line(&text, at.line),
             None => parse_line(&self.buf, at.line),
         };
-        if let Some(info) = self.programs.get_mut(program)
-            && at.pos >= info.high_water.pos
-        {
+        let frame = &mut self.frames[top];
+        if at.pos >= frame.high_water.pos {
             if let Ok(Line {
                 label: Some(label), ..
             }) = &parsed
             {
-                info.labels.entry(label.text.clone()).or_default().push(at);
+                frame.labels.entry(label.text.clone()).or_default().push(at);
             }
-            info.high_water = next;
+            frame.high_water = next;
         }
         Ok(Some(ReadLine {
             at,
@@ -805,8 +801,6 @@ impl Interpreter {
         let n = self.programs.len();
         self.programs.push(ProgramInfo {
             name: name.to_string(),
-            labels: HashMap::new(),
-            high_water: LinePos::START,
         });
         self.by_name.insert(name.to_string(), n);
         n
@@ -827,6 +821,8 @@ impl Interpreter {
         self.frames.push(CallFrame {
             program,
             text: spec.text,
+            labels: HashMap::new(),
+            high_water: LinePos::START,
             cur: LinePos::START,
             cur_span: Span::new(1, 1),
             next: LinePos::START,

@@ -117,8 +117,9 @@ fn call_block_runs_a_section() {
         words_of(main, FakeStore::default()),
         ["X=1", "X=2", "X=3", "X=4", "X=3", "Y=1", "Y=2"]
     );
-    let r = run_store("CALL BLOCK NONE TO S2\n", FakeStore::default());
-    assert_eq!(r.err().alarm, Some(14080));
+    let r = run_store("X1\nCALL BLOCK NONE TO S2\nX2\nX3\n", FakeStore::default());
+    assert_eq!((r.err().alarm, r.err().line), (Some(14080), 2));
+    assert_eq!((r.err().span.start, r.err().span.end), (12, 16));
 }
 
 #[test]
@@ -276,4 +277,15 @@ fn passes_are_bounded_and_counted() {
     assert!(r.err().message.contains("budget"), "{:?}", r.err());
     let r = run_store("EMPTY P9999\nL1 P3\nM30\n", store);
     assert_eq!(r.words(), ["X=1", "X=1", "X=1", "M=30"]);
+}
+
+#[test]
+fn each_opening_of_a_program_keeps_to_its_own_positions() {
+    // The second call jumps forward to a label that only the first
+    // opening has read: the text is searched again, not sought blindly.
+    let store = FakeStore::with(&[("SUBJ", "IF R1==1 GOTOF SKIP\nX1\nSKIP: X2\n")]);
+    assert_eq!(
+        words_of("SUBJ\nR1=1\nSUBJ\nM30\n", store),
+        ["X=1", "X=2", "X=2"]
+    );
 }

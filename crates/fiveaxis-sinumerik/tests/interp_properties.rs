@@ -4,8 +4,8 @@
 
 mod common;
 
-use common::fake::{FakeStore, FakeSystem};
-use fiveaxis_sinumerik::{Executed, Interpreter, Options, Step, TextProgram};
+use common::fake::{FakeStore, FakeSystem, StrictText};
+use fiveaxis_sinumerik::{Executed, Interpreter, Options, Step};
 use proptest::prelude::*;
 use proptest::test_runner::{Config, RngAlgorithm, TestRng, TestRunner};
 
@@ -202,7 +202,7 @@ fn run_one(text: &str) -> (usize, bool) {
         ..Options::default()
     };
     let Ok(mut interp) =
-        Interpreter::new(Box::new(TextProgram::new(text)), Box::new(store), options)
+        Interpreter::new(Box::new(StrictText::new(&text)), Box::new(store), options)
     else {
         return (0, true);
     };

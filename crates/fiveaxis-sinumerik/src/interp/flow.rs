@@ -387,10 +387,9 @@ impl Interpreter {
         at: LinePos,
         after: LinePos,
     ) -> Result<Option<LinePos>, LangError> {
-        let program = self.top().program;
         let from = match target {
             JumpTarget::Label(name) => {
-                let info = &self.programs[program];
+                let info = self.top();
                 if let Some(p) = info
                     .labels
                     .get(&name.text)
@@ -423,9 +422,9 @@ impl Interpreter {
         target: &JumpTarget,
         at: LinePos,
     ) -> Result<Option<LinePos>, LangError> {
-        let program = self.top().program;
         match target {
-            JumpTarget::Label(name) => Ok(self.programs[program]
+            JumpTarget::Label(name) => Ok(self
+                .top()
                 .labels
                 .get(&name.text)
                 .and_then(|v| v.iter().rev().find(|p| p.pos <= at.pos))
@@ -469,11 +468,13 @@ impl Interpreter {
         };
         let Some(t) = found else {
             self.seek(after)?;
-            return Err(self.error(
-                Some(ALARM_NO_TARGET),
-                target_span(start),
-                format!("CALL BLOCK: start {} not found", target_text(start)),
-            ));
+            return Err(LangError {
+                alarm: Some(ALARM_NO_TARGET),
+                program: self.top().program,
+                line: at.line,
+                span: target_span(start),
+                message: format!("CALL BLOCK: start {} not found", target_text(start)),
+            });
         };
         let structures = self.top().structures.len();
         self.top_mut().sections.push(Section {

@@ -1,12 +1,53 @@
 //! A fake control ([`FakeSystem`]) and program store ([`FakeStore`]) for
 //! the interpreter's tests, and a runner that collects the blocks.
 
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 
 use fiveaxis_sinumerik::{
     Action, Executed, Interpreter, LangError, Options, ProgramStore, ProgramText, Step, System,
     TextProgram, Value,
 };
+
+/// A program in memory that holds the interpreter to the contract of
+/// [`ProgramText::seek`]: a seek must go to a line start seen before (a
+/// position reported by [`ProgramText::position`]) or 0, else it panics.
+#[derive(Debug)]
+pub struct StrictText {
+    inner: TextProgram,
+    seen: HashSet<u64>,
+}
+
+impl StrictText {
+    /// A strict program of `text`.
+    pub fn new(text: &str) -> Self {
+        Self {
+            inner: TextProgram::new(text),
+            seen: HashSet::from([0]),
+        }
+    }
+}
+
+impl ProgramText for StrictText {
+    fn read_line(&mut self, buf: &mut Vec<u8>) -> std::io::Result<bool> {
+        let more = self.inner.read_line(buf)?;
+        self.seen.insert(self.inner.position());
+        Ok(more)
+    }
+
+    fn position(&self) -> u64 {
+        let p = self.inner.position();
+        assert!(self.seen.contains(&p), "position {p} never reported");
+        p
+    }
+
+    fn seek(&mut self, offset: u64) -> std::io::Result<()> {
+        assert!(
+            self.seen.contains(&offset),
+            "seek to {offset}, not a line start seen before"
+        );
+        self.inner.seek(offset)
+    }
+}
 
 /// The channel's axes.
 pub const AXES: [&str; 6] = ["X", "Y", "Z", "A", "B", "C"];
@@ -101,7 +142,7 @@ impl ProgramStore for FakeStore {
         Ok(self
             .programs
             .get(&name.to_ascii_uppercase())
-            .map(|t| Box::new(TextProgram::new(t.clone())) as Box<dyn ProgramText>))
+            .map(|t| Box::new(StrictText::new(t)) as Box<dyn ProgramText>))
     }
 
     fn definitions(&mut self) -> std::io::Result<Vec<(String, Box<dyn ProgramText>)>> {
@@ -224,7 +265,7 @@ pub fn action_text(a: &Action) -> String {
 /// (at most 100 000 blocks).
 pub fn run_with(main: &str, store: FakeStore, sys: &mut FakeSystem, options: Options) -> Run {
     let mut interp =
-        match Interpreter::new(Box::new(TextProgram::new(main)), Box::new(store), options) {
+        match Interpreter::new(Box::new(StrictText::new(main)), Box::new(store), options) {
             Ok(i) => i,
             Err(e) => {
                 return Run {
