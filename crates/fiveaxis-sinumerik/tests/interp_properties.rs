@@ -202,7 +202,7 @@ fn run_one(text: &str) -> (usize, bool) {
         ..Options::default()
     };
     let Ok(mut interp) =
-        Interpreter::new(Box::new(StrictText::new(&text)), Box::new(store), options)
+        Interpreter::new(Box::new(StrictText::new(text)), Box::new(store), options)
     else {
         return (0, true);
     };
