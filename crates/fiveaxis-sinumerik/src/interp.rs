@@ -13,7 +13,8 @@
 //!
 //! **Positions.** A program's lines are only ever read in order; a
 //! backward move is a [`ProgramText::seek`] to a line start remembered
-//! before (the opening line of a loop, a label), never a rescan. Per
+//! before (the opening line of a loop, a label), never a rescan (the
+//! backward search of a block number aside, below). Per
 //! opening of a program (each call opens its text afresh, and seeks only
 //! to positions that opening has reported) the interpreter keeps the
 //! furthest position read and the positions of the labels in the text up
@@ -101,7 +102,9 @@
 //!   called with arguments must begin with `PROC`; more arguments than
 //!   parameters is alarm 12080.
 //! * `P n` passes run at most [`MAX_PASSES`] times; `P0` or more passes
-//!   than that is alarm 12080. Each new pass counts as a line read against the budget.
+//!   than that is alarm 12080. Each new pass counts as a line read
+//!   against the budget. A `P` word right after a call of a program of
+//!   the store is its passes also when written `P=expression`.
 //! * A `DEFINE` in a program holds from its line on, for every program
 //!   level (macros are global, as those of the definition files).
 //! * INT values are checked against ±(2^31 − 1) when stored in an INT
@@ -111,6 +114,34 @@
 //! * A word whose address is the name of a user variable (`DEF INT I`
 //!   then `I=5`; the reader takes `I=` for an address) assigns the
 //!   variable.
+//! * Text of values (`<<`, a number stored in a STRING): REALs rounded to
+//!   10 decimals without trailing zeros ([`format_real`]: `1.5`, `3`),
+//!   BOOL as `1` / `0`, CHAR as its character, an axis by its name. A
+//!   string longer than its `STRING[n]` is cut to n bytes (UNVERIFIED:
+//!   the control may raise an alarm). A one-character string converts
+//!   to CHAR; a string never converts to a number (alarm 14096).
+//! * String positions (`INDEX`, `RINDEX`, `SUBSTR`, `S[i]`) count from
+//!   0, `-1` when not found; array indices count from 0. `ROUNDUP` rounds
+//!   towards +∞ (UNVERIFIED for negative values); `TRUNC`, `ROUND`,
+//!   `ROUNDUP`, `POT` give REAL, `ABS`, `MINVAL`, `MAXVAL` keep INT. A
+//!   function the interpreter does not know is alarm 12550.
+//! * Frames (`CTRANS`, `CROT`, `CSCALE`, `CMIRROR`, `CFINE` and `:`): a
+//!   frame maps `p = T + R·S·M·p'` (RPY rotation about X, Y, Z as
+//!   `FrameValue` has it); `A : B` composes translations through `A`'s
+//!   rotation, scale and mirror and rotations as 3×3 matrices, then back
+//!   to RPY angles. Scale and mirror of `A` taken through `B`'s rotation
+//!   are exact only for a uniform scale without mirror. Rotations are for
+//!   X, Y, Z only.
+//! * Indices of system variables and axis arguments of frame functions
+//!   and instructions: a bare name that is no variable of the program
+//!   passes as [`Value::Axis`] (`$AA_IW[X]`, `$P_UIFR[1,X,TR]`,
+//!   `FGROUP(X,Y,Z)`); the [`System`] decides whether it exists.
+//! * [`Executed::program`] numbers programs by name in the order they
+//!   are first opened (every call of `SUB1` is the same number). A
+//!   `PROC` line in the main program binds nothing. `EXTCALL` and `CALL`
+//!   take the last part of a path as the name, upper-cased.
+//! * The default block budget is 50 million lines
+//!   ([`Options::default`]).
 //! * `POS[X]=…`, `FA[X]=…` and the like (an address with an axis index,
 //!   written as an assignment) are yielded as words with the address
 //!   `POS[X]`.

@@ -293,3 +293,63 @@ fn system_variables_are_read_with_axis_indices() {
     assert_eq!(r.err().alarm, Some(12550));
     assert_eq!((r.err().span.start, r.err().span.end), (3, 11));
 }
+
+#[test]
+fn words_keep_address_mode_and_span() {
+    use fiveaxis_sinumerik::{Action, PositionMode};
+    let r = run("N5 G1 X=AC(R1+10) A3=IC(-5) CYCLE81(2,,R1)\n");
+    let b = &r.ok()[0];
+    assert_eq!(b.number, Some(5));
+    match &b.actions[1] {
+        Action::Word {
+            address,
+            value,
+            mode,
+            span,
+        } => {
+            assert_eq!(address, "X");
+            assert_eq!(value, &Value::Real(10.0));
+            assert_eq!(*mode, Some(PositionMode::Ac));
+            assert_eq!((span.start, span.end), (7, 18));
+        }
+        other => panic!("{other:?}"),
+    }
+    match &b.actions[3] {
+        Action::Instruction { name, args, .. } => {
+            assert_eq!(name, "CYCLE81");
+            assert_eq!(
+                args.as_deref(),
+                Some(&[Some(Value::Int(2)), None, Some(Value::Real(0.0))][..])
+            );
+        }
+        other => panic!("{other:?}"),
+    }
+}
+
+#[test]
+fn definitions_anywhere_and_again() {
+    // DEF after executed blocks is accepted (the control wants it at the
+    // top); a DEF run again by a jump back defines the variable afresh.
+    let r =
+        run("X1\nR1=R1+1\nDEF INT K=5\nK=K+R1\nY=K\nIF R1<2 GOTOB N1\nM30\nN1 X2\nGOTOB DONE\n");
+    assert_eq!(r.err().alarm, Some(14080));
+    let r = run("X1\nAGAIN: DEF INT K=5\nK=K+1\nY=K\nR1=R1+1\nIF R1<2 GOTOB AGAIN\nM30\n");
+    assert_eq!(r.words(), ["X=1", "Y=6", "Y=6", "M=30"]);
+}
+
+#[test]
+fn reals_are_written_short() {
+    use fiveaxis_sinumerik::format_real;
+    for (x, want) in [
+        (1.5, "1.5"),
+        (3.0, "3"),
+        (-0.25, "-0.25"),
+        (0.1 + 0.2, "0.3"),
+        (1e-12, "0"),
+        (-1e-12, "0"),
+        (123456.789, "123456.789"),
+        (f64::NAN, "0"),
+    ] {
+        assert_eq!(format_real(x), want, "{x}");
+    }
+}
