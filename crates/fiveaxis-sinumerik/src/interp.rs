@@ -97,6 +97,8 @@
 //! * `CALL BLOCK A TO B` finds `A` as `GOTO` does, runs up to and with
 //!   the line of `B` and returns after the `CALL` line; without `TO` it
 //!   runs the line of `A` alone. The end of the text also ends a section.
+//!   A section of another program (`CALL "P" BLOCK …`) is not supported
+//!   (an error without alarm).
 //! * `M17` and `RET` in the main program end it, as `M2` / `M30` do.
 //!   `M2` / `M30` in a subprogram end the whole program. A subprogram
 //!   called with arguments must begin with `PROC`; more arguments than
@@ -1280,6 +1282,13 @@ impl Interpreter {
                 }
                 Item::IndirectCall(ic) => {
                     if let Some((start, end)) = ic.section {
+                        if ic.program.is_some() {
+                            return Err(self.error(
+                                None,
+                                ic.span,
+                                "CALL of a section of another program is not supported".to_string(),
+                            ));
+                        }
                         jump = Some(Pending::Section(start, end, ic.span));
                     } else if let Some(e) = ic.program {
                         let v = self.ctx(sys).eval(&e).map_err(|f| self.fault(f))?;
