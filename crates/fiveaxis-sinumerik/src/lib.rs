@@ -1,11 +1,72 @@
 //! The SINUMERIK (840D sl / 828D) part program language: one line of
-//! program text into a spanned syntax tree.
+//! program text into a spanned syntax tree, and an interpreter that runs
+//! the language.
 //!
 //! A front end of its own, not a FANUC dialect: [`parse_line`] reads a
 //! line into a [`Line`] (skip level, block number, label, [`Statement`],
 //! comment) or a [`ParseError`] with the columns of the offending text and
 //! the alarm the control gives ([`ParseErrorKind::alarm`]). Nothing is
-//! evaluated here: no variables, no machine, no I/O.
+//! evaluated by the reader: no variables, no machine, no I/O.
+//!
+//! The [`Interpreter`] runs a program streamed through [`ProgramText`]
+//! (variables, expressions, control structures, jumps, subprograms from
+//! a [`ProgramStore`], macros) and yields the blocks that reach the
+//! control as [`Executed`] blocks, every value evaluated; the control's
+//! data comes through [`System`]. Its design and the decisions taken where
+//! the manuals are silent are in the documentation of the [`interp`]
+//! module.
+//!
+//! ```
+//! use std::collections::HashMap;
+//! use fiveaxis_sinumerik::{
+//!     Action, Executed, Interpreter, Options, ProgramStore, ProgramText, Step, System,
+//!     TextProgram, Value,
+//! };
+//!
+//! struct Store;
+//! impl ProgramStore for Store {
+//!     fn open(&mut self, name: &str) -> std::io::Result<Option<Box<dyn ProgramText>>> {
+//!         Ok((name == "LIFT").then(|| {
+//!             Box::new(TextProgram::new("PROC LIFT(REAL H)\nG0 Z=H\nRET\n")) as Box<dyn ProgramText>
+//!         }))
+//!     }
+//! }
+//! struct Control(HashMap<String, Value>);
+//! impl System for Control {
+//!     fn read(&mut self, name: &str, _: &[Value]) -> Result<Value, String> {
+//!         self.0.get(name).cloned().ok_or_else(|| "unknown".to_string())
+//!     }
+//!     fn write(&mut self, name: &str, _: &[Value], v: Value) -> Result<(), String> {
+//!         self.0.insert(name.to_string(), v);
+//!         Ok(())
+//!     }
+//!     fn is_axis(&self, name: &str) -> bool {
+//!         matches!(name, "X" | "Y" | "Z")
+//!     }
+//!     fn is_builtin(&self, _: &str) -> bool {
+//!         false
+//!     }
+//! }
+//!
+//! let main = "R1=2\nWHILE R1>0\nG1 X=R1*10\nR1=R1-1\nENDWHILE\nLIFT(50)\nM30\n";
+//! let mut interp = Interpreter::new(
+//!     Box::new(TextProgram::new(main)),
+//!     Box::new(Store),
+//!     Options::default(),
+//! )?;
+//! let mut control = Control(HashMap::new());
+//! let mut block = Executed::default();
+//! let mut words = Vec::new();
+//! while interp.next_block(&mut control, &mut block)? == Step::Block {
+//!     for action in &block.actions {
+//!         if let Action::Word { address, value, .. } = action {
+//!             words.push(format!("{address}{}", value.as_f64().unwrap_or(0.0)));
+//!         }
+//!     }
+//! }
+//! assert_eq!(words, ["G1", "X20", "G1", "X10", "G0", "Z50", "M30"]);
+//! # Ok::<(), fiveaxis_sinumerik::LangError>(())
+//! ```
 //!
 //! ```
 //! use fiveaxis_sinumerik::{Item, Statement, parse_line};
@@ -95,6 +156,7 @@
 
 mod error;
 mod exec;
+pub mod interp;
 mod lex;
 mod names;
 mod parse;
@@ -106,6 +168,10 @@ pub use exec::{
     Value,
 };
 pub use fiveaxis_gcode::Span;
+pub use interp::{
+    Interpreter, MAX_LEVELS, MAX_NOTES, MAX_PASSES, Options, REAL_TOLERANCE, TextProgram,
+    format_real,
+};
 pub use parse::{MAX_DEPTH, MAX_OPERATIONS, parse_line};
 pub use tree::{
     Assign, BinOp, BlockNumber, Call, CallKind, Comment, Declarator, Def, Expr, ExprKind,

@@ -18,3 +18,6 @@ pub fn on_small_stack(f: impl FnOnce() + Send + 'static) {
         .join()
         .expect("the test ends on a 256 KiB stack");
 }
+
+/// A fake control and program store for the interpreter's tests.
+pub mod fake;
