@@ -199,6 +199,8 @@ pub struct Controller<'m> {
     block_exact_stop: bool,
     /// A block of commands asks for an exact stop at its end.
     pending_exact_stop: bool,
+    /// The whole turns a block of commands gives its circle.
+    block_turns: Option<u32>,
     /// The block being executed chose rotary axes from a tool direction
     /// (set where the inverse kinematics is asked; `Segment::rotary_chosen`).
     block_chose_rotary: std::cell::Cell<bool>,
@@ -313,6 +315,7 @@ impl<'m> Controller<'m> {
             block_posture: None,
             block_exact_stop: false,
             pending_exact_stop: false,
+            block_turns: None,
             block_chose_rotary: std::cell::Cell::new(false),
             cutter: cutter_c::CutterC::new(machine.params.cutter_startup_b),
             axis_letters: {

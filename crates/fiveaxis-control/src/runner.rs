@@ -377,6 +377,9 @@ pub struct Runner<'m, S> {
     /// A SINUMERIK program's interpreter and front end, made at the first
     /// step (when the program memory is known).
     sinumerik: Option<Box<sinumerik::SinumerikRun<'m>>>,
+    /// The program source lives as long as the machine's borrow (a
+    /// SINUMERIK run hands it to its interpreter).
+    _source_outlives: std::marker::PhantomData<&'m S>,
     /// Lowest and highest line of the current and of the last full window
     /// of [`LOOP_WINDOW`] lines, for the message of an endless loop.
     window: [(u32, u32); 2],
@@ -388,7 +391,7 @@ const MAX_NOTES: usize = 100;
 /// How many recent lines the runner keeps for messages.
 const RECENT_LINES: usize = 16;
 
-impl<'m, S: Source + 'm> Runner<'m, S> {
+impl<'m, S: Source> Runner<'m, S> {
     /// A run of the program in `source` on `machine` with `offsets`.
     pub fn new(machine: &'m Machine, offsets: Offsets, source: S, options: RunOptions) -> Self {
         let mut controller = Controller::new(machine, offsets);
@@ -436,6 +439,7 @@ impl<'m, S: Source + 'm> Runner<'m, S> {
             skipped: 0,
             window: [(u32::MAX, 0); 2],
             sinumerik: None,
+            _source_outlives: std::marker::PhantomData,
         }
     }
 

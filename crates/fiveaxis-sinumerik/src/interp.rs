@@ -268,9 +268,9 @@ enum Pending {
 }
 
 /// One program level.
-struct CallFrame {
+struct CallFrame<'a> {
     program: usize,
-    text: Box<dyn ProgramText>,
+    text: Box<dyn ProgramText + 'a>,
     /// Label positions in the text read so far, in order.
     labels: HashMap<String, Vec<LinePos>>,
     /// The first line not read yet.
@@ -299,10 +299,10 @@ struct ReadLine {
 
 /// The SINUMERIK language interpreter: design and decisions in the
 /// [module documentation](self).
-pub struct Interpreter {
+pub struct Interpreter<'a> {
     options: Options,
-    store: Box<dyn ProgramStore>,
-    frames: Vec<CallFrame>,
+    store: Box<dyn ProgramStore + 'a>,
+    frames: Vec<CallFrame<'a>>,
     programs: Vec<ProgramInfo>,
     by_name: HashMap<String, usize>,
     vars: Vars,
@@ -314,7 +314,7 @@ pub struct Interpreter {
     buf: Vec<u8>,
 }
 
-impl std::fmt::Debug for Interpreter {
+impl std::fmt::Debug for Interpreter<'_> {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("Interpreter")
             .field("options", &self.options)
@@ -426,7 +426,7 @@ fn indexed_address(name: &str) -> bool {
     )
 }
 
-impl Interpreter {
+impl<'t> Interpreter<'t> {
     /// An interpreter for the main program `main`, with the subprograms
     /// and definition files of `store`. Reads the definition files first
     /// (`DEF NCK|CHAN …` global data, `DEFINE … AS` macros).
@@ -435,8 +435,8 @@ impl Interpreter {
     ///
     /// A definition file cannot be read or holds an error.
     pub fn new(
-        main: Box<dyn ProgramText>,
-        mut store: Box<dyn ProgramStore>,
+        main: Box<dyn ProgramText + 't>,
+        mut store: Box<dyn ProgramStore + 't>,
         options: Options,
     ) -> Result<Self, LangError> {
         let definitions = store
@@ -572,12 +572,12 @@ impl Interpreter {
         }
     }
 
-    fn top(&self) -> &CallFrame {
+    fn top(&self) -> &CallFrame<'t> {
         let n = self.frames.len() - 1;
         &self.frames[n]
     }
 
-    fn top_mut(&mut self) -> &mut CallFrame {
+    fn top_mut(&mut self) -> &mut CallFrame<'t> {
         let n = self.frames.len() - 1;
         &mut self.frames[n]
     }

@@ -53,6 +53,7 @@ impl Controller<'_> {
             out.truncate(base);
         }
         self.pending_exact_stop = false;
+        self.block_turns = None;
         result
     }
 
@@ -252,9 +253,7 @@ impl Controller<'_> {
         if let Some(r) = m.radius {
             self.words.set(b'R', r, m.span);
         }
-        if let Some(turns) = m.turns {
-            self.words.set(b'P', f64::from(turns), m.span);
-        }
+        self.block_turns = m.turns.filter(|&t| t > 0);
         if let Some(v) = m.tool_vector {
             if m.center.iter().any(Option::is_some) {
                 return Err(self.alarm(

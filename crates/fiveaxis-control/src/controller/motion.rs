@@ -344,6 +344,11 @@ impl Controller<'_> {
             }
             sweep += sweep.signum() * std::f64::consts::TAU * f64::from(turns - 1);
         }
+        if let Some(turns) = self.block_turns {
+            // A command's whole turns beyond the part turn (SINUMERIK
+            // `TURN=`).
+            sweep += sweep.signum() * std::f64::consts::TAU * f64::from(turns);
+        }
         Ok(Some(ArcGeometry {
             axes: [p, q],
             normal,

@@ -202,10 +202,7 @@ impl<S: Source> Source for Sources<S> {
     fn position(&self) -> u64 {
         let inner = match self.current.checked_sub(1).and_then(|k| self.open.get(k)) {
             Some((_, _, source)) => source.position(),
-            None => self
-                .main
-                .as_ref()
-                .map_or(0, |main| main.position()),
+            None => self.main.as_ref().map_or(0, |main| main.position()),
         };
         file_start(self.current) | (inner & OFFSET_MASK)
     }

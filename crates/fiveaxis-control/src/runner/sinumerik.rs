@@ -129,7 +129,7 @@ impl ProgramStore for Store {
     }
 }
 
-impl<'m, S: Source + 'm> Runner<'m, S> {
+impl<'m, S: Source> Runner<'m, S> {
     /// Runs the SINUMERIK program's next block.
     pub(super) fn sinumerik_step(&mut self, out: &mut Vec<Segment>) -> Result<(), RunError> {
         self.resumable = false;

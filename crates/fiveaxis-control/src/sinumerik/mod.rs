@@ -1079,7 +1079,10 @@ impl Front {
                         .push(Command::Interpolation(MotionMode::Rapid));
                     block.commands.push(Command::Move(target(to)));
                 }
-                cycles::CycleStep::Feed { to, feed: step_feed } => {
+                cycles::CycleStep::Feed {
+                    to,
+                    feed: step_feed,
+                } => {
                     // A step's own feed holds for that step only.
                     block
                         .commands

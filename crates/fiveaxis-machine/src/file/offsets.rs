@@ -110,7 +110,9 @@ impl Offsets {
                 ));
             }
             offsets.tools.insert(n, tool_offset(&src, tool)?);
-            offsets.tool_names.push((key.get_ref().to_ascii_uppercase(), n));
+            offsets
+                .tool_names
+                .push((key.get_ref().to_ascii_uppercase(), n));
         }
         let mut extended_given = [false; MAX_HAAS_WORK as usize];
         for (key, value) in in_file_order(&raw.work) {

@@ -102,7 +102,7 @@ fn target_span(t: &JumpTarget) -> Span {
     }
 }
 
-impl Interpreter {
+impl Interpreter<'_> {
     /// A control-structure statement or a conditional jump.
     pub(super) fn flow(
         &mut self,
