@@ -380,11 +380,19 @@ fn machines_lists_every_built_in_machine_and_marks_the_default() {
 fn machines_show_prints_a_file_that_runs_exactly_like_the_built_in_machine() {
     // Inside the travels of every built-in (the Haas machines travel
     // negative from home, in inches).
-    let program = "G43 H1 G0 X-10. Y-5. Z-20.\nG1 X-15. F300.\nG91 G28 Z0\nM30\n";
+    let fanuc = "G43 H1 G0 X-10. Y-5. Z-20.\nG1 X-15. F300.\nG91 G28 Z0\nM30\n";
+    // The same in the Siemens language: tool 1's length with D1, and the
+    // retract in machine coordinates.
+    let siemens = "T1 D1 G0 X-10 Y-5 Z-20\nG1 X-15 F300\nG0 G53 Z500\nM30\n";
     let offsets = "[tools]\n1 = { length = 100.0 }\n";
     for name in builtin_names() {
         let shown = fiveaxis(&["machines", "show", name]);
         assert_eq!(shown.status.code(), Some(0), "{name}: {}", stderr(&shown));
+        let program = if stdout(&shown).contains("control = \"sinumerik\"") {
+            siemens
+        } else {
+            fanuc
+        };
         let dir = scratch(&[
             ("program.nc", program),
             ("offsets.toml", offsets),

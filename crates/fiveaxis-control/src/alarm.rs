@@ -560,7 +560,10 @@ impl Condition {
                 "An arc under scaling with different factors on its plane's axes"
             }
             Condition::SinumerikAlarm => {
-                "A SINUMERIK language, cycle or program alarm (SETAL), under its own number"
+                "A SINUMERIK language, cycle or program alarm, under the number the alarm \
+                 itself carries (12080 syntax error, 12550 name not defined, 14080 jump \
+                 target not found, 14011 program not available, 14096 type conversion, \
+                 61xxx cycles, SETAL's own)"
             }
         }
     }
@@ -570,6 +573,22 @@ impl Condition {
     /// The alarm number that `control` shows for this condition.
     pub fn code(self, control: Control) -> AlarmCode {
         use Condition as C;
+        // SINUMERIK 840D sl alarms (brief §8: 10720 software limit switch,
+        // 12470 G function unknown, 14011 program not available, 14040
+        // error in the end point of a circle).
+        if control == Control::Sinumerik {
+            let n = match self {
+                C::OvertravelPlus | C::OvertravelMinus => Some(10720),
+                C::ImproperGCode | C::GCodeConflict => Some(12470),
+                C::ProgramNotFound => Some(14011),
+                C::ArcRadiusTolerance => Some(14040),
+                C::NestingTooDeep => Some(15100),
+                _ => None,
+            };
+            if let Some(n) = n {
+                return AlarmCode::sinumerik(n);
+            }
+        }
         let fanuc = matches!(control, Control::Fanuc30i | Control::Fanuc16);
         let mitsubishi = control == Control::Mitsubishi;
         // FANUC 30i / 16 numbers (the same numbers; 16 shows three digits).
@@ -670,22 +689,6 @@ impl Condition {
                 // gives Alarm 312 - Program End".
                 C::SubprogramEndMissing => return AlarmCode::new("", 312, 1),
                 _ => {}
-            }
-        }
-        // SINUMERIK 840D sl alarms (brief §8: 10720 software limit switch,
-        // 12470 G function unknown, 14011 program not available, 14040
-        // error in the end point of a circle).
-        if control == Control::Sinumerik {
-            let n = match self {
-                C::OvertravelPlus | C::OvertravelMinus => Some(10720),
-                C::ImproperGCode | C::GCodeConflict => Some(12470),
-                C::ProgramNotFound => Some(14011),
-                C::ArcRadiusTolerance => Some(14040),
-                C::NestingTooDeep => Some(15100),
-                _ => None,
-            };
-            if let Some(n) = n {
-                return AlarmCode::sinumerik(n);
             }
         }
         // Mazak alarms (seed 002).

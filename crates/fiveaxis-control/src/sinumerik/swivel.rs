@@ -96,12 +96,13 @@ mod tests {
 
     #[test]
     fn axis_by_axis_turns_about_the_turned_axes() {
-        // About X by 90°: the new Z is the old −Y; then about the new Y
-        // (the old Z) by 90°: the new X becomes the old Z.
+        // About X by 90°: the new Y is the old Z; then about the new Y
+        // (the old Z) by 90°: the new X becomes the old Y, the new Z the
+        // old X.
         let r = rotation(SwivelKind::AxisByAxis([0, 1, 2]), [90.0, 90.0, 0.0]).unwrap();
         let z = r * Vec3::z();
         let x = r * Vec3::x();
-        assert!((x - Vec3::new(0.0, 0.0, -1.0)).norm() < 1e-12, "{x}");
+        assert!((x - Vec3::new(0.0, 1.0, 0.0)).norm() < 1e-12, "{x}");
         assert!((z - Vec3::new(1.0, 0.0, 0.0)).norm() < 1e-12, "{z}");
     }
 

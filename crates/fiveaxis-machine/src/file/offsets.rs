@@ -58,7 +58,7 @@ enum WorkSlot {
 
 impl Offsets {
     /// Reads an offsets file (`machine-model.md` §5): `[tools]` by offset
-    /// number or by name (a key that does not start with a digit: a
+    /// number or by name (a key that starts with a letter or `_`: a
     /// SINUMERIK tool called by name, given the offset numbers after the
     /// numbered ones) (`length`, `radius`, and the wear values
     /// `length_wear`, `radius_wear`, each 0 when left out), `[work]` (`G54` … `G59`,
@@ -79,7 +79,7 @@ impl Offsets {
             key.get_ref()
                 .bytes()
                 .next()
-                .is_some_and(|b| !b.is_ascii_digit())
+                .is_some_and(|b| b.is_ascii_alphabetic() || b == b'_')
         };
         for (key, tool) in in_file_order(&raw.tools) {
             if is_name(key) {

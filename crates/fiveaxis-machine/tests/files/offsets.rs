@@ -146,7 +146,7 @@ fn unknown_keys() {
 
 #[test]
 fn tool_numbers_are_1_to_999() {
-    for bad in ["0", "1000", "T1", "-1", "\"1 \"", "007"] {
+    for bad in ["0", "1000", "-1", "\"1 \"", "007"] {
         let text = format!("[tools]\n{bad} = {{ length = 1 }}\n");
         let key = bad.trim_matches('"');
         let e = fail(&text);
@@ -157,6 +157,18 @@ fn tool_numbers_are_1_to_999() {
         );
         assert!(e.message.contains("not a tool offset number"), "{e:?}");
     }
+}
+
+#[test]
+fn named_tools_take_the_numbers_after_the_numbered_ones_in_file_order() {
+    let text = "[tools]\n\"FRA-D12\" = { length = 90, radius = 6 }\n3 = { length = 1 }\nT1 = { length = 2 }\n";
+    let o = read(text);
+    assert_eq!(o.tool_number("fra-d12"), Some(4));
+    assert_eq!(o.tool_number("T1"), Some(5));
+    assert_eq!(o.tool_number("T2"), None);
+    assert_eq!(o.tool(4).length, 90.0);
+    assert_eq!(o.tool(4).radius, 6.0);
+    assert_eq!(o.tool(5).length, 2.0);
 }
 
 #[test]
