@@ -220,7 +220,9 @@ fn check_one(
     variables: Option<&[(u32, f64)]>,
     progress: &Progress,
 ) -> Outcome {
-    let file = open_program(program)?;
+    let mut file = open_program(program)?;
+    let sinumerik = crate::machine_for_program(machine, program, &mut file);
+    let machine = sinumerik.as_ref().unwrap_or(machine);
     // The text report quotes the lines of its findings: read again from
     // the start once the run is over (standard input is a spooled file).
     let source = match args.format {

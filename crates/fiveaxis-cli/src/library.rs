@@ -73,6 +73,42 @@ impl ProgramLibrary for DirLibrary {
             path.display().to_string(),
         )))
     }
+
+    fn open_sinumerik(&mut self, name: &str) -> io::Result<Option<(Box<dyn Source>, String)>> {
+        match sinumerik_program(&self.dir, name)? {
+            Some(path) => {
+                let file = File::open(&path)?;
+                Ok(Some((
+                    Box::new(ReaderSource::new(file)),
+                    path.display().to_string(),
+                )))
+            }
+            None => Ok(None),
+        }
+    }
+
+    fn sinumerik_definitions(&mut self) -> io::Result<Vec<(Box<dyn Source>, String)>> {
+        let mut paths = Vec::new();
+        for entry in std::fs::read_dir(&self.dir)? {
+            let path = entry?.path();
+            let name = path.file_name().and_then(|s| s.to_str()).unwrap_or("");
+            let upper = name.to_ascii_uppercase();
+            if path.is_file() && (upper.ends_with(".DEF") || upper.ends_with("_DEF")) {
+                paths.push(path);
+            }
+        }
+        // In name order, so that a run does not depend on the folder's.
+        paths.sort();
+        let mut files = Vec::with_capacity(paths.len());
+        for path in paths {
+            let file = File::open(&path)?;
+            files.push((
+                Box::new(ReaderSource::new(file)) as Box<dyn Source>,
+                path.display().to_string(),
+            ));
+        }
+        Ok(files)
+    }
 }
 
 /// `O1234` / `o01234` as a file name: the number.
@@ -188,45 +224,17 @@ impl ProgramLibrary for Memory {
     }
 
     fn open_sinumerik(&mut self, name: &str) -> io::Result<Option<(Box<dyn Source>, String)>> {
-        let Some(dir) = self.programs.as_ref() else {
-            return Ok(None);
-        };
-        match sinumerik_program(&dir.dir, name)? {
-            Some(path) => {
-                let file = File::open(&path)?;
-                Ok(Some((
-                    Box::new(ReaderSource::new(file)),
-                    path.display().to_string(),
-                )))
-            }
+        match self.programs.as_mut() {
+            Some(dir) => dir.open_sinumerik(name),
             None => Ok(None),
         }
     }
 
     fn sinumerik_definitions(&mut self) -> io::Result<Vec<(Box<dyn Source>, String)>> {
-        let Some(dir) = self.programs.as_ref() else {
-            return Ok(Vec::new());
-        };
-        let mut paths = Vec::new();
-        for entry in std::fs::read_dir(&dir.dir)? {
-            let path = entry?.path();
-            let name = path.file_name().and_then(|s| s.to_str()).unwrap_or("");
-            let upper = name.to_ascii_uppercase();
-            if path.is_file() && (upper.ends_with(".DEF") || upper.ends_with("_DEF")) {
-                paths.push(path);
-            }
+        match self.programs.as_mut() {
+            Some(dir) => dir.sinumerik_definitions(),
+            None => Ok(Vec::new()),
         }
-        // In name order, so that a run does not depend on the folder's.
-        paths.sort();
-        let mut files = Vec::with_capacity(paths.len());
-        for path in paths {
-            let file = File::open(&path)?;
-            files.push((
-                Box::new(ReaderSource::new(file)) as Box<dyn Source>,
-                path.display().to_string(),
-            ));
-        }
-        Ok(files)
     }
 }
 

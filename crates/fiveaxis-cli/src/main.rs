@@ -515,6 +515,52 @@ fn load_offsets_for(
     }
 }
 
+/// Whether a program is SINUMERIK text whatever the machine's control: a
+/// `.mpf` / `.spf` file (a main program or subprogram of the control's
+/// program memory), or a text whose first line is a transfer header
+/// `%_N_NAME_MPF` / `_SPF` (ONE p43–45).
+pub fn is_sinumerik_program(spec: &str, file: &mut File) -> bool {
+    if is_sinumerik_name(spec) {
+        return true;
+    }
+    let mut head = [0u8; 64];
+    let mut read = 0;
+    while read < head.len() {
+        match file.read(&mut head[read..]) {
+            Ok(0) | Err(_) => break,
+            Ok(n) => read += n,
+        }
+    }
+    let _ = file.rewind();
+    is_sinumerik_head(&head[..read])
+}
+
+/// A `.mpf` / `.spf` file name.
+pub fn is_sinumerik_name(spec: &str) -> bool {
+    Path::new(spec)
+        .extension()
+        .and_then(|e| e.to_str())
+        .is_some_and(|e| e.eq_ignore_ascii_case("mpf") || e.eq_ignore_ascii_case("spf"))
+}
+
+/// A text that starts with a SINUMERIK transfer header (after a UTF-8
+/// byte-order mark, if any).
+pub fn is_sinumerik_head(head: &[u8]) -> bool {
+    let head = head.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(head);
+    head.starts_with(b"%_N_")
+}
+
+/// The machine a program runs on: `machine`, read as a SINUMERIK when the
+/// program is SINUMERIK text ([`is_sinumerik_program`]) and the machine's
+/// control is another.
+pub fn machine_for_program(machine: &Machine, spec: &str, file: &mut File) -> Option<Machine> {
+    (machine.control != fiveaxis_machine::Control::Sinumerik && is_sinumerik_program(spec, file))
+        .then(|| Machine {
+            control: fiveaxis_machine::Control::Sinumerik,
+            ..machine.clone()
+        })
+}
+
 /// The program as a seekable file: a regular file itself, or standard
 /// input (or a device, a pipe) spooled to an anonymous temporary file, so
 /// that subprogram calls can jump back and memory stays constant.
@@ -578,7 +624,8 @@ fn spool(input: &mut dyn io::BufRead, name: &str) -> Result<File, InputError> {
 fn run(args: &RunArgs) -> Result<u8, InputError> {
     let machine = load_machine(&args.machine)?;
     let offsets = load_offsets_for(&args.machine, &machine, args.offsets.as_deref())?;
-    let file = open_program(&args.program)?;
+    let mut file = open_program(&args.program)?;
+    let machine = machine_for_program(&machine, &args.program, &mut file).unwrap_or(machine);
     let program_name = if args.program == "-" {
         "<stdin>"
     } else {

@@ -243,7 +243,8 @@ pub fn view(args: &ViewArgs) -> Result<u8, InputError> {
     };
     // The program is read as it runs (standard input spooled to a file);
     // the page's copy of its text is read again afterwards, bounded.
-    let file = open_program(&args.program)?;
+    let mut file = open_program(&args.program)?;
+    let machine = crate::machine_for_program(&machine, &args.program, &mut file).unwrap_or(machine);
     let io_error = |e: &std::io::Error| InputError::io(program_name, e);
     let mut source = file.try_clone().map_err(|e| io_error(&e))?;
     let lines = count_lines(&mut source).map_err(|e| io_error(&e))?;

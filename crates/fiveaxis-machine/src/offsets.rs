@@ -75,6 +75,10 @@ pub struct Offsets {
     pub setup_error: BTreeMap<u32, SetupErrorSet>,
     /// Tools by name (upper-cased) with the offset number each holds.
     pub tool_names: Vec<(String, u32)>,
+    /// A tool a program names that `tool_names` lacks is known all the
+    /// same (given a number in the order named), as when one length
+    /// stands for every tool (`post --tool-length`).
+    pub any_name: bool,
 }
 
 impl Default for Offsets {
@@ -90,6 +94,7 @@ impl Default for Offsets {
             widest_work: None,
             setup_error: BTreeMap::new(),
             tool_names: Vec::new(),
+            any_name: false,
         }
     }
 }

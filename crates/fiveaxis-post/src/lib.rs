@@ -297,6 +297,7 @@ pub fn with_tool_length(
     length: f64,
 ) -> fiveaxis_machine::Offsets {
     let mut offsets = offsets.clone();
+    offsets.any_name = true;
     let last = offsets
         .tools
         .keys()

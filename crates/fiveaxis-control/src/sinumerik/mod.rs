@@ -682,7 +682,7 @@ impl Front {
         if let Some(n) = offsets.tool_number(name) {
             return Ok(n);
         }
-        if !offsets.tools.is_empty() {
+        if !offsets.tools.is_empty() && !offsets.any_name {
             return Err(Self::alarm(
                 line,
                 17190,
