@@ -2,8 +2,9 @@
 //! others (`../shared/corpus/` beside the workspace; never copied into the
 //! repository).
 //!
-//! Most of these programs are in dialects the kernel does not speak yet
-//! (LinuxCNC, Sinumerik). What every one of them must get is a clean
+//! The programs are FANUC-family, LinuxCNC, SINUMERIK (read as SINUMERIK
+//! by their `.mpf` / `.spf` names) and HEIDENHAIN (not read yet). What
+//! every one of them must get is a clean
 //! ending: it runs to its end (exit 0), or it stops with one alarm line
 //! `ALARM <code> line <n>: <message>` and the source line rendered under
 //! it (exit 1). Never a panic (101), a signal, a hang, or "unusable input"
@@ -611,5 +612,320 @@ fn linuxcnc_programs_read_as_linuxcnc() {
             ));
         }
     }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+/// The SINUMERIK programs of the corpus, each on a SINUMERIK machine that
+/// fits it (`tests/corpus-setups/`), with the program memory a shop keeps
+/// beside them (`tests/corpus-setups/sinumerik-programs/`: the builder's
+/// and the shop's user cycles the programs call, as stand-ins written for
+/// these tests), and how each must end.
+struct SinumerikCase {
+    program: &'static str,
+    machine: &'static str,
+    edits: &'static [Edit],
+    stop: Option<(&'static str, usize, &'static str)>,
+    positions: &'static [Position],
+}
+
+const SINUMERIK: &[SinumerikCase] = &[
+    SinumerikCase {
+        program: "siemens_pyronc_atsumu.mpf",
+        machine: "sinumerik-3axis.toml",
+        edits: &[],
+        stop: None,
+        positions: &[
+            Position {
+                line: 16,
+                column: "Y",
+                value: 0.0,
+                why: "`TRANS Y-110 Z26` then `G1 X52.609 Y110 Z6`: Y 110 - 110",
+            },
+            Position {
+                line: 16,
+                column: "Z",
+                value: 32.0,
+                why: "Z 6 + 26 (the programmable frame); D1 of a tool without data: no length",
+            },
+        ],
+    },
+    SinumerikCase {
+        program: "siemens_pyronc_strojnica.mpf",
+        machine: "sinumerik-3axis.toml",
+        edits: &[],
+        stop: None,
+        positions: &[],
+    },
+    SinumerikCase {
+        program: "siemens_spinner_u5_achskreuz.mpf",
+        machine: "spinner-u5.toml",
+        edits: &[],
+        stop: None,
+        positions: &[],
+    },
+    SinumerikCase {
+        program: "siemens_spinner_u5_bottle_opener.mpf",
+        machine: "spinner-u5.toml",
+        edits: &[],
+        stop: None,
+        positions: &[],
+    },
+    SinumerikCase {
+        program: "siemens_spinner_u5_keychain.mpf",
+        machine: "spinner-u5.toml",
+        edits: &[],
+        stop: None,
+        positions: &[
+            Position {
+                line: 19,
+                column: "X",
+                value: -365.0,
+                why: "`SUPA G0 X=_X_HOME …` with `_X_HOME=-365.`: machine X, frames suppressed",
+            },
+            Position {
+                line: 19,
+                column: "Y",
+                value: 224.0,
+                why: "`Y=_Y_HOME`, `_Y_HOME=224.`: machine Y",
+            },
+        ],
+    },
+    SinumerikCase {
+        program: "siemens_nx_ftv5_840d.mpf",
+        machine: "cincinnati-ftv5.toml",
+        edits: &[],
+        stop: Some((
+            "14011",
+            362,
+            "the post writes `TRAOOF`, a misspelling of TRAFOOF: to the control a name \
+             alone is a subprogram call, and no program of that name exists (14011)",
+        )),
+        positions: &[
+            Position {
+                line: 15,
+                column: "X",
+                value: 2.212 * MM_PER_INCH,
+                why: "`G70` inch: `G0 X2.212 … A0 C0` under TRAORI(1), head upright, no tool length",
+            },
+            Position {
+                line: 15,
+                column: "Y",
+                value: 0.4884 * MM_PER_INCH,
+                why: "`Y.4884` inch",
+            },
+        ],
+    },
+    SinumerikCase {
+        program: "siemens_nx_ftv5_840d.mpf",
+        machine: "cincinnati-ftv5.toml",
+        edits: &[
+            Edit {
+                line: 362,
+                was: "TRAOOF",
+                now: "TRAFOOF",
+                why: "the operator corrects the post's misspelling of TRAFOOF",
+            },
+            Edit {
+                line: 388,
+                was: "TRAOOF",
+                now: "TRAFOOF",
+                why: "the same misspelling, a second time",
+            },
+        ],
+        stop: Some((
+            "12470",
+            431,
+            "the post selects the settable frame with `G503`: an 840D has G54–G57 and \
+             G505–G599 (ONE p145, MD28080), no G501–G504, so the control refuses the \
+             G function (12470)",
+        )),
+        positions: &[],
+    },
+    SinumerikCase {
+        program: "siemens_nx_ftv5_840d.mpf",
+        machine: "cincinnati-ftv5.toml",
+        edits: &[
+            Edit {
+                line: 362,
+                was: "TRAOOF",
+                now: "TRAFOOF",
+                why: "the operator corrects the post's misspelling of TRAFOOF",
+            },
+            Edit {
+                line: 388,
+                was: "TRAOOF",
+                now: "TRAFOOF",
+                why: "the same misspelling, a second time",
+            },
+            Edit {
+                line: 431,
+                was: "G503",
+                now: "G505",
+                why: "the operator puts the part's zero in settable frame 5 and selects it",
+            },
+            Edit {
+                line: 481,
+                was: "G503",
+                now: "G505",
+                why: "the same selection, a second time",
+            },
+            Edit {
+                line: 889,
+                was: "G503",
+                now: "G505",
+                why: "the same selection, a third time",
+            },
+            Edit {
+                line: 908,
+                was: "G503",
+                now: "G505",
+                why: "the same selection, a fourth time",
+            },
+            Edit {
+                line: 927,
+                was: "G503",
+                now: "G505",
+                why: "the same selection, a fifth time",
+            },
+        ],
+        stop: Some((
+            "61001",
+            860,
+            "the tapping operation calls `MCALL CYCLE84(… , , 3, , , , 900., 0, …)` with \
+             neither MPIT nor PIT: the cycle has no thread pitch and stops at the first \
+             hole (61001). Before it: CYCLE800 swivels (mode 57), TRAORI, the MCALL \
+             CYCLE83 deep-hole drilling",
+        )),
+        positions: &[],
+    },
+    SinumerikCase {
+        program: "siemens_bladmill_starrag_traori.spf",
+        machine: "starrag-hx151.toml",
+        edits: &[],
+        stop: None,
+        positions: &[Position {
+            line: 3784,
+            column: "Z",
+            value: 290.0,
+            why: "`G0 G53 D0 Z290.0`: machine Z, frames and length off",
+        }],
+    },
+    SinumerikCase {
+        program: "siemens_bladmill_starrag_main.mpf",
+        machine: "starrag-hx151.toml",
+        edits: &[],
+        stop: None,
+        positions: &[],
+    },
+];
+
+/// The program memory of the SINUMERIK runs, in a temporary folder: the
+/// fixture user cycles and definitions, the corpus's operation program
+/// 4444411 (the Starrag main program calls it by `EXTCALL`), and for the
+/// other operation programs the main program calls, which the corpus does
+/// not hold, stand-ins that return at once.
+fn sinumerik_memory(corpus: &Path) -> tempfile::TempDir {
+    let dir = tempfile::tempdir().expect("a temporary folder");
+    let fixtures =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/corpus-setups/sinumerik-programs");
+    for entry in std::fs::read_dir(&fixtures).expect("the fixture programs") {
+        let path = entry.expect("fixture entry").path();
+        std::fs::copy(
+            &path,
+            dir.path().join(path.file_name().expect("a file name")),
+        )
+        .expect("copied");
+    }
+    std::fs::copy(
+        corpus.join("siemens_bladmill_starrag_traori.spf"),
+        dir.path().join("4444411.SPF"),
+    )
+    .expect("copied");
+    let main = std::fs::read_to_string(corpus.join("siemens_bladmill_starrag_main.mpf"))
+        .unwrap_or_default();
+    for call in main.split("EXTCALL(\"").skip(1) {
+        let name: String = call.chars().take_while(char::is_ascii_digit).collect();
+        let path = dir.path().join(format!("{name}.SPF"));
+        if !name.is_empty() && !path.exists() {
+            std::fs::write(
+                &path,
+                "; a stand-in for an operation program not in the corpus\nM17\n",
+            )
+            .expect("written");
+        }
+    }
+    dir
+}
+
+#[test]
+fn sinumerik_programs_run_to_their_end_or_stop_where_the_control_would() {
+    let Some(dir) = common::corpus::corpus_path("MANIFEST.tsv").map(|_| common::corpus_dir())
+    else {
+        return;
+    };
+    let setups = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/corpus-setups");
+    let memory = sinumerik_memory(&dir);
+    let mut failures = Vec::new();
+    let mut ran = 0;
+    for case in SINUMERIK {
+        let program = dir.join(case.program);
+        let source = std::fs::read(&program).expect("corpus file");
+        let text = match edited(&source, case.edits) {
+            Ok(text) => text,
+            Err(problem) => {
+                failures.push(format!("{}: {problem}", case.program));
+                continue;
+            }
+        };
+        let input = if case.edits.is_empty() {
+            Input::File(&program)
+        } else {
+            Input::Edited(&text)
+        };
+        let machine = setups.join(case.machine).display().to_string();
+        let pick: Vec<usize> = case.positions.iter().map(|p| p.line).collect();
+        let outcome = run_with(
+            input,
+            &[
+                "--machine",
+                &machine,
+                "--programs",
+                &memory.path().display().to_string(),
+            ],
+            &pick,
+        );
+        let (summary, _) = judge(&text, &outcome);
+        println!(
+            "sinumerik: {} ({} operator edits): {summary}",
+            case.program,
+            case.edits.len()
+        );
+        let first_alarm = outcome
+            .stderr
+            .lines()
+            .find(|l| l.starts_with("ALARM "))
+            .and_then(parse_alarm_line)
+            .map(|(code, line, _)| (code.to_owned(), line));
+        let code = outcome.status.and_then(|s| s.code());
+        match case.stop {
+            None if code != Some(0) => failures.push(format!(
+                "{} should run to its end: {summary}\n{}",
+                case.program, outcome.stderr
+            )),
+            Some((want, line, why)) if first_alarm != Some((want.to_owned(), line)) => failures
+                .push(format!(
+                    "{} should stop with {want} at line {line} ({why}): {summary}\n{}",
+                    case.program, outcome.stderr
+                )),
+            _ => ran += 1,
+        }
+        for problem in check_positions(&outcome, case.positions) {
+            failures.push(format!("{}: {problem}", case.program));
+        }
+    }
+    println!(
+        "sinumerik: {ran} of {} cases end as they must",
+        SINUMERIK.len()
+    );
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
