@@ -268,8 +268,14 @@ impl Controller<'_> {
         // as it stands with every rotary axis at 0, whatever the rotary
         // axes are when the kinematics are switched (5-axis-kinematics.adoc:
         // the world point is the tip on the workpiece table); so does
-        // Haas's G234.
-        let frame = if table_zero || machine.control == Control::LinuxCnc {
+        // Haas's G234, and a SINUMERIK's TRAORI (X Y Z are the workpiece
+        // coordinates, the work offset measured with the rotary axes at 0:
+        // CAM output for TRAORI writes the part's coordinates whatever the
+        // rotary axes stand at when TRAORI is switched on).
+        let frame = if table_zero
+            || machine.control == Control::LinuxCnc
+            || machine.control == Control::Sinumerik
+        {
             IsometryMatrix3::identity()
         } else {
             machine.chain(Side::Table, &joints)
