@@ -11,7 +11,8 @@
 //!
 //! * `Mill`: three axes, X, Y, Z ±1000 mm, SINUMERIK, reference at 0.
 //! * `RotaryC`: the same with an endless table C about +Z.
-//! * `DmuBc`: the built-in `sinumerik-dmu-bc` (45° head B, table C).
+//! * `DmuBc`: the built-in `sinumerik-dmu-bc` (45° head B, table C; it
+//!   starts at its reference position, Z 500).
 //!
 //! Offsets (`OFFSETS`): T1 100 mm, the named tool `"FRA-D12"` 90 mm (it
 //! takes offset number 2, after the numbered one), G54 = (10, 20, −300).
@@ -91,12 +92,14 @@ const EPS_5X: f64 = 1e-9;
 enum Mach {
     Mill,
     RotaryC,
+    DmuBc,
 }
 
 fn machine(m: Mach) -> Machine {
     let text = match m {
         Mach::Mill => MILL,
         Mach::RotaryC => ROTARY_C,
+        Mach::DmuBc => fiveaxis_machine::builtin_source("sinumerik-dmu-bc").expect("built-in"),
     };
     Machine::from_toml(text).expect("test machine file")
 }
@@ -485,6 +488,83 @@ const CASES: &[Case] = &[
             Expect::Tips(&[[0.0, 0.0, 0.0]]),
             Expect::EndJoints(&[10.0, 20.0, -210.0]),
         ],
+    },
+    Case {
+        // G70: lengths in inches. X1 Y2 Z0.5 → (25.4, 50.8, 12.7); after
+        // G71 X1 is 1 mm again.
+        name: "G70 inch input",
+        machine: Mach::Mill,
+        length: 100.0,
+        program: "T1 D1\nG54 G17 G90\nG70\nG1 X1 Y2 Z0.5 F100\nG71\nX1\n",
+        expect: &[Expect::Tips(&[[25.4, 50.8, 12.7], [1.0, 50.8, 12.7]])],
+    },
+    Case {
+        // TRANS X10 Y5, AROT Z90: (10, 0, 0) turned to (0, 10, 0), shifted
+        // to (10, 15, 0). A bare TRANS clears the whole frame.
+        name: "TRANS, AROT and bare TRANS",
+        machine: Mach::Mill,
+        length: 100.0,
+        program: "T1 D1\nG54 G17 G90\nTRANS X10 Y5\nAROT Z90\nG1 X10 Y0 Z0 F100\nTRANS\n\
+                  G1 X10 Y0 Z0\n",
+        expect: &[Expect::Tips(&[[10.0, 15.0, 0.0], [10.0, 0.0, 0.0]])],
+    },
+    Case {
+        // ROT RPL=90 in G17: about Z; (10, 0, 5) → (0, 10, 5). In G18
+        // (plane Z-X, applicate Y) RPL=90 turns about Y: (10, 0, 0) →
+        // (0, 0, −10).
+        name: "ROT RPL= in G17 and G18",
+        machine: Mach::Mill,
+        length: 100.0,
+        program: "T1 D1\nG54 G17 G90\nROT RPL=90\nG1 X10 Y0 Z5 F100\nG18\nROT RPL=90\n\
+                  G1 X10 Y0 Z0\n",
+        expect: &[Expect::Tips(&[[0.0, 10.0, 5.0], [0.0, 0.0, -10.0]])],
+    },
+    Case {
+        // G53 leaves G54 and TRANS out for its block: machine (1, 2, 3)
+        // with D0 (no length); the tip in the part frame is
+        // (1 − 10, 2 − 20, 3 + 300).
+        name: "G53 machine coordinates",
+        machine: Mach::Mill,
+        length: 0.0,
+        program: "T1 D0\nG54 G17 G90\nTRANS X5\nG0 X0 Y0 Z0\nG0 G53 X1 Y2 Z3\n",
+        expect: &[
+            Expect::Tips(&[[5.0, 0.0, 0.0], [-9.0, -18.0, 303.0]]),
+            Expect::EndJoints(&[1.0, 2.0, 3.0]),
+        ],
+    },
+    Case {
+        // SUPA likewise, at feed; the next block is in G54 + TRANS again.
+        name: "SUPA machine coordinates",
+        machine: Mach::Mill,
+        length: 0.0,
+        program: "T1 D0\nG54 G17 G90\nTRANS X5\nG1 SUPA X-1 Y-2 Z-3 F100\nG1 X0 Y0 Z0\n",
+        expect: &[Expect::Tips(&[[-11.0, -22.0, 297.0], [5.0, 0.0, 0.0]])],
+    },
+    Case {
+        // CYCLE800 mode 57 with C = 90 and _DIR = 0 (the frame only, the
+        // tool stays vertical): X10 in the turned plane is (0, 10, 0).
+        // Head B at 0: machine = W + tip + L·ez = (10, 30, −200), B 0, C 0.
+        name: "CYCLE800 frame only (_DIR=0)",
+        machine: Mach::DmuBc,
+        length: 100.0,
+        program: "T1 D1\nG54 G17 G90\nCYCLE800(0,\"TC1\",0,57,0,0,0,0,0,90,0,0,0,0)\n\
+                  G1 X10 Y0 Z0 F1000\n",
+        expect: &[
+            Expect::Tips(&[[0.0, 10.0, 0.0]]),
+            Expect::EndJoints(&[10.0, 30.0, -200.0, 0.0, 0.0]),
+        ],
+    },
+    Case {
+        // CYCLE800 with X0 = (5, 0, 0), turned 90° about X, X1 = (0, 0, 2):
+        // R = Rx(90): (x, y, z) → (x, −z, y); the origin is
+        // X0 + R·X1 = (5, −2, 0); `G1 X1 Y0 Z0` → (6, −2, 0) on the
+        // table, the tool not turned (_DIR=0).
+        name: "CYCLE800 shifts before and after the turn",
+        machine: Mach::DmuBc,
+        length: 100.0,
+        program: "T1 D1\nG54 G17 G90\nCYCLE800(0,\"TC1\",0,57,5,0,0,90,0,0,0,0,2,0)\n\
+                  G1 X1 Y0 Z0 F1000\n",
+        expect: &[Expect::Tips(&[[6.0, -2.0, 0.0]])],
     },
     Case {
         name: "unknown G function G503",

@@ -440,9 +440,9 @@ fn traori_block_without_vector_keeps_frame() {
 /// with both rotary lines through the origin.
 #[test]
 #[ignore = "bug: `TRAORI` / `G1 X10 Y0 Z0 A3=0 B3=-1 C3=0` (table A about +X turns -90°) / \
-            `G1 X20 Y0 Z0`: the last block should put the tip at table (20, 0, 0) (W = 0); \
-            the kernel restarts TCPC in angle mode at A = -90° and puts it at the turned \
-            frame's (20, 0, 0) read through the table map frozen there instead — see \
+            `G1 X20 Y5 Z3`: the last block should put the tip at table (20, 5, 3) (W = 0, \
+            TRAORI started at A = C = 0); the kernel restarts TCPC in angle mode at A = -90° \
+            and puts it at table (20, -3, 5), the point read in the frame frozen there — see \
             traori_block_without_vector_keeps_frame"]
 fn traori_block_without_vector_minimal_example() {
     let text = r#"
