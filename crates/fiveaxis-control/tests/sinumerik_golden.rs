@@ -141,10 +141,7 @@ enum Expect {
     /// The kind of interpolation of every moving segment, in order.
     Motions(&'static [Motion]),
     /// The travel (end − start) of axis `axis` of every moving segment.
-    Travel {
-        axis: usize,
-        deltas: &'static [f64],
-    },
+    Travel { axis: usize, deltas: &'static [f64] },
     /// No segment of `line` moves.
     Still(u32),
     /// The run stops with this alarm number on this line.
@@ -644,7 +641,11 @@ fn check_case(case: &Case) -> Result<(), String> {
             Expect::EndJoints(want) => {
                 let last = moving.last().ok_or("no segment moves")?;
                 let got = &last.end[..want.len()];
-                if got.iter().zip(want.iter()).any(|(g, w)| (g - w).abs() > EPS) {
+                if got
+                    .iter()
+                    .zip(want.iter())
+                    .any(|(g, w)| (g - w).abs() > EPS)
+                {
                     return Err(format!("end joints: want {want:?}, got {got:?}"));
                 }
             }
@@ -672,9 +673,14 @@ fn check_case(case: &Case) -> Result<(), String> {
                     .map(|s| s.end[*axis] - s.start[*axis])
                     .collect();
                 let ok = got.len() == deltas.len()
-                    && got.iter().zip(deltas.iter()).all(|(g, w)| (g - w).abs() < EPS);
+                    && got
+                        .iter()
+                        .zip(deltas.iter())
+                        .all(|(g, w)| (g - w).abs() < EPS);
                 if !ok {
-                    return Err(format!("travel of axis {axis}: want {deltas:?}, got {got:?}"));
+                    return Err(format!(
+                        "travel of axis {axis}: want {deltas:?}, got {got:?}"
+                    ));
                 }
             }
             Expect::Still(line) => {
@@ -781,8 +787,7 @@ fn helix_turn_sweeps_540_degrees() {
 fn helix_turns_add_whole_circles() {
     let m = machine(Mach::Mill);
     for (turn, want) in [("", 180.0), (" TURN=0", 180.0), (" TURN=2", 900.0)] {
-        let program =
-            format!("T1 D1\nG54 G17 G90\nG0 X0 Y0 Z0\nG3 X20 Y0 Z-9 I10 J0{turn} F100\n");
+        let program = format!("T1 D1\nG54 G17 G90\nG0 X0 Y0 Z0\nG3 X20 Y0 Z-9 I10 J0{turn} F100\n");
         let out = run(&m, offsets(), &program);
         assert!(out.alarm.is_none(), "{program}: {:?}", out.alarm);
         let seg = out.segments.iter().find(|s| s.line == 4).expect("arc");
