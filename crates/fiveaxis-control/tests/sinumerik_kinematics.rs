@@ -1210,3 +1210,167 @@ fn cycle800_dir_picks_lower_or_higher_solution() {
         "(_DIR, A wanted, A got, C got): {got:?}"
     );
 }
+
+// ----- 11. TRAORI with A2 B2 C2 ---------------------------------------------------------------------------
+
+/// Property 11: under TRAORI the angles A2 B2 C2 give the tool direction
+/// R·ez, with ORIEULER (the default) R = Rz(A2)·Rx(B2)·Rz(C2) (Euler
+/// Z, X′, Z″, brief §4, assumed there) and with ORIRPY
+/// R = Rz(C2)·Ry(B2)·Rx(A2) (about X, then Y, then Z of the fixed frame).
+/// The angles are made from a reachable direction d: Euler
+/// Rz(a)·Rx(b)·ez = (sin a sin b, −cos a sin b, cos b), so b = acos d.z,
+/// a = atan2(d.x, −d.y), C2 random; RPY with C2 = c random, u = Rz(−c)·d,
+/// Ry(b)·Rx(a)·ez = (sin b cos a, −sin a, cos b cos a), so a = asin(−u.y),
+/// b = atan2(u.x, u.z).
+#[test]
+fn traori_euler_and_rpy_angles() {
+    let angle = || -180.0..180.0f64;
+    let block = (point(200.0), (angle(), angle()), angle());
+    let strategy = (
+        five_axis(),
+        point(300.0),
+        50.0..200.0f64,
+        any::<bool>(),
+        proptest::collection::vec(block, 1..=4),
+    );
+    check(config(), strategy, |(m, work, length, rpy_mode, blocks)| {
+        let mut w = Writer::default();
+        w.line("T1 D1");
+        w.line("G54 G17 G90");
+        w.line(if rpy_mode { "ORIRPY" } else { "ORIEULER" });
+        w.line("TRAORI");
+        let mut ends = Vec::new();
+        for (tip, (q0, q1), third) in blocks {
+            let d = m.forward(&joints_with(&m, [q0, q1]), 0.0).dir;
+            let (a, b, c) = if rpy_mode {
+                let u = rz(-third) * d;
+                let a = (-u.y).clamp(-1.0, 1.0).asin().to_degrees();
+                let b = u.x.atan2(u.z).to_degrees();
+                (a, b, third)
+            } else {
+                let b = d.z.clamp(-1.0, 1.0).acos().to_degrees();
+                let a = d.x.atan2(-d.y).to_degrees();
+                (a, b, third)
+            };
+            w.start("G1");
+            let p = w.xyz(&tip);
+            let (a, b, c) = (w.word("A2", a), w.word("B2", b), w.word("C2", c));
+            w.start(" F1000");
+            let line = w.end();
+            let r = if rpy_mode {
+                rz(c) * ry(b) * rx(a)
+            } else {
+                rz(a) * rx(b) * rz(c)
+            };
+            ends.push((line, p, r * Vec3::z()));
+        }
+        let program = w.text;
+        let out = run(&m, offsets(work, length), &program);
+        no_alarm(&out, &program)?;
+        for (line, p, v) in ends {
+            let seg = last_of(&out, line)?;
+            let (tip, dir) = pose(&m, &seg.end, length);
+            let what = format!("line {line}");
+            check_tip(&tip, &(work + p), &what, &program)?;
+            // The angles are written with 9 decimals: the direction they
+            // give is within ~1e-11 rad of the one they were made from.
+            check_dir(&dir, &v, &what, &program)?;
+        }
+        Ok(())
+    });
+}
+
+// ----- 12. Drilling in the swivelled plane -------------------------------------------------------------------
+
+/// Property 12: after `CYCLE800(…,57,…,_DIR=1)` a modal `CYCLE81(RTP,
+/// RFP, SDIS, DP)` drills along the swivelled Z: at each position P (X Y
+/// in the swivelled plane) the tip goes, in the swivelled frame S, to
+/// (P, z now), (P, RFP + SDIS), (P, DP), (P, RTP), that is to
+/// W + S(those points) on the table, the tool along S's Z throughout.
+#[test]
+fn drilling_cycle_in_the_swivelled_plane() {
+    let angle = || -180.0..180.0f64;
+    let strategy = (
+        five_axis(),
+        point(300.0),
+        50.0..200.0f64,
+        (angle(), angle(), angle()),
+        point(100.0),
+        (0.0..20.0f64, 1.0..5.0f64, 1.0..30.0f64, 1.0..20.0f64),
+        proptest::collection::vec((-100.0..100.0f64, -100.0..100.0f64), 1..=3),
+    );
+    check(
+        config(),
+        strategy,
+        |(m, work, length, (q0, q1, c), x0, (rfp, sdis, depth, rise), holes)| {
+            let d = m.forward(&joints_with(&m, [q0, q1]), 0.0).dir;
+            let b = d.x.clamp(-1.0, 1.0).asin().to_degrees();
+            let a = (-d.y).atan2(d.z).to_degrees();
+            let mut w = Writer::default();
+            w.line("T1 D1");
+            w.line("G54 G17 G90");
+            let args = [x0.x, x0.y, x0.z, a, b, c].map(num);
+            let text: Vec<&str> = args.iter().map(|(t, _)| t.as_str()).collect();
+            let v: Vec<f64> = args.iter().map(|(_, v)| *v).collect();
+            let swivel = w.line(&format!(
+                "CYCLE800(0,\"TC1\",0,57,{},0,0,0,1)",
+                text.join(",")
+            ));
+            let origin = Vec3::new(v[0], v[1], v[2]);
+            let r = rx(v[3]) * ry(v[4]) * rz(v[5]);
+            let s = |p: Vec3| work + origin + r * p;
+            let (rfp_t, rfp) = num(rfp);
+            let (sdis_t, sdis) = num(sdis);
+            let (dp_t, dp) = num(rfp - depth);
+            let (rtp_t, rtp) = num(rfp + rise);
+            w.start("G0 X0 Y0");
+            let z0 = w.word("Z", rtp);
+            w.end();
+            w.line("F500");
+            w.line(&format!("MCALL CYCLE81({rtp_t},{rfp_t},{sdis_t},{dp_t})"));
+            let mut want = vec![s(Vec3::new(0.0, 0.0, z0))];
+            let mut z = z0;
+            for (x, y) in holes {
+                w.start("G0");
+                let (x, y) = (w.word("X", x), w.word("Y", y));
+                w.end();
+                for level in [z, rfp + sdis, dp, rtp] {
+                    want.push(s(Vec3::new(x, y, level)));
+                }
+                z = rtp;
+            }
+            w.line("MCALL");
+            let program = w.text;
+            let out = run(&m, offsets(work, length), &program);
+            no_alarm(&out, &program)?;
+            // A move to where the tip already is gives no segment: leave
+            // such points out of the expected list.
+            let mut at = pose(&m, &last_of(&out, swivel)?.end, length).0;
+            want.retain(|p| {
+                let moves = (p - at).norm() > 1e-9;
+                at = *p;
+                moves
+            });
+            let z_axis = r * Vec3::z();
+            let got: Vec<(Vec3, Vec3)> = out
+                .segments
+                .iter()
+                .filter(|seg| seg.line > swivel && seg.moves())
+                .map(|seg| pose(&m, &seg.end, length))
+                .collect();
+            prop_assert_eq!(
+                got.len(),
+                want.len(),
+                "moves after the swivel: {:?}\n{}",
+                got.iter().map(|g| g.0).collect::<Vec<_>>(),
+                program
+            );
+            for (k, ((tip, dir), want)) in got.iter().zip(&want).enumerate() {
+                let what = format!("move {k} after the swivel");
+                check_tip(tip, want, &what, &program)?;
+                check_dir(dir, &z_axis, &what, &program)?;
+            }
+            Ok(())
+        },
+    );
+}
