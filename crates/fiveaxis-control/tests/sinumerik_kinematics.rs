@@ -376,9 +376,38 @@ fn traori_vector_tip_and_direction() {
             let what = format!("line {line}");
             check_tip(&tip, &(work + p), &what, &program)?;
             check_dir(&dir, &v.normalize(), &what, &program)?;
+            check_straight(&m, &out, line, length, &program)?;
         }
         Ok(())
     });
+}
+
+/// Inside a TRAORI block (G1) the tip runs on the straight line from
+/// where it stood to the end, linearly in s (the table frame here is the
+/// frame TRAORI started in). Checked when the line is one segment.
+fn check_straight(
+    m: &Machine,
+    out: &Outcome,
+    line: u32,
+    length: f64,
+    program: &str,
+) -> Result<(), TestCaseError> {
+    let mut of_line = out.segments.iter().filter(|s| s.line == line);
+    let (Some(seg), None) = (of_line.next(), of_line.next()) else {
+        return Ok(());
+    };
+    let a = m.forward(&seg.start, length).tip;
+    let b = m.forward(&seg.end, length).tip;
+    for s in [0.25, 0.5, 0.75] {
+        let tip = m.forward(&seg.eval(m, s), length).tip;
+        check_tip(
+            &tip,
+            &(a + (b - a) * s),
+            &format!("line {line} at s = {s}"),
+            program,
+        )?;
+    }
+    Ok(())
 }
 
 /// Property 1b: a TRAORI block without A3 B3 C3 after vector blocks keeps
@@ -526,6 +555,7 @@ fn traori_rotary_words_tip() {
             check_rotary(&m, &seg.end, q, &what, &program)?;
             let (tip, dir) = pose(&m, &seg.end, length);
             check_tip(&tip, &(work + p), &what, &program)?;
+            check_straight(&m, &out, line, length, &program)?;
             let want_dir = m.forward(&joints_with(&m, q), 0.0).dir;
             check_dir(&dir, &want_dir, &what, &program)?;
         }
