@@ -415,6 +415,147 @@ fn check_straight(
 /// started in (the table frame at rotary 0), however far the table has
 /// turned since.
 #[test]
+fn traori_block_without_vector_keeps_frame() {
+    let strategy = (
+        five_axis(),
+        point(300.0),
+        50.0..200.0f64,
+        vector_blocks(),
+        point(200.0),
+    );
+    check(config(), strategy, |(m, work, length, blocks, last)| {
+        let (program, ends) = write_vector_program(&m, &blocks, Some(last));
+        let out = run(&m, offsets(work, length), &program);
+        no_alarm(&out, &program)?;
+        let n = ends.len();
+        for (k, (line, p, v)) in ends.into_iter().enumerate() {
+            let seg = last_of(&out, line)?;
+            let (tip, dir) = pose(&m, &seg.end, length);
+            let what = format!("line {line}");
+            check_tip(&tip, &(work + p), &what, &program)?;
+            check_dir(&dir, &v.normalize(), &what, &program)?;
+            if k == n - 1 {
+                // The rotaries stand still in the block without a vector.
+                let i0 = m.rotary_index(0);
+                let i1 = m.rotary_index(1);
+                prop_assert!(
+                    seg.line != line
+                        || (seg.start[i0] == seg.end[i0] && seg.start[i1] == seg.end[i1]),
+                    "rotaries turn in a block without orientation\n{program}"
+                );
+            }
+        }
+        Ok(())
+    });
+}
+
+/// The smallest program that shows the fault of
+/// `traori_block_without_vector_keeps_frame`, on a table/table machine
+/// with both rotary lines through the origin.
+#[test]
+fn traori_block_without_vector_minimal_example() {
+    let text = r#"
+name = "table A over table C"
+type = "table"
+control = "sinumerik"
+
+[[linear]]
+name = "X"
+min = -1000.0
+max = 1000.0
+
+[[linear]]
+name = "Y"
+min = -1000.0
+max = 1000.0
+
+[[linear]]
+name = "Z"
+min = -1000.0
+max = 1000.0
+
+[[rotary]]
+name = "A"
+on = "table"
+axis = [1, 0, 0]
+center = [0, 0, 0]
+min = -120.0
+max = 120.0
+
+[[rotary]]
+name = "C"
+on = "table"
+axis = [0, 0, 1]
+center = [0, 0, 50]
+rollover = true
+"#;
+    let m = Machine::from_toml(text).expect("machine");
+    let program = "T1 D1\nG54\nTRAORI\nG1 X10 Y0 Z0 A3=0 B3=-1 C3=0 F1000\nG1 X20 Y5 Z3\n";
+    let out = run(&m, offsets(Vec3::zeros(), 100.0), program);
+    assert!(out.alarm.is_none(), "{:?}", out.alarm);
+    let first = out.segments.iter().rfind(|s| s.line == 4).expect("line 4");
+    let (tip, dir) = pose(&m, &first.end, 100.0);
+    assert!((tip - Vec3::new(10.0, 0.0, 0.0)).norm() < TIP_EPS, "{tip}");
+    assert!((dir - Vec3::new(0.0, -1.0, 0.0)).norm() < DIR_EPS, "{dir}");
+    let last = out.segments.iter().rfind(|s| s.line == 5).expect("line 5");
+    let (tip, dir) = pose(&m, &last.end, 100.0);
+    assert!((dir - Vec3::new(0.0, -1.0, 0.0)).norm() < DIR_EPS, "{dir}");
+    assert!(
+        (tip - Vec3::new(20.0, 5.0, 3.0)).norm() < TIP_EPS,
+        "tip {tip}, want (20, 5, 3)"
+    );
+}
+
+// ----- 2. TRAORI with rotary words ------------------------------------------------------------
+
+/// Property 2: `G1 X Y Z <rotary>=` under TRAORI: the rotary axes at the
+/// programmed angles, the tip at W + P, the tool along the direction the
+/// programmed angles give.
+#[test]
+fn traori_rotary_words_tip() {
+    let step = || -169.0..169.0f64;
+    let blocks = proptest::collection::vec((point(200.0), (step(), step())), 2..=6);
+    let strategy = (five_axis(), point(300.0), 50.0..200.0f64, blocks);
+    check(config(), strategy, |(m, work, length, blocks)| {
+        let names = [m.rotary[0].name, m.rotary[1].name];
+        let mut w = Writer::default();
+        w.line("T1 D1");
+        w.line("G54 G17 G90");
+        w.line("TRAORI");
+        let mut q = [0.0, 0.0];
+        let mut ends = Vec::new();
+        for (tip, (da, db)) in &blocks {
+            w.start("G1");
+            let p = w.xyz(tip);
+            // Steps under 170°: the short way on an endless axis is the
+            // step itself.
+            let a = w.word(&names[0].to_string(), q[0] + da);
+            let b = w.word(&names[1].to_string(), q[1] + db);
+            q = [a, b];
+            w.start(" F1000");
+            let line = w.end();
+            ends.push((line, p, q));
+        }
+        let program = w.text;
+        let out = run(&m, offsets(work, length), &program);
+        no_alarm(&out, &program)?;
+        for (line, p, q) in ends {
+            let seg = last_of(&out, line)?;
+            let what = format!("line {line}");
+            check_rotary(&m, &seg.end, q, &what, &program)?;
+            let (tip, dir) = pose(&m, &seg.end, length);
+            check_tip(&tip, &(work + p), &what, &program)?;
+            check_straight(&m, &out, line, length, &program)?;
+            let want_dir = m.forward(&joints_with(&m, q), 0.0).dir;
+            check_dir(&dir, &want_dir, &what, &program)?;
+        }
+        Ok(())
+    });
+}
+
+// ----- 3. TRANS / ROT / AROT -------------------------------------------------------------------
+
+#[derive(Clone, Debug)]
 struct FrameCase {
     variant: u8,
     t1: Vec3,
