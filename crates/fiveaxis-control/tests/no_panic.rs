@@ -733,3 +733,108 @@ proptest! {
         }
     }
 }
+
+// ----- SINUMERIK programs ------------------------------------------------
+
+/// Blocks of the Siemens language, with holes for numbers, that a random
+/// program strings together: motion, frames, TRAORI with vectors, cycles,
+/// the language's flow, and some that must alarm.
+const SINUMERIK_BLOCKS: &[&str] = &[
+    "G0 X{} Y{} Z{}",
+    "G1 X{} Y{} F{}",
+    "G2 X{} Y{} I{} J{}",
+    "G3 X{} Y{} CR={}",
+    "G2 X{} Y{} I=AC({}) J=AC({}) TURN={}",
+    "G91 G1 Z{} F{}",
+    "G90",
+    "G70",
+    "G71",
+    "G700",
+    "G17",
+    "G18",
+    "G19",
+    "G54",
+    "G500",
+    "G505",
+    "G53 G0 Z{}",
+    "SUPA G0 X{} Y{}",
+    "T1 D1",
+    "T=\"FRA\" D1",
+    "D0",
+    "TRANS X{} Y{} Z{}",
+    "ATRANS X{}",
+    "ROT Z{}",
+    "AROT X{} Y{}",
+    "ROT RPL={}",
+    "TRANS",
+    "TRAORI",
+    "TRAFOOF",
+    "G1 X{} Y{} Z{} A3={} B3={} C3={} F{}",
+    "G1 X{} Y{} Z{} A2={} B2={} C2={} F{}",
+    "G1 X{} B={} C=DC({}) F{}",
+    "CYCLE800({},\"TC1\",{},57,{},{},{},{},{},{},{},{},{},{})",
+    "CYCLE800()",
+    "MCALL CYCLE81({},{},{},{})",
+    "MCALL CYCLE83({},{},{},{},,{},,{},,,1,{})",
+    "MCALL",
+    "HOLES2({},{},{},{},{},{})",
+    "CYCLE84({},{},{},{},,,3,{},,,{})",
+    "CYCLE60(\"AB\",{},{},{},{})",
+    "R1={} R2=R1*{}",
+    "DEF REAL V={}",
+    "X=R1+{} Y=SIN({})*R2",
+    "IF R1>{} GOTOF SKIP",
+    "SKIP:",
+    "WHILE R1<{}",
+    "R1=R1+1",
+    "ENDWHILE",
+    "FOR R3=1 TO {}",
+    "ENDFOR",
+    "G4 F{}",
+    "M3 S{}",
+    "M30",
+    "MSG(\"a\" << {})",
+    "SETAL(65000)",
+    "GOTOB SKIP",
+];
+
+fn sinumerik_program() -> impl Strategy<Value = String> {
+    let block = (
+        prop::sample::select(SINUMERIK_BLOCKS),
+        prop::collection::vec(-300i32..300, 14),
+    )
+        .prop_map(|(template, numbers)| {
+            let mut text = String::new();
+            let mut n = numbers.iter();
+            let mut parts = template.split("{}").peekable();
+            while let Some(part) = parts.next() {
+                text.push_str(part);
+                if parts.peek().is_some() {
+                    let v = n.next().copied().unwrap_or(1);
+                    text.push_str(&format!("{}", f64::from(v) / 4.0));
+                }
+            }
+            text
+        });
+    prop::collection::vec(block, 0..40).prop_map(|blocks| blocks.join("\n"))
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig {
+        cases: 256,
+        rng_seed: proptest::test_runner::RngSeed::Fixed(0x5EED_0025),
+        ..ProptestConfig::default()
+    })]
+
+    #[test]
+    fn sinumerik_programs_end_or_alarm_with_finite_rows(program in sinumerik_program()) {
+        let machine = builtin("sinumerik-dmu-bc").expect("built-in machine");
+        check_run(&machine, program.as_bytes(), RunOptions::default())?;
+    }
+
+    #[test]
+    fn sinumerik_text_never_panics(program in "[A-Z0-9=()\\[\\],.:;\"'$_<>+\\-*/ \n]{0,300}") {
+        let machine = builtin("sinumerik-dmu-bc").expect("built-in machine");
+        check_run(&machine, program.as_bytes(), RunOptions::default())?;
+    }
+}
