@@ -598,3 +598,117 @@ fn a_creo_cl_file_with_its_version_converts() {
     let m1 = text.find("M1\n").expect("M1");
     assert!(m0 < m1 && m1 < text.find("M5\n").expect("M5"), "{text}");
 }
+
+/// The last row's tool tip (`tip_x`, `tip_y`, `tip_z`) of `run` output.
+fn last_tip(csv: &str) -> [f64; 3] {
+    let mut lines = csv.lines();
+    let header: Vec<&str> = lines.next().expect("a header").split(',').collect();
+    let last: Vec<&str> = lines.last().expect("a row").split(',').collect();
+    let column = |name: &str| {
+        let i = header.iter().position(|c| *c == name).expect("tip column");
+        last[i].parse::<f64>().expect("a number")
+    };
+    [column("tip_x"), column("tip_y"), column("tip_z")]
+}
+
+/// A FANUC TCPC program made a SINUMERIK machine-axis program for a machine
+/// without the option (SINUMERIK text: transfer header, `;` comments, no
+/// TRAORI), and a SINUMERIK TRAORI program made a FANUC one: each output
+/// runs on its machine and ends with the tool tip where the source's ends
+/// (the tips come from forward kinematics of the axes).
+#[test]
+fn fanuc_tcpc_retargets_to_a_sinumerik_machine_and_back() {
+    let dir = tempfile::tempdir().expect("a temporary directory");
+    let examples = common::root().join("examples");
+    for name in ["tcpc-vector.nc", "swivel-drill.mpf", "offsets.toml"] {
+        std::fs::copy(examples.join(name), dir.path().join(name)).expect("copied");
+    }
+    let cases = [
+        (
+            "tcpc-vector.nc",
+            "head-table-bc",
+            "sinumerik-dmu-bc",
+            "out.mpf",
+        ),
+        (
+            "swivel-drill.mpf",
+            "sinumerik-dmu-bc",
+            "head-table-bc",
+            "out.nc",
+        ),
+    ];
+    for (source, from, to, output) in cases {
+        let out = common::run_in(
+            dir.path(),
+            &[
+                "post",
+                source,
+                "--from-machine",
+                from,
+                "--machine",
+                to,
+                "--offsets",
+                "offsets.toml",
+                "-o",
+                output,
+            ],
+            b"",
+        );
+        assert_eq!(
+            out.status.code(),
+            Some(0),
+            "{source}: {}",
+            common::stderr(&out)
+        );
+        let text = std::fs::read_to_string(dir.path().join(output)).expect("written");
+        let blocks: String = text
+            .lines()
+            .filter(|l| !l.starts_with('(') && !l.starts_with(';'))
+            .collect();
+        if to == "sinumerik-dmu-bc" {
+            assert!(text.starts_with("%_N_"), "{text}");
+            assert!(
+                text.contains("G71 G17 G90 G40 G54 D0 TRAFOOF G93"),
+                "{text}"
+            );
+            for gone in ["TRAORI", "A3=", "G43", " I", " J", " K", "("] {
+                assert!(!blocks.contains(gone), "{gone} left in:\n{text}");
+            }
+        } else {
+            assert!(text.starts_with("%\n(FIVEAXIS POST"), "{text}");
+            for gone in ["TRAORI", "A3=", "CYCLE", ";"] {
+                assert!(!blocks.contains(gone), "{gone} left in:\n{text}");
+            }
+        }
+        let run_on = |program: &str, machine: &str| {
+            let run = common::run_in(
+                dir.path(),
+                &[
+                    "run",
+                    program,
+                    "--machine",
+                    machine,
+                    "--offsets",
+                    "offsets.toml",
+                ],
+                b"",
+            );
+            assert_eq!(
+                run.status.code(),
+                Some(0),
+                "{program}: {}",
+                common::stderr(&run)
+            );
+            last_tip(&common::stdout(&run))
+        };
+        let (want, got) = (run_on(source, from), run_on(output, to));
+        let distance = (0..3)
+            .map(|k| (want[k] - got[k]).powi(2))
+            .sum::<f64>()
+            .sqrt();
+        assert!(
+            distance < 0.01,
+            "{source} on {to}: the output ends at {got:?}, the source at {want:?}"
+        );
+    }
+}
