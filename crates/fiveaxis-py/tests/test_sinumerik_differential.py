@@ -253,15 +253,6 @@ def tip(row: Dict[str, Any], axis: str) -> float:
     return float(row["tip_" + axis.lower()])
 
 
-@dataclass
-class Difference:
-    line: int
-    axis: str
-    package: float
-    kernel: float
-    cause: str
-
-
 def compare(package: List[PackageRow], kernel: KernelRun) -> Tuple[List[Tuple[PackageRow, Dict[str, Any]]], List[Dict[str, Any]]]:
     """Pairs each package row with the kernel's row at the end of that
     block; returns the pairs and the kernel rows no package row has.
@@ -891,9 +882,8 @@ def classify_parse(why: str) -> str:
     return why
 
 
-# The corpus: (program, setup machine, 'traori' when the starrag main
-# program's EXTCALLs need their memory). The 3-axis pyronc programs run
-# on this test's machine (no offsets).
+# The corpus programs and their setups (None: this test's 3-axis machine,
+# no offsets: the pyronc programs are cPost output for a 3-axis 840D).
 CORPUS = [
     ("siemens_pyronc_atsumu.mpf", None),
     ("siemens_pyronc_strojnica.mpf", None),
