@@ -58,7 +58,7 @@ has the same table). Source keys: the SINUMERIK brief, section 0.
 | ROT/AROT not applied | achskreuz (2295) | unrotated | rotated | kernel [ONE p309, p316] |
 | f32 arithmetic | everywhere | 52.60900115966797 | 52.609 | kernel (REAL double) |
 | modal cycle call | pyronc MCALL CYCLE81 | position only | + drilling rows | kernel [brief §1] |
-| kernel: TRAORI frame turned by the table at switch-on | starrag traori (7278) | programmed point | point turned by the table angle at TRAORI | package [JP09 p361; F2 p172] |
+| kernel: TRAORI frame turned by the table at switch-on (fixed: 0 now) | starrag traori (7278 before the fix) | programmed point | point turned by the table angle at TRAORI | package [JP09 p361; F2 p172] |
 
 Not a disagreement: under TRAORI the package's X Y Z are not the machine
 axes (no kinematics); with 0.1.9 only the salvaged programs show it.
