@@ -10,7 +10,7 @@ use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict};
 
 use crate::errors::{input_error, invalid, run_error};
-use crate::inputs::{ReadSeek, open_program, read_program};
+use crate::inputs::{ReadSeek, machine_for_program, open_program, read_program};
 use crate::library::Programs;
 use crate::machine::PyMachine;
 use crate::offsets::PyOffsets;
@@ -49,8 +49,10 @@ pub fn check<'py>(
         optional_stop,
         lift_soft_limits: true,
     };
-    let (source, name) = open_program(py, program.as_deref(), code.map(|c| c.as_bytes().to_vec()))?;
-    let machine = &machine.get().machine;
+    let (source, name, sinumerik) =
+        open_program(py, program.as_deref(), code.map(|c| c.as_bytes().to_vec()))?;
+    // SINUMERIK text runs on the machine read as a SINUMERIK.
+    let machine = &*machine_for_program(&machine.get().machine, sinumerik);
     let variables = variables.unwrap_or_default();
     let report = with_runner(
         py,
@@ -167,7 +169,7 @@ pub fn post<'py>(
             format!("feed `{feed}`: expected inverse-time, dpm or programmed"),
         )
     })?;
-    let (mut bytes, name) =
+    let (mut bytes, name, sinumerik) =
         read_program(py, program.as_deref(), code.map(|c| c.as_bytes().to_vec()))?;
     // CL input: the conversion with its line map (an alarm names the CL
     // record's line and text), and the CL text.
@@ -202,7 +204,9 @@ pub fn post<'py>(
     let offsets = &target_offsets.offsets;
     // Retargeting: the source runs on its own machine (and offsets).
     let source_machine = from_machine.as_ref().map(|m| &m.get().machine);
-    let run_on = source_machine.unwrap_or(machine);
+    // SINUMERIK text (not CL data) runs on that machine read as a
+    // SINUMERIK; the output is written for `machine` as it is.
+    let run_on = &*machine_for_program(source_machine.unwrap_or(machine), sinumerik && !apt);
     let run_offsets = match (&from_machine, &from_offsets) {
         (Some(_), Some(o)) => filled(o.get()),
         _ => filled(&target_offsets),

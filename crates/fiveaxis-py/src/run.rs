@@ -17,7 +17,7 @@ use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict};
 
 use crate::errors::{input_error, invalid, run_error};
-use crate::inputs::{ProgramSource, open_program};
+use crate::inputs::{ProgramSource, machine_for_program, open_program};
 use crate::library::{Programs, with_programs};
 use crate::machine::PyMachine;
 use crate::offsets::PyOffsets;
@@ -336,8 +336,10 @@ pub fn run<'py>(
         program.as_deref(),
         code.as_ref().map(|c| c.as_bytes().len()),
     );
-    let (source, name) = open_program(py, program.as_deref(), code.map(|c| c.as_bytes().to_vec()))?;
-    let machine = &machine.get().machine;
+    let (source, name, sinumerik) =
+        open_program(py, program.as_deref(), code.map(|c| c.as_bytes().to_vec()))?;
+    // SINUMERIK text runs on the machine read as a SINUMERIK.
+    let machine = &*machine_for_program(&machine.get().machine, sinumerik);
     let variables = variables.unwrap_or_default();
     let offsets = offsets.get().offsets.clone();
     let (columns, outcome) = py
@@ -479,8 +481,10 @@ pub fn run_stream(
     if chunk_rows == 0 {
         return Err(invalid(py, "chunk_rows must be at least 1"));
     }
-    let (source, name) = open_program(py, program.as_deref(), code.map(|c| c.as_bytes().to_vec()))?;
-    let machine = machine.get().machine.clone();
+    let (source, name, sinumerik) =
+        open_program(py, program.as_deref(), code.map(|c| c.as_bytes().to_vec()))?;
+    // SINUMERIK text runs on the machine read as a SINUMERIK.
+    let machine = machine_for_program(&machine.get().machine, sinumerik).into_owned();
     let offsets = offsets.get().offsets.clone();
     let variables = variables.unwrap_or_default();
     // The variables are checked here, where the error can be raised.

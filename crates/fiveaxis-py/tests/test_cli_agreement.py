@@ -255,8 +255,12 @@ def test_program_memory_is_the_cli_programs_folder(cli: Path, tmp_path: Path) ->
     with pytest.raises(fx.Alarm) as info:
         fx.run(main, programs={9010: drill})
     assert info.value.code == "PS0078" and info.value.line == 2
+    # Neither a number nor a SINUMERIK program name.
     with pytest.raises(fx.InputError):
-        fx.run(main, programs={"drill": drill})
+        fx.run(main, programs={"drill.nc": drill})
+    # A name is a SINUMERIK program, which M98 does not call.
+    with pytest.raises(fx.Alarm):
+        fx.run(main, programs={"O9010X": drill, 42: memory / "O0042.nc"})
     with pytest.raises(fx.InputError):
         fx.run(main, programs={42: tmp_path / "missing.nc"})
     with pytest.raises(TypeError):

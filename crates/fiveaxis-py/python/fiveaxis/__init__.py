@@ -1,10 +1,11 @@
 """fiveaxis: a 5-axis CNC kernel for Python.
 
 Runs the G-code that real 5-axis machines run (FANUC format and the
-controls that read it) on a machine model, and gives every machine axis,
-the tool tip and the tool direction as numpy arrays; forward and inverse
-kinematics of whole arrays; the verification report of ``fiveaxis check``;
-the machine-axis programs of ``fiveaxis post``.
+controls that read it, SINUMERIK 840D programs) on a machine model, and
+gives every machine axis, the tool tip and the tool direction as numpy
+arrays; forward and inverse kinematics of whole arrays; the verification
+report of ``fiveaxis check``; the machine-axis programs of ``fiveaxis
+post``.
 
     >>> import fiveaxis as fx
     >>> rows = fx.run(code="G0 X10.\\nG1 X20. C90. F100.\\n")
@@ -19,6 +20,7 @@ frame (machine coordinates with every rotary axis at 0).
 from __future__ import annotations
 
 import os
+import re
 from dataclasses import dataclass, field
 from typing import Any, Dict, Iterator, List, Mapping, Optional, Sequence, Tuple, Union
 
@@ -374,20 +376,42 @@ def _variables(variables: Optional[Mapping[int, float]]) -> Optional[List[Tuple[
     return out
 
 
-ProgramsLike = Optional[Mapping[int, Union[str, bytes, "os.PathLike[str]"]]]
+_ProgramText = Union[str, bytes, "os.PathLike[str]"]
+ProgramsLike = Optional[
+    Union[Mapping[int, _ProgramText], Mapping[str, _ProgramText], Mapping[Union[int, str], _ProgramText]]
+]
+
+#: A SINUMERIK program name as ``programs=`` takes it: letters, digits and
+#: ``_``, with ``.SPF``, ``.MPF`` or ``.DEF`` (a definition file) after it.
+_SINUMERIK_NAME = re.compile(r"[A-Za-z0-9_]+(\.(spf|mpf|def))?", re.IGNORECASE)
 
 
-def _programs(programs: ProgramsLike) -> Optional[List[Tuple[int, bytes]]]:
-    """The control's program memory: program texts (or files) by number."""
+def _program_key(k: Any) -> Union[int, str]:
+    """A key of ``programs=``: a program number (``9010``, ``"O9010"``) or a
+    SINUMERIK program name (``"RLIMIT"``, ``"L100"``, ``"GUD.DEF"``)."""
+    if isinstance(k, str) and not k.upper().lstrip("O").isdigit():
+        if not _SINUMERIK_NAME.fullmatch(k):
+            raise InputError(
+                f"program `{k}`: a program number, as 9010 or 'O9010', or a SINUMERIK"
+                " program name, as 'RLIMIT', 'L100', 'CYCLE1.SPF' or 'GUD.DEF'"
+            )
+        return k
+    key = str(k).upper().lstrip("O")
+    if not key.isdigit() or len(key) > 8:
+        raise InputError(f"program `{k}`: a program number, as 9010 or 'O9010'")
+    return int(key)
+
+
+def _programs(programs: ProgramsLike) -> Optional[List[Tuple[Union[int, str], bytes]]]:
+    """The control's program memory: program texts (or files) by number,
+    and SINUMERIK programs and definition files by name."""
     if programs is None:
         return None
     if not isinstance(programs, Mapping):
-        raise TypeError(f"programs are a dict of number: text or path, not {type(programs).__name__}")
-    out = []
+        raise TypeError(f"programs are a dict of number or name: text or path, not {type(programs).__name__}")
+    out: List[Tuple[Union[int, str], bytes]] = []
     for k, v in programs.items():
-        key = str(k).upper().lstrip("O")
-        if not key.isdigit() or len(key) > 8:
-            raise InputError(f"program `{k}`: a program number, as 9010 or 'O9010'")
+        key = _program_key(k)
         if isinstance(v, str):
             text = v.encode("utf-8")
         elif isinstance(v, (bytes, bytearray)):
@@ -400,7 +424,7 @@ def _programs(programs: ProgramsLike) -> Optional[List[Tuple[int, bytes]]]:
                 raise InputError(str(e.strerror or e), file=os.fspath(v)) from None
         else:
             raise TypeError(f"program {k}: text, bytes or a path, not {type(v).__name__}")
-        out.append((int(key), text))
+        out.append((key, text))
     return out
 
 
@@ -521,7 +545,11 @@ def run(
     as numpy columns, as ``fiveaxis run`` (``--step``, ``--step-angle``,
     ``--block-delete``, ``--optional-stop``, ``--max-blocks``, variables
     ``{500: 1.25}``; `programs`: the control's program memory that ``M98`` /
-    ``G65`` call, ``{9010: text or path}``, as ``--programs``).
+    ``G65`` call, ``{9010: text or path}``, and SINUMERIK programs by name,
+    ``{"RLIMIT": ..., "GUD.DEF": ...}``, as ``--programs``).
+    SINUMERIK text (a path ending ``.mpf`` / ``.spf``, or a text starting
+    with a transfer header ``%_N_``) runs on the machine read as a
+    SINUMERIK, as on the command line.
 
     An alarm raises ``Alarm`` with ``code``, ``line``, ``column``,
     ``message``, and ``rows``: the rows before the failing block."""

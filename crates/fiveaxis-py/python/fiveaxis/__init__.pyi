@@ -21,7 +21,13 @@ _Array = npt.ArrayLike
 _MachineLike = Union["Machine", str, os.PathLike[str], None]
 _OffsetsLike = Union["Offsets", Mapping[Any, Any], str, os.PathLike[str], None]
 _Program = Union[str, os.PathLike[str], bytes, None]
-_Programs = Optional[Mapping[int, Union[str, bytes, os.PathLike[str]]]]
+_ProgramText = Union[str, bytes, os.PathLike[str]]
+# Program numbers (9010, "O9010") for M98 / G65; SINUMERIK program names
+# ("RLIMIT", "L100", "CYCLE1.SPF") and definition files ("GUD.DEF").
+# Mapping's key is invariant: a dict of numbers, of names, or of both.
+_Programs = Optional[
+    Union[Mapping[int, _ProgramText], Mapping[str, _ProgramText], Mapping[Union[int, str], _ProgramText]]
+]
 
 def machines() -> List[str]: ...
 
