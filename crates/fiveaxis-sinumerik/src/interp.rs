@@ -312,6 +312,8 @@ pub struct Interpreter<'a> {
     ended: bool,
     failed: Option<LangError>,
     buf: Vec<u8>,
+    /// The text of the line being carried out (for messages).
+    line_text: Vec<u8>,
 }
 
 impl std::fmt::Debug for Interpreter<'_> {
@@ -472,6 +474,7 @@ impl<'t> Interpreter<'t> {
             ended: false,
             failed: None,
             buf: Vec::new(),
+            line_text: Vec::new(),
         };
         for (name, mut text) in definitions {
             me.read_definitions(&name, text.as_mut())?;
@@ -517,6 +520,12 @@ impl<'t> Interpreter<'t> {
     /// messages; `"?"` for a number never given.
     pub fn program_name(&self, program: usize) -> &str {
         self.programs.get(program).map_or("?", |p| p.name.as_str())
+    }
+
+    /// The text of the line being carried out, or of the last one carried
+    /// out: the block an error or an [`crate::Executed`] block is about.
+    pub fn line_text(&self) -> &[u8] {
+        &self.line_text
     }
 
     /// Lines read so far (run, skipped and searched).
@@ -687,6 +696,10 @@ impl<'t> Interpreter<'t> {
         if !more {
             return Ok(None);
         }
+        if at.pos == 0 && self.buf.starts_with(b"\xEF\xBB\xBF") {
+            // A UTF-8 byte-order mark before the first line: not text.
+            self.buf.drain(..3);
+        }
         self.blocks += 1;
         frame.cur = at;
         frame.cur_span = text_span(&self.buf);
@@ -746,6 +759,8 @@ impl<'t> Interpreter<'t> {
             let yielded = if read.skipped {
                 false
             } else {
+                self.line_text.clear();
+                self.line_text.extend_from_slice(&self.buf);
                 let program = self.top().program;
                 let line = read.parsed.map_err(|e| parse_error(program, e))?;
                 self.execute(line, read.at, sys, out)?

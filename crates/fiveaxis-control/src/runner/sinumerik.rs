@@ -3,9 +3,7 @@
 //! memory, the front end (`crate::sinumerik`) turns each block it yields
 //! into commands for the controller.
 
-use std::cell::RefCell;
 use std::io;
-use std::rc::Rc;
 
 use fiveaxis_sinumerik::{
     Executed, Interpreter, LangError, Options, ProgramStore, ProgramText, Step,
@@ -28,8 +26,6 @@ pub(super) struct SinumerikRun<'a> {
     interp: Interpreter<'a>,
     front: Front,
     executed: Executed,
-    /// The last line the interpreter read, for messages.
-    last_line: Rc<RefCell<Vec<u8>>>,
 }
 
 impl std::fmt::Debug for SinumerikRun<'_> {
@@ -41,18 +37,11 @@ impl std::fmt::Debug for SinumerikRun<'_> {
 /// The main program, handed over by the runner's sources.
 struct MainText<S> {
     source: S,
-    last_line: Rc<RefCell<Vec<u8>>>,
 }
 
 impl<S: Source> ProgramText for MainText<S> {
     fn read_line(&mut self, buf: &mut Vec<u8>) -> io::Result<bool> {
-        let read = self.source.read_line(buf)?;
-        if read {
-            let mut last = self.last_line.borrow_mut();
-            last.clear();
-            last.extend_from_slice(buf);
-        }
-        Ok(read)
+        self.source.read_line(buf)
     }
 
     fn position(&self) -> u64 {
@@ -67,18 +56,11 @@ impl<S: Source> ProgramText for MainText<S> {
 /// A program of the program memory.
 struct LibraryText {
     source: Box<dyn Source>,
-    last_line: Rc<RefCell<Vec<u8>>>,
 }
 
 impl ProgramText for LibraryText {
     fn read_line(&mut self, buf: &mut Vec<u8>) -> io::Result<bool> {
-        let read = self.source.read_line(buf)?;
-        if read {
-            let mut last = self.last_line.borrow_mut();
-            last.clear();
-            last.extend_from_slice(buf);
-        }
-        Ok(read)
+        self.source.read_line(buf)
     }
 
     fn position(&self) -> u64 {
@@ -93,7 +75,6 @@ impl ProgramText for LibraryText {
 /// The program memory (`--programs DIR`) as the language reads it.
 struct Store {
     library: Option<Box<dyn ProgramLibrary>>,
-    last_line: Rc<RefCell<Vec<u8>>>,
 }
 
 impl ProgramStore for Store {
@@ -101,12 +82,9 @@ impl ProgramStore for Store {
         let Some(library) = self.library.as_mut() else {
             return Ok(None);
         };
-        Ok(library.open_sinumerik(name)?.map(|(source, _)| {
-            Box::new(LibraryText {
-                source,
-                last_line: self.last_line.clone(),
-            }) as Box<dyn ProgramText>
-        }))
+        Ok(library
+            .open_sinumerik(name)?
+            .map(|(source, _)| Box::new(LibraryText { source }) as Box<dyn ProgramText>))
     }
 
     fn definitions(&mut self) -> io::Result<Vec<(String, Box<dyn ProgramText>)>> {
@@ -119,10 +97,7 @@ impl ProgramStore for Store {
             .map(|(source, name)| {
                 (
                     name,
-                    Box::new(LibraryText {
-                        source,
-                        last_line: self.last_line.clone(),
-                    }) as Box<dyn ProgramText>,
+                    Box::new(LibraryText { source }) as Box<dyn ProgramText>,
                 )
             })
             .collect())
@@ -134,10 +109,8 @@ impl<'m, S: Source> Runner<'m, S> {
     pub(super) fn sinumerik_step(&mut self, out: &mut Vec<Segment>) -> Result<(), RunError> {
         self.resumable = false;
         if self.sinumerik.is_none() {
-            let last_line = Rc::new(RefCell::new(Vec::new()));
             let store = Store {
                 library: self.source.take_library(),
-                last_line: last_line.clone(),
             };
             let options = Options {
                 skip_levels: u16::from(self.options.block_delete),
@@ -147,17 +120,13 @@ impl<'m, S: Source> Runner<'m, S> {
             let Some(main) = self.source.take_main() else {
                 return Ok(());
             };
-            let main = MainText {
-                source: main,
-                last_line: last_line.clone(),
-            };
+            let main = MainText { source: main };
             let interp = Interpreter::new(Box::new(main), Box::new(store), options)
                 .map_err(|e| self.language_alarm(&e, "definitions"))?;
             self.sinumerik = Some(Box::new(SinumerikRun {
                 interp,
                 front: Front::new(),
                 executed: Executed::default(),
-                last_line,
             }));
         }
         let Some(run) = self.sinumerik.as_mut() else {
@@ -173,7 +142,7 @@ impl<'m, S: Source> Runner<'m, S> {
         };
         self.blocks = run.interp.blocks();
         self.text.clear();
-        self.text.extend_from_slice(&run.last_line.borrow());
+        self.text.extend_from_slice(run.interp.line_text());
         let step = match step {
             Ok(step) => step,
             Err(e) => {
