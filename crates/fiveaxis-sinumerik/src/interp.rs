@@ -560,7 +560,12 @@ impl<'t> Interpreter<'t> {
         sys: &mut dyn System,
         out: &mut Executed,
     ) -> Result<Step, LangError> {
-        *out = Executed::default();
+        // The buffer of actions is kept from block to block.
+        out.line = 0;
+        out.program = 0;
+        out.number = None;
+        out.actions.clear();
+        out.comment = None;
         if let Some(e) = &self.failed {
             return Err(e.clone());
         }
