@@ -168,6 +168,11 @@ impl Controller<'_> {
     /// the end of the start-up block and at the start of the cancel block
     /// (SINUMERIK NORM, brief §6).
     fn radius_side(&mut self, side: CutterSide, _span: Span) -> Result<(), Alarm> {
+        if !self.cutter.routing() {
+            // The block starts where the program stands (FANUC reads it
+            // before G41 / G42 take effect in the block).
+            self.cutter.point = self.programmed(&self.state.joints);
+        }
         self.select_cutter_side(match side {
             CutterSide::Off => None,
             CutterSide::Left => Some(crate::cutter::Side::Left),
