@@ -561,3 +561,20 @@ impl XyzOf for Row {
     }
 }
 
+
+#[test]
+fn lead_and_tilt_relative_to_the_path() {
+    let m = dmu();
+    // Moving along +X on a surface with normal Z: LEAD 20 leans the tool
+    // towards +X, TILT then turns it about X.
+    let rows = ok(
+        &m,
+        "TRAORI\nG54 G0 X0 Y0 Z50\nG1 X50 LEAD=20 TILT=0 F1000\nG1 X100 LEAD=0 TILT=30\nM30\n",
+    );
+    let (s, c) = 20f64.to_radians().sin_cos();
+    assert!(near(at(&rows, 3).dir, Vec3::new(s, 0.0, c)), "{:?}", at(&rows, 3).dir);
+    let (s, c) = 30f64.to_radians().sin_cos();
+    assert!(near(at(&rows, 4).dir, Vec3::new(0.0, -s, c)), "{:?}", at(&rows, 4).dir);
+    let (_, a) = ends(&m, "TRAORI\nG54 G0 X0 Y0 Z50\nG1 Z10 LEAD=20 F1000\nM30\n");
+    assert_eq!(alarm_number(&a), AlarmCode::sinumerik(14104));
+}

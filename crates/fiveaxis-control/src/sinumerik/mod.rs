@@ -219,6 +219,10 @@ struct Parts {
     center_written: [Option<(f64, Option<PositionMode>)>; 3],
     /// ORIRESET's angles.
     orireset: Option<(Vec<Option<f64>>, Span)>,
+    /// LEAD= and TILT=, degrees.
+    lead_tilt: [Option<f64>; 2],
+    /// A5 B5 C5: the surface normal at the block's end.
+    normal: [Option<f64>; 3],
 }
 
 impl Front {
@@ -380,7 +384,7 @@ impl Front {
         let start = ctrl.program_position();
         let mut center = None;
         if parts.moves {
-            self.orientation(line, &mut parts)?;
+            self.orientation(line, &start, &mut parts)?;
             center = self.circle(line, &start, &mut parts)?;
             self.block.commands.push(Command::Move(parts.mv));
         }
@@ -546,6 +550,14 @@ impl Front {
                 let k = usize::from(address.as_bytes()[0] - b'A');
                 parts.euler[k] = Some(number(address)?);
                 parts.moves = true;
+            }
+            "LEAD" | "TILT" => {
+                parts.lead_tilt[usize::from(address == "TILT")] = Some(number(address)?);
+                parts.moves = true;
+            }
+            "A5" | "B5" | "C5" => {
+                let k = usize::from(address.as_bytes()[0] - b'A');
+                parts.normal[k] = Some(number(address)?);
             }
             "A3" | "B3" | "C3" => {
                 let k = usize::from(address.as_bytes()[0] - b'A');
@@ -728,6 +740,8 @@ impl Front {
             // end of radius compensation, the engine's start-up (brief §6).
             "NORM" => {}
             "ORIWKS" => self.orimks = false,
+            // The orientation relative to the path: LEAD= / TILT= words.
+            "ORIPATH" | "ORIPATHS" => {}
             "ORIMKS" => self.orimks = true,
             "ORIRESET" => {
                 let angles = args
@@ -937,7 +951,21 @@ impl Front {
 
     /// The tool orientation of a move under TRAORI: rotary axis words, a
     /// vector A3 B3 C3 or angles A2 B2 C2.
-    fn orientation(&mut self, line: u32, parts: &mut Parts) -> Result<(), Alarm> {
+    fn orientation(&mut self, line: u32, start: &[f64], parts: &mut Parts) -> Result<(), Alarm> {
+        let relative = parts.lead_tilt.iter().any(Option::is_some);
+        if relative {
+            if parts.vector.iter().any(Option::is_some) || parts.euler.iter().any(Option::is_some) {
+                return Err(Self::plain_alarm(
+                    line,
+                    Condition::ImproperAddress,
+                    Some(parts.mv.span),
+                    "LEAD / TILT and A3 B3 C3 / A2 B2 C2 in one block: one orientation only"
+                        .into(),
+                ));
+            }
+            let v = self.lead_tilt(line, start, parts)?;
+            parts.vector = v.map(Some);
+        }
         let vector = parts.vector.iter().any(Option::is_some);
         let angles = parts.euler.iter().any(Option::is_some);
         if !vector && !angles {
@@ -974,7 +1002,8 @@ impl Front {
         };
         // ORIMKS: the vector is in the machine frame; the controller reads
         // it in the frames' (ORIWKS, ONE p674).
-        let v = if self.orimks {
+        // (LEAD / TILT give it in the frames' coordinates already.)
+        let v = if self.orimks && !relative {
             let w = self.all_rotation().inverse() * Vec3::new(v[0], v[1], v[2]);
             [w.x, w.y, w.z]
         } else {
@@ -997,6 +1026,46 @@ impl Front {
         }
         parts.mv.tool_vector = Some(v);
         Ok(())
+    }
+
+    /// LEAD= / TILT= (JP06 p7-40/43, brief §4): the tool orientation
+    /// relative to the path and the surface normal (A5 B5 C5 at the end of
+    /// the block; without them Z of the frames in force), in the frames'
+    /// coordinates. The kernel's reading (signs UNVERIFIED): the path
+    /// direction is the block's, start to end; LEAD tilts the tool from
+    /// the normal towards the direction of travel, TILT then turns it
+    /// about the path direction, counter-clockwise seen along it.
+    fn lead_tilt(&self, line: u32, start: &[f64], parts: &Parts) -> Result<[f64; 3], Alarm> {
+        let n = if parts.normal.iter().any(Option::is_some) {
+            let n = Vec3::from(parts.normal.map(|c| c.unwrap_or(0.0)));
+            if self.orimks {
+                self.all_rotation().inverse() * n
+            } else {
+                n
+            }
+        } else {
+            Vec3::z()
+        };
+        let e = self.end_point(start, &parts.mv);
+        let t = e - Vec3::new(start[0], start[1], start[2]);
+        let nn = n.norm();
+        let t = if nn > 0.0 { t - n * (t.dot(&n) / (nn * nn)) } else { t };
+        if nn <= 0.0 || !nn.is_finite() || t.norm() <= 1e-9 || !t.norm().is_finite() {
+            return Err(Self::alarm(
+                line,
+                14104,
+                Some(parts.mv.span),
+                "LEAD / TILT need a path direction across the surface normal (A5 B5 C5 not \
+                 zero, a move not along the normal)"
+                    .into(),
+            ));
+        }
+        let n = n / nn;
+        let t = t.normalize();
+        let [lead, tilt] = parts.lead_tilt.map(|a| a.unwrap_or(0.0).to_radians());
+        let v = n * lead.cos() + t * lead.sin();
+        let v = Rotation3::from_axis_angle(&nalgebra::Unit::new_unchecked(t), tilt) * v;
+        Ok([v.x, v.y, v.z])
     }
 
     /// CYCLE800(_FR, _TC, _ST, _MODE, _X0, _Y0, _Z0, _A, _B, _C, _X1, _Y1,
@@ -1875,4 +1944,41 @@ fn swivel_alarm(alarm: Alarm, line: u32) -> Alarm {
         _ => return alarm,
     };
     Front::alarm(line, number, alarm.span, format!("CYCLE800: {}", alarm.message))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn radius_center_sides() {
+        // A quarter from (10, 0) to (0, 10): counter-clockwise about the
+        // origin with CR=10, clockwise about (10, 10).
+        let c = radius_center([10.0, 0.0], [0.0, 10.0], 10.0, true).unwrap();
+        assert!(c[0].abs() < 1e-12 && c[1].abs() < 1e-12, "{c:?}");
+        let c = radius_center([10.0, 0.0], [0.0, 10.0], 10.0, false).unwrap();
+        assert!((c[0] - 10.0).abs() < 1e-12 && (c[1] - 10.0).abs() < 1e-12, "{c:?}");
+        // CR=-10: the long way, the centre on the other side.
+        let c = radius_center([10.0, 0.0], [0.0, 10.0], -10.0, true).unwrap();
+        assert!((c[0] - 10.0).abs() < 1e-12 && (c[1] - 10.0).abs() < 1e-12, "{c:?}");
+        assert!(radius_center([0.0, 0.0], [30.0, 0.0], 10.0, true).is_none());
+    }
+
+    #[test]
+    fn frame_then_scales_later_shifts() {
+        let scale = Frame {
+            scale: [2.0, 3.0, 1.0],
+            ..Frame::IDENTITY
+        };
+        let shift = Frame::rigid(Vec3::new(1.0, 1.0, 1.0), Rotation3::identity());
+        let f = scale.then(&shift);
+        assert_eq!(f.translation, Vec3::new(2.0, 3.0, 1.0));
+        let mirror = Frame {
+            mirror: [true, false, false],
+            ..Frame::IDENTITY
+        };
+        let f = mirror.then(&shift).then(&mirror);
+        assert_eq!(f.translation, Vec3::new(-1.0, 1.0, 1.0));
+        assert_eq!(f.mirror, [false; 3]);
+    }
 }

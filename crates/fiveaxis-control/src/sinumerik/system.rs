@@ -278,3 +278,64 @@ impl System for SystemView<'_, '_> {
         super::is_builtin(name)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn frame_values_round_trip() {
+        let machine = fiveaxis_machine::builtin("sinumerik-dmu-bc").expect("built-in");
+        let value = FrameValue {
+            axes: vec![
+                FrameAxis {
+                    axis: "X".into(),
+                    tr: 10.0,
+                    fi: 0.5,
+                    rt: 0.0,
+                    sc: 1.0,
+                    mi: false,
+                },
+                FrameAxis {
+                    axis: "Z".into(),
+                    tr: 0.0,
+                    fi: 0.0,
+                    rt: 30.0,
+                    sc: 1.0,
+                    mi: false,
+                },
+                FrameAxis {
+                    axis: "C".into(),
+                    tr: 15.0,
+                    fi: 0.0,
+                    rt: 0.0,
+                    sc: 1.0,
+                    mi: false,
+                },
+            ],
+        };
+        let frame = frame_of_value(&machine, &value).unwrap();
+        assert_eq!(frame.translation, Vec3::new(10.5, 0.0, 0.0));
+        let x = frame.rotation * Vec3::x();
+        let (s, c) = 30f64.to_radians().sin_cos();
+        assert!((x - Vec3::new(c, s, 0.0)).norm() < 1e-12);
+        let c_index = machine.axis_index('C').unwrap();
+        assert_eq!(frame.axis_shift[c_index], 15.0);
+        let back = frame_of_value(&machine, &value_of_frame(&machine, &frame)).unwrap();
+        assert!((back.translation - frame.translation).norm() < 1e-12);
+        assert!(back.rotation.angle_to(&frame.rotation) < 1e-12);
+        assert_eq!(back.axis_shift, frame.axis_shift);
+        // An axis the machine does not have, a scale of 0.
+        let bad = FrameValue {
+            axes: vec![FrameAxis {
+                axis: "Q".into(),
+                tr: 1.0,
+                fi: 0.0,
+                rt: 0.0,
+                sc: 1.0,
+                mi: false,
+            }],
+        };
+        assert!(frame_of_value(&machine, &bad).is_err());
+    }
+}
