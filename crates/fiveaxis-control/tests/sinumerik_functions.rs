@@ -67,8 +67,7 @@ fn assert_tip(row: &Row, want: [f64; 3]) {
 /// The row at the end of line `line`'s last segment.
 fn at(rows: &[Row], line: u32) -> &Row {
     rows.iter()
-        .filter(|r| r.line == line)
-        .last()
+        .rfind(|r| r.line == line)
         .unwrap_or_else(|| panic!("no segment of line {line}"))
 }
 
@@ -85,7 +84,8 @@ fn alarm_number(alarm: &Option<Alarm>) -> AlarmCode {
 /// start, the cancel starts perpendicular to the last at its end.
 #[test]
 fn g41_square_gives_the_offset_path() {
-    let program = "T1 M6\nD1\nG0 X-20 Y-20 Z5\nG1 G41 X0 Y0 F500\nY50\nX50\nY0\nX0\nG40 X-20 Y-20\nM30\n";
+    let program =
+        "T1 M6\nD1\nG0 X-20 Y-20 Z5\nG1 G41 X0 Y0 F500\nY50\nX50\nY0\nX0\nG40 X-20 Y-20\nM30\n";
     let rows = ok(&mill(), program);
     let path: Vec<(u32, [f64; 3])> = rows
         .iter()
@@ -150,7 +150,7 @@ fn mirror_reverses_coordinates_and_the_sense_of_circles() {
         &[0.5, 1.0],
     );
     assert!(alarm.is_none(), "{alarm:?}");
-    let end_line = rows.iter().filter(|r| r.line == 3).last().unwrap();
+    let end_line = at(&rows, 3);
     assert_tip(end_line, [-10.0, 5.0, 0.0]);
     let arc: Vec<&Row> = rows.iter().filter(|r| r.line == 4).collect();
     // G2 from (10, 5) about (20, 5) over the top, mirrored in X: from
@@ -193,7 +193,7 @@ fn scale_with_rotation_keeps_the_order_t_r_s_m() {
         &mill(),
         "G0 X0 Y0 Z0\nTRANS X10\nAROT Z90\nASCALE X2\nG1 X1 Y0 F100\nM30\n",
     );
-    assert_tip(rows.last().unwrap(), [10.0, 2.0, 0.0]);
+    assert_tip(rows.last().expect("a row"), [10.0, 2.0, 0.0]);
 }
 
 // ----- CIP, CT, AR ------------------------------------------------------
@@ -253,7 +253,10 @@ fn cip_in_space() {
 
 #[test]
 fn cip_on_a_line_is_an_alarm() {
-    let (_, alarm) = ends(&mill(), "G0 X0 Y0 Z0\nG1 F100\nCIP X20 Y0 I1=10 J1=0\nM30\n");
+    let (_, alarm) = ends(
+        &mill(),
+        "G0 X0 Y0 Z0\nG1 F100\nCIP X20 Y0 I1=10 J1=0\nM30\n",
+    );
     assert_eq!(alarm_number(&alarm), AlarmCode::sinumerik(14040));
 }
 
@@ -313,7 +316,12 @@ fn ar_with_the_end_point() {
     // G2, beyond 180° on the other side), the arc goes round below.
     let c: Vec<&Row> = rows.iter().filter(|r| r.line == 6).collect();
     let mid = Vec3::new(0.0, 10.0, 0.0)
-        + 10.0 * Vec3::new((-90f64 - 135.0).to_radians().cos(), (-90f64 - 135.0).to_radians().sin(), 0.0);
+        + 10.0
+            * Vec3::new(
+                (-90f64 - 135.0).to_radians().cos(),
+                (-90f64 - 135.0).to_radians().sin(),
+                0.0,
+            );
     assert_tip(c[0], [mid.x, mid.y, 0.0]);
     assert_tip(c[1], [10.0, 10.0, 0.0]);
 }
@@ -322,7 +330,7 @@ fn ar_with_the_end_point() {
 fn ar_with_the_centre() {
     let rows = ok(&mill(), "G0 X0 Y0 Z0\nG2 I10 J0 AR=90 F100\nM30\n");
     // Centre (10, 0), clockwise 90° from (0, 0): (10, 10).
-    assert_tip(rows.last().unwrap(), [10.0, 10.0, 0.0]);
+    assert_tip(rows.last().expect("a row"), [10.0, 10.0, 0.0]);
 }
 
 #[test]
@@ -340,7 +348,7 @@ fn dmu() -> Machine {
 }
 
 fn joint(m: &Machine, row: &Row, name: char) -> f64 {
-    row.joints[m.axis_index(name).unwrap()]
+    row.joints[m.axis_index(name).expect("an axis")]
 }
 
 #[test]
@@ -350,14 +358,19 @@ fn cycle800_direct_angles_move_the_axes_and_make_the_frame() {
         &m,
         "G54 G0 X0 Y0 Z100\nCYCLE800(0,\"\",0,192,0,0,0,40,30,0,0,0,0,1)\nG91 G1 Z10 F500\nM30\n",
     );
-    let swivel = rows.iter().filter(|r| r.line == 2).last().unwrap();
+    let swivel = at(&rows, 2);
     assert!((joint(&m, swivel, 'B') - 40.0).abs() < EPS);
     assert!((joint(&m, swivel, 'C') - 30.0).abs() < EPS);
     // Z of the frame is the tool direction at B40 C30 (forward
     // kinematics): the incremental Z10 moves the tip 10 along it.
-    let mv = rows.iter().filter(|r| r.line == 3).last().unwrap();
+    let mv = at(&rows, 3);
     let dir = m.forward(&swivel.joints, 0.0).dir;
-    assert!(near(mv.tip - swivel.tip, 10.0 * dir), "{:?} {:?}", mv.tip - swivel.tip, dir);
+    assert!(
+        near(mv.tip - swivel.tip, 10.0 * dir),
+        "{:?} {:?}",
+        mv.tip - swivel.tip,
+        dir
+    );
     assert!(near(mv.dir, dir));
 }
 
@@ -376,9 +389,10 @@ fn cycle800_dir_zero_moves_nothing() {
 fn cycle800_dir_chooses_the_first_axis_solution() {
     let m = sinumerik("trunnion-ac");
     for (dir, higher) in [(1, true), (-1, false)] {
-        let program = format!("G0 X0 Y0 Z100\nCYCLE800(0,\"\",0,57,0,0,0,20,0,0,0,0,0,{dir})\nM30\n");
+        let program =
+            format!("G0 X0 Y0 Z100\nCYCLE800(0,\"\",0,57,0,0,0,20,0,0,0,0,0,{dir})\nM30\n");
         let rows = ok(&m, &program);
-        let row = rows.iter().filter(|r| r.line == 2).last().expect("a swivel");
+        let row = at(&rows, 2);
         let a = joint(&m, row, 'A');
         assert!((a.abs() - 20.0).abs() < 1e-6, "A {a}");
         assert_eq!(a > 0.0, higher, "_DIR {dir}: A {a}");
@@ -397,11 +411,14 @@ fn cycle800_retract_along_the_tool() {
         &m,
         "G0 X0 Y0 Z100\nCYCLE800(5,\"\",0,57,0,0,0,0,0,0,0,0,0,0,20)\nM30\n",
     );
-    let r = rows.iter().filter(|r| r.line == 2).last().unwrap();
+    let r = at(&rows, 2);
     assert!((joint(&m, r, 'Z') - 120.0).abs() < EPS);
     // _FR 4: to the end of travel (Z max 500).
-    let rows = ok(&m, "G0 X0 Y0 Z100\nCYCLE800(4,\"\",0,57,0,0,0,0,0,0,0,0,0,0)\nM30\n");
-    let r = rows.iter().filter(|r| r.line == 2).last().unwrap();
+    let rows = ok(
+        &m,
+        "G0 X0 Y0 Z100\nCYCLE800(4,\"\",0,57,0,0,0,0,0,0,0,0,0,0)\nM30\n",
+    );
+    let r = at(&rows, 2);
     assert!((joint(&m, r, 'Z') - 500.0).abs() < EPS);
     let (_, a) = ends(&m, "CYCLE800(3,\"\",0,57,0,0,0,0,0,0,0,0,0,0)\nM30\n");
     assert_eq!(alarm_number(&a), AlarmCode::sinumerik(61186));
@@ -414,7 +431,10 @@ fn cycle800_direct_angles_outside_the_limits() {
         "CYCLE800(0,\"\",0,192,0,0,0,-40,0,0,0,0,0,1)\nM30\n",
     );
     assert_eq!(alarm_number(&a), AlarmCode::sinumerik(61190));
-    let (_, a) = ends(&mill(), "CYCLE800(0,\"\",0,192,0,0,0,10,0,0,0,0,0,1)\nM30\n");
+    let (_, a) = ends(
+        &mill(),
+        "CYCLE800(0,\"\",0,192,0,0,0,10,0,0,0,0,0,1)\nM30\n",
+    );
     assert_eq!(alarm_number(&a), AlarmCode::sinumerik(61153));
 }
 
@@ -427,12 +447,12 @@ fn toframe_puts_z_along_the_tool() {
         &m,
         "G54 G0 X0 Y0 Z100\nG0 G53 B60 C20\nTOFRAME\nG91 G1 Z10 F500\nTOROTOF\nG1 Z10\nM30\n",
     );
-    let before = rows.iter().filter(|r| r.line == 2).last().unwrap();
+    let before = at(&rows, 2);
     let dir = m.forward(&before.joints, 0.0).dir;
-    let moved = rows.iter().filter(|r| r.line == 4).last().unwrap();
+    let moved = at(&rows, 4);
     assert!(near(moved.tip - before.tip, 10.0 * dir));
     // TOROTOF: Z is the workpiece's again.
-    let after = rows.iter().filter(|r| r.line == 6).last().unwrap();
+    let after = at(&rows, 6);
     let dz = after.joints[2] - moved.joints[2];
     assert!((dz - 10.0).abs() < EPS, "{dz}");
 }
@@ -446,10 +466,10 @@ fn parot_turns_the_workpiece_coordinates_with_the_table() {
         &m,
         "G0 X0 Y0 Z100\nG0 G53 C90\nG1 X10 F500\nPAROT\nG1 X20 Y0\nPAROTOF\nM30\n",
     );
-    let plain = rows.iter().filter(|r| r.line == 3).last().unwrap();
+    let plain = at(&rows, 3);
     // (G54 is in force from the start: the work zero at (100, 50).)
     assert!((plain.joints[0] - 110.0).abs() < EPS && (plain.joints[1] - 50.0).abs() < EPS);
-    let turned = rows.iter().filter(|r| r.line == 5).last().unwrap();
+    let turned = at(&rows, 5);
     assert_tip(turned, [20.0, 0.0, 100.0]);
 }
 
@@ -462,14 +482,14 @@ fn uifr_written_by_the_program_holds_at_the_next_g54() {
         "G54 G0 X0 Y0 Z0\n$P_UIFR[1]=CTRANS(X,10,Y,20):CROT(Z,30)\nG0 X0 Y0\nG54\nG0 X10 Y0\nG55 G0 X0 Y0\nM30\n",
     );
     // Before G54 is selected again: the offsets file's (100, 50).
-    let first = rows.iter().filter(|r| r.line == 3).last();
-    assert!(first.is_none() || near(first.unwrap().joints_xyz(), Vec3::new(100.0, 50.0, 0.0)));
-    let row = rows.iter().filter(|r| r.line == 5).last().unwrap();
+    let first = rows.iter().rfind(|r| r.line == 3);
+    assert!(first.is_none_or(|r| near(r.joints_xyz(), Vec3::new(100.0, 50.0, 0.0))));
+    let row = at(&rows, 5);
     let (s, c) = 30f64.to_radians().sin_cos();
     let want = Vec3::new(10.0 + 10.0 * c, 20.0 + 10.0 * s, 0.0);
     assert!(near(row.joints_xyz(), want), "{:?}", row.joints);
     // G55: the offsets file's (zero).
-    let g55 = rows.iter().filter(|r| r.line == 6).last().unwrap();
+    let g55 = at(&rows, 6);
     assert!(near(g55.joints_xyz(), Vec3::zeros()));
 }
 
@@ -479,10 +499,10 @@ fn pframe_written_and_read() {
         &mill(),
         "DEF FRAME F1\nG0 X0 Y0 Z0\n$P_PFRAME=CTRANS(X,5)\nG0 X1\nATRANS Y3\nF1=$P_PFRAME\nTRANS\n$P_PFRAME=F1\nG0 X0 Y0\nM30\n",
     );
-    let x1 = rows.iter().filter(|r| r.line == 4).last().unwrap();
+    let x1 = at(&rows, 4);
     assert_tip(x1, [6.0, 0.0, 0.0]);
     // Read back after ATRANS, written again after TRANS: (5, 3).
-    let last = rows.last().unwrap();
+    let last = rows.last().expect("a row");
     assert_tip(last, [5.0, 3.0, 0.0]);
 }
 
@@ -511,13 +531,18 @@ fn orireset_turns_the_axes_about_the_tip() {
         "T2 M6\nD1\nTRAORI\nG54 G0 X0 Y0 Z50\nORIRESET(30,45)\nM30\n",
     );
     assert!(alarm.is_none(), "{alarm:?}");
-    let before = rows.iter().filter(|r| r.line == 4).last().unwrap();
-    let after = rows.iter().filter(|r| r.line == 5).last().unwrap();
+    let before = at(&rows, 4);
+    let after = at(&rows, 5);
     assert!((joint(&m, after, 'B') - 30.0).abs() < EPS);
     assert!((joint(&m, after, 'C') - 45.0).abs() < EPS);
     // The tip stays (forward kinematics with the tool length).
     let tip = |r: &Row| m.forward(&r.joints, 100.0).tip;
-    assert!(near(tip(before), tip(after)), "{:?} {:?}", tip(before), tip(after));
+    assert!(
+        near(tip(before), tip(after)),
+        "{:?} {:?}",
+        tip(before),
+        tip(after)
+    );
 }
 
 #[test]
@@ -528,27 +553,37 @@ fn euler_angles_a2_b2_c2() {
     let rows = ok(&m, "TRAORI\nG54 G1 X0 Y0 Z50 A2=30 B2=40 C2=0 F1000\nM30\n");
     let (a, b) = (30f64.to_radians(), 40f64.to_radians());
     let want = Vec3::new(a.sin() * b.sin(), -a.cos() * b.sin(), b.cos());
-    let row = rows.last().unwrap();
+    let row = rows.last().expect("a row");
     assert!(near(m.forward(&row.joints, 0.0).dir, want), "{:?}", row.dir);
     // ORIRPY: about X, then Y, then Z of the fixed frame: A2 turns about
     // X by 30: the tool along (0, −sin 30, cos 30).
-    let rows = ok(&m, "TRAORI\nORIRPY\nG54 G1 X0 Y0 Z50 A2=30 B2=0 C2=0 F1000\nM30\n");
+    let rows = ok(
+        &m,
+        "TRAORI\nORIRPY\nG54 G1 X0 Y0 Z50 A2=30 B2=0 C2=0 F1000\nM30\n",
+    );
     let want = Vec3::new(0.0, -0.5, 3f64.sqrt() / 2.0);
-    assert!(near(rows.last().unwrap().dir, want), "{:?}", rows.last().unwrap().dir);
+    assert!(
+        near(rows.last().expect("a row").dir, want),
+        "{:?}",
+        rows.last().expect("a row").dir
+    );
 }
 
 #[test]
 fn orimks_reads_the_vector_in_the_machine_frame() {
     let m = dmu();
     let s = 0.5f64.sqrt();
-    let wks = ok(&m, "TRAORI\nG54\nROT Z90\nG1 X0 Y0 Z50 A3=0 B3=-1 C3=1 F1000\nM30\n");
+    let wks = ok(
+        &m,
+        "TRAORI\nG54\nROT Z90\nG1 X0 Y0 Z50 A3=0 B3=-1 C3=1 F1000\nM30\n",
+    );
     // ORIWKS: the vector turns with the frame: (0, −1, 1) → (1, 0, 1).
-    assert!(near(wks.last().unwrap().dir, Vec3::new(s, 0.0, s)));
+    assert!(near(wks.last().expect("a row").dir, Vec3::new(s, 0.0, s)));
     let mks = ok(
         &m,
         "TRAORI\nORIMKS\nG54\nROT Z90\nG1 X0 Y0 Z50 A3=0 B3=-1 C3=1 F1000\nM30\n",
     );
-    assert!(near(mks.last().unwrap().dir, Vec3::new(0.0, -s, s)));
+    assert!(near(mks.last().expect("a row").dir, Vec3::new(0.0, -s, s)));
 }
 
 trait XyzOf {
@@ -561,7 +596,6 @@ impl XyzOf for Row {
     }
 }
 
-
 #[test]
 fn lead_and_tilt_relative_to_the_path() {
     let m = dmu();
@@ -572,9 +606,17 @@ fn lead_and_tilt_relative_to_the_path() {
         "TRAORI\nG54 G0 X0 Y0 Z50\nG1 X50 LEAD=20 TILT=0 F1000\nG1 X100 LEAD=0 TILT=30\nM30\n",
     );
     let (s, c) = 20f64.to_radians().sin_cos();
-    assert!(near(at(&rows, 3).dir, Vec3::new(s, 0.0, c)), "{:?}", at(&rows, 3).dir);
+    assert!(
+        near(at(&rows, 3).dir, Vec3::new(s, 0.0, c)),
+        "{:?}",
+        at(&rows, 3).dir
+    );
     let (s, c) = 30f64.to_radians().sin_cos();
-    assert!(near(at(&rows, 4).dir, Vec3::new(0.0, -s, c)), "{:?}", at(&rows, 4).dir);
+    assert!(
+        near(at(&rows, 4).dir, Vec3::new(0.0, -s, c)),
+        "{:?}",
+        at(&rows, 4).dir
+    );
     let (_, a) = ends(&m, "TRAORI\nG54 G0 X0 Y0 Z50\nG1 Z10 LEAD=20 F1000\nM30\n");
     assert_eq!(alarm_number(&a), AlarmCode::sinumerik(14104));
 }

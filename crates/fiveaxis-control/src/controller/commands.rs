@@ -276,7 +276,12 @@ impl Controller<'_> {
     /// circle in program coordinates, carried by the program transforms
     /// (a uniform scale and mirror only), the feature frame or the work
     /// offset and setup, and the length offset.
-    fn space_circle(&mut self, m: &Move, base: usize, out: &mut Vec<Segment>) -> Result<Flow, Alarm> {
+    fn space_circle(
+        &mut self,
+        m: &Move,
+        base: usize,
+        out: &mut Vec<Segment>,
+    ) -> Result<Flow, Alarm> {
         let Some(SpaceCircle {
             center,
             normal,
@@ -346,7 +351,10 @@ impl Controller<'_> {
         };
         // Where the circle ends in the controller's coordinates.
         let mut end_c = end_p;
-        let e = self.state.frames.apply(&Vec3::new(end_p[0], end_p[1], end_p[2]));
+        let e = self
+            .state
+            .frames
+            .apply(&Vec3::new(end_p[0], end_p[1], end_p[2]));
         end_c[..3].copy_from_slice(e.as_slice());
         let end = self.machine_position(&end_c);
         let start_j = self.state.joints;
@@ -363,7 +371,11 @@ impl Controller<'_> {
                 drift: self.length_vector(&end) - offset,
             }
         };
-        let motion = if sweep >= 0.0 { Motion::Ccw } else { Motion::Cw };
+        let motion = if sweep >= 0.0 {
+            Motion::Ccw
+        } else {
+            Motion::Cw
+        };
         let mut seg = self.segment(motion, start_j, end, path);
         let length = circle.length();
         seg.feed = Some(self.cutting_feed(|| length)?);

@@ -1041,7 +1041,11 @@ impl Controller<'_> {
             ),
             Choice::TableMotion => (RotaryChoice::RotatingAxis, 0.0, self.table_axis()),
             Choice::KeepTilt(sign) => (RotaryChoice::KeepTiltSign, sign, rotating),
-            Choice::FirstAxis(higher) => (RotaryChoice::Shortest, if higher { -1.0 } else { 1.0 }, rotating),
+            Choice::FirstAxis(higher) => (
+                RotaryChoice::Shortest,
+                if higher { -1.0 } else { 1.0 },
+                rotating,
+            ),
         };
         let first_axis = matches!(choice, Choice::FirstAxis(_));
         let rotating = scored;
@@ -1052,7 +1056,10 @@ impl Controller<'_> {
                     let candidate = [a, b];
                     let key = if first_axis {
                         // tilt_sign −1 prefers the higher angle.
-                        (tilt_sign * candidate[0], choice_key(rule, &candidate, &current, rotating, 0.0).0)
+                        (
+                            tilt_sign * candidate[0],
+                            choice_key(rule, &candidate, &current, rotating, 0.0).0,
+                        )
                     } else {
                         choice_key(rule, &candidate, &current, rotating, tilt_sign)
                     };

@@ -648,7 +648,7 @@ impl Front {
             }
             4 => parts.dwell = true,
             9 => cmds.push(Command::ExactStop),
-            17 | 18 | 19 => {
+            17..=19 => {
                 self.plane = match n {
                     17 => Plane::Xy,
                     18 => Plane::Zx,
@@ -959,8 +959,7 @@ impl Front {
                     line,
                     Condition::ImproperAddress,
                     Some(parts.mv.span),
-                    "LEAD / TILT and A3 B3 C3 / A2 B2 C2 in one block: one orientation only"
-                        .into(),
+                    "LEAD / TILT and A3 B3 C3 / A2 B2 C2 in one block: one orientation only".into(),
                 ));
             }
             let v = self.lead_tilt(line, start, parts)?;
@@ -1049,7 +1048,11 @@ impl Front {
         let e = self.end_point(start, &parts.mv);
         let t = e - Vec3::new(start[0], start[1], start[2]);
         let nn = n.norm();
-        let t = if nn > 0.0 { t - n * (t.dot(&n) / (nn * nn)) } else { t };
+        let t = if nn > 0.0 {
+            t - n * (t.dot(&n) / (nn * nn))
+        } else {
+            t
+        };
         if nn <= 0.0 || !nn.is_finite() || t.norm() <= 1e-9 || !t.norm().is_finite() {
             return Err(Self::alarm(
                 line,
@@ -1209,7 +1212,9 @@ impl Front {
                         .commands
                         .push(Command::Interpolation(MotionMode::Rapid));
                     self.block.commands.push(Command::Move(mv));
-                    self.block.commands.push(Command::Interpolation(self.motion));
+                    self.block
+                        .commands
+                        .push(Command::Interpolation(self.motion));
                 }
                 None if dir != 0.0 => {
                     self.block.commands.push(Command::AlignTool {
@@ -1219,7 +1224,8 @@ impl Front {
                 }
                 _ => {}
             }
-            ctrl.run_block(&self.block, out).map_err(|a| swivel_alarm(a, line))?
+            ctrl.run_block(&self.block, out)
+                .map_err(|a| swivel_alarm(a, line))?
         };
         Ok(flow)
     }
@@ -1313,9 +1319,9 @@ impl Front {
         if xy {
             let mut mv = mv;
             mv.targets[2] = None;
-            for i in 0..2 {
-                mv.targets[i] = Some(Target {
-                    value: reference[i],
+            for (target, value) in mv.targets.iter_mut().zip(reference).take(2) {
+                *target = Some(Target {
+                    value,
                     mode: TargetMode::Absolute,
                     span,
                 });
@@ -1822,13 +1828,11 @@ impl Front {
         parts.mv.center[q] = Some(c[q]);
         parts.mv.center_absolute = true;
         parts.mv.radius = None;
-        self.block
-            .commands
-            .push(Command::Interpolation(if ccw {
-                MotionMode::Ccw
-            } else {
-                MotionMode::Cw
-            }));
+        self.block.commands.push(Command::Interpolation(if ccw {
+            MotionMode::Ccw
+        } else {
+            MotionMode::Cw
+        }));
         if self.circle.is_none() {
             // AR= under G2 / G3: the modal motion stays.
             self.motion = if ccw { MotionMode::Ccw } else { MotionMode::Cw };
@@ -1943,7 +1947,12 @@ fn swivel_alarm(alarm: Alarm, line: u32) -> Alarm {
         Condition::ToolDirectionUnreachable => 61190,
         _ => return alarm,
     };
-    Front::alarm(line, number, alarm.span, format!("CYCLE800: {}", alarm.message))
+    Front::alarm(
+        line,
+        number,
+        alarm.span,
+        format!("CYCLE800: {}", alarm.message),
+    )
 }
 
 #[cfg(test)]
@@ -1954,13 +1963,19 @@ mod tests {
     fn radius_center_sides() {
         // A quarter from (10, 0) to (0, 10): counter-clockwise about the
         // origin with CR=10, clockwise about (10, 10).
-        let c = radius_center([10.0, 0.0], [0.0, 10.0], 10.0, true).unwrap();
+        let c = radius_center([10.0, 0.0], [0.0, 10.0], 10.0, true).expect("a centre");
         assert!(c[0].abs() < 1e-12 && c[1].abs() < 1e-12, "{c:?}");
-        let c = radius_center([10.0, 0.0], [0.0, 10.0], 10.0, false).unwrap();
-        assert!((c[0] - 10.0).abs() < 1e-12 && (c[1] - 10.0).abs() < 1e-12, "{c:?}");
+        let c = radius_center([10.0, 0.0], [0.0, 10.0], 10.0, false).expect("a centre");
+        assert!(
+            (c[0] - 10.0).abs() < 1e-12 && (c[1] - 10.0).abs() < 1e-12,
+            "{c:?}"
+        );
         // CR=-10: the long way, the centre on the other side.
-        let c = radius_center([10.0, 0.0], [0.0, 10.0], -10.0, true).unwrap();
-        assert!((c[0] - 10.0).abs() < 1e-12 && (c[1] - 10.0).abs() < 1e-12, "{c:?}");
+        let c = radius_center([10.0, 0.0], [0.0, 10.0], -10.0, true).expect("a centre");
+        assert!(
+            (c[0] - 10.0).abs() < 1e-12 && (c[1] - 10.0).abs() < 1e-12,
+            "{c:?}"
+        );
         assert!(radius_center([0.0, 0.0], [30.0, 0.0], 10.0, true).is_none());
     }
 

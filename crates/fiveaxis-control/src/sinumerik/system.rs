@@ -98,11 +98,15 @@ pub(crate) fn frame_of_value(machine: &Machine, value: &FrameValue) -> Result<Fr
         angles[1].to_radians(),
         angles[2].to_radians(),
     );
-    if ![frame.translation.x, frame.translation.y, frame.translation.z]
-        .iter()
-        .chain(frame.scale.iter())
-        .chain(frame.axis_shift.iter())
-        .all(|v| v.is_finite())
+    if ![
+        frame.translation.x,
+        frame.translation.y,
+        frame.translation.z,
+    ]
+    .iter()
+    .chain(frame.scale.iter())
+    .chain(frame.axis_shift.iter())
+    .all(|v| v.is_finite())
         || frame.scale.contains(&0.0)
     {
         return Err("a frame with a scale of 0 or a value that is not finite".into());
@@ -171,7 +175,10 @@ fn settable_index(indices: &[Value]) -> Result<usize, String> {
     }
     .ok_or("$P_UIFR takes one index, the frame number [n]")?;
     if !(0.0..SETTABLE_FRAMES as f64).contains(&n) || n.fract() != 0.0 {
-        return Err(format!("$P_UIFR[{n}]: the settable frames are 0 to {}", SETTABLE_FRAMES - 1));
+        return Err(format!(
+            "$P_UIFR[{n}]: the settable frames are 0 to {}",
+            SETTABLE_FRAMES - 1
+        ));
     }
     Ok(n as usize)
 }
@@ -202,8 +209,8 @@ impl System for SystemView<'_, '_> {
             "$P_F" => Value::Real(c.feed()),
             "$P_UIFR" => {
                 let n = settable_index(indices)?;
-                let frame = self.frames.settable[n]
-                    .unwrap_or_else(|| offsets_frame(c.offsets(), n));
+                let frame =
+                    self.frames.settable[n].unwrap_or_else(|| offsets_frame(c.offsets(), n));
                 Value::Frame(Box::new(value_of_frame(c.machine(), &frame)))
             }
             "$P_PFRAME" if indices.is_empty() => Value::Frame(Box::new(value_of_frame(
@@ -240,7 +247,9 @@ impl System for SystemView<'_, '_> {
     fn write(&mut self, name: &str, indices: &[Value], value: Value) -> Result<(), String> {
         let frame = |value: &Value| match value {
             Value::Frame(f) => frame_of_value(self.controller.machine(), f),
-            _ => Err(format!("{name} takes a frame (CTRANS, CROT, … or a FRAME variable)")),
+            _ => Err(format!(
+                "{name} takes a frame (CTRANS, CROT, … or a FRAME variable)"
+            )),
         };
         match name {
             "$P_UIFR" => {
@@ -314,14 +323,14 @@ mod tests {
                 },
             ],
         };
-        let frame = frame_of_value(&machine, &value).unwrap();
+        let frame = frame_of_value(&machine, &value).expect("a frame");
         assert_eq!(frame.translation, Vec3::new(10.5, 0.0, 0.0));
         let x = frame.rotation * Vec3::x();
         let (s, c) = 30f64.to_radians().sin_cos();
         assert!((x - Vec3::new(c, s, 0.0)).norm() < 1e-12);
-        let c_index = machine.axis_index('C').unwrap();
+        let c_index = machine.axis_index('C').expect("C");
         assert_eq!(frame.axis_shift[c_index], 15.0);
-        let back = frame_of_value(&machine, &value_of_frame(&machine, &frame)).unwrap();
+        let back = frame_of_value(&machine, &value_of_frame(&machine, &frame)).expect("a frame");
         assert!((back.translation - frame.translation).norm() < 1e-12);
         assert!(back.rotation.angle_to(&frame.rotation) < 1e-12);
         assert_eq!(back.axis_shift, frame.axis_shift);
