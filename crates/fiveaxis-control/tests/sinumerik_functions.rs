@@ -620,3 +620,17 @@ fn lead_and_tilt_relative_to_the_path() {
     let (_, a) = ends(&m, "TRAORI\nG54 G0 X0 Y0 Z50\nG1 Z10 LEAD=20 F1000\nM30\n");
     assert_eq!(alarm_number(&a), AlarmCode::sinumerik(14104));
 }
+
+#[test]
+fn drilling_cycle_and_position_reads_under_scale() {
+    // Under SCALE X2 the cycle drills where the scaled point is, and
+    // $AA_IW reads the program's coordinate.
+    let rows = ok(
+        &mill(),
+        "G0 X0 Y0 Z50 F200\nSCALE X2 Y2\nG0 X10 Y5\nR1=$AA_IW[X]\nG0 X=R1+1\nCYCLE81(10,0,2,-5,0)\nM30\n",
+    );
+    assert_tip(at(&rows, 5), [22.0, 10.0, 50.0]);
+    let drill = rows.iter().filter(|r| r.line == 6).collect::<Vec<_>>();
+    assert!(drill.iter().all(|r| near(Vec3::new(r.tip.x, r.tip.y, 0.0), Vec3::new(22.0, 10.0, 0.0))));
+    assert!(drill.iter().any(|r| (r.tip.z + 5.0).abs() < EPS));
+}

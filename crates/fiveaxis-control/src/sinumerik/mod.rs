@@ -1348,7 +1348,7 @@ impl Front {
         span: Span,
         out: &mut Vec<Segment>,
     ) -> Result<(), Alarm> {
-        let position = ctrl.programmed_position();
+        let position = ctrl.program_position();
         let ctx = cycles::CycleContext {
             plane: self.plane.axes(),
             position: [position[0], position[1], position[2]],
@@ -1389,7 +1389,7 @@ impl Front {
                     .iter()
                     .map(|a| a.as_ref().and_then(Value::as_f64))
                     .collect();
-                let p = ctrl.programmed_position();
+                let p = ctrl.program_position();
                 let ctx = cycles::CycleContext {
                     position: [p[0], p[1], p[2]],
                     ..ctx

@@ -201,7 +201,7 @@ impl System for SystemView<'_, '_> {
         let c = self.controller;
         Ok(match name {
             "$AA_IW" | "$P_EP" | "$AA_IEN" => {
-                Value::Real(c.programmed_position()[self.axis(indices)?])
+                Value::Real(c.program_position()[self.axis(indices)?])
             }
             "$AA_IM" | "$AA_IB" => Value::Real(c.joints()[self.axis(indices)?]),
             "$P_TOOLNO" | "$TC_MPP6" => Value::Int(i64::from(self.tool)),
