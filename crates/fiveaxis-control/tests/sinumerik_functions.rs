@@ -634,3 +634,17 @@ fn drilling_cycle_and_position_reads_under_scale() {
     assert!(drill.iter().all(|r| near(Vec3::new(r.tip.x, r.tip.y, 0.0), Vec3::new(22.0, 10.0, 0.0))));
     assert!(drill.iter().any(|r| (r.tip.z + 5.0).abs() < EPS));
 }
+
+#[test]
+fn circles_out_of_range_are_alarms_not_panics() {
+    for program in [
+        "G0 X0 Y0 Z0\nG1 F100\nCIP X1E300 Y1E300 I1=-1E300 J1=1E300\nM30\n",
+        "G0 X0 Y0 Z0\nG1 F100\nCIP X1E-300 Y0 Z1E-300 I1=1E-300 J1=1E-300\nM30\n",
+        "G0 X0 Y0 Z0\nG1 X1 F100\nCT X1E300 Y1E-300\nM30\n",
+        "G0 X0 Y0 Z0\nG3 X1E300 Y1 AR=0.0000001 F100\nM30\n",
+        "G0 X0 Y0 Z0\nCT X10 Y10\nM30\n",
+    ] {
+        let (_, alarm) = ends(&mill(), program);
+        assert!(alarm.is_some(), "{program}");
+    }
+}

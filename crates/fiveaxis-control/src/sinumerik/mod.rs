@@ -11,10 +11,36 @@
 //! the keys of the design brief (`sinumerik-heidenhain-brief.md` §0).
 //!
 //! * `system.rs`: the system variables a part program reads (`$AA_IW`,
-//!   `$P_TOOLNO`, `$TC_DP…`).
+//!   `$P_TOOLNO`, `$TC_DP…`) and the frames it reads and writes
+//!   (`$P_UIFR[n]`, `$P_PFRAME`).
 //! * `swivel.rs`: CYCLE800's rotation from its mode and angles.
 //! * `cycles.rs`: the drilling, tapping, boring, pattern and engraving
 //!   cycles as their elementary moves.
+//!
+//! Functions worked out here before the controller sees them:
+//!
+//! * The programmable frame (brief §3, ONE p309, p316): TRANS, ROT,
+//!   SCALE, MIRROR replace it, ATRANS, AROT, ASCALE, AMIRROR add to it;
+//!   it maps `T + R·S·M·p` (`command::Frame`), the controller carries
+//!   `T`, `R` as its feature frame and `S`, `M` as the program transforms
+//!   (G2 / G3 and G41 / G42 swap under an odd mirror; a circle under
+//!   unequal factors is refused).
+//! * Circles (FUND11 p216, brief §2): CIP through I1 J1 K1 (which follow
+//!   G90 / G91 unless AC / IC, incremental from the start), CT tangential
+//!   to the path before, AR= with the end point or the centre; each ends
+//!   as G2 / G3 about an absolute centre, or, for a CIP out of the
+//!   working plane, as a circle in space (`command::SpaceCircle`).
+//! * Radius compensation G41 / G42 / G40 with the D in force: the
+//!   controller's cutter compensation C (NORM start-up and cancel; KONT,
+//!   KONTC, KONTT are taken as NORM; outside corners as the engine makes
+//!   them, an intersection up to 90°, not G450's circle).
+//! * CYCLE800 (brief §5): the swivel frame `T(X0)·R·T(X1)` (additive
+//!   with `_ST` 1), `_MODE` 192 direct rotary angles, `_FR` 1, 2, 4, 5,
+//!   `_DIR` ±1 the solution with the higher / lower first rotary axis,
+//!   0 the frame only.
+//! * TOFRAME / TOROT, PAROT (brief §3), settable frames written by the
+//!   program (taking effect at the next G500 / G54…), ORIRESET, ORIWKS /
+//!   ORIMKS, A2 B2 C2, LEAD= / TILT= (brief §4).
 
 pub(crate) mod cycles;
 mod swivel;
@@ -386,6 +412,24 @@ impl Front {
         if parts.moves {
             self.orientation(line, &start, &mut parts)?;
             center = self.circle(line, &start, &mut parts)?;
+            let finite = |v: Option<f64>| v.is_none_or(f64::is_finite);
+            let circle_finite = parts.mv.circle.is_none_or(|c| {
+                c.center.iter().chain(c.normal.iter()).all(|v| v.is_finite())
+                    && c.sweep.is_finite()
+            });
+            let worked_out = self.circle.is_some() || parts.ar.is_some();
+            if worked_out
+                && !(parts.mv.center.iter().all(|c| finite(*c))
+                && parts.mv.targets.iter().all(|t| finite(t.map(|t| t.value)))
+                && circle_finite)
+            {
+                return Err(Self::alarm(
+                    line,
+                    14040,
+                    Some(parts.mv.span),
+                    "the circle's centre or end point is out of range".into(),
+                ));
+            }
             self.block.commands.push(Command::Move(parts.mv));
         }
         let flow = ctrl.run_block(&self.block, out)?;
