@@ -631,7 +631,11 @@ fn drilling_cycle_and_position_reads_under_scale() {
     );
     assert_tip(at(&rows, 5), [22.0, 10.0, 50.0]);
     let drill = rows.iter().filter(|r| r.line == 6).collect::<Vec<_>>();
-    assert!(drill.iter().all(|r| near(Vec3::new(r.tip.x, r.tip.y, 0.0), Vec3::new(22.0, 10.0, 0.0))));
+    assert!(
+        drill
+            .iter()
+            .all(|r| near(Vec3::new(r.tip.x, r.tip.y, 0.0), Vec3::new(22.0, 10.0, 0.0)))
+    );
     assert!(drill.iter().any(|r| (r.tip.z + 5.0).abs() < EPS));
 }
 
@@ -647,4 +651,16 @@ fn circles_out_of_range_are_alarms_not_panics() {
         let (_, alarm) = ends(&mill(), program);
         assert!(alarm.is_some(), "{program}");
     }
+}
+
+#[test]
+fn frame_components_read_and_written() {
+    let rows = ok(
+        &mill(),
+        "G0 X0 Y0 Z0\nR1=$P_UIFR[1,X,TR]\n$P_UIFR[2,Y,TR]=R1+7\nG55\nG0 X0 Y0\nTRANS X3\nR2=$P_PFRAME[X,TR]\n$P_PFRAME[Y,TR]=R2*2\nG0 X0 Y0\nM30\n",
+    );
+    // $P_UIFR[1] is the offsets file's G54 (100, 50): G55 becomes (0, 107).
+    assert!(near(at(&rows, 5).joints_xyz(), Vec3::new(0.0, 107.0, 0.0)));
+    // The programmable frame (3, 6) inside it.
+    assert!(near(at(&rows, 9).joints_xyz(), Vec3::new(3.0, 113.0, 0.0)));
 }

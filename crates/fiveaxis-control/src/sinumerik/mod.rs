@@ -414,14 +414,17 @@ impl Front {
             center = self.circle(line, &start, &mut parts)?;
             let finite = |v: Option<f64>| v.is_none_or(f64::is_finite);
             let circle_finite = parts.mv.circle.is_none_or(|c| {
-                c.center.iter().chain(c.normal.iter()).all(|v| v.is_finite())
+                c.center
+                    .iter()
+                    .chain(c.normal.iter())
+                    .all(|v| v.is_finite())
                     && c.sweep.is_finite()
             });
             let worked_out = self.circle.is_some() || parts.ar.is_some();
             if worked_out
                 && !(parts.mv.center.iter().all(|c| finite(*c))
-                && parts.mv.targets.iter().all(|t| finite(t.map(|t| t.value)))
-                && circle_finite)
+                    && parts.mv.targets.iter().all(|t| finite(t.map(|t| t.value)))
+                    && circle_finite)
             {
                 return Err(Self::alarm(
                     line,

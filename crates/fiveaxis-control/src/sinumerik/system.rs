@@ -19,6 +19,8 @@
 //!   translation). Scale and mirror in a settable frame are refused.
 //! * `$P_PFRAME`: the programmable frame, read and written (a write holds
 //!   from the next block on).
+//! * Components of both (K2 p2-45): `$P_UIFR[n, X, TR]`,
+//!   `$P_PFRAME[Z, RT]`, with TR, FI, RT, SC, MI.
 //!
 //! Other writes are refused: the offsets are the offsets file's.
 
@@ -167,13 +169,90 @@ fn offsets_frame(offsets: &Offsets, n: usize) -> Frame {
     frame
 }
 
-/// The number of a settable frame index `[n]`.
+/// A component of a frame: `[X, TR]` (K2 p2-45: TR translation, FI
+/// fine translation, RT rotation, SC scale, MI mirror).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Component {
+    Tr,
+    Fi,
+    Rt,
+    Sc,
+    Mi,
+}
+
+/// The axis and component of indices `[X, TR]`.
+fn component(indices: &[Value]) -> Result<(String, Component), String> {
+    match indices {
+        [Value::Axis(axis), Value::Axis(c)] => {
+            let c = match c.as_str() {
+                "TR" => Component::Tr,
+                "FI" => Component::Fi,
+                "RT" => Component::Rt,
+                "SC" => Component::Sc,
+                "MI" => Component::Mi,
+                _ => return Err(format!("{c} is not a frame component (TR, FI, RT, SC, MI)")),
+            };
+            Ok((axis.clone(), c))
+        }
+        _ => Err("a frame component takes [axis, TR | FI | RT | SC | MI]".into()),
+    }
+}
+
+/// The value of one component of `frame`.
+fn read_component(value: &FrameValue, axis: &str, c: Component) -> Value {
+    let a = value.axes.iter().find(|a| a.axis == axis);
+    match c {
+        Component::Tr => Value::Real(a.map_or(0.0, |a| a.tr)),
+        Component::Fi => Value::Real(a.map_or(0.0, |a| a.fi)),
+        Component::Rt => Value::Real(a.map_or(0.0, |a| a.rt)),
+        Component::Sc => Value::Real(a.map_or(1.0, |a| a.sc)),
+        Component::Mi => Value::Int(i64::from(a.is_some_and(|a| a.mi))),
+    }
+}
+
+/// `value` with one component written.
+fn write_component(
+    value: &mut FrameValue,
+    axis: &str,
+    c: Component,
+    v: &Value,
+) -> Result<(), String> {
+    let x = v
+        .as_f64()
+        .ok_or_else(|| format!("a frame component takes a number, not {v:?}"))?;
+    let index = match value.axes.iter().position(|a| a.axis == axis) {
+        Some(i) => i,
+        None => {
+            value.axes.push(FrameAxis {
+                axis: axis.to_owned(),
+                tr: 0.0,
+                fi: 0.0,
+                rt: 0.0,
+                sc: 1.0,
+                mi: false,
+            });
+            value.axes.len() - 1
+        }
+    };
+    let a = &mut value.axes[index];
+    match c {
+        Component::Tr => a.tr = x,
+        Component::Fi => a.fi = x,
+        Component::Rt => a.rt = x,
+        Component::Sc => a.sc = x,
+        Component::Mi => a.mi = x != 0.0,
+    }
+    Ok(())
+}
+
+/// The number of a settable frame index `[n]` (and the component
+/// indices after it).
 fn settable_index(indices: &[Value]) -> Result<usize, String> {
     let n = match indices {
-        [n] => n.as_f64(),
+        [n] | [n, _, _] => n.as_f64(),
         _ => None,
     }
-    .ok_or("$P_UIFR takes one index, the frame number [n]")?;
+    .ok_or("$P_UIFR takes the frame number [n] (or [n, axis, component])")?;
     if !(0.0..SETTABLE_FRAMES as f64).contains(&n) || n.fract() != 0.0 {
         return Err(format!(
             "$P_UIFR[{n}]: the settable frames are 0 to {}",
@@ -211,12 +290,23 @@ impl System for SystemView<'_, '_> {
                 let n = settable_index(indices)?;
                 let frame =
                     self.frames.settable[n].unwrap_or_else(|| offsets_frame(c.offsets(), n));
-                Value::Frame(Box::new(value_of_frame(c.machine(), &frame)))
+                let value = value_of_frame(c.machine(), &frame);
+                if indices.len() == 3 {
+                    let (axis, k) = component(&indices[1..])?;
+                    read_component(&value, &axis, k)
+                } else {
+                    Value::Frame(Box::new(value))
+                }
             }
-            "$P_PFRAME" if indices.is_empty() => Value::Frame(Box::new(value_of_frame(
-                c.machine(),
-                &self.frames.programmable,
-            ))),
+            "$P_PFRAME" => {
+                let value = value_of_frame(c.machine(), &self.frames.programmable);
+                if indices.is_empty() {
+                    Value::Frame(Box::new(value))
+                } else {
+                    let (axis, k) = component(indices)?;
+                    read_component(&value, &axis, k)
+                }
+            }
             "$P_S" => Value::Real(c.spindle_speed()),
             _ if name.starts_with("$TC_DP") => {
                 let k: u32 = name["$TC_DP".len()..]
@@ -245,8 +335,9 @@ impl System for SystemView<'_, '_> {
     }
 
     fn write(&mut self, name: &str, indices: &[Value], value: Value) -> Result<(), String> {
+        let machine = self.controller.machine();
         let frame = |value: &Value| match value {
-            Value::Frame(f) => frame_of_value(self.controller.machine(), f),
+            Value::Frame(f) => frame_of_value(machine, f),
             _ => Err(format!(
                 "{name} takes a frame (CTRANS, CROT, … or a FRAME variable)"
             )),
@@ -254,7 +345,16 @@ impl System for SystemView<'_, '_> {
         match name {
             "$P_UIFR" => {
                 let n = settable_index(indices)?;
-                let f = frame(&value)?;
+                let f = if indices.len() == 3 {
+                    let (axis, k) = component(&indices[1..])?;
+                    let old = self.frames.settable[n]
+                        .unwrap_or_else(|| offsets_frame(self.controller.offsets(), n));
+                    let mut v = value_of_frame(machine, &old);
+                    write_component(&mut v, &axis, k, &value)?;
+                    frame_of_value(machine, &v)?
+                } else {
+                    frame(&value)?
+                };
                 if f.scales() {
                     return Err(format!(
                         "$P_UIFR[{n}]: scale and mirror in a settable frame are not carried out"
@@ -263,8 +363,15 @@ impl System for SystemView<'_, '_> {
                 self.frames.settable[n] = Some(f);
                 Ok(())
             }
-            "$P_PFRAME" if indices.is_empty() => {
-                self.frames.programmable = frame(&value)?;
+            "$P_PFRAME" => {
+                self.frames.programmable = if indices.is_empty() {
+                    frame(&value)?
+                } else {
+                    let (axis, k) = component(indices)?;
+                    let mut v = value_of_frame(machine, &self.frames.programmable);
+                    write_component(&mut v, &axis, k, &value)?;
+                    frame_of_value(machine, &v)?
+                };
                 self.frames.programmable_written = true;
                 Ok(())
             }
