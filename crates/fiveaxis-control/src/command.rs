@@ -98,10 +98,27 @@ pub struct Move {
     /// The tool direction at the end point in the workpiece frame (under
     /// tool centre point control by vector), not necessarily unit.
     pub tool_vector: Option<[f64; 3]>,
+    /// A circle in space through the start and the end point (SINUMERIK
+    /// `CIP` whose three points do not lie in a plane parallel to the
+    /// working plane); the targets are then absolute.
+    pub circle: Option<SpaceCircle>,
     /// Frames left out for this move.
     pub suppress: Suppress,
     /// Where the block's words are, for alarms about the move as a whole.
     pub span: Span,
+}
+
+/// A circle in space, in the program's coordinates (those of the frames
+/// in force, before them).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SpaceCircle {
+    /// The centre, absolute, mm.
+    pub center: Vec3,
+    /// The unit normal the circle turns about, counter-clockwise seen
+    /// from its tip.
+    pub normal: Vec3,
+    /// The angle swept from the start to the end point, radians, 0 to 2π.
+    pub sweep: f64,
 }
 
 /// Which side of the contour the tool runs on under radius compensation.
@@ -117,7 +134,8 @@ pub enum CutterSide {
 
 /// A programmable frame: applied to programmed points as
 /// `translation + rotation · (scale ⊙ mirror ⊙ p)` before the work
-/// offset.
+/// offset (the SINUMERIK order of a frame's components, ONE p309, p316:
+/// mirror, scale, rotation, translation from the program outwards).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Frame {
     /// The origin of the frame in the work coordinate system, mm.
@@ -126,6 +144,10 @@ pub struct Frame {
     pub rotation: Rotation3<f64>,
     /// Shifts of the axes beyond X, Y, Z (by joint index), degrees or mm.
     pub axis_shift: [f64; MAX_AXES],
+    /// Scale factors of X, Y, Z (1: none).
+    pub scale: [f64; 3],
+    /// X, Y, Z mirrored (the coordinate's sign reversed).
+    pub mirror: [bool; 3],
 }
 
 impl Frame {
@@ -136,13 +158,58 @@ impl Frame {
             1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0,
         )),
         axis_shift: [0.0; MAX_AXES],
+        scale: [1.0; 3],
+        mirror: [false; 3],
     };
+
+    /// A frame of a translation and a rotation only.
+    pub fn rigid(translation: Vec3, rotation: Rotation3<f64>) -> Frame {
+        Frame {
+            translation,
+            rotation,
+            ..Frame::IDENTITY
+        }
+    }
 
     /// Whether the frame changes nothing.
     pub fn is_identity(&self) -> bool {
-        self.translation == Vec3::zeros()
-            && self.rotation == Rotation3::identity()
+        self.is_rigid_identity()
             && self.axis_shift.iter().all(|&s| s == 0.0)
+            && self.scale == [1.0; 3]
+            && self.mirror == [false; 3]
+    }
+
+    /// Whether its translation and rotation change nothing.
+    pub fn is_rigid_identity(&self) -> bool {
+        self.translation == Vec3::zeros() && self.rotation == Rotation3::identity()
+    }
+
+    /// Whether it scales or mirrors.
+    pub fn scales(&self) -> bool {
+        self.scale != [1.0; 3] || self.mirror != [false; 3]
+    }
+
+    /// `self : inner` (the SINUMERIK chain operator): `inner` acts inside
+    /// `self`. Scale and mirror of `self` carry `inner`'s translation;
+    /// `inner`'s own scale and mirror multiply in (exact for a uniform
+    /// scale and an inner frame without rotation, as the control keeps
+    /// a frame's components apart: K2).
+    pub fn then(&self, inner: &Frame) -> Frame {
+        let mut t = inner.translation;
+        for k in 0..3 {
+            t[k] *= self.scale[k] * if self.mirror[k] { -1.0 } else { 1.0 };
+        }
+        let mut axis_shift = self.axis_shift;
+        for (a, s) in axis_shift.iter_mut().zip(inner.axis_shift) {
+            *a += s;
+        }
+        Frame {
+            translation: self.translation + self.rotation * t,
+            rotation: self.rotation * inner.rotation,
+            axis_shift,
+            scale: [0, 1, 2].map(|k| self.scale[k] * inner.scale[k]),
+            mirror: [0, 1, 2].map(|k| self.mirror[k] != inner.mirror[k]),
+        }
     }
 }
 
@@ -223,6 +290,16 @@ pub enum Command {
     WorkOffset(WorkOffset),
     /// The programmable frame, replaced whole.
     ProgrammableFrame(Frame),
+    /// A settable frame written by the program (`$P_UIFR[n]`) in place of
+    /// the work offset: the work zero and axes in machine coordinates, or
+    /// none (the work offset of [`Command::WorkOffset`] holds).
+    SettableFrame(Option<Frame>),
+    /// The tool frame (SINUMERIK `TOFRAME` / `TOROT`): a rotation between
+    /// the swivel frame and the programmable frame, or none.
+    ToolFrame(Option<Frame>),
+    /// The workpiece coordinates turn with the table's rotary axes
+    /// (SINUMERIK `PAROT`), or stay with the machine (`PAROTOF`).
+    PartFrame(bool),
     /// The swivel frame (a tilted working plane): its frame in the work
     /// coordinate system, or none.
     SwivelFrame(Option<Frame>),

@@ -1292,11 +1292,12 @@ impl<'m> Controller<'m> {
     fn apply_cutter(&mut self, codes: &GCodes) -> Result<bool, Alarm> {
         self.cutter.vector = None;
         if let Some((code, span)) = codes.cutter {
-            self.cutter.side = match code.major {
+            let side = match code.major {
                 41 if !self.starts_comp3d(codes) => Some(crate::cutter::Side::Left),
                 42 if !self.starts_comp3d(codes) => Some(crate::cutter::Side::Right),
                 _ => None,
             };
+            self.select_cutter_side(side);
             if self.cutter.side.is_some() {
                 self.cutter_ij_vector(span)?;
             }

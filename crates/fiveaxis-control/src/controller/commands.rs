@@ -8,24 +8,30 @@
 //! it and nothing of it is released.
 
 use fiveaxis_gcode::Span;
-use fiveaxis_machine::{Joints, MAX_AXES};
+use fiveaxis_machine::{Joints, MAX_AXES, Side, Vec3};
+use nalgebra::Rotation3;
 
 use super::coordinates::Feature;
 use super::{Controller, Flow, MAX_DWELL_SECONDS, normalize_360, shortest_turn};
 use crate::alarm::{Alarm, Condition};
 use crate::command::{
-    Command, CommandBlock, CutterSide, Frame, Move, Suppress, TargetMode, WorkOffset,
+    Command, CommandBlock, CutterSide, Frame, Move, SpaceCircle, Suppress, TargetMode, WorkOffset,
 };
 use crate::modal::{Distance, LengthMode, TcpcType, WorkSelect};
-use crate::segment::Segment;
+use crate::segment::{Motion, Path, Segment, TipPath};
 
-/// The frames a front end keeps in force beside the work offset: the
-/// swivel frame (a tilted working plane) and, inside it, the
-/// programmable frame.
+/// The frames a front end keeps in force beside the work offset, from
+/// the outside in: a settable frame in place of the work offset, the
+/// swivel frame (a tilted working plane), the tool frame and the
+/// programmable frame; and whether the workpiece coordinates turn with
+/// the table (`part`).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub(super) struct NeutralFrames {
     pub(super) programmable: Frame,
     pub(super) swivel: Option<Frame>,
+    pub(super) settable: Option<Frame>,
+    pub(super) tool: Option<Frame>,
+    pub(super) part: bool,
 }
 
 impl Controller<'_> {
@@ -94,6 +100,18 @@ impl Controller<'_> {
                     self.state.neutral.swivel = frame;
                     self.refresh_neutral_frames();
                 }
+                Command::SettableFrame(frame) => {
+                    self.state.neutral.settable = frame;
+                    self.refresh_neutral_frames();
+                }
+                Command::ToolFrame(frame) => {
+                    self.state.neutral.tool = frame;
+                    self.refresh_neutral_frames();
+                }
+                Command::PartFrame(on) => {
+                    self.state.neutral.part = on;
+                    self.refresh_neutral_frames();
+                }
                 Command::AlignTool { higher, span } => align = Some((higher, span)),
                 Command::Tcp { mode, span } => self.tcp(mode, span)?,
                 Command::Dwell { seconds, span } => {
@@ -113,6 +131,7 @@ impl Controller<'_> {
         }
         match motion {
             Some(m) if m.suppress == Suppress::Frames => self.machine_move(&m, base, out),
+            Some(m) if m.circle.is_some() => self.space_circle(&m, base, out),
             Some(m) => self.command_move(&m, base, out),
             None => self.execute_loaded(base, out),
         }
@@ -142,20 +161,24 @@ impl Controller<'_> {
         Ok(())
     }
 
-    /// Radius compensation: off is always possible; on a side it needs
-    /// cutter compensation C's look-ahead, which the command path does
-    /// not hold blocks for yet.
-    fn radius_side(&mut self, side: CutterSide, span: Span) -> Result<(), Alarm> {
-        match side {
-            CutterSide::Off if !self.cutter.routing() => Ok(()),
-            _ => Err(self.alarm(
-                Condition::ImproperGCode,
-                Some(span),
-                "tool radius compensation on the contour (G41 / G42) is not carried out for \
-                 this control yet"
-                    .into(),
-            )),
+    /// Radius compensation on a side of the contour or off, through cutter
+    /// compensation C (`cutter_c.rs`), with the radius of the offset
+    /// memory in force (`Command::ToolOffset`). The start-up and cancel
+    /// are the engine's: the tool stands perpendicular to the contour at
+    /// the end of the start-up block and at the start of the cancel block
+    /// (SINUMERIK NORM, brief §6).
+    fn radius_side(&mut self, side: CutterSide, _span: Span) -> Result<(), Alarm> {
+        if !self.cutter.routing() {
+            // The block starts where the program stands (FANUC reads it
+            // before G41 / G42 take effect in the block).
+            self.cutter.point = self.programmed(&self.state.joints);
         }
+        self.select_cutter_side(match side {
+            CutterSide::Off => None,
+            CutterSide::Left => Some(crate::cutter::Side::Left),
+            CutterSide::Right => Some(crate::cutter::Side::Right),
+        });
+        Ok(())
     }
 
     /// Tool centre point control on or off. Off leaves the tool length
@@ -182,20 +205,183 @@ impl Controller<'_> {
         Ok(())
     }
 
-    /// The feature frame from the swivel and programmable frames.
+    /// The feature frame from the settable, swivel, tool and programmable
+    /// frames (their translations and rotations); the programmable frame's
+    /// scale and mirror as the program transforms inside it (mirror, then
+    /// scale, then the feature frame: `T + R·S·M·p`).
     fn refresh_neutral_frames(&mut self) {
-        let NeutralFrames {
-            programmable: p,
-            swivel,
-        } = self.state.neutral;
-        let s = swivel.unwrap_or_default();
-        let origin = s.translation + s.rotation * p.translation;
-        let rotation = s.rotation * p.rotation;
-        self.state.feature =
-            (swivel.is_some() || !p.is_identity()).then(|| Feature::plane(origin, rotation));
+        let n = self.state.neutral;
+        let p = n.programmable;
+        let outer = n
+            .settable
+            .unwrap_or_default()
+            .then(&n.swivel.unwrap_or_default())
+            .then(&n.tool.unwrap_or_default());
+        let origin = outer.translation + outer.rotation * p.translation;
+        let rotation = outer.rotation * p.rotation;
+        let on = n.settable.is_some()
+            || n.swivel.is_some()
+            || n.tool.is_some()
+            || n.part
+            || !p.is_rigid_identity();
+        self.state.feature = on.then(|| Feature::plane(origin, rotation));
+        self.state.frames.set_scale_mirror(p.scale, p.mirror);
         for i in 3..MAX_AXES {
-            self.state.axis_shift[i] = s.axis_shift[i] + p.axis_shift[i];
+            self.state.axis_shift[i] = outer.axis_shift[i] + p.axis_shift[i];
         }
+    }
+
+    /// The programmed position in the program's own coordinates (before
+    /// the programmable frame's scale and mirror): where a front end's
+    /// absolute coordinates are measured.
+    pub(crate) fn program_position(&self) -> Joints {
+        let mut p = self.programmed_position();
+        if self.state.frames.maps() {
+            let x = self.state.frames.invert(&Vec3::new(p[0], p[1], p[2]));
+            p[..3].copy_from_slice(x.as_slice());
+        }
+        p
+    }
+
+    /// The tool direction in the workpiece (table) frame, by forward
+    /// kinematics of the axes where they stand.
+    pub(crate) fn tool_direction(&self) -> Vec3 {
+        self.machine.forward(&self.state.joints, 0.0).dir
+    }
+
+    /// The tool direction in the machine frame (the head's rotary axes
+    /// turn it, the table's do not).
+    pub(crate) fn tool_direction_machine(&self) -> Vec3 {
+        self.machine.chain(Side::Head, &self.state.joints).rotation
+            * self.machine.tool_direction.into_inner()
+    }
+
+    /// The rotation of the tool's frame in the workpiece frame at the
+    /// machine positions `joints`: the head's turns, the table's undone
+    /// (its Z is the tool direction of [`fiveaxis_machine::Machine::forward`]).
+    pub(crate) fn tool_rotation_at(&self, joints: &Joints) -> Rotation3<f64> {
+        let head = self.machine.chain(Side::Head, joints).rotation;
+        let table = self.machine.chain(Side::Table, joints).rotation;
+        let base = Rotation3::rotation_between(&Vec3::z(), &self.machine.tool_direction)
+            .unwrap_or_else(|| Rotation3::from_axis_angle(&Vec3::x_axis(), std::f64::consts::PI));
+        table.inverse() * head * base
+    }
+
+    /// The machine positions now.
+    pub(crate) fn joints_now(&self) -> Joints {
+        self.state.joints
+    }
+
+    /// A circle in space through the functions an arc goes through: the
+    /// circle in program coordinates, carried by the program transforms
+    /// (a uniform scale and mirror only), the feature frame or the work
+    /// offset and setup, and the length offset.
+    fn space_circle(
+        &mut self,
+        m: &Move,
+        base: usize,
+        out: &mut Vec<Segment>,
+    ) -> Result<Flow, Alarm> {
+        let Some(SpaceCircle {
+            center,
+            normal,
+            sweep,
+        }) = m.circle
+        else {
+            return self.command_move(m, base, out);
+        };
+        if self.cutter.routing() || self.tcpc_type().is_some() {
+            return Err(self.alarm(
+                Condition::ImproperGCode,
+                Some(m.span),
+                "a circle in space (CIP out of the working plane) under radius compensation or \
+                 an orientation transformation"
+                    .into(),
+            ));
+        }
+        let flow = self.m_codes_and_values()?;
+        let from_p = self.program_position();
+        let mut end_p = from_p;
+        for (i, t) in m.targets.iter().enumerate().take(self.machine.axis_count()) {
+            if let Some(t) = t {
+                end_p[i] = t.value;
+            }
+        }
+        let start = Vec3::new(from_p[0], from_p[1], from_p[2]);
+        let radial = start - center;
+        let r = radial.norm();
+        let n = normal.normalize();
+        if r <= 0.0 || !r.is_finite() || !n.iter().all(|c| c.is_finite()) {
+            return Err(self.alarm(
+                Condition::ArcRadiusTolerance,
+                Some(m.span),
+                "the circle through the intermediate point has no radius".into(),
+            ));
+        }
+        let u = radial / r;
+        let v = n.cross(&u);
+        let program = TipPath::Arc {
+            center,
+            axes: [u, v, n],
+            radius: [r, r],
+            theta0: 0.0,
+            sweep,
+            rise: 0.0,
+        };
+        // The program transforms: a circle stays one under a uniform
+        // scale and mirror only.
+        let circle = if self.state.frames.maps() {
+            let unit = [0, 1, 2].map(|k| {
+                let mut e = Vec3::zeros();
+                e[k] = 1.0;
+                self.state.frames.vector(&e).norm()
+            });
+            if (unit[0] - unit[1]).abs() > 1e-12 || (unit[0] - unit[2]).abs() > 1e-12 {
+                return Err(self.alarm(
+                    Condition::FrameArcScaling,
+                    Some(m.span),
+                    "a circle in space under unequal scale factors would be an ellipse".into(),
+                ));
+            }
+            let k = unit[0];
+            let f = self.state.frames;
+            program.mapped(|x| f.apply(x), |w| f.vector(w) / k)
+        } else {
+            program
+        };
+        // Where the circle ends in the controller's coordinates.
+        let mut end_c = end_p;
+        let e = self
+            .state
+            .frames
+            .apply(&Vec3::new(end_p[0], end_p[1], end_p[2]));
+        end_c[..3].copy_from_slice(e.as_slice());
+        let end = self.machine_position(&end_c);
+        let start_j = self.state.joints;
+        let path = if self.feature().is_some() {
+            Path::Helix {
+                circle: self.feature_circle(&start_j, &circle),
+                drift: Vec3::zeros(),
+            }
+        } else {
+            let real = circle.mapped(|x| self.to_real(x), |w| self.state.setup.vector(w));
+            let offset = self.length_vector(&start_j);
+            Path::Helix {
+                circle: real.shifted(&offset),
+                drift: self.length_vector(&end) - offset,
+            }
+        };
+        let motion = if sweep >= 0.0 {
+            Motion::Ccw
+        } else {
+            Motion::Cw
+        };
+        let mut seg = self.segment(motion, start_j, end, path);
+        let length = circle.length();
+        seg.feed = Some(self.cutting_feed(|| length)?);
+        out.push(seg);
+        self.finish_block(base, out)?;
+        Ok(flow)
     }
 
     /// The block's move through the functions a FANUC block's motion goes
@@ -213,15 +399,8 @@ impl Controller<'_> {
             .flatten()
             .any(|t| t.mode != TargetMode::Modal)
             || m.center_absolute;
-        let from = if mixed {
-            Some(if self.cutter.routing() {
-                self.cutter.point
-            } else {
-                self.programmed(&self.state.joints)
-            })
-        } else {
-            None
-        };
+        // Absolute values are measured in the program's coordinates.
+        let from = mixed.then(|| self.program_position());
         let incremental = self.state.modal.distance == Distance::Incremental;
         for (i, target) in m.targets.iter().enumerate().take(self.machine.axis_count()) {
             let Some(t) = target else { continue };
@@ -352,8 +531,8 @@ impl Controller<'_> {
         out: &mut Vec<Segment>,
     ) -> Result<Flow, Alarm> {
         let flow = self.m_codes_and_values()?;
-        let _ = higher;
-        self.tool_axis_control(span, false, out)?;
+        let choice = super::tcpc::Choice::FirstAxis(higher);
+        self.tool_axis_control_by(span, false, Some(choice), out)?;
         self.finish_block(base, out)?;
         Ok(flow)
     }

@@ -80,6 +80,15 @@ impl CutterC {
 }
 
 impl Controller<'_> {
+    /// Cutter compensation C on one side of the contour, or off (`None`):
+    /// the entry point of FANUC G41 / G42 / G40 and of the commands'
+    /// `Command::Radius`. The radius is that of the offset memory in
+    /// force when each block is read; the next move starts or ends the
+    /// offset (the machine's start-up type).
+    pub(super) fn select_cutter_side(&mut self, side: Option<Side>) {
+        self.cutter.side = side;
+    }
+
     /// A block under cutter compensation C (or its start-up or cancel):
     /// hands its movement in the plane to the engine and turns what comes
     /// out into segments.

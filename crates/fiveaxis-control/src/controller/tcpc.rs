@@ -1047,14 +1047,28 @@ impl Controller<'_> {
             ),
             Choice::TableMotion => (RotaryChoice::RotatingAxis, 0.0, self.table_axis()),
             Choice::KeepTilt(sign) => (RotaryChoice::KeepTiltSign, sign, rotating),
+            Choice::FirstAxis(higher) => (
+                RotaryChoice::Shortest,
+                if higher { -1.0 } else { 1.0 },
+                rotating,
+            ),
         };
+        let first_axis = matches!(choice, Choice::FirstAxis(_));
         let rotating = scored;
         let mut best: Option<(f64, f64, [f64; 2])> = None;
         for pair in found.pairs() {
             for a in self.repeats(0, pair[0], current[0]).into_iter().flatten() {
                 for b in self.repeats(1, pair[1], current[1]).into_iter().flatten() {
                     let candidate = [a, b];
-                    let key = choice_key(rule, &candidate, &current, rotating, tilt_sign);
+                    let key = if first_axis {
+                        // tilt_sign −1 prefers the higher angle.
+                        (
+                            tilt_sign * candidate[0],
+                            choice_key(rule, &candidate, &current, rotating, 0.0).0,
+                        )
+                    } else {
+                        choice_key(rule, &candidate, &current, rotating, tilt_sign)
+                    };
                     if best.is_none_or(|(k0, k1, _)| key < (k0, k1)) {
                         best = Some((key.0, key.1, candidate));
                     }
@@ -1138,6 +1152,9 @@ pub(super) enum Choice {
     TableMotion,
     /// Keep the tilt axis on this side (+1 or −1).
     KeepTilt(f64),
+    /// The solution whose first rotary axis has the higher (`true`) or
+    /// lower angle (SINUMERIK CYCLE800 `_DIR`), then the smaller motion.
+    FirstAxis(bool),
 }
 
 /// Sort key of a candidate under `rule` (smaller is better).

@@ -99,7 +99,7 @@ mod tests {
         // About X by 90°: the new Y is the old Z; then about the new Y
         // (the old Z) by 90°: the new X becomes the old Y, the new Z the
         // old X.
-        let r = rotation(SwivelKind::AxisByAxis([0, 1, 2]), [90.0, 90.0, 0.0]).unwrap();
+        let r = rotation(SwivelKind::AxisByAxis([0, 1, 2]), [90.0, 90.0, 0.0]).expect("a rotation");
         let z = r * Vec3::z();
         let x = r * Vec3::x();
         assert!((x - Vec3::new(0.0, 1.0, 0.0)).norm() < 1e-12, "{x}");
@@ -110,7 +110,7 @@ mod tests {
     fn projection_angles_are_the_planes_seen_along_x_and_y() {
         // Seen along Y the plane is tilted 30° about Y: the new Z leans
         // towards +X by 30°; seen along X not at all.
-        let r = rotation(SwivelKind::Projection, [0.0, 30.0, 0.0]).unwrap();
+        let r = rotation(SwivelKind::Projection, [0.0, 30.0, 0.0]).expect("a rotation");
         let z = r * Vec3::z();
         assert!(
             (z - Vec3::new(0.5, 0.0, 3f64.sqrt() / 2.0)).norm() < 1e-12,

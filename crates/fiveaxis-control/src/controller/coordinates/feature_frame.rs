@@ -877,6 +877,18 @@ impl Controller<'_> {
         keep_tip: bool,
         out: &mut Vec<Segment>,
     ) -> Result<(), Alarm> {
+        self.tool_axis_control_by(span, keep_tip, None, out)
+    }
+
+    /// [`Controller::tool_axis_control`] with the rotary solution chosen
+    /// by `choice` instead of the control's rule.
+    pub(in crate::controller) fn tool_axis_control_by(
+        &mut self,
+        span: Span,
+        keep_tip: bool,
+        choice: Option<crate::controller::tcpc::Choice>,
+        out: &mut Vec<Segment>,
+    ) -> Result<(), Alarm> {
         let name = if keep_tip { "G53.6" } else { "G53.1" };
         let Some(feature) = self.state.feature.filter(|f| f.conversions == 0 && !f.dwo) else {
             return Err(self.alarm(
@@ -896,7 +908,10 @@ impl Controller<'_> {
         let dir = self.state.setup.vector(&z);
         let (i0, i1) = (self.machine.rotary_index(0), self.machine.rotary_index(1));
         let current = self.state.joints;
-        let chosen = self.choose_rotaries(&dir, [current[i0], current[i1]])?;
+        let chosen = match choice {
+            Some(choice) => self.choose_rotaries_by(&dir, [current[i0], current[i1]], choice)?,
+            None => self.choose_rotaries(&dir, [current[i0], current[i1]])?,
+        };
         let mut end = current;
         let mut start = current;
         for (k, i) in [i0, i1].into_iter().enumerate() {

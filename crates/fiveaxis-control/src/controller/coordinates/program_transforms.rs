@@ -90,6 +90,17 @@ impl Default for Frames {
 }
 
 impl Frames {
+    /// A control-neutral programmable frame's scale factors and mirror
+    /// (`crate::command::Frame`): about the program zero, the mirror
+    /// before the scaling as here.
+    pub(in crate::controller) fn set_scale_mirror(&mut self, factor: [f64; 3], mirror: [bool; 3]) {
+        self.mirror = mirror.map(|m| m.then_some(0.0));
+        self.scaling = (factor != [1.0; 3]).then_some(Scaling {
+            center: Vec3::zeros(),
+            factor,
+        });
+    }
+
     /// Whether a mirror image, scaling or rotation maps the points.
     pub(in crate::controller) fn maps(&self) -> bool {
         self.mirror.iter().any(Option::is_some) || self.scaling.is_some() || self.rotation.is_some()
