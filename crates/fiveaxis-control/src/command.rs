@@ -76,8 +76,13 @@ pub enum Suppress {
     #[default]
     Nothing,
     /// Every frame and work offset: the targets are machine coordinates
-    /// (SINUMERIK `G53`, `G153`, `SUPA`; FANUC `G53`).
+    /// of the tool tip, the tool length in force still applied (SINUMERIK
+    /// `G53`, `G153`, `SUPA` with machine data G53_TOOLCORR = 0, its
+    /// default: 840D ISO milling manual 04.07 §3.1.1).
     Frames,
+    /// Frames, offsets and the tool length: the targets are the machine
+    /// axes' own positions (a cycle's retract and swivel moves).
+    Axes,
 }
 
 /// A move: where each named axis goes, and how the path gets there (the

@@ -20,7 +20,7 @@
 //! 64 cases from a fixed seed with no persistence; a failure prints the
 //! program.
 //!
-//! Tests marked `#[ignore = "bug: …"]` show a fault of the kernel as it
+//! A test marked `#[ignore = "bug: …"]` would show a fault of the kernel as it
 //! stands; the reason says what was expected and what happens.
 
 mod common;
@@ -796,10 +796,6 @@ fn g53_and_supa_program_machine_coordinates() {
 /// itself). With T1 (100 mm) D1 and the tool vertical, `G0 G53 X50 Y60 Z70`
 /// should stop the spindle at Z 170 (tip at machine Z 70).
 #[test]
-#[ignore = "bug (or a reading to settle): `T1 D1` / `G0 G53 X50 Y60 Z70` with T1 = 100 mm \
-            ends at machine Z 70 (the tool length dropped for the block); the 840D manual \
-            keeps the tool length active in G53 / G153 / SUPA by default \
-            ($MN_G53_TOOLCORR = 0), so the spindle should stop at Z 170, the tip at Z 70"]
 fn g53_keeps_tool_length_active() {
     let m = three_axis();
     let program = "T1 D1\nG54\nG0 G53 X50 Y60 Z70\n";
@@ -1203,10 +1199,6 @@ rollover = true
 /// here). `_DIR` picks the solution with the lower (−1) or higher (+1)
 /// value of the first rotary axis (brief §5; `Command::AlignTool`).
 #[test]
-#[ignore = "bug: CYCLE800 _DIR is not honoured: `CYCLE800(0,\"TC1\",0,57,0,0,0,-30,0,0,0,0,0,-1)` \
-            on a table A/C machine (A ±120°, C endless) should turn to the lower A solution \
-            (A -30°, C 180°) and with _DIR=1 to the higher (A 30°, C 0°); the controller's \
-            align_tool ignores `higher` and takes the shortest move for both"]
 fn cycle800_dir_picks_lower_or_higher_solution() {
     let m = Machine::from_toml(TABLE_AC).expect("machine");
     let want_dir = Vec3::new(0.0, 0.5, 3f64.sqrt() / 2.0);

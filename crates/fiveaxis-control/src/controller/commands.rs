@@ -130,7 +130,7 @@ impl Controller<'_> {
             return self.align_tool(higher, span, base, out);
         }
         match motion {
-            Some(m) if m.suppress == Suppress::Frames => self.machine_move(&m, base, out),
+            Some(m) if m.suppress != Suppress::Nothing => self.machine_move(&m, base, out),
             Some(m) if m.circle.is_some() => self.space_circle(&m, base, out),
             Some(m) => self.command_move(&m, base, out),
             None => self.execute_loaded(base, out),
@@ -508,6 +508,22 @@ impl Controller<'_> {
                 end[i] = normalize_360(end[i]);
             }
             travel[i] = delta;
+        }
+        if m.suppress == Suppress::Frames {
+            // The tool length stays in force: an absolute X, Y, Z is where
+            // the tool tip goes, the length vector at the end's rotary
+            // positions added.
+            let length = self.length_vector(&end);
+            for (i, target) in m.targets.iter().enumerate().take(3) {
+                if let Some(t) = target
+                    && matches!(t.mode, TargetMode::Modal | TargetMode::Absolute)
+                    && !(t.mode == TargetMode::Modal
+                        && self.state.modal.distance == Distance::Incremental)
+                {
+                    end[i] = t.value + length[i];
+                    travel[i] = end[i] - current[i];
+                }
+            }
         }
         let flow = self.m_codes_and_values()?;
         let motion = if self.state.modal.motion == crate::modal::MotionMode::Rapid {

@@ -1243,7 +1243,7 @@ impl Front {
             match direct {
                 Some(joints) if dir != 0.0 => {
                     let mut mv = Move {
-                        suppress: Suppress::Frames,
+                        suppress: Suppress::Axes,
                         span,
                         ..Move::default()
                     };
@@ -1309,7 +1309,7 @@ impl Front {
         let mut block = CommandBlock::default();
         block.clear(line);
         let mut mv = Move {
-            suppress: Suppress::Frames,
+            suppress: Suppress::Axes,
             span,
             ..Move::default()
         };
@@ -1349,7 +1349,7 @@ impl Front {
         let mut block = CommandBlock::default();
         block.clear(line);
         let mut mv = Move {
-            suppress: Suppress::Frames,
+            suppress: Suppress::Axes,
             span,
             ..Move::default()
         };
@@ -1409,7 +1409,13 @@ impl Front {
             .map(|a| a.as_ref().and_then(Value::as_f64))
             .collect();
         let error = |e: cycles::CycleError| {
-            Self::alarm(line, e.alarm, Some(span), format!("{name}: {}", e.message))
+            // The cycle's messages name the cycle.
+            let message = if e.message.starts_with(name) {
+                e.message
+            } else {
+                format!("{name}: {}", e.message)
+            };
+            Self::alarm(line, e.alarm, Some(span), message)
         };
         let mut steps = std::mem::take(&mut self.steps);
         steps.clear();
