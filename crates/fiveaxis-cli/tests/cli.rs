@@ -383,7 +383,7 @@ fn machines_show_prints_a_file_that_runs_exactly_like_the_built_in_machine() {
     let fanuc = "G43 H1 G0 X-10. Y-5. Z-20.\nG1 X-15. F300.\nG91 G28 Z0\nM30\n";
     // The same in the Siemens language: tool 1's length with D1, and the
     // retract in machine coordinates.
-    let siemens = "T1 D1 G0 X-10 Y-5 Z-20\nG1 X-15 F300\nG0 G53 Z500\nM30\n";
+    let siemens = "T1 D1 G0 X-10 Y-5 Z-20\nG1 X-15 F300\nG0 G53 Z500 D0\nM30\n";
     let offsets = "[tools]\n1 = { length = 100.0 }\n";
     for name in builtin_names() {
         let shown = fiveaxis(&["machines", "show", name]);
