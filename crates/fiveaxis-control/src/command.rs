@@ -324,6 +324,15 @@ pub enum Command {
         /// Where it is written.
         span: Span,
     },
+    /// How tool centre point control turns the tool between block ends:
+    /// on the great circle between the two directions (SINUMERIK
+    /// `ORIVECT` / `ORIPLANE`; FANUC's tool posture control), or with the
+    /// rotary axes linear (`ORIAXES`). Holds for the TCPC in force and
+    /// the next one.
+    OrientationPath {
+        /// On the great circle.
+        great_circle: bool,
+    },
     /// A dwell, seconds.
     Dwell {
         /// The time.

@@ -174,9 +174,16 @@ struct State {
     cycle: cycles::CycleState,
     /// G52, G16, G51.1, G51, G68 (`controller/coordinates/program_transforms.rs`).
     frames: coordinates::Frames,
+    /// A command front end's choice of how TCPC turns the tool (great
+    /// circle or rotary axes linear), `None`: the machine file's
+    /// `tool_posture_control`.
     /// The swivel and programmable frames of the command front ends
     /// (`commands.rs`), composed into `feature`.
     neutral: commands::NeutralFrames,
+    /// A command front end's choice of how TCPC turns the tool (great
+    /// circle or rotary axes linear); `None`: the machine file's
+    /// `tool_posture_control`.
+    orientation_path: Option<bool>,
     /// Haas: the serial number G47 P1 engraves next (macro variable
     /// `#599`, which the runner keeps; `None`: vacant).
     serial: Option<f64>,
@@ -310,6 +317,7 @@ impl<'m> Controller<'m> {
                 frames: coordinates::Frames::default(),
                 serial: None,
                 neutral: commands::NeutralFrames::default(),
+                orientation_path: None,
             },
             words: Words::new(machine.control),
             block_posture: None,

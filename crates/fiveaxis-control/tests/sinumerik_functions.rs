@@ -664,3 +664,50 @@ fn frame_components_read_and_written() {
     // The programmable frame (3, 6) inside it.
     assert!(near(at(&rows, 9).joints_xyz(), Vec3::new(3.0, 113.0, 0.0)));
 }
+
+// ----- orientation interpolation -----------------------------------------
+
+/// `ORIVECT` turns the tool on the great circle between the block's end
+/// vectors: half way the direction is their normalised mean. `ORIAXES`
+/// moves the rotary axes linearly: half way the axes stand at the mean of
+/// their end angles, and the direction is the machine's there (forward
+/// kinematics), off the great circle for this move.
+#[test]
+fn orivect_turns_on_the_great_circle_and_oriaxes_moves_the_axes_linearly() {
+    let m = dmu();
+    let a = Vec3::new(1.0, 0.0, 1.0).normalize();
+    let b = Vec3::new(0.0, 1.0, 1.0).normalize();
+    for (mode, great_circle) in [("ORIVECT", true), ("ORIAXES", false)] {
+        let program = format!(
+            "TRAORI\n{mode}\nG1 X0 Y0 Z50 A3=1 B3=0 C3=1 F1000\nG1 X20 A3=0 B3=1 C3=1\nM30\n"
+        );
+        let (rows, alarm) = sampled(&m, &program, &[0.0, 0.5, 1.0]);
+        assert!(alarm.is_none(), "{mode}: {alarm:?}");
+        let of_line: Vec<&Row> = rows.iter().filter(|r| r.line == 4).collect();
+        let (start, mid, end) = (of_line[0], of_line[1], of_line[2]);
+        assert!(near(start.dir, a), "{mode}: start {:?}", start.dir);
+        assert!(near(end.dir, b), "{mode}: end {:?}", end.dir);
+        // The tip is on the programmed line whatever the orientation does.
+        assert!(
+            near(mid.tip, Vec3::new(10.0, 0.0, 50.0)),
+            "{mode}: tip {:?}",
+            mid.tip
+        );
+        let bisector = (a + b).normalize();
+        if great_circle {
+            assert!(near(mid.dir, bisector), "{mode}: mid {:?}", mid.dir);
+        } else {
+            for axis in ['B', 'C'] {
+                let (s, e) = (joint(&m, start, axis), joint(&m, end, axis));
+                let mid_angle = joint(&m, mid, axis);
+                assert!(
+                    (mid_angle - (s + e) / 2.0).abs() < 1e-9,
+                    "{mode}: {axis} half way {mid_angle}, ends {s} and {e}"
+                );
+            }
+            let dir = m.forward(&mid.joints, 0.0).dir;
+            assert!(near(mid.dir, dir), "{mode}: {:?} vs {dir:?}", mid.dir);
+            assert!(!near(mid.dir, bisector), "{mode}: on the great circle");
+        }
+    }
+}

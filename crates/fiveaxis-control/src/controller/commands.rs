@@ -114,6 +114,12 @@ impl Controller<'_> {
                 }
                 Command::AlignTool { higher, span } => align = Some((higher, span)),
                 Command::Tcp { mode, span } => self.tcp(mode, span)?,
+                Command::OrientationPath { great_circle } => {
+                    self.state.orientation_path = Some(great_circle);
+                    if matches!(self.state.modal.length, LengthMode::Tcpc(_)) {
+                        self.state.tcpc.set_posture(great_circle);
+                    }
+                }
                 Command::Dwell { seconds, span } => {
                     if !(0.0..=MAX_DWELL_SECONDS).contains(&seconds) {
                         return Err(self.alarm(
@@ -190,6 +196,9 @@ impl Controller<'_> {
                     return Ok(());
                 }
                 self.start_tcpc(kind, span)?;
+                if let Some(great_circle) = self.state.orientation_path {
+                    self.state.tcpc.set_posture(great_circle);
+                }
                 self.state.modal.length = LengthMode::Tcpc(kind);
             }
             None => {

@@ -91,6 +91,14 @@ impl Default for TcpcState {
     }
 }
 
+impl TcpcState {
+    /// Tool posture control on (the tool turns on the great circle) or
+    /// off (the rotary axes linear) for the running TCPC.
+    pub(super) fn set_posture(&mut self, on: bool) {
+        self.posture = on;
+    }
+}
+
 /// What the programmed point depends on besides the machine position: the
 /// work offset, the 3-D compensation vector and the setup error.
 type FramesKey = (Vec3, Vec3, fiveaxis_machine::SetupError);

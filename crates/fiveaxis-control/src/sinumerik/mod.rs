@@ -110,9 +110,6 @@ const PATH_NEUTRAL_NAMES: &[&str] = &[
     "CFC",
     "CFTCP",
     "CFIN",
-    "ORIVECT",
-    "ORIAXES",
-    "ORIPLANE",
     "ORISOF",
     "ORISON",
     "KONT",
@@ -822,6 +819,15 @@ impl Front {
                 self.block.commands.push(Command::Tcp { mode: None, span });
             }
             "SUPA" | "G153" => parts.mv.suppress = Suppress::Frames,
+            // How the orientation is interpolated (group 51, ONE p672):
+            // on the great circle between the block's end vectors, or
+            // with the rotary axes linear; until one is given, the machine
+            // file's `tool_posture_control`.
+            "ORIVECT" | "ORIPLANE" | "ORIAXES" => {
+                self.block.commands.push(Command::OrientationPath {
+                    great_circle: name != "ORIAXES",
+                });
+            }
             "ORIEULER" => self.euler = true,
             "ORIRPY" => self.euler = false,
             "STOPRE" | "FGROUP" | "CYCLE832" => {}
