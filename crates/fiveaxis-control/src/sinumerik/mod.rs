@@ -64,9 +64,14 @@ use crate::segment::Segment;
 const MM_PER_INCH: f64 = 25.4;
 
 /// The instructions and cycles the front end carries out (what
-/// [`fiveaxis_sinumerik::System::is_builtin`] answers).
+/// [`fiveaxis_sinumerik::System::is_builtin`] answers), and the control's
+/// own instructions it knows and refuses by name rather than look for
+/// them as programs (the couplings and the other transformations).
 pub(crate) fn is_builtin(name: &str) -> bool {
-    cycles::is_cycle(name)
+    matches!(
+        name,
+        "TRAILON" | "TRAILOF" | "TRANSMIT" | "TRACYL" | "TRAANG" | "TRACON"
+    ) || cycles::is_cycle(name)
         || matches!(
             name,
             "CYCLE800"
@@ -863,7 +868,13 @@ impl Front {
                     line,
                     12550,
                     Some(span),
-                    format!("{name} is not an instruction this control carries out"),
+                    if is_builtin(name) {
+                        format!(
+                            "{name}: the kernel does not carry out this instruction of the control"
+                        )
+                    } else {
+                        format!("{name} is not an instruction this control carries out")
+                    },
                 ));
             }
         }
