@@ -277,7 +277,17 @@ impl<'m> Controller<'m> {
             stop: None,
             dialect: Dialect::of(machine.control),
             state: State {
-                modal: Modal::power_on(machine.params.input_unit),
+                modal: Modal {
+                    // A SINUMERIK starts in G500: no settable frame (its
+                    // reset value of group 8, MD20150; a program selects
+                    // G54… itself).
+                    work: if machine.control == fiveaxis_machine::Control::Sinumerik {
+                        crate::modal::WorkSelect::Null
+                    } else {
+                        crate::modal::WorkSelect::Standard(0)
+                    },
+                    ..Modal::power_on(machine.params.input_unit)
+                },
                 dynamic_length: None,
                 homes: [machine.params.reference_1, machine.params.reference_2],
                 feature: None,

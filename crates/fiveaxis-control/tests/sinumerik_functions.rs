@@ -464,10 +464,10 @@ fn parot_turns_the_workpiece_coordinates_with_the_table() {
     // workpiece on the turned table.
     let rows = ok(
         &m,
-        "G0 X0 Y0 Z100\nG0 G53 C90\nG1 X10 F500\nPAROT\nG1 X20 Y0\nPAROTOF\nM30\n",
+        "G54 G0 X0 Y0 Z100\nG0 G53 C90\nG1 X10 F500\nPAROT\nG1 X20 Y0\nPAROTOF\nM30\n",
     );
     let plain = at(&rows, 3);
-    // (G54 is in force from the start: the work zero at (100, 50).)
+    // (G54: the work zero at (100, 50).)
     assert!((plain.joints[0] - 110.0).abs() < EPS && (plain.joints[1] - 50.0).abs() < EPS);
     let turned = at(&rows, 5);
     assert_tip(turned, [20.0, 0.0, 100.0]);
@@ -710,4 +710,18 @@ fn orivect_turns_on_the_great_circle_and_oriaxes_moves_the_axes_linearly() {
             assert!(!near(mid.dir, bisector), "{mode}: on the great circle");
         }
     }
+}
+
+/// `$P_GG[n]` gives the active G function of group n by its place in the
+/// group: G710 is 4th in group 13, G91 2nd in 14, G1 2nd in 1, G18 2nd
+/// in 6, G94 2nd in 15.
+#[test]
+fn p_gg_gives_each_groups_active_function() {
+    let rows = ok(
+        &mill(),
+        "G710 G91 G18 G94 G1 X1 F100\n\
+         R1=$P_GG[13] R2=$P_GG[14] R3=$P_GG[1] R4=$P_GG[6] R5=$P_GG[15]\n\
+         G90 G17 X=R1*10+R2 Y=R3*10+R4 Z=R5\nM30\n",
+    );
+    assert_tip(at(&rows, 3), [42.0, 22.0, 2.0]);
 }

@@ -137,6 +137,7 @@ impl<'m, S: Source> Runner<'m, S> {
                 controller: &self.controller,
                 tool: run.front.tool(),
                 edge: run.front.edge(),
+                units: run.front.units_group(),
                 frames: &mut run.front.frames,
             };
             run.interp.next_block(&mut system, &mut run.executed)

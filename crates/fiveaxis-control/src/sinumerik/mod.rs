@@ -160,6 +160,8 @@ pub(crate) struct Front {
     inch: bool,
     /// G700: feeds are inches per minute too.
     inch_feed: bool,
+    /// G710 (metric, feeds too) rather than G71, for `$P_GG[13]`.
+    units_with_feed: bool,
     plane: Plane,
     motion: MotionMode,
     distance: Distance,
@@ -259,6 +261,7 @@ impl Front {
         Self {
             inch: false,
             inch_feed: false,
+            units_with_feed: false,
             plane: Plane::Xy,
             motion: MotionMode::Rapid,
             distance: Distance::Absolute,
@@ -280,6 +283,16 @@ impl Front {
             steps: Vec::new(),
             holes: Vec::new(),
             notes: Vec::new(),
+        }
+    }
+
+    /// G group 13 as `$P_GG[13]` gives it: G70 1, G71 2, G700 3, G710 4.
+    pub(crate) fn units_group(&self) -> u8 {
+        match (self.inch, self.inch_feed, self.units_with_feed) {
+            (true, true, _) => 3,
+            (true, false, _) => 1,
+            (false, _, true) => 4,
+            (false, _, false) => 2,
         }
     }
 
@@ -729,10 +742,12 @@ impl Front {
             70 | 700 => {
                 self.inch = true;
                 self.inch_feed = n == 700;
+                self.units_with_feed = n == 700;
             }
             71 | 710 => {
                 self.inch = false;
                 self.inch_feed = false;
+                self.units_with_feed = n == 710;
             }
             90 | 91 => {
                 self.distance = if n == 90 {

@@ -65,6 +65,8 @@ pub(crate) struct SystemView<'a, 'm> {
     pub(crate) edge: u32,
     /// The frames of the front end.
     pub(crate) frames: &'a mut FrameStore,
+    /// The front end's G group 13 (G70 1, G71 2, G700 3, G710 4).
+    pub(crate) units: u8,
 }
 
 /// A frame value of the language as the kernel's frame: translations
@@ -275,6 +277,54 @@ impl SystemView<'_, '_> {
     }
 }
 
+impl SystemView<'_, '_> {
+    /// `$P_GG[n]`: the active G function of group `n` as its place in the
+    /// group (1 the first), 0 for a group whose function is not active
+    /// (PGA00 p558; the groups of ONE p1262–1263).
+    fn g_group(&self, indices: &[Value]) -> Result<i64, String> {
+        use crate::modal::{CuttingMode, Distance, FeedMode, MotionMode, Plane, WorkSelect};
+        let [n] = indices else {
+            return Err("$P_GG takes one index, the G group".into());
+        };
+        let n = n.as_f64().unwrap_or(-1.0);
+        let m = self.controller.modal();
+        Ok(match n as i64 {
+            1 => match m.motion {
+                MotionMode::Rapid => 1,
+                MotionMode::Linear => 2,
+                MotionMode::Cw => 3,
+                MotionMode::Ccw => 4,
+            },
+            6 => match m.plane {
+                Plane::Xy => 1,
+                Plane::Zx => 2,
+                Plane::Yz => 3,
+            },
+            8 => match m.work {
+                WorkSelect::Null => 1,
+                WorkSelect::Standard(i) => 2 + i64::from(i),
+                WorkSelect::Extended(p) | WorkSelect::Haas(p) => 5 + i64::from(p),
+            },
+            10 => match m.cutting {
+                CuttingMode::ExactStop => 1,
+                _ => 2,
+            },
+            13 => i64::from(self.units),
+            14 => match m.distance {
+                Distance::Absolute => 1,
+                Distance::Incremental => 2,
+            },
+            15 => match m.feed_mode {
+                FeedMode::InverseTime => 1,
+                FeedMode::PerMinute => 2,
+                FeedMode::PerRevolution => 3,
+            },
+            k if (1..=70).contains(&k) && n.fract() == 0.0 => 0,
+            _ => return Err(format!("$P_GG[{n}]: no such G group")),
+        })
+    }
+}
+
 impl System for SystemView<'_, '_> {
     fn read(&mut self, name: &str, indices: &[Value]) -> Result<Value, String> {
         let c = self.controller;
@@ -284,6 +334,7 @@ impl System for SystemView<'_, '_> {
             }
             "$AA_IM" | "$AA_IB" => Value::Real(c.joints()[self.axis(indices)?]),
             "$P_TOOLNO" | "$TC_MPP6" => Value::Int(i64::from(self.tool)),
+            "$P_GG" => Value::Int(self.g_group(indices)?),
             "$P_TOOL" => Value::Int(i64::from(self.edge)),
             "$P_F" => Value::Real(c.feed()),
             "$P_UIFR" => {
