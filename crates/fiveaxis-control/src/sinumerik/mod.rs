@@ -626,6 +626,11 @@ impl Front {
                 parts.vector[k] = Some(number(address)?);
                 parts.moves = true;
             }
+            // The reference radius of a rotary axis in FGROUP and an
+            // axis's feed limit (ONE p105, p112): speed, not path.
+            _ if address.starts_with("FGREF[") || address.starts_with("FL[") => {
+                number(address)?;
+            }
             _ => {
                 let axis = (address.len() == 1)
                     .then(|| machine.axis_index(char::from(address.as_bytes()[0])))
