@@ -175,12 +175,6 @@ struct State {
     /// G52, G16, G51.1, G51, G68 (`controller/coordinates/program_transforms.rs`).
     frames: coordinates::Frames,
     /// A command front end's choice of how TCPC turns the tool (great
-    /// circle or rotary axes linear), `None`: the machine file's
-    /// `tool_posture_control`.
-    /// The swivel and programmable frames of the command front ends
-    /// (`commands.rs`), composed into `feature`.
-    neutral: commands::NeutralFrames,
-    /// A command front end's choice of how TCPC turns the tool (great
     /// circle or rotary axes linear); `None`: the machine file's
     /// `tool_posture_control`.
     orientation_path: Option<bool>,
@@ -206,6 +200,11 @@ pub struct Controller<'m> {
     block_exact_stop: bool,
     /// A block of commands asks for an exact stop at its end.
     pending_exact_stop: bool,
+    /// The settable, swivel, tool and programmable frames of the command
+    /// front ends (`commands.rs`), composed into the state's feature
+    /// frame. Kept out of `state`, which is copied for every block: a
+    /// block of commands saves and restores them itself.
+    neutral: commands::NeutralFrames,
     /// The whole turns a block of commands gives its circle.
     block_turns: Option<u32>,
     /// The block being executed chose rotary axes from a tool direction
@@ -326,13 +325,13 @@ impl<'m> Controller<'m> {
                 cycle: cycles::CycleState::default(),
                 frames: coordinates::Frames::default(),
                 serial: None,
-                neutral: commands::NeutralFrames::default(),
                 orientation_path: None,
             },
             words: Words::new(machine.control),
             block_posture: None,
             block_exact_stop: false,
             pending_exact_stop: false,
+            neutral: commands::NeutralFrames::default(),
             block_turns: None,
             block_chose_rotary: std::cell::Cell::new(false),
             cutter: cutter_c::CutterC::new(machine.params.cutter_startup_b),

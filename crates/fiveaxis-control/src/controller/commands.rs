@@ -50,12 +50,14 @@ impl Controller<'_> {
         self.stop = None;
         self.words.clear(block.line);
         let saved = self.state.clone();
+        let saved_frames = self.neutral;
         if let Some(n) = block.number {
             self.state.sequence = Some(n);
         }
         let result = self.run_commands(block, base, out);
         if result.is_err() {
             self.state = saved;
+            self.neutral = saved_frames;
             out.truncate(base);
         }
         self.pending_exact_stop = false;
@@ -93,23 +95,23 @@ impl Controller<'_> {
                     }
                 }
                 Command::ProgrammableFrame(frame) => {
-                    self.state.neutral.programmable = frame;
+                    self.neutral.programmable = frame;
                     self.refresh_neutral_frames();
                 }
                 Command::SwivelFrame(frame) => {
-                    self.state.neutral.swivel = frame;
+                    self.neutral.swivel = frame;
                     self.refresh_neutral_frames();
                 }
                 Command::SettableFrame(frame) => {
-                    self.state.neutral.settable = frame;
+                    self.neutral.settable = frame;
                     self.refresh_neutral_frames();
                 }
                 Command::ToolFrame(frame) => {
-                    self.state.neutral.tool = frame;
+                    self.neutral.tool = frame;
                     self.refresh_neutral_frames();
                 }
                 Command::PartFrame(on) => {
-                    self.state.neutral.part = on;
+                    self.neutral.part = on;
                     self.refresh_neutral_frames();
                 }
                 Command::AlignTool { higher, span } => align = Some((higher, span)),
@@ -219,7 +221,7 @@ impl Controller<'_> {
     /// scale and mirror as the program transforms inside it (mirror, then
     /// scale, then the feature frame: `T + R·S·M·p`).
     fn refresh_neutral_frames(&mut self) {
-        let n = self.state.neutral;
+        let n = self.neutral;
         let p = n.programmable;
         let outer = n
             .settable
