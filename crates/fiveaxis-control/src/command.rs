@@ -333,6 +333,16 @@ pub enum Command {
         /// On the great circle.
         great_circle: bool,
     },
+    /// The control's path smoothing and look-ahead for high-speed
+    /// machining on or off, with its contour tolerance (SINUMERIK
+    /// `CYCLE832`; FANUC's `G05.1 Q1`): speed, not path, kept in the modal
+    /// state (`Modal::accuracy`).
+    PathSmoothing {
+        /// On.
+        on: bool,
+        /// The contour tolerance, mm, when given.
+        tolerance: Option<f64>,
+    },
     /// A dwell, seconds.
     Dwell {
         /// The time.

@@ -725,3 +725,37 @@ fn p_gg_gives_each_groups_active_function() {
     );
     assert_tip(at(&rows, 3), [42.0, 22.0, 2.0]);
 }
+
+/// `CYCLE832(_TOL, _TOLM)` puts the control's smoothing in force with its
+/// tolerance (under G70 in inches), `CYCLE832()` or a units digit 0 of
+/// `_TOLM` takes it off: kept in the modal state as FANUC's `G05.1 Q1`,
+/// the path unchanged.
+#[test]
+fn cycle832_is_kept_in_the_modal_state_and_leaves_the_path() {
+    use fiveaxis_control::{ContourControl, RunOptions, Runner, SliceSource};
+    let m = mill();
+    let modal_after = |program: &str| {
+        let mut runner = Runner::new(
+            &m,
+            offsets(),
+            SliceSource::new(program.as_bytes()),
+            RunOptions::default(),
+        );
+        let mut out = Vec::new();
+        while runner.fill(&mut out, 64).expect("no alarm") {}
+        let accuracy = runner.controller().modal().accuracy;
+        (accuracy.contour, accuracy.corner_rounding, out.len())
+    };
+    let (on, tolerance, n) = modal_after("G1 X1 F100\nCYCLE832(0.02,1,1)\nG1 X2\nM30\n");
+    assert_eq!((on, tolerance), (ContourControl::AiContour, Some(0.02)));
+    let (_, _, plain) = modal_after("G1 X1 F100\nG1 X2\nM30\n");
+    assert_eq!(n, plain, "CYCLE832 moved something");
+    let (on, _, _) = modal_after("G70\nCYCLE832(0.001,1,1)\nM30\n");
+    assert_eq!(on, ContourControl::AiContour);
+    let (_, tolerance, _) = modal_after("G70\nCYCLE832(0.001,1,1)\nM30\n");
+    assert!((tolerance.unwrap_or(0.0) - 0.0254).abs() < 1e-12);
+    for off in ["CYCLE832()", "CYCLE832(0.02,0,1)"] {
+        let (on, tolerance, _) = modal_after(&format!("CYCLE832(0.02,1,1)\n{off}\nM30\n"));
+        assert_eq!((on, tolerance), (ContourControl::Off, None), "{off}");
+    }
+}

@@ -116,6 +116,15 @@ impl Controller<'_> {
                 }
                 Command::AlignTool { higher, span } => align = Some((higher, span)),
                 Command::Tcp { mode, span } => self.tcp(mode, span)?,
+                Command::PathSmoothing { on, tolerance } => {
+                    let accuracy = &mut self.state.modal.accuracy;
+                    accuracy.contour = if on {
+                        crate::modal::ContourControl::AiContour
+                    } else {
+                        crate::modal::ContourControl::Off
+                    };
+                    accuracy.corner_rounding = if on { tolerance } else { None };
+                }
                 Command::OrientationPath { great_circle } => {
                     self.state.orientation_path = Some(great_circle);
                     if matches!(self.state.modal.length, LengthMode::Tcpc(_)) {

@@ -855,7 +855,25 @@ impl Front {
             }
             "ORIEULER" => self.euler = true,
             "ORIRPY" => self.euler = false,
-            "STOPRE" | "FGROUP" | "CYCLE832" => {}
+            "STOPRE" | "FGROUP" => {}
+            // CYCLE832(_TOL, _TOLM, …) (ONE p1108): the high-speed
+            // settings; the units digit of _TOLM 0 (or no arguments)
+            // deselects them. Speed, not path: kept in the modal state.
+            "CYCLE832" => {
+                let arg = |k: usize| {
+                    args.and_then(|a| a.get(k))
+                        .and_then(|v| v.as_ref())
+                        .and_then(Value::as_f64)
+                };
+                let mode = arg(1).unwrap_or(0.0);
+                let on = args.is_some_and(|a| a.iter().any(Option::is_some))
+                    && (mode.trunc() as i64).rem_euclid(10) != 0;
+                let tolerance = arg(0).filter(|t| t.is_finite() && *t > 0.0);
+                self.block.commands.push(Command::PathSmoothing {
+                    on,
+                    tolerance: tolerance.map(|t| self.length(t)),
+                });
+            }
             "MSG" => {
                 if let Some(Some(Value::Str(text))) = args.and_then(|a| a.first()) {
                     self.notes.push(format!("line {line}: MSG \"{text}\""));
