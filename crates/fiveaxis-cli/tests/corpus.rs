@@ -460,78 +460,93 @@ fn fanuc_family_programs_run_to_their_end_or_stop_where_the_control_would() {
     let setups = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/corpus-setups");
     let mut failures = Vec::new();
     for case in FANUC_FAMILY {
-        let program = dir.join(case.program);
-        if !program.is_file() {
-            failures.push(format!("{}: not in the corpus", case.program));
-            continue;
-        }
-        let source = std::fs::read(&program).expect("corpus file");
-        let text = match edited(&source, case.edits) {
-            Ok(text) => text,
-            Err(problem) => {
-                failures.push(format!("{}: {problem}", case.program));
-                continue;
-            }
-        };
-        let input = if case.edits.is_empty() {
-            Input::File(&program)
-        } else {
-            Input::Edited(&text)
-        };
-        // A machine file of `tests/corpus-setups/`, or a built-in by name.
         let machine = if case.machine.ends_with(".toml") {
             setups.join(case.machine).display().to_string()
         } else {
             case.machine.to_owned()
         };
-        let offsets = setups.join(case.offsets);
-        let pick: Vec<usize> = case.positions.iter().map(|p| p.line).collect();
-        let outcome = run_with(
-            input,
-            &[
-                "--machine",
-                &machine,
-                "--offsets",
-                &offsets.display().to_string(),
-            ],
-            &pick,
-        );
-        let (summary, _) = judge(&text, &outcome);
-        println!(
-            "conformance: {} ({} operator edits): {summary}",
-            case.program,
-            case.edits.len()
-        );
-        for edit in case.edits {
-            println!(
-                "  line {}: `{}` -> `{}`: {}",
-                edit.line, edit.was, edit.now, edit.why
-            );
-        }
-        let first_alarm = outcome
-            .stderr
-            .lines()
-            .find(|l| l.starts_with("ALARM "))
-            .and_then(parse_alarm_line)
-            .map(|(code, line, _)| (code.to_owned(), line));
-        let code = outcome.status.and_then(|s| s.code());
-        match case.stop {
-            None if code != Some(0) => failures.push(format!(
-                "{} should run to its end: {summary}\n{}",
-                case.program, outcome.stderr
-            )),
-            Some((want, line, why)) if first_alarm != Some((want.to_owned(), line)) => failures
-                .push(format!(
-                    "{} should stop with {want} at line {line} ({why}): {summary}",
-                    case.program
-                )),
-            _ => {}
-        }
-        for problem in check_positions(&outcome, case.positions) {
-            failures.push(format!("{}: {problem}", case.program));
-        }
+        let offsets = setups.join(case.offsets).display().to_string();
+        let case = Case {
+            program: case.program,
+            edits: case.edits,
+            stop: case.stop,
+            positions: case.positions,
+        };
+        failures.extend(conform(
+            "conformance",
+            &dir,
+            &case,
+            &["--machine", &machine, "--offsets", &offsets],
+        ));
     }
     assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+/// One corpus program's run against how it must end.
+struct Case<'a> {
+    program: &'a str,
+    edits: &'a [Edit],
+    stop: Option<(&'a str, usize, &'a str)>,
+    positions: &'a [Position],
+}
+
+/// Runs `case` (after its operator's edits) with `args` and says what is
+/// wrong: an end other than the one asked for, or a position off its
+/// hand-computed value. Prints one summary line under `label`.
+fn conform(label: &str, dir: &Path, case: &Case<'_>, args: &[&str]) -> Vec<String> {
+    let mut failures = Vec::new();
+    let program = dir.join(case.program);
+    if !program.is_file() {
+        return vec![format!("{}: not in the corpus", case.program)];
+    }
+    let source = std::fs::read(&program).expect("corpus file");
+    let text = match edited(&source, case.edits) {
+        Ok(text) => text,
+        Err(problem) => return vec![format!("{}: {problem}", case.program)],
+    };
+    let input = if case.edits.is_empty() {
+        Input::File(&program)
+    } else {
+        Input::Edited(&text)
+    };
+    let pick: Vec<usize> = case.positions.iter().map(|p| p.line).collect();
+    let outcome = run_with(input, args, &pick);
+    let (summary, _) = judge(&text, &outcome);
+    println!(
+        "{label}: {} ({} operator edits): {summary}",
+        case.program,
+        case.edits.len()
+    );
+    for edit in case.edits {
+        println!(
+            "  line {}: `{}` -> `{}`: {}",
+            edit.line, edit.was, edit.now, edit.why
+        );
+    }
+    let first_alarm = outcome
+        .stderr
+        .lines()
+        .find(|l| l.starts_with("ALARM "))
+        .and_then(parse_alarm_line)
+        .map(|(code, line, _)| (code.to_owned(), line));
+    let code = outcome.status.and_then(|s| s.code());
+    match case.stop {
+        None if code != Some(0) => failures.push(format!(
+            "{} should run to its end: {summary}\n{}",
+            case.program, outcome.stderr
+        )),
+        Some((want, line, why)) if first_alarm != Some((want.to_owned(), line)) => {
+            failures.push(format!(
+                "{} should stop with {want} at line {line} ({why}): {summary}\n{}",
+                case.program, outcome.stderr
+            ))
+        }
+        _ => {}
+    }
+    for problem in check_positions(&outcome, case.positions) {
+        failures.push(format!("{}: {problem}", case.program));
+    }
+    failures
 }
 
 /// The LinuxCNC programs of the corpus read as LinuxCNC reads them: on
@@ -865,67 +880,22 @@ fn sinumerik_programs_run_to_their_end_or_stop_where_the_control_would() {
     };
     let setups = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/corpus-setups");
     let memory = sinumerik_memory(&dir);
+    let memory = memory.path().display().to_string();
     let mut failures = Vec::new();
-    let mut ran = 0;
     for case in SINUMERIK {
-        let program = dir.join(case.program);
-        let source = std::fs::read(&program).expect("corpus file");
-        let text = match edited(&source, case.edits) {
-            Ok(text) => text,
-            Err(problem) => {
-                failures.push(format!("{}: {problem}", case.program));
-                continue;
-            }
-        };
-        let input = if case.edits.is_empty() {
-            Input::File(&program)
-        } else {
-            Input::Edited(&text)
-        };
         let machine = setups.join(case.machine).display().to_string();
-        let pick: Vec<usize> = case.positions.iter().map(|p| p.line).collect();
-        let outcome = run_with(
-            input,
-            &[
-                "--machine",
-                &machine,
-                "--programs",
-                &memory.path().display().to_string(),
-            ],
-            &pick,
-        );
-        let (summary, _) = judge(&text, &outcome);
-        println!(
-            "sinumerik: {} ({} operator edits): {summary}",
-            case.program,
-            case.edits.len()
-        );
-        let first_alarm = outcome
-            .stderr
-            .lines()
-            .find(|l| l.starts_with("ALARM "))
-            .and_then(parse_alarm_line)
-            .map(|(code, line, _)| (code.to_owned(), line));
-        let code = outcome.status.and_then(|s| s.code());
-        match case.stop {
-            None if code != Some(0) => failures.push(format!(
-                "{} should run to its end: {summary}\n{}",
-                case.program, outcome.stderr
-            )),
-            Some((want, line, why)) if first_alarm != Some((want.to_owned(), line)) => failures
-                .push(format!(
-                    "{} should stop with {want} at line {line} ({why}): {summary}\n{}",
-                    case.program, outcome.stderr
-                )),
-            _ => ran += 1,
-        }
-        for problem in check_positions(&outcome, case.positions) {
-            failures.push(format!("{}: {problem}", case.program));
-        }
+        let case = Case {
+            program: case.program,
+            edits: case.edits,
+            stop: case.stop,
+            positions: case.positions,
+        };
+        failures.extend(conform(
+            "sinumerik",
+            &dir,
+            &case,
+            &["--machine", &machine, "--programs", &memory],
+        ));
     }
-    println!(
-        "sinumerik: {ran} of {} cases end as they must",
-        SINUMERIK.len()
-    );
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }

@@ -514,11 +514,6 @@ impl<'m> Controller<'m> {
         self.state.feed
     }
 
-    /// The tool offset number in force (H; D on SINUMERIK), 0 for none.
-    pub fn length_offset(&self) -> u32 {
-        self.state.h
-    }
-
     /// Spindle speed, rev/min (last S).
     pub fn spindle_speed(&self) -> f64 {
         self.state.spindle_speed

@@ -937,7 +937,7 @@ impl<'t> Interpreter<'t> {
                     ));
                 }
                 if self.frames.len() > 1 {
-                    self.bind(&proc, sys)?;
+                    self.bind(&proc)?;
                 }
                 Ok(false)
             }
@@ -968,8 +968,7 @@ impl<'t> Interpreter<'t> {
     }
 
     /// Binds the arguments of the call to the parameters of `PROC`.
-    fn bind(&mut self, proc: &Proc, sys: &mut dyn System) -> Result<(), LangError> {
-        let _ = sys;
+    fn bind(&mut self, proc: &Proc) -> Result<(), LangError> {
         let level = self.level();
         let args = self.top().args.clone();
         if args.len() > proc.params.len() {

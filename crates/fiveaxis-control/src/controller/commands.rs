@@ -421,20 +421,12 @@ impl Controller<'_> {
             || m.center_absolute;
         // Absolute values are measured in the program's coordinates.
         let from = mixed.then(|| self.program_position());
-        let incremental = self.state.modal.distance == Distance::Incremental;
         for (i, target) in m.targets.iter().enumerate().take(self.machine.axis_count()) {
             let Some(t) = target else { continue };
             // With a target read otherwise than the distance mode says,
             // the block's targets are all written as increments.
             let value = match from {
-                Some(from) => {
-                    let mode = match t.mode {
-                        TargetMode::Modal if incremental => TargetMode::Incremental,
-                        TargetMode::Modal => TargetMode::Absolute,
-                        mode => mode,
-                    };
-                    self.increment(i, from[i], t.value, mode)
-                }
+                Some(from) => self.increment(i, from[i], t.value, t.mode),
                 None => t.value,
             };
             self.words.set(self.axis_letters[i], value, t.span);
@@ -475,11 +467,13 @@ impl Controller<'_> {
     }
 
     /// The increment that takes axis `i` from `from` to `value` read in
-    /// `mode`.
+    /// `mode` (`Modal`: as the distance mode in force says).
     fn increment(&self, i: usize, from: f64, value: f64, mode: TargetMode) -> f64 {
         let rotary = i >= self.machine.linear.len();
+        let incremental = self.state.modal.distance == Distance::Incremental;
         match mode {
             TargetMode::Incremental => value,
+            TargetMode::Modal if incremental => value,
             TargetMode::Modal | TargetMode::Absolute => {
                 if rotary && self.is_rollover(i) {
                     shortest_turn(normalize_360(from), normalize_360(value))
@@ -512,17 +506,7 @@ impl Controller<'_> {
         let mut travel = [0.0; MAX_AXES];
         for (i, target) in m.targets.iter().enumerate().take(self.machine.axis_count()) {
             let Some(t) = target else { continue };
-            let delta = match t.mode {
-                TargetMode::Modal if self.state.modal.distance == Distance::Incremental => t.value,
-                TargetMode::Modal | TargetMode::Absolute => {
-                    if self.is_rollover(i) {
-                        shortest_turn(current[i], normalize_360(t.value))
-                    } else {
-                        t.value - current[i]
-                    }
-                }
-                mode => self.increment(i, current[i], t.value, mode),
-            };
+            let delta = self.increment(i, current[i], t.value, t.mode);
             end[i] = current[i] + delta;
             if self.is_rollover(i) {
                 end[i] = normalize_360(end[i]);

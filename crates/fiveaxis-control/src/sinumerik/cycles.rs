@@ -161,9 +161,6 @@
 //! [`ALARM_MACHINING_TYPE`] 61002, [`ALARM_OUT_OF_RANGE`] 61097,
 //! [`ALARM_NOT_CARRIED_OUT`] 61098, [`ALARM_MISSING`] 61099.
 
-// The front end that calls this module is not written yet.
-#![cfg_attr(not(test), allow(dead_code))]
-
 use crate::controller::engrave::font::{self, ADVANCE, CAP_HEIGHT, GLYPH_WIDTH};
 use crate::controller::{MAX_CYCLE_SEGMENTS, PECK_CLEARANCE};
 
