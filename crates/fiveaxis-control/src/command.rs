@@ -311,9 +311,14 @@ pub enum Command {
     /// Turn the rotary axes so that the tool stands along the Z axis of
     /// the frames in force (the swivel cycle's positioning), choosing
     /// the solution whose first rotary axis is higher (`true`) or lower.
+    /// The linear axes stay (`keep_tip` false: the tool tip moves with
+    /// the turn) or follow so that the tool tip stays on the workpiece
+    /// (`keep_tip` true: HEIDENHAIN `PLANE … MOVE`).
     AlignTool {
         /// Prefer the higher angle of the first rotary axis.
         higher: bool,
+        /// The tool tip stays where it is on the workpiece.
+        keep_tip: bool,
         /// Where it is written.
         span: Span,
     },

@@ -125,7 +125,10 @@ impl Dialect {
             // front end): what reaches the controller are commands, whose
             // values are whole units (a Siemens number without a decimal
             // point is not counted in increments).
-            Control::Sinumerik => Self {
+            // HEIDENHAIN reads Klartext through its own front end
+            // (`crate::heidenhain`); the commands reach the controller in
+            // whole units, as SINUMERIK's do.
+            Control::Sinumerik | Control::Heidenhain => Self {
                 max_nesting: 16,
                 max_macro_nesting: 16,
                 max_m_codes: 5,

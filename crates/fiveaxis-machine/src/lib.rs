@@ -107,6 +107,10 @@ pub enum Control {
     /// SINUMERIK 840D sl / 828D: the Siemens language (R parameters, `DEF`
     /// variables, frames, `TRAORI`, `CYCLE800`), read by its own front end.
     Sinumerik,
+    /// HEIDENHAIN TNC 640 / 620 / iTNC 530 / TNC7: conversational
+    /// programs (Klartext: `L`, `CC`/`C`, `TOOL CALL`, `CYCL DEF`, `PLANE`,
+    /// `M128`, `LN`, Q parameters), read by its own front end.
+    Heidenhain,
 }
 
 /// The unit a program's lengths are read in until it gives G20 or G21
@@ -257,7 +261,8 @@ impl RotaryChoice {
             | Control::Fanuc16
             | Control::Haas
             | Control::LinuxCnc
-            | Control::Sinumerik => RotaryChoice::Shortest,
+            | Control::Sinumerik
+            | Control::Heidenhain => RotaryChoice::Shortest,
             Control::Mitsubishi => RotaryChoice::RotatingAxis,
             Control::Mazak => RotaryChoice::KeepTiltSign,
         }

@@ -30,6 +30,7 @@ fn control_name(control: Control) -> &'static str {
         Control::Haas => "haas",
         Control::LinuxCnc => "linuxcnc",
         Control::Sinumerik => "sinumerik",
+        Control::Heidenhain => "heidenhain",
     }
 }
 

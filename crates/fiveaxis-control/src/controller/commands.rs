@@ -72,7 +72,7 @@ impl Controller<'_> {
         out: &mut Vec<Segment>,
     ) -> Result<Flow, Alarm> {
         let mut motion: Option<Move> = None;
-        let mut align: Option<(bool, Span)> = None;
+        let mut align: Option<(bool, bool, Span)> = None;
         for command in &block.commands {
             match *command {
                 Command::Interpolation(mode) => self.state.modal.motion = mode,
@@ -114,7 +114,11 @@ impl Controller<'_> {
                     self.neutral.part = on;
                     self.refresh_neutral_frames();
                 }
-                Command::AlignTool { higher, span } => align = Some((higher, span)),
+                Command::AlignTool {
+                    higher,
+                    keep_tip,
+                    span,
+                } => align = Some((higher, keep_tip, span)),
                 Command::Tcp { mode, span } => self.tcp(mode, span)?,
                 Command::PathSmoothing { on, tolerance } => {
                     let accuracy = &mut self.state.modal.accuracy;
@@ -143,8 +147,8 @@ impl Controller<'_> {
                 Command::Move(m) => motion = Some(m),
             }
         }
-        if let Some((higher, span)) = align {
-            return self.align_tool(higher, span, base, out);
+        if let Some((higher, keep_tip, span)) = align {
+            return self.align_tool(higher, keep_tip, span, base, out);
         }
         match motion {
             Some(m) if m.suppress != Suppress::Nothing => self.machine_move(&m, base, out),
@@ -546,15 +550,25 @@ impl Controller<'_> {
     fn align_tool(
         &mut self,
         higher: bool,
+        keep_tip: bool,
         span: Span,
         base: usize,
         out: &mut Vec<Segment>,
     ) -> Result<Flow, Alarm> {
         let flow = self.m_codes_and_values()?;
         let choice = super::tcpc::Choice::FirstAxis(higher);
-        self.tool_axis_control_by(span, false, Some(choice), out)?;
+        self.tool_axis_control_by(span, keep_tip, Some(choice), out)?;
         self.finish_block(base, out)?;
         Ok(flow)
+    }
+
+    /// The rotary positions (machine order) that put the tool along the Z
+    /// axis of the swivel frame in force, by the solution whose first
+    /// rotary axis is higher (`true`) or lower, without moving: what
+    /// HEIDENHAIN `PLANE … STAY` computes for the program to move to.
+    pub(crate) fn plane_axes(&self, higher: bool, span: Span) -> Result<[f64; 2], Alarm> {
+        let choice = super::tcpc::Choice::FirstAxis(higher);
+        self.plane_rotaries("PLANE", span, Some(choice))
     }
 
     /// The M functions and F, S, T values of a block whose move does not

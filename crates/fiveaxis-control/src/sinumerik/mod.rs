@@ -1321,6 +1321,7 @@ impl Front {
                 None if dir != 0.0 => {
                     self.block.commands.push(Command::AlignTool {
                         higher: dir > 0.0,
+                        keep_tip: false,
                         span,
                     });
                 }

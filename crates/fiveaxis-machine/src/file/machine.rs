@@ -62,6 +62,7 @@ enum RawControl {
     #[serde(rename = "linuxcnc")]
     LinuxCnc,
     Sinumerik,
+    Heidenhain,
 }
 
 #[derive(Clone, Copy, Deserialize)]
@@ -245,6 +246,7 @@ impl From<RawControl> for Control {
             RawControl::Haas => Control::Haas,
             RawControl::LinuxCnc => Control::LinuxCnc,
             RawControl::Sinumerik => Control::Sinumerik,
+            RawControl::Heidenhain => Control::Heidenhain,
         }
     }
 }

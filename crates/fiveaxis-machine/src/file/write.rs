@@ -418,5 +418,6 @@ fn control_name(c: Control) -> &'static str {
         Control::Haas => "haas",
         Control::LinuxCnc => "linuxcnc",
         Control::Sinumerik => "sinumerik",
+        Control::Heidenhain => "heidenhain",
     }
 }

@@ -880,21 +880,22 @@ impl Controller<'_> {
         self.tool_axis_control_by(span, keep_tip, None, out)
     }
 
-    /// [`Controller::tool_axis_control`] with the rotary solution chosen
-    /// by `choice` instead of the control's rule.
-    pub(in crate::controller) fn tool_axis_control_by(
-        &mut self,
+    /// The rotary positions (machine order, unwrapped near where the axes
+    /// stand) that put the tool along the Z axis of the tilted working
+    /// plane in force, chosen by `choice` (or the control's rule): what
+    /// G53.1 moves to, and what HEIDENHAIN `PLANE … STAY` computes without
+    /// moving. `name` names the function in alarms.
+    pub(in crate::controller) fn plane_rotaries(
+        &self,
+        name: &str,
         span: Span,
-        keep_tip: bool,
         choice: Option<crate::controller::tcpc::Choice>,
-        out: &mut Vec<Segment>,
-    ) -> Result<(), Alarm> {
-        let name = if keep_tip { "G53.6" } else { "G53.1" };
+    ) -> Result<[f64; 2], Alarm> {
         let Some(feature) = self.state.feature.filter(|f| f.conversions == 0 && !f.dwo) else {
             return Err(self.alarm(
                 Condition::FeatureNotAllowed,
                 Some(span),
-                format!("{name} needs a tilted working plane (G68.2, Haas G268) in force"),
+                format!("{name} needs a tilted working plane in force"),
             ));
         };
         if self.machine.rotary.len() != 2 {
@@ -908,10 +909,25 @@ impl Controller<'_> {
         let dir = self.state.setup.vector(&z);
         let (i0, i1) = (self.machine.rotary_index(0), self.machine.rotary_index(1));
         let current = self.state.joints;
-        let chosen = match choice {
-            Some(choice) => self.choose_rotaries_by(&dir, [current[i0], current[i1]], choice)?,
-            None => self.choose_rotaries(&dir, [current[i0], current[i1]])?,
-        };
+        match choice {
+            Some(choice) => self.choose_rotaries_by(&dir, [current[i0], current[i1]], choice),
+            None => self.choose_rotaries(&dir, [current[i0], current[i1]]),
+        }
+    }
+
+    /// [`Controller::tool_axis_control`] with the rotary solution chosen
+    /// by `choice` instead of the control's rule.
+    pub(in crate::controller) fn tool_axis_control_by(
+        &mut self,
+        span: Span,
+        keep_tip: bool,
+        choice: Option<crate::controller::tcpc::Choice>,
+        out: &mut Vec<Segment>,
+    ) -> Result<(), Alarm> {
+        let name = if keep_tip { "G53.6" } else { "G53.1" };
+        let chosen = self.plane_rotaries(name, span, choice)?;
+        let (i0, i1) = (self.machine.rotary_index(0), self.machine.rotary_index(1));
+        let current = self.state.joints;
         let mut end = current;
         let mut start = current;
         for (k, i) in [i0, i1].into_iter().enumerate() {
