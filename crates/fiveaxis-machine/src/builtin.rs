@@ -450,8 +450,93 @@ reference_2 = { Z = 500.0 }
     sinumerik_m_codes!()
 );
 
+/// A HEIDENHAIN machine of the kind the corpus's hyperMILL programs are
+/// written for (DMG DMU monoBLOCK type with a swivelling rotary table):
+/// A tilts the table about X, C turns the platter on it. Laid out as a TNC
+/// machine is: the machine datum at the top of the Z travel, so that
+/// `L Z0 R0 FMAX M91` sends the spindle to its highest point, and the
+/// linear axes of a DMU 85 class machine (X 850, Y 650, Z 650 mm of
+/// travel; `L Y-425 M91` is the front end of the Y travel). Assumed, not
+/// a maker's figures: the table face 500 mm below the spindle nose at the
+/// top, the C axis at X 0 Y 0, the A axis 100 mm below the table face,
+/// A −120° … +30°, C endless; dynamics as the other built-ins. Rotation
+/// senses as the table axes of `trunnion-ac` (the part carried by the
+/// axis turns about −X and −Z): PLANE SPATIAL SPA+90 SPC+180 with SEQ−
+/// then stands at A −90, C 0, as the corpus programs' own comments say.
+const HEIDENHAIN_DMU_AC: &str = r#"
+name = "Swivelling rotary table A/C (HEIDENHAIN TNC 640, DMU monoBLOCK style)"
+type = "table"
+control = "heidenhain"
+
+[[linear]]
+name = "X"
+min = -425.0
+max = 425.0
+max_velocity = 20000.0
+rapid = 30000.0
+max_acceleration = 3000.0
+max_jerk = 50000.0
+
+[[linear]]
+name = "Y"
+min = -425.0
+max = 225.0
+max_velocity = 20000.0
+rapid = 30000.0
+max_acceleration = 3000.0
+max_jerk = 50000.0
+
+[[linear]]
+name = "Z"
+min = -650.0
+max = 0.0
+max_velocity = 20000.0
+rapid = 30000.0
+max_acceleration = 3000.0
+max_jerk = 50000.0
+
+[[rotary]]
+name = "A"
+on = "table"
+axis = [-1, 0, 0]
+center = [0, 0, -600]
+min = -120.0
+max = 30.0
+max_velocity = 5400.0
+rapid = 9000.0
+max_acceleration = 1500.0
+max_jerk = 30000.0
+
+[[rotary]]
+name = "C"
+on = "table"
+axis = [0, 0, -1]
+center = [0, 0, -500]
+rollover = true
+max_velocity = 7200.0
+rapid = 10800.0
+max_acceleration = 2000.0
+max_jerk = 40000.0
+
+[parameters]
+reference_1 = { Z = 0.0 }
+reference_2 = { Z = 0.0 }
+
+[m_codes]
+0 = "stop"
+1 = "optional_stop"
+2 = "end"
+3 = "spindle_cw"
+4 = "spindle_ccw"
+5 = "spindle_stop"
+6 = "tool_change"
+8 = "coolant_on"
+9 = "coolant_off"
+30 = "end"
+"#;
+
 /// The library: name and machine-file text.
-const LIBRARY: [(&str, &str); 8] = [
+const LIBRARY: [(&str, &str); 9] = [
     ("trunnion-ac", TRUNNION_AC),
     ("trunnion-bc", TRUNNION_BC),
     ("head-table-bc", HEAD_TABLE_BC),
@@ -460,6 +545,7 @@ const LIBRARY: [(&str, &str); 8] = [
     ("haas-umc750", HAAS_UMC750),
     ("haas-vf2-tr160", HAAS_VF2_TR160),
     ("sinumerik-dmu-bc", SINUMERIK_DMU_BC),
+    ("heidenhain-dmu-ac", HEIDENHAIN_DMU_AC),
 ];
 
 /// Names of the built-in machines.
