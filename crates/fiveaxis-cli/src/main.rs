@@ -515,15 +515,11 @@ fn load_offsets_for(
     }
 }
 
-/// Whether a program is SINUMERIK text whatever the machine's control: a
-/// `.mpf` / `.spf` file (a main program or subprogram of the control's
-/// program memory), or a text whose first line is a transfer header
-/// `%_N_NAME_MPF` / `_SPF` (ONE p43–45).
-pub fn is_sinumerik_program(spec: &str, file: &mut File) -> bool {
-    if is_sinumerik_name(spec) {
-        return true;
-    }
-    let mut head = [0u8; 64];
+/// The control whose own language the program is in (SINUMERIK: `.mpf`,
+/// `.spf`, a `%_N_` header; HEIDENHAIN: `.h`, a `BEGIN PGM` first line),
+/// from its name and first bytes; `file` is left at its start.
+pub fn program_language(spec: &str, file: &mut File) -> Option<fiveaxis_machine::Control> {
+    let mut head = [0u8; fiveaxis_control::HEAD_BYTES];
     let mut read = 0;
     while read < head.len() {
         match file.read(&mut head[read..]) {
@@ -532,33 +528,18 @@ pub fn is_sinumerik_program(spec: &str, file: &mut File) -> bool {
         }
     }
     let _ = file.rewind();
-    is_sinumerik_head(&head[..read])
+    fiveaxis_control::program_language(Some(Path::new(spec)), &head[..read])
 }
 
-/// A `.mpf` / `.spf` file name.
-pub fn is_sinumerik_name(spec: &str) -> bool {
-    Path::new(spec)
-        .extension()
-        .and_then(|e| e.to_str())
-        .is_some_and(|e| e.eq_ignore_ascii_case("mpf") || e.eq_ignore_ascii_case("spf"))
-}
-
-/// A text that starts with a SINUMERIK transfer header (after a UTF-8
-/// byte-order mark, if any).
-pub fn is_sinumerik_head(head: &[u8]) -> bool {
-    let head = head.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(head);
-    head.starts_with(b"%_N_")
-}
-
-/// The machine a program runs on: `machine`, read as a SINUMERIK when the
-/// program is SINUMERIK text ([`is_sinumerik_program`]) and the machine's
-/// control is another.
+/// The machine a program runs on: a clone of `machine` with the control
+/// whose language the program is in ([`program_language`]) when that is
+/// another control.
 pub fn machine_for_program(machine: &Machine, spec: &str, file: &mut File) -> Option<Machine> {
-    (machine.control != fiveaxis_machine::Control::Sinumerik && is_sinumerik_program(spec, file))
-        .then(|| Machine {
-            control: fiveaxis_machine::Control::Sinumerik,
-            ..machine.clone()
-        })
+    let language = program_language(spec, file);
+    match fiveaxis_control::machine_for_language(machine, language) {
+        std::borrow::Cow::Owned(m) => Some(m),
+        std::borrow::Cow::Borrowed(_) => None,
+    }
 }
 
 /// The program as a seekable file: a regular file itself, or standard

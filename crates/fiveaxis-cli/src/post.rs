@@ -194,15 +194,15 @@ pub fn post(args: &PostArgs) -> Result<u8, InputError> {
     };
     let carried = program::carried_words(&String::from_utf8_lossy(&bytes));
     let run_on = source_machine.as_ref().unwrap_or(&machine);
-    // SINUMERIK text (`.mpf`, `%_N_…` header) is read as SINUMERIK on any
+    // SINUMERIK and HEIDENHAIN text is read by its own front end on any
     // machine.
-    let sinumerik = (!is_apt
-        && run_on.control != fiveaxis_machine::Control::Sinumerik
-        && (crate::is_sinumerik_name(&args.program) || crate::is_sinumerik_head(&bytes)))
-    .then(|| fiveaxis_machine::Machine {
-        control: fiveaxis_machine::Control::Sinumerik,
-        ..run_on.clone()
-    });
+    let language = (!is_apt)
+        .then(|| fiveaxis_control::program_language(Some(std::path::Path::new(&args.program)), &bytes))
+        .flatten();
+    let sinumerik = match fiveaxis_control::machine_for_language(run_on, language) {
+        std::borrow::Cow::Owned(m) => Some(m),
+        std::borrow::Cow::Borrowed(_) => None,
+    };
     let run_on = sinumerik.as_ref().unwrap_or(run_on);
     let mut runner = Runner::new(
         run_on,

@@ -284,6 +284,15 @@ pub enum Command {
         /// Where it is written.
         span: Span,
     },
+    /// Deltas on the length and radius of the offset memory in force, mm
+    /// (HEIDENHAIN `TOOL CALL … DL DR`): they hold until the next tool
+    /// call gives others.
+    ToolDelta {
+        /// Added to the tool length.
+        length: f64,
+        /// Added to the tool radius.
+        radius: f64,
+    },
     /// Radius compensation on one side, or off.
     Radius {
         /// The side.
@@ -315,8 +324,9 @@ pub enum Command {
     /// the turn) or follow so that the tool tip stays on the workpiece
     /// (`keep_tip` true: HEIDENHAIN `PLANE … MOVE`).
     AlignTool {
-        /// Prefer the higher angle of the first rotary axis.
-        higher: bool,
+        /// Prefer the higher angle of the first rotary axis (`None`: the
+        /// machine's rule for choosing a rotary solution).
+        higher: Option<bool>,
         /// The tool tip stays where it is on the workpiece.
         keep_tip: bool,
         /// Where it is written.

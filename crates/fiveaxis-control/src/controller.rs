@@ -92,6 +92,9 @@ struct State {
     homes: [Joints; 2],
     /// LinuxCNC G43.1: the tool length offset given in the program (it
     /// replaces the tool's until G43 or G49).
+    /// Deltas on the offset memory's length and radius the program gives
+    /// with its tool call (HEIDENHAIN `TOOL CALL … DL DR`), mm.
+    tool_delta: [f64; 2],
     dynamic_length: Option<f64>,
     /// The tilted working plane's feature frame (G68.2), if one is in force.
     feature: Option<coordinates::Feature>,
@@ -288,6 +291,7 @@ impl<'m> Controller<'m> {
                     ..Modal::power_on(machine.params.input_unit)
                 },
                 dynamic_length: None,
+                tool_delta: [0.0; 2],
                 homes: [machine.params.reference_1, machine.params.reference_2],
                 feature: None,
                 feature_pending: None,
@@ -1469,7 +1473,7 @@ impl<'m> Controller<'m> {
             return 0.0;
         }
         let tool = self.offsets.tool(self.state.h);
-        tool.length + tool.length_wear
+        tool.length + tool.length_wear + self.state.tool_delta[0]
     }
 
     /// The length offset vector at machine position `joints`: what is added

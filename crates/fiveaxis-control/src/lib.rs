@@ -13,6 +13,8 @@ pub mod command;
 mod controller;
 pub mod cutter;
 mod dialect;
+mod heidenhain;
+mod language;
 mod modal;
 mod reach;
 mod runner;
@@ -28,6 +30,8 @@ pub use controller::{
 };
 pub use controller::{MAX_CYCLE_SEGMENTS, PECK_CLEARANCE, PECK_RETRACT};
 pub use dialect::Dialect;
+pub use heidenhain::Stock;
+pub use language::{HEAD_BYTES, machine_for_language, program_language};
 pub use modal::{
     Accuracy, ContourControl, CuttingMode, Distance, FeedMode, LengthMode, Modal, MotionMode,
     Plane, TcpcType, Units, WorkSelect,

@@ -19,6 +19,7 @@ use crate::segment::{MAX_STEPS, Segment};
 mod library;
 mod macros;
 mod oword;
+mod heidenhain;
 mod sinumerik;
 
 pub use library::ProgramLibrary;
@@ -377,6 +378,10 @@ pub struct Runner<'m, S> {
     /// A SINUMERIK program's interpreter and front end, made at the first
     /// step (when the program memory is known).
     sinumerik: Option<Box<sinumerik::SinumerikRun<'m>>>,
+    /// A HEIDENHAIN program's interpreter and front end, as `sinumerik`.
+    heidenhain: Option<Box<heidenhain::HeidenhainRun<'m>>>,
+    /// The stock a program describes (HEIDENHAIN `BLK FORM`).
+    stock: Option<crate::heidenhain::Stock>,
     /// The program source lives as long as the machine's borrow (a
     /// SINUMERIK run hands it to its interpreter).
     _source_outlives: std::marker::PhantomData<&'m S>,
@@ -439,8 +444,16 @@ impl<'m, S: Source> Runner<'m, S> {
             skipped: 0,
             window: [(u32::MAX, 0); 2],
             sinumerik: None,
+            heidenhain: None,
+            stock: None,
             _source_outlives: std::marker::PhantomData,
         }
+    }
+
+    /// The stock the program describes (HEIDENHAIN `BLK FORM 0.1 / 0.2`),
+    /// once read.
+    pub fn stock(&self) -> Option<crate::heidenhain::Stock> {
+        self.stock
     }
 
     /// Lines read so far: every block executed, each time it is executed
@@ -627,8 +640,10 @@ impl<'m, S: Source> Runner<'m, S> {
 
     /// Reads and executes one line, appending its segments to `out`.
     fn step(&mut self, out: &mut Vec<Segment>) -> Result<(), RunError> {
-        if self.controller.control() == Control::Sinumerik {
-            return self.sinumerik_step(out);
+        match self.controller.control() {
+            Control::Sinumerik => return self.sinumerik_step(out),
+            Control::Heidenhain => return self.heidenhain_step(out),
+            _ => {}
         }
         self.resumable = false;
         if !self.started {

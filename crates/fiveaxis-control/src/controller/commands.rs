@@ -72,7 +72,7 @@ impl Controller<'_> {
         out: &mut Vec<Segment>,
     ) -> Result<Flow, Alarm> {
         let mut motion: Option<Move> = None;
-        let mut align: Option<(bool, bool, Span)> = None;
+        let mut align: Option<(Option<bool>, bool, Span)> = None;
         for command in &block.commands {
             match *command {
                 Command::Interpolation(mode) => self.state.modal.motion = mode,
@@ -86,6 +86,7 @@ impl Controller<'_> {
                 Command::MFunction { number, span } => self.words.push_m(number, span)?,
                 Command::ToolSelect { tool, span } => self.words.set(b'T', f64::from(tool), span),
                 Command::ToolOffset { number, span } => self.tool_offset(number, span)?,
+                Command::ToolDelta { length, radius } => self.state.tool_delta = [length, radius],
                 Command::Radius { side, span } => self.radius_side(side, span)?,
                 Command::WorkOffset(w) => {
                     self.state.modal.work = match w {
@@ -289,6 +290,12 @@ impl Controller<'_> {
         let base = Rotation3::rotation_between(&Vec3::z(), &self.machine.tool_direction)
             .unwrap_or_else(|| Rotation3::from_axis_angle(&Vec3::x_axis(), std::f64::consts::PI));
         table.inverse() * head * base
+    }
+
+    /// The radius of the offset memory in force (with its wear and the
+    /// program's delta), mm.
+    pub(crate) fn tool_radius_in_force(&self) -> f64 {
+        self.tool_radius()
     }
 
     /// The machine positions now.
@@ -549,15 +556,15 @@ impl Controller<'_> {
     /// tool stands along the Z axis of the frames in force.
     fn align_tool(
         &mut self,
-        higher: bool,
+        higher: Option<bool>,
         keep_tip: bool,
         span: Span,
         base: usize,
         out: &mut Vec<Segment>,
     ) -> Result<Flow, Alarm> {
         let flow = self.m_codes_and_values()?;
-        let choice = super::tcpc::Choice::FirstAxis(higher);
-        self.tool_axis_control_by(span, keep_tip, Some(choice), out)?;
+        let choice = higher.map(super::tcpc::Choice::FirstAxis);
+        self.tool_axis_control_by(span, keep_tip, choice, out)?;
         self.finish_block(base, out)?;
         Ok(flow)
     }
@@ -566,9 +573,9 @@ impl Controller<'_> {
     /// axis of the swivel frame in force, by the solution whose first
     /// rotary axis is higher (`true`) or lower, without moving: what
     /// HEIDENHAIN `PLANE … STAY` computes for the program to move to.
-    pub(crate) fn plane_axes(&self, higher: bool, span: Span) -> Result<[f64; 2], Alarm> {
-        let choice = super::tcpc::Choice::FirstAxis(higher);
-        self.plane_rotaries("PLANE", span, Some(choice))
+    pub(crate) fn plane_axes(&self, higher: Option<bool>, span: Span) -> Result<[f64; 2], Alarm> {
+        let choice = higher.map(super::tcpc::Choice::FirstAxis);
+        self.plane_rotaries("PLANE", span, choice)
     }
 
     /// The M functions and F, S, T values of a block whose move does not

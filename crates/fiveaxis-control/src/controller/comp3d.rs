@@ -159,6 +159,6 @@ impl Controller<'_> {
     /// The active D value (geometry + wear), mm.
     pub(super) fn tool_radius(&self) -> f64 {
         let tool = self.offsets.tool(self.state.d);
-        tool.radius + tool.radius_wear
+        tool.radius + tool.radius_wear + self.state.tool_delta[1]
     }
 }

@@ -43,6 +43,18 @@ pub trait ProgramLibrary {
         Ok(None)
     }
 
+    /// The HEIDENHAIN program `name` as `CALL PGM` writes it (`SUB1`,
+    /// `SUB1.H`, `TNC:\\PARTS\\SUB1.H`): the file of that name (its last
+    /// path component) with or without `.h`, found case-insensitively,
+    /// or `None`. Default: none.
+    ///
+    /// # Errors
+    ///
+    /// The file exists but cannot be read.
+    fn open_heidenhain(&mut self, _name: &str) -> io::Result<Option<(Box<dyn Source>, String)>> {
+        Ok(None)
+    }
+
     /// The SINUMERIK definition files (`*.DEF`: global user data and
     /// macros), each with its name. Default: none.
     ///

@@ -1320,7 +1320,7 @@ impl Front {
                 }
                 None if dir != 0.0 => {
                     self.block.commands.push(Command::AlignTool {
-                        higher: dir > 0.0,
+                        higher: Some(dir > 0.0),
                         keep_tip: false,
                         span,
                     });
@@ -2030,7 +2030,7 @@ type Joints3 = fiveaxis_machine::Joints;
 
 /// The centre of a circle of radius `r` (negative: more than 180°) from
 /// `s` to `e` in the plane, turning counter-clockwise or not.
-fn radius_center(s: [f64; 2], e: [f64; 2], r: f64, ccw: bool) -> Option<[f64; 2]> {
+pub(crate) fn radius_center(s: [f64; 2], e: [f64; 2], r: f64, ccw: bool) -> Option<[f64; 2]> {
     let w = [e[0] - s[0], e[1] - s[1]];
     let d = w[0].hypot(w[1]);
     let half = d / 2.0;

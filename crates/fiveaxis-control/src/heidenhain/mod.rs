@@ -1,0 +1,1948 @@
+//! The HEIDENHAIN TNC front end: what the blocks of a Klartext program
+//! (`fiveaxis-heidenhain` runs their language) mean on the control, as
+//! the kernel's control-neutral commands (`crate::command`).
+//!
+//! Sources are the TNC 640 / TNC 620 / iTNC 530 user's manuals as the
+//! design brief (`sinumerik-heidenhain-brief.md` §9) cites them; what the
+//! brief marks unverified, and the kernel's own readings, are named where
+//! they are used and listed in `docs/heidenhain.md`.
+//!
+//! What the front end keeps between blocks:
+//!
+//! * the working plane (from `TOOL CALL`'s spindle axis), the pole `CC`,
+//!   the radius compensation `RL` / `RR` / `R0`, the feed `F` (modal;
+//!   `FMAX` holds for its block only), `M126` shortest rotary paths;
+//! * the transformations: the datum shift (cycle 7), the tilted working
+//!   plane (`PLANE`, cycle 19) and, inside it, mirror (8), rotation (10)
+//!   and scaling (11, 26). A datum shift defined with no tilted plane in
+//!   force is the origin the plane turns about; one defined in a tilted
+//!   plane shifts in it (iTNC 530 manual, "Working plane": "the TNC tilts
+//!   about the active datum");
+//! * tool centre point control (`M128`, `FUNCTION TCPM`);
+//! * the machining cycle last defined (`CYCL DEF 200` …), called by
+//!   `CYCL CALL`, `M99` (one block) and `M89` (modal);
+//! * the stock (`BLK FORM`), for `view`.
+
+pub(crate) mod cycles;
+
+use fiveaxis_gcode::Span;
+use fiveaxis_heidenhain::{Executed, Kind, Tool};
+use fiveaxis_machine::{Control, MAX_AXES, Vec3};
+use nalgebra::Rotation3;
+
+use crate::alarm::{Alarm, Condition};
+use crate::command::{Command, CommandBlock, CutterSide, Frame, Move, Suppress, Target, TargetMode};
+use crate::controller::{Controller, Flow};
+use crate::modal::{MotionMode, Plane, TcpcType};
+use crate::segment::Segment;
+
+/// 25.4 mm to the inch.
+const MM_PER_INCH: f64 = 25.4;
+
+/// Two angles or lengths closer than this are the same (a circle's end
+/// on its radius, a vector's length).
+const GEOMETRY_TOLERANCE: f64 = 1e-9;
+
+/// A circle's end point may lie off the circle about the pole by this much
+/// before the block is refused (the TNC's own check is a machine
+/// parameter; 0.016 mm is FANUC's default arc tolerance in the kernel).
+const CIRCLE_TOLERANCE: f64 = 0.016;
+
+/// The stock of `BLK FORM 0.1 / 0.2`: its minimum and maximum corner in
+/// workpiece coordinates, mm.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Stock {
+    /// `BLK FORM 0.1`.
+    pub min: [f64; 3],
+    /// `BLK FORM 0.2`.
+    pub max: [f64; 3],
+}
+
+/// What the front end keeps between blocks.
+#[derive(Debug)]
+pub(crate) struct Front {
+    /// `BEGIN PGM … INCH`: lengths are inches.
+    inch: bool,
+    /// The working plane (from the spindle axis of `TOOL CALL`).
+    plane: Plane,
+    /// The pole `CC` in the plane's two axes, program coordinates.
+    pole: Option<[f64; 2]>,
+    /// The radius compensation in force.
+    comp: CutterSide,
+    /// The feed in force, mm/min (0 before any).
+    feed: f64,
+    /// The feed of the last `TOOL CALL` (`F AUTO`).
+    tool_feed: f64,
+    /// `M126`: rotary axes take the shorter way.
+    shortest: bool,
+    /// Tool centre point control in force (`M128`, `FUNCTION TCPM`), and
+    /// how the orientation was last given.
+    tcp: Option<TcpcType>,
+    /// Datum shift outside the tilted plane (X, Y, Z, then rotary axes by
+    /// joint index).
+    shift: [f64; MAX_AXES],
+    /// Datum shift inside the tilted plane.
+    inner_shift: [f64; 3],
+    /// Cycle 8 mirror, per axis.
+    mirror: [bool; 3],
+    /// Cycle 10 rotation about the tool axis, degrees.
+    rotation: f64,
+    /// Cycle 11 / 26 scale factors.
+    scale: [f64; 3],
+    /// The tilted working plane's rotation, if one is in force.
+    tilt: Option<Rotation3<f64>>,
+    /// The machining cycle last defined: its number and Q parameters.
+    cycle: Option<(u32, Vec<(u32, f64)>)>,
+    /// `M89`: the cycle is called after every positioning block.
+    modal_call: bool,
+    /// The `PATTERN DEF` in force.
+    pattern: Vec<cycles::PatternItem>,
+    /// The stock, once both `BLK FORM` blocks are read.
+    pub(crate) stock: Option<Stock>,
+    stock_min: Option<[f64; 3]>,
+    /// Named tools met so far with the number each stands for.
+    tool_names: Vec<(String, u32)>,
+    /// The direction of the path at the end of the last move, in the
+    /// plane (for `CT`).
+    tangent: Option<[f64; 2]>,
+    /// Axis positions `PLANE … STAY` computed, for Q120 (A), Q121 (B),
+    /// Q122 (C): the runner writes them into the program's parameters.
+    pub(crate) stay: Option<[Option<f64>; 3]>,
+    /// The block being built, and the steps of a cycle.
+    block: CommandBlock,
+    steps: Vec<cycles::Step>,
+    points: Vec<[f64; 3]>,
+    /// Notes for the run's notes.
+    pub(crate) notes: Vec<String>,
+}
+
+/// A HEIDENHAIN alarm: the kernel's condition under its FX code (the TNC
+/// shows texts, not numbers).
+fn alarm(line: u32, condition: Condition, span: Option<Span>, message: String) -> Alarm {
+    Alarm {
+        condition,
+        code: condition.code(Control::Heidenhain),
+        line,
+        span,
+        message,
+    }
+}
+
+fn about(axis: usize, degrees: f64) -> Rotation3<f64> {
+    let v = match axis {
+        0 => Vec3::x_axis(),
+        1 => Vec3::y_axis(),
+        _ => Vec3::z_axis(),
+    };
+    Rotation3::from_axis_angle(&v, degrees.to_radians())
+}
+
+/// The rotation whose columns are the tilted plane's X and Z (Y their
+/// cross product); `None` when they are zero or parallel.
+fn from_x_and_z(x: Vec3, z: Vec3) -> Option<Rotation3<f64>> {
+    let z = z.try_normalize(GEOMETRY_TOLERANCE)?;
+    let x = (x - z * x.dot(&z)).try_normalize(GEOMETRY_TOLERANCE)?;
+    let y = z.cross(&x);
+    Some(Rotation3::from_matrix_unchecked(nalgebra::Matrix3::from_columns(&[x, y, z])))
+}
+
+/// The angle of `v` in the plane, degrees in (−180, 180].
+fn angle_of(v: [f64; 2]) -> f64 {
+    v[1].atan2(v[0]).to_degrees()
+}
+
+impl Front {
+    /// A front end at power-on: plane XY, no transformations, no tool.
+    pub(crate) fn new() -> Self {
+        Self {
+            inch: false,
+            plane: Plane::Xy,
+            pole: None,
+            comp: CutterSide::Off,
+            feed: 0.0,
+            tool_feed: 0.0,
+            shortest: false,
+            tcp: None,
+            shift: [0.0; MAX_AXES],
+            inner_shift: [0.0; 3],
+            mirror: [false; 3],
+            rotation: 0.0,
+            scale: [1.0; 3],
+            tilt: None,
+            cycle: None,
+            modal_call: false,
+            pattern: Vec::new(),
+            stock: None,
+            stock_min: None,
+            tool_names: Vec::new(),
+            tangent: None,
+            stay: None,
+            block: CommandBlock::default(),
+            steps: Vec::new(),
+            points: Vec::new(),
+            notes: Vec::new(),
+        }
+    }
+
+    /// `BEGIN PGM … INCH`: the program's lengths are inches.
+    pub(crate) fn set_inch(&mut self, inch: bool) {
+        self.inch = inch;
+    }
+
+    fn length(&self, x: f64) -> f64 {
+        if self.inch { x * MM_PER_INCH } else { x }
+    }
+
+    /// Carries out one executed block on the controller; its segments are
+    /// appended to `out`.
+    pub(crate) fn run(
+        &mut self,
+        ex: &Executed,
+        ctrl: &mut Controller<'_>,
+        out: &mut Vec<Segment>,
+    ) -> Result<Flow, Alarm> {
+        let line = ex.line;
+        self.block.clear(line);
+        self.block.number = ex.block_number;
+        self.stay = None;
+        match ex.kind {
+            Kind::Empty | Kind::Stop => self.plain(ex, ctrl, out),
+            Kind::Line | Kind::LineNormal => self.line(ex, ctrl, out),
+            Kind::Centre => {
+                self.centre(ex, ctrl)?;
+                self.m_only(ex, ctrl, out)
+            }
+            Kind::Circle | Kind::CircleRadius | Kind::CircleTangent => {
+                self.circle(ex, ctrl, out)
+            }
+            Kind::LinePolar | Kind::CirclePolar | Kind::CircleTangentPolar => {
+                self.polar(ex, ctrl, out)
+            }
+            Kind::Rounding | Kind::Chamfer | Kind::Approach | Kind::Depart => Err(alarm(
+                line,
+                Condition::ImproperAddress,
+                None,
+                format!(
+                    "{} is not carried out by the kernel yet (docs/heidenhain.md, \"What is not read\")",
+                    match ex.kind {
+                        Kind::Rounding => "RND",
+                        Kind::Chamfer => "CHF",
+                        Kind::Approach => "APPR",
+                        _ => "DEP",
+                    }
+                ),
+            )),
+            Kind::ToolCall => self.tool_call(ex, ctrl, out),
+            Kind::ToolDef => self.m_only(ex, ctrl, out),
+            Kind::BlockForm => {
+                self.block_form(ex)?;
+                self.m_only(ex, ctrl, out)
+            }
+            Kind::CycleDef => self.cycle_def(ex, ctrl, out),
+            Kind::CycleCall => {
+                let flow = self.m_only(ex, ctrl, out)?;
+                self.call_cycle(ex, ctrl, out, ex.has_key("PAT"))?;
+                Ok(flow)
+            }
+            Kind::PatternDef => {
+                self.pattern.clear();
+                for item in &ex.pattern {
+                    self.pattern.push(cycles::PatternItem {
+                        kind: item.kind.clone(),
+                        words: item
+                            .words
+                            .iter()
+                            .map(|w| (w.address.clone(), w.value))
+                            .collect(),
+                    });
+                }
+                self.m_only(ex, ctrl, out)
+            }
+            Kind::Plane => self.plane_function(ex, ctrl, out),
+            Kind::Tcpm => {
+                if self.tcp.is_none() {
+                    self.tcp = Some(TcpcType::Angles);
+                    self.block.commands.push(Command::Tcp {
+                        mode: Some(TcpcType::Angles),
+                        span: Span::default(),
+                    });
+                }
+                let great_circle = ex.has_key("PATHCTRL VECTOR");
+                self.block
+                    .commands
+                    .push(Command::OrientationPath { great_circle });
+                if ex.has_key("F CONT") {
+                    self.notes.push(format!(
+                        "line {line}: FUNCTION TCPM F CONT (feed of the axes) read; the kernel's feed is the tip's"
+                    ));
+                }
+                self.m_only(ex, ctrl, out)
+            }
+            Kind::TcpmReset => {
+                self.tcp = None;
+                self.block.commands.push(Command::Tcp {
+                    mode: None,
+                    span: Span::default(),
+                });
+                self.m_only(ex, ctrl, out)
+            }
+        }
+    }
+
+    /// The plane's axes: first, second, tool axis.
+    fn axes(&self) -> [usize; 3] {
+        self.plane.axes()
+    }
+
+    /// A block of M functions (and the words M128's `F` gives).
+    fn plain(
+        &mut self,
+        ex: &Executed,
+        ctrl: &mut Controller<'_>,
+        out: &mut Vec<Segment>,
+    ) -> Result<Flow, Alarm> {
+        if let Some(w) = ex.words.iter().find(|w| w.address != "F") {
+            return Err(alarm(
+                ex.line,
+                Condition::ImproperAddress,
+                Some(w.span),
+                format!("{} has no meaning in a block without a path", w.address),
+            ));
+        }
+        let flow = self.m_only(ex, ctrl, out)?;
+        if ex.kind == Kind::Stop {
+            self.block.clear(ex.line);
+            self.block.commands.push(Command::MFunction {
+                number: 0,
+                span: Span::default(),
+            });
+            ctrl.run_block(&self.block, out)?;
+        }
+        Ok(flow)
+    }
+
+    /// The block's commands so far, its M functions, then the cycle call
+    /// of `M99` / `M89`.
+    fn m_only(
+        &mut self,
+        ex: &Executed,
+        ctrl: &mut Controller<'_>,
+        out: &mut Vec<Segment>,
+    ) -> Result<Flow, Alarm> {
+        let call = self.m_functions(ex, ctrl)?;
+        let flow = ctrl.run_block(&self.block, out)?;
+        if call {
+            self.call_cycle(ex, ctrl, out, false)?;
+        }
+        Ok(flow)
+    }
+
+    /// The block's M functions: the TNC's own (M91/M92 machine
+    /// coordinates, M126/M127, M128/M129, M89/M99 cycle calls, M116/M117,
+    /// M110–M112 feed on arcs, M140 is refused) become the front end's
+    /// state; the others (M0–M9, M13/M14, M30, builder functions) go to
+    /// the controller as M functions, for the machine file to give them
+    /// meaning. Returns whether the block calls the cycle.
+    fn m_functions(&mut self, ex: &Executed, ctrl: &Controller<'_>) -> Result<bool, Alarm> {
+        let mut call = self.modal_call;
+        for &(m, span) in &ex.m {
+            match m {
+                // Machine-referenced coordinates: per block, read by the
+                // path (`line`).
+                91 | 92 => {}
+                126 => self.shortest = true,
+                127 => self.shortest = false,
+                128 => {
+                    if let Some(w) = ex.word("F") {
+                        self.notes.push(format!(
+                            "line {}: M128 F{} (the compensating moves' feed) read; the kernel moves them at the block's feed",
+                            ex.line, w.value
+                        ));
+                    }
+                    if self.tcp.is_none() {
+                        self.tcp = Some(TcpcType::Angles);
+                        self.block.commands.push(Command::Tcp {
+                            mode: Some(TcpcType::Angles),
+                            span,
+                        });
+                    }
+                }
+                129 => {
+                    self.tcp = None;
+                    self.block.commands.push(Command::Tcp { mode: None, span });
+                }
+                99 => call = true,
+                89 => {
+                    self.modal_call = true;
+                    call = true;
+                }
+                // Feed at arcs (M109 / M110 / M111), feed on rotary axes
+                // (M116 / M117), look-ahead (M120), rotary display
+                // (M94): the feed or the display, not the path.
+                94 | 109..=111 | 116 | 117 | 120 => {}
+                13 | 14 => {
+                    // Spindle and coolant on together.
+                    for number in [if m == 13 { 3 } else { 4 }, 8] {
+                        self.block
+                            .commands
+                            .push(Command::MFunction { number, span });
+                    }
+                }
+                _ => {
+                    let number = u16::try_from(m).map_err(|_| {
+                        alarm(
+                            ex.line,
+                            Condition::UnsupportedMCode,
+                            Some(span),
+                            format!("M{m} is not an M function"),
+                        )
+                    })?;
+                    if matches!(m, 2 | 30) {
+                        self.modal_call = false;
+                    }
+                    let _ = ctrl;
+                    self.block
+                        .commands
+                        .push(Command::MFunction { number, span });
+                }
+            }
+        }
+        Ok(call)
+    }
+
+    /// `L` and `LN`: a straight line, with the tool orientation under TCPM.
+    fn line(
+        &mut self,
+        ex: &Executed,
+        ctrl: &mut Controller<'_>,
+        out: &mut Vec<Segment>,
+    ) -> Result<Flow, Alarm> {
+        let machine = ctrl.machine();
+        let line = ex.line;
+        let start = ctrl.program_position();
+        let mut mv = Move::default();
+        let machine_coords = ex.m.iter().any(|&(m, _)| m == 91 || m == 92);
+        let mut normal = [None; 3];
+        let mut vector = [None; 3];
+        for w in &ex.words {
+            match w.address.as_str() {
+                "F" | "R" => {}
+                "NX" | "NY" | "NZ" if ex.kind == Kind::LineNormal => {
+                    normal[usize::from(w.address.as_bytes()[1] - b'X')] = Some(w.value);
+                }
+                "TX" | "TY" | "TZ" if ex.kind == Kind::LineNormal => {
+                    vector[usize::from(w.address.as_bytes()[1] - b'X')] = Some(w.value);
+                }
+                address => {
+                    let Some(i) = axis_index(machine, address) else {
+                        return Err(alarm(
+                            line,
+                            Condition::ImproperAddress,
+                            Some(w.span),
+                            format!("{address} is not an axis of this machine"),
+                        ));
+                    };
+                    let rotary = i >= machine.linear.len();
+                    let value = if rotary { w.value } else { self.length(w.value) };
+                    let mode = if w.incremental {
+                        TargetMode::Incremental
+                    } else if rotary && self.shortest && machine_coords_rollover(machine, i) {
+                        TargetMode::Shortest
+                    } else {
+                        TargetMode::Absolute
+                    };
+                    mv.targets[i] = Some(Target {
+                        value,
+                        mode,
+                        span: w.span,
+                    });
+                }
+            }
+        }
+        if let Some(r) = ex.word("R") {
+            return Err(alarm(
+                line,
+                Condition::ImproperAddress,
+                Some(r.span),
+                "R with a value belongs to CR (the radius) or RND; L takes R0, RL or RR".into(),
+            ));
+        }
+        self.feed_and_comp(ex, ctrl)?;
+        if machine_coords {
+            if ex.has_key("RL") || ex.has_key("RR") {
+                return Err(alarm(
+                    line,
+                    Condition::ImproperAddress,
+                    None,
+                    "M91 / M92: a move in machine coordinates takes no radius compensation".into(),
+                ));
+            }
+            // M91: the coordinates are the machine's own (measured from
+            // the machine datum); M92 measures them from the machine
+            // builder's fixed position, the machine file's reference
+            // position 1 here (the kernel's reading). Neither takes the
+            // tool length: M91 Z0 is the spindle at the top of travel on
+            // the usual layout (the kernel's reading, unverified).
+            if ex.m.iter().any(|&(m, _)| m == 92) {
+                let reference = machine.params.reference_1;
+                for (t, r) in mv.targets.iter_mut().zip(reference) {
+                    if let Some(t) = t.as_mut()
+                        && t.mode != TargetMode::Incremental
+                    {
+                        t.value += r;
+                    }
+                }
+            }
+            mv.suppress = Suppress::Axes;
+        }
+        if ex.kind == Kind::LineNormal {
+            self.line_normal(ex, normal, vector, &mut mv)?;
+        }
+        let linear = machine.linear.len();
+        if self.tcp.is_none()
+            && !machine_coords
+            && mv.targets[linear..].iter().any(Option::is_some)
+            && mv.targets[..linear].iter().all(Option::is_none)
+        {
+            // Rotary axes alone without TCPM: only they move, the linear
+            // axes stay where they stand (the tool tip moves with the
+            // table or head, as on the TNC after PLANE … STAY).
+            for (i, t) in mv.targets.iter_mut().enumerate().skip(linear) {
+                if let Some(t) = t.as_mut()
+                    && t.mode != TargetMode::Incremental
+                {
+                    t.value += self.shift[i];
+                }
+            }
+            mv.suppress = Suppress::Axes;
+        }
+        mv.span = ex.words.first().map_or(Span::default(), |w| w.span);
+        let moves = mv.targets.iter().any(Option::is_some);
+        let call = self.m_functions(ex, ctrl)?;
+        if moves {
+            self.block.commands.push(Command::Move(mv));
+        }
+        let flow = ctrl.run_block(&self.block, out)?;
+        if moves && !machine_coords {
+            let end = ctrl.program_position();
+            let [a, b, _] = self.axes();
+            let d = [end[a] - start[a], end[b] - start[b]];
+            if d[0].hypot(d[1]) > GEOMETRY_TOLERANCE {
+                self.tangent = Some(d);
+            }
+        }
+        if call {
+            self.call_cycle(ex, ctrl, out, false)?;
+        }
+        Ok(flow)
+    }
+
+    /// `LN`'s vectors: under TCPM the tool vector `TX TY TZ` is the tool's
+    /// orientation (as FANUC's G43.5 I J K). The surface normal `NX NY
+    /// NZ` serves 3-D radius compensation with the tool's delta radius,
+    /// which the kernel does not carry out on `LN` blocks: a normal with a
+    /// delta radius other than 0 is refused, one with 0 moves nothing off
+    /// the programmed point.
+    fn line_normal(
+        &mut self,
+        ex: &Executed,
+        normal: [Option<f64>; 3],
+        vector: [Option<f64>; 3],
+        mv: &mut Move,
+    ) -> Result<(), Alarm> {
+        let line = ex.line;
+        let _ = normal;
+        if vector.iter().any(Option::is_some) {
+            if self.tcp.is_none() {
+                return Err(alarm(
+                    line,
+                    Condition::TcpcOptionMissing,
+                    None,
+                    "LN with a tool vector TX TY TZ needs M128 or FUNCTION TCPM".into(),
+                ));
+            }
+            let v = vector.map(|c| c.unwrap_or(0.0));
+            if v.iter().all(|c| *c == 0.0) {
+                return Err(alarm(
+                    line,
+                    Condition::ToolVectorZero,
+                    None,
+                    "the tool vector TX TY TZ is zero".into(),
+                ));
+            }
+            if self.tcp != Some(TcpcType::Vector) {
+                self.tcp = Some(TcpcType::Vector);
+                self.block.commands.push(Command::Tcp {
+                    mode: Some(TcpcType::Vector),
+                    span: Span::default(),
+                });
+            }
+            mv.tool_vector = Some(v);
+        } else if self.tcp == Some(TcpcType::Vector) {
+            self.tcp = Some(TcpcType::Angles);
+            self.block.commands.push(Command::Tcp {
+                mode: Some(TcpcType::Angles),
+                span: Span::default(),
+            });
+        }
+        Ok(())
+    }
+
+    /// `F`, `FMAX`, `F AUTO` and `R0` / `RL` / `RR` of a path block.
+    fn feed_and_comp(&mut self, ex: &Executed, ctrl: &Controller<'_>) -> Result<(), Alarm> {
+        let rapid = ex.has_key("FMAX");
+        if let Some(f) = ex.word("F") {
+            if f.value < 0.0 || !f.value.is_finite() {
+                return Err(alarm(
+                    ex.line,
+                    Condition::ValueOutOfRange,
+                    Some(f.span),
+                    format!("feed F{} must be a positive number", f.value),
+                ));
+            }
+            self.feed = self.length(f.value);
+        } else if ex.has_key("FAUTO") {
+            self.feed = self.tool_feed;
+        }
+        let side = if ex.has_key("RL") {
+            Some(CutterSide::Left)
+        } else if ex.has_key("RR") {
+            Some(CutterSide::Right)
+        } else if ex.has_key("R0") {
+            Some(CutterSide::Off)
+        } else {
+            None
+        };
+        if let Some(side) = side
+            && side != self.comp
+        {
+            self.comp = side;
+            self.block.commands.push(Command::Radius {
+                side,
+                span: Span::default(),
+            });
+        }
+        let _ = ctrl;
+        self.block.commands.push(Command::Interpolation(if rapid {
+            MotionMode::Rapid
+        } else {
+            MotionMode::Linear
+        }));
+        if !rapid {
+            self.block.commands.push(Command::Feed {
+                value: self.feed,
+                span: ex.word("F").map_or(Span::default(), |w| w.span),
+            });
+        }
+        Ok(())
+    }
+
+    /// `CC`: the pole, absolute or incremental from the last programmed
+    /// position; without coordinates the last programmed position.
+    fn centre(&mut self, ex: &Executed, ctrl: &Controller<'_>) -> Result<(), Alarm> {
+        let [a, b, _] = self.axes();
+        let p = ctrl.program_position();
+        let mut pole = [p[a], p[b]];
+        for w in &ex.words {
+            let k = plane_slot(ctrl, &w.address, a, b).ok_or_else(|| {
+                alarm(
+                    ex.line,
+                    Condition::ImproperAddress,
+                    Some(w.span),
+                    format!("CC takes the working plane's two axes, not {}", w.address),
+                )
+            })?;
+            let v = self.length(w.value);
+            pole[k] = if w.incremental { pole[k] + v } else { v };
+        }
+        self.pole = Some(pole);
+        Ok(())
+    }
+
+    /// `C` (about the pole), `CR` (by radius), `CT` (tangential).
+    fn circle(
+        &mut self,
+        ex: &Executed,
+        ctrl: &mut Controller<'_>,
+        out: &mut Vec<Segment>,
+    ) -> Result<Flow, Alarm> {
+        let line = ex.line;
+        let machine = ctrl.machine();
+        let [a, b, n] = self.axes();
+        let start = ctrl.program_position();
+        let mut mv = Move::default();
+        let mut end = [start[a], start[b]];
+        for w in &ex.words {
+            if matches!(w.address.as_str(), "F" | "R") {
+                continue;
+            }
+            let Some(i) = axis_index(machine, &w.address) else {
+                return Err(alarm(
+                    line,
+                    Condition::ImproperAddress,
+                    Some(w.span),
+                    format!("{} is not an axis of this machine", w.address),
+                ));
+            };
+            let v = if i < machine.linear.len() { self.length(w.value) } else { w.value };
+            let value = if w.incremental { start[i] + v } else { v };
+            if i == a {
+                end[0] = value;
+            } else if i == b {
+                end[1] = value;
+            }
+            mv.targets[i] = Some(Target {
+                value,
+                mode: TargetMode::Absolute,
+                span: w.span,
+            });
+        }
+        mv.span = ex.words.first().map_or(Span::default(), |w| w.span);
+        self.feed_and_comp(ex, ctrl)?;
+        // The circle's own interpolation replaces the line's.
+        self.block
+            .commands
+            .retain(|c| !matches!(c, Command::Interpolation(_)));
+        let s = [start[a], start[b]];
+        let (ccw, centre) = match ex.kind {
+            Kind::CircleTangent => {
+                let Some(t) = self.tangent else {
+                    return Err(alarm(
+                        line,
+                        Condition::ArcCenterMissing,
+                        None,
+                        "CT needs a path before it to be tangential to".into(),
+                    ));
+                };
+                let c = tangent_centre(s, end, t).ok_or_else(|| {
+                    alarm(
+                        line,
+                        Condition::ArcRadiusTolerance,
+                        None,
+                        "CT: the end point lies on the tangent, no circle joins it".into(),
+                    )
+                })?;
+                let cross = t[0] * (c[1] - s[1]) - t[1] * (c[0] - s[0]);
+                (cross > 0.0, c)
+            }
+            Kind::CircleRadius => {
+                let r = ex.word("R").ok_or_else(|| {
+                    alarm(
+                        line,
+                        Condition::NoDataAfterAddress,
+                        None,
+                        "CR needs the radius R".into(),
+                    )
+                })?;
+                let ccw = self.direction(ex)?;
+                let radius = self.length(r.value);
+                // R > 0: the shorter arc, R < 0: the longer (more than
+                // 180°).
+                let c = crate::sinumerik::radius_center(s, end, radius, ccw).ok_or_else(|| {
+                    alarm(
+                        line,
+                        Condition::ArcRadiusTolerance,
+                        Some(r.span),
+                        format!("CR: radius {radius} is too small for the chord to the end point"),
+                    )
+                })?;
+                (ccw, c)
+            }
+            _ => {
+                let Some(pole) = self.pole else {
+                    return Err(alarm(
+                        line,
+                        Condition::ArcCenterMissing,
+                        None,
+                        "C needs the circle centre CC".into(),
+                    ));
+                };
+                let r0 = (s[0] - pole[0]).hypot(s[1] - pole[1]);
+                let r1 = (end[0] - pole[0]).hypot(end[1] - pole[1]);
+                if (r0 - r1).abs() > CIRCLE_TOLERANCE {
+                    return Err(alarm(
+                        line,
+                        Condition::ArcRadiusTolerance,
+                        None,
+                        format!(
+                            "C: the end point lies {r1:.4} mm from the pole, the start {r0:.4} mm"
+                        ),
+                    ));
+                }
+                (self.direction(ex)?, pole)
+            }
+        };
+        self.set_centre(&mut mv, [a, b], centre);
+        let _ = n;
+        self.block.commands.push(Command::Interpolation(if ccw {
+            MotionMode::Ccw
+        } else {
+            MotionMode::Cw
+        }));
+        let call = self.m_functions(ex, ctrl)?;
+        self.block.commands.push(Command::Move(mv));
+        let flow = ctrl.run_block(&self.block, out)?;
+        self.tangent_after_arc(ctrl, centre, ccw);
+        if call {
+            self.call_cycle(ex, ctrl, out, false)?;
+        }
+        Ok(flow)
+    }
+
+    /// The circle's centre as absolute program coordinates of the plane.
+    fn set_centre(&self, mv: &mut Move, [a, b]: [usize; 2], c: [f64; 2]) {
+        let slot = |i: usize| match (i, self.plane) {
+            (0, _) => 0,
+            (1, _) => 1,
+            _ => 2,
+        };
+        mv.center[slot(a)] = Some(c[0]);
+        mv.center[slot(b)] = Some(c[1]);
+        mv.center_absolute = true;
+    }
+
+    /// `DR+` counter-clockwise, `DR-` clockwise.
+    fn direction(&self, ex: &Executed) -> Result<bool, Alarm> {
+        if ex.has_key("DR+") {
+            Ok(true)
+        } else if ex.has_key("DR-") {
+            Ok(false)
+        } else {
+            Err(alarm(
+                ex.line,
+                Condition::NoDataAfterAddress,
+                None,
+                "a circle needs its direction DR+ or DR-".into(),
+            ))
+        }
+    }
+
+    /// The path's direction at the end of an arc about the pole or centre
+    /// just carried out.
+    fn tangent_after_arc(&mut self, ctrl: &Controller<'_>, c: [f64; 2], ccw: bool) {
+        let [a, b, _] = self.axes();
+        let e = ctrl.program_position();
+        let r = [e[a] - c[0], e[b] - c[1]];
+        self.tangent = Some(if ccw { [-r[1], r[0]] } else { [r[1], -r[0]] });
+    }
+
+    /// `LP`, `CP`, `CTP`: paths in polar coordinates about the pole.
+    fn polar(
+        &mut self,
+        ex: &Executed,
+        ctrl: &mut Controller<'_>,
+        out: &mut Vec<Segment>,
+    ) -> Result<Flow, Alarm> {
+        let line = ex.line;
+        let machine = ctrl.machine();
+        let [a, b, n] = self.axes();
+        let Some(pole) = self.pole else {
+            return Err(alarm(
+                line,
+                Condition::ArcCenterMissing,
+                None,
+                "polar coordinates need the pole CC".into(),
+            ));
+        };
+        let start = ctrl.program_position();
+        let s = [start[a] - pole[0], start[b] - pole[1]];
+        let (mut pr, mut pa) = (s[0].hypot(s[1]), angle_of(s));
+        let mut sweep = None;
+        let mut mv = Move::default();
+        for w in &ex.words {
+            match w.address.as_str() {
+                "F" => {}
+                "PR" => {
+                    let v = self.length(w.value);
+                    pr = if w.incremental { pr + v } else { v };
+                }
+                "PA" => {
+                    if w.incremental {
+                        sweep = Some(w.value);
+                        pa += w.value;
+                    } else {
+                        pa = w.value;
+                    }
+                }
+                address => {
+                    let i = axis_index(machine, address)
+                        .filter(|&i| i != a && i != b)
+                        .ok_or_else(|| {
+                            alarm(
+                                line,
+                                Condition::ImproperAddress,
+                                Some(w.span),
+                                format!(
+                                    "{address}: a polar path takes PR, PA and the axes off the working plane"
+                                ),
+                            )
+                        })?;
+                    let v = if i < machine.linear.len() { self.length(w.value) } else { w.value };
+                    mv.targets[i] = Some(Target {
+                        value: if w.incremental { start[i] + v } else { v },
+                        mode: TargetMode::Absolute,
+                        span: w.span,
+                    });
+                }
+            }
+        }
+        if ex.kind == Kind::CircleTangentPolar {
+            return Err(alarm(
+                line,
+                Condition::ImproperAddress,
+                None,
+                "CTP is not carried out by the kernel yet (docs/heidenhain.md)".into(),
+            ));
+        }
+        let (sin, cos) = pa.to_radians().sin_cos();
+        let e = [pole[0] + pr * cos, pole[1] + pr * sin];
+        for (k, i) in [a, b].into_iter().enumerate() {
+            mv.targets[i] = Some(Target {
+                value: e[k],
+                mode: TargetMode::Absolute,
+                span: Span::default(),
+            });
+        }
+        mv.span = ex.words.first().map_or(Span::default(), |w| w.span);
+        self.feed_and_comp(ex, ctrl)?;
+        let mut ccw = true;
+        if ex.kind == Kind::CirclePolar {
+            self.block
+                .commands
+                .retain(|c| !matches!(c, Command::Interpolation(_)));
+            ccw = self.direction(ex)?;
+            if let Some(sweep) = sweep {
+                if (sweep > 0.0) != ccw {
+                    return Err(alarm(
+                        line,
+                        Condition::ArcRadiusTolerance,
+                        None,
+                        format!("CP: IPA{sweep} turns against the direction DR{}", if ccw { "+" } else { "-" }),
+                    ));
+                }
+                // A helix's full turns beyond the last part turn.
+                let turns = (sweep.abs() / 360.0 - GEOMETRY_TOLERANCE).floor();
+                if turns >= 1.0 {
+                    mv.turns = Some(turns as u32);
+                }
+            }
+            self.set_centre(&mut mv, [a, b], pole);
+            self.block.commands.push(Command::Interpolation(if ccw {
+                MotionMode::Ccw
+            } else {
+                MotionMode::Cw
+            }));
+        }
+        let _ = n;
+        let call = self.m_functions(ex, ctrl)?;
+        self.block.commands.push(Command::Move(mv));
+        let flow = ctrl.run_block(&self.block, out)?;
+        if ex.kind == Kind::CirclePolar {
+            self.tangent_after_arc(ctrl, pole, ccw);
+        } else {
+            let d = [e[0] - start[a], e[1] - start[b]];
+            if d[0].hypot(d[1]) > GEOMETRY_TOLERANCE {
+                self.tangent = Some(d);
+            }
+        }
+        if call {
+            self.call_cycle(ex, ctrl, out, false)?;
+        }
+        Ok(flow)
+    }
+
+    /// `TOOL CALL n | "name" Z S F DL DR`: the tool's length in force from
+    /// the call (the TNC has no separate offset selection), the spindle
+    /// axis choosing the working plane, the speed, the `F AUTO` feed and
+    /// the deltas.
+    fn tool_call(
+        &mut self,
+        ex: &Executed,
+        ctrl: &mut Controller<'_>,
+        out: &mut Vec<Segment>,
+    ) -> Result<Flow, Alarm> {
+        let line = ex.line;
+        let number = match &ex.tool {
+            Some(Tool::Number(n)) => Some(*n),
+            Some(Tool::Name(name)) => Some(self.named_tool(ctrl, line, name)?),
+            None => None,
+        };
+        if let Some(axis) = ex.name.as_deref() {
+            self.plane = match axis {
+                "Z" => Plane::Xy,
+                "Y" => Plane::Zx,
+                "X" => Plane::Yz,
+                other => {
+                    return Err(alarm(
+                        line,
+                        Condition::ImproperAddress,
+                        None,
+                        format!("TOOL CALL: the spindle axis {other} is not X, Y or Z"),
+                    ));
+                }
+            };
+            self.block.commands.push(Command::Plane(self.plane));
+        }
+        if let Some(n) = number {
+            let span = Span::default();
+            self.block.commands.push(Command::ToolSelect { tool: n, span });
+            // The tool goes into the spindle (the TNC's tool change).
+            self.block
+                .commands
+                .push(Command::MFunction { number: 6, span });
+            self.block
+                .commands
+                .push(Command::ToolOffset { number: n, span });
+        }
+        let mut delta = [0.0; 2];
+        for w in &ex.words {
+            match w.address.as_str() {
+                "S" => {
+                    if w.value < 0.0 || !w.value.is_finite() {
+                        return Err(alarm(
+                            line,
+                            Condition::ValueOutOfRange,
+                            Some(w.span),
+                            format!("TOOL CALL: spindle speed S{} must not be negative", w.value),
+                        ));
+                    }
+                    self.block.commands.push(Command::SpindleSpeed(w.value));
+                }
+                "F" => self.tool_feed = self.length(w.value),
+                "DL" => delta[0] = self.length(w.value),
+                "DR" => delta[1] = self.length(w.value),
+                "DR2" => {}
+                other => {
+                    return Err(alarm(
+                        line,
+                        Condition::ImproperAddress,
+                        Some(w.span),
+                        format!("TOOL CALL takes S, F, DL, DR and DR2, not {other}"),
+                    ));
+                }
+            }
+        }
+        if number.is_some() {
+            self.block.commands.push(Command::ToolDelta {
+                length: delta[0],
+                radius: delta[1],
+            });
+        }
+        self.m_only(ex, ctrl, out)
+    }
+
+    /// A tool called by name: the offsets file's number for it, or (with
+    /// no tools in the file) a number of its own.
+    fn named_tool(&mut self, ctrl: &Controller<'_>, line: u32, name: &str) -> Result<u32, Alarm> {
+        let offsets = ctrl.offsets();
+        if let Some(n) = offsets.tool_number(name) {
+            return Ok(n);
+        }
+        if !offsets.tools.is_empty() && !offsets.any_name {
+            return Err(alarm(
+                line,
+                Condition::IllegalOffsetNumber,
+                None,
+                format!("tool \"{name}\" is not in the offsets file's [tools]"),
+            ));
+        }
+        if let Some((_, n)) = self.tool_names.iter().find(|(t, _)| t == name) {
+            return Ok(*n);
+        }
+        let n = self.tool_names.len() as u32 + 1;
+        self.tool_names.push((name.to_owned(), n));
+        Ok(n)
+    }
+
+    /// `BLK FORM 0.1 Z X Y Z` / `0.2 X Y Z`: the stock's corners.
+    fn block_form(&mut self, ex: &Executed) -> Result<(), Alarm> {
+        let mut p = [0.0; 3];
+        for w in &ex.words {
+            let k = match w.address.as_str() {
+                "X" => 0,
+                "Y" => 1,
+                "Z" => 2,
+                other => {
+                    return Err(alarm(
+                        ex.line,
+                        Condition::ImproperAddress,
+                        Some(w.span),
+                        format!("BLK FORM takes X, Y and Z, not {other}"),
+                    ));
+                }
+            };
+            p[k] = self.length(w.value);
+        }
+        match ex.number {
+            Some(x) if (x - 0.1).abs() < 1e-6 => self.stock_min = Some(p),
+            Some(x) if (x - 0.2).abs() < 1e-6 => {
+                let Some(min) = self.stock_min else {
+                    return Err(alarm(
+                        ex.line,
+                        Condition::CycleDataMissing,
+                        None,
+                        "BLK FORM 0.2 needs BLK FORM 0.1 before it".into(),
+                    ));
+                };
+                let mut max = p;
+                for (k, w) in ex.words.iter().enumerate() {
+                    if w.incremental {
+                        max[k] = min[k] + p[k];
+                    }
+                }
+                self.stock = Some(Stock { min, max });
+            }
+            _ => {
+                return Err(alarm(
+                    ex.line,
+                    Condition::ImproperAddress,
+                    None,
+                    "BLK FORM is 0.1 (minimum point) or 0.2 (maximum point); the kernel reads the box"
+                        .into(),
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// `CYCL DEF n.m`: coordinate transformations take effect at once,
+    /// machining cycles are remembered for their call.
+    fn cycle_def(
+        &mut self,
+        ex: &Executed,
+        ctrl: &mut Controller<'_>,
+        out: &mut Vec<Segment>,
+    ) -> Result<Flow, Alarm> {
+        let line = ex.line;
+        let number = ex.number.unwrap_or(0.0);
+        let major = number.trunc() as u32;
+        let minor = ((number - number.trunc()) * 10.0).round() as u32;
+        match (major, minor) {
+            (7, 0) | (8, 0) | (10, 0) | (11, 0) | (26, 0) | (19, 0) | (32, 0) => {}
+            (7, _) => {
+                let machine = ctrl.machine();
+                for w in &ex.words {
+                    let i = axis_index(machine, &w.address).ok_or_else(|| {
+                        alarm(
+                            line,
+                            Condition::ImproperAddress,
+                            Some(w.span),
+                            format!("DATUM SHIFT: {} is not an axis of this machine", w.address),
+                        )
+                    })?;
+                    let v = if i < 3 { self.length(w.value) } else { w.value };
+                    if self.tilt.is_some() && i < 3 {
+                        let s = &mut self.inner_shift[i];
+                        *s = if w.incremental { *s + v } else { v };
+                    } else {
+                        let s = &mut self.shift[i];
+                        *s = if w.incremental { *s + v } else { v };
+                    }
+                }
+                self.push_frames();
+            }
+            (8, _) => {
+                // The axes named are mirrored; none named: mirror off.
+                let mut mirror = [false; 3];
+                for k in ex.keys.iter().map(|k| k.key.as_str()).chain(ex.words.iter().map(|w| w.address.as_str())) {
+                    match k {
+                        "X" => mirror[0] = true,
+                        "Y" => mirror[1] = true,
+                        "Z" => mirror[2] = true,
+                        _ => {}
+                    }
+                }
+                self.mirror = mirror;
+                self.push_frames();
+            }
+            (10, _) => {
+                let rot = ex.word("ROT").ok_or_else(|| {
+                    alarm(line, Condition::NoDataAfterAddress, None, "ROTATION needs ROT".into())
+                })?;
+                self.rotation = if rot.incremental {
+                    self.rotation + rot.value
+                } else {
+                    rot.value
+                };
+                self.push_frames();
+            }
+            (11, _) => {
+                let scl = ex.word("SCL").ok_or_else(|| {
+                    alarm(line, Condition::NoDataAfterAddress, None, "SCALING needs SCL".into())
+                })?;
+                if scl.value.is_nan() || scl.value <= 0.0 {
+                    return Err(alarm(
+                        line,
+                        Condition::ValueOutOfRange,
+                        Some(scl.span),
+                        format!("SCALING: factor {} must be greater than 0", scl.value),
+                    ));
+                }
+                self.scale = [scl.value; 3];
+                self.push_frames();
+            }
+            (26, _) => {
+                let mut scale = [1.0; 3];
+                for w in &ex.words {
+                    let k = match w.address.as_str() {
+                        "X" => 0,
+                        "Y" => 1,
+                        "Z" => 2,
+                        _ => continue,
+                    };
+                    if w.value.is_nan() || w.value <= 0.0 {
+                        return Err(alarm(
+                            line,
+                            Condition::ValueOutOfRange,
+                            Some(w.span),
+                            format!("AXIS-SPECIFIC SCALING: factor {} must be greater than 0", w.value),
+                        ));
+                    }
+                    scale[k] = w.value;
+                }
+                self.scale = scale;
+                self.push_frames();
+            }
+            (19, _) => {
+                // Cycle 19: the plane by the rotary axes' angles (as PLANE
+                // AXIAL), no axis moves (the machine's setting for
+                // positioning is the program's next L block here).
+                let machine = ctrl.machine();
+                let mut joints = ctrl.joints_now();
+                let mut any = false;
+                for w in &ex.words {
+                    if w.address == "F" {
+                        continue;
+                    }
+                    let i = axis_index(machine, &w.address)
+                        .filter(|&i| i >= machine.linear.len())
+                        .ok_or_else(|| {
+                            alarm(
+                                line,
+                                Condition::ImproperAddress,
+                                Some(w.span),
+                                format!("WORKING PLANE: {} is not a rotary axis of this machine", w.address),
+                            )
+                        })?;
+                    joints[i] = w.value;
+                    any |= w.value != 0.0;
+                }
+                self.tilt = any.then(|| ctrl.tool_rotation_at(&joints));
+                if self.tilt.is_none() {
+                    self.inner_shift = [0.0; 3];
+                }
+                self.push_frames();
+            }
+            (32, _) => {
+                if let Some(t) = ex.word("T") {
+                    let tolerance = self.length(t.value);
+                    self.block.commands.push(Command::PathSmoothing {
+                        on: tolerance > 0.0,
+                        tolerance: (tolerance > 0.0).then_some(tolerance),
+                    });
+                } else if minor == 1 {
+                    self.block.commands.push(Command::PathSmoothing {
+                        on: false,
+                        tolerance: None,
+                    });
+                }
+            }
+            (247, _) => {
+                let n = ex.param(339).ok_or_else(|| {
+                    alarm(
+                        line,
+                        Condition::CycleDataMissing,
+                        None,
+                        "DATUM SETTING needs Q339, the preset number".into(),
+                    )
+                })?;
+                if !(0.0..=48.0).contains(&n) || n.fract() != 0.0 {
+                    return Err(alarm(
+                        line,
+                        Condition::ValueOutOfRange,
+                        None,
+                        format!("DATUM SETTING: preset Q339={n} is not a row 0 to 48 of the preset table"),
+                    ));
+                }
+                // Preset 0 is the offsets file's G54, preset n its
+                // "G54.1 Pn" (docs/heidenhain.md).
+                self.block.commands.push(Command::WorkOffset(if n == 0.0 {
+                    crate::command::WorkOffset::Standard(1)
+                } else {
+                    crate::command::WorkOffset::Extended(n as u8)
+                }));
+            }
+            (392, _) => {
+                self.notes.push(format!(
+                    "line {line}: CYCL DEF 392 (the machine's dynamics setting) read, not simulated"
+                ));
+            }
+            (n, 0) if cycles::is_machining_cycle(n) => {
+                self.cycle = Some((n, ex.params.clone()));
+                self.modal_call = false;
+            }
+            _ => {
+                return Err(alarm(
+                    line,
+                    Condition::CycleNotAllowed,
+                    None,
+                    format!("CYCL DEF {number} is not a cycle the kernel carries out"),
+                ));
+            }
+        }
+        let flow = self.m_only(ex, ctrl, out)?;
+        if (major, minor) == (32, 0) {
+            self.block.commands.clear();
+        }
+        Ok(flow)
+    }
+
+    /// The frames the transformations make: the datum shift outside the
+    /// tilt and the tilt as the swivel frame, the shift inside the tilt,
+    /// mirror, rotation and scale as the programmable frame.
+    fn push_frames(&mut self) {
+        let mut outer = Frame::rigid(
+            Vec3::new(self.shift[0], self.shift[1], self.shift[2]),
+            self.tilt.unwrap_or_else(Rotation3::identity),
+        );
+        for i in 3..MAX_AXES {
+            outer.axis_shift[i] = self.shift[i];
+        }
+        let swivel = (!outer.is_identity() || self.tilt.is_some()).then_some(outer);
+        self.block.commands.push(Command::SwivelFrame(swivel));
+        let [_, _, n] = self.axes();
+        let programmable = Frame {
+            translation: Vec3::new(self.inner_shift[0], self.inner_shift[1], self.inner_shift[2]),
+            rotation: about(n, self.rotation),
+            scale: self.scale,
+            mirror: self.mirror,
+            ..Frame::IDENTITY
+        };
+        self.block
+            .commands
+            .push(Command::ProgrammableFrame(programmable));
+    }
+
+    /// `PLANE …`: the tilted working plane, then `MOVE` / `TURN` / `STAY`.
+    fn plane_function(
+        &mut self,
+        ex: &Executed,
+        ctrl: &mut Controller<'_>,
+        out: &mut Vec<Segment>,
+    ) -> Result<Flow, Alarm> {
+        let line = ex.line;
+        let form = ex.name.as_deref().unwrap_or("");
+        let w = |name: &str| ex.word(name).map_or(0.0, |w| w.value);
+        let machine = ctrl.machine();
+        let mut axial = None;
+        let tilt = match form {
+            "RESET" => None,
+            "SPATIAL" => Some(about(2, w("SPC")) * about(1, w("SPB")) * about(0, w("SPA"))),
+            "PROJECTED" => {
+                let (p, m) = (w("PROPR").to_radians(), w("PROMIN").to_radians());
+                let x = Vec3::new(p.cos(), 0.0, -p.sin());
+                let y = Vec3::new(0.0, m.cos(), m.sin());
+                let r = from_x_and_z(x, x.cross(&y)).ok_or_else(|| {
+                    alarm(line, Condition::FeatureDefinition, None, "PLANE PROJECTED: the angles give no plane".into())
+                })?;
+                let rot = ex.word("ROT").or_else(|| ex.word("PROROT")).map_or(0.0, |w| w.value);
+                Some(r * about(2, rot))
+            }
+            "EULER" => Some(about(2, w("EULPR")) * about(0, w("EULNU")) * about(2, w("EULROT"))),
+            "VECTOR" => {
+                let b = Vec3::new(w("BX"), w("BY"), w("BZ"));
+                let n = Vec3::new(w("NX"), w("NY"), w("NZ"));
+                Some(from_x_and_z(b, n).ok_or_else(|| {
+                    alarm(
+                        line,
+                        Condition::FeatureDefinition,
+                        None,
+                        "PLANE VECTOR: the base vector and the normal vector must be non-zero and not parallel".into(),
+                    )
+                })?)
+            }
+            "POINTS" => {
+                let p = |k: u8| {
+                    Vec3::new(
+                        w(&format!("P{k}X")),
+                        w(&format!("P{k}Y")),
+                        w(&format!("P{k}Z")),
+                    )
+                };
+                let (p1, p2, p3) = (p(1), p(2), p(3));
+                let x = p2 - p1;
+                Some(from_x_and_z(x, x.cross(&(p3 - p1))).ok_or_else(|| {
+                    alarm(line, Condition::FeatureDefinition, None, "PLANE POINTS: the three points lie on a line".into())
+                })?)
+            }
+            "RELATIV" => {
+                let base = self.tilt.unwrap_or_else(Rotation3::identity);
+                let turn = if let Some(v) = ex.word("SPA") {
+                    about(0, v.value)
+                } else if let Some(v) = ex.word("SPB") {
+                    about(1, v.value)
+                } else if let Some(v) = ex.word("SPC") {
+                    about(2, v.value)
+                } else {
+                    return Err(alarm(
+                        line,
+                        Condition::FeatureDefinition,
+                        None,
+                        "PLANE RELATIV needs one angle SPA, SPB or SPC".into(),
+                    ));
+                };
+                Some(base * turn)
+            }
+            "AXIAL" => {
+                let mut joints = ctrl.joints_now();
+                let mut angles = [None; 2];
+                for word in &ex.words {
+                    let Some(i) = axis_index(machine, &word.address).filter(|&i| i >= machine.linear.len()) else {
+                        continue;
+                    };
+                    joints[i] = word.value;
+                    if let Some(k) = (0..machine.rotary.len().min(2)).find(|&k| machine.rotary_index(k) == i) {
+                        angles[k] = Some(word.value);
+                    }
+                }
+                axial = Some(angles);
+                Some(ctrl.tool_rotation_at(&joints))
+            }
+            other => {
+                return Err(alarm(
+                    line,
+                    Condition::FeatureDefinition,
+                    None,
+                    format!("PLANE {other} is not a form of PLANE"),
+                ));
+            }
+        };
+        self.tilt = tilt;
+        if tilt.is_none() {
+            self.inner_shift = [0.0; 3];
+        }
+        self.push_frames();
+        let flow = self.m_only(ex, ctrl, out)?;
+        let seq = if ex.has_key("SEQ+") {
+            Some(true)
+        } else if ex.has_key("SEQ-") {
+            Some(false)
+        } else {
+            None
+        };
+        let positioning = ["MOVE", "TURN"].into_iter().find(|k| ex.has_key(k));
+        if tilt.is_none() {
+            if positioning.is_some() {
+                // PLANE RESET MOVE / TURN: the rotary axes to 0.
+                self.block.clear(line);
+                let mut mv = Move {
+                    suppress: Suppress::Nothing,
+                    ..Move::default()
+                };
+                for k in 0..machine.rotary.len().min(2) {
+                    mv.targets[machine.rotary_index(k)] = Some(Target {
+                        value: 0.0,
+                        mode: TargetMode::Absolute,
+                        span: Span::default(),
+                    });
+                }
+                self.positioning_feed(ex);
+                self.block.commands.push(Command::Move(mv));
+                ctrl.run_block(&self.block, out)?;
+            }
+            return Ok(flow);
+        }
+        // The axis positions that put the tool along the plane's Z.
+        let angles = match axial {
+            Some(angles) => {
+                let now = ctrl.joints_now();
+                [0, 1].map(|k| {
+                    angles[k].unwrap_or_else(|| {
+                        machine
+                            .rotary
+                            .get(k)
+                            .map_or(0.0, |_| now[machine.rotary_index(k)])
+                    })
+                })
+            }
+            None => self.table_rot(ex, ctrl, seq)?,
+        };
+        if ex.has_key("STAY") {
+            let mut stay = [None; 3];
+            for (k, angle) in angles.iter().enumerate().take(machine.rotary.len().min(2)) {
+                let slot = match machine.rotary[k].name.to_ascii_uppercase() {
+                    'A' => 0,
+                    'B' => 1,
+                    _ => 2,
+                };
+                stay[slot] = Some(*angle);
+            }
+            self.stay = Some(stay);
+            return Ok(flow);
+        }
+        let Some(mode) = positioning else {
+            return Err(alarm(
+                line,
+                Condition::FeatureDefinition,
+                None,
+                "PLANE needs MOVE, TURN or STAY".into(),
+            ));
+        };
+        // MB: a retract along the tool axis first.
+        if let Some(mb) = ex.word("MB") {
+            self.retract(ctrl, line, Some(self.length(mb.value)), out)?;
+        } else if ex.has_key("MB MAX") {
+            self.retract(ctrl, line, None, out)?;
+        }
+        self.block.clear(line);
+        self.positioning_feed(ex);
+        let mut mv = Move::default();
+        for (k, angle) in angles.iter().enumerate().take(machine.rotary.len().min(2)) {
+            mv.targets[machine.rotary_index(k)] = Some(Target {
+                value: *angle,
+                mode: TargetMode::Absolute,
+                span: Span::default(),
+            });
+        }
+        if mode == "MOVE" {
+            // The tool tip stays on the workpiece: the linear axes follow
+            // as under TCPC for this block.
+            if self.tcp.is_none() {
+                self.block.commands.push(Command::Tcp {
+                    mode: Some(TcpcType::Angles),
+                    span: Span::default(),
+                });
+            }
+            self.block.commands.push(Command::Move(mv));
+            if self.tcp.is_none() {
+                self.block.commands.push(Command::Tcp {
+                    mode: None,
+                    span: Span::default(),
+                });
+            }
+        } else {
+            mv.suppress = Suppress::Nothing;
+            self.block.commands.push(Command::Move(mv));
+        }
+        ctrl.run_block(&self.block, out)?;
+        if let Some(dist) = ex.word("DIST") {
+            self.notes.push(format!(
+                "line {line}: PLANE … MOVE DIST{}: the kernel turns about the tool tip",
+                dist.value
+            ));
+        }
+        Ok(flow)
+    }
+
+    /// The positioning feed of `PLANE … MOVE / TURN`: `F` or `FMAX`.
+    fn positioning_feed(&mut self, ex: &Executed) {
+        if let Some(f) = ex.word("F") {
+            self.block.commands.push(Command::Interpolation(MotionMode::Linear));
+            self.block.commands.push(Command::Feed {
+                value: self.length(f.value),
+                span: f.span,
+            });
+        } else {
+            self.block.commands.push(Command::Interpolation(MotionMode::Rapid));
+        }
+    }
+
+    /// The rotary positions for the tilted plane in force by `SEQ`; with
+    /// `TABLE ROT` and the tool already along the plane's Z (no tilt), the
+    /// rotary table turns the plane's rotation about the tool axis (the
+    /// TNC's "TABLE ROT"), else the table stays (`COORD ROT`).
+    fn table_rot(
+        &self,
+        ex: &Executed,
+        ctrl: &Controller<'_>,
+        seq: Option<bool>,
+    ) -> Result<[f64; 2], Alarm> {
+        let mut angles = ctrl.plane_axes(seq, Span::default()).map_err(|a| Alarm { line: ex.line, ..a })?;
+        let machine = ctrl.machine();
+        let Some(tilt) = self.tilt else { return Ok(angles) };
+        if !ex.has_key("TABLE ROT") || machine.rotary.len() < 2 {
+            return Ok(angles);
+        }
+        let z = tilt * Vec3::z();
+        if (z - Vec3::z()).norm() > GEOMETRY_TOLERANCE {
+            return Ok(angles);
+        }
+        // The table axis turning about the tool axis, if there is one.
+        let Some(k) = (0..2).find(|&k| {
+            machine.rotary[k].on == fiveaxis_machine::Side::Table
+                && machine.rotary[k].axis.into_inner().cross(&Vec3::z()).norm() < GEOMETRY_TOLERANCE
+        }) else {
+            return Ok(angles);
+        };
+        let i = machine.rotary_index(k);
+        let mut joints = ctrl.joints_now();
+        joints[machine.rotary_index(0)] = angles[0];
+        joints[machine.rotary_index(1)] = angles[1];
+        let have = ctrl.tool_rotation_at(&joints) * Vec3::x();
+        let want = tilt * Vec3::x();
+        // The turn of the table that brings the plane's X where the
+        // tool's X is: measured, so that the axis' sense does not matter.
+        let turn = have.y.atan2(have.x) - want.y.atan2(want.x);
+        joints[i] += turn.to_degrees();
+        let check = ctrl.tool_rotation_at(&joints) * Vec3::x();
+        let sign = if (check - want).norm() < 1e-6 { 1.0 } else { -1.0 };
+        angles[k] += sign * turn.to_degrees();
+        Ok(angles)
+    }
+
+    /// A retract along the tool axis (machine coordinates) by `distance`,
+    /// or to the end of the travel.
+    fn retract(
+        &mut self,
+        ctrl: &mut Controller<'_>,
+        line: u32,
+        distance: Option<f64>,
+        out: &mut Vec<Segment>,
+    ) -> Result<(), Alarm> {
+        let machine = ctrl.machine();
+        let now = ctrl.joints_now();
+        let dir = ctrl.tool_direction_machine();
+        // The tool points along −dir into the work: away is +dir·… with
+        // the tool direction pointing from the tip to the spindle.
+        let away = -dir;
+        let d = match distance {
+            Some(d) => d,
+            None => {
+                let mut d = f64::INFINITY;
+                for k in 0..3 {
+                    if away[k].abs() < GEOMETRY_TOLERANCE {
+                        continue;
+                    }
+                    let axis = &machine.linear[k];
+                    let limit = if away[k] > 0.0 { axis.max } else { axis.min };
+                    d = d.min((limit - now[k]) / away[k]);
+                }
+                if d.is_finite() { d.max(0.0) } else { 0.0 }
+            }
+        };
+        self.block.clear(line);
+        self.block.commands.push(Command::Interpolation(MotionMode::Rapid));
+        let mut mv = Move {
+            suppress: Suppress::Axes,
+            ..Move::default()
+        };
+        for k in 0..3 {
+            mv.targets[k] = Some(Target {
+                value: now[k] + d * away[k],
+                mode: TargetMode::Absolute,
+                span: Span::default(),
+            });
+        }
+        self.block.commands.push(Command::Move(mv));
+        ctrl.run_block(&self.block, out)?;
+        Ok(())
+    }
+
+    /// The machining cycle defined last, at the position where the tool
+    /// stands (`CYCL CALL`, `M99`, `M89`), or at every point of the
+    /// pattern (`CYCL CALL PAT`).
+    fn call_cycle(
+        &mut self,
+        ex: &Executed,
+        ctrl: &mut Controller<'_>,
+        out: &mut Vec<Segment>,
+        pattern: bool,
+    ) -> Result<(), Alarm> {
+        let line = ex.line;
+        let Some((number, params)) = self.cycle.clone() else {
+            return Err(alarm(
+                line,
+                Condition::CycleDataMissing,
+                None,
+                "a cycle call needs a machining cycle defined before it (CYCL DEF 200 …)".into(),
+            ));
+        };
+        let mut points = std::mem::take(&mut self.points);
+        points.clear();
+        if pattern {
+            cycles::pattern(&self.pattern, &mut points).map_err(|e| {
+                alarm(line, Condition::CycleDataMissing, None, format!("PATTERN DEF: {}", e.message))
+            })?;
+        }
+        let [a, b, n] = self.axes();
+        let result = (|| {
+            if !pattern {
+                return self.cycle_at(ctrl, line, number, &params, out);
+            }
+            for p in &points {
+                // To the point in the plane at rapid, then the cycle (its
+                // surface Q203 as the point's third coordinate when the
+                // pattern gives one is the cycle's own).
+                self.block.clear(line);
+                self.block.commands.push(Command::Interpolation(MotionMode::Rapid));
+                let mut mv = Move::default();
+                for (k, i) in [a, b].into_iter().enumerate() {
+                    mv.targets[i] = Some(Target {
+                        value: p[k],
+                        mode: TargetMode::Absolute,
+                        span: Span::default(),
+                    });
+                }
+                let _ = n;
+                self.block.commands.push(Command::Move(mv));
+                ctrl.run_block(&self.block, out)?;
+                let mut params = params.clone();
+                if p[2] != 0.0 {
+                    match params.iter_mut().find(|(q, _)| *q == 203) {
+                        Some((_, v)) => *v = p[2],
+                        None => params.push((203, p[2])),
+                    }
+                }
+                self.cycle_at(ctrl, line, number, &params, out)?;
+            }
+            Ok(())
+        })();
+        self.points = points;
+        result
+    }
+
+    /// One call of cycle `number` where the tool stands.
+    fn cycle_at(
+        &mut self,
+        ctrl: &mut Controller<'_>,
+        line: u32,
+        number: u32,
+        params: &[(u32, f64)],
+        out: &mut Vec<Segment>,
+    ) -> Result<(), Alarm> {
+        let position = ctrl.program_position();
+        let tool_radius = ctrl.tool_radius_in_force();
+        let ctx = cycles::Context {
+            plane: self.axes(),
+            position: [position[0], position[1], position[2]],
+            feed: ctrl.feed(),
+            spindle: ctrl.spindle_speed(),
+            tool_radius,
+            spindle_ccw: false,
+            point_angle: None,
+        };
+        let inch = self.inch;
+        let params: Vec<(u32, f64)> = params
+            .iter()
+            .map(|&(q, v)| (q, if inch && inch_value(q, v) { v * MM_PER_INCH } else { v }))
+            .collect();
+        let mut steps = std::mem::take(&mut self.steps);
+        steps.clear();
+        let result = cycles::cycle(number, &params, &ctx, &mut steps)
+            .map_err(|e| {
+                alarm(
+                    line,
+                    Condition::CycleDataMissing,
+                    None,
+                    format!("CYCL DEF {number}: {}", e.message),
+                )
+            })
+            .and_then(|()| self.steps_to_blocks(ctrl, line, &steps, out));
+        self.steps = steps;
+        result
+    }
+
+    /// Runs a cycle's steps as blocks of commands, then gives back the
+    /// feed in force before it.
+    fn steps_to_blocks(
+        &mut self,
+        ctrl: &mut Controller<'_>,
+        line: u32,
+        steps: &[cycles::Step],
+        out: &mut Vec<Segment>,
+    ) -> Result<(), Alarm> {
+        let feed = ctrl.feed();
+        let [a, b, _] = self.axes();
+        let target = |to: [Option<f64>; 3]| {
+            let mut mv = Move::default();
+            for (k, v) in to.iter().enumerate() {
+                mv.targets[k] = v.map(|value| Target {
+                    value,
+                    mode: TargetMode::Absolute,
+                    span: Span::default(),
+                });
+            }
+            mv
+        };
+        for step in steps {
+            self.block.clear(line);
+            match *step {
+                cycles::Step::Rapid(to) => {
+                    self.block.commands.push(Command::Interpolation(MotionMode::Rapid));
+                    self.block.commands.push(Command::Move(target(to)));
+                }
+                cycles::Step::Feed { to, feed } if feed >= cycles::FMAX => {
+                    self.block.commands.push(Command::Interpolation(MotionMode::Rapid));
+                    self.block.commands.push(Command::Move(target(to)));
+                }
+                cycles::Step::Feed { to, feed } => {
+                    self.block.commands.push(Command::Interpolation(MotionMode::Linear));
+                    self.block.commands.push(Command::Feed {
+                        value: feed,
+                        span: Span::default(),
+                    });
+                    self.block.commands.push(Command::Move(target(to)));
+                }
+                cycles::Step::Helix {
+                    center,
+                    sweep,
+                    end,
+                    feed,
+                } => {
+                    let p = ctrl.program_position();
+                    let [_, _, n] = self.axes();
+                    let r = [p[a] - center[0], p[b] - center[1]];
+                    let (sin, cos) = sweep.to_radians().sin_cos();
+                    let e = [
+                        center[0] + r[0] * cos - r[1] * sin,
+                        center[1] + r[0] * sin + r[1] * cos,
+                    ];
+                    let mut to = [None; 3];
+                    to[a] = Some(e[0]);
+                    to[b] = Some(e[1]);
+                    to[n] = Some(end);
+                    self.block.commands.push(Command::Interpolation(if sweep >= 0.0 {
+                        MotionMode::Ccw
+                    } else {
+                        MotionMode::Cw
+                    }));
+                    self.block.commands.push(Command::Feed {
+                        value: feed,
+                        span: Span::default(),
+                    });
+                    let mut mv = target(to);
+                    self.set_centre(&mut mv, [a, b], center);
+                    // Full turns beyond the last part turn (a whole number
+                    // of turns ends where it starts: 360° each).
+                    let turns = (sweep.abs() / 360.0 - GEOMETRY_TOLERANCE).floor();
+                    if turns >= 1.0 {
+                        mv.turns = Some(turns as u32);
+                    }
+                    self.block.commands.push(Command::Move(mv));
+                }
+                cycles::Step::Orient(_) => self.block.commands.push(Command::MFunction {
+                    number: 19,
+                    span: Span::default(),
+                }),
+                cycles::Step::Speed(s) => self.block.commands.push(Command::SpindleSpeed(s)),
+                cycles::Step::Dwell(seconds) => self.block.commands.push(Command::Dwell {
+                    seconds,
+                    span: Span::default(),
+                }),
+                cycles::Step::M(number) => self.block.commands.push(Command::MFunction {
+                    number,
+                    span: Span::default(),
+                }),
+            }
+            ctrl.run_block(&self.block, out)?;
+        }
+        self.block.clear(line);
+        self.block.commands.push(Command::Feed {
+            value: feed,
+            span: Span::default(),
+        });
+        ctrl.run_block(&self.block, out)?;
+        Ok(())
+    }
+}
+
+/// Whether cycle parameter `q`'s value `v` is a length or a feed, which
+/// an inch program gives in inches (and inches per minute): every
+/// parameter but the dwell times, counts, angles, modes and speeds, and
+/// not the feed markers FMAX and FAUTO.
+fn inch_value(q: u32, v: f64) -> bool {
+    const UNITLESS: [u32; 13] = [
+        210, 211, 213, 214, 255, 336, 343, 351, 395, 426, 427, 429, 430,
+    ];
+    !UNITLESS.contains(&q) && (0.0..cycles::FMAX).contains(&v)
+}
+
+/// The machine's axis named `address` (X, Y, Z, then the rotary axes by
+/// their names), by joint index.
+fn axis_index(machine: &fiveaxis_machine::Machine, address: &str) -> Option<usize> {
+    let mut chars = address.chars();
+    let (Some(c), None) = (chars.next(), chars.next()) else {
+        return None;
+    };
+    match c {
+        'X' => Some(0),
+        'Y' => Some(1),
+        'Z' => Some(2),
+        _ => (0..machine.rotary.len())
+            .find(|&k| machine.rotary[k].name.eq_ignore_ascii_case(&c))
+            .map(|k| machine.rotary_index(k)),
+    }
+}
+
+/// Whether rotary axis `i` rolls over (an endless axis, where M126's
+/// shorter way applies).
+fn machine_coords_rollover(machine: &fiveaxis_machine::Machine, i: usize) -> bool {
+    (0..machine.rotary.len())
+        .find(|&k| machine.rotary_index(k) == i)
+        .is_some_and(|k| machine.rotary[k].rollover)
+}
+
+/// Which of the plane's two axes (0 or 1) `address` names.
+fn plane_slot(ctrl: &Controller<'_>, address: &str, a: usize, b: usize) -> Option<usize> {
+    let i = axis_index(ctrl.machine(), address)?;
+    if i == a {
+        Some(0)
+    } else if i == b {
+        Some(1)
+    } else {
+        None
+    }
+}
+
+/// The centre of the circle that leaves `s` along direction `t` and ends
+/// at `e`, in the plane; `None` when `e` lies on the tangent.
+fn tangent_centre(s: [f64; 2], e: [f64; 2], t: [f64; 2]) -> Option<[f64; 2]> {
+    let len = t[0].hypot(t[1]);
+    if len <= GEOMETRY_TOLERANCE {
+        return None;
+    }
+    let t = [t[0] / len, t[1] / len];
+    // The left normal; the centre is s + r·n with |c − e| = r.
+    let n = [-t[1], t[0]];
+    let d = [e[0] - s[0], e[1] - s[1]];
+    let dn = d[0] * n[0] + d[1] * n[1];
+    if dn.abs() <= GEOMETRY_TOLERANCE {
+        return None;
+    }
+    let r = (d[0] * d[0] + d[1] * d[1]) / (2.0 * dn);
+    Some([s[0] + r * n[0], s[1] + r * n[1]])
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn tangent_circle_centres() {
+        // Leaving (0,0) along +X to (1,1): the quarter circle about (0,1).
+        let c = tangent_centre([0.0, 0.0], [1.0, 1.0], [1.0, 0.0]).expect("circle");
+        assert!((c[0]).abs() < 1e-12 && (c[1] - 1.0).abs() < 1e-12);
+        // To (1,−1): about (0,−1), clockwise.
+        let c = tangent_centre([0.0, 0.0], [1.0, -1.0], [2.0, 0.0]).expect("circle");
+        assert!((c[1] + 1.0).abs() < 1e-12);
+        assert!(tangent_centre([0.0, 0.0], [3.0, 0.0], [1.0, 0.0]).is_none());
+    }
+
+    #[test]
+    fn plane_from_x_and_z_is_right_handed() {
+        let r = from_x_and_z(Vec3::new(1.0, 0.0, 0.0), Vec3::new(0.0, -1.0, 1.0)).expect("plane");
+        let y = r * Vec3::y();
+        // Y = Z × X.
+        let z = Vec3::new(0.0, -1.0, 1.0).normalize();
+        assert!((y - z.cross(&Vec3::x())).norm() < 1e-12);
+        assert!(from_x_and_z(Vec3::x(), Vec3::x()).is_none());
+    }
+
+    #[test]
+    fn spatial_angles_turn_about_the_fixed_axes_x_first() {
+        // SPA90 SPC180: the plane's Z is the workpiece's +Y.
+        let r = about(2, 180.0) * about(1, 0.0) * about(0, 90.0);
+        let z = r * Vec3::z();
+        assert!((z - Vec3::y()).norm() < 1e-12, "{z}");
+    }
+}
