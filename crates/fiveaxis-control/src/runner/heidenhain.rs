@@ -181,11 +181,13 @@ impl<'m, S: Source> Runner<'m, S> {
                 return Err(self.heidenhain_language_alarm(&e, &program));
             }
         };
-        if step == Step::End {
+        let result = if step == Step::End {
+            // The path held back for a rounding runs at the end.
             self.done = true;
-            return Ok(());
-        }
-        let result = run.front.run(&run.executed, &mut self.controller, out);
+            run.front.finish(&mut self.controller, out)
+        } else {
+            run.front.run(&run.executed, &mut self.controller, out)
+        };
         if let Some(stay) = run.front.stay.take() {
             // PLANE … STAY: the axis angles into Q120 (A), Q121 (B), Q122 (C).
             for (k, angle) in stay.iter().enumerate() {
