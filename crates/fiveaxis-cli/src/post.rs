@@ -197,7 +197,9 @@ pub fn post(args: &PostArgs) -> Result<u8, InputError> {
     // SINUMERIK and HEIDENHAIN text is read by its own front end on any
     // machine.
     let language = (!is_apt)
-        .then(|| fiveaxis_control::program_language(Some(std::path::Path::new(&args.program)), &bytes))
+        .then(|| {
+            fiveaxis_control::program_language(Some(std::path::Path::new(&args.program)), &bytes)
+        })
         .flatten();
     let sinumerik = match fiveaxis_control::machine_for_language(run_on, language) {
         std::borrow::Cow::Owned(m) => Some(m),

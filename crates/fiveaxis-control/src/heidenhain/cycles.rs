@@ -226,7 +226,6 @@
 //! patterns) and a message. On an error `out` is left as it was. Nothing
 //! panics; NaN or infinite inputs are refused.
 
-
 /// A feed of this value or more is rapid traverse (FMAX); the value a
 /// `Q208=MAX` / `FMAX` entry is passed as.
 pub(crate) const FMAX: f64 = 99_999.999;

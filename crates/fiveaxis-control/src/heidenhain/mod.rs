@@ -31,7 +31,9 @@ use fiveaxis_machine::{Control, Joints, MAX_AXES, Vec3};
 use nalgebra::Rotation3;
 
 use crate::alarm::{Alarm, Condition};
-use crate::command::{Command, CommandBlock, CutterSide, Frame, Move, Suppress, Target, TargetMode};
+use crate::command::{
+    Command, CommandBlock, CutterSide, Frame, Move, Suppress, Target, TargetMode,
+};
 use crate::controller::{Controller, Flow};
 use crate::modal::{MotionMode, Plane, TcpcType};
 use crate::segment::Segment;
@@ -183,7 +185,9 @@ fn from_x_and_z(x: Vec3, z: Vec3) -> Option<Rotation3<f64>> {
     let z = z.try_normalize(GEOMETRY_TOLERANCE)?;
     let x = (x - z * x.dot(&z)).try_normalize(GEOMETRY_TOLERANCE)?;
     let y = z.cross(&x);
-    Some(Rotation3::from_matrix_unchecked(nalgebra::Matrix3::from_columns(&[x, y, z])))
+    Some(Rotation3::from_matrix_unchecked(
+        nalgebra::Matrix3::from_columns(&[x, y, z]),
+    ))
 }
 
 /// The angle of `v` in the plane, degrees in (−180, 180].
@@ -275,9 +279,7 @@ impl Front {
                 self.centre(ex, ctrl)?;
                 self.m_only(ex, ctrl, out)
             }
-            Kind::Circle | Kind::CircleRadius | Kind::CircleTangent => {
-                self.circle(ex, ctrl, out)
-            }
+            Kind::Circle | Kind::CircleRadius | Kind::CircleTangent => self.circle(ex, ctrl, out),
             Kind::LinePolar | Kind::CirclePolar | Kind::CircleTangentPolar => {
                 self.polar(ex, ctrl, out)
             }
@@ -289,7 +291,11 @@ impl Front {
                 format!(
                     "{} (approach and departure with radius compensation) is not read by the kernel: \
                      program the approach with L and CT blocks (docs/heidenhain.md)",
-                    if ex.kind == Kind::Approach { "APPR" } else { "DEP" }
+                    if ex.kind == Kind::Approach {
+                        "APPR"
+                    } else {
+                        "DEP"
+                    }
                 ),
             )),
             Kind::ToolCall => self.tool_call(ex, ctrl, out),
@@ -477,7 +483,11 @@ impl Front {
     }
 
     /// Carries out the path held back, then its cycle call.
-    fn run_held(&mut self, ctrl: &mut Controller<'_>, out: &mut Vec<Segment>) -> Result<Flow, Alarm> {
+    fn run_held(
+        &mut self,
+        ctrl: &mut Controller<'_>,
+        out: &mut Vec<Segment>,
+    ) -> Result<Flow, Alarm> {
         let Some(held) = self.held.take() else {
             return Ok(Flow::Next);
         };
@@ -769,7 +779,11 @@ impl Front {
                         ));
                     };
                     let rotary = i >= machine.linear.len();
-                    let value = if rotary { w.value } else { self.length(w.value) };
+                    let value = if rotary {
+                        w.value
+                    } else {
+                        self.length(w.value)
+                    };
                     let mode = if w.incremental {
                         TargetMode::Incremental
                     } else if rotary && self.shortest && machine_coords_rollover(machine, i) {
@@ -1030,7 +1044,11 @@ impl Front {
                     format!("{} is not an axis of this machine", w.address),
                 ));
             };
-            let v = if i < machine.linear.len() { self.length(w.value) } else { w.value };
+            let v = if i < machine.linear.len() {
+                self.length(w.value)
+            } else {
+                w.value
+            };
             let value = if w.incremental { start[i] + v } else { v };
             if i == a {
                 end[0] = value;
@@ -1234,7 +1252,11 @@ impl Front {
                                 ),
                             )
                         })?;
-                    let v = if i < machine.linear.len() { self.length(w.value) } else { w.value };
+                    let v = if i < machine.linear.len() {
+                        self.length(w.value)
+                    } else {
+                        w.value
+                    };
                     mv.targets[i] = Some(Target {
                         value: if w.incremental { start[i] + v } else { v },
                         mode: TargetMode::Absolute,
@@ -1383,7 +1405,9 @@ impl Front {
         }
         if let Some(n) = number {
             let span = Span::default();
-            self.block.commands.push(Command::ToolSelect { tool: n, span });
+            self.block
+                .commands
+                .push(Command::ToolSelect { tool: n, span });
             // The tool goes into the spindle (the TNC's tool change).
             self.block
                 .commands
@@ -1542,7 +1566,12 @@ impl Front {
             (8, _) => {
                 // The axes named are mirrored; none named: mirror off.
                 let mut mirror = [false; 3];
-                for k in ex.keys.iter().map(|k| k.key.as_str()).chain(ex.words.iter().map(|w| w.address.as_str())) {
+                for k in ex
+                    .keys
+                    .iter()
+                    .map(|k| k.key.as_str())
+                    .chain(ex.words.iter().map(|w| w.address.as_str()))
+                {
                     match k {
                         "X" => mirror[0] = true,
                         "Y" => mirror[1] = true,
@@ -1555,7 +1584,12 @@ impl Front {
             }
             (10, _) => {
                 let rot = ex.word("ROT").ok_or_else(|| {
-                    alarm(line, Condition::NoDataAfterAddress, None, "ROTATION needs ROT".into())
+                    alarm(
+                        line,
+                        Condition::NoDataAfterAddress,
+                        None,
+                        "ROTATION needs ROT".into(),
+                    )
                 })?;
                 self.rotation = if rot.incremental {
                     self.rotation + rot.value
@@ -1566,7 +1600,12 @@ impl Front {
             }
             (11, _) => {
                 let scl = ex.word("SCL").ok_or_else(|| {
-                    alarm(line, Condition::NoDataAfterAddress, None, "SCALING needs SCL".into())
+                    alarm(
+                        line,
+                        Condition::NoDataAfterAddress,
+                        None,
+                        "SCALING needs SCL".into(),
+                    )
                 })?;
                 if scl.value.is_nan() || scl.value <= 0.0 {
                     return Err(alarm(
@@ -1593,7 +1632,10 @@ impl Front {
                             line,
                             Condition::ValueOutOfRange,
                             Some(w.span),
-                            format!("AXIS-SPECIFIC SCALING: factor {} must be greater than 0", w.value),
+                            format!(
+                                "AXIS-SPECIFIC SCALING: factor {} must be greater than 0",
+                                w.value
+                            ),
                         ));
                     }
                     scale[k] = w.value;
@@ -1619,7 +1661,10 @@ impl Front {
                                 line,
                                 Condition::ImproperAddress,
                                 Some(w.span),
-                                format!("WORKING PLANE: {} is not a rotary axis of this machine", w.address),
+                                format!(
+                                    "WORKING PLANE: {} is not a rotary axis of this machine",
+                                    w.address
+                                ),
                             )
                         })?;
                     joints[i] = w.value;
@@ -1659,7 +1704,9 @@ impl Front {
                         line,
                         Condition::ValueOutOfRange,
                         None,
-                        format!("DATUM SETTING: preset Q339={n} is not a row 0 to 48 of the preset table"),
+                        format!(
+                            "DATUM SETTING: preset Q339={n} is not a row 0 to 48 of the preset table"
+                        ),
                     ));
                 }
                 // Preset 0 is the offsets file's G54, preset n its
@@ -1710,7 +1757,11 @@ impl Front {
         self.block.commands.push(Command::SwivelFrame(swivel));
         let [_, _, n] = self.axes();
         let programmable = Frame {
-            translation: Vec3::new(self.inner_shift[0], self.inner_shift[1], self.inner_shift[2]),
+            translation: Vec3::new(
+                self.inner_shift[0],
+                self.inner_shift[1],
+                self.inner_shift[2],
+            ),
             rotation: about(n, self.rotation),
             scale: self.scale,
             mirror: self.mirror,
@@ -1741,9 +1792,17 @@ impl Front {
                 let x = Vec3::new(p.cos(), 0.0, -p.sin());
                 let y = Vec3::new(0.0, m.cos(), m.sin());
                 let r = from_x_and_z(x, x.cross(&y)).ok_or_else(|| {
-                    alarm(line, Condition::FeatureDefinition, None, "PLANE PROJECTED: the angles give no plane".into())
+                    alarm(
+                        line,
+                        Condition::FeatureDefinition,
+                        None,
+                        "PLANE PROJECTED: the angles give no plane".into(),
+                    )
                 })?;
-                let rot = ex.word("ROT").or_else(|| ex.word("PROROT")).map_or(0.0, |w| w.value);
+                let rot = ex
+                    .word("ROT")
+                    .or_else(|| ex.word("PROROT"))
+                    .map_or(0.0, |w| w.value);
                 Some(r * about(2, rot))
             }
             "EULER" => Some(about(2, w("EULPR")) * about(0, w("EULNU")) * about(2, w("EULROT"))),
@@ -1770,7 +1829,12 @@ impl Front {
                 let (p1, p2, p3) = (p(1), p(2), p(3));
                 let x = p2 - p1;
                 Some(from_x_and_z(x, x.cross(&(p3 - p1))).ok_or_else(|| {
-                    alarm(line, Condition::FeatureDefinition, None, "PLANE POINTS: the three points lie on a line".into())
+                    alarm(
+                        line,
+                        Condition::FeatureDefinition,
+                        None,
+                        "PLANE POINTS: the three points lie on a line".into(),
+                    )
                 })?)
             }
             "RELATIV" => {
@@ -1795,11 +1859,15 @@ impl Front {
                 let mut joints = ctrl.joints_now();
                 let mut angles = [None; 2];
                 for word in &ex.words {
-                    let Some(i) = axis_index(machine, &word.address).filter(|&i| i >= machine.linear.len()) else {
+                    let Some(i) =
+                        axis_index(machine, &word.address).filter(|&i| i >= machine.linear.len())
+                    else {
                         continue;
                     };
                     joints[i] = word.value;
-                    if let Some(k) = (0..machine.rotary.len().min(2)).find(|&k| machine.rotary_index(k) == i) {
+                    if let Some(k) =
+                        (0..machine.rotary.len().min(2)).find(|&k| machine.rotary_index(k) == i)
+                    {
                         angles[k] = Some(word.value);
                     }
                 }
@@ -1935,13 +2003,17 @@ impl Front {
     /// The positioning feed of `PLANE … MOVE / TURN`: `F` or `FMAX`.
     fn positioning_feed(&mut self, ex: &Executed) {
         if let Some(f) = ex.word("F") {
-            self.block.commands.push(Command::Interpolation(MotionMode::Linear));
+            self.block
+                .commands
+                .push(Command::Interpolation(MotionMode::Linear));
             self.block.commands.push(Command::Feed {
                 value: self.length(f.value),
                 span: f.span,
             });
         } else {
-            self.block.commands.push(Command::Interpolation(MotionMode::Rapid));
+            self.block
+                .commands
+                .push(Command::Interpolation(MotionMode::Rapid));
         }
     }
 
@@ -1955,9 +2027,13 @@ impl Front {
         ctrl: &Controller<'_>,
         seq: Option<bool>,
     ) -> Result<[f64; 2], Alarm> {
-        let mut angles = ctrl.plane_axes(seq, Span::default()).map_err(|a| Alarm { line: ex.line, ..a })?;
+        let mut angles = ctrl
+            .plane_axes(seq, Span::default())
+            .map_err(|a| Alarm { line: ex.line, ..a })?;
         let machine = ctrl.machine();
-        let Some(tilt) = self.tilt else { return Ok(angles) };
+        let Some(tilt) = self.tilt else {
+            return Ok(angles);
+        };
         if !ex.has_key("TABLE ROT") || machine.rotary.len() < 2 {
             return Ok(angles);
         }
@@ -1983,7 +2059,11 @@ impl Front {
         let turn = have.y.atan2(have.x) - want.y.atan2(want.x);
         joints[i] += turn.to_degrees();
         let check = ctrl.tool_rotation_at(&joints) * Vec3::x();
-        let sign = if (check - want).norm() < 1e-6 { 1.0 } else { -1.0 };
+        let sign = if (check - want).norm() < 1e-6 {
+            1.0
+        } else {
+            -1.0
+        };
         angles[k] += sign * turn.to_degrees();
         Ok(angles)
     }
@@ -2019,7 +2099,9 @@ impl Front {
             }
         };
         self.block.clear(line);
-        self.block.commands.push(Command::Interpolation(MotionMode::Rapid));
+        self.block
+            .commands
+            .push(Command::Interpolation(MotionMode::Rapid));
         let mut mv = Move {
             suppress: Suppress::Axes,
             ..Move::default()
@@ -2059,7 +2141,12 @@ impl Front {
         points.clear();
         if pattern {
             cycles::pattern(&self.pattern, &mut points).map_err(|e| {
-                alarm(line, Condition::CycleDataMissing, None, format!("PATTERN DEF: {}", e.message))
+                alarm(
+                    line,
+                    Condition::CycleDataMissing,
+                    None,
+                    format!("PATTERN DEF: {}", e.message),
+                )
             })?;
         }
         let [a, b, n] = self.axes();
@@ -2072,7 +2159,9 @@ impl Front {
                 // surface Q203 as the point's third coordinate when the
                 // pattern gives one is the cycle's own).
                 self.block.clear(line);
-                self.block.commands.push(Command::Interpolation(MotionMode::Rapid));
+                self.block
+                    .commands
+                    .push(Command::Interpolation(MotionMode::Rapid));
                 let mut mv = Move::default();
                 for (k, i) in [a, b].into_iter().enumerate() {
                     mv.targets[i] = Some(Target {
@@ -2132,7 +2221,14 @@ impl Front {
                 } else {
                     v
                 };
-                (q, if inch && inch_value(q, v) { v * MM_PER_INCH } else { v })
+                (
+                    q,
+                    if inch && inch_value(q, v) {
+                        v * MM_PER_INCH
+                    } else {
+                        v
+                    },
+                )
             })
             .collect();
         let mut steps = std::mem::take(&mut self.steps);
@@ -2177,15 +2273,21 @@ impl Front {
             self.block.clear(line);
             match *step {
                 cycles::Step::Rapid(to) => {
-                    self.block.commands.push(Command::Interpolation(MotionMode::Rapid));
+                    self.block
+                        .commands
+                        .push(Command::Interpolation(MotionMode::Rapid));
                     self.block.commands.push(Command::Move(target(to)));
                 }
                 cycles::Step::Feed { to, feed } if feed >= cycles::FMAX => {
-                    self.block.commands.push(Command::Interpolation(MotionMode::Rapid));
+                    self.block
+                        .commands
+                        .push(Command::Interpolation(MotionMode::Rapid));
                     self.block.commands.push(Command::Move(target(to)));
                 }
                 cycles::Step::Feed { to, feed } => {
-                    self.block.commands.push(Command::Interpolation(MotionMode::Linear));
+                    self.block
+                        .commands
+                        .push(Command::Interpolation(MotionMode::Linear));
                     self.block.commands.push(Command::Feed {
                         value: feed,
                         span: Span::default(),
@@ -2210,11 +2312,13 @@ impl Front {
                     to[a] = Some(e[0]);
                     to[b] = Some(e[1]);
                     to[n] = Some(end);
-                    self.block.commands.push(Command::Interpolation(if sweep >= 0.0 {
-                        MotionMode::Ccw
-                    } else {
-                        MotionMode::Cw
-                    }));
+                    self.block
+                        .commands
+                        .push(Command::Interpolation(if sweep >= 0.0 {
+                            MotionMode::Ccw
+                        } else {
+                            MotionMode::Cw
+                        }));
                     self.block.commands.push(Command::Feed {
                         value: feed,
                         span: Span::default(),
@@ -2322,7 +2426,11 @@ enum Offset {
 
 fn unit2(v: [f64; 2]) -> [f64; 2] {
     let l = v[0].hypot(v[1]);
-    if l > 0.0 { [v[0] / l, v[1] / l] } else { [0.0, 0.0] }
+    if l > 0.0 {
+        [v[0] / l, v[1] / l]
+    } else {
+        [0.0, 0.0]
+    }
 }
 
 /// The unit direction of travel of a path from `s` to `e`, at its end
@@ -2361,17 +2469,18 @@ fn crossing_nearest(o1: Offset, o2: Offset, near: [f64; 2]) -> Option<[f64; 2]> 
             best = Some((p, d));
         }
     };
-    let line_circle = |p: [f64; 2], t: [f64; 2], c: [f64; 2], r: f64, take: &mut dyn FnMut([f64; 2])| {
-        // |p + u·t − c| = r.
-        let w = [p[0] - c[0], p[1] - c[1]];
-        let b = w[0] * t[0] + w[1] * t[1];
-        let q = b * b - (w[0] * w[0] + w[1] * w[1] - r * r);
-        if q >= 0.0 && r > 0.0 {
-            for u in [-b - q.sqrt(), -b + q.sqrt()] {
-                take([p[0] + u * t[0], p[1] + u * t[1]]);
+    let line_circle =
+        |p: [f64; 2], t: [f64; 2], c: [f64; 2], r: f64, take: &mut dyn FnMut([f64; 2])| {
+            // |p + u·t − c| = r.
+            let w = [p[0] - c[0], p[1] - c[1]];
+            let b = w[0] * t[0] + w[1] * t[1];
+            let q = b * b - (w[0] * w[0] + w[1] * w[1] - r * r);
+            if q >= 0.0 && r > 0.0 {
+                for u in [-b - q.sqrt(), -b + q.sqrt()] {
+                    take([p[0] + u * t[0], p[1] + u * t[1]]);
+                }
             }
-        }
-    };
+        };
     match (o1, o2) {
         (Offset::Line(p, t), Offset::Line(q, u)) => {
             let den = t[0] * u[1] - t[1] * u[0];
@@ -2422,7 +2531,11 @@ fn within(shape: Shape, s: [f64; 2], e: [f64; 2], p: [f64; 2]) -> bool {
         Shape::Arc { centre, ccw } => {
             let angle = |q: [f64; 2]| angle_of([q[0] - centre[0], q[1] - centre[1]]);
             let sweep = |q: [f64; 2]| {
-                let d = if ccw { angle(q) - angle(s) } else { angle(s) - angle(q) };
+                let d = if ccw {
+                    angle(q) - angle(s)
+                } else {
+                    angle(s) - angle(q)
+                };
                 d.rem_euclid(360.0)
             };
             let full = sweep(e);

@@ -144,8 +144,9 @@ impl<'m, S: Source> Runner<'m, S> {
             let Some(main) = self.source.take_main() else {
                 return Ok(());
             };
-            let interp = Interpreter::new(Box::new(Text { source: main }), Box::new(store), options)
-                .map_err(|e| self.heidenhain_language_alarm(&e, "main"))?;
+            let interp =
+                Interpreter::new(Box::new(Text { source: main }), Box::new(store), options)
+                    .map_err(|e| self.heidenhain_language_alarm(&e, "main"))?;
             let mut front = Front::new();
             front.set_inch(interp.inch());
             self.heidenhain = Some(Box::new(HeidenhainRun {
