@@ -138,6 +138,9 @@ pub(crate) struct Front {
     stock_min: Option<[f64; 3]>,
     /// Named tools met so far with the number each stands for.
     tool_names: Vec<(String, u32)>,
+    /// The tool of the last `TOOL CALL` and its `DR`.
+    tool: u32,
+    delta_radius: f64,
     /// The direction of the path at the end of the last move, in the
     /// plane (for `CT`).
     tangent: Option<[f64; 2]>,
@@ -219,6 +222,8 @@ impl Front {
             stock: None,
             stock_min: None,
             tool_names: Vec::new(),
+            tool: 0,
+            delta_radius: 0.0,
             tangent: None,
             stay: None,
             held: None,
@@ -637,7 +642,11 @@ impl Front {
         ctrl: &mut Controller<'_>,
         out: &mut Vec<Segment>,
     ) -> Result<Flow, Alarm> {
-        if let Some(w) = ex.words.iter().find(|w| w.address != "F") {
+        if let Some(w) = ex
+            .words
+            .iter()
+            .find(|w| w.address != "F" && w.address != "MB")
+        {
             return Err(alarm(
                 ex.line,
                 Condition::ImproperAddress,
@@ -670,7 +679,36 @@ impl Front {
         if call {
             self.call_cycle(ex, ctrl, out, false)?;
         }
+        self.retract_after(ex, ctrl, out)?;
         Ok(flow)
+    }
+
+    /// `M140 MB d` / `M140 MB MAX`: after the block, the tool retracts
+    /// along its axis by `d`, or to the end of the travel (TNC 640
+    /// manual, "Retraction in the tool axis: M140").
+    fn retract_after(
+        &mut self,
+        ex: &Executed,
+        ctrl: &mut Controller<'_>,
+        out: &mut Vec<Segment>,
+    ) -> Result<(), Alarm> {
+        if !ex.m.iter().any(|&(m, _)| m == 140) {
+            return Ok(());
+        }
+        let distance = if ex.has_key("MB MAX") {
+            None
+        } else {
+            let mb = ex.word("MB").ok_or_else(|| {
+                alarm(
+                    ex.line,
+                    Condition::NoDataAfterAddress,
+                    None,
+                    "M140 needs MB, the retract distance, or MB MAX".into(),
+                )
+            })?;
+            Some(self.length(mb.value))
+        };
+        self.retract(ctrl, ex.line, distance, out)
     }
 
     /// The block's M functions: the TNC's own (M91/M92 machine
@@ -707,6 +745,9 @@ impl Front {
                     self.tcp = None;
                     self.block.commands.push(Command::Tcp { mode: None, span });
                 }
+                // M140 MB: a retract along the tool axis after the block
+                // (`retract_after`).
+                140 => {}
                 99 => call = true,
                 89 => {
                     self.modal_call = true;
@@ -762,7 +803,7 @@ impl Front {
         let mut vector = [None; 3];
         for w in &ex.words {
             match w.address.as_str() {
-                "F" | "R" => {}
+                "F" | "R" | "MB" => {}
                 "NX" | "NY" | "NZ" if ex.kind == Kind::LineNormal => {
                     normal[usize::from(w.address.as_bytes()[1] - b'X')] = Some(w.value);
                 }
@@ -836,7 +877,7 @@ impl Front {
             mv.suppress = Suppress::Axes;
         }
         if ex.kind == Kind::LineNormal {
-            self.line_normal(ex, normal, vector, &mut mv)?;
+            self.line_normal(ex, ctrl, (&start, normal, vector), &mut mv)?;
         }
         let linear = machine.linear.len();
         if self.tcp.is_none()
@@ -884,7 +925,7 @@ impl Front {
         if moves {
             self.block.commands.push(Command::Move(mv));
         }
-        self.hold(
+        let flow = self.hold(
             ctrl,
             out,
             Held {
@@ -894,24 +935,55 @@ impl Front {
                 shape,
                 call,
             },
-        )
+        )?;
+        if ex.m.iter().any(|&(m, _)| m == 140) {
+            let end = self.finish(ctrl, out)?;
+            self.retract_after(ex, ctrl, out)?;
+            if flow == Flow::Next {
+                return Ok(end);
+            }
+        }
+        Ok(flow)
     }
 
-    /// `LN`'s vectors: under TCPM the tool vector `TX TY TZ` is the tool's
-    /// orientation (as FANUC's G43.5 I J K). The surface normal `NX NY
-    /// NZ` serves 3-D radius compensation with the tool's delta radius,
-    /// which the kernel does not carry out on `LN` blocks: a normal with a
-    /// delta radius other than 0 is refused, one with 0 moves nothing off
-    /// the programmed point.
+    /// `LN`'s vectors. Under TCPM the tool vector `TX TY TZ` is the tool's
+    /// orientation (as FANUC's G43.5 I J K). The surface normal `NX NY NZ`
+    /// gives 3-D radius compensation: the TNC moves the tool off the
+    /// programmed point along the normal by the delta radius, the tool
+    /// table's (the offsets file's `radius_wear`) plus `TOOL CALL … DR`
+    /// (iTNC 530 manual, "Three-dimensional tool compensation"; the
+    /// programmed point already holds the tool's nominal radius, as the
+    /// CAM system computes it).
     fn line_normal(
         &mut self,
         ex: &Executed,
-        normal: [Option<f64>; 3],
-        vector: [Option<f64>; 3],
+        ctrl: &Controller<'_>,
+        (start, normal, vector): (&Joints, [Option<f64>; 3], [Option<f64>; 3]),
         mv: &mut Move,
     ) -> Result<(), Alarm> {
         let line = ex.line;
-        let _ = normal;
+        if normal.iter().any(Option::is_some) {
+            let n = Vec3::from(normal.map(|c| c.unwrap_or(0.0)));
+            let Some(n) = n.try_normalize(GEOMETRY_TOLERANCE) else {
+                return Err(alarm(
+                    line,
+                    Condition::ToolVectorZero,
+                    None,
+                    "the surface normal NX NY NZ is zero".into(),
+                ));
+            };
+            let delta = ctrl.offsets().tool(self.tool).radius_wear + self.delta_radius;
+            if delta != 0.0 {
+                for k in 0..3 {
+                    let t = mv.targets[k].get_or_insert(Target {
+                        value: start[k],
+                        mode: TargetMode::Absolute,
+                        span: Span::default(),
+                    });
+                    t.value += delta * n[k];
+                }
+            }
+        }
         if vector.iter().any(Option::is_some) {
             if self.tcp.is_none() {
                 return Err(alarm(
@@ -1444,7 +1516,9 @@ impl Front {
                 }
             }
         }
-        if number.is_some() {
+        if let Some(n) = number {
+            self.tool = n;
+            self.delta_radius = delta[1];
             self.block.commands.push(Command::ToolDelta {
                 length: delta[0],
                 radius: delta[1],
@@ -2077,43 +2151,14 @@ impl Front {
         distance: Option<f64>,
         out: &mut Vec<Segment>,
     ) -> Result<(), Alarm> {
-        let machine = ctrl.machine();
-        let now = ctrl.joints_now();
-        let dir = ctrl.tool_direction_machine();
-        // The tool points along −dir into the work: away is +dir·… with
-        // the tool direction pointing from the tip to the spindle.
-        let away = -dir;
-        let d = match distance {
-            Some(d) => d,
-            None => {
-                let mut d = f64::INFINITY;
-                for k in 0..3 {
-                    if away[k].abs() < GEOMETRY_TOLERANCE {
-                        continue;
-                    }
-                    let axis = &machine.linear[k];
-                    let limit = if away[k] > 0.0 { axis.max } else { axis.min };
-                    d = d.min((limit - now[k]) / away[k]);
-                }
-                if d.is_finite() { d.max(0.0) } else { 0.0 }
-            }
-        };
         self.block.clear(line);
         self.block
             .commands
             .push(Command::Interpolation(MotionMode::Rapid));
-        let mut mv = Move {
-            suppress: Suppress::Axes,
-            ..Move::default()
-        };
-        for k in 0..3 {
-            mv.targets[k] = Some(Target {
-                value: now[k] + d * away[k],
-                mode: TargetMode::Absolute,
-                span: Span::default(),
-            });
-        }
-        self.block.commands.push(Command::Move(mv));
+        self.block.commands.push(Command::Retract {
+            distance,
+            span: Span::default(),
+        });
         ctrl.run_block(&self.block, out)?;
         Ok(())
     }
