@@ -421,62 +421,14 @@ impl Front {
         out: &mut Vec<Segment>,
         held: Held,
     ) -> Result<Flow, Alarm> {
-        let mut flow = Flow::Next;
-        if let Some(corner) = self.corner.take() {
-            let Some(prev) = self.held.take() else {
-                return Err(alarm(
-                    corner.line,
-                    Condition::CrcNoIntersection,
-                    None,
-                    "a rounding or chamfer needs a contour element before it".into(),
-                ));
-            };
-            if held.shape == Shape::Other {
-                return Err(alarm(
-                    held.line,
-                    Condition::CrcNoIntersection,
-                    None,
-                    "a rounding or chamfer needs a contour element (L, C, CR, CT, LP, CP) after it"
-                        .into(),
-                ));
-            }
-            let joint = self.join(&prev, &held, &corner)?;
-            self.trim_held(&prev, joint.t1);
-            self.held = Some(prev);
-            flow = self.run_held(ctrl, out)?;
-            // The rounding's arc or the chamfer's line.
-            let [a, b, n] = self.axes();
-            let mut block = std::mem::take(&mut self.held_block);
-            block.clear(corner.line);
-            let mut mv = Move::default();
-            for (k, i) in [a, b].into_iter().enumerate() {
-                mv.targets[i] = Some(Target {
-                    value: joint.t2[k],
-                    mode: TargetMode::Absolute,
-                    span: Span::default(),
-                });
-            }
-            let _ = n;
-            let interpolation = match joint.centre {
-                Some((c, ccw)) => {
-                    self.set_centre(&mut mv, [a, b], c);
-                    if ccw { MotionMode::Ccw } else { MotionMode::Cw }
-                }
-                None => MotionMode::Linear,
-            };
-            block.commands.push(Command::Interpolation(interpolation));
-            block.commands.push(Command::Feed {
-                value: corner.feed.unwrap_or(self.feed),
-                span: Span::default(),
-            });
-            block.commands.push(Command::Move(mv));
-            let result = ctrl.run_block(&block, out);
-            self.held_block = block;
-            result?;
-        } else if self.held.is_some() {
-            flow = self.run_held(ctrl, out)?;
-        }
-        std::mem::swap(&mut self.block, &mut self.held_block);
+        // The new block waits aside while the one before runs (its cycle
+        // call builds blocks in `self.block`).
+        let mut incoming = std::mem::take(&mut self.block);
+        let result = self.release(ctrl, out, &held);
+        std::mem::swap(&mut incoming, &mut self.held_block);
+        // The buffers are reused from block to block.
+        self.block = incoming;
+        let mut flow = result?;
         self.held = Some(held);
         if held.shape == Shape::Other {
             let next = self.run_held(ctrl, out)?;
@@ -484,6 +436,68 @@ impl Front {
                 flow = next;
             }
         }
+        Ok(flow)
+    }
+
+    /// Carries out the path held back before `next`, with the rounding or
+    /// chamfer between them if one was programmed.
+    fn release(
+        &mut self,
+        ctrl: &mut Controller<'_>,
+        out: &mut Vec<Segment>,
+        next: &Held,
+    ) -> Result<Flow, Alarm> {
+        let Some(corner) = self.corner.take() else {
+            return self.run_held(ctrl, out);
+        };
+        let Some(prev) = self.held.take() else {
+            return Err(alarm(
+                corner.line,
+                Condition::CrcNoIntersection,
+                None,
+                "a rounding or chamfer needs a contour element before it".into(),
+            ));
+        };
+        if next.shape == Shape::Other {
+            return Err(alarm(
+                next.line,
+                Condition::CrcNoIntersection,
+                None,
+                "a rounding or chamfer needs a contour element (L, C, CR, CT, LP, CP) after it"
+                    .into(),
+            ));
+        }
+        let joint = self.join(&prev, next, &corner)?;
+        self.trim_held(&prev, joint.t1);
+        self.held = Some(prev);
+        let flow = self.run_held(ctrl, out)?;
+        // The rounding's arc or the chamfer's line.
+        let [a, b, _] = self.axes();
+        self.block.clear(corner.line);
+        let mut mv = Move::default();
+        for (k, i) in [a, b].into_iter().enumerate() {
+            mv.targets[i] = Some(Target {
+                value: joint.t2[k],
+                mode: TargetMode::Absolute,
+                span: Span::default(),
+            });
+        }
+        let interpolation = match joint.centre {
+            Some((c, ccw)) => {
+                self.set_centre(&mut mv, [a, b], c);
+                if ccw { MotionMode::Ccw } else { MotionMode::Cw }
+            }
+            None => MotionMode::Linear,
+        };
+        self.block
+            .commands
+            .push(Command::Interpolation(interpolation));
+        self.block.commands.push(Command::Feed {
+            value: corner.feed.unwrap_or(self.feed),
+            span: Span::default(),
+        });
+        self.block.commands.push(Command::Move(mv));
+        ctrl.run_block(&self.block, out)?;
         Ok(flow)
     }
 
