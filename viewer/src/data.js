@@ -3,7 +3,7 @@
 // regrouped by byte position, deflated (zlib) where that pays,
 // `data-encoding`, and in base64) and the program text.
 
-import { forwardInto, prepareMachine } from './kinematics.js';
+import { forwardInto, fromPart, prepareMachine } from './kinematics.js';
 import { frameOfBlock, lowerBound } from './timeline.js';
 
 const META_ID = 'fiveaxis-meta';
@@ -165,6 +165,33 @@ export function derive(data) {
   data.vertexBlock = blocks;
   data.bbox = n ? { min: lo, max: hi } : null;
   data.duration = ends.length ? ends[ends.length - 1] : 0;
+}
+
+/** The frame of no work offset: the part frame is the table frame. */
+const IDENTITY = [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0];
+
+/**
+ * The stock the program declares (`meta.stock`: HEIDENHAIN `BLK FORM`, its
+ * min and max corner in workpiece coordinates) as the scene draws it: the
+ * 8 corners in the table frame, placed by the work offset of the first
+ * frame run (`meta.frames[0].to_part`, as the workpiece zero), so that the
+ * table axes carry it with the path. Corner `k` is, by bit 0, 1, 2 of `k`,
+ * the min or max in X, Y, Z. Null when the program declares none (or a
+ * page written before the stock).
+ */
+export function stockCorners(meta) {
+  const s = meta.stock;
+  if (!s || !s.min || !s.max) return null;
+  const lo = [0, 1, 2].map((k) => Math.min(s.min[k], s.max[k]));
+  const hi = [0, 1, 2].map((k) => Math.max(s.min[k], s.max[k]));
+  if (![...lo, ...hi].every(Number.isFinite)) return null;
+  const frame = meta.frames && meta.frames[0];
+  const m = frame ? frame.to_part : IDENTITY;
+  const corners = [];
+  for (let k = 0; k < 8; k++) {
+    corners.push(fromPart(m, [k & 1 ? hi[0] : lo[0], k & 2 ? hi[1] : lo[1], k & 4 ? hi[2] : lo[2]]));
+  }
+  return corners;
 }
 
 /**

@@ -114,3 +114,24 @@ export function toPartVector(m, v) {
     m[8] * v[0] + m[9] * v[1] + m[10] * v[2],
   ];
 }
+
+/**
+ * A part-frame point in the table frame: the inverse of the frame's 3×4
+ * matrix `m` ([`toPart`]), solved in full (the matrix of a setup error is
+ * a rotation, but nothing here relies on it).
+ */
+export function fromPart(m, p) {
+  const [a, b, c, d, e, f, g, h, i] = [m[0], m[1], m[2], m[4], m[5], m[6], m[8], m[9], m[10]];
+  const x = p[0] - m[3];
+  const y = p[1] - m[7];
+  const z = p[2] - m[11];
+  const A = e * i - f * h;
+  const B = f * g - d * i;
+  const C = d * h - e * g;
+  const det = a * A + b * B + c * C;
+  return [
+    (A * x + (c * h - b * i) * y + (b * f - c * e) * z) / det,
+    (B * x + (a * i - c * g) * y + (c * d - a * f) * z) / det,
+    (C * x + (b * g - a * h) * y + (a * e - b * d) * z) / det,
+  ];
+}

@@ -3,7 +3,7 @@
 // controls, links them by time and by line, and exposes `window.__viewer`
 // (statistics and probes for tests and for people at the console).
 
-import { findingAt, findingsTitle, readPage, readProgramLines, textLeftOutLine } from './data.js';
+import { findingAt, findingsTitle, readPage, readProgramLines, stockCorners, textLeftOutLine } from './data.js';
 import { forward, toPart, toPartVector } from './kinematics.js';
 import { AxisPlots } from './plots.js';
 import { MachineScene } from './scene.js';
@@ -143,6 +143,14 @@ async function start() {
     if (v) scene.view(v);
   });
   ui.fit.addEventListener('click', () => scene.fit());
+  // The stock layer: on at first; the button only where there is a stock.
+  const setStock = (on) => {
+    if (!scene.setStockVisible(on)) return false;
+    ui.stock.setAttribute('aria-pressed', String(on));
+    return true;
+  };
+  ui.stock.hidden = !setStock(true);
+  ui.stock.addEventListener('click', () => setStock(ui.stock.getAttribute('aria-pressed') !== 'true'));
   document.addEventListener('keydown', (e) => {
     if (e.target.tagName === 'INPUT' || e.target.tagName === 'SELECT') return;
     if (e.key === ' ') {
@@ -233,6 +241,16 @@ async function start() {
     /** Path vertices in the last frame drawn, and in the whole path. */
     drawn: () => ({ drawn: scene.drawnVertices, total: scene.path.geometry.getAttribute('position').count }),
     zoomBy: (f) => scene.zoomBy(f),
+    /** Shows or hides the stock layer; whether there is a stock. */
+    setStock: (on) => setStock(on),
+    /** The stock as drawn: whether declared (BLK FORM), visible, and its table-frame corners (declared) or box. */
+    stock() {
+      const s = scene.stock;
+      if (!s) return null;
+      const declared = !!s.userData.declared;
+      scene.scene.updateMatrixWorld(true);
+      return { declared, visible: s.visible, corners: declared ? stockCorners(data.meta) : null, world: Array.from(s.matrixWorld.elements), carrier: s.parent.name };
+    },
   };
   seek(0);
   mark('seek');

@@ -14,6 +14,7 @@ import {
   Color,
   CylinderGeometry,
   DirectionalLight,
+  DoubleSide,
   Group,
   Line,
   LineBasicMaterial,
@@ -34,7 +35,7 @@ import {
   WebGLRenderer,
 } from 'three';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
-import { MOTIONS } from './data.js';
+import { MOTIONS, stockCorners } from './data.js';
 import { simplifyToSpacing } from './simplify.js';
 
 /** Colours of the path by motion: rapid, linear feed, arcs. */
@@ -68,6 +69,41 @@ export const COARSE_MARKERS = 3000;
 const PICK_PIXELS = 6;
 
 const UP = new Vector3(0, 1, 0);
+
+/** The declared stock: a light neutral box seen through, and its edges. */
+const STOCK_FILL = { color: '#cfd4da', opacity: 0.12 };
+const STOCK_EDGE = { color: '#e6e9ed', opacity: 0.55 };
+/** The faces of a box by its corners (`stockCorners`: bit 0, 1, 2 = max in X, Y, Z), wound outwards. */
+const BOX_FACES = [
+  [0, 2, 3, 1], [4, 5, 7, 6], // −Z, +Z
+  [0, 1, 5, 4], [2, 6, 7, 3], // −Y, +Y
+  [0, 4, 6, 2], [1, 3, 7, 5], // −X, +X
+];
+
+/**
+ * The stock box from its 8 table-frame corners: translucent faces and
+ * their 12 edges, neither writing depth, so the path shows through.
+ */
+export function stockObject(corners) {
+  const group = new Group();
+  group.name = 'stock';
+  group.userData.declared = true;
+  const tri = [];
+  for (const [a, b, c, d] of BOX_FACES) for (const k of [a, b, c, a, c, d]) tri.push(...corners[k]);
+  const fg = new BufferGeometry();
+  fg.setAttribute('position', new BufferAttribute(new Float32Array(tri), 3));
+  fg.computeVertexNormals();
+  const faces = new Mesh(fg, new MeshLambertMaterial({ ...STOCK_FILL, transparent: true, depthWrite: false, side: DoubleSide }));
+  faces.name = 'stock-faces';
+  const edges = [];
+  for (let k = 0; k < 8; k++) for (const bit of [1, 2, 4]) if (!(k & bit)) edges.push(...corners[k], ...corners[k | bit]);
+  const eg = new BufferGeometry();
+  eg.setAttribute('position', new BufferAttribute(new Float32Array(edges), 3));
+  const lines = new LineSegments(eg, new LineBasicMaterial({ ...STOCK_EDGE, transparent: true, depthWrite: false }));
+  lines.name = 'stock-edges';
+  group.add(faces, lines);
+  return group;
+}
 
 /** A group turning about the line through `center` along `axis`. */
 function rotaryGroup(axis, center) {
@@ -142,7 +178,10 @@ export class MachineScene {
     const bb = data.bbox;
     const pathSize = bb ? Math.max(bb.max[0] - bb.min[0], bb.max[1] - bb.min[1], bb.max[2] - bb.min[2], 1) : 100;
     this.pathSize = pathSize;
-    const tableRadius = Math.min(Math.max(0.6 * pathSize, 50), Math.max(0.3 * Math.min(span(0), span(1)), 50));
+    // The declared stock (BLK FORM), in the table frame.
+    const corners = stockCorners(data.meta);
+    const stockSize = corners ? Math.max(...[0, 1].map((k) => Math.max(...corners.map((c) => c[k])) - Math.min(...corners.map((c) => c[k])))) : 0;
+    const tableRadius = Math.min(Math.max(0.6 * pathSize, 0.6 * stockSize, 50), Math.max(0.3 * Math.min(span(0), span(1)), 50));
     this.sizes = { tableRadius, pathSize };
 
     const mat = (c) => new MeshLambertMaterial({ color: c });
@@ -171,7 +210,8 @@ export class MachineScene {
 
     // The table top below the lowest point of the path.
     const low = bb ? Math.min(bb.min[2], 0) : 0;
-    const topZ = this.pathLowZ(data, low) - 1;
+    // The stock sits on the table: the table top below it too.
+    const topZ = Math.min(this.pathLowZ(data, low), ...(corners ? corners.map((c) => c[2]) : [])) - 1;
     const thick = 0.15 * tableRadius;
     const table = cylinder([0, 0, topZ - thick], [0, 0, 1], thick, tableRadius, tableMat);
     const tableCenter = tables.length ? tables[tables.length - 1].center : [0, 0, 0];
@@ -200,13 +240,19 @@ export class MachineScene {
     }
     // The workpiece zero of the first frame, and the path.
     this.buildPath(data);
-    // The stock: the box the cutting moves span, seen through.
-    const cut = this.cutBox(data);
-    if (cut) {
+    // The stock: the one the program declares (BLK FORM), else the box
+    // the cutting moves span, seen through; carried by the table axes.
+    this.stock = null;
+    const cut = corners ? null : this.cutBox(data);
+    if (corners) {
+      this.stock = stockObject(corners);
+      this.tableInner.add(this.stock);
+    } else if (cut) {
       const size = [0, 1, 2].map((k) => Math.max(cut.max[k] - cut.min[k], 0.5));
       const stock = box(size, [0, 1, 2].map((k) => (cut.max[k] + cut.min[k]) / 2), new MeshLambertMaterial({ color: '#c9a86a', transparent: true, opacity: 0.18, depthWrite: false }));
       stock.name = 'stock';
       this.tableInner.add(stock);
+      this.stock = stock;
     }
     // The bed: fixed, under everything.
     const bedZ = topZ - thick - 2 * thick - (tables.length === 2 ? tableRadius : 0);
@@ -404,6 +450,14 @@ export class MachineScene {
     this.markers = new Group();
     this.markers.name = 'findings';
     this.tableInner.add(this.markers);
+  }
+
+  /** Shows or hides the stock; whether there is one. */
+  setStockVisible(on) {
+    if (!this.stock) return false;
+    this.stock.visible = on;
+    this.requestRender();
+    return true;
   }
 
   /** Draws the blocks (vertex ranges `[from, to]`) of the selected line. */

@@ -34,6 +34,8 @@ html,body{margin:0;height:100%;background:#0d1117;color:#c9d1d9;font:13px/1.4 sy
 #fa-status{position:absolute;top:6px;right:8px;text-align:right;font:12px ui-monospace,monospace;color:#c9d1d9;white-space:pre}
 button,select{background:#21262d;color:#c9d1d9;border:1px solid #30363d;border-radius:4px;padding:2px 7px;font:12px system-ui,sans-serif;cursor:pointer}
 button:hover{background:#30363d}
+button[aria-pressed=true]{border-color:#8b949e;color:#fff}
+button[hidden]{display:none}
 #fa-play{display:flex;align-items:center;gap:6px;padding:6px 8px;border-top:1px solid #30363d}
 #fa-play input[type=range]{flex:1}
 #fa-time{font:12px ui-monospace,monospace;min-width:15ch;text-align:right}
@@ -68,6 +70,7 @@ export function layout(doc, meta) {
       <button data-view="+y" title="View along −Y (from the back)">Back</button>
       <button data-view="-z" title="View along +Z (from below)">Bottom</button>
       <button id="fa-fit" title="Fit the view to the path">Fit</button>
+      <button id="fa-stock" aria-pressed="true" hidden>Stock</button>
     </div>
     <div id="fa-status"></div>
     <div id="fa-legend"><span style="color:#e8554e">━ rapid</span><span style="color:#3fb950">━ feed</span><span style="color:#58a6ff">━ arc</span><span style="color:#ffd33d">━ selected line</span><span style="color:#8b949e">│ tool axis</span></div>
@@ -98,6 +101,7 @@ export function layout(doc, meta) {
   const timeLabel = meta.time ? meta.time.label : 'programmed machining time';
   $('fa-timekind').textContent = timeLabel;
   $('fa-slider').title = `Time: ${timeLabel}`;
+  $('fa-stock').title = meta.stock ? 'Show / hide the stock (BLK FORM)' : 'Show / hide the stock (the box the cutting moves span)';
   return {
     root,
     text: $('fa-text'),
@@ -107,6 +111,7 @@ export function layout(doc, meta) {
     view3d: $('fa-3d'),
     tools: $('fa-tools'),
     fit: $('fa-fit'),
+    stock: $('fa-stock'),
     status: $('fa-status'),
     start: $('fa-start'),
     prev: $('fa-prev'),

@@ -8,9 +8,11 @@
 
 import assert from 'node:assert/strict';
 import { after, before, test } from 'node:test';
+import { spawnSync } from 'node:child_process';
+import { mkdirSync, writeFileSync } from 'node:fs';
 import { join } from 'node:path';
 import { launch, open } from './browser.mjs';
-import { CASES, OUT, blockRows, checkReport, makePage, runRows } from './cases.mjs';
+import { CASES, FIVEAXIS, OUT, blockRows, checkReport, makePage, runRows } from './cases.mjs';
 
 let browser;
 before(async () => {
@@ -174,3 +176,48 @@ for (const c of CASES) {
     }
   });
 }
+
+// The stock a HEIDENHAIN program declares (BLK FORM): drawn where the
+// workpiece is, carried by the table axes as the path, and a layer the
+// Stock button shows and hides.
+test('view: the BLK FORM stock of a Klartext program on heidenhain-dmu-ac', async () => {
+  mkdirSync(OUT, { recursive: true });
+  const program = join(OUT, 'blk-form.h');
+  writeFileSync(
+    program,
+    ['0 BEGIN PGM BLK MM', '1 BLK FORM 0.1 Z X-50 Y-30 Z-20', '2 BLK FORM 0.2 X+50 Y+30 Z+0', '3 TOOL CALL 1 Z S3000', '4 L Z+50 R0 FMAX M3',
+      '5 L X-40 Y-20 R0 FMAX', '6 L Z-2 R0 F200', '7 L X+40 F500', '8 L Z+50 R0 FMAX', '9 L C+90 FMAX', '10 END PGM BLK MM', ''].join('\n'),
+  );
+  const file = join(OUT, 'blk-form.html');
+  const r = spawnSync(FIVEAXIS, ['view', program, '--machine', 'heidenhain-dmu-ac', '-o', file], { encoding: 'utf8' });
+  assert.equal(r.status, 0, r.stderr);
+  const { page, errors } = await open(browser, file);
+  try {
+    assert.deepEqual(errors, [], 'no console error');
+    const stock = await page.evaluate(() => window.__viewer.stock());
+    assert.equal(stock.declared, true);
+    assert.equal(stock.visible, true, 'on at first');
+    assert.deepEqual(stock.corners[0], [-50, -30, -20]);
+    assert.deepEqual(stock.corners[7], [50, 30, 0]);
+    // On the table's innermost axis, as the path: where C turns, it turns.
+    assert.equal(stock.carrier, 'table-C');
+    const last = await page.evaluate(() => {
+      const v = window.__viewer;
+      v.seekBlock(v.blockEnds().length - 1);
+      return { stock: v.stock(), probe: v.probe() };
+    });
+    assert.deepEqual(last.stock.world, last.probe.bodies.matrices['table-C'], 'the stock moves with the table');
+    near(Math.abs(last.stock.world[1]), 1, 1e-9, 'turned 90° about Z');
+    // The layer button.
+    const button = page.locator('#fa-stock');
+    assert.equal(await button.isVisible(), true);
+    await button.click();
+    assert.equal((await page.evaluate(() => window.__viewer.stock())).visible, false, 'hidden');
+    assert.equal(await button.getAttribute('aria-pressed'), 'false');
+    await button.click();
+    assert.equal((await page.evaluate(() => window.__viewer.stock())).visible, true, 'shown again');
+    await page.screenshot({ path: join(OUT, 'blk-form.png') });
+  } finally {
+    await page.close();
+  }
+});

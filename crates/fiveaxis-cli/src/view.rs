@@ -15,7 +15,7 @@ use std::io::{BufWriter, Read, Write};
 use std::path::{Path, PathBuf};
 
 use fiveaxis_control::{
-    Alarm, Interpolation, Motion, ReaderSource, Row, RunError, RunOptions, Runner, Segment,
+    Alarm, Interpolation, Motion, ReaderSource, Row, RunError, RunOptions, Runner, Segment, Stock,
 };
 use fiveaxis_machine::{Machine, MachineType, SetupError, Side, Vec3};
 use serde_json::{Value, json};
@@ -230,6 +230,10 @@ struct Gathered {
     time: fiveaxis_check::Time,
     /// Which of them the timeline (`ends`, the vertex times) follows.
     time_kind: fiveaxis_check::TimeKind,
+    /// The stock the program declares (HEIDENHAIN `BLK FORM`), in
+    /// workpiece coordinates, as read by the end of the run (or by its
+    /// alarm).
+    stock: Option<Stock>,
 }
 
 /// Runs `fiveaxis view`.
@@ -510,6 +514,7 @@ fn gather<S: fiveaxis_control::Source>(
             estimated: 0.0,
         },
         time_kind: fiveaxis_check::TimeKind::Programmed,
+        stock: None,
     };
     let mut checker = fiveaxis_check::Checker::new(machine);
     // The timeline is the check's: each segment's end in its estimated
@@ -621,6 +626,9 @@ fn gather<S: fiveaxis_control::Source>(
             Err(RunError::Io(e)) => return Err(InputError::io(program_name, &e)),
         }
     }
+    // Read once both BLK FORM blocks have run, and kept: also when the
+    // program stops with an alarm after them.
+    g.stock = runner.stock();
     g.path.finish();
     let (report, kind) = checker.finish_streamed(
         fiveaxis_check::Ending {
@@ -728,6 +736,7 @@ fn meta(
     let bbox = g
         .bbox
         .map(|(lo, hi)| json!({ "min": vec(&lo), "max": vec(&hi) }));
+    let stock = g.stock.map(stock_json);
     json!({
         "format": 1,
         "program": program,
@@ -745,6 +754,7 @@ fn meta(
         "segments": g.blocks.segments(),
         "rows": g.rows,
         "bbox": bbox,
+        "stock": stock,
         "duration": g.blocks.ends.last().copied().unwrap_or(0.0),
         "time": time_json(g),
         "tolerance": g.path.tolerance(),
@@ -771,6 +781,13 @@ fn meta(
         "finding_kinds": finding_kinds(),
         "finding_messages": findings.messages,
     })
+}
+
+/// The declared stock for the page: its corners in workpiece coordinates
+/// (the part frame of the work offset: the viewer places it with the
+/// first frame's `to_part`, as the workpiece zero).
+fn stock_json(stock: Stock) -> Value {
+    json!({ "min": stock.min, "max": stock.max })
 }
 
 /// What the time axis is, for the page: the kind, the check report's two

@@ -194,6 +194,81 @@ fn viewer_in_a_real_browser() {
     assert!(text.contains("# fail 0"), "{text}");
 }
 
+/// A HEIDENHAIN program's stock (`BLK FORM 0.1 / 0.2`) is in the page's
+/// description, its corners in workpiece coordinates, also when an alarm
+/// stops the program after it; a program without one has `"stock": null`.
+#[test]
+fn the_page_has_the_stock_the_program_declares() {
+    let dir = tempfile::tempdir().expect("a temporary directory");
+    let view = |name: &str, program: &str, status: i32| {
+        std::fs::write(dir.path().join(format!("{name}.h")), program).expect("written");
+        let out = common::run_in(
+            dir.path(),
+            &[
+                "view",
+                &format!("{name}.h"),
+                "--machine",
+                "heidenhain-dmu-ac",
+            ],
+            b"",
+        );
+        assert_eq!(out.status.code(), Some(status), "{}", common::stderr(&out));
+        let page =
+            std::fs::read_to_string(dir.path().join(format!("{name}.html"))).expect("the page");
+        page_meta(&page)
+    };
+    let stock = serde_json::json!({ "min": [-50.0, -30.5, -20.0], "max": [50.0, 30.5, 0.6] });
+
+    let meta = view(
+        "stock",
+        "0 BEGIN PGM STOCK MM\n\
+         1 BLK FORM 0.1 Z X-50 Y-30.5 Z-20\n\
+         2 BLK FORM 0.2 X+50 Y+30.5 Z+0.6\n\
+         3 TOOL CALL 1 Z S3000\n\
+         4 L Z+50 R0 FMAX M3\n\
+         5 L X-40 Y-20 R0 FMAX\n\
+         6 L Z-2 R0 F200\n\
+         7 L X+40 F500\n\
+         8 L Y+20\n\
+         9 L Z+50 R0 FMAX M30\n\
+         10 END PGM STOCK MM\n",
+        0,
+    );
+    assert_eq!(meta["stock"], stock);
+    assert_eq!(meta["ended"], true);
+    assert!(meta["blocks"].as_u64().expect("blocks") >= 5, "{meta}");
+
+    // An alarm after the BLK FORM: the stock is still drawn.
+    let meta = view(
+        "alarm",
+        "0 BEGIN PGM ALARM MM\n\
+         1 BLK FORM 0.1 Z X-50 Y-30.5 Z-20\n\
+         2 BLK FORM 0.2 X+50 Y+30.5 Z+0.6\n\
+         3 TOOL CALL 1 Z S3000\n\
+         4 L Z+50 R0 FMAX M3\n\
+         5 L X+10 F0\n\
+         6 END PGM ALARM MM\n",
+        1,
+    );
+    assert_eq!(meta["stock"], stock);
+    assert_eq!(meta["alarm"]["line"], 6);
+
+    // No BLK FORM: no stock.
+    let meta = view(
+        "bare",
+        "0 BEGIN PGM BARE MM\n\
+         1 TOOL CALL 1 Z S3000\n\
+         2 L Z+50 R0 FMAX M3\n\
+         3 L X+10 F200\n\
+         4 END PGM BARE MM\n",
+        0,
+    );
+    assert!(
+        meta.get("stock").is_some_and(serde_json::Value::is_null),
+        "{meta}"
+    );
+}
+
 /// The page's JSON description.
 fn page_meta(page: &str) -> serde_json::Value {
     let start = page.find("id=\"fiveaxis-meta\">").expect("the description")
