@@ -366,7 +366,7 @@ pub fn write(machine: &Machine, post: &Post, options: &PostOptions, header: &Hea
             if siemens {
                 "TRAORI, CYCLE800 and the tool length removed, D0"
             } else if klartext {
-                "M128, FUNCTION TCPM and PLANE removed, positions without length compensation"
+                "M128, FUNCTION TCPM and PLANE removed"
             } else {
                 "G43.4/G43.5, G68.2 and G43 removed, G49"
             }
@@ -471,17 +471,47 @@ pub fn write(machine: &Machine, post: &Post, options: &PostOptions, header: &Hea
             (*line, blocks)
         })
         .collect();
-    if klartext
+    // A TOOL CALL switches on the length of the tool called along the
+    // tool axis (the TNC has no G49): the linear axes after it are
+    // written less that length, the one the output is made for. With
+    // several lengths the output does not say which tool has which: the
+    // positions are left as they are, right with length 0 in the table.
+    let calls_tool = klartext
         && carried_words
             .iter()
             .flat_map(|(_, b)| b)
-            .any(|b| b.starts_with("TOOL CALL ") && !b.starts_with("TOOL CALL Z"))
-    {
+            .any(|b| is_tool_change(b));
+    let mut distinct: Vec<f64> = post
+        .tool_lengths
+        .iter()
+        .copied()
+        .filter(|l| *l != 0.0)
+        .collect();
+    distinct.dedup();
+    let called_length = match distinct[..] {
+        [l] if calls_tool => Some(l),
+        _ => None,
+    };
+    if let Some(l) = called_length {
+        comment(
+            &mut out,
+            &format!(
+                "after TOOL CALL the tool's length is compensated: X Y Z there less {l:.4} mm along the tool axis, the tool table must hold that length"
+            ),
+        );
+    } else if calls_tool {
         comment(
             &mut out,
             "warning: TOOL CALL switches on the tool table's length: the positions are right with length 0 there",
         );
+    } else if klartext {
+        comment(
+            &mut out,
+            "no TOOL CALL: positions without length compensation, right with no tool length in force",
+        );
     }
+    let length_vector = |l: f64| l * machine.tool_direction.into_inner();
+    let mut shift = Vec3::zeros();
     // The feed mode stays on throughout: positioning does not read F.
     if klartext {
         out.push_str("FUNCTION RESET TCPM\nPLANE RESET STAY\n");
@@ -509,18 +539,30 @@ pub fn write(machine: &Machine, post: &Post, options: &PostOptions, header: &Hea
                 for w in blocks {
                     out.push_str(w);
                     out.push('\n');
+                    if let Some(l) = called_length
+                        && is_tool_change(w)
+                    {
+                        shift = length_vector(l);
+                    }
                 }
             }
         }
         match m {
             Move::Rapid { to, .. } if klartext => {
                 out.push('L');
-                axes(&mut out, machine, to, options, &quantum, true);
+                axes(
+                    &mut out,
+                    machine,
+                    to,
+                    &(options.origin + shift),
+                    &quantum,
+                    true,
+                );
                 out.push_str(" R0 FMAX");
             }
             Move::Rapid { to, .. } => {
                 out.push_str("G0");
-                axes(&mut out, machine, to, options, &quantum, false);
+                axes(&mut out, machine, to, &options.origin, &quantum, false);
             }
             Move::Feed { to, .. } => {
                 let Some(f) = word else {
@@ -529,11 +571,18 @@ pub fn write(machine: &Machine, post: &Post, options: &PostOptions, header: &Hea
                 };
                 if klartext {
                     out.push('L');
-                    axes(&mut out, machine, to, options, &quantum, true);
+                    axes(
+                        &mut out,
+                        machine,
+                        to,
+                        &(options.origin + shift),
+                        &quantum,
+                        true,
+                    );
                     out.push_str(" R0 F");
                 } else {
                     out.push_str("G1");
-                    axes(&mut out, machine, to, options, &quantum, false);
+                    axes(&mut out, machine, to, &options.origin, &quantum, false);
                     out.push_str(" F");
                 }
                 out.push_str(f);
@@ -580,6 +629,12 @@ pub fn write(machine: &Machine, post: &Post, options: &PostOptions, header: &Hea
     }
 }
 
+/// Whether a Klartext block calls a tool (`TOOL CALL 5 Z`, not the
+/// speed alone `TOOL CALL Z S…`).
+fn is_tool_change(block: &str) -> bool {
+    block.starts_with("TOOL CALL ") && !block.starts_with("TOOL CALL Z")
+}
+
 /// The Klartext blocks of a line's carried words ([`carried_words`]):
 /// a T word (with or without M6) is `TOOL CALL n Z`, with the line's S
 /// (`TOOL CALL 5 Z S1200`); an S alone is `TOOL CALL Z S1200`; each M a
@@ -608,20 +663,20 @@ fn klartext_blocks(words: &str) -> Vec<String> {
     out
 }
 
-/// Every axis word of a machine position; `signed`: with an explicit `+`
-/// (Klartext).
+/// Every axis word of a machine position, X Y Z less `origin`;
+/// `signed`: with an explicit `+` (Klartext).
 fn axes(
     out: &mut String,
     machine: &Machine,
     to: &Joints,
-    options: &PostOptions,
+    origin: &Vec3,
     q: &Quantum,
     signed: bool,
 ) {
     for (i, name) in machine.axis_names().enumerate() {
         let linear = machine.linear.len();
         let (value, decimals) = if i < linear {
-            (to[i] - work_offset(&options.origin, i), q.length_decimals)
+            (to[i] - work_offset(origin, i), q.length_decimals)
         } else {
             let axis = &machine.rotary[i - linear];
             let v = if axis.rollover {
@@ -698,6 +753,16 @@ mod tests {
     /// A post of three blocks on the HEIDENHAIN A/C table: a rapid, a cut
     /// and a cut that does not move (left out).
     fn written(number: Option<u32>, carried: &[(u32, String)], feed: FeedStyle) -> String {
+        written_for(number, carried, feed, &[100.0])
+    }
+
+    /// [`written`] for the tool lengths `lengths`.
+    fn written_for(
+        number: Option<u32>,
+        carried: &[(u32, String)],
+        feed: FeedStyle,
+        lengths: &[f64],
+    ) -> String {
         let machine = fiveaxis_machine::builtin("heidenhain-dmu-ac").expect("built in");
         let mut a = [0.0; fiveaxis_machine::MAX_AXES];
         a[..5].copy_from_slice(&[12.34564, -5.0, -400.0, -0.000001, 90.0]);
@@ -721,7 +786,7 @@ mod tests {
             ],
             start: Some(a),
             deviation: Deviation::default(),
-            tool_lengths: vec![100.0],
+            tool_lengths: lengths.to_vec(),
             source_blocks: 2,
             ..Post::default()
         };
@@ -845,8 +910,40 @@ mod tests {
             ["TOOL CALL 5 Z S1200", "L", "M3", "L", "M5", "M30"],
             "{text}"
         );
-        assert!(text.contains(";WARNING: TOOL CALL SWITCHES ON"), "{text}");
         assert!(!text.contains("M6"), "{text}");
+        // After the TOOL CALL the TNC adds the tool's length along Z: the
+        // positions are written less the one length the output is for.
+        assert!(
+            text.contains(
+                ";AFTER TOOL CALL THE TOOL'S LENGTH IS COMPENSATED: X Y Z THERE LESS 100.0000 MM"
+            ),
+            "{text}"
+        );
+        assert!(
+            text.contains(" L X+12.3456 Y-5.0000 Z+0.0000 A+0.00000 C+90.00000 R0 FMAX\n"),
+            "{text}"
+        );
+        assert!(
+            text.contains(" L X+12.5000 Y-5.1000 Z-1.0000 A+1.50000"),
+            "{text}"
+        );
+        // A TOOL CALL after the first move: the moves before it as they are.
+        let late = [(4, "T5 M6".to_owned())];
+        let text = written(None, &late, FeedStyle::DegreesPerMinute);
+        assert!(text.contains(" L X+12.3456 Y-5.0000 Z+100.0000 "), "{text}");
+        assert!(text.contains(" L X+12.5000 Y-5.1000 Z-1.0000 "), "{text}");
+        // Only S: no tool called, no length.
+        let speed = [(1, "S800".to_owned())];
+        let text = written(None, &speed, FeedStyle::DegreesPerMinute);
+        assert!(text.contains(" TOOL CALL Z S800\n"), "{text}");
+        assert!(
+            text.contains(" Z+100.0000 ") && text.contains(";NO TOOL CALL"),
+            "{text}"
+        );
+        // Two lengths: which tool has which is not known, nothing taken off.
+        let text = written_for(None, &carried, FeedStyle::DegreesPerMinute, &[100.0, 80.0]);
+        assert!(text.contains(";WARNING: TOOL CALL SWITCHES ON"), "{text}");
+        assert!(text.contains(" Z+100.0000 "), "{text}");
     }
 
     #[test]
