@@ -87,6 +87,35 @@ impl ProgramLibrary for DirLibrary {
         }
     }
 
+    fn open_heidenhain(&mut self, name: &str) -> io::Result<Option<(Box<dyn Source>, String)>> {
+        // `CALL PGM TNC:\PARTS\SUB1.H`: the file name is the last part of
+        // the path; with or without `.h`, any case.
+        let base = name.rsplit(['\\', '/', ':']).next().unwrap_or(name);
+        let stem = base
+            .strip_suffix(".h")
+            .or_else(|| base.strip_suffix(".H"))
+            .unwrap_or(base);
+        if stem.is_empty() {
+            return Ok(None);
+        }
+        for entry in std::fs::read_dir(&self.dir)? {
+            let path = entry?.path();
+            let file_name = path.file_name().and_then(|s| s.to_str()).unwrap_or("");
+            let matches = file_name.eq_ignore_ascii_case(stem)
+                || (file_name.len() == stem.len() + 2
+                    && file_name[..stem.len()].eq_ignore_ascii_case(stem)
+                    && file_name[stem.len()..].eq_ignore_ascii_case(".h"));
+            if matches && path.is_file() {
+                let file = File::open(&path)?;
+                return Ok(Some((
+                    Box::new(ReaderSource::new(file)),
+                    path.display().to_string(),
+                )));
+            }
+        }
+        Ok(None)
+    }
+
     fn sinumerik_definitions(&mut self) -> io::Result<Vec<(Box<dyn Source>, String)>> {
         let mut paths = Vec::new();
         for entry in std::fs::read_dir(&self.dir)? {
@@ -226,6 +255,13 @@ impl ProgramLibrary for Memory {
     fn open_sinumerik(&mut self, name: &str) -> io::Result<Option<(Box<dyn Source>, String)>> {
         match self.programs.as_mut() {
             Some(dir) => dir.open_sinumerik(name),
+            None => Ok(None),
+        }
+    }
+
+    fn open_heidenhain(&mut self, name: &str) -> io::Result<Option<(Box<dyn Source>, String)>> {
+        match self.programs.as_mut() {
+            Some(dir) => dir.open_heidenhain(name),
             None => Ok(None),
         }
     }

@@ -265,6 +265,7 @@ fn print_out(text: &str) -> Result<u8, InputError> {
 
 fn list_machines() -> Result<u8, InputError> {
     let mut text = String::new();
+    let width = builtin_names().iter().map(|n| n.len()).max().unwrap_or(0);
     for &name in builtin_names() {
         let description = builtin(name).map(|m| m.name).unwrap_or_default();
         let marker = if name == DEFAULT_MACHINE {
@@ -272,7 +273,7 @@ fn list_machines() -> Result<u8, InputError> {
         } else {
             ""
         };
-        text.push_str(&format!("{name:<16} {description}{marker}\n"));
+        text.push_str(&format!("{name:<width$} {description}{marker}\n"));
     }
     print_out(&text)
 }

@@ -899,3 +899,118 @@ fn sinumerik_programs_run_to_their_end_or_stop_where_the_control_would() {
     }
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
+
+/// The HEIDENHAIN programs of the corpus (hyperMILL output for a DMG DMU
+/// 85 monoBLOCK, TNC 640) on that machine (`tests/corpus-setups/
+/// dmu85-monoblock.toml`, the preset and tools in `dmu85-offsets.toml`).
+/// The rotary positions are the programs' own comments (`; A-90 C0` before
+/// each `PLANE … STAY`); the tips are worked out from the datum shift and
+/// the plane's rotation by hand.
+const HEIDENHAIN: &[Conformance] = &[
+    Conformance {
+        program: "heidenhain_hypermill_dmu85_a7.h",
+        machine: "dmu85-monoblock.toml",
+        offsets: "dmu85-offsets.toml",
+        edits: &[],
+        stop: None,
+        positions: &[
+            Position {
+                line: 59,
+                column: "A",
+                value: -90.0,
+                why: "PLANE SPATIAL SPA90 SPB0 SPC180 STAY SEQ-, then L A+Q120: the comment's A-90",
+            },
+            Position {
+                line: 59,
+                column: "C",
+                value: 0.0,
+                why: "the comment's C0",
+            },
+            Position {
+                line: 62,
+                column: "tip_x",
+                value: -159.0,
+                why: "shift (0, 55, -25) + Rz(180)·Rx(90)·(159, 7, 70) = (-159, 125, -18)",
+            },
+            Position {
+                line: 62,
+                column: "tip_y",
+                value: 125.0,
+                why: "55 + 70: the plane's Z is the part's +Y",
+            },
+            Position {
+                line: 62,
+                column: "tip_z",
+                value: -18.0,
+                why: "-25 + 7: the plane's Y is the part's +Z",
+            },
+            Position {
+                line: 90,
+                column: "C",
+                value: 270.0,
+                why: "PLANE SPATIAL SPA90 SPB0 SPC90 … SEQ-: the comment's A-90 C270",
+            },
+        ],
+    },
+    Conformance {
+        program: "heidenhain_hypermill_dmu85_a10.h",
+        machine: "dmu85-monoblock.toml",
+        offsets: "dmu85-offsets.toml",
+        edits: &[],
+        stop: None,
+        positions: &[Position {
+            line: 109,
+            column: "A",
+            value: 0.0,
+            why: "PLANE SPATIAL SPA0 SPB0 SPC0 STAY SEQ+: the comment's A0 C0",
+        }],
+    },
+    Conformance {
+        program: "heidenhain_hypermill_dmu85_b5.h",
+        machine: "dmu85-monoblock.toml",
+        offsets: "dmu85-offsets.toml",
+        edits: &[],
+        stop: None,
+        positions: &[
+            Position {
+                line: 27624,
+                column: "A",
+                value: -20.0,
+                why: "SPA20 SPC55 SEQ-: the tool along Rz(55)·Rx(20)·Z needs A -20 with C 235 (or A 20 with C 55)",
+            },
+            Position {
+                line: 27624,
+                column: "C",
+                value: 235.0,
+                why: "C = 55 + 180 on the negative A solution",
+            },
+        ],
+    },
+];
+
+#[test]
+fn heidenhain_programs_run_to_their_end() {
+    let Some(dir) = common::corpus::corpus_path("MANIFEST.tsv").map(|_| common::corpus_dir())
+    else {
+        return;
+    };
+    let setups = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/corpus-setups");
+    let mut failures = Vec::new();
+    for case in HEIDENHAIN {
+        let machine = setups.join(case.machine).display().to_string();
+        let offsets = setups.join(case.offsets).display().to_string();
+        let run = Case {
+            program: case.program,
+            edits: case.edits,
+            stop: case.stop,
+            positions: case.positions,
+        };
+        failures.extend(conform(
+            "heidenhain",
+            &dir,
+            &run,
+            &["--machine", &machine, "--offsets", &offsets],
+        ));
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}

@@ -834,6 +834,7 @@ pub fn alarm_reference() -> String {
         Control::Haas,
         Control::LinuxCnc,
         Control::Sinumerik,
+        Control::Heidenhain,
     ];
     let mut text = String::from(
         "# Alarm reference\n\n\
@@ -841,11 +842,13 @@ pub fn alarm_reference() -> String {
          family shows for it. `FXnnnn` codes are the kernel's own, used where\n\
          the control's manual gives no number (Haas: the numbers its mill\n\
          operator's manual gives, the kernel's codes elsewhere; see\n\
-         `docs/functions.md`, \"Haas\", for the sources). This file is generated from\n\
+         `docs/functions.md`, \"Haas\", for the sources; a HEIDENHAIN TNC shows\n\
+         error texts, not numbers, so the kernel's codes stand for them and the\n\
+         message names the block's words, `docs/heidenhain.md`). This file is generated from\n\
          `crates/fiveaxis-control/src/alarm.rs`; a test keeps it in step\n\
          (`FIVEAXIS_BLESS=1 cargo test -p fiveaxis-control alarm_reference` rewrites it).\n\n\
-         | condition | fanuc30i | fanuc16 | mitsubishi | mazak | haas | linuxcnc | sinumerik |\n\
-         |---|---|---|---|---|---|---|---|\n",
+         | condition | fanuc30i | fanuc16 | mitsubishi | mazak | haas | linuxcnc | sinumerik | heidenhain |\n\
+         |---|---|---|---|---|---|---|---|---|\n",
     );
     for condition in Condition::ALL {
         text.push_str(&format!("| {} |", condition.describe()));

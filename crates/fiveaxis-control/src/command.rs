@@ -284,6 +284,16 @@ pub enum Command {
         /// Where it is written.
         span: Span,
     },
+    /// A retract along the tool axis, away from the workpiece, at rapid
+    /// and in machine coordinates: by `distance` mm, or (`None`) as far as
+    /// the linear axes travel together (SINUMERIK CYCLE800 `_FR` 4 / 5,
+    /// HEIDENHAIN `M140 MB`, `PLANE … MB`).
+    Retract {
+        /// How far, mm; `None`: to the end of the travel.
+        distance: Option<f64>,
+        /// Where it is written.
+        span: Span,
+    },
     /// Deltas on the length and radius of the offset memory in force, mm
     /// (HEIDENHAIN `TOOL CALL … DL DR`): they hold until the next tool
     /// call gives others.

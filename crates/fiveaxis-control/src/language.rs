@@ -68,7 +68,10 @@ mod tests {
         let none = |head: &[u8]| program_language(None, head);
         assert_eq!(none(b"%_N_PART_MPF\n"), Some(Control::Sinumerik));
         assert_eq!(none(b"\xEF\xBB\xBF%_N_X_SPF"), Some(Control::Sinumerik));
-        assert_eq!(none(b"0 BEGIN PGM PART MM\n1 L X+0"), Some(Control::Heidenhain));
+        assert_eq!(
+            none(b"0 BEGIN PGM PART MM\n1 L X+0"),
+            Some(Control::Heidenhain)
+        );
         assert_eq!(none(b"begin pgm part mm"), Some(Control::Heidenhain));
         assert_eq!(none(b"%\nO1000\nG0 X0"), None);
         assert_eq!(none(b"BEGIN"), None);

@@ -16,10 +16,10 @@ use crate::controller::{Controller, Flow};
 use crate::dialect::Dialect;
 use crate::segment::{MAX_STEPS, Segment};
 
+mod heidenhain;
 mod library;
 mod macros;
 mod oword;
-mod heidenhain;
 mod sinumerik;
 
 pub use library::ProgramLibrary;

@@ -28,8 +28,22 @@
 //! # Decisions where the manuals were silent or not found
 //!
 //! * Nesting (subprogram calls and program calls together) is limited
-//!   to [`MAX_NESTING`] levels (UNVERIFIED: the TNC manuals give 19 for
-//!   subprogram nesting in some editions).
+//!   to [`MAX_NESTING`] levels (UNVERIFIED for current controls; the
+//!   TNC 370 manual p6-9 gives 8 for subprograms and 4 for program
+//!   calls). Section repeats do not nest: they are jumps back.
+//! * Parameter ranges: `Q0`–`Q1999` (TNC 620 manual 340 56x-02 p225),
+//!   `QL0`–`QL499` local to each program level, `QR0`–`QR499` (TNC 128
+//!   manual 77184x-01 p181), `QS0`–`QS1999`. `QR` values live as long as
+//!   the interpreter (no power-off memory here).
+//! * String functions (TNC7 basic online documentation, "String
+//!   functions"): `||`, `TOCHAR`, `SUBSTR`, `TONUMB`, `STRLEN` and
+//!   `DECLARE STRING`; an optional `STRF` after `QSn =` (the brief's
+//!   spelling of a string formula) is accepted. `INSTR`, `STRCOMP`,
+//!   `SYSSTR` and `CFGREAD` are not supported (a syntax error).
+//! * `FN 15: PRINT` (iTNC 530) and `FN 16: F-PRINT` only add a note with
+//!   their text; nothing is written to a file.
+//! * Spans of a block joined from several lines are columns of the
+//!   joined text (the first line's columns are exact).
 //! * `M2` / `M30` end the whole program after their block was yielded,
 //!   also in a called program.
 //! * `FN 9` – `FN 12` compare values exactly.
@@ -237,8 +251,9 @@ impl<'a> Interpreter<'a> {
     }
 
     /// The name of program `program`: 0 the main program (its `BEGIN PGM`
-    /// name, empty before that line), else the name as `CALL PGM` wrote
-    /// it.
+    /// name, empty before that line), else the file name `CALL PGM`
+    /// gave, upper-cased, without path and `.H` (every call of one
+    /// program has one number).
     pub fn program_name(&self, program: usize) -> &str {
         self.names.get(program).map_or("", String::as_str)
     }
@@ -546,13 +561,14 @@ impl<'a> Interpreter<'a> {
             },
             Body::Label(l) => {
                 if *l == Label::Number(0) {
-                    let frame = self.frames.last_mut();
-                    if let Some(f) = frame {
-                        if let Some((at, line)) = f.returns.pop() {
-                            f.next_line = line;
-                            if let Err(e) = f.text.seek(at) {
-                                return Err(self.io_error(&e));
-                            }
+                    let popped = self
+                        .frames
+                        .last_mut()
+                        .and_then(|f| f.returns.pop().map(|r| (f, r)));
+                    if let Some((f, (at, line))) = popped {
+                        f.next_line = line;
+                        if let Err(e) = f.text.seek(at) {
+                            return Err(self.io_error(&e));
                         }
                     }
                 }
@@ -619,15 +635,11 @@ impl<'a> Interpreter<'a> {
                         ));
                     }
                 };
-                let program = match self
-                    .names
-                    .iter()
-                    .skip(1)
-                    .position(|n| n.eq_ignore_ascii_case(name))
-                {
+                let key = store_key(name);
+                let program = match self.names.iter().skip(1).position(|n| *n == key) {
                     Some(i) => i + 1,
                     None => {
-                        self.names.push(name.clone());
+                        self.names.push(key);
                         self.names.len() - 1
                     }
                 };
@@ -1110,7 +1122,7 @@ fn label_on(line: &[u8]) -> Option<Label> {
     let rest = line.get(i..)?;
     if rest.len() < 4
         || !rest[..3].eq_ignore_ascii_case(b"LBL")
-        || !matches!(rest[3], b' ' | b'\t' | b'"')
+        || !(matches!(rest[3], b' ' | b'\t' | b'"') || rest[3].is_ascii_digit())
     {
         return None;
     }
@@ -1231,6 +1243,8 @@ impl MemoryStore {
     }
 }
 
+/// The file name of a program as `CALL PGM` writes it: upper-cased,
+/// without path and `.H`.
 fn store_key(name: &str) -> String {
     let base = name.rsplit(['\\', '/', ':']).next().unwrap_or(name);
     let upper = base.to_ascii_uppercase();

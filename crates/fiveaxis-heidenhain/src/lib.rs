@@ -5,6 +5,29 @@
 //! (Q parameters, formulas, `FN` functions, labels, calls) and yields
 //! each block that reaches the control as an [`Executed`] block.
 //!
+//! What the language covers here:
+//!
+//! * the program frame (`BEGIN PGM … MM|INCH`, `END PGM`), block
+//!   numbers, `;` comments, `~` continuation lines, `*` headings, `/`
+//!   block skip (before or after the block number);
+//! * the blocks of [`Kind`]: paths (`L`, `LN`, `CC`, `C`, `CR`, `CT`,
+//!   `LP`, `CP`, `CTP`, `RND`, `CHF`, `APPR`, `DEP`), `TOOL CALL` /
+//!   `TOOL DEF`, `BLK FORM`, `CYCL DEF` with its `Q` parameters,
+//!   `CYCL CALL`, `PATTERN DEF`, `PLANE`, `FUNCTION TCPM` /
+//!   `FUNCTION RESET TCPM`, `STOP` and blocks of M functions;
+//! * `Q` / `QL` / `QR` formulas (`+ - * / % ^`, `SIN COS TAN ASIN ACOS
+//!   ATAN SQ SQRT PI LN LOG EXP NEG INT ABS FRAC SGN`), `QS` string
+//!   formulas (`||`, `TOCHAR`, `SUBSTR`, `TONUMB`, `STRLEN`,
+//!   `DECLARE STRING`);
+//! * `FN 0` – `FN 16` and `FN 18` (`FN 17` and `FN 19` onwards are not
+//!   supported);
+//! * `LBL`, `CALL LBL n` (subprogram), `CALL LBL n REP k` (section
+//!   repeat), `CALL PGM`, `M2` / `M30`.
+//!
+//! Not covered: FK free contours, `SEL PGM` / `CALL SELECTED PGM`,
+//! `FUNCTION` forms other than `TCPM`, `INSTR` / `STRCOMP` / `SYSSTR` /
+//! `CFGREAD`, Q parameters as labels (`LBL QS1`).
+//!
 //! ```
 //! use fiveaxis_heidenhain::{
 //!     Executed, Interpreter, Kind, NoPrograms, NoSystem, Options, Step, TextProgram,

@@ -532,9 +532,9 @@ pub fn parse_block(text: &[u8], out: &mut Block) -> Result<(), ParseError> {
             out.body = Body::Label(label);
         }
         "CALL" => {
-            if c.eat_kw("LBL") {
+            if c.eat_kw_glued("LBL") {
                 let label = label(&mut c)?;
-                let rep = if c.eat_kw("REP") {
+                let rep = if c.eat_kw_glued("REP") {
                     c.ws();
                     let at = c.i;
                     let v = c.number().ok_or_else(|| c.err(at, "REP needs a count"))?;
@@ -698,10 +698,10 @@ impl Cur<'_> {
     /// quoted text without its quotes.
     fn token_string(&mut self) -> String {
         self.ws();
-        if self.peek() == b'"' {
-            if let Some(s) = self.quoted() {
-                return s;
-            }
+        if self.peek() == b'"'
+            && let Some(s) = self.quoted()
+        {
+            return s;
         }
         let start = self.i;
         while self.i < self.s.len() && !matches!(self.peek(), b' ' | b'\t' | b'~') {
@@ -987,7 +987,7 @@ fn fn_block(c: &mut Cur<'_>, out: &mut Block) -> Result<(), ParseError> {
             c.expect_kw_glued(cmp.0)?;
             let b = c.need_operand()?;
             c.expect_kw("GOTO")?;
-            c.expect_kw("LBL")?;
+            c.expect_kw_glued("LBL")?;
             let label = label(c)?;
             c.end()?;
             out.body = Body::If {
@@ -1009,6 +1009,8 @@ fn fn_block(c: &mut Cur<'_>, out: &mut Block) -> Result<(), ParseError> {
             c.expect_kw("PRINT")?;
             c.ws();
             let text = String::from_utf8_lossy(&c.s[c.i..]).trim().to_string();
+            // Values separated by spaces or `/`; any other text (a file
+            // name, a quoted text) is printed as written.
             let mut values = Vec::new();
             loop {
                 c.ws();
@@ -1016,8 +1018,13 @@ fn fn_block(c: &mut Cur<'_>, out: &mut Block) -> Result<(), ParseError> {
                 if c.at_end() {
                     break;
                 }
-                let v = c.need_operand()?;
-                values.push(v);
+                match c.operand() {
+                    Ok(Some(v)) => values.push(v),
+                    _ => {
+                        values.clear();
+                        break;
+                    }
+                }
             }
             out.body = Body::Print { values, text };
         }
@@ -1344,8 +1351,8 @@ impl Cur<'_> {
     }
 }
 
-/// Addresses of more than one letter that take a value, longest first
-/// where one is the start of another.
+/// Names of addresses and keywords the reader knows: these need no
+/// upper-casing when written to an [`crate::Executed`] block.
 const ADDRESSES: &[&str] = &[
     "PITCHCIRC",
     "HSC-MODE",
@@ -1553,7 +1560,8 @@ fn control(c: &mut Cur<'_>, out: &mut Block, word: &str, start: usize) -> Result
             return Err(c.err(start, "unknown block"));
         }
     };
-    items(c, out, &kind, true)?;
+    let params = kind == Kind::CycleDef;
+    items(c, out, &kind, params)?;
     out.body = Body::Control {
         kind,
         name,
@@ -1820,7 +1828,11 @@ fn items(c: &mut Cur<'_>, out: &mut Block, kind: &Kind, params: bool) -> Result<
             continue;
         }
         let sign = c.peek();
-        if matches!(sign, b'+' | b'-') && !number_at(c, 1) {
+        let mut after_sign = 1;
+        while matches!(c.peek_at(after_sign), b' ' | b'\t') {
+            after_sign += 1;
+        }
+        if matches!(sign, b'+' | b'-') && !number_at(c, after_sign) {
             // A sign with no value: the keys DR+, DR-, SEQ+, SEQ-.
             c.i += 1;
             let k = match (upper_of(letters).as_str(), sign) {

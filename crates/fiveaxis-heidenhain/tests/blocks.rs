@@ -30,7 +30,9 @@ fn straight_line_words_keys_and_m() {
 
 #[test]
 fn feeds_written_every_way() {
-    let v = run("Q3 = 250\nL X+1 F MAX\nL X+2 FMAX\nL X+3 F AUTO\nL X+4 FQ3\nL X+5 F+Q3\nL X+6 F200\nL X-Q3 RL\nL X+Q3 RR");
+    let v = run(
+        "Q3 = 250\nL X+1 F MAX\nL X+2 FMAX\nL X+3 F AUTO\nL X+4 FQ3\nL X+5 F+Q3\nL X+6 F200\nL X-Q3 RL\nL X+Q3 RR",
+    );
     assert_eq!(keys(&v[0]), ["FMAX"]);
     assert_eq!(keys(&v[1]), ["FMAX"]);
     assert_eq!(keys(&v[2]), ["FAUTO"]);
@@ -78,16 +80,17 @@ fn circles_and_polar_paths() {
 
 #[test]
 fn line_with_normal_vector() {
-    let b = one("LN X+1 Y+2 Z+3 NX+0 NY+0.7071 NZ+0.7071 TX+0 TY-1 TZ+0 F1000 M128");
+    let b = one("LN X+1 Y+2 Z+3 NX+0 NY+0.6 NZ+0.8 TX+0 TY-1 TZ+0 F1000 M128");
     assert_eq!(b.kind, Kind::LineNormal);
-    assert_eq!(w(&b, "NY"), 0.7071);
+    assert_eq!(w(&b, "NY"), 0.6);
     assert_eq!(w(&b, "TY"), -1.0);
     assert_eq!(b.m[0].0, 128);
 }
 
 #[test]
 fn approach_and_depart() {
-    let v = run("APPR LT X+40 Y+10 LEN15 RR F100\nDEP LT LEN 12.5 F100\nAPPR CT X+1 Y+2 CCA90 R+5 RL");
+    let v =
+        run("APPR LT X+40 Y+10 LEN15 RR F100\nDEP LT LEN 12.5 F100\nAPPR CT X+1 Y+2 CCA90 R+5 RL");
     assert_eq!(v[0].kind, Kind::Approach);
     assert_eq!(v[0].name.as_deref(), Some("LT"));
     assert_eq!(w(&v[0], "LEN"), 15.0);
@@ -165,7 +168,13 @@ fn machining_cycle_with_continuation_lines() {
     assert_eq!(c.name.as_deref(), Some("RIGID TAPPING NEW"));
     assert_eq!(
         c.params,
-        [(200, 3.0), (201, -12.0296), (239, 1.0), (206, 150.0), (204, 70.0)]
+        [
+            (200, 3.0),
+            (201, -12.0296),
+            (239, 1.0),
+            (206, 150.0),
+            (204, 70.0)
+        ]
     );
     assert_eq!(c.comment.as_deref(), Some("first"));
     assert_eq!(c.line, 2);
@@ -175,7 +184,9 @@ fn machining_cycle_with_continuation_lines() {
 
 #[test]
 fn cycle_with_name_and_continuation_marker_alone() {
-    let v = run("CYCL DEF 247 DATUM SETTING ~\n  Q339=+1 ;DATUM NUMBER\nCYCL DEF 392 ATC~\n   Q240=0 ;TUNING MODE~\n   Q241=1 ;WEIGHT MODE");
+    let v = run(
+        "CYCL DEF 247 DATUM SETTING ~\n  Q339=+1 ;DATUM NUMBER\nCYCL DEF 392 ATC~\n   Q240=0 ;TUNING MODE~\n   Q241=1 ;WEIGHT MODE",
+    );
     assert_eq!(v[0].name.as_deref(), Some("DATUM SETTING"));
     assert_eq!(v[0].param(339), Some(1.0));
     assert_eq!(v[1].name.as_deref(), Some("ATC"));
@@ -248,7 +259,9 @@ fn tcpm_and_m_blocks() {
 
 #[test]
 fn comments_headings_empty_lines_and_case() {
-    let v = run("0 BEGIN PGM T MM\n; a comment\n\n* - TOOL: T1\n36 * - JOB\n5 l x+1 r0 fmax ; go there \n11 ;\n99 M110; KORIVEK\nEND PGM T MM");
+    let v = run(
+        "0 BEGIN PGM T MM\n; a comment\n\n* - TOOL: T1\n36 * - JOB\n5 l x+1 r0 fmax ; go there \n11 ;\n99 M110; KORIVEK\nEND PGM T MM",
+    );
     assert_eq!(v.len(), 2);
     assert_eq!(v[0].kind, Kind::Line);
     assert_eq!(v[0].comment.as_deref(), Some("go there"));
@@ -276,4 +289,23 @@ fn executed_buffers_are_reused() {
     let v = run("L X+1 Y+2 Z+3 RL M3\nL X+5");
     assert_eq!(v[1].words.len(), 1);
     assert!(v[1].keys.is_empty() && v[1].m.is_empty());
+}
+
+#[test]
+fn more_forms_seen_in_practice() {
+    let v = run(
+        "L X+1 FU0.1 FZ0.05\nTOOL CALL 5.2 Z\nCYCL CALL POS X+10 Y+10 Z+0 FMAX M3\nCYCL DEF 200 DRILLING~\n  Q206=FMAX ;F~\n  Q208=FAUTO\nL M91 Z-5\nQ1 = 2\nL  X+ 10   Y-  Q1\nCYCL DEF 10.1 IROT+30",
+    );
+    assert_eq!(w(&v[0], "FU"), 0.1);
+    assert_eq!(w(&v[0], "FZ"), 0.05);
+    assert_eq!(v[1].tool, Some(Tool::Number(5)));
+    assert_eq!(keys(&v[2]), ["POS", "FMAX"]);
+    assert_eq!(w(&v[2], "Z"), 0.0);
+    assert_eq!(v[3].param(206), Some(f64::INFINITY));
+    assert!(v[3].param(208).is_some_and(f64::is_nan));
+    assert_eq!(v[4].m[0].0, 91);
+    assert_eq!(w(&v[5], "X"), 10.0);
+    assert_eq!(w(&v[5], "Y"), -2.0);
+    let rot = v[6].word("ROT").expect("ROT");
+    assert!(rot.incremental && rot.value == 30.0);
 }

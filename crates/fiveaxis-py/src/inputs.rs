@@ -57,34 +57,22 @@ impl<T: Read + Seek + Send> ReadSeek for T {}
 /// A program's source and the name messages give it.
 pub type ProgramSource = ReaderSource<Box<dyn ReadSeek>>;
 
-/// Bytes of a program file read to find a SINUMERIK transfer header.
-const HEAD_BYTES: usize = 64;
+/// Bytes of a program file read to find the language it is in.
+const HEAD_BYTES: usize = fiveaxis_control::HEAD_BYTES;
 
-/// Whether a program is SINUMERIK text, as the command line decides: a
-/// file named `.mpf` / `.spf` (any case), or a text starting with a
-/// transfer header `%_N_` (after a UTF-8 byte-order mark, if any). `head`
-/// is the program's first bytes (or all of them).
-pub fn is_sinumerik(path: Option<&Path>, head: &[u8]) -> bool {
-    let named = path
-        .and_then(|p| p.extension())
-        .and_then(|e| e.to_str())
-        .is_some_and(|e| e.eq_ignore_ascii_case("mpf") || e.eq_ignore_ascii_case("spf"));
-    let head = head.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(head);
-    named || head.starts_with(b"%_N_")
+/// The control whose own language a program is in, as the command line
+/// decides (`fiveaxis_control::program_language`): SINUMERIK for `.mpf` /
+/// `.spf` or a `%_N_` header, HEIDENHAIN for `.h` or a `BEGIN PGM` first
+/// line; `None` for the machine control's own. `head` is the program's
+/// first bytes (or all of them).
+pub fn language(path: Option<&Path>, head: &[u8]) -> Option<Control> {
+    fiveaxis_control::program_language(path, head)
 }
 
-/// The machine a program runs on: `machine`, read as a SINUMERIK (a
-/// clone with `control = "sinumerik"`) when the program is SINUMERIK text
-/// ([`is_sinumerik`]) and the machine's control is another.
-pub fn machine_for_program(machine: &Machine, sinumerik: bool) -> Cow<'_, Machine> {
-    if sinumerik && machine.control != Control::Sinumerik {
-        Cow::Owned(Machine {
-            control: Control::Sinumerik,
-            ..machine.clone()
-        })
-    } else {
-        Cow::Borrowed(machine)
-    }
+/// The machine a program runs on: `machine`, or a clone with the control
+/// whose language the program is in ([`language`]) when that is another.
+pub fn machine_for_program(machine: &Machine, language: Option<Control>) -> Cow<'_, Machine> {
+    fiveaxis_control::machine_for_language(machine, language)
 }
 
 /// The first bytes of `file` (at most [`HEAD_BYTES`]), leaving it at its
@@ -97,13 +85,12 @@ fn file_head(file: &mut File) -> Vec<u8> {
 }
 
 /// The program: the file at `path`, or `code` (its text). Exactly one.
-/// With its name for messages and whether it is SINUMERIK text
-/// ([`is_sinumerik`]).
+/// With its name for messages and the language it is in ([`language`]).
 pub fn open_program(
     py: Python<'_>,
     path: Option<&Path>,
     code: Option<Vec<u8>>,
-) -> PyResult<(ProgramSource, String, bool)> {
+) -> PyResult<(ProgramSource, String, Option<Control>)> {
     match (path, code) {
         (Some(path), None) => {
             let name = path.display().to_string();
@@ -119,19 +106,19 @@ pub fn open_program(
                     None,
                 ));
             }
-            let sinumerik = is_sinumerik(Some(path), &file_head(&mut file));
+            let language = language(Some(path), &file_head(&mut file));
             Ok((
                 ReaderSource::new(Box::new(file) as Box<dyn ReadSeek>),
                 name,
-                sinumerik,
+                language,
             ))
         }
         (None, Some(code)) => {
-            let sinumerik = is_sinumerik(None, &code);
+            let language = language(None, &code);
             Ok((
                 ReaderSource::new(Box::new(Cursor::new(code)) as Box<dyn ReadSeek>),
                 "<string>".to_owned(),
-                sinumerik,
+                language,
             ))
         }
         _ => Err(crate::errors::invalid(
@@ -142,23 +129,23 @@ pub fn open_program(
 }
 
 /// The whole program as bytes (for `post`, which reads it at once), its
-/// name and whether it is SINUMERIK text ([`is_sinumerik`]).
+/// name and the language it is in ([`language`]).
 pub fn read_program(
     py: Python<'_>,
     path: Option<&Path>,
     code: Option<Vec<u8>>,
-) -> PyResult<(Vec<u8>, String, bool)> {
+) -> PyResult<(Vec<u8>, String, Option<Control>)> {
     match (path, code) {
         (Some(path), None) => {
             let name = path.display().to_string();
             let bytes = std::fs::read(path)
                 .map_err(|e| input_error(py, e.to_string(), Some(&name), None, None, None))?;
-            let sinumerik = is_sinumerik(Some(path), &bytes);
-            Ok((bytes, name, sinumerik))
+            let language = language(Some(path), &bytes);
+            Ok((bytes, name, language))
         }
         (None, Some(code)) => {
-            let sinumerik = is_sinumerik(None, &code);
-            Ok((code, "<string>".to_owned(), sinumerik))
+            let language = language(None, &code);
+            Ok((code, "<string>".to_owned(), language))
         }
         _ => Err(crate::errors::invalid(
             py,

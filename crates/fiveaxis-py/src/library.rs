@@ -49,6 +49,7 @@ fn classify(name: &str) -> Named {
             upper
                 .strip_suffix(".SPF")
                 .or_else(|| upper.strip_suffix(".MPF"))
+                .or_else(|| upper.strip_suffix(".H"))
         })
         .unwrap_or(&upper);
     Named::Program(stem.to_owned())
@@ -120,6 +121,19 @@ impl ProgramLibrary for MemoryLibrary {
                 .find(|(n, _)| *n == number)
                 .map(|(_, text)| (source(text), wanted.clone()))
         }))
+    }
+
+    fn open_heidenhain(&mut self, name: &str) -> io::Result<Option<(Box<dyn Source>, String)>> {
+        // `CALL PGM TNC:\PARTS\SUB1.H`: the last part of the path.
+        let base = name.rsplit(['\\', '/', ':']).next().unwrap_or(name);
+        let Named::Program(wanted) = classify(base) else {
+            return Ok(None);
+        };
+        Ok(self
+            .named
+            .iter()
+            .find(|(stem, _)| *stem == wanted)
+            .map(|(stem, text)| (source(text), stem.clone())))
     }
 
     fn sinumerik_definitions(&mut self) -> io::Result<Vec<(Box<dyn Source>, String)>> {

@@ -49,10 +49,10 @@ pub fn check<'py>(
         optional_stop,
         lift_soft_limits: true,
     };
-    let (source, name, sinumerik) =
+    let (source, name, language) =
         open_program(py, program.as_deref(), code.map(|c| c.as_bytes().to_vec()))?;
     // SINUMERIK text runs on the machine read as a SINUMERIK.
-    let machine = &*machine_for_program(&machine.get().machine, sinumerik);
+    let machine = &*machine_for_program(&machine.get().machine, language);
     let variables = variables.unwrap_or_default();
     let report = with_runner(
         py,
@@ -177,7 +177,7 @@ pub fn post<'py>(
     // (it has no inverse time, asked for is refused).
     let feed = fiveaxis_post::FeedStyle::for_control(feed, machine.get().machine.control)
         .map_err(|e| invalid(py, e))?;
-    let (mut bytes, name, sinumerik) =
+    let (mut bytes, name, language) =
         read_program(py, program.as_deref(), code.map(|c| c.as_bytes().to_vec()))?;
     // CL input: the conversion with its line map (an alarm names the CL
     // record's line and text), and the CL text.
@@ -214,7 +214,8 @@ pub fn post<'py>(
     let source_machine = from_machine.as_ref().map(|m| &m.get().machine);
     // SINUMERIK text (not CL data) runs on that machine read as a
     // SINUMERIK; the output is written for `machine` as it is.
-    let run_on = &*machine_for_program(source_machine.unwrap_or(machine), sinumerik && !apt);
+    let run_on =
+        &*machine_for_program(source_machine.unwrap_or(machine), language.filter(|_| !apt));
     let run_offsets = match (&from_machine, &from_offsets) {
         (Some(_), Some(o)) => filled(o.get()),
         _ => filled(&target_offsets),

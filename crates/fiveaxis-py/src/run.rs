@@ -336,10 +336,10 @@ pub fn run<'py>(
         program.as_deref(),
         code.as_ref().map(|c| c.as_bytes().len()),
     );
-    let (source, name, sinumerik) =
+    let (source, name, language) =
         open_program(py, program.as_deref(), code.map(|c| c.as_bytes().to_vec()))?;
     // SINUMERIK text runs on the machine read as a SINUMERIK.
-    let machine = &*machine_for_program(&machine.get().machine, sinumerik);
+    let machine = &*machine_for_program(&machine.get().machine, language);
     let variables = variables.unwrap_or_default();
     let offsets = offsets.get().offsets.clone();
     let (columns, outcome) = py
@@ -481,10 +481,10 @@ pub fn run_stream(
     if chunk_rows == 0 {
         return Err(invalid(py, "chunk_rows must be at least 1"));
     }
-    let (source, name, sinumerik) =
+    let (source, name, language) =
         open_program(py, program.as_deref(), code.map(|c| c.as_bytes().to_vec()))?;
     // SINUMERIK text runs on the machine read as a SINUMERIK.
-    let machine = machine_for_program(&machine.get().machine, sinumerik).into_owned();
+    let machine = machine_for_program(&machine.get().machine, language).into_owned();
     let offsets = offsets.get().offsets.clone();
     let variables = variables.unwrap_or_default();
     // The variables are checked here, where the error can be raised.

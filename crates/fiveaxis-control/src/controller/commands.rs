@@ -146,6 +146,9 @@ impl Controller<'_> {
                     }
                 }
                 Command::Move(m) => motion = Some(m),
+                Command::Retract { distance, span } => {
+                    motion = Some(self.retract_move(distance, span));
+                }
             }
         }
         if let Some((higher, keep_tip, span)) = align {
@@ -475,6 +478,43 @@ impl Controller<'_> {
         let result = self.execute_loaded(base, out);
         self.state.modal.distance = saved_distance;
         result
+    }
+
+    /// The move of [`Command::Retract`]: the linear axes along the tool
+    /// direction (from the tip towards the spindle, `tool_direction_machine`)
+    /// by `distance`, or as far as they go together, clamped to their
+    /// travel so that rounding cannot pass a limit.
+    fn retract_move(&self, distance: Option<f64>, span: Span) -> Move {
+        let d = self.tool_direction_machine();
+        let here = self.state.joints;
+        let t = distance.unwrap_or_else(|| {
+            let mut t = f64::INFINITY;
+            for (i, axis) in self.machine.linear.iter().enumerate().take(3) {
+                if d[i] > 1e-12 {
+                    t = t.min((axis.max - here[i]) / d[i]);
+                } else if d[i] < -1e-12 {
+                    t = t.min((axis.min - here[i]) / d[i]);
+                }
+            }
+            if t.is_finite() { t.max(0.0) } else { 0.0 }
+        });
+        let mut mv = Move {
+            suppress: Suppress::Axes,
+            span,
+            ..Move::default()
+        };
+        for (i, axis) in self.machine.linear.iter().enumerate().take(3) {
+            let mut v = here[i] + t * d[i];
+            if distance.is_none() {
+                v = v.clamp(axis.min, axis.max);
+            }
+            mv.targets[i] = Some(crate::command::Target {
+                value: v,
+                mode: TargetMode::Absolute,
+                span,
+            });
+        }
+        mv
     }
 
     /// The increment that takes axis `i` from `from` to `value` read in

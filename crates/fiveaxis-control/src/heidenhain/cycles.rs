@@ -10,16 +10,27 @@
 //! # Sources
 //!
 //! * [T640C]: HEIDENHAIN TNC 640 / TNC 620 user's manual "Programming of
-//!   Machining Cycles" (cycle run, parameter descriptions), as far as it
-//!   was reachable; the older TNC 320 / TNC 426 / TNC 430 user's manuals
-//!   (chapter 8, "Cycles for Drilling, Tapping and Thread Milling") where
-//!   their text is the same.
+//!   Machining Cycles" (cycle run, parameter descriptions). Its pages on
+//!   these cycles could not be retrieved while this module was written:
+//!   the items cited [T640C] are the author's reading of that manual, not
+//!   checked against a copy, so take every one as *UNVERIFIED* until it
+//!   is. Checked against retrieved pages (TNC 320 / TNC 426 / TNC 430 /
+//!   TNC 410 user's manuals, chapter 8): the meanings of Q200, Q201
+//!   (incremental, its sign the working direction, 0: the cycle is not
+//!   run), Q203, Q204; Q202 going to depth in one move when it is at
+//!   least the depth; Q239's sign (+ right, − left hand); Q351 (+1 climb,
+//!   −1 up-cut, "with M03"); Q257 (0: no chip breaking), Q256, Q258 (the
+//!   advanced stop distance when the tool goes back down to the depth
+//!   reached).
 //! * [BRIEF §9]: the design brief
 //!   (`/work/shared/design/sinumerik-heidenhain-brief.md`, §9: `CYCL DEF`
 //!   form, parameter lists of 200, 203, 207).
-//! * [POST]: the parameter lists a Fusion HEIDENHAIN post and hyperMILL
-//!   write (which parameters real programs carry, `Q208=MAX`,
-//!   `Q253=MAX`).
+//! * [POST]: the parameter lists a Fusion HEIDENHAIN post
+//!   (`mwinterm/fusion_post`, iTNC 530) and hyperMILL programs write for
+//!   200, 201, 202, 203, 204, 205, 207, 208, 209, 241 (which parameters
+//!   real programs carry; `Q208=MAX`, `Q253=MAX`; Q249 the counterbore
+//!   distance and Q250 the material thickness of 204; Q435 "not fully
+//!   specified" by the manual, says the post).
 //!
 //! Everything else is the kernel's reading, marked *kernel*; facts not
 //! confirmed in a retrieved source are marked *UNVERIFIED*.
@@ -96,7 +107,8 @@
 //!   less the decrement Q212 but not less than Q205 [T640C]. After each
 //!   peck but the last: while fewer than Q213 chip breaks were made since
 //!   the tool last left the hole, a chip break (rapid retract by Q256,
-//!   then feed on; *UNVERIFIED* that the break retract is rapid);
+//!   but not above the set-up clearance, then feed on; *UNVERIFIED* that
+//!   the break retract is rapid);
 //!   otherwise retract at Q208 (0: Q206) to the set-up clearance, dwell
 //!   Q210, rapid to Q200 above the depth reached [T640C]. Q213 = 0: every
 //!   peck leaves the hole. At depth dwell Q211, retract at Q208, rapid
@@ -124,7 +136,8 @@
 //!   Q212, Q205). Within a peck, every Q257 of depth a chip break: rapid
 //!   retract by Q256, feed on (Q257 = 0: none) [T640C]. After each peck
 //!   but the last, retract at Q208 to the set-up clearance, rapid back to
-//!   the advanced stop distance above the depth reached: Q258 after the
+//!   the advanced stop distance above the depth reached (at most to the
+//!   set-up clearance; so are the chip-break retracts): Q258 after the
 //!   first peck, Q259 before the last, in between in equal steps [T640C:
 //!   "changes … at the same rate"; the kernel's reading of the rate]. At
 //!   depth dwell Q211, retract at Q208, rapid out. Q208 = 0: Q206
@@ -154,7 +167,8 @@
 //! * **209 TAPPING W/ CHIP BRKG** (Q200 Q201 Q239 Q203 Q204 Q257 Q256 Q336
 //!   [Q403]): as 207, oriented stop at Q336 at the set-up clearance, and
 //!   every Q257 of depth the spindle reverses and the tool taps back by
-//!   Q256 × |Q239| (Q256 = 0: out to the set-up clearance), then forward
+//!   Q256 × |Q239| (Q256 = 0, or more than the way out: out to the set-up
+//!   clearance), then forward
 //!   again [T640C]. Q257 = 0: no chip breaking. Retraction moves run at
 //!   Q403 × the speed (omitted: 1) with their feed in proportion [T640C];
 //!   the speed in force is set back after each. M5 at the set-up clearance
@@ -165,7 +179,7 @@
 //!   tan(T-ANGLE / 2) [T640C]; refused without a point angle. Feed Q206,
 //!   dwell Q211, rapid out [T640C].
 //! * **241 SINGLE-LIP DEEP-HOLE DRILLING** (Q200 Q201 Q206 Q211 Q203 Q204
-//!   Q379 Q253 Q208 Q426 Q427 [Q428 Q429 Q430 Q435 Q401 Q202 Q212 Q205]):
+//!   Q379 Q253 Q208 Q426 Q427 Q428 [Q429 Q430 Q435 Q401 Q202 Q212 Q205]):
 //!   spindle Q426 (3, 4; 5 stationary) at Q427 for entering [T640C], with
 //!   Q379 > 0 at Q253 to Q200 above the deepened starting point, drilling
 //!   speed Q428 in the direction in force (*kernel*: the direction of
@@ -187,7 +201,10 @@
 //! degrees, counterclockwise from the first axis. Counts are whole numbers
 //! ≥ 1; at most [`MAX_POINTS`] points in all.
 //!
-//! * `POS (X Y [Z])`: one point.
+//! * `POS (X Y [Z])`: one point. `IX`, `IY`, `IZ` (the front end passes an
+//!   incremental word with its `I`) are relative to the point before in the
+//!   same `PATTERN DEF` (*UNVERIFIED* reference; the TNC manual's example
+//!   writes `POS2 (X+15 IY+6.5 Z+0)`); refused on the first point.
 //! * `ROW (X Y D NUM [ROT Z])`: NUM points from (X, Y), D apart, along
 //!   ROT.
 //! * `PAT (X Y DX DY NUMX NUMY [ROT ROTX ROTY Z])`: NUMY rows of NUMX
@@ -208,9 +225,6 @@
 //! [`CycleError`] with the Q number at fault (None for the context and
 //! patterns) and a message. On an error `out` is left as it was. Nothing
 //! panics; NaN or infinite inputs are refused.
-
-// The front end does not call the module yet.
-#![allow(dead_code)]
 
 /// A feed of this value or more is rapid traverse (FMAX); the value a
 /// `Q208=MAX` / `FMAX` entry is passed as.
@@ -564,10 +578,10 @@ impl<'a> Params<'a> {
             }
         }
         for n in list {
-            if let R(q) = *n {
-                if p.get(q).is_none() {
-                    return Err(p.error(q, "is missing"));
-                }
+            if let R(q) = *n
+                && p.get(q).is_none()
+            {
+                return Err(p.error(q, "is missing"));
             }
         }
         Ok(p)
@@ -673,7 +687,7 @@ impl<'a> Params<'a> {
     ) -> Result<Rate, CycleError> {
         match self.get(q) {
             None => Ok(omitted),
-            Some(f) if f == 0.0 => Ok(Rate::At(plunge)),
+            Some(0.0) => Ok(Rate::At(plunge)),
             Some(f) => self.rate(q, f, ctx),
         }
     }
@@ -1059,7 +1073,7 @@ fn universal_drilling(p: &Params<'_>, ctx: &Context, o: &mut Out<'_>) -> Result<
         }
         if made < breaks {
             made += 1.0;
-            o.rapid(d + lift);
+            o.rapid((d + lift).min(lv.safe));
         } else {
             made = 0.0;
             o.go(lv.safe, back);
@@ -1168,7 +1182,7 @@ fn universal_pecking(p: &Params<'_>, ctx: &Context, o: &mut Out<'_>) -> Result<(
             let mut at = reached - break_depth;
             while at > d + EPS {
                 o.feed(at, feed);
-                o.rapid(at + lift);
+                o.rapid((at + lift).min(lv.safe));
                 at -= break_depth;
             }
         }
@@ -1184,7 +1198,7 @@ fn universal_pecking(p: &Params<'_>, ctx: &Context, o: &mut Out<'_>) -> Result<(
             upper
         };
         o.go(lv.safe, back);
-        o.rapid(d + stop);
+        o.rapid((d + stop).min(lv.safe));
     }
     o.dwell(bottom_dwell);
     o.go(lv.safe, back);
@@ -1249,7 +1263,14 @@ fn tapping(p: &Params<'_>, ctx: &Context, o: &mut Out<'_>) -> Result<(), CycleEr
         let mut at = lv.surface - break_depth;
         while at > lv.bottom + EPS {
             o.feed(at, feed);
-            retract(o, if lift > 0.0 { at + lift } else { lv.safe });
+            retract(
+                o,
+                if lift > 0.0 {
+                    (at + lift).min(lv.safe)
+                } else {
+                    lv.safe
+                },
+            );
             o.m(into);
             at -= break_depth;
         }
@@ -1526,8 +1547,26 @@ const GRID: [&str; 10] = [
 fn pattern_item(item: &PatternItem, out: &mut Vec<[f64; 3]>) -> Result<(), CycleError> {
     match item.kind.to_ascii_uppercase().as_str() {
         "POS" => {
-            let w = Words::new(item, &["X", "Y", "Z"], &["X", "Y"])?;
-            out.push([w.or0("X"), w.or0("Y"), w.or0("Z")]);
+            let w = Words::new(item, &["X", "Y", "Z", "IX", "IY", "IZ"], &[])?;
+            let mut p = [0.0; 3];
+            for (k, (abs, inc)) in [("X", "IX"), ("Y", "IY"), ("Z", "IZ")]
+                .into_iter()
+                .enumerate()
+            {
+                p[k] = match (w.get(abs), w.get(inc)) {
+                    (Some(_), Some(_)) => {
+                        return Err(w.error(inc, &format!("and {abs} are both written")));
+                    }
+                    (Some(v), None) => v,
+                    (None, Some(v)) => match out.last() {
+                        Some(last) => last[k] + v,
+                        None => return Err(w.error(inc, "(incremental) has no point before it")),
+                    },
+                    (None, None) if k < 2 => return Err(w.error(abs, "is missing")),
+                    (None, None) => 0.0,
+                };
+            }
+            out.push(p);
         }
         "ROW" => {
             let w = Words::new(
@@ -1621,4 +1660,1144 @@ fn pattern_item(item: &PatternItem, out: &mut Vec<[f64; 3]>) -> Result<(), Cycle
         }
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Tool axis Z.
+    const ZP: [usize; 3] = [0, 1, 2];
+    /// Tool axis X (plane Y Z).
+    const XP: [usize; 3] = [1, 2, 0];
+
+    /// At X10 Y20 Z50, F100, S1000 M3, a 6 mm tool without a point angle.
+    fn ctx() -> Context {
+        Context {
+            plane: ZP,
+            position: [10.0, 20.0, 50.0],
+            feed: 100.0,
+            spindle: 1000.0,
+            spindle_ccw: false,
+            tool_radius: 3.0,
+            point_angle: None,
+        }
+    }
+
+    /// Parameters as in the `CYCL DEF` block: `"Q200=2 ~ Q201=-20"`.
+    fn q(text: &str) -> Vec<(u32, f64)> {
+        text.split(|c: char| c.is_whitespace() || c == '~')
+            .filter(|w| !w.is_empty())
+            .map(|w| {
+                let (n, v) = w
+                    .strip_prefix('Q')
+                    .and_then(|w| w.split_once('='))
+                    .expect("Qn=v");
+                (n.parse().expect("a Q number"), v.parse().expect("a value"))
+            })
+            .collect()
+    }
+
+    fn run_in(number: u32, text: &str, c: &Context) -> Vec<Step> {
+        let mut out = Vec::new();
+        cycle(number, &q(text), c, &mut out).expect("the cycle runs");
+        out
+    }
+
+    fn run(number: u32, text: &str) -> Vec<Step> {
+        run_in(number, text, &ctx())
+    }
+
+    /// The error; `out` must be left as it was.
+    fn fail_in(number: u32, text: &str, c: &Context) -> CycleError {
+        let mut out = vec![Step::Dwell(9.0)];
+        let e = cycle(number, &q(text), c, &mut out).expect_err("the cycle is refused");
+        assert_eq!(out, vec![Step::Dwell(9.0)], "out changed on an error");
+        e
+    }
+
+    fn fail(number: u32, text: &str) -> CycleError {
+        fail_in(number, text, &ctx())
+    }
+
+    fn z(v: f64) -> Step {
+        Step::Rapid([None, None, Some(v)])
+    }
+    fn fz(v: f64, feed: f64) -> Step {
+        Step::Feed {
+            to: [None, None, Some(v)],
+            feed,
+        }
+    }
+    fn xy(x: f64, y: f64) -> Step {
+        Step::Rapid([Some(x), Some(y), None])
+    }
+    fn fxy(x: f64, y: f64, feed: f64) -> Step {
+        Step::Feed {
+            to: [Some(x), Some(y), None],
+            feed,
+        }
+    }
+    fn helix(sweep: f64, end: f64, feed: f64) -> Step {
+        Step::Helix {
+            center: [10.0, 20.0],
+            sweep,
+            end,
+            feed,
+        }
+    }
+
+    fn near(a: f64, b: f64) -> bool {
+        (a - b).abs() < 1e-9
+    }
+    fn near_opt(a: [Option<f64>; 3], b: [Option<f64>; 3]) -> bool {
+        a.iter().zip(b).all(|(a, b)| match (a, b) {
+            (Some(a), Some(b)) => near(*a, b),
+            (None, None) => true,
+            _ => false,
+        })
+    }
+    fn same(a: &Step, b: &Step) -> bool {
+        match (a, b) {
+            (Step::Rapid(a), Step::Rapid(b)) => near_opt(*a, *b),
+            (Step::Feed { to: a, feed: f }, Step::Feed { to: b, feed: g }) => {
+                near_opt(*a, *b) && near(*f, *g)
+            }
+            (
+                Step::Helix {
+                    center: c,
+                    sweep: s,
+                    end: e,
+                    feed: f,
+                },
+                Step::Helix {
+                    center: d,
+                    sweep: t,
+                    end: g,
+                    feed: h,
+                },
+            ) => {
+                near(c[0], d[0]) && near(c[1], d[1]) && near(*s, *t) && near(*e, *g) && near(*f, *h)
+            }
+            (Step::Dwell(a), Step::Dwell(b))
+            | (Step::Orient(a), Step::Orient(b))
+            | (Step::Speed(a), Step::Speed(b)) => near(*a, *b),
+            (Step::M(a), Step::M(b)) => a == b,
+            _ => false,
+        }
+    }
+
+    #[track_caller]
+    fn check(got: &[Step], want: &[Step]) {
+        let ok = got.len() == want.len() && got.iter().zip(want).all(|(a, b)| same(a, b));
+        assert!(ok, "\n got: {got:?}\nwant: {want:?}");
+    }
+
+    // ----- 200 DRILLING
+
+    const C200: &str =
+        "Q200=2 ~ Q201=-15 ~ Q206=150 ~ Q202=6 ~ Q210=1 ~ Q203=+0 ~ Q204=50 ~ Q211=0.5";
+
+    #[test]
+    fn drilling_pecks_back_to_clearance_and_down_to_clearance_above_the_depth() {
+        // Pecks to -6, -12, then the rest to -15.
+        check(
+            &run(200, C200),
+            &[
+                z(2.0),
+                fz(-6.0, 150.0),
+                z(2.0),
+                Step::Dwell(1.0),
+                z(-4.0),
+                fz(-12.0, 150.0),
+                z(2.0),
+                Step::Dwell(1.0),
+                z(-10.0),
+                fz(-15.0, 150.0),
+                Step::Dwell(0.5),
+                z(50.0),
+            ],
+        );
+    }
+
+    #[test]
+    fn drilling_in_one_move_when_the_plunging_depth_reaches_the_depth() {
+        let text = "Q200=2 Q201=-20 Q206=150 Q202=20 Q210=0 Q203=10 Q204=50";
+        check(&run(200, text), &[z(12.0), fz(-10.0, 150.0), z(60.0)]);
+        let text = "Q200=2 Q201=-20 Q206=150 Q202=25 Q210=3 Q203=10 Q204=50 Q211=0";
+        check(&run(200, text), &[z(12.0), fz(-10.0, 150.0), z(60.0)]);
+    }
+
+    #[test]
+    fn the_end_is_the_set_up_clearance_when_the_second_is_lower() {
+        let text = "Q200=5 Q201=-10 Q206=150 Q202=10 Q210=0 Q203=0 Q204=2";
+        check(&run(200, text), &[z(5.0), fz(-10.0, 150.0), z(5.0)]);
+    }
+
+    #[test]
+    fn the_set_up_clearance_is_taken_without_its_sign() {
+        let text = "Q200=-2 Q201=-10 Q206=150 Q202=10 Q210=0 Q203=0 Q204=0";
+        check(&run(200, text), &[z(2.0), fz(-10.0, 150.0), z(2.0)]);
+    }
+
+    #[test]
+    fn a_depth_of_zero_runs_nothing_and_a_positive_depth_is_refused() {
+        let text = "Q200=2 Q201=0 Q206=150 Q202=5 Q210=0 Q203=0 Q204=50";
+        assert!(run(200, text).is_empty());
+        let e = fail(200, "Q200=2 Q201=+5 Q206=150 Q202=5 Q210=0 Q203=0 Q204=50");
+        assert_eq!(e.param, Some(201));
+        assert!(e.message.contains("negative"), "{}", e.message);
+    }
+
+    #[test]
+    fn depth_reference_one_adds_the_point_length() {
+        let text = "Q200=2 Q201=-10 Q206=150 Q202=20 Q210=0 Q203=0 Q204=50 Q395=1";
+        let mut c = ctx();
+        c.point_angle = Some(90.0);
+        // R / tan(45°) = 3.
+        check(&run_in(200, text, &c), &[z(2.0), fz(-13.0, 150.0), z(50.0)]);
+        assert_eq!(fail(200, text).param, Some(395));
+        let text = "Q200=2 Q201=-10 Q206=150 Q202=20 Q210=0 Q203=0 Q204=50 Q395=2";
+        assert_eq!(fail_in(200, text, &c).param, Some(395));
+    }
+
+    #[test]
+    fn feeds_fauto_fmax_and_zero() {
+        // FAUTO: the feed in force.
+        let text = "Q200=2 Q201=-10 Q206=-1 Q202=20 Q210=0 Q203=0 Q204=50";
+        check(&run(200, text), &[z(2.0), fz(-10.0, 100.0), z(50.0)]);
+        let text = "Q200=2 Q201=-10 Q206=0 Q202=20 Q210=0 Q203=0 Q204=50";
+        assert_eq!(fail(200, text).param, Some(206));
+        let text = "Q200=2 Q201=-10 Q206=99999.999 Q202=20 Q210=0 Q203=0 Q204=50";
+        assert_eq!(fail(200, text).param, Some(206));
+        let mut c = ctx();
+        c.feed = 0.0;
+        let text = "Q200=2 Q201=-10 Q206=-1 Q202=20 Q210=0 Q203=0 Q204=50";
+        assert_eq!(fail_in(200, text, &c).param, Some(206));
+    }
+
+    #[test]
+    fn drilling_refusals() {
+        let base = "Q200=2 Q201=-10 Q206=150 Q203=0 Q204=50";
+        assert_eq!(fail(200, &format!("{base} Q202=0 Q210=0")).param, Some(202));
+        assert_eq!(
+            fail(200, &format!("{base} Q202=5 Q210=-1")).param,
+            Some(210)
+        );
+        assert_eq!(
+            fail(200, &format!("{base} Q202=5 Q210=0 Q211=-1")).param,
+            Some(211)
+        );
+        assert_eq!(fail(200, &format!("{base} Q210=0")).param, Some(202));
+        assert_eq!(
+            fail(200, &format!("{base} Q202=5 Q210=0 Q999=1")).param,
+            Some(999)
+        );
+        assert_eq!(
+            fail(200, &format!("{base} Q202=5 Q210=0 Q202=6")).param,
+            Some(202)
+        );
+        assert_eq!(
+            fail(200, &format!("{base} Q202=5 Q210=0 Q204=-1")).param,
+            Some(204)
+        );
+        let e = fail(200, "Q200=2 Q201=-10 Q206=150 Q202=5 Q210=0 Q204=50");
+        assert_eq!(e.param, Some(203));
+        assert!(
+            e.message.contains("Q203") && e.message.contains("missing"),
+            "{}",
+            e.message
+        );
+        let mut p = q(&format!("{base} Q202=5 Q210=0"));
+        p[1].1 = f64::NAN;
+        let mut out = Vec::new();
+        assert_eq!(
+            cycle(200, &p, &ctx(), &mut out).expect_err("refused").param,
+            Some(201)
+        );
+        p[1].1 = f64::INFINITY;
+        assert_eq!(
+            cycle(200, &p, &ctx(), &mut out).expect_err("refused").param,
+            Some(201)
+        );
+        let text = "Q200=2 Q201=-10 Q206=150 Q202=0.0001 Q210=0 Q203=0 Q204=50";
+        assert_eq!(fail(200, text).param, Some(202));
+        assert!(out.is_empty());
+    }
+
+    #[test]
+    fn context_refusals() {
+        let text = "Q200=2 Q201=-10 Q206=150 Q202=5 Q210=0 Q203=0 Q204=50";
+        let mut c = ctx();
+        c.position[0] = f64::NAN;
+        assert_eq!(fail_in(200, text, &c).param, None);
+        let mut c = ctx();
+        c.plane = [0, 0, 2];
+        assert_eq!(fail_in(200, text, &c).param, None);
+        let mut c = ctx();
+        c.tool_radius = -1.0;
+        assert_eq!(fail_in(200, text, &c).param, None);
+        let mut c = ctx();
+        c.point_angle = Some(f64::INFINITY);
+        assert_eq!(fail_in(200, text, &c).param, None);
+        let e = fail(206, text);
+        assert_eq!(e.param, None);
+        assert!(e.message.contains("206"), "{}", e.message);
+    }
+
+    #[test]
+    fn is_machining_cycle_lists_the_drilling_cycles() {
+        for n in [200, 201, 202, 203, 204, 205, 207, 208, 209, 240, 241] {
+            assert!(is_machining_cycle(n), "{n}");
+        }
+        for n in [0, 7, 19, 206, 210, 220, 247, 262] {
+            assert!(!is_machining_cycle(n), "{n}");
+        }
+    }
+
+    #[test]
+    fn another_working_plane_drills_along_its_applicate() {
+        let mut c = ctx();
+        c.plane = XP;
+        let text = "Q200=2 Q201=-15 Q206=100 Q211=0 Q208=0 Q203=5 Q204=20";
+        check(
+            &run_in(201, text, &c),
+            &[
+                Step::Rapid([Some(7.0), None, None]),
+                Step::Feed {
+                    to: [Some(-10.0), None, None],
+                    feed: 100.0,
+                },
+                Step::Feed {
+                    to: [Some(7.0), None, None],
+                    feed: 100.0,
+                },
+                Step::Rapid([Some(25.0), None, None]),
+            ],
+        );
+        // 202's lift in that plane: Q214 = 4 is +second axis, Z here.
+        let text = "Q200=2 Q201=-15 Q206=100 Q211=0 Q208=0 Q203=5 Q204=20 Q214=4";
+        let got = run_in(202, text, &c);
+        check(
+            &got[2..4],
+            &[
+                Step::Orient(0.0),
+                Step::Rapid([None, Some(20.0), Some(50.2)]),
+            ],
+        );
+    }
+
+    // ----- 201 REAMING
+
+    #[test]
+    fn reaming_retracts_at_q208_or_q206() {
+        let text = "Q200=2 Q201=-15 Q206=100 Q211=0.5 Q208=250 Q203=+0 Q204=50";
+        check(
+            &run(201, text),
+            &[
+                z(2.0),
+                fz(-15.0, 100.0),
+                Step::Dwell(0.5),
+                fz(2.0, 250.0),
+                z(50.0),
+            ],
+        );
+        let text = "Q200=2 Q201=-15 Q206=100 Q211=0 Q208=0 Q203=+0 Q204=50";
+        check(
+            &run(201, text),
+            &[z(2.0), fz(-15.0, 100.0), fz(2.0, 100.0), z(50.0)],
+        );
+        let text = "Q200=2 Q201=-15 Q206=100 Q211=0 Q208=99999.999 Q203=+0 Q204=50";
+        check(
+            &run(201, text),
+            &[z(2.0), fz(-15.0, 100.0), z(2.0), z(50.0)],
+        );
+        let text = "Q200=2 Q201=-15 Q206=100 Q211=0 Q208=-5 Q203=+0 Q204=50";
+        assert_eq!(fail(201, text).param, Some(208));
+        let text = "Q200=2 Q201=-15 Q206=100 Q211=0 Q203=+0 Q204=50";
+        assert_eq!(fail(201, text).param, Some(208));
+    }
+
+    // ----- 202 BORING
+
+    const C202: &str = "Q200=2 Q201=-15 Q206=100 Q211=0.5 Q208=250 Q203=0 Q204=50";
+
+    #[test]
+    fn boring_orients_lifts_off_the_wall_and_restores_the_spindle() {
+        check(
+            &run(202, &format!("{C202} Q214=1 Q336=90")),
+            &[
+                z(2.0),
+                fz(-15.0, 100.0),
+                Step::Dwell(0.5),
+                Step::Orient(90.0),
+                xy(9.8, 20.0),
+                fz(2.0, 250.0),
+                xy(10.0, 20.0),
+                z(50.0),
+                Step::M(3),
+            ],
+        );
+        // Q214 = 3: +X; the spindle was M4.
+        let mut c = ctx();
+        c.spindle_ccw = true;
+        let got = run_in(202, &format!("{C202} Q214=3"), &c);
+        assert!(same(&got[4], &xy(10.2, 20.0)), "{got:?}");
+        assert_eq!(got.last(), Some(&Step::M(4)));
+    }
+
+    #[test]
+    fn boring_without_disengaging_stays_on_the_axis() {
+        check(
+            &run(202, &format!("{C202} Q214=0")),
+            &[
+                z(2.0),
+                fz(-15.0, 100.0),
+                Step::Dwell(0.5),
+                Step::Orient(0.0),
+                fz(2.0, 250.0),
+                z(50.0),
+                Step::M(3),
+            ],
+        );
+        assert_eq!(fail(202, &format!("{C202} Q214=5")).param, Some(214));
+        assert_eq!(fail(202, &format!("{C202} Q214=1.5")).param, Some(214));
+        assert_eq!(fail(202, C202).param, Some(214));
+    }
+
+    // ----- 203 UNIVERSAL DRILLING
+
+    const C203: &str = "Q200=2 ~ Q201=-20 ~ Q206=150 ~ Q202=6 ~ Q210=0 ~ Q203=+0 ~ Q204=50 ~ \
+                        Q212=1 ~ Q213=2 ~ Q205=3 ~ Q211=0 ~ Q208=500 ~ Q256=0.2";
+
+    #[test]
+    fn universal_drilling_with_decrement_and_breaks() {
+        // Pecks 6, 5, 4, 3 (Q205), 3 → -6, -11, -15, -18, -20. Two chip
+        // breaks, then out of the hole, then breaks again.
+        check(
+            &run(203, C203),
+            &[
+                z(2.0),
+                fz(-6.0, 150.0),
+                z(-5.8),
+                fz(-11.0, 150.0),
+                z(-10.8),
+                fz(-15.0, 150.0),
+                fz(2.0, 500.0),
+                z(-13.0),
+                fz(-18.0, 150.0),
+                z(-17.8),
+                fz(-20.0, 150.0),
+                fz(2.0, 500.0),
+                z(50.0),
+            ],
+        );
+    }
+
+    #[test]
+    fn universal_drilling_as_hypermill_writes_it() {
+        // CYCL DEF 203 with Q213=2 breaks: 1 mm pecks to -9.041, out of
+        // the hole after every third peck.
+        let text = "Q200=3 ~ Q201=-9.041 ~ Q206=68 ~ Q202=1 ~ Q210=0 ~ Q203=0 ~ Q204=50 ~ \
+                    Q212=0 ~ Q213=2 ~ Q205=1 ~ Q211=0 ~ Q208=25000 ~ Q256=0.2";
+        let mut want = vec![z(3.0)];
+        for k in 1..=9 {
+            let d = -f64::from(k);
+            want.push(fz(d, 68.0));
+            if k % 3 == 0 {
+                want.push(fz(3.0, 25000.0));
+                want.push(z(d + 3.0));
+            } else {
+                want.push(z(d + 0.2));
+            }
+        }
+        want.extend([fz(-9.041, 68.0), fz(3.0, 25000.0), z(50.0)]);
+        check(&run(203, text), &want);
+    }
+
+    #[test]
+    fn universal_drilling_without_breaks_leaves_the_hole_each_peck() {
+        let text = "Q200=2 Q201=-12 Q206=150 Q202=5 Q210=1.5 Q203=0 Q204=50 Q212=0 Q213=0 \
+                    Q205=0 Q211=0.25 Q208=0 Q256=0.2";
+        check(
+            &run(203, text),
+            &[
+                z(2.0),
+                fz(-5.0, 150.0),
+                fz(2.0, 150.0),
+                Step::Dwell(1.5),
+                z(-3.0),
+                fz(-10.0, 150.0),
+                fz(2.0, 150.0),
+                Step::Dwell(1.5),
+                z(-8.0),
+                fz(-12.0, 150.0),
+                Step::Dwell(0.25),
+                fz(2.0, 150.0),
+                z(50.0),
+            ],
+        );
+    }
+
+    #[test]
+    fn universal_drilling_refusals() {
+        let text = "Q200=2 Q201=-20 Q206=150 Q202=2 Q210=0 Q203=0 Q204=50 Q212=1 Q213=0 \
+                    Q205=0 Q211=0 Q208=500 Q256=0.2";
+        assert_eq!(fail(203, text).param, Some(205));
+        let text = "Q200=2 Q201=-20 Q206=150 Q202=5 Q210=0 Q203=0 Q204=50 Q212=0 Q213=2 \
+                    Q205=0 Q211=0 Q208=500 Q256=0";
+        assert_eq!(fail(203, text).param, Some(256));
+        let text = "Q200=2 Q201=-20 Q206=150 Q202=5 Q210=0 Q203=0 Q204=50 Q212=0 Q213=1.5 \
+                    Q205=0 Q211=0 Q208=500 Q256=0.2";
+        assert_eq!(fail(203, text).param, Some(213));
+        let text = "Q200=2 Q201=-20 Q206=150 Q202=5 Q210=0 Q203=0 Q204=50 Q212=0 Q213=-1 \
+                    Q205=0 Q211=0 Q208=500 Q256=0.2";
+        assert_eq!(fail(203, text).param, Some(213));
+        let text = "Q200=2 Q201=-20 Q206=150 Q202=5 Q210=0 Q203=0 Q204=50 Q212=-1 Q213=0 \
+                    Q205=0 Q211=0 Q208=500 Q256=0.2";
+        assert_eq!(fail(203, text).param, Some(212));
+        let e = fail(203, "Q200=2 Q201=-20 Q206=150 Q202=5 Q210=0 Q203=0 Q204=50");
+        assert_eq!(e.param, Some(212));
+    }
+
+    // ----- 204 BACK BORING
+
+    const C204: &str = "Q200=2 Q249=+5 Q250=20 Q251=3.5 Q252=15 Q253=750 Q254=200 Q255=0.5 \
+                        Q203=+0 Q204=50";
+
+    #[test]
+    fn back_boring_goes_through_off_centre_and_cuts_upwards() {
+        // Underside -20; tip -20-2-15 = -37 below, -20+5-15 = -30 at the
+        // counterbore depth; off-centre X 10-3.5 = 6.5 (Q214 = 1).
+        check(
+            &run(204, &format!("{C204} Q214=1 Q336=0")),
+            &[
+                z(2.0),
+                Step::Orient(0.0),
+                xy(6.5, 20.0),
+                fz(-37.0, 750.0),
+                fxy(10.0, 20.0, 750.0),
+                Step::M(3),
+                fz(-30.0, 200.0),
+                Step::Dwell(0.5),
+                Step::Orient(0.0),
+                fxy(6.5, 20.0, 750.0),
+                fz(2.0, 750.0),
+                z(50.0),
+                xy(10.0, 20.0),
+                Step::M(3),
+            ],
+        );
+        // Q253 = MAX: the pre-positioning moves are rapid.
+        let text = C204.replace("Q253=750", "Q253=99999.999");
+        let got = run(204, &format!("{text} Q214=2 Q336=45"));
+        check(
+            &got[1..5],
+            &[Step::Orient(45.0), xy(10.0, 16.5), z(-37.0), xy(10.0, 20.0)],
+        );
+    }
+
+    #[test]
+    fn back_boring_refusals() {
+        assert_eq!(fail(204, &format!("{C204} Q214=0")).param, Some(214));
+        let text = C204.replace("Q249=+5", "Q249=25");
+        assert_eq!(fail(204, &format!("{text} Q214=1")).param, Some(249));
+        let text = C204.replace("Q249=+5", "Q249=-5");
+        assert_eq!(fail(204, &format!("{text} Q214=1")).param, Some(249));
+        let text = C204.replace("Q251=3.5", "Q251=0");
+        assert_eq!(fail(204, &format!("{text} Q214=1")).param, Some(251));
+        let text = C204.replace("Q254=200", "Q254=99999.999");
+        assert_eq!(fail(204, &format!("{text} Q214=1")).param, Some(254));
+        let text = C204.replace("Q249=+5", "Q249=0");
+        assert!(run(204, &format!("{text} Q214=1")).is_empty());
+    }
+
+    // ----- 205 UNIVERSAL PECKING
+
+    #[test]
+    fn universal_pecking_with_chip_breaking_and_advanced_stops() {
+        let text = "Q200=2 Q201=-20 Q206=150 Q202=8 Q203=0 Q204=50 Q212=0 Q205=0 Q258=0.5 \
+                    Q259=1.5 Q257=3 Q256=0.2 Q211=0.5 Q379=0 Q253=750 Q208=1000";
+        // Pecks to -8, -16, -20; breaks every 3 mm within each peck; the
+        // stops 0.5 after the first peck and 1.5 before the last.
+        check(
+            &run(205, text),
+            &[
+                z(2.0),
+                fz(-3.0, 150.0),
+                z(-2.8),
+                fz(-6.0, 150.0),
+                z(-5.8),
+                fz(-8.0, 150.0),
+                fz(2.0, 1000.0),
+                z(-7.5),
+                fz(-11.0, 150.0),
+                z(-10.8),
+                fz(-14.0, 150.0),
+                z(-13.8),
+                fz(-16.0, 150.0),
+                fz(2.0, 1000.0),
+                z(-14.5),
+                fz(-19.0, 150.0),
+                z(-18.8),
+                fz(-20.0, 150.0),
+                Step::Dwell(0.5),
+                fz(2.0, 1000.0),
+                z(50.0),
+            ],
+        );
+    }
+
+    #[test]
+    fn universal_pecking_stops_in_equal_steps() {
+        let text = "Q200=2 Q201=-20 Q206=150 Q202=5 Q203=0 Q204=50 Q212=0 Q205=0 Q258=1 \
+                    Q259=2 Q257=0 Q256=0 Q211=0";
+        // Pecks -5, -10, -15, -20; stops 1, 1.5, 2; Q208 omitted: rapid.
+        check(
+            &run(205, text),
+            &[
+                z(2.0),
+                fz(-5.0, 150.0),
+                z(2.0),
+                z(-4.0),
+                fz(-10.0, 150.0),
+                z(2.0),
+                z(-8.5),
+                fz(-15.0, 150.0),
+                z(2.0),
+                z(-13.0),
+                fz(-20.0, 150.0),
+                z(2.0),
+                z(50.0),
+            ],
+        );
+    }
+
+    #[test]
+    fn universal_pecking_from_a_deepened_starting_point() {
+        let text = "Q200=2 Q201=-20 Q206=150 Q202=8 Q203=0 Q204=50 Q212=0 Q205=0 Q258=0.5 \
+                    Q259=1.5 Q257=0 Q256=0.2 Q211=0 Q379=5 Q253=750 Q208=0";
+        check(
+            &run(205, text),
+            &[
+                z(2.0),
+                fz(-3.0, 750.0),
+                fz(-13.0, 150.0),
+                fz(2.0, 150.0),
+                z(-12.5),
+                fz(-20.0, 150.0),
+                fz(2.0, 150.0),
+                z(50.0),
+            ],
+        );
+        let no_feed = text.replace("Q253=750 ", "");
+        assert_eq!(fail(205, &no_feed).param, Some(253));
+        let deep = text.replace("Q379=5", "Q379=25");
+        assert_eq!(fail(205, &deep).param, Some(379));
+        let no_lift = text
+            .replace("Q257=0", "Q257=2")
+            .replace("Q256=0.2", "Q256=0");
+        assert_eq!(fail(205, &no_lift).param, Some(256));
+    }
+
+    // ----- 207 RIGID TAPPING NEW
+
+    #[test]
+    fn rigid_tapping_at_pitch_times_speed() {
+        let mut c = ctx();
+        c.position = [159.0, 7.0, 100.0];
+        c.spindle = 566.0;
+        let text =
+            "CYCL DEF 207 RIGID TAPPING NEW ~ Q200=3 ~ Q201=-12.0296 ~ Q239=+1 ~ Q203=0 ~ Q204=70";
+        let text = text.trim_start_matches("CYCL DEF 207 RIGID TAPPING NEW ~");
+        check(
+            &run_in(207, text, &c),
+            &[
+                z(3.0),
+                Step::M(3),
+                fz(-12.0296, 566.0),
+                Step::M(4),
+                fz(3.0, 566.0),
+                Step::M(5),
+                z(70.0),
+            ],
+        );
+    }
+
+    #[test]
+    fn left_hand_tapping_turns_m4_in_and_m3_out() {
+        let text = "Q200=2 Q201=-10 Q239=-1.5 Q203=0 Q204=20 Q336=30";
+        check(
+            &run(207, text),
+            &[
+                z(2.0),
+                Step::Orient(30.0),
+                Step::M(4),
+                fz(-10.0, 1500.0),
+                Step::M(3),
+                fz(2.0, 1500.0),
+                Step::M(5),
+                z(20.0),
+            ],
+        );
+    }
+
+    #[test]
+    fn tapping_refusals() {
+        let text = "Q200=2 Q201=-10 Q239=0 Q203=0 Q204=20";
+        assert_eq!(fail(207, text).param, Some(239));
+        let mut c = ctx();
+        c.spindle = 0.0;
+        let text = "Q200=2 Q201=-10 Q239=1 Q203=0 Q204=20";
+        let e = fail_in(207, text, &c);
+        assert_eq!(e.param, None);
+        assert!(e.message.contains("spindle"), "{}", e.message);
+        assert_eq!(fail(207, "Q200=2 Q201=-10 Q203=0 Q204=20").param, Some(239));
+    }
+
+    // ----- 209 TAPPING W/ CHIP BRKG
+
+    const C209: &str = "Q200=2 Q201=-10 Q239=+1.5 Q203=+0 Q204=50 Q257=4 Q256=1 Q336=30";
+
+    #[test]
+    fn tapping_with_chip_breaking_backs_off_by_pitch_times_q256() {
+        // Feed 1.5 × 1000; chip breaks at -4 and -8, back 1.5 each.
+        check(
+            &run(209, C209),
+            &[
+                z(2.0),
+                Step::Orient(30.0),
+                Step::M(3),
+                fz(-4.0, 1500.0),
+                Step::M(4),
+                fz(-2.5, 1500.0),
+                Step::M(3),
+                fz(-8.0, 1500.0),
+                Step::M(4),
+                fz(-6.5, 1500.0),
+                Step::M(3),
+                fz(-10.0, 1500.0),
+                Step::M(4),
+                fz(2.0, 1500.0),
+                Step::M(5),
+                z(50.0),
+            ],
+        );
+    }
+
+    #[test]
+    fn tapping_with_chip_removal_and_a_faster_retraction() {
+        let text = "Q200=2 Q201=-6 Q239=1 Q203=0 Q204=0 Q257=4 Q256=0 Q336=0 Q403=2";
+        check(
+            &run(209, text),
+            &[
+                z(2.0),
+                Step::Orient(0.0),
+                Step::M(3),
+                fz(-4.0, 1000.0),
+                Step::M(4),
+                Step::Speed(2000.0),
+                fz(2.0, 2000.0),
+                Step::Speed(1000.0),
+                Step::M(3),
+                fz(-6.0, 1000.0),
+                Step::M(4),
+                Step::Speed(2000.0),
+                fz(2.0, 2000.0),
+                Step::Speed(1000.0),
+                Step::M(5),
+                z(2.0),
+            ],
+        );
+        let text = "Q200=2 Q201=-6 Q239=1 Q203=0 Q204=0 Q257=0 Q256=0 Q336=0 Q403=0";
+        assert_eq!(fail(209, text).param, Some(403));
+        let text = "Q200=2 Q201=-6 Q239=1 Q203=0 Q204=0 Q257=-1 Q256=0 Q336=0";
+        assert_eq!(fail(209, text).param, Some(257));
+        let text = "Q200=2 Q201=-6 Q239=1 Q203=0 Q204=0 Q257=0 Q256=0";
+        assert_eq!(fail(209, text).param, Some(336));
+    }
+
+    #[test]
+    fn retracts_inside_the_hole_stop_at_the_set_up_clearance() {
+        // 209: 3 × 1.5 = 4.5 back from -2 would be above Z2.
+        let text = "Q200=2 Q201=-4 Q239=1.5 Q203=0 Q204=0 Q257=2 Q256=3 Q336=0";
+        check(
+            &run(209, text)[3..6],
+            &[fz(-2.0, 1500.0), Step::M(4), fz(2.0, 1500.0)],
+        );
+        // 203: a chip-break distance of 5 after a 1 mm peck.
+        let text = "Q200=2 Q201=-3 Q206=150 Q202=1 Q210=0 Q203=0 Q204=0 Q212=0 Q213=5 \
+                    Q205=0 Q211=0 Q208=0 Q256=5";
+        check(&run(203, text)[1..3], &[fz(-1.0, 150.0), z(2.0)]);
+        // 205: an advanced stop distance of 10.
+        let text = "Q200=2 Q201=-6 Q206=150 Q202=3 Q203=0 Q204=0 Q212=0 Q205=0 Q258=10 \
+                    Q259=10 Q257=0 Q256=0 Q211=0";
+        check(&run(205, text)[1..4], &[fz(-3.0, 150.0), z(2.0), z(2.0)]);
+    }
+
+    // ----- 208 BORE MILLING
+
+    const C208: &str = "CYCL DEF 208 BORE MILLING ~ Q200=1 ~ Q201=-15 ~ Q206=840 ~ Q334=0.7 ~ \
+                        Q203=0 ~ Q204=57 ~ Q335=12.5 ~ Q342=12.4 ~ Q351=1";
+
+    fn c208() -> String {
+        C208.trim_start_matches("CYCL DEF 208 BORE MILLING ~")
+            .to_string()
+    }
+
+    #[test]
+    fn bore_milling_helix_turns_then_a_full_circle_at_depth() {
+        // 6 mm tool: helix radius 6.25 - 3 = 3.25. From Z1 to Z-15 is
+        // 16 mm, 16 / 0.7 = 22 full turns to Z-14.4 and 6/7 of a turn
+        // (308.571428…°) to Z-15; climb with M3: counterclockwise.
+        let mut want = vec![z(1.0), fxy(13.25, 20.0, 840.0)];
+        for k in 1..=22 {
+            want.push(helix(360.0, 1.0 - 0.7 * f64::from(k), 840.0));
+        }
+        want.push(helix(360.0 * 6.0 / 7.0, -15.0, 840.0));
+        want.push(helix(360.0, -15.0, 840.0));
+        want.push(fxy(10.0, 20.0, 840.0));
+        want.push(z(57.0));
+        check(&run(208, &c208()), &want);
+    }
+
+    #[test]
+    fn bore_milling_direction_from_q351_and_the_spindle() {
+        let up_cut = c208().replace("Q351=1", "Q351=-1");
+        assert!(same(&run(208, &up_cut)[2], &helix(-360.0, 0.3, 840.0)));
+        let mut c = ctx();
+        c.spindle_ccw = true;
+        assert!(same(
+            &run_in(208, &c208(), &c)[2],
+            &helix(-360.0, 0.3, 840.0)
+        ));
+        assert!(same(
+            &run_in(208, &up_cut, &c)[2],
+            &helix(360.0, 0.3, 840.0)
+        ));
+        // Q351 omitted: climb.
+        let old = c208().replace("~ Q351=1", "");
+        assert!(same(&run(208, &old)[2], &helix(360.0, 0.3, 840.0)));
+        assert_eq!(
+            fail(208, &c208().replace("Q351=1", "Q351=0")).param,
+            Some(351)
+        );
+    }
+
+    #[test]
+    fn bore_milling_a_hole_of_the_tool_diameter_plunges_straight() {
+        let text = c208().replace("Q335=12.5", "Q335=6");
+        check(&run(208, &text), &[z(1.0), fz(-15.0, 840.0), z(57.0)]);
+        let text = c208().replace("Q335=12.5", "Q335=5");
+        assert_eq!(fail(208, &text).param, Some(335));
+    }
+
+    #[test]
+    fn bore_milling_checks_the_diameter_ratio_without_a_roughing_diameter() {
+        let text = c208().replace("Q342=12.4", "Q342=0");
+        let e = fail(208, &text);
+        assert_eq!(e.param, Some(335));
+        assert!(e.message.contains("twice"), "{}", e.message);
+        // 12 = twice the tool diameter is allowed.
+        let text = text.replace("Q335=12.5", "Q335=12");
+        assert_eq!(run(208, &text)[1], fxy(13.0, 20.0, 840.0));
+        assert_eq!(
+            fail(208, &c208().replace("Q334=0.7", "Q334=0")).param,
+            Some(334)
+        );
+        assert_eq!(
+            fail(208, &c208().replace("Q334=0.7", "Q334=0.000001")).param,
+            Some(334)
+        );
+        let mut c = ctx();
+        c.tool_radius = 0.0;
+        assert_eq!(fail_in(208, &c208(), &c).param, Some(335));
+    }
+
+    #[test]
+    fn bore_milling_whole_turns_end_on_the_depth() {
+        // 1 + 15 = 16 = 8 turns of 2 mm: no part turn.
+        let text = c208().replace("Q334=0.7", "Q334=2");
+        let got = run(208, &text);
+        assert_eq!(got.len(), 2 + 8 + 1 + 2);
+        assert!(same(&got[9], &helix(360.0, -15.0, 840.0)));
+        assert!(same(&got[10], &helix(360.0, -15.0, 840.0)));
+    }
+
+    // ----- 240 CENTERING
+
+    const C240: &str = "Q200=2 Q201=-3 Q344=-9 Q206=250 Q211=0.1 Q203=+0 Q204=50";
+
+    #[test]
+    fn centering_to_a_depth_or_a_diameter() {
+        check(
+            &run(240, &format!("{C240} Q343=0")),
+            &[z(2.0), fz(-3.0, 250.0), Step::Dwell(0.1), z(50.0)],
+        );
+        let mut c = ctx();
+        c.point_angle = Some(90.0);
+        // 9 / 2 / tan(45°) = 4.5.
+        check(
+            &run_in(240, &format!("{C240} Q343=1"), &c),
+            &[z(2.0), fz(-4.5, 250.0), Step::Dwell(0.1), z(50.0)],
+        );
+        // 60°: 4.5 / tan(30°) = 7.794228634…
+        c.point_angle = Some(60.0);
+        let got = run_in(240, &format!("{C240} Q343=1"), &c);
+        assert!(same(&got[1], &fz(-7.794_228_634_059_948, 250.0)), "{got:?}");
+    }
+
+    #[test]
+    fn centering_refusals() {
+        assert_eq!(fail(240, &format!("{C240} Q343=1")).param, Some(343));
+        assert_eq!(fail(240, &format!("{C240} Q343=2")).param, Some(343));
+        let mut c = ctx();
+        c.point_angle = Some(90.0);
+        let text = C240.replace("Q344=-9", "Q344=9");
+        assert_eq!(fail_in(240, &format!("{text} Q343=1"), &c).param, Some(344));
+        let text = C240.replace("Q344=-9", "Q344=0");
+        assert!(run_in(240, &format!("{text} Q343=1"), &c).is_empty());
+        let text = C240.replace("Q201=-3 ", "");
+        assert_eq!(fail(240, &format!("{text} Q343=0")).param, Some(201));
+    }
+
+    // ----- 241 SINGLE-LIP DEEP-HOLE DRILLING
+
+    const C241: &str = "Q200=2 Q201=-80 Q206=150 Q211=0.25 Q203=+0 Q204=50 Q379=7.5 Q253=750 \
+                        Q208=1000 Q427=25 Q428=500 Q429=8 Q430=9 Q435=0";
+
+    #[test]
+    fn single_lip_drilling_enters_slowly_drills_and_leaves() {
+        check(
+            &run(241, &format!("{C241} Q426=3")),
+            &[
+                z(2.0),
+                Step::Speed(25.0),
+                Step::M(3),
+                fz(-5.5, 750.0),
+                Step::Speed(500.0),
+                Step::M(3),
+                Step::M(8),
+                fz(-80.0, 150.0),
+                Step::Dwell(0.25),
+                Step::M(9),
+                Step::Speed(25.0),
+                Step::M(3),
+                fz(2.0, 1000.0),
+                z(50.0),
+            ],
+        );
+        // A stationary spindle for entering and leaving, no coolant, no
+        // deepened start.
+        let text = C241
+            .replace("Q379=7.5", "Q379=0")
+            .replace("Q429=8 Q430=9 ", "");
+        check(
+            &run(241, &format!("{text} Q426=5")),
+            &[
+                z(2.0),
+                Step::M(5),
+                Step::Speed(500.0),
+                Step::M(3),
+                fz(-80.0, 150.0),
+                Step::Dwell(0.25),
+                Step::M(5),
+                fz(2.0, 1000.0),
+                z(50.0),
+            ],
+        );
+    }
+
+    #[test]
+    fn single_lip_refusals() {
+        assert_eq!(fail(241, &format!("{C241} Q426=6")).param, Some(426));
+        let text = C241.replace("Q435=0", "Q435=10");
+        assert_eq!(fail(241, &format!("{text} Q426=3")).param, Some(435));
+        assert_eq!(
+            fail(241, &format!("{C241} Q426=3 Q202=10")).param,
+            Some(202)
+        );
+        // A plunging depth past the depth is one plunge.
+        assert_eq!(run(241, &format!("{C241} Q426=3 Q202=100")).len(), 14);
+        let text = C241.replace("Q427=25", "Q427=0");
+        assert_eq!(fail(241, &format!("{text} Q426=3")).param, Some(427));
+        let text = C241.replace("Q429=8", "Q429=8.5");
+        assert_eq!(fail(241, &format!("{text} Q426=3")).param, Some(429));
+        let text = C241.replace("Q379=7.5", "Q379=80");
+        assert_eq!(fail(241, &format!("{text} Q426=3")).param, Some(379));
+        assert_eq!(fail(241, C241).param, Some(426));
+    }
+
+    // ----- PATTERN DEF
+
+    fn item(kind: &str, words: &str) -> PatternItem {
+        PatternItem {
+            kind: kind.to_string(),
+            words: words
+                .split_whitespace()
+                .map(|w| {
+                    let at = w
+                        .find(|c: char| c == '+' || c == '-' || c.is_ascii_digit())
+                        .expect("a value");
+                    (w[..at].to_string(), w[at..].parse().expect("a number"))
+                })
+                .collect(),
+        }
+    }
+
+    fn points(items: &[PatternItem]) -> Vec<[f64; 3]> {
+        let mut out = Vec::new();
+        pattern(items, &mut out).expect("the pattern is read");
+        out
+    }
+
+    #[track_caller]
+    fn check_points(got: &[[f64; 3]], want: &[[f64; 3]]) {
+        let ok = got.len() == want.len()
+            && got
+                .iter()
+                .zip(want)
+                .all(|(a, b)| a.iter().zip(b).all(|(a, b)| near(*a, *b)));
+        assert!(ok, "\n got: {got:?}\nwant: {want:?}");
+    }
+
+    fn pattern_fail(items: &[PatternItem]) -> CycleError {
+        let mut out = vec![[9.0; 3]];
+        let e = pattern(items, &mut out).expect_err("the pattern is refused");
+        assert_eq!(out, vec![[9.0; 3]]);
+        e
+    }
+
+    #[test]
+    fn pattern_points_and_rows() {
+        check_points(
+            &points(&[
+                item("POS", "X+25 Y+33.5 Z+0"),
+                item("POS", "X+15 Y+6.5"),
+                item("ROW", "X+10 Y+20 D+5 NUM3 ROT+90 Z-2"),
+                item("ROW", "X+0 Y+0 D-4 NUM2 ROT+0 Z+0"),
+            ]),
+            &[
+                [25.0, 33.5, 0.0],
+                [15.0, 6.5, 0.0],
+                [10.0, 20.0, -2.0],
+                [10.0, 25.0, -2.0],
+                [10.0, 30.0, -2.0],
+                [0.0, 0.0, 0.0],
+                [-4.0, 0.0, 0.0],
+            ],
+        );
+    }
+
+    #[test]
+    fn pattern_positions_may_be_incremental() {
+        check_points(
+            &points(&[
+                item("POS", "X+25 Y+33.5 Z+0"),
+                item("POS", "X+15 IY+6.5 Z+0"),
+                item("POS", "IX+1 IY-1 IZ-2"),
+            ]),
+            &[[25.0, 33.5, 0.0], [15.0, 40.0, 0.0], [16.0, 39.0, -2.0]],
+        );
+        let e = pattern_fail(&[item("POS", "IX+1 Y+0")]);
+        assert!(e.message.contains("no point before"), "{}", e.message);
+        let e = pattern_fail(&[item("POS", "X+1 Y+0"), item("POS", "X+1 IX+1 Y+0")]);
+        assert!(e.message.contains("both"), "{}", e.message);
+        let e = pattern_fail(&[item("ROW", "IX+1 Y+0 D+1 NUM1")]);
+        assert!(e.message.contains("not a word"), "{}", e.message);
+    }
+
+    #[test]
+    fn pattern_grid_is_a_meander_and_a_frame_goes_round() {
+        check_points(
+            &points(&[item(
+                "PAT",
+                "X+0 Y+0 DX+10 DY+5 NUMX3 NUMY2 ROT+0 ROTX+0 ROTY+0 Z+1",
+            )]),
+            &[
+                [0.0, 0.0, 1.0],
+                [10.0, 0.0, 1.0],
+                [20.0, 0.0, 1.0],
+                [20.0, 5.0, 1.0],
+                [10.0, 5.0, 1.0],
+                [0.0, 5.0, 1.0],
+            ],
+        );
+        // Turned by 90°: columns along +Y, rows along -X.
+        check_points(
+            &points(&[item("PAT", "X+0 Y+0 DX+10 DY+5 NUMX2 NUMY2 ROT+90")]),
+            &[
+                [0.0, 0.0, 0.0],
+                [0.0, 10.0, 0.0],
+                [-5.0, 10.0, 0.0],
+                [-5.0, 0.0, 0.0],
+            ],
+        );
+        check_points(
+            &points(&[item("FRAME", "X+0 Y+0 DX+10 DY+10 NUMX3 NUMY3 ROT+0")]),
+            &[
+                [0.0, 0.0, 0.0],
+                [10.0, 0.0, 0.0],
+                [20.0, 0.0, 0.0],
+                [20.0, 10.0, 0.0],
+                [20.0, 20.0, 0.0],
+                [10.0, 20.0, 0.0],
+                [0.0, 20.0, 0.0],
+                [0.0, 10.0, 0.0],
+            ],
+        );
+        check_points(
+            &points(&[item("FRAME", "X+0 Y+0 DX+10 DY+10 NUMX1 NUMY3")]),
+            &[[0.0, 0.0, 0.0], [0.0, 10.0, 0.0], [0.0, 20.0, 0.0]],
+        );
+        check_points(
+            &points(&[item("FRAME", "X+0 Y+0 DX+10 DY+10 NUMX2 NUMY1")]),
+            &[[0.0, 0.0, 0.0], [10.0, 0.0, 0.0]],
+        );
+    }
+
+    #[test]
+    fn pattern_circles() {
+        check_points(
+            &points(&[item("CIRC", "X+0 Y+0 D20 START+0 NUM4 Z+0")]),
+            &[
+                [10.0, 0.0, 0.0],
+                [0.0, 10.0, 0.0],
+                [-10.0, 0.0, 0.0],
+                [0.0, -10.0, 0.0],
+            ],
+        );
+        let h = 10.0 * 60f64.to_radians().sin();
+        check_points(
+            &points(&[item("PITCHCIRC", "X+1 Y+2 D20 START+90 STEP-30 NUM3 Z+0")]),
+            &[[1.0, 12.0, 0.0], [6.0, 2.0 + h, 0.0], [1.0 + h, 7.0, 0.0]],
+        );
+    }
+
+    #[test]
+    fn pattern_refusals() {
+        for (kind, words, what) in [
+            ("LINE", "X+0 Y+0", "not a pattern"),
+            ("POS", "X+0", "Y is missing"),
+            ("POS", "X+0 Y+0 A+1", "A is not a word"),
+            ("POS", "X+0 Y+0 X+1", "written twice"),
+            ("ROW", "X+0 Y+0 D+5", "NUM is missing"),
+            ("ROW", "X+0 Y+0 D+5 NUM0", "NUM must be"),
+            ("ROW", "X+0 Y+0 D+5 NUM2.5", "NUM must be"),
+            ("PAT", "X+0 Y+0 DX+1 DY+1 NUMX200 NUMY200", "more than"),
+            ("CIRC", "X+0 Y+0 D0 NUM4", "diameter"),
+            ("PITCHCIRC", "X+0 Y+0 D10 NUM4", "STEP is missing"),
+        ] {
+            let e = pattern_fail(&[item("POS", "X+1 Y+1"), item(kind, words)]);
+            assert!(e.message.contains(what), "{kind} {words}: {}", e.message);
+            assert_eq!(e.param, None);
+        }
+        let mut bad = item("POS", "X+0 Y+0");
+        bad.words[0].1 = f64::NAN;
+        assert!(pattern_fail(&[bad]).message.contains("finite"));
+        let many: Vec<_> = (0..3)
+            .map(|_| item("PAT", "X+0 Y+0 DX+1 DY+1 NUMX100 NUMY40"))
+            .collect();
+        assert!(pattern_fail(&many).message.contains("more than"));
+    }
 }

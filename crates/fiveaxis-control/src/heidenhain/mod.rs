@@ -27,11 +27,13 @@ pub(crate) mod cycles;
 
 use fiveaxis_gcode::Span;
 use fiveaxis_heidenhain::{Executed, Kind, Tool};
-use fiveaxis_machine::{Control, MAX_AXES, Vec3};
+use fiveaxis_machine::{Control, Joints, MAX_AXES, Vec3};
 use nalgebra::Rotation3;
 
 use crate::alarm::{Alarm, Condition};
-use crate::command::{Command, CommandBlock, CutterSide, Frame, Move, Suppress, Target, TargetMode};
+use crate::command::{
+    Command, CommandBlock, CutterSide, Frame, Move, Suppress, Target, TargetMode,
+};
 use crate::controller::{Controller, Flow};
 use crate::modal::{MotionMode, Plane, TcpcType};
 use crate::segment::Segment;
@@ -56,6 +58,40 @@ pub struct Stock {
     pub min: [f64; 3],
     /// `BLK FORM 0.2`.
     pub max: [f64; 3],
+}
+
+/// The shape of a path in the working plane, for roundings and chamfers.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Shape {
+    /// A straight line.
+    Line,
+    /// A circular arc about `centre`.
+    Arc { centre: [f64; 2], ccw: bool },
+    /// A move that is no contour element (rotary axes alone, machine
+    /// coordinates): no rounding or chamfer joins it.
+    Other,
+}
+
+/// A path block held back, in program coordinates.
+#[derive(Clone, Copy, Debug)]
+struct Held {
+    line: u32,
+    start: Joints,
+    end: Joints,
+    shape: Shape,
+    /// The block calls the machining cycle (`M99`, `M89`).
+    call: bool,
+}
+
+/// `RND R…` or `CHF …` waiting for the path after it.
+#[derive(Clone, Copy, Debug)]
+struct Corner {
+    line: u32,
+    /// The rounding radius, or the chamfer's length.
+    size: f64,
+    chamfer: bool,
+    /// The feed of the rounding or chamfer (`F` in its block).
+    feed: Option<f64>,
 }
 
 /// What the front end keeps between blocks.
@@ -102,12 +138,21 @@ pub(crate) struct Front {
     stock_min: Option<[f64; 3]>,
     /// Named tools met so far with the number each stands for.
     tool_names: Vec<(String, u32)>,
+    /// The tool of the last `TOOL CALL` and its `DR`.
+    tool: u32,
+    delta_radius: f64,
     /// The direction of the path at the end of the last move, in the
     /// plane (for `CT`).
     tangent: Option<[f64; 2]>,
     /// Axis positions `PLANE … STAY` computed, for Q120 (A), Q121 (B),
     /// Q122 (C): the runner writes them into the program's parameters.
     pub(crate) stay: Option<[Option<f64>; 3]>,
+    /// A path block held back until the next block is known (a rounding
+    /// or a chamfer after it shortens it), with its commands.
+    held: Option<Held>,
+    held_block: CommandBlock,
+    /// `RND` / `CHF` read after the held path, for the next path.
+    corner: Option<Corner>,
     /// The block being built, and the steps of a cycle.
     block: CommandBlock,
     steps: Vec<cycles::Step>,
@@ -143,7 +188,9 @@ fn from_x_and_z(x: Vec3, z: Vec3) -> Option<Rotation3<f64>> {
     let z = z.try_normalize(GEOMETRY_TOLERANCE)?;
     let x = (x - z * x.dot(&z)).try_normalize(GEOMETRY_TOLERANCE)?;
     let y = z.cross(&x);
-    Some(Rotation3::from_matrix_unchecked(nalgebra::Matrix3::from_columns(&[x, y, z])))
+    Some(Rotation3::from_matrix_unchecked(
+        nalgebra::Matrix3::from_columns(&[x, y, z]),
+    ))
 }
 
 /// The angle of `v` in the plane, degrees in (−180, 180].
@@ -175,8 +222,13 @@ impl Front {
             stock: None,
             stock_min: None,
             tool_names: Vec::new(),
+            tool: 0,
+            delta_radius: 0.0,
             tangent: None,
             stay: None,
+            held: None,
+            held_block: CommandBlock::default(),
+            corner: None,
             block: CommandBlock::default(),
             steps: Vec::new(),
             points: Vec::new(),
@@ -205,6 +257,26 @@ impl Front {
         self.block.clear(line);
         self.block.number = ex.block_number;
         self.stay = None;
+        let path = matches!(
+            ex.kind,
+            Kind::Line
+                | Kind::LineNormal
+                | Kind::Circle
+                | Kind::CircleRadius
+                | Kind::CircleTangent
+                | Kind::LinePolar
+                | Kind::CirclePolar
+                | Kind::CircleTangentPolar
+                | Kind::Rounding
+                | Kind::Chamfer
+                | Kind::Centre
+        );
+        if !path {
+            let flow = self.finish(ctrl, out)?;
+            if flow == Flow::End {
+                return Ok(flow);
+            }
+        }
         match ex.kind {
             Kind::Empty | Kind::Stop => self.plain(ex, ctrl, out),
             Kind::Line | Kind::LineNormal => self.line(ex, ctrl, out),
@@ -212,23 +284,22 @@ impl Front {
                 self.centre(ex, ctrl)?;
                 self.m_only(ex, ctrl, out)
             }
-            Kind::Circle | Kind::CircleRadius | Kind::CircleTangent => {
-                self.circle(ex, ctrl, out)
-            }
+            Kind::Circle | Kind::CircleRadius | Kind::CircleTangent => self.circle(ex, ctrl, out),
             Kind::LinePolar | Kind::CirclePolar | Kind::CircleTangentPolar => {
                 self.polar(ex, ctrl, out)
             }
-            Kind::Rounding | Kind::Chamfer | Kind::Approach | Kind::Depart => Err(alarm(
+            Kind::Rounding | Kind::Chamfer => self.corner(ex),
+            Kind::Approach | Kind::Depart => Err(alarm(
                 line,
                 Condition::ImproperAddress,
                 None,
                 format!(
-                    "{} is not carried out by the kernel yet (docs/heidenhain.md, \"What is not read\")",
-                    match ex.kind {
-                        Kind::Rounding => "RND",
-                        Kind::Chamfer => "CHF",
-                        Kind::Approach => "APPR",
-                        _ => "DEP",
+                    "{} (approach and departure with radius compensation) is not read by the kernel: \
+                     program the approach with L and CT blocks (docs/heidenhain.md)",
+                    if ex.kind == Kind::Approach {
+                        "APPR"
+                    } else {
+                        "DEP"
                     }
                 ),
             )),
@@ -289,6 +360,290 @@ impl Front {
         }
     }
 
+    /// Where the next path starts, in program coordinates: the end of the
+    /// path held back, else where the controller stands.
+    fn start(&self, ctrl: &Controller<'_>) -> Joints {
+        self.held.map_or_else(|| ctrl.program_position(), |h| h.end)
+    }
+
+    /// `RND R…` / `CHF …`: joins the path held back and the next one.
+    fn corner(&mut self, ex: &Executed) -> Result<Flow, Alarm> {
+        let line = ex.line;
+        let chamfer = ex.kind == Kind::Chamfer;
+        let name = if chamfer { "CHF" } else { "RND" };
+        let size = if chamfer {
+            ex.word("CHF").or_else(|| ex.words.first())
+        } else {
+            ex.word("R")
+        }
+        .ok_or_else(|| {
+            alarm(
+                line,
+                Condition::NoDataAfterAddress,
+                None,
+                format!("{name} needs its size"),
+            )
+        })?;
+        let size = self.length(size.value);
+        if !(size.is_finite() && size > 0.0) {
+            return Err(alarm(
+                line,
+                Condition::ValueOutOfRange,
+                None,
+                format!("{name} {size}: the size must be greater than 0"),
+            ));
+        }
+        if !self.held.is_some_and(|h| h.shape != Shape::Other) || self.corner.is_some() {
+            return Err(alarm(
+                line,
+                Condition::CrcNoIntersection,
+                None,
+                format!("{name} needs a contour element (L, C, CR, CT, LP, CP) right before it"),
+            ));
+        }
+        let feed = ex.word("F").map(|f| self.length(f.value));
+        self.corner = Some(Corner {
+            line,
+            size,
+            chamfer,
+            feed,
+        });
+        Ok(Flow::Next)
+    }
+
+    /// Holds the path block just built back and carries out the one held
+    /// before (with a rounding or chamfer between them if one was
+    /// programmed). A move that is no contour element is carried out at
+    /// once.
+    fn hold(
+        &mut self,
+        ctrl: &mut Controller<'_>,
+        out: &mut Vec<Segment>,
+        held: Held,
+    ) -> Result<Flow, Alarm> {
+        // The new block waits aside while the one before runs (its cycle
+        // call builds blocks in `self.block`).
+        let mut incoming = std::mem::take(&mut self.block);
+        let result = self.release(ctrl, out, &held);
+        std::mem::swap(&mut incoming, &mut self.held_block);
+        // The buffers are reused from block to block.
+        self.block = incoming;
+        let mut flow = result?;
+        self.held = Some(held);
+        if held.shape == Shape::Other {
+            let next = self.run_held(ctrl, out)?;
+            if flow == Flow::Next {
+                flow = next;
+            }
+        }
+        Ok(flow)
+    }
+
+    /// Carries out the path held back before `next`, with the rounding or
+    /// chamfer between them if one was programmed.
+    fn release(
+        &mut self,
+        ctrl: &mut Controller<'_>,
+        out: &mut Vec<Segment>,
+        next: &Held,
+    ) -> Result<Flow, Alarm> {
+        let Some(corner) = self.corner.take() else {
+            return self.run_held(ctrl, out);
+        };
+        let Some(prev) = self.held.take() else {
+            return Err(alarm(
+                corner.line,
+                Condition::CrcNoIntersection,
+                None,
+                "a rounding or chamfer needs a contour element before it".into(),
+            ));
+        };
+        if next.shape == Shape::Other {
+            return Err(alarm(
+                next.line,
+                Condition::CrcNoIntersection,
+                None,
+                "a rounding or chamfer needs a contour element (L, C, CR, CT, LP, CP) after it"
+                    .into(),
+            ));
+        }
+        let joint = self.join(&prev, next, &corner)?;
+        self.trim_held(&prev, joint.t1);
+        self.held = Some(prev);
+        let flow = self.run_held(ctrl, out)?;
+        // The rounding's arc or the chamfer's line.
+        let [a, b, _] = self.axes();
+        self.block.clear(corner.line);
+        let mut mv = Move::default();
+        for (k, i) in [a, b].into_iter().enumerate() {
+            mv.targets[i] = Some(Target {
+                value: joint.t2[k],
+                mode: TargetMode::Absolute,
+                span: Span::default(),
+            });
+        }
+        let interpolation = match joint.centre {
+            Some((c, ccw)) => {
+                self.set_centre(&mut mv, [a, b], c);
+                if ccw { MotionMode::Ccw } else { MotionMode::Cw }
+            }
+            None => MotionMode::Linear,
+        };
+        self.block
+            .commands
+            .push(Command::Interpolation(interpolation));
+        self.block.commands.push(Command::Feed {
+            value: corner.feed.unwrap_or(self.feed),
+            span: Span::default(),
+        });
+        self.block.commands.push(Command::Move(mv));
+        ctrl.run_block(&self.block, out)?;
+        Ok(flow)
+    }
+
+    /// Carries out the path held back, then its cycle call.
+    fn run_held(
+        &mut self,
+        ctrl: &mut Controller<'_>,
+        out: &mut Vec<Segment>,
+    ) -> Result<Flow, Alarm> {
+        let Some(held) = self.held.take() else {
+            return Ok(Flow::Next);
+        };
+        let flow = ctrl.run_block(&self.held_block, out)?;
+        if held.call {
+            let line = held.line;
+            let ex = Executed {
+                line,
+                ..Executed::default()
+            };
+            self.call_cycle(&ex, ctrl, out, false)?;
+        }
+        Ok(flow)
+    }
+
+    /// Carries out what is held back: at every block that is no path, and
+    /// at the end of the program. A rounding or chamfer with no path after
+    /// it is an alarm.
+    pub(crate) fn finish(
+        &mut self,
+        ctrl: &mut Controller<'_>,
+        out: &mut Vec<Segment>,
+    ) -> Result<Flow, Alarm> {
+        if let Some(corner) = self.corner.take() {
+            self.held = None;
+            return Err(alarm(
+                corner.line,
+                Condition::CrcNoIntersection,
+                None,
+                format!(
+                    "{} needs a contour element (L, C, CR, CT, LP, CP) after it",
+                    if corner.chamfer { "CHF" } else { "RND" }
+                ),
+            ));
+        }
+        self.run_held(ctrl, out)
+    }
+
+    /// The held path ends at `t1` (in the plane) instead of its corner:
+    /// its plane targets become `t1`, the tool axis' in proportion.
+    fn trim_held(&mut self, prev: &Held, t1: [f64; 2]) {
+        let [a, b, n] = self.axes();
+        let fraction = match prev.shape {
+            Shape::Line => {
+                let full = (prev.end[a] - prev.start[a]).hypot(prev.end[b] - prev.start[b]);
+                (t1[0] - prev.start[a]).hypot(t1[1] - prev.start[b]) / full
+            }
+            Shape::Arc { centre, ccw } => {
+                let sweep = |p: [f64; 2]| {
+                    let a0 = angle_of([prev.start[a] - centre[0], prev.start[b] - centre[1]]);
+                    let a1 = angle_of([p[0] - centre[0], p[1] - centre[1]]);
+                    let d = if ccw { a1 - a0 } else { a0 - a1 };
+                    d.rem_euclid(360.0)
+                };
+                let full = sweep([prev.end[a], prev.end[b]]);
+                if full > 0.0 { sweep(t1) / full } else { 1.0 }
+            }
+            Shape::Other => 1.0,
+        };
+        let z = prev.start[n] + fraction * (prev.end[n] - prev.start[n]);
+        for command in &mut self.held_block.commands {
+            if let Command::Move(mv) = command {
+                for (k, i) in [a, b].into_iter().enumerate() {
+                    mv.targets[i] = Some(Target {
+                        value: t1[k],
+                        mode: TargetMode::Absolute,
+                        span: mv.targets[i].map_or(Span::default(), |t| t.span),
+                    });
+                }
+                if let Some(t) = mv.targets[n].as_mut() {
+                    t.value = z;
+                    t.mode = TargetMode::Absolute;
+                }
+            }
+        }
+    }
+
+    /// Where a rounding or chamfer meets the path before (`t1`) and the
+    /// path after (`t2`), and the rounding's centre and sense.
+    fn join(&self, prev: &Held, next: &Held, corner: &Corner) -> Result<Joint, Alarm> {
+        let [a, b, _] = self.axes();
+        let c = [prev.end[a], prev.end[b]];
+        let fail = |what: &str| {
+            alarm(
+                corner.line,
+                Condition::CrcNoIntersection,
+                None,
+                format!(
+                    "{} {}: {what}",
+                    if corner.chamfer { "CHF" } else { "RND R" },
+                    corner.size
+                ),
+            )
+        };
+        let t1 = direction_at(prev.shape, [prev.start[a], prev.start[b]], c, true);
+        let t2 = direction_at(next.shape, c, [next.end[a], next.end[b]], false);
+        let turn = t1[0] * t2[1] - t1[1] * t2[0];
+        if turn.abs() < 1e-9 {
+            return Err(fail("the paths meet without a corner"));
+        }
+        if corner.chamfer {
+            if prev.shape != Shape::Line || next.shape != Shape::Line {
+                return Err(fail("a chamfer joins two straight lines only"));
+            }
+            let len1 = (c[0] - prev.start[a]).hypot(c[1] - prev.start[b]);
+            let len2 = (next.end[a] - c[0]).hypot(next.end[b] - c[1]);
+            if corner.size > len1 + GEOMETRY_TOLERANCE || corner.size > len2 + GEOMETRY_TOLERANCE {
+                return Err(fail("the chamfer is longer than a line it cuts"));
+            }
+            return Ok(Joint {
+                t1: [c[0] - corner.size * t1[0], c[1] - corner.size * t1[1]],
+                t2: [c[0] + corner.size * t2[0], c[1] + corner.size * t2[1]],
+                centre: None,
+            });
+        }
+        // The rounding's centre: on both paths' offsets by the radius to
+        // the inside of the corner, the crossing nearest the corner.
+        let side = if turn > 0.0 { 1.0 } else { -1.0 };
+        let r = corner.size;
+        let offset1 = offset_curve(prev.shape, [prev.start[a], prev.start[b]], c, side * r);
+        let offset2 = offset_curve(next.shape, c, [next.end[a], next.end[b]], side * r);
+        let f = crossing_nearest(offset1, offset2, c)
+            .ok_or_else(|| fail("no circle of that radius touches both paths"))?;
+        let p1 = foot(prev.shape, [prev.start[a], prev.start[b]], c, f);
+        let p2 = foot(next.shape, c, [next.end[a], next.end[b]], f);
+        if !within(prev.shape, [prev.start[a], prev.start[b]], c, p1)
+            || !within(next.shape, c, [next.end[a], next.end[b]], p2)
+        {
+            return Err(fail("the rounding is larger than the paths it joins"));
+        }
+        Ok(Joint {
+            t1: p1,
+            t2: p2,
+            centre: Some((f, turn > 0.0)),
+        })
+    }
+
     /// The plane's axes: first, second, tool axis.
     fn axes(&self) -> [usize; 3] {
         self.plane.axes()
@@ -301,7 +656,11 @@ impl Front {
         ctrl: &mut Controller<'_>,
         out: &mut Vec<Segment>,
     ) -> Result<Flow, Alarm> {
-        if let Some(w) = ex.words.iter().find(|w| w.address != "F") {
+        if let Some(w) = ex
+            .words
+            .iter()
+            .find(|w| w.address != "F" && w.address != "MB")
+        {
             return Err(alarm(
                 ex.line,
                 Condition::ImproperAddress,
@@ -334,7 +693,36 @@ impl Front {
         if call {
             self.call_cycle(ex, ctrl, out, false)?;
         }
+        self.retract_after(ex, ctrl, out)?;
         Ok(flow)
+    }
+
+    /// `M140 MB d` / `M140 MB MAX`: after the block, the tool retracts
+    /// along its axis by `d`, or to the end of the travel (TNC 640
+    /// manual, "Retraction in the tool axis: M140").
+    fn retract_after(
+        &mut self,
+        ex: &Executed,
+        ctrl: &mut Controller<'_>,
+        out: &mut Vec<Segment>,
+    ) -> Result<(), Alarm> {
+        if !ex.m.iter().any(|&(m, _)| m == 140) {
+            return Ok(());
+        }
+        let distance = if ex.has_key("MB MAX") {
+            None
+        } else {
+            let mb = ex.word("MB").ok_or_else(|| {
+                alarm(
+                    ex.line,
+                    Condition::NoDataAfterAddress,
+                    None,
+                    "M140 needs MB, the retract distance, or MB MAX".into(),
+                )
+            })?;
+            Some(self.length(mb.value))
+        };
+        self.retract(ctrl, ex.line, distance, out)
     }
 
     /// The block's M functions: the TNC's own (M91/M92 machine
@@ -371,6 +759,9 @@ impl Front {
                     self.tcp = None;
                     self.block.commands.push(Command::Tcp { mode: None, span });
                 }
+                // M140 MB: a retract along the tool axis after the block
+                // (`retract_after`).
+                140 => {}
                 99 => call = true,
                 89 => {
                     self.modal_call = true;
@@ -419,14 +810,14 @@ impl Front {
     ) -> Result<Flow, Alarm> {
         let machine = ctrl.machine();
         let line = ex.line;
-        let start = ctrl.program_position();
+        let start = self.start(ctrl);
         let mut mv = Move::default();
         let machine_coords = ex.m.iter().any(|&(m, _)| m == 91 || m == 92);
         let mut normal = [None; 3];
         let mut vector = [None; 3];
         for w in &ex.words {
             match w.address.as_str() {
-                "F" | "R" => {}
+                "F" | "R" | "MB" => {}
                 "NX" | "NY" | "NZ" if ex.kind == Kind::LineNormal => {
                     normal[usize::from(w.address.as_bytes()[1] - b'X')] = Some(w.value);
                 }
@@ -443,7 +834,11 @@ impl Front {
                         ));
                     };
                     let rotary = i >= machine.linear.len();
-                    let value = if rotary { w.value } else { self.length(w.value) };
+                    let value = if rotary {
+                        w.value
+                    } else {
+                        self.length(w.value)
+                    };
                     let mode = if w.incremental {
                         TargetMode::Incremental
                     } else if rotary && self.shortest && machine_coords_rollover(machine, i) {
@@ -496,7 +891,7 @@ impl Front {
             mv.suppress = Suppress::Axes;
         }
         if ex.kind == Kind::LineNormal {
-            self.line_normal(ex, normal, vector, &mut mv)?;
+            self.line_normal(ex, ctrl, (&start, normal, vector), &mut mv)?;
         }
         let linear = machine.linear.len();
         if self.tcp.is_none()
@@ -519,39 +914,90 @@ impl Front {
         mv.span = ex.words.first().map_or(Span::default(), |w| w.span);
         let moves = mv.targets.iter().any(Option::is_some);
         let call = self.m_functions(ex, ctrl)?;
-        if moves {
-            self.block.commands.push(Command::Move(mv));
-        }
-        let flow = ctrl.run_block(&self.block, out)?;
-        if moves && !machine_coords {
-            let end = ctrl.program_position();
+        let mut shape = Shape::Other;
+        let mut end = start;
+        if moves && mv.suppress == Suppress::Nothing {
+            // The contour element, in program coordinates: increments
+            // written out from where the element starts (a rounding may
+            // move that start).
+            for (i, t) in mv.targets.iter_mut().enumerate().take(machine.linear.len()) {
+                if let Some(t) = t.as_mut() {
+                    if t.mode == TargetMode::Incremental {
+                        t.value += start[i];
+                        t.mode = TargetMode::Absolute;
+                    }
+                    end[i] = t.value;
+                }
+            }
             let [a, b, _] = self.axes();
             let d = [end[a] - start[a], end[b] - start[b]];
             if d[0].hypot(d[1]) > GEOMETRY_TOLERANCE {
                 self.tangent = Some(d);
+                shape = Shape::Line;
             }
         }
-        if call {
-            self.call_cycle(ex, ctrl, out, false)?;
+        if moves {
+            self.block.commands.push(Command::Move(mv));
+        }
+        let flow = self.hold(
+            ctrl,
+            out,
+            Held {
+                line,
+                start,
+                end,
+                shape,
+                call,
+            },
+        )?;
+        if ex.m.iter().any(|&(m, _)| m == 140) {
+            let end = self.finish(ctrl, out)?;
+            self.retract_after(ex, ctrl, out)?;
+            if flow == Flow::Next {
+                return Ok(end);
+            }
         }
         Ok(flow)
     }
 
-    /// `LN`'s vectors: under TCPM the tool vector `TX TY TZ` is the tool's
-    /// orientation (as FANUC's G43.5 I J K). The surface normal `NX NY
-    /// NZ` serves 3-D radius compensation with the tool's delta radius,
-    /// which the kernel does not carry out on `LN` blocks: a normal with a
-    /// delta radius other than 0 is refused, one with 0 moves nothing off
-    /// the programmed point.
+    /// `LN`'s vectors. Under TCPM the tool vector `TX TY TZ` is the tool's
+    /// orientation (as FANUC's G43.5 I J K). The surface normal `NX NY NZ`
+    /// gives 3-D radius compensation: the TNC moves the tool off the
+    /// programmed point along the normal by the delta radius, the tool
+    /// table's (the offsets file's `radius_wear`) plus `TOOL CALL … DR`
+    /// (iTNC 530 manual, "Three-dimensional tool compensation"; the
+    /// programmed point already holds the tool's nominal radius, as the
+    /// CAM system computes it).
     fn line_normal(
         &mut self,
         ex: &Executed,
-        normal: [Option<f64>; 3],
-        vector: [Option<f64>; 3],
+        ctrl: &Controller<'_>,
+        (start, normal, vector): (&Joints, [Option<f64>; 3], [Option<f64>; 3]),
         mv: &mut Move,
     ) -> Result<(), Alarm> {
         let line = ex.line;
-        let _ = normal;
+        if normal.iter().any(Option::is_some) {
+            let n = Vec3::from(normal.map(|c| c.unwrap_or(0.0)));
+            let Some(n) = n.try_normalize(GEOMETRY_TOLERANCE) else {
+                return Err(alarm(
+                    line,
+                    Condition::ToolVectorZero,
+                    None,
+                    "the surface normal NX NY NZ is zero".into(),
+                ));
+            };
+            let delta = ctrl.offsets().tool(self.tool).radius_wear + self.delta_radius;
+            if delta != 0.0 {
+                for k in 0..3 {
+                    let t = mv.targets[k].get_or_insert(Target {
+                        value: start[k],
+                        mode: TargetMode::Absolute,
+                        span: Span::default(),
+                    });
+                    t.value += delta * n[k];
+                }
+            }
+        }
         if vector.iter().any(Option::is_some) {
             if self.tcp.is_none() {
                 return Err(alarm(
@@ -641,7 +1087,7 @@ impl Front {
     /// position; without coordinates the last programmed position.
     fn centre(&mut self, ex: &Executed, ctrl: &Controller<'_>) -> Result<(), Alarm> {
         let [a, b, _] = self.axes();
-        let p = ctrl.program_position();
+        let p = self.start(ctrl);
         let mut pole = [p[a], p[b]];
         for w in &ex.words {
             let k = plane_slot(ctrl, &w.address, a, b).ok_or_else(|| {
@@ -669,7 +1115,7 @@ impl Front {
         let line = ex.line;
         let machine = ctrl.machine();
         let [a, b, n] = self.axes();
-        let start = ctrl.program_position();
+        let start = self.start(ctrl);
         let mut mv = Move::default();
         let mut end = [start[a], start[b]];
         for w in &ex.words {
@@ -684,7 +1130,11 @@ impl Front {
                     format!("{} is not an axis of this machine", w.address),
                 ));
             };
-            let v = if i < machine.linear.len() { self.length(w.value) } else { w.value };
+            let v = if i < machine.linear.len() {
+                self.length(w.value)
+            } else {
+                w.value
+            };
             let value = if w.incremental { start[i] + v } else { v };
             if i == a {
                 end[0] = value;
@@ -780,13 +1230,25 @@ impl Front {
             MotionMode::Cw
         }));
         let call = self.m_functions(ex, ctrl)?;
-        self.block.commands.push(Command::Move(mv));
-        let flow = ctrl.run_block(&self.block, out)?;
-        self.tangent_after_arc(ctrl, centre, ccw);
-        if call {
-            self.call_cycle(ex, ctrl, out, false)?;
+        let mut end_joints = start;
+        for (i, t) in mv.targets.iter().enumerate() {
+            if let Some(t) = t {
+                end_joints[i] = t.value;
+            }
         }
-        Ok(flow)
+        self.block.commands.push(Command::Move(mv));
+        self.tangent_after_arc(&end_joints, centre, ccw);
+        self.hold(
+            ctrl,
+            out,
+            Held {
+                line,
+                start,
+                end: end_joints,
+                shape: Shape::Arc { centre, ccw },
+                call,
+            },
+        )
     }
 
     /// The circle's centre as absolute program coordinates of the plane.
@@ -819,9 +1281,8 @@ impl Front {
 
     /// The path's direction at the end of an arc about the pole or centre
     /// just carried out.
-    fn tangent_after_arc(&mut self, ctrl: &Controller<'_>, c: [f64; 2], ccw: bool) {
+    fn tangent_after_arc(&mut self, e: &Joints, c: [f64; 2], ccw: bool) {
         let [a, b, _] = self.axes();
-        let e = ctrl.program_position();
         let r = [e[a] - c[0], e[b] - c[1]];
         self.tangent = Some(if ccw { [-r[1], r[0]] } else { [r[1], -r[0]] });
     }
@@ -844,7 +1305,7 @@ impl Front {
                 "polar coordinates need the pole CC".into(),
             ));
         };
-        let start = ctrl.program_position();
+        let start = self.start(ctrl);
         let s = [start[a] - pole[0], start[b] - pole[1]];
         let (mut pr, mut pa) = (s[0].hypot(s[1]), angle_of(s));
         let mut sweep = None;
@@ -877,7 +1338,11 @@ impl Front {
                                 ),
                             )
                         })?;
-                    let v = if i < machine.linear.len() { self.length(w.value) } else { w.value };
+                    let v = if i < machine.linear.len() {
+                        self.length(w.value)
+                    } else {
+                        w.value
+                    };
                     mv.targets[i] = Some(Target {
                         value: if w.incremental { start[i] + v } else { v },
                         mode: TargetMode::Absolute,
@@ -885,14 +1350,6 @@ impl Front {
                     });
                 }
             }
-        }
-        if ex.kind == Kind::CircleTangentPolar {
-            return Err(alarm(
-                line,
-                Condition::ImproperAddress,
-                None,
-                "CTP is not carried out by the kernel yet (docs/heidenhain.md)".into(),
-            ));
         }
         let (sin, cos) = pa.to_radians().sin_cos();
         let e = [pole[0] + pr * cos, pole[1] + pr * sin];
@@ -905,19 +1362,52 @@ impl Front {
         }
         mv.span = ex.words.first().map_or(Span::default(), |w| w.span);
         self.feed_and_comp(ex, ctrl)?;
-        let mut ccw = true;
-        if ex.kind == Kind::CirclePolar {
+        let mut shape = Shape::Line;
+        if ex.kind == Kind::CircleTangentPolar {
+            // CTP: tangential to the path before, to the polar point.
             self.block
                 .commands
                 .retain(|c| !matches!(c, Command::Interpolation(_)));
-            ccw = self.direction(ex)?;
+            let Some(t) = self.tangent else {
+                return Err(alarm(
+                    line,
+                    Condition::ArcCenterMissing,
+                    None,
+                    "CTP needs a path before it to be tangential to".into(),
+                ));
+            };
+            let s0 = [start[a], start[b]];
+            let c = tangent_centre(s0, e, t).ok_or_else(|| {
+                alarm(
+                    line,
+                    Condition::ArcRadiusTolerance,
+                    None,
+                    "CTP: the end point lies on the tangent, no circle joins it".into(),
+                )
+            })?;
+            let ccw = t[0] * (c[1] - s0[1]) - t[1] * (c[0] - s0[0]) > 0.0;
+            self.set_centre(&mut mv, [a, b], c);
+            self.block.commands.push(Command::Interpolation(if ccw {
+                MotionMode::Ccw
+            } else {
+                MotionMode::Cw
+            }));
+            shape = Shape::Arc { centre: c, ccw };
+        } else if ex.kind == Kind::CirclePolar {
+            self.block
+                .commands
+                .retain(|c| !matches!(c, Command::Interpolation(_)));
+            let ccw = self.direction(ex)?;
             if let Some(sweep) = sweep {
                 if (sweep > 0.0) != ccw {
                     return Err(alarm(
                         line,
                         Condition::ArcRadiusTolerance,
                         None,
-                        format!("CP: IPA{sweep} turns against the direction DR{}", if ccw { "+" } else { "-" }),
+                        format!(
+                            "CP: IPA{sweep} turns against the direction DR{}",
+                            if ccw { "+" } else { "-" }
+                        ),
                     ));
                 }
                 // A helix's full turns beyond the last part turn.
@@ -932,23 +1422,39 @@ impl Front {
             } else {
                 MotionMode::Cw
             }));
+            shape = Shape::Arc { centre: pole, ccw };
         }
         let _ = n;
         let call = self.m_functions(ex, ctrl)?;
-        self.block.commands.push(Command::Move(mv));
-        let flow = ctrl.run_block(&self.block, out)?;
-        if ex.kind == Kind::CirclePolar {
-            self.tangent_after_arc(ctrl, pole, ccw);
-        } else {
-            let d = [e[0] - start[a], e[1] - start[b]];
-            if d[0].hypot(d[1]) > GEOMETRY_TOLERANCE {
-                self.tangent = Some(d);
+        let mut end_joints = start;
+        for (i, t) in mv.targets.iter().enumerate() {
+            if let Some(t) = t {
+                end_joints[i] = t.value;
             }
         }
-        if call {
-            self.call_cycle(ex, ctrl, out, false)?;
+        self.block.commands.push(Command::Move(mv));
+        match shape {
+            Shape::Arc { centre, ccw } => self.tangent_after_arc(&end_joints, centre, ccw),
+            _ => {
+                let d = [e[0] - start[a], e[1] - start[b]];
+                if d[0].hypot(d[1]) > GEOMETRY_TOLERANCE {
+                    self.tangent = Some(d);
+                } else {
+                    shape = Shape::Other;
+                }
+            }
         }
-        Ok(flow)
+        self.hold(
+            ctrl,
+            out,
+            Held {
+                line,
+                start,
+                end: end_joints,
+                shape,
+                call,
+            },
+        )
     }
 
     /// `TOOL CALL n | "name" Z S F DL DR`: the tool's length in force from
@@ -985,7 +1491,9 @@ impl Front {
         }
         if let Some(n) = number {
             let span = Span::default();
-            self.block.commands.push(Command::ToolSelect { tool: n, span });
+            self.block
+                .commands
+                .push(Command::ToolSelect { tool: n, span });
             // The tool goes into the spindle (the TNC's tool change).
             self.block
                 .commands
@@ -1022,7 +1530,9 @@ impl Front {
                 }
             }
         }
-        if number.is_some() {
+        if let Some(n) = number {
+            self.tool = n;
+            self.delta_radius = delta[1];
             self.block.commands.push(Command::ToolDelta {
                 length: delta[0],
                 radius: delta[1],
@@ -1144,7 +1654,12 @@ impl Front {
             (8, _) => {
                 // The axes named are mirrored; none named: mirror off.
                 let mut mirror = [false; 3];
-                for k in ex.keys.iter().map(|k| k.key.as_str()).chain(ex.words.iter().map(|w| w.address.as_str())) {
+                for k in ex
+                    .keys
+                    .iter()
+                    .map(|k| k.key.as_str())
+                    .chain(ex.words.iter().map(|w| w.address.as_str()))
+                {
                     match k {
                         "X" => mirror[0] = true,
                         "Y" => mirror[1] = true,
@@ -1157,7 +1672,12 @@ impl Front {
             }
             (10, _) => {
                 let rot = ex.word("ROT").ok_or_else(|| {
-                    alarm(line, Condition::NoDataAfterAddress, None, "ROTATION needs ROT".into())
+                    alarm(
+                        line,
+                        Condition::NoDataAfterAddress,
+                        None,
+                        "ROTATION needs ROT".into(),
+                    )
                 })?;
                 self.rotation = if rot.incremental {
                     self.rotation + rot.value
@@ -1168,7 +1688,12 @@ impl Front {
             }
             (11, _) => {
                 let scl = ex.word("SCL").ok_or_else(|| {
-                    alarm(line, Condition::NoDataAfterAddress, None, "SCALING needs SCL".into())
+                    alarm(
+                        line,
+                        Condition::NoDataAfterAddress,
+                        None,
+                        "SCALING needs SCL".into(),
+                    )
                 })?;
                 if scl.value.is_nan() || scl.value <= 0.0 {
                     return Err(alarm(
@@ -1195,7 +1720,10 @@ impl Front {
                             line,
                             Condition::ValueOutOfRange,
                             Some(w.span),
-                            format!("AXIS-SPECIFIC SCALING: factor {} must be greater than 0", w.value),
+                            format!(
+                                "AXIS-SPECIFIC SCALING: factor {} must be greater than 0",
+                                w.value
+                            ),
                         ));
                     }
                     scale[k] = w.value;
@@ -1221,7 +1749,10 @@ impl Front {
                                 line,
                                 Condition::ImproperAddress,
                                 Some(w.span),
-                                format!("WORKING PLANE: {} is not a rotary axis of this machine", w.address),
+                                format!(
+                                    "WORKING PLANE: {} is not a rotary axis of this machine",
+                                    w.address
+                                ),
                             )
                         })?;
                     joints[i] = w.value;
@@ -1261,7 +1792,9 @@ impl Front {
                         line,
                         Condition::ValueOutOfRange,
                         None,
-                        format!("DATUM SETTING: preset Q339={n} is not a row 0 to 48 of the preset table"),
+                        format!(
+                            "DATUM SETTING: preset Q339={n} is not a row 0 to 48 of the preset table"
+                        ),
                     ));
                 }
                 // Preset 0 is the offsets file's G54, preset n its
@@ -1312,7 +1845,11 @@ impl Front {
         self.block.commands.push(Command::SwivelFrame(swivel));
         let [_, _, n] = self.axes();
         let programmable = Frame {
-            translation: Vec3::new(self.inner_shift[0], self.inner_shift[1], self.inner_shift[2]),
+            translation: Vec3::new(
+                self.inner_shift[0],
+                self.inner_shift[1],
+                self.inner_shift[2],
+            ),
             rotation: about(n, self.rotation),
             scale: self.scale,
             mirror: self.mirror,
@@ -1343,9 +1880,17 @@ impl Front {
                 let x = Vec3::new(p.cos(), 0.0, -p.sin());
                 let y = Vec3::new(0.0, m.cos(), m.sin());
                 let r = from_x_and_z(x, x.cross(&y)).ok_or_else(|| {
-                    alarm(line, Condition::FeatureDefinition, None, "PLANE PROJECTED: the angles give no plane".into())
+                    alarm(
+                        line,
+                        Condition::FeatureDefinition,
+                        None,
+                        "PLANE PROJECTED: the angles give no plane".into(),
+                    )
                 })?;
-                let rot = ex.word("ROT").or_else(|| ex.word("PROROT")).map_or(0.0, |w| w.value);
+                let rot = ex
+                    .word("ROT")
+                    .or_else(|| ex.word("PROROT"))
+                    .map_or(0.0, |w| w.value);
                 Some(r * about(2, rot))
             }
             "EULER" => Some(about(2, w("EULPR")) * about(0, w("EULNU")) * about(2, w("EULROT"))),
@@ -1372,7 +1917,12 @@ impl Front {
                 let (p1, p2, p3) = (p(1), p(2), p(3));
                 let x = p2 - p1;
                 Some(from_x_and_z(x, x.cross(&(p3 - p1))).ok_or_else(|| {
-                    alarm(line, Condition::FeatureDefinition, None, "PLANE POINTS: the three points lie on a line".into())
+                    alarm(
+                        line,
+                        Condition::FeatureDefinition,
+                        None,
+                        "PLANE POINTS: the three points lie on a line".into(),
+                    )
                 })?)
             }
             "RELATIV" => {
@@ -1397,11 +1947,15 @@ impl Front {
                 let mut joints = ctrl.joints_now();
                 let mut angles = [None; 2];
                 for word in &ex.words {
-                    let Some(i) = axis_index(machine, &word.address).filter(|&i| i >= machine.linear.len()) else {
+                    let Some(i) =
+                        axis_index(machine, &word.address).filter(|&i| i >= machine.linear.len())
+                    else {
                         continue;
                     };
                     joints[i] = word.value;
-                    if let Some(k) = (0..machine.rotary.len().min(2)).find(|&k| machine.rotary_index(k) == i) {
+                    if let Some(k) =
+                        (0..machine.rotary.len().min(2)).find(|&k| machine.rotary_index(k) == i)
+                    {
                         angles[k] = Some(word.value);
                     }
                 }
@@ -1537,13 +2091,17 @@ impl Front {
     /// The positioning feed of `PLANE … MOVE / TURN`: `F` or `FMAX`.
     fn positioning_feed(&mut self, ex: &Executed) {
         if let Some(f) = ex.word("F") {
-            self.block.commands.push(Command::Interpolation(MotionMode::Linear));
+            self.block
+                .commands
+                .push(Command::Interpolation(MotionMode::Linear));
             self.block.commands.push(Command::Feed {
                 value: self.length(f.value),
                 span: f.span,
             });
         } else {
-            self.block.commands.push(Command::Interpolation(MotionMode::Rapid));
+            self.block
+                .commands
+                .push(Command::Interpolation(MotionMode::Rapid));
         }
     }
 
@@ -1557,9 +2115,13 @@ impl Front {
         ctrl: &Controller<'_>,
         seq: Option<bool>,
     ) -> Result<[f64; 2], Alarm> {
-        let mut angles = ctrl.plane_axes(seq, Span::default()).map_err(|a| Alarm { line: ex.line, ..a })?;
+        let mut angles = ctrl
+            .plane_axes(seq, Span::default())
+            .map_err(|a| Alarm { line: ex.line, ..a })?;
         let machine = ctrl.machine();
-        let Some(tilt) = self.tilt else { return Ok(angles) };
+        let Some(tilt) = self.tilt else {
+            return Ok(angles);
+        };
         if !ex.has_key("TABLE ROT") || machine.rotary.len() < 2 {
             return Ok(angles);
         }
@@ -1585,7 +2147,11 @@ impl Front {
         let turn = have.y.atan2(have.x) - want.y.atan2(want.x);
         joints[i] += turn.to_degrees();
         let check = ctrl.tool_rotation_at(&joints) * Vec3::x();
-        let sign = if (check - want).norm() < 1e-6 { 1.0 } else { -1.0 };
+        let sign = if (check - want).norm() < 1e-6 {
+            1.0
+        } else {
+            -1.0
+        };
         angles[k] += sign * turn.to_degrees();
         Ok(angles)
     }
@@ -1599,41 +2165,14 @@ impl Front {
         distance: Option<f64>,
         out: &mut Vec<Segment>,
     ) -> Result<(), Alarm> {
-        let machine = ctrl.machine();
-        let now = ctrl.joints_now();
-        let dir = ctrl.tool_direction_machine();
-        // The tool points along −dir into the work: away is +dir·… with
-        // the tool direction pointing from the tip to the spindle.
-        let away = -dir;
-        let d = match distance {
-            Some(d) => d,
-            None => {
-                let mut d = f64::INFINITY;
-                for k in 0..3 {
-                    if away[k].abs() < GEOMETRY_TOLERANCE {
-                        continue;
-                    }
-                    let axis = &machine.linear[k];
-                    let limit = if away[k] > 0.0 { axis.max } else { axis.min };
-                    d = d.min((limit - now[k]) / away[k]);
-                }
-                if d.is_finite() { d.max(0.0) } else { 0.0 }
-            }
-        };
         self.block.clear(line);
-        self.block.commands.push(Command::Interpolation(MotionMode::Rapid));
-        let mut mv = Move {
-            suppress: Suppress::Axes,
-            ..Move::default()
-        };
-        for k in 0..3 {
-            mv.targets[k] = Some(Target {
-                value: now[k] + d * away[k],
-                mode: TargetMode::Absolute,
-                span: Span::default(),
-            });
-        }
-        self.block.commands.push(Command::Move(mv));
+        self.block
+            .commands
+            .push(Command::Interpolation(MotionMode::Rapid));
+        self.block.commands.push(Command::Retract {
+            distance,
+            span: Span::default(),
+        });
         ctrl.run_block(&self.block, out)?;
         Ok(())
     }
@@ -1661,7 +2200,12 @@ impl Front {
         points.clear();
         if pattern {
             cycles::pattern(&self.pattern, &mut points).map_err(|e| {
-                alarm(line, Condition::CycleDataMissing, None, format!("PATTERN DEF: {}", e.message))
+                alarm(
+                    line,
+                    Condition::CycleDataMissing,
+                    None,
+                    format!("PATTERN DEF: {}", e.message),
+                )
             })?;
         }
         let [a, b, n] = self.axes();
@@ -1674,7 +2218,9 @@ impl Front {
                 // surface Q203 as the point's third coordinate when the
                 // pattern gives one is the cycle's own).
                 self.block.clear(line);
-                self.block.commands.push(Command::Interpolation(MotionMode::Rapid));
+                self.block
+                    .commands
+                    .push(Command::Interpolation(MotionMode::Rapid));
                 let mut mv = Move::default();
                 for (k, i) in [a, b].into_iter().enumerate() {
                     mv.targets[i] = Some(Target {
@@ -1724,7 +2270,25 @@ impl Front {
         let inch = self.inch;
         let params: Vec<(u32, f64)> = params
             .iter()
-            .map(|&(q, v)| (q, if inch && inch_value(q, v) { v * MM_PER_INCH } else { v }))
+            .map(|&(q, v)| {
+                // The language gives `FMAX` as +∞ and `FAUTO` as NaN; the
+                // cycles take their markers.
+                let v = if v == f64::INFINITY {
+                    cycles::FMAX
+                } else if v.is_nan() {
+                    cycles::FAUTO
+                } else {
+                    v
+                };
+                (
+                    q,
+                    if inch && inch_value(q, v) {
+                        v * MM_PER_INCH
+                    } else {
+                        v
+                    },
+                )
+            })
             .collect();
         let mut steps = std::mem::take(&mut self.steps);
         steps.clear();
@@ -1768,15 +2332,21 @@ impl Front {
             self.block.clear(line);
             match *step {
                 cycles::Step::Rapid(to) => {
-                    self.block.commands.push(Command::Interpolation(MotionMode::Rapid));
+                    self.block
+                        .commands
+                        .push(Command::Interpolation(MotionMode::Rapid));
                     self.block.commands.push(Command::Move(target(to)));
                 }
                 cycles::Step::Feed { to, feed } if feed >= cycles::FMAX => {
-                    self.block.commands.push(Command::Interpolation(MotionMode::Rapid));
+                    self.block
+                        .commands
+                        .push(Command::Interpolation(MotionMode::Rapid));
                     self.block.commands.push(Command::Move(target(to)));
                 }
                 cycles::Step::Feed { to, feed } => {
-                    self.block.commands.push(Command::Interpolation(MotionMode::Linear));
+                    self.block
+                        .commands
+                        .push(Command::Interpolation(MotionMode::Linear));
                     self.block.commands.push(Command::Feed {
                         value: feed,
                         span: Span::default(),
@@ -1801,11 +2371,13 @@ impl Front {
                     to[a] = Some(e[0]);
                     to[b] = Some(e[1]);
                     to[n] = Some(end);
-                    self.block.commands.push(Command::Interpolation(if sweep >= 0.0 {
-                        MotionMode::Ccw
-                    } else {
-                        MotionMode::Cw
-                    }));
+                    self.block
+                        .commands
+                        .push(Command::Interpolation(if sweep >= 0.0 {
+                            MotionMode::Ccw
+                        } else {
+                            MotionMode::Cw
+                        }));
                     self.block.commands.push(Command::Feed {
                         value: feed,
                         span: Span::default(),
@@ -1891,6 +2463,150 @@ fn plane_slot(ctrl: &Controller<'_>, address: &str, a: usize, b: usize) -> Optio
         Some(1)
     } else {
         None
+    }
+}
+
+/// Where a rounding or chamfer leaves the path before and meets the one
+/// after, and the rounding's centre and sense (none: a chamfer's line).
+#[derive(Clone, Copy, Debug)]
+struct Joint {
+    t1: [f64; 2],
+    t2: [f64; 2],
+    centre: Option<([f64; 2], bool)>,
+}
+
+/// A path's offset to its left by `d` (right when negative): a line
+/// (point and unit direction) or a circle (centre and radius).
+#[derive(Clone, Copy, Debug)]
+enum Offset {
+    Line([f64; 2], [f64; 2]),
+    Circle([f64; 2], f64),
+}
+
+fn unit2(v: [f64; 2]) -> [f64; 2] {
+    let l = v[0].hypot(v[1]);
+    if l > 0.0 {
+        [v[0] / l, v[1] / l]
+    } else {
+        [0.0, 0.0]
+    }
+}
+
+/// The unit direction of travel of a path from `s` to `e`, at its end
+/// (`at_end`) or its start.
+fn direction_at(shape: Shape, s: [f64; 2], e: [f64; 2], at_end: bool) -> [f64; 2] {
+    match shape {
+        Shape::Arc { centre, ccw } => {
+            let p = if at_end { e } else { s };
+            let r = [p[0] - centre[0], p[1] - centre[1]];
+            unit2(if ccw { [-r[1], r[0]] } else { [r[1], -r[0]] })
+        }
+        _ => unit2([e[0] - s[0], e[1] - s[1]]),
+    }
+}
+
+fn offset_curve(shape: Shape, s: [f64; 2], e: [f64; 2], d: f64) -> Offset {
+    match shape {
+        Shape::Arc { centre, ccw } => {
+            let r = (s[0] - centre[0]).hypot(s[1] - centre[1]);
+            // Left of a counter-clockwise arc is towards its centre.
+            Offset::Circle(centre, if ccw { r - d } else { r + d })
+        }
+        _ => {
+            let t = unit2([e[0] - s[0], e[1] - s[1]]);
+            Offset::Line([s[0] - d * t[1], s[1] + d * t[0]], t)
+        }
+    }
+}
+
+/// The crossing of two offset paths nearest `near`.
+fn crossing_nearest(o1: Offset, o2: Offset, near: [f64; 2]) -> Option<[f64; 2]> {
+    let mut best: Option<([f64; 2], f64)> = None;
+    let mut take = |p: [f64; 2]| {
+        let d = (p[0] - near[0]).hypot(p[1] - near[1]);
+        if p[0].is_finite() && p[1].is_finite() && best.is_none_or(|(_, b)| d < b) {
+            best = Some((p, d));
+        }
+    };
+    let line_circle =
+        |p: [f64; 2], t: [f64; 2], c: [f64; 2], r: f64, take: &mut dyn FnMut([f64; 2])| {
+            // |p + u·t − c| = r.
+            let w = [p[0] - c[0], p[1] - c[1]];
+            let b = w[0] * t[0] + w[1] * t[1];
+            let q = b * b - (w[0] * w[0] + w[1] * w[1] - r * r);
+            if q >= 0.0 && r > 0.0 {
+                for u in [-b - q.sqrt(), -b + q.sqrt()] {
+                    take([p[0] + u * t[0], p[1] + u * t[1]]);
+                }
+            }
+        };
+    match (o1, o2) {
+        (Offset::Line(p, t), Offset::Line(q, u)) => {
+            let den = t[0] * u[1] - t[1] * u[0];
+            if den.abs() > 1e-12 {
+                let w = [q[0] - p[0], q[1] - p[1]];
+                let k = (w[0] * u[1] - w[1] * u[0]) / den;
+                take([p[0] + k * t[0], p[1] + k * t[1]]);
+            }
+        }
+        (Offset::Line(p, t), Offset::Circle(c, r)) | (Offset::Circle(c, r), Offset::Line(p, t)) => {
+            line_circle(p, t, c, r, &mut take);
+        }
+        (Offset::Circle(c1, r1), Offset::Circle(c2, r2)) => {
+            let d = (c2[0] - c1[0]).hypot(c2[1] - c1[1]);
+            if d > 0.0 && r1 > 0.0 && r2 > 0.0 && d <= r1 + r2 && d >= (r1 - r2).abs() {
+                let x = (d * d + r1 * r1 - r2 * r2) / (2.0 * d);
+                let h = (r1 * r1 - x * x).max(0.0).sqrt();
+                let u = [(c2[0] - c1[0]) / d, (c2[1] - c1[1]) / d];
+                let m = [c1[0] + x * u[0], c1[1] + x * u[1]];
+                take([m[0] - h * u[1], m[1] + h * u[0]]);
+                take([m[0] + h * u[1], m[1] - h * u[0]]);
+            }
+        }
+    }
+    best.map(|(p, _)| p)
+}
+
+/// The point of a path nearest `f` (where a circle about `f` touches it).
+fn foot(shape: Shape, s: [f64; 2], e: [f64; 2], f: [f64; 2]) -> [f64; 2] {
+    match shape {
+        Shape::Arc { centre, .. } => {
+            let r = (s[0] - centre[0]).hypot(s[1] - centre[1]);
+            let u = unit2([f[0] - centre[0], f[1] - centre[1]]);
+            [centre[0] + r * u[0], centre[1] + r * u[1]]
+        }
+        _ => {
+            let t = unit2([e[0] - s[0], e[1] - s[1]]);
+            let k = (f[0] - s[0]) * t[0] + (f[1] - s[1]) * t[1];
+            [s[0] + k * t[0], s[1] + k * t[1]]
+        }
+    }
+}
+
+/// Whether `p` (on the path's line or circle) lies on the path from `s`
+/// to `e`.
+fn within(shape: Shape, s: [f64; 2], e: [f64; 2], p: [f64; 2]) -> bool {
+    match shape {
+        Shape::Arc { centre, ccw } => {
+            let angle = |q: [f64; 2]| angle_of([q[0] - centre[0], q[1] - centre[1]]);
+            let sweep = |q: [f64; 2]| {
+                let d = if ccw {
+                    angle(q) - angle(s)
+                } else {
+                    angle(s) - angle(q)
+                };
+                d.rem_euclid(360.0)
+            };
+            let full = sweep(e);
+            let full = if full == 0.0 { 360.0 } else { full };
+            sweep(p) <= full + 1e-9
+        }
+        _ => {
+            let d = [e[0] - s[0], e[1] - s[1]];
+            let len2 = d[0] * d[0] + d[1] * d[1];
+            let k = ((p[0] - s[0]) * d[0] + (p[1] - s[1]) * d[1]) / len2;
+            (-1e-9..=1.0 + 1e-9).contains(&k)
+        }
     }
 }
 

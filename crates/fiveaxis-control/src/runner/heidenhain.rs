@@ -144,8 +144,9 @@ impl<'m, S: Source> Runner<'m, S> {
             let Some(main) = self.source.take_main() else {
                 return Ok(());
             };
-            let interp = Interpreter::new(Box::new(Text { source: main }), Box::new(store), options)
-                .map_err(|e| self.heidenhain_language_alarm(&e, "main"))?;
+            let interp =
+                Interpreter::new(Box::new(Text { source: main }), Box::new(store), options)
+                    .map_err(|e| self.heidenhain_language_alarm(&e, "main"))?;
             let mut front = Front::new();
             front.set_inch(interp.inch());
             self.heidenhain = Some(Box::new(HeidenhainRun {
@@ -181,11 +182,13 @@ impl<'m, S: Source> Runner<'m, S> {
                 return Err(self.heidenhain_language_alarm(&e, &program));
             }
         };
-        if step == Step::End {
+        let result = if step == Step::End {
+            // The path held back for a rounding runs at the end.
             self.done = true;
-            return Ok(());
-        }
-        let result = run.front.run(&run.executed, &mut self.controller, out);
+            run.front.finish(&mut self.controller, out)
+        } else {
+            run.front.run(&run.executed, &mut self.controller, out)
+        };
         if let Some(stay) = run.front.stay.take() {
             // PLANE … STAY: the axis angles into Q120 (A), Q121 (B), Q122 (C).
             for (k, angle) in stay.iter().enumerate() {

@@ -1344,47 +1344,12 @@ impl Front {
         span: Span,
         out: &mut Vec<Segment>,
     ) -> Result<(), Alarm> {
-        let machine = ctrl.machine();
-        let d = ctrl.tool_direction_machine();
-        let here = ctrl.joints_now();
-        let t = match distance {
-            Some(t) => t,
-            None => {
-                // The farthest the three linear axes go together.
-                let mut t = f64::INFINITY;
-                for (i, axis) in machine.linear.iter().enumerate().take(3) {
-                    if d[i] > 1e-12 {
-                        t = t.min((axis.max - here[i]) / d[i]);
-                    } else if d[i] < -1e-12 {
-                        t = t.min((axis.min - here[i]) / d[i]);
-                    }
-                }
-                if t.is_finite() { t.max(0.0) } else { 0.0 }
-            }
-        };
         let mut block = CommandBlock::default();
         block.clear(line);
-        let mut mv = Move {
-            suppress: Suppress::Axes,
-            span,
-            ..Move::default()
-        };
-        for (i, axis) in machine.linear.iter().enumerate().take(3) {
-            let mut v = here[i] + t * d[i];
-            if distance.is_none() {
-                // Rounding must not put the axis beyond its limit.
-                v = v.clamp(axis.min, axis.max);
-            }
-            mv.targets[i] = Some(Target {
-                value: v,
-                mode: TargetMode::Absolute,
-                span,
-            });
-        }
         block
             .commands
             .push(Command::Interpolation(MotionMode::Rapid));
-        block.commands.push(Command::Move(mv));
+        block.commands.push(Command::Retract { distance, span });
         block.commands.push(Command::Interpolation(self.motion));
         ctrl.run_block(&block, out)?;
         Ok(())

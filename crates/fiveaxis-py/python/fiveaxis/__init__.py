@@ -381,19 +381,21 @@ ProgramsLike = Optional[
     Union[Mapping[int, _ProgramText], Mapping[str, _ProgramText], Mapping[Union[int, str], _ProgramText]]
 ]
 
-#: A SINUMERIK program name as ``programs=`` takes it: letters, digits and
-#: ``_``, with ``.SPF``, ``.MPF`` or ``.DEF`` (a definition file) after it.
-_SINUMERIK_NAME = re.compile(r"[A-Za-z0-9_]+(\.(spf|mpf|def))?", re.IGNORECASE)
+#: A program name as ``programs=`` takes it: letters, digits and ``_``,
+#: with ``.SPF``, ``.MPF`` or ``.DEF`` (a SINUMERIK definition file) or
+#: ``.H`` (a HEIDENHAIN program) after it.
+_PROGRAM_NAME = re.compile(r"[A-Za-z0-9_]+(\.(spf|mpf|def|h))?", re.IGNORECASE)
 
 
 def _program_key(k: Any) -> Union[int, str]:
     """A key of ``programs=``: a program number (``9010``, ``"O9010"``) or a
-    SINUMERIK program name (``"RLIMIT"``, ``"L100"``, ``"GUD.DEF"``)."""
+    program name (SINUMERIK ``"RLIMIT"``, ``"L100"``, ``"GUD.DEF"``;
+    HEIDENHAIN ``"SUB1.h"``)."""
     if isinstance(k, str) and not k.upper().lstrip("O").isdigit():
-        if not _SINUMERIK_NAME.fullmatch(k):
+        if not _PROGRAM_NAME.fullmatch(k):
             raise InputError(
-                f"program `{k}`: a program number, as 9010 or 'O9010', or a SINUMERIK"
-                " program name, as 'RLIMIT', 'L100', 'CYCLE1.SPF' or 'GUD.DEF'"
+                f"program `{k}`: a program number, as 9010 or 'O9010', or a program"
+                " name, as 'RLIMIT', 'L100', 'CYCLE1.SPF', 'GUD.DEF' or 'SUB1.h'"
             )
         return k
     key = str(k).upper().lstrip("O")
@@ -545,8 +547,9 @@ def run(
     as numpy columns, as ``fiveaxis run`` (``--step``, ``--step-angle``,
     ``--block-delete``, ``--optional-stop``, ``--max-blocks``, variables
     ``{500: 1.25}``; `programs`: the control's program memory that ``M98`` /
-    ``G65`` call, ``{9010: text or path}``, and SINUMERIK programs by name,
-    ``{"RLIMIT": ..., "GUD.DEF": ...}``, as ``--programs``).
+    ``G65`` call, ``{9010: text or path}``, SINUMERIK programs by name,
+    ``{"RLIMIT": ..., "GUD.DEF": ...}``, and HEIDENHAIN programs that
+    ``CALL PGM`` runs, ``{"SUB1.h": ...}``, as ``--programs``).
     SINUMERIK text (a path ending ``.mpf`` / ``.spf``, or a text starting
     with a transfer header ``%_N_``) runs on the machine read as a
     SINUMERIK, as on the command line.

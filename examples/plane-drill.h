@@ -1,0 +1,37 @@
+0 BEGIN PGM PLANE_DRILL MM
+1 ; Four holes in a face tilted 30 degrees (PLANE SPATIAL, cycle 200
+2 ; called with M99 in a loop of labels), then a cut along that face with
+3 ; the tool on its normal under M128 (LN blocks with tool vectors).
+4 BLK FORM 0.1 Z X-50 Y-50 Z-50
+5 BLK FORM 0.2 X+50 Y+50 Z+0
+6 TOOL CALL 1 Z S3000
+7 L Z+0 R0 FMAX M91
+8 L X+0 Y+0 R0 FMAX M3
+9 ; The working plane turned about Y by 30 degrees
+10 PLANE SPATIAL SPA+0 SPB+30 SPC+0 TURN SEQ- FMAX
+11 CYCL DEF 200 DRILLING ~
+   Q200=2 ;SET-UP CLEARANCE ~
+   Q201=-5 ;DEPTH ~
+   Q206=200 ;FEED RATE FOR PLNGNG ~
+   Q202=5 ;PLUNGING DEPTH ~
+   Q210=0 ;DWELL TIME AT TOP ~
+   Q203=+0 ;SURFACE COORDINATE ~
+   Q204=10 ;2ND SET-UP CLEARANCE ~
+   Q211=0 ;DWELL TIME AT DEPTH
+12 L Z+10 R0 FMAX
+13 Q1 = 0
+14 LBL 1
+15 Q2 = -30 + Q1 * 20
+16 L X+Q2 Y+0 R0 FMAX M99
+17 Q1 = Q1 + 1
+18 FN 12: IF +Q1 LT +4 GOTO LBL 1
+19 PLANE RESET TURN FMAX
+20 ; Along the same face, 2 mm above it, the tool on its normal
+21 M128
+22 L X-40 Y+20 Z+50 R0 FMAX
+23 LN X-40 Y+20 Z+25.094 TX+0.5 TY+0 TZ+0.866025 F1000
+24 LN X+40 Y+20 Z-21.094 TX+0.5 TY+0 TZ+0.866025
+25 M129
+26 L Z+0 R0 FMAX M91
+27 M30
+28 END PGM PLANE_DRILL MM
