@@ -200,11 +200,9 @@ pub fn klartext_carried_words(text: &str) -> Vec<(u32, String)> {
         let mut words = Vec::new();
         let tool_call =
             tokens.next_if_eq(&"TOOL").is_some() && tokens.next_if_eq(&"CALL").is_some();
-        if tool_call {
-            if let Some(n) = tokens.peek().and_then(|t| plain(t)) {
-                tokens.next();
-                words.push(format!("T{n} M6"));
-            }
+        if tool_call && let Some(n) = tokens.peek().and_then(|t| plain(t)) {
+            tokens.next();
+            words.push(format!("T{n} M6"));
         }
         for t in tokens {
             let (letter, value) = t.split_at(1);
