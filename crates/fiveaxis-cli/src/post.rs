@@ -56,11 +56,13 @@ pub struct PostArgs {
     /// back to the same tip.
     #[arg(long, default_value_t = fiveaxis_post::DEFAULT_RETRACT, value_parser = crate::positive)]
     retract: f64,
-    /// Feed style: `inverse-time` (G93), `dpm` (G94, F per block from the
-    /// composite travel, degrees as mm) or `programmed` (G94, F kept; the
-    /// header states the tip feed error).
-    #[arg(long, default_value = "inverse-time", value_parser = feed_style)]
-    feed: fiveaxis_post::FeedStyle,
+    /// Feed style: `inverse-time` (G93; the default), `dpm` (G94, F per
+    /// block from the composite travel, degrees as mm; the default and
+    /// the only time-keeping style for a HEIDENHAIN machine, which has no
+    /// inverse time) or `programmed` (G94, F kept; the header states the
+    /// tip feed error).
+    #[arg(long, value_parser = feed_style)]
+    feed: Option<fiveaxis_post::FeedStyle>,
     /// Whose rotary solution: `source` (the control's, as TCPC would move
     /// the axes; the default for G-code on the same machine) or `post`
     /// (the post's own: continuous, flips with a retract, the singular
@@ -115,6 +117,8 @@ fn feed_style(name: &str) -> Result<fiveaxis_post::FeedStyle, String> {
 /// Runs `fiveaxis post`.
 pub fn post(args: &PostArgs) -> Result<u8, InputError> {
     let machine = load_machine(&args.machine)?;
+    let feed = fiveaxis_post::FeedStyle::for_control(args.feed, machine.control)
+        .map_err(|e| InputError(format!("error: --{e}")))?;
     let mut offsets = crate::load_offsets_for(&args.machine, &machine, args.offsets.as_deref())?;
     let source_machine = match &args.from_machine {
         Some(name) => Some(load_machine(name)?),
@@ -189,7 +193,7 @@ pub fn post(args: &PostArgs) -> Result<u8, InputError> {
         origin: fiveaxis_post::g54_origin(&offsets),
         axes,
         retract: args.retract,
-        feed: args.feed,
+        feed,
         source_tool_length: args.tool_length.or(header_length),
     };
     let carried = program::carried_words(&String::from_utf8_lossy(&bytes));

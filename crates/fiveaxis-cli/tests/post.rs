@@ -712,3 +712,229 @@ fn fanuc_tcpc_retargets_to_a_sinumerik_machine_and_back() {
         );
     }
 }
+
+/// The machine axes (`X`, `Y`, `Z`, `A`, `C`) of every row of `run`
+/// output.
+fn machine_rows(csv: &str) -> Vec<[f64; 5]> {
+    let mut lines = csv.lines();
+    let header: Vec<&str> = lines.next().expect("a header").split(',').collect();
+    let columns: Vec<usize> = ["X", "Y", "Z", "A", "C"]
+        .iter()
+        .map(|name| {
+            header
+                .iter()
+                .position(|c| c == name)
+                .expect("an axis column")
+        })
+        .collect();
+    lines
+        .map(|line| {
+            let row: Vec<&str> = line.split(',').collect();
+            let mut axes = [0.0; 5];
+            for (a, &i) in axes.iter_mut().zip(&columns) {
+                *a = row[i].parse().expect("a number");
+            }
+            axes
+        })
+        .collect()
+}
+
+/// A FANUC TCPC program, on a FANUC machine with the kinematics of the
+/// built-in HEIDENHAIN A/C table, made a Klartext machine-axis program for
+/// `heidenhain-dmu-ac`: numbered blocks, `L … R0 FMAX` / `L … R0 F…`,
+/// the carried S and M words as `TOOL CALL Z S…` and M blocks, the
+/// composite feed (the TNC has no inverse time: asked for, refused).
+/// `fiveaxis run` reads the output as Klartext and moves the axes to the
+/// written positions plus the preset, ending where the source ends; and
+/// the Klartext output posted back to the FANUC machine reads its tool
+/// length and carried words.
+#[test]
+fn fanuc_tcpc_retargets_to_a_heidenhain_machine_and_back() {
+    let dir = tempfile::tempdir().expect("a temporary directory");
+    let show = common::run_in(dir.path(), &["machines", "show", "heidenhain-dmu-ac"], b"");
+    assert_eq!(show.status.code(), Some(0), "{}", common::stderr(&show));
+    let heidenhain = common::stdout(&show);
+    assert!(
+        heidenhain.contains("control = \"heidenhain\""),
+        "{heidenhain}"
+    );
+    std::fs::write(
+        dir.path().join("fanuc-ac.toml"),
+        heidenhain.replace("control = \"heidenhain\"", "control = \"fanuc30i\""),
+    )
+    .expect("written");
+    std::fs::write(
+        dir.path().join("o.toml"),
+        "[tools]\n1 = { length = 100.0 }\n[work]\nG54 = [0.0, 0.0, -500.0]\n",
+    )
+    .expect("written");
+    std::fs::write(
+        dir.path().join("p.nc"),
+        "G21 G17 G90 G94 G54\nT1 M6\nS1200 M3\nM8\nG0 X0 Y0 Z-100. A0 C0\nG43.4 H1 X20. Y0 Z20.\n\
+         G1 Z5. F500.\nG1 X30. Y10. A-20. C30.\nG1 X-10. Y25. A-35. C120.\nG0 Z80.\nG49\nM9\nM5\nM30\n",
+    )
+    .expect("written");
+    let post = |extra: &[&str]| {
+        let mut args = vec![
+            "post",
+            "p.nc",
+            "--from-machine",
+            "fanuc-ac.toml",
+            "--machine",
+            "heidenhain-dmu-ac",
+            "--offsets",
+            "o.toml",
+        ];
+        args.extend_from_slice(extra);
+        common::run_in(dir.path(), &args, b"")
+    };
+    let out = post(&["-o", "out.h"]);
+    assert_eq!(out.status.code(), Some(0), "{}", common::stderr(&out));
+    let text = std::fs::read_to_string(dir.path().join("out.h")).expect("written");
+    let lines: Vec<&str> = text.lines().collect();
+    assert_eq!(lines[0], "0 BEGIN PGM FIVEAXIS MM", "{text}");
+    for (n, line) in lines.iter().enumerate() {
+        assert!(line.starts_with(&format!("{n} ")), "block {n}:\n{text}");
+    }
+    let last = lines.len() - 1;
+    assert_eq!(lines[last], format!("{last} END PGM FIVEAXIS MM"), "{text}");
+    for needle in [
+        " ;FOR TOOL LENGTH 100.0000 MM ONLY",
+        "THE TNC'S READING WITHOUT M116",
+        " FUNCTION RESET TCPM\n",
+        " TOOL CALL 1 Z\n",
+        " TOOL CALL Z S1200\n",
+        " M3\n",
+        " M8\n",
+        // Less the tool length the TOOL CALL switches on.
+        " L X+0.0000 Y+0.0000 Z-200.0000 A+0.00000 C+0.00000 R0 FMAX\n",
+        " L X+20.0000 Y+0.0000 Z+20.0000 A+0.00000 C+0.00000 R0 FMAX\n",
+        " M9\n",
+        " M5\n",
+        " M30\n",
+    ] {
+        assert!(text.contains(needle), "{needle} missing:\n{text}");
+    }
+    let blocks: Vec<&str> = lines
+        .iter()
+        .map(|l| l.split_once(' ').expect("a block number").1)
+        .filter(|l| !l.starts_with(';'))
+        .collect();
+    for gone in [" G0", " G1", " G4", " G9", "M128", "(", "%", "-0.0000 "] {
+        assert!(
+            !blocks.iter().any(|b| format!(" {b}").contains(gone)),
+            "{gone} left in:\n{text}"
+        );
+    }
+    // The written positions of the L blocks, in the preset (Z -500),
+    // with the length of tool 1 (100).
+    let written: Vec<[f64; 5]> = blocks
+        .iter()
+        .filter(|b| b.starts_with("L "))
+        .map(|b| {
+            let mut axes = [0.0; 5];
+            for (k, name) in ["X", "Y", "Z", "A", "C"].iter().enumerate() {
+                let word = b
+                    .split(' ')
+                    .find(|w| w.starts_with(name))
+                    .unwrap_or_else(|| panic!("{name} in {b}"));
+                let value = &word[1..];
+                assert!(value.starts_with(['+', '-']), "{word}: a sign");
+                axes[k] = value.parse().expect("a number");
+            }
+            axes[2] += -500.0 + 100.0;
+            axes
+        })
+        .collect();
+    assert!(
+        blocks
+            .iter()
+            .any(|b| b.starts_with("L ") && b.ends_with(" R0 FMAX"))
+    );
+    assert!(
+        blocks
+            .iter()
+            .any(|b| b.starts_with("L ") && b.contains(" R0 F") && !b.contains("FMAX"))
+    );
+    let run = |program: &str, machine: &str| {
+        let run = common::run_in(
+            dir.path(),
+            &["run", program, "--machine", machine, "--offsets", "o.toml"],
+            b"",
+        );
+        assert_eq!(
+            run.status.code(),
+            Some(0),
+            "{program}: {}",
+            common::stderr(&run)
+        );
+        machine_rows(&common::stdout(&run))
+    };
+    let rows = run("out.h", "heidenhain-dmu-ac");
+    assert_eq!(rows.len(), written.len(), "{text}");
+    for (row, want) in rows.iter().zip(&written) {
+        for k in 0..5 {
+            assert!(
+                (row[k] - want[k]).abs() < 1e-9,
+                "the run moves to {row:?}, the program says {want:?}"
+            );
+        }
+    }
+    // Where the source ends, within the written decimals.
+    let source = run("p.nc", "fanuc-ac.toml");
+    let (end, want) = (rows.last().expect("a row"), source.last().expect("a row"));
+    for k in 0..5 {
+        assert!(
+            (end[k] - want[k]).abs() < 1e-4,
+            "the output ends at {end:?}, the source at {want:?}"
+        );
+    }
+    // Inverse time asked for: refused, nothing written.
+    let out = post(&["--feed", "inverse-time", "-o", "no.h"]);
+    assert_eq!(out.status.code(), Some(2), "{}", common::stderr(&out));
+    assert!(
+        common::stderr(&out).contains("no inverse time"),
+        "{}",
+        common::stderr(&out)
+    );
+    assert!(!dir.path().join("no.h").exists());
+    let out = post(&["--feed", "programmed"]);
+    assert_eq!(out.status.code(), Some(0), "{}", common::stderr(&out));
+    assert!(common::stdout(&out).contains(";3 CUTTING BLOCKS IN, "));
+    assert!(common::stdout(&out).contains("FEED F AS PROGRAMMED: TIP FEED ERROR UP TO "));
+    // The Klartext output posted back to the FANUC machine: read as
+    // Klartext, its tool length from its header, its words carried.
+    let out = common::run_in(
+        dir.path(),
+        &[
+            "post",
+            "out.h",
+            "--from-machine",
+            "heidenhain-dmu-ac",
+            "--machine",
+            "fanuc-ac.toml",
+            "--offsets",
+            "o.toml",
+            "-o",
+            "back.nc",
+        ],
+        b"",
+    );
+    assert_eq!(out.status.code(), Some(0), "{}", common::stderr(&out));
+    let back = std::fs::read_to_string(dir.path().join("back.nc")).expect("written");
+    for needle in [
+        "TOOL LENGTH 100.0000 MM",
+        "\nT1 M6\nS1200\nM3\nM8\n",
+        "\nM9\nM5\nM30\n%\n",
+    ] {
+        assert!(back.contains(needle), "{needle} missing:\n{back}");
+    }
+    let rows = run("back.nc", "fanuc-ac.toml");
+    let end = rows.last().expect("a row");
+    for k in 0..5 {
+        assert!(
+            (end[k] - want[k]).abs() < 1e-3,
+            "back ends at {end:?}, the source at {want:?}"
+        );
+    }
+}

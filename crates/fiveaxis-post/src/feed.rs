@@ -20,7 +20,7 @@
 //!   `sqrt(ΣΔ²) / F`, so the tip feed is off by the ratio of that to the
 //!   block's time; the header states the largest error.
 
-use fiveaxis_machine::{Joints, Machine, principal};
+use fiveaxis_machine::{Control, Joints, Machine, principal};
 
 /// How the feed is written.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
@@ -53,6 +53,23 @@ impl FeedStyle {
         ]
         .into_iter()
         .find(|s| s.name() == name)
+    }
+
+    /// The style of a post for a machine with `control`: the one
+    /// `requested`, or the default: [`FeedStyle::InverseTime`], on a
+    /// HEIDENHAIN [`FeedStyle::DegreesPerMinute`]. The TNC has no inverse
+    /// time feed (without `M116` its F applies to the combined travel of
+    /// all axes, degrees as mm: the composite style): inverse time
+    /// requested for it is refused.
+    pub fn for_control(requested: Option<Self>, control: Control) -> Result<Self, String> {
+        match (requested, control) {
+            (Some(FeedStyle::InverseTime), Control::Heidenhain) => Err(
+                "feed inverse-time: a HEIDENHAIN TNC has no inverse time feed; give dpm (F per block from the combined travel of all axes, the TNC's own reading without M116, the default there) or programmed".into(),
+            ),
+            (Some(style), _) => Ok(style),
+            (None, Control::Heidenhain) => Ok(FeedStyle::DegreesPerMinute),
+            (None, _) => Ok(FeedStyle::InverseTime),
+        }
     }
 
     /// The G code of the feed mode.

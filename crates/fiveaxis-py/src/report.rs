@@ -133,7 +133,7 @@ pub fn apt_to_tcpc(py: Python<'_>, text: &str, name: &str) -> PyResult<String> {
 #[pyo3(signature = (machine, offsets, program = None, code = None, *,
     tolerance = fiveaxis_post::DEFAULT_TOLERANCE,
     angle_tolerance = fiveaxis_post::DEFAULT_ANGLE_TOLERANCE, apt = false, programs = None,
-    feed = "inverse-time", retract = fiveaxis_post::DEFAULT_RETRACT, from_machine = None,
+    feed = None, retract = fiveaxis_post::DEFAULT_RETRACT, from_machine = None,
     from_offsets = None, tool_length = None))]
 #[allow(clippy::too_many_arguments)]
 pub fn post<'py>(
@@ -146,7 +146,7 @@ pub fn post<'py>(
     angle_tolerance: f64,
     apt: bool,
     programs: Option<Programs>,
-    feed: &str,
+    feed: Option<&str>,
     retract: f64,
     from_machine: Option<Bound<'py, PyMachine>>,
     from_offsets: Option<Bound<'py, PyOffsets>>,
@@ -163,12 +163,20 @@ pub fn post<'py>(
     if tool_length.is_some_and(|l| !l.is_finite()) {
         return Err(invalid(py, "tool_length must be a finite number of mm"));
     }
-    let feed = fiveaxis_post::FeedStyle::parse(feed).ok_or_else(|| {
-        invalid(
-            py,
-            format!("feed `{feed}`: expected inverse-time, dpm or programmed"),
-        )
-    })?;
+    let feed = feed
+        .map(|name| {
+            fiveaxis_post::FeedStyle::parse(name).ok_or_else(|| {
+                invalid(
+                    py,
+                    format!("feed `{name}`: expected inverse-time, dpm or programmed"),
+                )
+            })
+        })
+        .transpose()?;
+    // The default: inverse time, the composite style on a HEIDENHAIN
+    // (it has no inverse time, asked for is refused).
+    let feed = fiveaxis_post::FeedStyle::for_control(feed, machine.get().machine.control)
+        .map_err(|e| invalid(py, e))?;
     let (mut bytes, name, language) =
         read_program(py, program.as_deref(), code.map(|c| c.as_bytes().to_vec()))?;
     // CL input: the conversion with its line map (an alarm names the CL

@@ -787,7 +787,7 @@ def post(
     angle_tolerance: float = 0.1,
     apt: Optional[bool] = None,
     programs: ProgramsLike = None,
-    feed: str = "inverse-time",
+    feed: Optional[str] = None,
     retract: float = 5.0,
     from_machine: MachineLike = None,
     from_offsets: OffsetsLike = None,
@@ -799,7 +799,9 @@ def post(
     as ``fiveaxis post``. APT / CL input (``apt=True``, default for files
     named ``.apt``, ``.cl``, ``.cls``, ``.ncl``, ``.aptsource``) is
     converted first. ``feed``:
-    ``"inverse-time"`` (G93), ``"dpm"`` or ``"programmed"``; ``retract``:
+    ``"inverse-time"`` (G93; the default), ``"dpm"`` (the default for a
+    HEIDENHAIN machine, which has no inverse time) or ``"programmed"``;
+    ``retract``:
     mm along the tool axis at a flip; ``from_machine`` (with
     ``from_offsets``, ``tool_length``): a machine-axis program written for
     that machine, retargeted to ``machine``, as ``--from-machine``.
@@ -815,7 +817,7 @@ def post(
     d = _native.post(
         _machine(machine), _offsets(offsets), path, text,
         tolerance=float(tolerance), angle_tolerance=float(angle_tolerance), apt=bool(apt),
-        programs=_programs(programs), feed=str(feed), retract=float(retract),
+        programs=_programs(programs), feed=None if feed is None else str(feed), retract=float(retract),
         from_machine=None if from_machine is None else _machine(from_machine),
         from_offsets=None if from_offsets is None else _offsets(from_offsets),
         tool_length=None if tool_length is None else float(tool_length),

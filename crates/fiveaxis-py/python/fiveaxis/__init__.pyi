@@ -219,7 +219,7 @@ def post(
     angle_tolerance: float = ...,
     apt: Optional[bool] = ...,
     programs: _Programs = ...,
-    feed: str = ...,
+    feed: Optional[str] = ...,
     retract: float = ...,
     from_machine: _MachineLike = ...,
     from_offsets: _OffsetsLike = ...,
