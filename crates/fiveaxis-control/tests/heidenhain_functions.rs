@@ -298,7 +298,10 @@ fn ct_continues_tangentially() {
     // (a circle of radius 10 rises by l²/20 over a length l).
     let first = arc[0];
     let l = first.tip.x - 20.0;
-    assert!(l > 0.0 && (first.tip.y - l * l / 20.0).abs() < 1e-6, "{first:?}");
+    assert!(
+        l > 0.0 && (first.tip.y - l * l / 20.0).abs() < 1e-6,
+        "{first:?}"
+    );
 }
 
 #[test]
@@ -324,7 +327,10 @@ fn polar_line_and_helix_turns() {
     assert_tip(helix[2], [20.0, 0.0, -4.0]);
     // Why: PR10 PA30 about the pole.
     let c30 = 30f64.to_radians();
-    assert_tip(at(&rows, line(5)), [10.0 * c30.cos(), 10.0 * c30.sin(), -4.0]);
+    assert_tip(
+        at(&rows, line(5)),
+        [10.0 * c30.cos(), 10.0 * c30.sin(), -4.0],
+    );
     // Why: 450° from 30°: half way 225° further (255°), the end at 120°.
     let helix = of_line(&rows, line(6));
     let p = |deg: f64, z: f64| {
@@ -539,10 +545,7 @@ fn plane_without_move_turn_or_stay_is_refused() {
 fn ln_with_a_tool_vector_needs_tcpm() {
     let a = alarm_of(
         &dmu(),
-        &[
-            "TOOL CALL 1 Z S1000",
-            "LN X+0 Y+0 Z+10 TX+0 TY+0 TZ+1 F500",
-        ],
+        &["TOOL CALL 1 Z S1000", "LN X+0 Y+0 Z+10 TX+0 TY+0 TZ+1 F500"],
     );
     assert_eq!(a.condition, Condition::TcpcOptionMissing, "{a:?}");
     assert_eq!(a.line, line(2));
@@ -790,10 +793,19 @@ fn pattern_def_points_are_drilled_in_order() {
         .filter(|r| (r.tip.z + 5.0).abs() < EPS)
         .map(|r| [r.tip.x, r.tip.y])
         .collect();
-    let want = [[10.0, 20.0], [30.0, 40.0], [0.0, 0.0], [0.0, 10.0], [0.0, 20.0]];
+    let want = [
+        [10.0, 20.0],
+        [30.0, 40.0],
+        [0.0, 0.0],
+        [0.0, 10.0],
+        [0.0, 20.0],
+    ];
     assert_eq!(bottoms.len(), want.len(), "{bottoms:?}");
     for (g, w) in bottoms.iter().zip(want) {
-        assert!((g[0] - w[0]).abs() < EPS && (g[1] - w[1]).abs() < EPS, "{bottoms:?}");
+        assert!(
+            (g[0] - w[0]).abs() < EPS && (g[1] - w[1]).abs() < EPS,
+            "{bottoms:?}"
+        );
     }
 }
 
@@ -862,7 +874,11 @@ fn plane_stay_writes_the_positions_for_the_next_l() {
     let r = at(&rows, line(4));
     let s = 30f64.to_radians();
     let want = Vec3::new(0.0, -s.sin(), s.cos());
-    assert!((r.dir - want).norm() < 1e-9, "dir {:?} want {want:?}", r.dir);
+    assert!(
+        (r.dir - want).norm() < 1e-9,
+        "dir {:?} want {want:?}",
+        r.dir
+    );
     // Why: the table turns, the linear axes stay.
     let before = at(&rows, line(2));
     for k in 0..3 {
@@ -909,7 +925,11 @@ fn plane_reset_turn_brings_the_rotaries_to_zero() {
         ],
     );
     let r = at(&rows, line(4));
-    assert!(r.joints[3].abs() < EPS && r.joints[4].abs() < EPS, "{:?}", r.joints);
+    assert!(
+        r.joints[3].abs() < EPS && r.joints[4].abs() < EPS,
+        "{:?}",
+        r.joints
+    );
     assert_tip(at(&rows, line(5)), [0.0, 0.0, 100.0]);
 }
 

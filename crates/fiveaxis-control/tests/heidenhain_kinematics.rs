@@ -560,7 +560,11 @@ fn seq_plus_and_minus_choose_the_first_axis_sign() {
             let dir = m.forward(&end, length).dir;
             check_dir(&dir, &(r * Vec3::z()), seq, &program)?;
             let v = end[m.rotary_index(0)];
-            first.push(if m.rotary[0].rollover { principal(v) } else { v });
+            first.push(if m.rotary[0].rollover {
+                principal(v)
+            } else {
+                v
+            });
             all.push_str(&program);
         }
         if (first[0] - first[1]).abs() > 1e-6 {
