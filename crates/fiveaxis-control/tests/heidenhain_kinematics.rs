@@ -579,3 +579,348 @@ fn seq_plus_and_minus_choose_the_first_axis_sign() {
         Ok(())
     });
 }
+
+// ----- (g) the other forms of PLANE ---------------------------------------------------
+
+/// A form of PLANE for a rotation R (R·ez reachable).
+#[derive(Clone, Copy, Debug)]
+enum Form {
+    Spatial,
+    Euler,
+    Vector,
+    Points,
+}
+
+fn form() -> impl Strategy<Value = Form> {
+    prop_oneof![
+        Just(Form::Spatial),
+        Just(Form::Euler),
+        Just(Form::Vector),
+        Just(Form::Points),
+    ]
+}
+
+/// Writes `PLANE <form> … TURN FMAX` giving rotation `r`; returns the
+/// rotation as the words read give it, by the form's closed form:
+/// SPATIAL Rz(c)·Ry(b)·Rx(a) (b = −asin r31, a = atan2(r32, r33),
+/// c = atan2(r21, r11)); EULER Rz(PR)·Rx(NU)·Rz(ROT) (NU = acos r33,
+/// PR = atan2(r13, −r23), ROT = atan2(r31, r32)); VECTOR: Z along N, X
+/// along B less its part along N (B written with a part along N and N
+/// scaled); POINTS: X along P2 − P1, Z along (P2 − P1) × (P3 − P1).
+fn write_form(w: &mut Writer, f: Form, r: &Matrix3<f64>, extra: [f64; 3]) -> Matrix3<f64> {
+    match f {
+        Form::Spatial => {
+            let b = (-r[(2, 0)]).clamp(-1.0, 1.0).asin().to_degrees();
+            let a = r[(2, 1)].atan2(r[(2, 2)]).to_degrees();
+            let c = r[(1, 0)].atan2(r[(0, 0)]).to_degrees();
+            w.start("PLANE SPATIAL");
+            let (a, b, c) = (w.word("SPA", a), w.word("SPB", b), w.word("SPC", c));
+            w.line(" TURN FMAX");
+            spatial(a, b, c)
+        }
+        Form::Euler => {
+            let nu = r[(2, 2)].clamp(-1.0, 1.0).acos().to_degrees();
+            let pr = r[(0, 2)].atan2(-r[(1, 2)]).to_degrees();
+            let rot = r[(2, 0)].atan2(r[(2, 1)]).to_degrees();
+            w.start("PLANE EULER");
+            let pr = w.word("EULPR", pr);
+            let nu = w.word("EULNU", nu);
+            let rot = w.word("EULROT", rot);
+            w.line(" TURN FMAX");
+            rz(pr) * rx(nu) * rz(rot)
+        }
+        Form::Vector => {
+            let scale = 0.5 + extra[0].abs();
+            let b = r.column(0) * 2.0 + r.column(2) * extra[1];
+            let n = r.column(2) * scale;
+            w.start("PLANE VECTOR");
+            let b = Vec3::new(w.word("BX", b.x), w.word("BY", b.y), w.word("BZ", b.z));
+            let n = Vec3::new(w.word("NX", n.x), w.word("NY", n.y), w.word("NZ", n.z));
+            w.line(" TURN FMAX");
+            frame_of(b, n)
+        }
+        Form::Points => {
+            let p1 = Vec3::new(extra[0], extra[1], extra[2]) * 20.0;
+            let p2 = p1 + r.column(0) * 30.0;
+            let p3 = p1 + r.column(0) * 5.0 + r.column(1) * 25.0;
+            w.start("PLANE POINTS");
+            let mut read = Vec::new();
+            for (k, p) in [p1, p2, p3].iter().enumerate() {
+                let n = k + 1;
+                read.push(Vec3::new(
+                    w.word(&format!("P{n}X"), p.x),
+                    w.word(&format!("P{n}Y"), p.y),
+                    w.word(&format!("P{n}Z"), p.z),
+                ));
+            }
+            w.line(" TURN FMAX");
+            let x = read[1] - read[0];
+            frame_of(x, x.cross(&(read[2] - read[0])))
+        }
+    }
+}
+
+/// The rotation with Z along `z` and X along `x` less its part along Z.
+fn frame_of(x: Vec3, z: Vec3) -> Matrix3<f64> {
+    let z = z.normalize();
+    let x = (x - z * x.dot(&z)).normalize();
+    Matrix3::from_columns(&[x, z.cross(&x), z])
+}
+
+/// Property (g): `PLANE SPATIAL | EULER | VECTOR | POINTS … TURN` for a
+/// rotation R with a reachable Z: the tool along R·ez, and `L X Y Z`
+/// puts the tip at W + R·P.
+#[test]
+fn plane_forms_align_the_tool_and_map_points() {
+    let strategy = (
+        five_axis(),
+        point(300.0),
+        50.0..200.0f64,
+        angles(),
+        -180.0..180.0f64,
+        form(),
+        (-1.0..1.0f64, -1.0..1.0f64, -1.0..1.0f64),
+        proptest::collection::vec(point(150.0), 1..=2),
+    );
+    check(
+        config(),
+        strategy,
+        |(m, work, length, q, twist, f, extra, points)| {
+            let d = m.forward(&joints_with(&m, q), 0.0).dir;
+            let [a, b, c] = spatial_for(&d, 0.0);
+            let r = spatial(a, b, c) * rz(twist);
+            let mut w = Writer::new();
+            let r = write_form(&mut w, f, &r, [extra.0, extra.1, extra.2]);
+            let mut ends = Vec::new();
+            for p in &points {
+                w.start("L");
+                let p = w.xyz(p);
+                ends.push((w.line(" R0 F1000"), r * p));
+            }
+            let program = w.finish();
+            let out = run(&m, offsets(work, length), &program);
+            no_alarm(&out, &program)?;
+            for (line, want) in ends {
+                let pose = m.forward(&end_after(&out, line), length);
+                let what = format!("{f:?} line {line}");
+                check_tip(&pose.tip, &(work + want), &what, &program)?;
+                check_dir(&pose.dir, &(r * Vec3::z()), &what, &program)?;
+            }
+            Ok(())
+        },
+    );
+}
+
+/// Property (h): `PLANE PROJECTED PROPR PROMIN ROT … TURN`: the plane
+/// holds x = (cos PROPR, 0, −sin PROPR) (in the ZX plane) and
+/// y = (0, cos PROMIN, sin PROMIN) (in the YZ plane), so the tool lies
+/// along x × y. For a reachable normal n with n.z > 0: PROPR =
+/// atan2(n.x, n.z), PROMIN = atan2(−n.y, n.z); ROT random.
+#[test]
+fn plane_projected_aligns_the_tool() {
+    let strategy = (
+        five_axis(),
+        point(300.0),
+        50.0..200.0f64,
+        angles(),
+        -180.0..180.0f64,
+    );
+    check(config(), strategy, |(m, work, length, q, rot)| {
+        let n = m.forward(&joints_with(&m, q), 0.0).dir;
+        prop_assume!(n.z > 0.05);
+        let mut w = Writer::new();
+        w.start("PLANE PROJECTED");
+        let p = w.word("PROPR", n.x.atan2(n.z).to_degrees()).to_radians();
+        let mn = w
+            .word("PROMIN", (-n.y).atan2(n.z).to_degrees())
+            .to_radians();
+        w.word("ROT", rot);
+        let line = w.line(" TURN FMAX");
+        let program = w.finish();
+        let x = Vec3::new(p.cos(), 0.0, -p.sin());
+        let y = Vec3::new(0.0, mn.cos(), mn.sin());
+        let want = x.cross(&y).normalize();
+        let out = run(&m, offsets(work, length), &program);
+        no_alarm(&out, &program)?;
+        let dir = m.forward(&end_after(&out, line), length).dir;
+        check_dir(&dir, &want, "PROJECTED", &program)
+    });
+}
+
+/// Property (i): `PLANE AXIAL` with both rotary axes turns them to the
+/// positions written (modulo 360 on a rollover axis), and after it the
+/// tool lies where forward kinematics of those positions points it. On a
+/// machine with both axes in the table, `L X Y Z` puts the tip at
+/// W + R·P, R the table's turn as the workpiece sees it: its columns are
+/// how far the tip moves, by forward kinematics, when the machine's X or
+/// Y moves by 1 with the rotaries there (with a head axis the plane's X
+/// and Y turn with the head, which moving the linear axes cannot
+/// measure; only the direction is checked there).
+#[test]
+fn plane_axial_positions_the_axes() {
+    let strategy = (
+        five_axis(),
+        point(300.0),
+        50.0..200.0f64,
+        angles(),
+        point(150.0),
+    );
+    check(config(), strategy, |(m, work, length, q, p)| {
+        let mut w = Writer::new();
+        w.start("PLANE AXIAL");
+        let q = [
+            w.word(&m.rotary[0].name.to_string(), q[0]),
+            w.word(&m.rotary[1].name.to_string(), q[1]),
+        ];
+        let plane = w.line(" TURN FMAX");
+        w.start("L");
+        let p = w.xyz(&p);
+        let line = w.line(" R0 F1000");
+        let program = w.finish();
+        let out = run(&m, offsets(work, length), &program);
+        no_alarm(&out, &program)?;
+        let end = end_after(&out, plane);
+        for k in 0..2 {
+            let i = m.rotary_index(k);
+            let dq = if m.rotary[k].rollover {
+                principal(end[i] - q[k])
+            } else {
+                end[i] - q[k]
+            };
+            prop_assert!(
+                dq.abs() < 1e-9,
+                "{} at {} ≠ {}\n{program}",
+                m.rotary[k].name,
+                end[i],
+                q[k]
+            );
+        }
+        // The tilted frame by forward kinematics: the tool's direction
+        // at the positions, and the tip moved along the machine's X and
+        // Y with the rotaries there.
+        let j = joints_with(&m, q);
+        let o = m.forward(&j, length).tip;
+        let mut jx = j;
+        jx[0] += 1.0;
+        let mut jy = j;
+        jy[1] += 1.0;
+        let r = Matrix3::from_columns(&[
+            m.forward(&jx, length).tip - o,
+            m.forward(&jy, length).tip - o,
+            m.forward(&j, 0.0).dir,
+        ]);
+        let pose = m.forward(&end_after(&out, line), length);
+        if m.rotary.iter().all(|a| a.on == Side::Table) {
+            check_tip(&pose.tip, &(work + r * p), "after L", &program)?;
+        }
+        check_dir(&pose.dir, &r.column(2).into_owned(), "after L", &program)
+    });
+}
+
+// ----- (j) transformations inside the tilted plane ------------------------------------
+
+/// Property (j): a datum shift S2 and a rotation θ (cycles 7 and 10)
+/// defined in the tilted plane act in it: `L X Y Z` puts the tip at
+/// W + S + R·(S2 + Rz(θ)·P), S the shift defined before the plane.
+#[test]
+fn shift_and_rotation_inside_the_tilted_plane() {
+    let strategy = (
+        five_axis(),
+        point(300.0),
+        50.0..200.0f64,
+        angles(),
+        -60.0..60.0f64,
+        (point(100.0), point(100.0)),
+        -180.0..180.0f64,
+        point(150.0),
+    );
+    check(
+        config(),
+        strategy,
+        |(m, work, length, q, twist, (s1, s2), theta, p)| {
+            let d = m.forward(&joints_with(&m, q), 0.0).dir;
+            let mut w = Writer::new();
+            let shift = |w: &mut Writer, s: &Vec3| {
+                w.line("CYCL DEF 7.0 DATUM SHIFT");
+                let mut v = [0.0; 3];
+                for (k, a) in ["X", "Y", "Z"].into_iter().enumerate() {
+                    w.start(&format!("CYCL DEF 7.{}", k + 1));
+                    v[k] = w.word(a, s[k]);
+                    w.end();
+                }
+                Vec3::new(v[0], v[1], v[2])
+            };
+            let s1 = shift(&mut w, &s1);
+            let (_, r) = write_plane(&mut w, &d, twist, "TURN FMAX");
+            let s2 = shift(&mut w, &s2);
+            w.line("CYCL DEF 10.0 ROTATION");
+            w.start("CYCL DEF 10.1");
+            let theta = w.word("ROT", theta);
+            w.end();
+            w.start("L");
+            let p = w.xyz(&p);
+            let line = w.line(" R0 F1000");
+            let program = w.finish();
+            let out = run(&m, offsets(work, length), &program);
+            no_alarm(&out, &program)?;
+            let pose = m.forward(&end_after(&out, line), length);
+            let want = work + s1 + r * (s2 + rz(theta) * p);
+            check_tip(&pose.tip, &want, "after L", &program)?;
+            check_dir(&pose.dir, &(r * Vec3::z()), "after L", &program)
+        },
+    );
+}
+
+// ----- (k) FUNCTION TCPM ----------------------------------------------------------------
+
+/// Property (k): `FUNCTION TCPM F TCP AXIS POS` is `M128`: the same
+/// blocks give the same machine positions, the tip at W + P.
+#[test]
+fn function_tcpm_is_m128() {
+    let block = (point(200.0), angles());
+    let strategy = (
+        five_axis(),
+        point(300.0),
+        50.0..200.0f64,
+        proptest::collection::vec(block, 1..=3),
+    );
+    check(config(), strategy, |(m, work, length, blocks)| {
+        let mut programs = Vec::new();
+        for on in ["M128", "FUNCTION TCPM F TCP AXIS POS PATHCTRL AXIS"] {
+            let mut w = Writer::new();
+            w.line(on);
+            let mut ends = Vec::new();
+            for (p, q) in &blocks {
+                w.start("L");
+                let p = w.xyz(p);
+                w.word(&m.rotary[0].name.to_string(), q[0]);
+                w.word(&m.rotary[1].name.to_string(), q[1]);
+                ends.push((w.line(" R0 F1000"), p));
+            }
+            programs.push((w.finish(), ends));
+        }
+        let mut joints = Vec::new();
+        for (program, ends) in &programs {
+            let out = run(&m, offsets(work, length), program);
+            no_alarm(&out, program)?;
+            let mut js = Vec::new();
+            for (line, p) in ends {
+                let j = end_after(&out, *line);
+                check_tip(&m.forward(&j, length).tip, &(work + p), "TCPM", program)?;
+                js.push(j);
+            }
+            joints.push(js);
+        }
+        for (a, b) in joints[0].iter().zip(&joints[1]) {
+            for k in 0..m.axis_count() {
+                prop_assert!(
+                    (a[k] - b[k]).abs() < 1e-9,
+                    "M128 {a:?} ≠ FUNCTION TCPM {b:?}\n{}\n{}",
+                    programs[0].0,
+                    programs[1].0
+                );
+            }
+        }
+        Ok(())
+    });
+}
