@@ -969,3 +969,376 @@ fn plane_move_keeps_the_tip_during_the_move() {
         assert_tip(r, [0.0, 0.0, 100.0]);
     }
 }
+
+// ----- more paths -------------------------------------------------------------
+
+#[test]
+fn cc_incremental_is_from_the_last_position_and_ctp_is_tangential() {
+    let (rows, alarm) = sampled(
+        &mill(),
+        &[
+            "TOOL CALL 1 Z S1000",
+            "L X+10 Y+10 Z+0 R0 F500",
+            "CC IX+10",
+            "LP PR+5 PA+90",
+            "L X+0 Y+0",
+            "L X+20 Y+0",
+            "CC X+20 Y+0",
+            "CTP PR+10 PA+90",
+        ],
+        &[0.5, 1.0],
+    );
+    assert!(alarm.is_none(), "{alarm:?}");
+    // Why: CC IX+10 from (10,10) is the pole (20,10); PR5 PA90 above it.
+    assert_tip(at(&rows, line(4)), [20.0, 15.0, 0.0]);
+    // Why: leaving (20,0) along +X for (20,10) (PR10 PA90 about (20,0)):
+    // the tangent circle is about (20,5) with radius 5, counter-clockwise;
+    // half way it is at (25,5).
+    let arc = of_line(&rows, line(8));
+    assert_tip(arc[0], [25.0, 5.0, 0.0]);
+    assert_tip(arc[1], [20.0, 10.0, 0.0]);
+    assert_eq!(arc[1].motion, Motion::Ccw);
+}
+
+#[test]
+fn q_parameters_in_coordinates() {
+    let rows = ok(
+        &mill(),
+        &[
+            "TOOL CALL 1 Z S1000",
+            "Q1 = 12.5",
+            "Q2 = Q1 * 2",
+            "L X+Q1 Y-Q2 Z+0 R0 F500",
+        ],
+    );
+    assert_tip(at(&rows, line(4)), [12.5, -25.0, 0.0]);
+}
+
+#[test]
+#[ignore = "bug: BEGIN PGM T INCH, L X+1 Y+2 Z+0.5 F20 goes to (25.4, 50.8, 12.7) mm at 508 mm/min / it goes to (1, 2, 0.5) mm: runner/heidenhain.rs:151 calls front.set_inch(interp.inch()) right after Interpreter::new, before the interpreter has read BEGIN PGM, so the front end is never in inches"]
+fn inch_program_lengths_are_inches() {
+    let text = "BEGIN PGM T INCH\nTOOL CALL 1 Z S1000\nL X+1 Y+2 Z+0.5 R0 F20\nEND PGM T INCH\n";
+    let (rows, alarm) = common::run_ends(&mill(), offsets_for(&mill()), text);
+    assert!(alarm.is_none(), "{alarm:?}");
+    let r = at(&rows, 3);
+    // Why: 25.4 mm to the inch; F20 is 508 mm/min.
+    assert_tip(r, [25.4, 50.8, 12.7]);
+    assert_eq!(r.feed, Some(508.0));
+}
+
+#[test]
+fn mirror_turns_arcs_over() {
+    let (rows, alarm) = sampled(
+        &mill(),
+        &[
+            "TOOL CALL 1 Z S1000",
+            "CYCL DEF 8.0 MIRROR IMAGE",
+            "CYCL DEF 8.1 X",
+            "L X+30 Y+0 Z+0 R0 F500",
+            "CC X+0 Y+0",
+            "C X+0 Y+30 DR+",
+        ],
+        &[0.5, 1.0],
+    );
+    assert!(alarm.is_none(), "{alarm:?}");
+    // Why: every point mirrored in X: the quarter from (30,0) to (0,30)
+    // becomes the one from (−30,0) to (0,30), clockwise.
+    let arc = of_line(&rows, line(6));
+    let h = 30.0 * std::f64::consts::FRAC_1_SQRT_2;
+    assert_tip(arc[0], [-h, h, 0.0]);
+    assert_tip(arc[1], [0.0, 30.0, 0.0]);
+}
+
+#[test]
+fn axis_specific_scaling() {
+    let rows = ok(
+        &mill(),
+        &[
+            "TOOL CALL 1 Z S1000",
+            "CYCL DEF 26.0 AXIS-SPECIFIC SCALING",
+            "CYCL DEF 26.1 X2 Y3",
+            "L X+10 Y+5 Z+1 R0 F500",
+        ],
+    );
+    // Why: X ×2, Y ×3, Z as written.
+    assert_tip(at(&rows, line(4)), [20.0, 15.0, 1.0]);
+}
+
+#[test]
+fn radius_compensation_left_of_the_contour() {
+    let (rows, alarm) = sampled(
+        &mill(),
+        &[
+            "TOOL CALL 1 Z S1000",
+            "L X-20 Y-20 Z+0 R0 F500",
+            "L X+0 Y+0 RL",
+            "L X+0 Y+50",
+            "L X+50 Y+50",
+        ],
+        &[0.5],
+    );
+    assert!(alarm.is_none(), "{alarm:?}");
+    // Why: along +Y with the tool left of the contour (radius 5): the
+    // centre runs at X−5.
+    let mid = of_line(&rows, line(4));
+    assert!((mid[0].tip.x + 5.0).abs() < EPS, "{:?}", mid[0].tip);
+}
+
+#[test]
+fn m92_is_measured_from_the_reference_position() {
+    let mut m = mill();
+    m.params.reference_1[2] = -50.0;
+    let (rows, alarm) = common::run_ends(
+        &m,
+        offsets_for(&m),
+        &program(&["TOOL CALL 1 Z S1000", "L Z-20 R0 FMAX M92"]),
+    );
+    assert!(alarm.is_none(), "{alarm:?}");
+    // Why (the kernel's reading of M92: from reference position 1):
+    // −50 − 20.
+    assert!((at(&rows, line(2)).joints[2] + 70.0).abs() < EPS);
+}
+
+#[test]
+fn m126_takes_the_short_way_on_an_endless_axis() {
+    let (rows, alarm) = sampled(
+        &dmu(),
+        &[
+            "TOOL CALL 1 Z S1000",
+            "L X+0 Y+0 Z+100 R0 FMAX",
+            "L C+350 FMAX M126",
+            "L C+10 FMAX M127",
+        ],
+        &[0.5, 1.0],
+    );
+    assert!(alarm.is_none(), "{alarm:?}");
+    let c = |r: &Row| fiveaxis_machine::principal(r.joints[4]);
+    // Why: from 0 to 350 the short way is −10: half way at −5.
+    let turn = of_line(&rows, line(3));
+    assert!((c(turn[0]) + 5.0).abs() < EPS, "{:?}", turn[0].joints);
+    assert!((c(turn[1]) + 10.0).abs() < EPS, "{:?}", turn[1].joints);
+}
+
+#[test]
+fn m129_ends_tcpm_and_a_rotary_block_alone_keeps_the_linear_axes() {
+    let rows = ok(
+        &dmu(),
+        &[
+            "TOOL CALL 1 Z S1000",
+            "L X+0 Y+0 Z+100 R0 FMAX",
+            "M128",
+            "L X+10 Y+0 Z+100 A-20 C+0 F1000",
+            "M129",
+            "L A-30 FMAX",
+        ],
+    );
+    // Why: under M128 the tip is on (10,0,100) with A at −20.
+    let r = at(&rows, line(4));
+    assert_tip(r, [10.0, 0.0, 100.0]);
+    // Why: after M129 only A moves: X, Y, Z stay.
+    let s = at(&rows, line(6));
+    for k in 0..3 {
+        assert!((s.joints[k] - r.joints[k]).abs() < EPS, "{:?}", s.joints);
+    }
+    assert!((s.joints[3] + 30.0).abs() < EPS);
+}
+
+#[test]
+fn ln_without_a_vector_keeps_the_orientation() {
+    let rows = ok(
+        &dmu(),
+        &[
+            "TOOL CALL 1 Z S1000",
+            "L X+0 Y+0 Z+100 R0 FMAX",
+            "M128",
+            "LN X+0 Y+0 Z+50 TX+0 TY-0.5 TZ+0.866025403784 F1000",
+            "L X+20",
+        ],
+    );
+    let before = at(&rows, line(4));
+    let after = at(&rows, line(5));
+    assert_tip(after, [20.0, 0.0, 50.0]);
+    assert!((after.dir - before.dir).norm() < 1e-9);
+    assert!((after.dir - Vec3::new(0.0, -0.5, 0.866025403784).normalize()).norm() < 1e-9);
+}
+
+#[test]
+fn plane_relativ_turns_about_the_tilted_axes() {
+    let rows = ok(
+        &dmu(),
+        &[
+            "TOOL CALL 1 Z S1000",
+            "L X+0 Y+0 Z+100 R0 FMAX",
+            "PLANE SPATIAL SPA+0 SPB+0 SPC+90 STAY",
+            "PLANE RELATIV SPA-30 TURN FMAX",
+            "L X+10 Y+0 Z+50 FMAX",
+        ],
+    );
+    // Why: the plane turned 90° about Z, then −30° about its own X (the
+    // workpiece's Y): R = Rz(90°)·Rx(−30°); Z = (−½, 0, √3/2), X = (0,1,0).
+    let z = Vec3::new(-0.5, 0.0, 3f64.sqrt() / 2.0);
+    let r = at(&rows, line(5));
+    assert!((r.dir - z).norm() < 1e-9, "{:?}", r.dir);
+    let want = Vec3::new(0.0, 10.0, 0.0) + z * 50.0;
+    assert_tip(r, [want.x, want.y, want.z]);
+}
+
+#[test]
+fn cycle_19_tilts_the_plane_for_the_positions_that_follow() {
+    let rows = ok(
+        &dmu(),
+        &[
+            "TOOL CALL 1 Z S1000",
+            "L X+0 Y+0 Z+100 R0 FMAX",
+            "CYCL DEF 19.0 WORKING PLANE",
+            "CYCL DEF 19.1 A-30 C+0",
+            "L A-30 C+0 R0 FMAX",
+            "L X+10 Y+0 Z+50 FMAX",
+        ],
+    );
+    let r = at(&rows, line(6));
+    // Why: with the table at A−30 the tool lies along `dir` (forward
+    // kinematics); the table turns about X, which keeps the plane's X the
+    // workpiece's X; so X10 Z50 of the plane is (10,0,0) + 50·dir.
+    let mut j = [0.0; fiveaxis_machine::MAX_AXES];
+    j[3] = -30.0;
+    let dir = dmu().forward(&j, 0.0).dir;
+    assert!((r.dir - dir).norm() < 1e-9, "{:?}", r.dir);
+    let want = Vec3::new(10.0, 0.0, 0.0) + dir * 50.0;
+    assert_tip(r, [want.x, want.y, want.z]);
+}
+
+#[test]
+#[ignore = "bug: PLANE … TURN MB50 with the tool vertical at Z100 first lifts the tip to Z150 / it lowers it to Z50 (into the work): mod.rs:2085 `let away = -dir` where tool_direction_machine() already points from the tip to the spindle; MB MAX likewise runs to the bottom of the Z travel"]
+fn plane_mb_retracts_along_the_tool_first() {
+    let rows = ok(
+        &dmu(),
+        &[
+            "TOOL CALL 1 Z S1000",
+            "L X+0 Y+0 Z+100 R0 FMAX",
+            "PLANE SPATIAL SPA-30 SPB+0 SPC+0 TURN MB50 FMAX",
+        ],
+    );
+    // Why (TNC manual, MB: retraction along the tool axis, away from the
+    // workpiece, before tilting): the tool stands vertical at Z100, so MB50
+    // lifts the tip to Z150 before the table turns.
+    let segs = of_line(&rows, line(3));
+    assert!(segs.len() >= 2, "{segs:?}");
+    assert_tip(segs[0], [0.0, 0.0, 150.0]);
+}
+
+#[test]
+#[ignore = "bug: PLANE … TURN MB MAX retracts to the top of the Z travel (machine Z 0) / it runs to the bottom (machine Z −650): mod.rs:2085 `let away = -dir`"]
+fn plane_mb_max_retracts_to_the_end_of_travel() {
+    let rows = ok(
+        &dmu(),
+        &[
+            "TOOL CALL 1 Z S1000",
+            "L X+0 Y+0 Z+100 R0 FMAX",
+            "PLANE SPATIAL SPA-30 SPB+0 SPC+0 TURN MB MAX FMAX",
+        ],
+    );
+    // Why: up along the vertical tool to the Z travel's end, machine Z 0.
+    let segs = of_line(&rows, line(3));
+    assert!(segs[0].joints[2].abs() < EPS, "{:?}", segs[0].joints);
+}
+
+#[test]
+fn table_rot_turns_the_table_for_the_plane_x() {
+    let run = |ending: &str| {
+        let plane = format!("PLANE SPATIAL SPA+0 SPB+0 SPC+30 TURN FMAX {ending}");
+        ok(
+            &dmu(),
+            &[
+                "TOOL CALL 1 Z S1000",
+                "L X+0 Y+0 Z+100 R0 FMAX",
+                &plane,
+                "L X+0 Y+0 Z+100 FMAX",
+                "L X+10 Y+0 Z+100 FMAX",
+            ],
+        )
+    };
+    // Why: the machine's X moved by a move of 10 along the plane's X: with
+    // TABLE ROT the table turns the plane's X onto the machine's X, with
+    // COORD ROT it stays and the plane's X is 30° off it.
+    for (ending, want) in [
+        ("TABLE ROT", [10.0, 0.0]),
+        (
+            "COORD ROT",
+            [
+                10.0 * 30f64.to_radians().cos(),
+                10.0 * 30f64.to_radians().sin(),
+            ],
+        ),
+    ] {
+        let rows = run(ending);
+        // The L to (0,0,100) may move nothing (the point is on the C axis).
+        let a = rows
+            .iter()
+            .rfind(|r| r.line <= line(4))
+            .expect("a segment before line 5");
+        let b = at(&rows, line(5));
+        let d = [b.joints[0] - a.joints[0], b.joints[1] - a.joints[1]];
+        assert!(
+            (d[0] - want[0]).abs() < EPS && (d[1] - want[1]).abs() < EPS,
+            "{ending}: machine X, Y moved {d:?}, want {want:?}"
+        );
+    }
+}
+
+#[test]
+fn m89_calls_the_cycle_after_every_positioning_block() {
+    let mut blocks = vec!["TOOL CALL 1 Z S1000", "L Z+50 R0 FMAX"];
+    blocks.extend(DRILL_SHALLOW);
+    blocks.extend([
+        "L X+10 Y+10 FMAX M89",
+        "L X+20 Y+10 FMAX",
+        "CYCL DEF 200 DRILLING ~",
+        "  Q200=2 ;SET-UP CLEARANCE ~",
+        "  Q201=-8 ;DEPTH ~",
+        "  Q206=150 ;FEED RATE FOR PLNGNG ~",
+        "  Q202=8 ;PLUNGING DEPTH ~",
+        "  Q203=+0 ;SURFACE COORDINATE ~",
+        "  Q204=20 ;2ND SET-UP CLEARANCE",
+        "L X+30 Y+10 FMAX",
+    ]);
+    let rows = ok(&mill(), &blocks);
+    let n = blocks.len() as u32;
+    let bottom = |l: u32| {
+        of_line(&rows, line(l))
+            .iter()
+            .map(|r| r.tip.z)
+            .fold(f64::INFINITY, f64::min)
+    };
+    // Why: M89 calls the cycle at (10,10) and after the next position;
+    // a new CYCL DEF ends the modal call (the kernel's reading), so the
+    // last block only positions.
+    assert!((bottom(n - 9) + 5.0).abs() < EPS);
+    assert!((bottom(n - 8) + 5.0).abs() < EPS);
+    assert!((bottom(n) - 20.0).abs() < EPS);
+}
+
+#[test]
+fn cycl_call_without_a_cycle_is_refused() {
+    let a = alarm_of(
+        &mill(),
+        &["TOOL CALL 1 Z S1000", "L Z+50 R0 FMAX", "CYCL CALL"],
+    );
+    assert_eq!(a.condition, Condition::CycleDataMissing, "{a:?}");
+    assert_eq!(a.line, line(3));
+}
+
+#[test]
+fn cp_against_its_direction_is_refused() {
+    let a = alarm_of(
+        &mill(),
+        &[
+            "TOOL CALL 1 Z S1000",
+            "L X+20 Y+0 Z+0 R0 F500",
+            "CC X+0 Y+0",
+            "CP IPA-90 DR+",
+        ],
+    );
+    assert_eq!(a.condition, Condition::ArcRadiusTolerance, "{a:?}");
+    assert_eq!(a.line, line(4));
+}
