@@ -1342,3 +1342,107 @@ fn cp_against_its_direction_is_refused() {
     assert_eq!(a.condition, Condition::ArcRadiusTolerance, "{a:?}");
     assert_eq!(a.line, line(4));
 }
+
+#[test]
+fn plane_without_seq_takes_the_shorter_way() {
+    // Why (TNC manual, PLANE without SEQ: of the solutions within the
+    // travel the one reached by the shorter path): from A0 C0 a plane
+    // turned ±20° about X is reached with C at 0 (A ±20) rather than C 180
+    // (A ∓20); forward kinematics checks the tool's direction.
+    for spa in [20.0f64, -20.0] {
+        let plane = format!("PLANE SPATIAL SPA{spa:+} SPB+0 SPC+0 TURN FMAX");
+        let rows = ok(
+            &dmu(),
+            &["TOOL CALL 1 Z S1000", "L X+0 Y+0 Z+100 R0 FMAX", &plane],
+        );
+        let r = at(&rows, line(3));
+        let s = spa.to_radians();
+        assert!((r.dir - Vec3::new(0.0, -s.sin(), s.cos())).norm() < 1e-9);
+        assert!(
+            fiveaxis_machine::principal(r.joints[4]).abs() < EPS,
+            "SPA{spa}: {:?}",
+            r.joints
+        );
+    }
+}
+
+#[test]
+fn tool_call_dr_widens_the_radius_compensation() {
+    let (rows, alarm) = sampled(
+        &mill(),
+        &[
+            "TOOL CALL 1 Z S1000 DR+1",
+            "L X-20 Y-20 Z+0 R0 F500",
+            "L X+0 Y+0 RL",
+            "L X+0 Y+50",
+            "L X+50 Y+50",
+        ],
+        &[0.5],
+    );
+    assert!(alarm.is_none(), "{alarm:?}");
+    // Why: radius 5 + DR 1.
+    let mid = of_line(&rows, line(4));
+    assert!((mid[0].tip.x + 6.0).abs() < EPS, "{:?}", mid[0].tip);
+}
+
+#[test]
+fn pattern_circle_points() {
+    let mut blocks = vec!["TOOL CALL 1 Z S1000"];
+    blocks.extend(DRILL_SHALLOW);
+    blocks.extend([
+        "PATTERN DEF ~",
+        "  CIRC1 (X+50 Y+50 D+20 START+0 NUM4 Z+0)",
+        "L Z+50 R0 FMAX",
+        "CYCL CALL PAT FMAX",
+    ]);
+    let rows = ok(&mill(), &blocks);
+    let call = line(blocks.len() as u32);
+    // Why: four holes on a circle of diameter 20 about (50,50), from 0°
+    // every 90°.
+    let bottoms: Vec<[f64; 2]> = of_line(&rows, call)
+        .iter()
+        .filter(|r| (r.tip.z + 5.0).abs() < EPS)
+        .map(|r| [r.tip.x, r.tip.y])
+        .collect();
+    let want = [[60.0, 50.0], [50.0, 60.0], [40.0, 50.0], [50.0, 40.0]];
+    assert_eq!(bottoms.len(), want.len(), "{bottoms:?}");
+    for (g, w) in bottoms.iter().zip(want) {
+        assert!(
+            (g[0] - w[0]).abs() < EPS && (g[1] - w[1]).abs() < EPS,
+            "{bottoms:?}"
+        );
+    }
+}
+
+#[test]
+fn drilling_in_a_tilted_plane() {
+    let mut blocks = vec![
+        "TOOL CALL 1 Z S1000",
+        "L X+0 Y+0 Z+100 R0 FMAX",
+        "PLANE SPATIAL SPA-30 SPB+0 SPC+0 TURN FMAX",
+        "L X+10 Y+20 Z+50 FMAX",
+    ];
+    blocks.extend(DRILL_SHALLOW);
+    blocks.push("CYCL CALL");
+    let rows = ok(&dmu(), &blocks);
+    let call = line(blocks.len() as u32);
+    // Why: the hole's bottom is Z−5 of the plane at X10 Y20:
+    // R·(10, 20, −5) with R = Rx(−30°), the tool along R·ez throughout.
+    let s = (-30f64).to_radians();
+    let r = |p: [f64; 3]| {
+        [
+            p[0],
+            p[1] * s.cos() - p[2] * s.sin(),
+            p[1] * s.sin() + p[2] * s.cos(),
+        ]
+    };
+    let rows = of_line(&rows, call);
+    assert!(
+        rows.iter()
+            .any(|row| (row.tip - v(r([10.0, 20.0, -5.0]))).norm() < EPS),
+        "no row at the hole's bottom"
+    );
+    for row in rows {
+        assert!((row.dir - v(r([0.0, 0.0, 1.0]))).norm() < 1e-9);
+    }
+}
