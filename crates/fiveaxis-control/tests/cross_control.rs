@@ -219,9 +219,9 @@ fn five_axis_path_by_tool_vectors() {
         dirs.push((
             p,
             Vec3::new(
-                t[0].parse().unwrap(),
-                t[1].parse().unwrap(),
-                t[2].parse().unwrap(),
+                t[0].parse().expect("a written number"),
+                t[1].parse().expect("a written number"),
+                t[2].parse().expect("a written number"),
             ),
         ));
     }
@@ -396,9 +396,9 @@ fn five_axis_path_by_tool_vectors_on_a_head() {
             p.x, p.y, p.z, t[0], t[1], t[2]
         ));
         let v = Vec3::new(
-            t[0].parse().unwrap(),
-            t[1].parse().unwrap(),
-            t[2].parse().unwrap(),
+            t[0].parse().expect("a written number"),
+            t[1].parse().expect("a written number"),
+            t[2].parse().expect("a written number"),
         );
         want.push((p, v.normalize()));
     }

@@ -117,6 +117,19 @@ fn assert_tip(row: &Row, want: [f64; 3]) {
     );
 }
 
+/// The machine's X, Y, Z in `row` are `want`.
+fn assert_linear(row: &Row, want: [f64; 3]) {
+    assert!(
+        row.joints[..3]
+            .iter()
+            .zip(want)
+            .all(|(j, w)| (j - w).abs() < EPS),
+        "line {}: machine X Y Z {:?}, want {want:?}",
+        row.line,
+        &row.joints[..3]
+    );
+}
+
 /// The row at the end of line `l`'s last segment.
 fn at(rows: &[Row], l: u32) -> &Row {
     rows.iter()
@@ -146,9 +159,7 @@ fn l_absolute_then_incremental_and_machine_position() {
     assert_eq!(r.motion, Motion::Rapid);
     // Why: the machine stands at G54 + tip + tool length along +Z.
     let want = [110.0, 70.0, 105.0];
-    for k in 0..3 {
-        assert!((r.joints[k] - want[k]).abs() < EPS, "{:?}", r.joints);
-    }
+    assert_linear(r, want);
     let r = at(&rows, line(3));
     // Why: IX+5 IY-5 from (10, 20).
     assert_tip(r, [15.0, 15.0, 5.0]);
@@ -209,14 +220,10 @@ fn m91_moves_in_machine_coordinates_without_tool_length() {
     let r = at(&rows, line(3));
     // Why: M91 Z-20 is the machine's Z; X and Y stay at 110, 70.
     let want = [110.0, 70.0, -20.0];
-    for k in 0..3 {
-        assert!((r.joints[k] - want[k]).abs() < EPS, "{:?}", r.joints);
-    }
+    assert_linear(r, want);
     let r = at(&rows, line(4));
     let want = [0.0, 0.0, -20.0];
-    for k in 0..3 {
-        assert!((r.joints[k] - want[k]).abs() < EPS, "{:?}", r.joints);
-    }
+    assert_linear(r, want);
     // Why: the tip is the machine position less G54 and the tool length.
     assert_tip(r, [-100.0, -50.0, -120.0]);
 }
@@ -673,9 +680,7 @@ fn datum_setting_selects_a_preset() {
     // it.
     let r = at(&rows, line(4));
     let want = [-20.0, 10.0, 5.0 + LENGTH];
-    for k in 0..3 {
-        assert!((r.joints[k] - want[k]).abs() < EPS, "{:?}", r.joints);
-    }
+    assert_linear(r, want);
 }
 
 // ----- cycles -----------------------------------------------------------------

@@ -780,19 +780,18 @@ fn plane_axial_positions_the_axes() {
         let out = run(&m, offsets(work, length), &program);
         no_alarm(&out, &program)?;
         let end = end_after(&out, plane);
-        for k in 0..2 {
+        for (k, want) in q.iter().enumerate() {
             let i = m.rotary_index(k);
             let dq = if m.rotary[k].rollover {
-                principal(end[i] - q[k])
+                principal(end[i] - want)
             } else {
-                end[i] - q[k]
+                end[i] - want
             };
             prop_assert!(
                 dq.abs() < 1e-9,
-                "{} at {} ≠ {}\n{program}",
+                "{} at {} ≠ {want}\n{program}",
                 m.rotary[k].name,
-                end[i],
-                q[k]
+                end[i]
             );
         }
         // The tilted frame by forward kinematics: the tool's direction
