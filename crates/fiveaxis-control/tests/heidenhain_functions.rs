@@ -1451,3 +1451,139 @@ fn drilling_in_a_tilted_plane() {
         assert!((row.dir - v(r([0.0, 0.0, 1.0]))).norm() < 1e-9);
     }
 }
+
+#[test]
+fn increments_after_a_rounding_start_from_the_corner() {
+    let rows = ok(
+        &mill(),
+        &[
+            "TOOL CALL 1 Z S1000",
+            "L X+0 Y+0 Z+0 R0 F500",
+            "L X+40 Y+0",
+            "RND R10",
+            "L IY+40",
+        ],
+    );
+    // Why: IY+40 counts from the programmed corner (40,0), not from where
+    // the rounding leaves the line.
+    assert_tip(at(&rows, line(5)), [40.0, 40.0, 0.0]);
+}
+
+#[test]
+fn cc_alone_is_the_last_programmed_position() {
+    let (rows, alarm) = sampled(
+        &mill(),
+        &[
+            "TOOL CALL 1 Z S1000",
+            "L X+10 Y+10 Z+0 R0 F500",
+            "CC",
+            "L X+30 Y+10",
+            "C X+10 Y+30 DR+",
+        ],
+        &[0.5, 1.0],
+    );
+    assert!(alarm.is_none(), "{alarm:?}");
+    // Why: the pole is (10,10); the quarter of radius 20 from 0° to 90°.
+    let h = 20.0 * std::f64::consts::FRAC_1_SQRT_2;
+    let arc = of_line(&rows, line(5));
+    assert_tip(arc[0], [10.0 + h, 10.0 + h, 0.0]);
+}
+
+#[test]
+fn c_to_its_own_start_is_a_full_circle() {
+    let (rows, alarm) = sampled(
+        &mill(),
+        &[
+            "TOOL CALL 1 Z S1000",
+            "L X+30 Y+0 Z+0 R0 F500",
+            "CC X+0 Y+0",
+            "C X+30 Y+0 DR+",
+        ],
+        &[0.25, 0.5, 1.0],
+    );
+    assert!(alarm.is_none(), "{alarm:?}");
+    // Why: end = start: the whole circle, a quarter at (0,30), half at
+    // (−30,0).
+    let arc = of_line(&rows, line(4));
+    assert_tip(arc[0], [0.0, 30.0, 0.0]);
+    assert_tip(arc[1], [-30.0, 0.0, 0.0]);
+    assert_tip(arc[2], [30.0, 0.0, 0.0]);
+}
+
+#[test]
+fn m91_ignores_the_tilted_plane() {
+    let rows = ok(
+        &dmu(),
+        &[
+            "TOOL CALL 1 Z S1000",
+            "L X+0 Y+0 Z+100 R0 FMAX",
+            "PLANE SPATIAL SPA-30 SPB+0 SPC+0 TURN FMAX",
+            "L X+10 Y+20 Z+50 FMAX",
+            "L Z-10 R0 FMAX M91",
+        ],
+    );
+    // Why: M91 Z−10 is the machine's Z; X, Y and the rotaries stay.
+    let before = at(&rows, line(4));
+    let r = at(&rows, line(5));
+    assert_linear(r, [before.joints[0], before.joints[1], -10.0]);
+    assert!((r.joints[3] - before.joints[3]).abs() < EPS);
+}
+
+#[test]
+fn m128_in_a_tilted_plane_keeps_its_coordinates() {
+    let with_m128 = ok(
+        &dmu(),
+        &[
+            "TOOL CALL 1 Z S1000",
+            "L X+0 Y+0 Z+100 R0 FMAX",
+            "PLANE SPATIAL SPA-30 SPB+0 SPC+0 TURN FMAX",
+            "M128",
+            "L X+10 Y+20 Z+5 FMAX",
+        ],
+    );
+    // Why (TNC manual, M128 with a tilted plane: coordinates in the tilted
+    // system): X10 Y20 Z5 of the plane Rx(−30°).
+    let s = (-30f64).to_radians();
+    let want = [
+        10.0,
+        20.0 * s.cos() - 5.0 * s.sin(),
+        20.0 * s.sin() + 5.0 * s.cos(),
+    ];
+    assert_tip(at(&with_m128, line(5)), want);
+}
+
+/// The C/A fork head (C on the carriage carries A) as a HEIDENHAIN
+/// machine: C ±360°, A ±110°.
+fn fork_head() -> Machine {
+    let mut m = builtin_at_zero("head-head-ca").expect("built-in");
+    m.control = Control::Heidenhain;
+    m
+}
+
+#[test]
+fn seq_is_the_sign_of_the_master_axis_on_a_fork_head() {
+    // Why (TNC manual, SEQ: \"SEQ+ positions the master axis so that it
+    // assumes a positive angle; the master axis is the 2nd rotary axis
+    // seen from the table or the 1st seen from the tool\"): on the fork
+    // head A is next to the tool. SPB−30 points the tool to (−sin 30°, 0,
+    // cos 30°): Rz(C)·Rx(A)·ez = that for C −90° A +30° and for C +90°
+    // A −30° (forward kinematics checks the direction).
+    for (seq, want_a) in [("SEQ+", 30.0), ("SEQ-", -30.0)] {
+        let plane = format!("PLANE SPATIAL SPA+0 SPB-30 SPC+0 TURN FMAX {seq}");
+        let (rows, alarm) = common::run_ends(
+            &fork_head(),
+            offsets_with(Vec3::new(0.0, 0.0, -100.0)),
+            &program(&["TOOL CALL 1 Z S1000", "L X+0 Y+0 Z+100 R0 FMAX", &plane]),
+        );
+        assert!(alarm.is_none(), "{alarm:?}");
+        let r = at(&rows, line(3));
+        let s = 30f64.to_radians();
+        assert!((r.dir - Vec3::new(-s.sin(), 0.0, s.cos())).norm() < 1e-9);
+        let m = fork_head();
+        let k = (0..2)
+            .find(|&k| m.rotary[k].name == 'A')
+            .expect("an A axis");
+        let a = r.joints[m.rotary_index(k)];
+        assert!((a - want_a).abs() < EPS, "{seq}: {:?}", r.joints);
+    }
+}
