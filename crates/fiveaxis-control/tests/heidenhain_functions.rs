@@ -1599,7 +1599,7 @@ fn block_numbers_and_comments_change_nothing() {
 }
 
 #[test]
-#[ignore = "bug: TOOL CALL 1 Z S1000 F-100 is refused on its own line (as S-100 is) / it is taken, and the alarm comes on the later L … F AUTO block: mod.rs:1429 stores TOOL CALL's F with no check"]
+#[ignore = "bug: TOOL CALL 1 Z S1000 F-100 is refused on its own line (as S-100 is) / it is taken, and the alarm comes on the later L … F AUTO block: mod.rs:1433 stores TOOL CALL's F with no check"]
 fn negative_tool_call_feed_is_refused() {
     // Why: a feed is positive (as the L block's own F and the S of the
     // same block are checked).
@@ -1613,4 +1613,48 @@ fn negative_tool_call_feed_is_refused() {
     );
     let a = alarm.expect("an alarm");
     assert_eq!(a.line, line(1), "{a:?}");
+}
+
+#[test]
+fn mirror_mirrors_the_compensated_path() {
+    let (rows, alarm) = sampled(
+        &mill(),
+        &[
+            "TOOL CALL 1 Z S1000",
+            "CYCL DEF 8.0 MIRROR IMAGE",
+            "CYCL DEF 8.1 X",
+            "L X-20 Y-20 Z+0 R0 F500",
+            "L X+0 Y+0 RL",
+            "L X+0 Y+50",
+            "L X+50 Y+50",
+        ],
+        &[0.5],
+    );
+    assert!(alarm.is_none(), "{alarm:?}");
+    // Why: without the mirror the centre runs at X−5 (left of the contour
+    // going +Y); the mirror mirrors the whole tool path: X+5.
+    let mid = of_line(&rows, line(6));
+    assert!((mid[0].tip.x - 5.0).abs() < EPS, "{:?}", mid[0].tip);
+}
+
+#[test]
+fn datum_shift_of_a_rotary_axis() {
+    let rows = ok(
+        &dmu(),
+        &[
+            "TOOL CALL 1 Z S1000",
+            "L X+0 Y+0 Z+100 R0 FMAX",
+            "CYCL DEF 7.0 DATUM SHIFT",
+            "CYCL DEF 7.1 C+30",
+            "L C+10 R0 FMAX",
+            "L C+0 FMAX",
+            "L X+5 C+20 FMAX",
+        ],
+    );
+    // Why: C is measured from the shifted datum: C10 is the machine's 40,
+    // with or without linear axes in the block.
+    let c = |l: u32| fiveaxis_machine::principal(at(&rows, line(l)).joints[4]);
+    assert!((c(5) - 40.0).abs() < EPS, "{}", c(5));
+    assert!((c(6) - 30.0).abs() < EPS, "{}", c(6));
+    assert!((c(7) - 50.0).abs() < EPS, "{}", c(7));
 }
