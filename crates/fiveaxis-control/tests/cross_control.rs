@@ -416,3 +416,44 @@ fn five_axis_path_by_tool_vectors_on_a_head() {
         assert!((dir - d).norm() < 1e-9, "dir {dir:?}");
     }
 }
+
+// ----- a drilling cycle in the tilted plane ----------------------------------------
+
+/// G81 (FANUC), CYCLE81 (SINUMERIK) and cycle 200 with one plunge
+/// (HEIDENHAIN) at X10 Y20 of the plane turned −45° about X, 5 deep from
+/// Z0 with 2 mm clearance: the machine stands at the same place at the
+/// hole's bottom, R·(10, 20, −5).
+#[test]
+fn drilling_cycle_in_the_tilted_plane() {
+    let fanuc = "G90 G54 G17\nG43 H1 G0 Z100.\nG68.2 X0 Y0 Z0 I0 J-45. K0\nG53.1\n\
+                 G0 X10. Y20. Z50.\nG98 G81 X10. Y20. Z-5. R2. F100.\nG80\nM30\n";
+    let sinumerik = "T1 D1\nG54 G17 G90\nG0 Z100\nCYCLE800(0,\"TC1\",0,57,0,0,0,-45,0,0,0,0,0,-1)\n\
+                     G0 X10 Y20 Z50\nF100\nCYCLE81(50,0,2,-5)\nM30\n";
+    let klartext = "BEGIN PGM P MM\nTOOL CALL 1 Z S1000\nL Z+100 R0 FMAX\n\
+                    PLANE SPATIAL SPA-45 SPB+0 SPC+0 TURN FMAX SEQ-\n\
+                    CYCL DEF 200 DRILLING ~\n Q200=2 ~\n Q201=-5 ~\n Q206=100 ~\n Q202=5 ~\n\
+                    Q210=0 ~\n Q203=+0 ~\n Q204=50 ~\n Q211=0\nL X+10 Y+20 Z+50 FMAX\nCYCL CALL\nEND PGM P MM\n";
+    let bottom = Vec3::new(10.0, 20.0, -5.0);
+    let r = rx(-45.0);
+    let mut found = Vec::new();
+    for (control, program) in [
+        (Control::Fanuc30i, fanuc),
+        (Control::Sinumerik, sinumerik),
+        (Control::Heidenhain, klartext),
+    ] {
+        let rows = ends(control, program);
+        let at_bottom: Vec<[f64; 5]> = rows
+            .iter()
+            .map(|row| {
+                let mut j = [0.0; 5];
+                j.copy_from_slice(&row.joints[..5]);
+                j
+            })
+            .filter(|&j| (pose(j).0 - r * bottom).norm() < 1e-9)
+            .collect();
+        assert_eq!(at_bottom.len(), 1, "{control:?}: {at_bottom:?}\n{program}");
+        found.push(at_bottom[0]);
+    }
+    same("SINUMERIK / FANUC", found[1], found[0]);
+    same("HEIDENHAIN / FANUC", found[2], found[0]);
+}
