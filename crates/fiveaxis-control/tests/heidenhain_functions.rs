@@ -815,7 +815,7 @@ fn pattern_def_points_are_drilled_in_order() {
 }
 
 #[test]
-#[ignore = "bug: a PATTERN DEF point's Z is the surface in addition to Q203 (Q203 5 + Z-2 = 3, bottom -2) / the front end replaces Q203 by Z (surface -2, bottom -7)"]
+#[ignore = "bug: a PATTERN DEF point's Z is the surface in addition to Q203 (Q203 5 + Z-2 = 3, bottom -2) / the front end replaces Q203 by Z (surface -2, bottom -7): mod.rs:2179 `*v = p[2]`"]
 fn pattern_def_surface_adds_to_q203() {
     let mut blocks = vec!["TOOL CALL 1 Z S1000"];
     blocks.extend(DRILL_SHALLOW);
