@@ -838,3 +838,182 @@ proptest! {
         check_run(&machine, program.as_bytes(), RunOptions::default())?;
     }
 }
+
+// ----- HEIDENHAIN Klartext ---------------------------------------------
+
+/// Klartext blocks with `{}` where a number goes: paths, the tool call,
+/// transformations, PLANE in every form, TCPM, cycles and patterns, Q
+/// parameters and program flow.
+const HEIDENHAIN_BLOCKS: &[&str] = &[
+    "TOOL CALL 1 Z S{} F{} DL{} DR{}",
+    "TOOL CALL 2 Y S{}",
+    "TOOL CALL \"MILL\" X S{}",
+    "TOOL CALL {} Z",
+    "L X{} Y{} Z{} R0 FMAX",
+    "L IX{} IY{} RL F{}",
+    "L X{} Y{} RR F AUTO",
+    "L Z{} R0 FMAX M91",
+    "L X{} Y{} M92",
+    "L A{} C{} R0 FMAX M126",
+    "L B{} R0 FMAX",
+    "L X{} Y{} Z{} A{} C{} F{} M99",
+    "LN X{} Y{} Z{} TX{} TY{} TZ{} F{}",
+    "LN X{} Y{} Z{} NX{} NY{} NZ{}",
+    "CC X{} Y{}",
+    "CC IX{}",
+    "C X{} Y{} DR+",
+    "C X{} Y{} DR-",
+    "CR X{} Y{} R{} DR+",
+    "CT X{} Y{}",
+    "LP PR{} PA{} R0 F{}",
+    "LP IPR{} IPA{}",
+    "CP PA{} DR+",
+    "CP IPA{} IZ{} DR- F{}",
+    "CTP PR{} PA{}",
+    "RND R{}",
+    "CHF {}",
+    "CYCL DEF 7.0 DATUM SHIFT",
+    "CYCL DEF 7.1 X{}",
+    "CYCL DEF 7.2 IY{}",
+    "CYCL DEF 8.0 MIRROR IMAGE",
+    "CYCL DEF 8.1 X Y",
+    "CYCL DEF 10.0 ROTATION",
+    "CYCL DEF 10.1 ROT{}",
+    "CYCL DEF 11.0 SCALING",
+    "CYCL DEF 11.1 SCL {}",
+    "CYCL DEF 26.1 X{} Y{}",
+    "CYCL DEF 19.0 WORKING PLANE",
+    "CYCL DEF 19.1 A{} C{}",
+    "CYCL DEF 32.1 T{}",
+    "CYCL DEF 247 DATUM SETTING ~\n  Q339={}",
+    "CYCL DEF 200 DRILLING ~\n Q200={} ~\n Q201={} ~\n Q206={} ~\n Q202={} ~\n Q203={} ~\n Q204={}",
+    "CYCL DEF 207 RIGID TAPPING NEW ~\n Q200={} ~\n Q201={} ~\n Q239={} ~\n Q203={} ~\n Q204={}",
+    "CYCL DEF 208 BORE MILLING ~\n Q200={} ~\n Q201={} ~\n Q206={} ~\n Q334={} ~\n Q203={} ~\n Q204={} ~\n Q335={}",
+    "CYCL DEF {}",
+    "CYCL CALL",
+    "CYCL CALL PAT FMAX",
+    "PATTERN DEF ~\n POS1 (X{} Y{} Z{}) ~\n ROW1 (X{} Y{} D{} NUM{} ROT{} Z+0)",
+    "PATTERN DEF ~\n CIRC1 (X{} Y{} D{} START{} NUM{} Z+0)",
+    "PLANE SPATIAL SPA{} SPB{} SPC{} TURN FMAX",
+    "PLANE SPATIAL SPA{} SPB{} SPC{} STAY SEQ-",
+    "PLANE SPATIAL SPA{} SPB{} SPC{} MOVE MB{} F{} TABLE ROT",
+    "PLANE PROJECTED PROPR{} PROMIN{} ROT{} TURN",
+    "PLANE EULER EULPR{} EULNU{} EULROT{} MOVE DIST{} F{}",
+    "PLANE VECTOR BX{} BY{} BZ{} NX{} NY{} NZ{} TURN MB MAX FMAX",
+    "PLANE POINTS P1X{} P1Y{} P1Z{} P2X{} P2Y{} P2Z{} P3X{} P3Y{} P3Z{} STAY",
+    "PLANE RELATIV SPB{} TURN SEQ+",
+    "PLANE AXIAL A{} C{} TURN",
+    "PLANE RESET TURN FMAX",
+    "PLANE RESET STAY",
+    "L A+Q120 C+Q122 R0 FMAX",
+    "M128 F{}",
+    "M129",
+    "FUNCTION TCPM F TCP AXIS POS PATHCTRL VECTOR",
+    "FUNCTION RESET TCPM",
+    "BLK FORM 0.1 Z X{} Y{} Z{}",
+    "BLK FORM 0.2 X{} Y{} Z{}",
+    "Q1 = {}",
+    "Q2 = Q1 * {} + SIN {}",
+    "L X+Q1 Y-Q2 F{}",
+    "FN 9: IF +Q1 EQU +{} GOTO LBL 1",
+    "LBL 1",
+    "LBL 0",
+    "CALL LBL 1 REP{}",
+    "STOP",
+    "M89",
+    "M30",
+    "M3",
+];
+
+/// The built-in A/C table, and the same without travel limits (so that
+/// more programs run past their first moves).
+fn heidenhain_machines() -> [Machine; 2] {
+    let machine = builtin("heidenhain-dmu-ac").expect("built-in machine");
+    let mut free = machine.clone();
+    for axis in &mut free.linear {
+        axis.min = -1e6;
+        axis.max = 1e6;
+    }
+    for axis in &mut free.rotary {
+        axis.limits = None;
+    }
+    [machine, free]
+}
+
+/// A Klartext program of [`HEIDENHAIN_BLOCKS`], each block with signed
+/// numbers and, one time in four, one character deleted, doubled or
+/// inserted; between `BEGIN PGM` and `END PGM` after a tool call, or
+/// bare.
+fn heidenhain_program() -> impl Strategy<Value = String> {
+    let block = (
+        prop::sample::select(HEIDENHAIN_BLOCKS),
+        prop::collection::vec(-400i32..400, 12),
+        prop::option::weighted(0.25, (any::<prop::sample::Index>(), 0u8..3, any::<char>())),
+    )
+        .prop_map(|(template, numbers, mutation)| {
+            let mut text = String::new();
+            let mut n = numbers.iter();
+            let mut parts = template.split("{}").peekable();
+            while let Some(part) = parts.next() {
+                text.push_str(part);
+                if parts.peek().is_some() {
+                    let v = n.next().copied().unwrap_or(1);
+                    text.push_str(&format!("{:+}", f64::from(v) / 4.0));
+                }
+            }
+            if let Some((at, kind, c)) = mutation {
+                let chars: Vec<char> = text.chars().collect();
+                let i = at.index(chars.len().max(1));
+                let mut out: Vec<char> = chars.clone();
+                match kind {
+                    0 if !out.is_empty() => {
+                        out.remove(i.min(out.len() - 1));
+                    }
+                    1 if !out.is_empty() => out.insert(i, chars[i.min(chars.len() - 1)]),
+                    _ => out.insert(i.min(out.len()), c),
+                }
+                text = out.into_iter().collect();
+            }
+            text
+        });
+    (prop::collection::vec(block, 0..40), any::<bool>()).prop_map(|(blocks, framed)| {
+        let body = blocks.join("\n");
+        if framed {
+            // A tool in the spindle and a feed first, so that more of the
+            // blocks after it get past their first check.
+            format!(
+                "BEGIN PGM F MM\nTOOL CALL 1 Z S1000 F500\nCC X+0 Y+0\nL X+0 Y+0 Z-200 R0 F500\n{body}\nEND PGM F MM\n"
+            )
+        } else {
+            body
+        }
+    })
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig {
+        cases: 256,
+        rng_seed: proptest::test_runner::RngSeed::Fixed(0x4EED_0640),
+        failure_persistence: None,
+        ..ProptestConfig::default()
+    })]
+
+    #[test]
+    fn heidenhain_programs_end_or_alarm_with_finite_rows(program in heidenhain_program()) {
+        for machine in heidenhain_machines() {
+            check_run(&machine, program.as_bytes(), RunOptions::default())?;
+        }
+    }
+
+    #[test]
+    fn heidenhain_text_never_panics(program in "[A-Z0-9=()+\\-*/.:;~\" \n]{0,300}") {
+        let machine = builtin("heidenhain-dmu-ac").expect("built-in machine");
+        check_run(&machine, program.as_bytes(), RunOptions::default())?;
+    }
+
+    #[test]
+    fn heidenhain_bytes_never_panic(program in prop::collection::vec(any::<u8>(), 0..400)) {
+        let machine = builtin("heidenhain-dmu-ac").expect("built-in machine");
+        check_run(&machine, &program, RunOptions::default())?;
+    }
+}
