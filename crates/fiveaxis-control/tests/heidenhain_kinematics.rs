@@ -20,8 +20,7 @@
 //! (±300 mm) and tool 1 length 50 … 200 mm. Each property runs 64 cases
 //! from a fixed seed with no persistence; a failure prints the program.
 //!
-//! A test marked `#[ignore = "bug: …"]` shows a fault of the front end;
-//! the reason says what was expected and what happens.
+//! A test marked `//! the reason says what was expected and what happens.
 
 mod common;
 /// The machine crate's generators of directions and points.
@@ -380,7 +379,6 @@ fn plane_move_keeps_the_tool_tip() {
 /// half and three quarters of the way), as the compensating moves of the
 /// TNC keep it.
 #[test]
-#[ignore = "bug: PLANE … MOVE keeps the tip at W + P during the move / only its end is there: the Tcp-off command pushed after the Move (mod.rs 1983-1988) is in force when the controller carries the Move out, so the move is a joint interpolation"]
 fn plane_move_keeps_the_tool_tip_on_the_way() {
     check(config(), move_case(), |(m, work, length, q, twist, p)| {
         let d = m.forward(&joints_with(&m, q), 0.0).dir;

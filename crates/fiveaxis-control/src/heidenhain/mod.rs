@@ -1516,7 +1516,17 @@ impl Front {
                     }
                     self.block.commands.push(Command::SpindleSpeed(w.value));
                 }
-                "F" => self.tool_feed = self.length(w.value),
+                "F" => {
+                    if w.value < 0.0 || !w.value.is_finite() {
+                        return Err(alarm(
+                            line,
+                            Condition::ValueOutOfRange,
+                            Some(w.span),
+                            format!("TOOL CALL: feed F{} must not be negative", w.value),
+                        ));
+                    }
+                    self.tool_feed = self.length(w.value);
+                }
                 "DL" => delta[0] = self.length(w.value),
                 "DR" => delta[1] = self.length(w.value),
                 "DR2" => {}
@@ -1985,29 +1995,13 @@ impl Front {
             None
         };
         let positioning = ["MOVE", "TURN"].into_iter().find(|k| ex.has_key(k));
-        if tilt.is_none() {
-            if positioning.is_some() {
-                // PLANE RESET MOVE / TURN: the rotary axes to 0.
-                self.block.clear(line);
-                let mut mv = Move {
-                    suppress: Suppress::Nothing,
-                    ..Move::default()
-                };
-                for k in 0..machine.rotary.len().min(2) {
-                    mv.targets[machine.rotary_index(k)] = Some(Target {
-                        value: 0.0,
-                        mode: TargetMode::Absolute,
-                        span: Span::default(),
-                    });
-                }
-                self.positioning_feed(ex);
-                self.block.commands.push(Command::Move(mv));
-                ctrl.run_block(&self.block, out)?;
-            }
+        if tilt.is_none() && positioning.is_none() {
             return Ok(flow);
         }
-        // The axis positions that put the tool along the plane's Z.
+        // The axis positions that put the tool along the plane's Z (PLANE
+        // RESET: the rotary axes' zero).
         let angles = match axial {
+            _ if tilt.is_none() => [0.0; 2],
             Some(angles) => {
                 let now = ctrl.joints_now();
                 [0, 1].map(|k| {
@@ -2058,27 +2052,39 @@ impl Front {
                 span: Span::default(),
             });
         }
-        if mode == "MOVE" {
-            // The tool tip stays on the workpiece: the linear axes follow
-            // as under TCPC for this block.
-            if self.tcp.is_none() {
-                self.block.commands.push(Command::Tcp {
-                    mode: Some(TcpcType::Angles),
-                    span: Span::default(),
-                });
-            }
-            self.block.commands.push(Command::Move(mv));
-            if self.tcp.is_none() {
-                self.block.commands.push(Command::Tcp {
-                    mode: None,
-                    span: Span::default(),
-                });
-            }
-        } else {
-            mv.suppress = Suppress::Nothing;
-            self.block.commands.push(Command::Move(mv));
+        let tcp_for_move = mode == "MOVE" && self.tcp.is_none();
+        if tcp_for_move {
+            // The tool tip stays on the workpiece: the linear axes follow as
+            // under TCPC, switched on for the turn alone (in blocks of
+            // their own: a block's move comes after its other commands).
+            let mut on = CommandBlock::default();
+            on.clear(line);
+            on.commands.push(Command::Tcp {
+                mode: Some(TcpcType::Angles),
+                span: Span::default(),
+            });
+            ctrl.run_block(&on, out)?;
         }
+        if mode == "TURN" {
+            // The rotary axes alone turn; the linear axes stay where they
+            // stand (machine positions).
+            mv.suppress = Suppress::Axes;
+            for (i, t) in mv.targets.iter_mut().enumerate() {
+                if let Some(t) = t.as_mut() {
+                    t.value += self.shift[i];
+                }
+            }
+        }
+        self.block.commands.push(Command::Move(mv));
         ctrl.run_block(&self.block, out)?;
+        if tcp_for_move {
+            self.block.clear(line);
+            self.block.commands.push(Command::Tcp {
+                mode: None,
+                span: Span::default(),
+            });
+            ctrl.run_block(&self.block, out)?;
+        }
         if let Some(dist) = ex.word("DIST") {
             self.notes.push(format!(
                 "line {line}: PLANE … MOVE DIST{}: the kernel turns about the tool tip",
@@ -2232,10 +2238,13 @@ impl Front {
                 let _ = n;
                 self.block.commands.push(Command::Move(mv));
                 ctrl.run_block(&self.block, out)?;
+                // A point's Z is the surface in addition to Q203 (TNC 640
+                // manual, PATTERN DEF: "effective in addition to the
+                // workpiece surface Q203").
                 let mut params = params.clone();
                 if p[2] != 0.0 {
                     match params.iter_mut().find(|(q, _)| *q == 203) {
-                        Some((_, v)) => *v = p[2],
+                        Some((_, v)) => *v += p[2],
                         None => params.push((203, p[2])),
                     }
                 }

@@ -182,6 +182,8 @@ impl<'m, S: Source> Runner<'m, S> {
                 return Err(self.heidenhain_language_alarm(&e, &program));
             }
         };
+        // `BEGIN PGM … INCH`: known once the interpreter has read it.
+        run.front.set_inch(run.interp.inch());
         let result = if step == Step::End {
             // The path held back for a rounding runs at the end.
             self.done = true;
