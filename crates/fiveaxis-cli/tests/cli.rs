@@ -384,12 +384,19 @@ fn machines_show_prints_a_file_that_runs_exactly_like_the_built_in_machine() {
     // The same in the Siemens language: tool 1's length with D1, and the
     // retract in machine coordinates.
     let siemens = "T1 D1 G0 X-10 Y-5 Z-20\nG1 X-15 F300\nG0 G53 Z500 D0\nM30\n";
+    // And in Klartext, on a machine whose datum is at the top of Z: the
+    // tool called, a cut below the datum, the spindle to machine Z 0.
+    let heidenhain = "0 BEGIN PGM P MM\n1 TOOL CALL 1 Z\n2 L X-10 Y-5 Z-300 R0 FMAX\n\
+                      3 L X-15 F300\n4 L Z+0 R0 FMAX M91\n5 END PGM P MM\n";
     let offsets = "[tools]\n1 = { length = 100.0 }\n";
     for name in builtin_names() {
         let shown = fiveaxis(&["machines", "show", name]);
         assert_eq!(shown.status.code(), Some(0), "{name}: {}", stderr(&shown));
-        let program = if stdout(&shown).contains("control = \"sinumerik\"") {
+        let text = stdout(&shown);
+        let program = if text.contains("control = \"sinumerik\"") {
             siemens
+        } else if text.contains("control = \"heidenhain\"") {
+            heidenhain
         } else {
             fanuc
         };

@@ -50,6 +50,14 @@ const GEOMETRY_TOLERANCE: f64 = 1e-9;
 /// parameter; 0.016 mm is FANUC's default arc tolerance in the kernel).
 const CIRCLE_TOLERANCE: f64 = 0.016;
 
+/// `PLANE … MOVE DIST`: the largest turn of a rotary axis in one step
+/// of the turn about the point above the tip, degrees (a 50 mm distance
+/// leaves the tip 0.002 mm inside its circle between steps).
+const DIST_STEP: f64 = 1.0;
+
+/// Most steps of one such turn.
+const MAX_DIST_STEPS: usize = 3600;
+
 /// The stock of `BLK FORM 0.1 / 0.2`: its minimum and maximum corner in
 /// workpiece coordinates, mm.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -140,6 +148,7 @@ pub(crate) struct Front {
     tool_names: Vec<(String, u32)>,
     /// The tool of the last `TOOL CALL` and its `DR`.
     tool: u32,
+    delta_length: f64,
     delta_radius: f64,
     /// The direction of the path at the end of the last move, in the
     /// plane (for `CT`).
@@ -223,6 +232,7 @@ impl Front {
             stock_min: None,
             tool_names: Vec::new(),
             tool: 0,
+            delta_length: 0.0,
             delta_radius: 0.0,
             tangent: None,
             stay: None,
@@ -1542,6 +1552,7 @@ impl Front {
         }
         if let Some(n) = number {
             self.tool = n;
+            self.delta_length = delta[0];
             self.delta_radius = delta[1];
             self.block.commands.push(Command::ToolDelta {
                 length: delta[0],
@@ -2053,17 +2064,24 @@ impl Front {
             });
         }
         let tcp_for_move = mode == "MOVE" && self.tcp.is_none();
+        // MOVE DIST d: the turn is about the point d above the tool tip
+        // along the tool (the TNC's centre of rotation), not the tip.
+        let dist = ex
+            .word("DIST")
+            .filter(|_| mode == "MOVE")
+            .map(|d| self.length(d.value))
+            .filter(|d| *d != 0.0);
+        let mut aside = CommandBlock::default();
         if tcp_for_move {
             // The tool tip stays on the workpiece: the linear axes follow as
             // under TCPC, switched on for the turn alone (in blocks of
             // their own: a block's move comes after its other commands).
-            let mut on = CommandBlock::default();
-            on.clear(line);
-            on.commands.push(Command::Tcp {
+            aside.clear(line);
+            aside.commands.push(Command::Tcp {
                 mode: Some(TcpcType::Angles),
                 span: Span::default(),
             });
-            ctrl.run_block(&on, out)?;
+            ctrl.run_block(&aside, out)?;
         }
         if mode == "TURN" {
             // The rotary axes alone turn; the linear axes stay where they
@@ -2075,23 +2093,80 @@ impl Front {
                 }
             }
         }
-        self.block.commands.push(Command::Move(mv));
-        ctrl.run_block(&self.block, out)?;
+        if let Some(d) = dist {
+            self.turn_about(ctrl, line, d, &angles, out)?;
+        } else {
+            self.block.commands.push(Command::Move(mv));
+            ctrl.run_block(&self.block, out)?;
+        }
         if tcp_for_move {
-            self.block.clear(line);
-            self.block.commands.push(Command::Tcp {
+            aside.clear(line);
+            aside.commands.push(Command::Tcp {
                 mode: None,
                 span: Span::default(),
             });
-            ctrl.run_block(&self.block, out)?;
-        }
-        if let Some(dist) = ex.word("DIST") {
-            self.notes.push(format!(
-                "line {line}: PLANE … MOVE DIST{}: the kernel turns about the tool tip",
-                dist.value
-            ));
+            ctrl.run_block(&aside, out)?;
         }
         Ok(flow)
+    }
+
+    /// `PLANE … MOVE DIST d` under TCPC: the rotary axes turn to `angles`
+    /// while the point `d` above the tool tip along the tool stays where
+    /// it is, in steps of at most [`DIST_STEP`] degrees of either axis;
+    /// the tip's points are on the circle about that point, the tool's
+    /// directions by forward kinematics. `self.block` holds the
+    /// positioning feed.
+    fn turn_about(
+        &mut self,
+        ctrl: &mut Controller<'_>,
+        line: u32,
+        d: f64,
+        angles: &[f64; 2],
+        out: &mut Vec<Segment>,
+    ) -> Result<(), Alarm> {
+        let machine = ctrl.machine();
+        let [_, _, n] = self.axes();
+        // Program vectors to workpiece vectors: the plane, then the
+        // rotation of cycle 10 inside it.
+        let r = self.tilt.unwrap_or_else(Rotation3::identity) * about(n, self.rotation);
+        let direction = |joints: &Joints| r.inverse() * machine.forward(joints, 0.0).dir;
+        let start = ctrl.joints_now();
+        let tip = ctrl.program_position();
+        let pivot = Vec3::new(tip[0], tip[1], tip[2]) + d * direction(&start);
+        let rotary = machine.rotary.len().min(2);
+        let mut travel = 0.0f64;
+        for (k, angle) in angles.iter().enumerate().take(rotary) {
+            travel = travel.max((angle - start[machine.rotary_index(k)]).abs());
+        }
+        let steps = ((travel / DIST_STEP).ceil() as usize).clamp(1, MAX_DIST_STEPS);
+        let feed: Vec<Command> = self.block.commands.clone();
+        for step in 1..=steps {
+            let f = step as f64 / steps as f64;
+            let mut joints = start;
+            let mut mv = Move::default();
+            for (k, angle) in angles.iter().enumerate().take(rotary) {
+                let i = machine.rotary_index(k);
+                joints[i] = start[i] + f * (angle - start[i]);
+                mv.targets[i] = Some(Target {
+                    value: joints[i],
+                    mode: TargetMode::Absolute,
+                    span: Span::default(),
+                });
+            }
+            let p = pivot - d * direction(&joints);
+            for k in 0..3 {
+                mv.targets[k] = Some(Target {
+                    value: p[k],
+                    mode: TargetMode::Absolute,
+                    span: Span::default(),
+                });
+            }
+            self.block.clear(line);
+            self.block.commands.extend_from_slice(&feed);
+            self.block.commands.push(Command::Move(mv));
+            ctrl.run_block(&self.block, out)?;
+        }
+        Ok(())
     }
 
     /// The positioning feed of `PLANE … MOVE / TURN`: `F` or `FMAX`.
