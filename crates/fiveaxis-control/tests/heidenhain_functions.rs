@@ -957,6 +957,33 @@ fn plane_move_ends_with_the_tip_where_it_was() {
 }
 
 #[test]
+fn plane_move_dist_swings_the_tip_about_the_point_above_it() {
+    let rows = ok(
+        &dmu(),
+        &[
+            "TOOL CALL 1 Z S1000",
+            "L X+0 Y+0 Z+100 R0 FMAX",
+            "PLANE SPATIAL SPA+30 SPB+0 SPC+0 MOVE DIST50 F1000",
+        ],
+    );
+    // Why: the centre of rotation is 50 mm above the tip, (0, 0, 150);
+    // it stays, so every tip lies 50 mm from it along the tool, and at
+    // the end the tool is along Rx(30)·Z = (0, -sin 30, cos 30): the tip
+    // at (0, 25, 150 - 50 cos 30).
+    let pivot = Vec3::new(0.0, 0.0, 150.0);
+    let turn = of_line(&rows, line(3));
+    assert!(turn.len() >= 30, "one step per degree: {}", turn.len());
+    for r in &turn {
+        assert!((r.tip + 50.0 * r.dir - pivot).norm() < 1e-9, "{:?}", r.tip);
+    }
+    let s = 30f64.to_radians();
+    assert_tip(
+        at(&rows, line(3)),
+        [0.0, 50.0 * s.sin(), 150.0 - 50.0 * s.cos()],
+    );
+}
+
+#[test]
 fn plane_move_keeps_the_tip_during_the_move() {
     let (rows, alarm) = sampled(
         &dmu(),
