@@ -24,7 +24,8 @@ fn library_lists_every_machine_and_the_default() {
             "mill-3axis",
             "haas-umc750",
             "haas-vf2-tr160",
-            "sinumerik-dmu-bc"
+            "sinumerik-dmu-bc",
+            "heidenhain-dmu-ac"
         ]
     );
     assert!(names.contains(&DEFAULT_MACHINE));

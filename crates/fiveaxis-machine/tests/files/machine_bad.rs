@@ -225,11 +225,11 @@ fn unknown_words() {
         Some("type"),
         "unknown variant `diagonal`",
     );
-    let text = file("type = \"none\"\ncontrol = \"heidenhain\"\n", "");
+    let text = file("type = \"none\"\ncontrol = \"fagor\"\n", "");
     assert_error(
         &fail(&text),
         &text,
-        "\"heidenhain\"",
+        "\"fagor\"",
         Some("control"),
         "unknown variant",
     );
