@@ -1682,3 +1682,33 @@ fn datum_shift_of_a_rotary_axis() {
     assert!((c(6) - 30.0).abs() < EPS, "{}", c(6));
     assert!((c(7) - 50.0).abs() < EPS, "{}", c(7));
 }
+
+#[test]
+fn fn18_reads_the_transformations_and_limits() {
+    let rows = ok(
+        &mill(),
+        &[
+            "CYCL DEF 7.0 DATUM SHIFT",
+            "CYCL DEF 7.1 X+10",
+            "CYCL DEF 10.0 ROTATION",
+            "CYCL DEF 10.1 ROT+30",
+            "CYCL DEF 32.0 TOLERANCE",
+            "CYCL DEF 32.1 T0.05",
+            "FN 18: SYSREAD Q1 = ID220 NR2 IDX1",
+            "FN 18: SYSREAD Q2 = ID210 NR2",
+            "FN 18: SYSREAD Q3 = ID214 NR8",
+            "FN 18: SYSREAD Q4 = ID230 NR3 IDX3",
+            "L X+Q1 Y+Q2 Z+Q3 R0 FMAX",
+        ],
+    );
+    // Why: Q1 = the shift 10, Q2 = the rotation 30, Q3 = the tolerance
+    // 0.05, Q4 = Z's upper limit; the point (10, 30, 0.05) turned by 30°
+    // and shifted by 10 in X.
+    let (s, c) = 30f64.to_radians().sin_cos();
+    assert_tip(
+        at(&rows, line(11)),
+        [10.0 + 10.0 * c - 30.0 * s, 10.0 * s + 30.0 * c, 0.05],
+    );
+    let alarm = alarm_of(&mill(), &["FN 18: SYSREAD Q1 = ID9999 NR1"]);
+    assert!(alarm.message.contains("ID9999"), "{}", alarm.message);
+}

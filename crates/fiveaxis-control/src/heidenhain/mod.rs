@@ -135,6 +135,8 @@ pub(crate) struct Front {
     scale: [f64; 3],
     /// The tilted working plane's rotation, if one is in force.
     tilt: Option<Rotation3<f64>>,
+    /// The tolerance of cycle 32, mm (none: off).
+    tolerance: Option<f64>,
     /// The machining cycle last defined: its number and Q parameters.
     cycle: Option<(u32, Vec<(u32, f64)>)>,
     /// `M89`: the cycle is called after every positioning block.
@@ -225,6 +227,7 @@ impl Front {
             rotation: 0.0,
             scale: [1.0; 3],
             tilt: None,
+            tolerance: None,
             cycle: None,
             modal_call: false,
             pattern: Vec::new(),
@@ -243,6 +246,36 @@ impl Front {
             steps: Vec::new(),
             points: Vec::new(),
             notes: Vec::new(),
+        }
+    }
+
+    /// The system data of the front end's own state for `FN 18: SYSREAD`
+    /// (technical manual TNC 426 / 430, p. 7-30): ID210 the coordinate
+    /// transformations (NR2 the rotation of cycle 10, NR3 the mirrored
+    /// axes as bits 0–2 for X Y Z, NR4 the scale factor of axis IDX, NR6
+    /// −1 with a tilted working plane in force, else 0), ID214 NR8 the
+    /// tolerance of cycle 32, ID220 NR2 the datum shift of axis IDX, ID280
+    /// NR1 −1 with M128 / TCPM in force, else 0. `None` for others.
+    pub(crate) fn sysread(&self, group: u32, number: u32, index: Option<u32>) -> Option<f64> {
+        let i = index.unwrap_or(1).checked_sub(1).map(|i| i as usize);
+        let flag = |on: bool| if on { -1.0 } else { 0.0 };
+        match (group, number) {
+            (210, 2) => Some(self.rotation),
+            (210, 3) => Some(
+                self.mirror
+                    .iter()
+                    .enumerate()
+                    .map(|(k, &m)| if m { f64::from(1u8 << k) } else { 0.0 })
+                    .sum(),
+            ),
+            (210, 4) => i.filter(|&i| i < 3).map(|i| self.scale[i]),
+            (210, 6) => Some(flag(self.tilt.is_some())),
+            (214, 8) => Some(self.tolerance.unwrap_or(0.0)),
+            (220, 2) => i
+                .filter(|&i| i < MAX_AXES)
+                .map(|i| self.shift[i] + if i < 3 { self.inner_shift[i] } else { 0.0 }),
+            (280, 1) => Some(flag(self.tcp.is_some())),
+            _ => None,
         }
     }
 
@@ -1788,11 +1821,13 @@ impl Front {
             (32, _) => {
                 if let Some(t) = ex.word("T") {
                     let tolerance = self.length(t.value);
+                    self.tolerance = (tolerance > 0.0).then_some(tolerance);
                     self.block.commands.push(Command::PathSmoothing {
                         on: tolerance > 0.0,
                         tolerance: (tolerance > 0.0).then_some(tolerance),
                     });
                 } else if minor == 1 {
+                    self.tolerance = None;
                     self.block.commands.push(Command::PathSmoothing {
                         on: false,
                         tolerance: None,

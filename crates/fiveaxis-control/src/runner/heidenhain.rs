@@ -86,29 +86,32 @@ impl ProgramStore for Store {
     }
 }
 
-/// What `FN 18: SYSREAD` reads: the kernel's state (TNC 640 manual,
-/// "FN 18: SYSREAD", the groups the kernel knows).
+/// What `FN 18: SYSREAD` reads: the kernel's state, under the group,
+/// number and index of the TNC's system data table (HEIDENHAIN technical
+/// manual TNC 426 / 430, "FN 18: SYSREAD", p. 7-30, and the iTNC 530
+/// user's manual; the groups the kernel knows).
 struct SystemView<'c, 'm> {
     controller: &'c Controller<'m>,
+    front: &'c Front,
 }
 
 impl System for SystemView<'_, '_> {
     fn sysread(&mut self, group: u32, number: u32, index: Option<u32>) -> Result<f64, String> {
         let c = self.controller;
+        let n = c.machine().axis_count() as u32;
         let axis = |i: Option<u32>| -> Result<usize, String> {
             let i = i.unwrap_or(1);
-            let n = c.machine().axis_count() as u32;
             if (1..=n).contains(&i) {
                 Ok(i as usize - 1)
             } else {
                 Err(format!("IDX{i}: the machine has axes 1 to {n}"))
             }
         };
+        let unknown =
+            || format!("FN 18: SYSREAD ID{group} NR{number} is not a datum the kernel knows");
         match (group, number) {
-            // ID1: program information — NR1 the units (0 mm).
-            (1, 1) => Ok(0.0),
             // ID20: the active tool — NR1 its number, NR3 the spindle axis
-            // (2: Z), NR4 the speed, NR5 the spindle direction.
+            // (2: Z), NR4 the speed, NR5 the spindle direction (M3 / M5).
             (20, 1) => Ok(f64::from(c.tool())),
             (20, 3) => Ok(2.0),
             (20, 4) => Ok(c.spindle_speed()),
@@ -116,15 +119,29 @@ impl System for SystemView<'_, '_> {
             // ID50: data of the active tool — NR1 length, NR2 radius.
             (50, 1) => Ok(c.applied_tool_length()),
             (50, 2) => Ok(c.tool_radius_in_force()),
-            // ID240: the nominal position (program coordinates) of axis
-            // IDX (1 = X).
-            (240, 1) => Ok(c.program_position()[axis(index)?]),
+            // ID230: the software limit switches — NR2 negative, NR3
+            // positive, of axis IDX.
+            (230, 2 | 3) => {
+                let i = axis(index)?;
+                let machine = c.machine();
+                let limits = if i < machine.linear.len() {
+                    Some((machine.linear[i].min, machine.linear[i].max))
+                } else {
+                    (0..machine.rotary.len())
+                        .find(|&k| machine.rotary_index(k) == i)
+                        .and_then(|k| machine.rotary[k].limits)
+                };
+                let (min, max) =
+                    limits.ok_or_else(|| format!("FN 18: axis IDX{} has no limits", i + 1))?;
+                Ok(if number == 2 { min } else { max })
+            }
+            // ID240: the nominal position in the REF system (the machine's
+            // own coordinates) of axis IDX.
+            (240, 1) => Ok(c.joints_now()[axis(index)?]),
             // ID270: the current position in the active coordinate
-            // system, by axis.
+            // system.
             (270, 1) => Ok(c.program_position()[axis(index)?]),
-            _ => Err(format!(
-                "FN 18: SYSREAD ID{group} NR{number} is not a datum the kernel knows"
-            )),
+            _ => self.front.sysread(group, number, index).ok_or_else(unknown),
         }
     }
 }
@@ -162,6 +179,7 @@ impl<'m, S: Source> Runner<'m, S> {
         let step = {
             let mut system = SystemView {
                 controller: &self.controller,
+                front: &run.front,
             };
             run.interp.next_block(&mut system, &mut run.executed)
         };
