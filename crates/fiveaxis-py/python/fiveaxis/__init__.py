@@ -1,7 +1,8 @@
 """fiveaxis: a 5-axis CNC kernel for Python.
 
-Runs the G-code that real 5-axis machines run (FANUC format and the
-controls that read it, SINUMERIK 840D programs) on a machine model, and
+Runs the programs that real 5-axis machines run (FANUC format and the
+controls that read it, SINUMERIK 840D programs, HEIDENHAIN TNC Klartext)
+on a machine model, and
 gives every machine axis, the tool tip and the tool direction as numpy
 arrays; forward and inverse kinematics of whole arrays; the verification
 report of ``fiveaxis check``; the machine-axis programs of ``fiveaxis
