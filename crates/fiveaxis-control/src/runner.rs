@@ -53,6 +53,20 @@ impl<'a> SliceSource<'a> {
     }
 }
 
+impl<S: Source + ?Sized> Source for Box<S> {
+    fn read_line(&mut self, buf: &mut Vec<u8>) -> io::Result<bool> {
+        (**self).read_line(buf)
+    }
+
+    fn position(&self) -> u64 {
+        (**self).position()
+    }
+
+    fn seek(&mut self, offset: u64) -> io::Result<()> {
+        (**self).seek(offset)
+    }
+}
+
 impl Source for SliceSource<'_> {
     fn read_line(&mut self, buf: &mut Vec<u8>) -> io::Result<bool> {
         buf.clear();

@@ -26,16 +26,16 @@ mod common;
 /// The machine crate's generators of directions and points.
 #[path = "../../fiveaxis-machine/tests/common/mod.rs"]
 mod machine_gen;
+#[path = "common/random_machines.rs"]
+mod random_machines;
 
 use common::{Outcome, check, run};
 use fiveaxis_machine::{
-    Control, Dynamics, Joints, LinearAxis, MAX_AXES, MCodes, Machine, Offsets, Parameters,
-    RotaryAxis, Side, ToolOffset, Vec3, principal,
+    Control, Joints, MAX_AXES, Machine, Offsets, Side, ToolOffset, Vec3, principal,
 };
-use machine_gen::{direction, point};
+use machine_gen::point;
 use nalgebra::Matrix3;
 use proptest::prelude::*;
-use proptest::sample::subsequence;
 use proptest::test_runner::{Config, RngSeed, TestCaseError};
 
 /// Tip tolerance, mm.
@@ -57,56 +57,8 @@ fn config() -> Config {
 
 // ----- machines -------------------------------------------------------------------
 
-fn linear_axes(limit: f64) -> Vec<LinearAxis> {
-    ['X', 'Y', 'Z']
-        .into_iter()
-        .map(|name| LinearAxis {
-            name,
-            min: -limit,
-            max: limit,
-            dynamics: Dynamics::LINEAR_DEFAULT,
-            along: fiveaxis_machine::Along::Parallel,
-        })
-        .collect()
-}
-
-fn two_sides() -> impl Strategy<Value = [Side; 2]> {
-    use Side::{Head, Table};
-    prop_oneof![
-        Just([Table, Table]),
-        Just([Head, Table]),
-        Just([Table, Head]),
-        Just([Head, Head]),
-    ]
-}
-
-/// A HEIDENHAIN five-axis machine with random rotary geometry.
 fn five_axis() -> impl Strategy<Value = Machine> {
-    let names = subsequence(vec!['A', 'B', 'C'], 2).prop_shuffle();
-    let axis = || (direction(), point(300.0), any::<bool>());
-    (two_sides(), names, axis(), axis()).prop_map(|(sides, names, a0, a1)| {
-        let rotary = [(a0, sides[0], names[0]), (a1, sides[1], names[1])]
-            .into_iter()
-            .map(|((axis, center, rollover), on, name)| RotaryAxis {
-                name,
-                on,
-                axis,
-                center,
-                limits: None,
-                rollover,
-                dynamics: Dynamics::ROTARY_DEFAULT,
-            })
-            .collect();
-        Machine {
-            name: "random heidenhain".into(),
-            control: Control::Heidenhain,
-            tool_direction: Vec3::z_axis(),
-            linear: linear_axes(1e6),
-            rotary,
-            params: Parameters::default(),
-            m_codes: MCodes::default(),
-        }
-    })
+    random_machines::five_axis(Control::Heidenhain, "random heidenhain")
 }
 
 fn offsets(work: Vec3, length: f64) -> Offsets {

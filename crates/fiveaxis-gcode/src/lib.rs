@@ -60,8 +60,10 @@
 //!   line is reported and the block is then left empty.
 
 mod lexer;
+mod program_text;
 
 pub use lexer::{MAX_DIGITS, parse_line, parse_line_as};
+pub use program_text::{ProgramText, TextProgram};
 
 /// The reading rules in which controls differ, as data: the front end's
 /// dialect. [`Syntax::FANUC`] is what [`parse_line`] reads.

@@ -1145,71 +1145,7 @@ pub fn format_number(v: f64, decimals: Option<usize>) -> String {
     }
 }
 
-/// A program held in memory, read line by line: for tests and for
-/// callers that have the text already.
-///
-/// ```
-/// use fiveaxis_heidenhain::{ProgramText, TextProgram};
-///
-/// let mut p = TextProgram::new("0 BEGIN PGM A MM\r\n1 L X+10\n");
-/// let mut line = Vec::new();
-/// assert!(p.read_line(&mut line)?);
-/// assert_eq!(line, b"0 BEGIN PGM A MM");
-/// assert_eq!(p.position(), 18);
-/// # Ok::<(), std::io::Error>(())
-/// ```
-#[derive(Clone, Debug, Default, PartialEq, Eq)]
-pub struct TextProgram {
-    data: Vec<u8>,
-    pos: usize,
-}
-
-impl TextProgram {
-    /// A program of `text`.
-    pub fn new(text: impl Into<Vec<u8>>) -> Self {
-        Self {
-            data: text.into(),
-            pos: 0,
-        }
-    }
-}
-
-impl ProgramText for TextProgram {
-    fn read_line(&mut self, buf: &mut Vec<u8>) -> std::io::Result<bool> {
-        buf.clear();
-        let Some(rest) = self.data.get(self.pos..) else {
-            return Ok(false);
-        };
-        if rest.is_empty() {
-            return Ok(false);
-        }
-        let (line, used) = match rest.iter().position(|&b| b == b'\n') {
-            Some(n) => (&rest[..n], n + 1),
-            None => (rest, rest.len()),
-        };
-        let line = line.strip_suffix(b"\r").unwrap_or(line);
-        buf.extend_from_slice(line);
-        self.pos += used;
-        Ok(true)
-    }
-
-    fn position(&self) -> u64 {
-        self.pos as u64
-    }
-
-    fn seek(&mut self, offset: u64) -> std::io::Result<()> {
-        match usize::try_from(offset) {
-            Ok(p) if p <= self.data.len() => {
-                self.pos = p;
-                Ok(())
-            }
-            _ => Err(std::io::Error::new(
-                std::io::ErrorKind::InvalidInput,
-                format!("offset {offset} is past the end of the program"),
-            )),
-        }
-    }
-}
+pub use fiveaxis_gcode::TextProgram;
 
 /// A store with no programs (for a main program that calls none).
 #[derive(Clone, Copy, Debug, Default)]

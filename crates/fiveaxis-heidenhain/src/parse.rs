@@ -1557,7 +1557,12 @@ fn control(c: &mut Cur<'_>, out: &mut Block, word: &str, start: usize) -> Result
             Kind::Empty
         }
         _ => {
-            return Err(c.err(start, "unknown block"));
+            // FK free contours (`FL`, `FC`, `FPOL` …), `SEL PGM` and the
+            // like are named, so that the program's author sees which.
+            return Err(c.err(
+                start,
+                &format!("`{word}` blocks are not read by the kernel"),
+            ));
         }
     };
     let params = kind == Kind::CycleDef;

@@ -159,25 +159,7 @@ pub struct LangError {
     pub message: String,
 }
 
-/// The lines of one program, read in order, with jumps back to a line
-/// start seen before.
-pub trait ProgramText {
-    /// Reads the next line, without its line end, into `buf` (cleared
-    /// first). `Ok(false)` at the end.
-    ///
-    /// # Errors
-    ///
-    /// The program cannot be read.
-    fn read_line(&mut self, buf: &mut Vec<u8>) -> std::io::Result<bool>;
-    /// Byte offset of the next line.
-    fn position(&self) -> u64;
-    /// Goes on reading at `offset`, a line start seen before (or 0).
-    ///
-    /// # Errors
-    ///
-    /// The program cannot be read.
-    fn seek(&mut self, offset: u64) -> std::io::Result<()>;
-}
+pub use fiveaxis_gcode::ProgramText;
 
 /// The control's program memory beside the running program:
 /// subprograms, user cycles and definition files.

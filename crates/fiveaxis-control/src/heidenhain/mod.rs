@@ -250,7 +250,8 @@ impl Front {
     }
 
     /// The system data of the front end's own state for `FN 18: SYSREAD`
-    /// (technical manual TNC 426 / 430, p. 7-30): ID210 the coordinate
+    /// (technical manual TNC 426 / 430, p. 7-30): ID20 NR3 the tool axis,
+    /// ID210 the coordinate
     /// transformations (NR2 the rotation of cycle 10, NR3 the mirrored
     /// axes as bits 0–2 for X Y Z, NR4 the scale factor of axis IDX, NR6
     /// −1 with a tilted working plane in force, else 0), ID214 NR8 the
@@ -260,6 +261,8 @@ impl Front {
         let i = index.unwrap_or(1).checked_sub(1).map(|i| i as usize);
         let flag = |on: bool| if on { -1.0 } else { 0.0 };
         match (group, number) {
+            // ID20 NR3: the tool axis of the last TOOL CALL, 0 X, 1 Y, 2 Z.
+            (20, 3) => Some(self.axes()[2] as f64),
             (210, 2) => Some(self.rotation),
             (210, 3) => Some(
                 self.mirror
@@ -375,11 +378,7 @@ impl Front {
             Kind::Plane => self.plane_function(ex, ctrl, out),
             Kind::Tcpm => {
                 if self.tcp.is_none() {
-                    self.tcp = Some(TcpcType::Angles);
-                    self.block.commands.push(Command::Tcp {
-                        mode: Some(TcpcType::Angles),
-                        span: Span::default(),
-                    });
+                    self.set_tcp(Some(TcpcType::Angles), Span::default());
                 }
                 let great_circle = ex.has_key("PATHCTRL VECTOR");
                 self.block
@@ -393,11 +392,7 @@ impl Front {
                 self.m_only(ex, ctrl, out)
             }
             Kind::TcpmReset => {
-                self.tcp = None;
-                self.block.commands.push(Command::Tcp {
-                    mode: None,
-                    span: Span::default(),
-                });
+                self.set_tcp(None, Span::default());
                 self.m_only(ex, ctrl, out)
             }
         }
@@ -687,6 +682,13 @@ impl Front {
         })
     }
 
+    /// Tool centre point control on (how the orientation is given) or
+    /// off, for the block being built.
+    fn set_tcp(&mut self, mode: Option<TcpcType>, span: Span) {
+        self.tcp = mode;
+        self.block.commands.push(Command::Tcp { mode, span });
+    }
+
     /// The plane's axes: first, second, tool axis.
     fn axes(&self) -> [usize; 3] {
         self.plane.axes()
@@ -791,17 +793,10 @@ impl Front {
                         ));
                     }
                     if self.tcp.is_none() {
-                        self.tcp = Some(TcpcType::Angles);
-                        self.block.commands.push(Command::Tcp {
-                            mode: Some(TcpcType::Angles),
-                            span,
-                        });
+                        self.set_tcp(Some(TcpcType::Angles), span);
                     }
                 }
-                129 => {
-                    self.tcp = None;
-                    self.block.commands.push(Command::Tcp { mode: None, span });
-                }
+                129 => self.set_tcp(None, span),
                 // M140 MB: a retract along the tool axis after the block
                 // (`retract_after`).
                 140 => {}
@@ -1060,19 +1055,11 @@ impl Front {
                 ));
             }
             if self.tcp != Some(TcpcType::Vector) {
-                self.tcp = Some(TcpcType::Vector);
-                self.block.commands.push(Command::Tcp {
-                    mode: Some(TcpcType::Vector),
-                    span: Span::default(),
-                });
+                self.set_tcp(Some(TcpcType::Vector), Span::default());
             }
             mv.tool_vector = Some(v);
         } else if self.tcp == Some(TcpcType::Vector) {
-            self.tcp = Some(TcpcType::Angles);
-            self.block.commands.push(Command::Tcp {
-                mode: Some(TcpcType::Angles),
-                span: Span::default(),
-            });
+            self.set_tcp(Some(TcpcType::Angles), Span::default());
         }
         Ok(())
     }

@@ -10,6 +10,7 @@ use fiveaxis_heidenhain::{
     System,
 };
 
+use super::library::SourceText;
 use super::{ProgramLibrary, RunError, Runner, Source};
 use crate::alarm::{Alarm, Condition};
 use crate::controller::{Controller, Flow};
@@ -32,44 +33,6 @@ impl std::fmt::Debug for HeidenhainRun<'_> {
     }
 }
 
-/// A program's lines as the language reads them.
-struct Text<S> {
-    source: S,
-}
-
-impl<S: Source> ProgramText for Text<S> {
-    fn read_line(&mut self, buf: &mut Vec<u8>) -> io::Result<bool> {
-        self.source.read_line(buf)
-    }
-
-    fn position(&self) -> u64 {
-        self.source.position()
-    }
-
-    fn seek(&mut self, offset: u64) -> io::Result<()> {
-        self.source.seek(offset)
-    }
-}
-
-/// A program of the program memory.
-struct LibraryText {
-    source: Box<dyn Source>,
-}
-
-impl ProgramText for LibraryText {
-    fn read_line(&mut self, buf: &mut Vec<u8>) -> io::Result<bool> {
-        self.source.read_line(buf)
-    }
-
-    fn position(&self) -> u64 {
-        self.source.position()
-    }
-
-    fn seek(&mut self, offset: u64) -> io::Result<()> {
-        self.source.seek(offset)
-    }
-}
-
 /// The program memory (`--programs DIR`) for `CALL PGM`.
 struct Store {
     library: Option<Box<dyn ProgramLibrary>>,
@@ -82,7 +45,7 @@ impl ProgramStore for Store {
         };
         Ok(library
             .open_heidenhain(name)?
-            .map(|(source, _)| Box::new(LibraryText { source }) as Box<dyn ProgramText>))
+            .map(|(source, _)| Box::new(SourceText(source)) as Box<dyn ProgramText>))
     }
 }
 
@@ -110,10 +73,10 @@ impl System for SystemView<'_, '_> {
         let unknown =
             || format!("FN 18: SYSREAD ID{group} NR{number} is not a datum the kernel knows");
         match (group, number) {
-            // ID20: the active tool — NR1 its number, NR3 the spindle axis
-            // (2: Z), NR4 the speed, NR5 the spindle direction (M3 / M5).
+            // ID20: the active tool — NR1 its number, NR4 the speed, NR5
+            // the spindle direction (M3 / M5); NR3, the tool axis, is the
+            // front end's.
             (20, 1) => Ok(f64::from(c.tool())),
-            (20, 3) => Ok(2.0),
             (20, 4) => Ok(c.spindle_speed()),
             (20, 5) => Ok(if c.spindle_on() { 3.0 } else { 5.0 }),
             // ID50: data of the active tool — NR1 length, NR2 radius.
@@ -161,9 +124,8 @@ impl<'m, S: Source> Runner<'m, S> {
             let Some(main) = self.source.take_main() else {
                 return Ok(());
             };
-            let interp =
-                Interpreter::new(Box::new(Text { source: main }), Box::new(store), options)
-                    .map_err(|e| self.heidenhain_language_alarm(&e, "main"))?;
+            let interp = Interpreter::new(Box::new(SourceText(main)), Box::new(store), options)
+                .map_err(|e| self.heidenhain_language_alarm(&e, "main"))?;
             let mut front = Front::new();
             front.set_inch(interp.inch());
             self.heidenhain = Some(Box::new(HeidenhainRun {

@@ -66,6 +66,25 @@ pub trait ProgramLibrary {
     }
 }
 
+/// A source as the language interpreters (SINUMERIK, HEIDENHAIN) read a
+/// program: the main program handed over by [`Sources::take_main`], or a
+/// program of the library.
+pub(super) struct SourceText<S>(pub(super) S);
+
+impl<S: Source> fiveaxis_gcode::ProgramText for SourceText<S> {
+    fn read_line(&mut self, buf: &mut Vec<u8>) -> io::Result<bool> {
+        self.0.read_line(buf)
+    }
+
+    fn position(&self) -> u64 {
+        self.0.position()
+    }
+
+    fn seek(&mut self, offset: u64) -> io::Result<()> {
+        self.0.seek(offset)
+    }
+}
+
 /// Bits of a position that hold the file index.
 pub(super) const FILE_BITS: u32 = 12;
 /// Bits of a position that hold the byte offset.

@@ -9,6 +9,7 @@ use fiveaxis_sinumerik::{
     Executed, Interpreter, LangError, Options, ProgramStore, ProgramText, Step,
 };
 
+use super::library::SourceText;
 use super::{ProgramLibrary, RunError, Runner, Source};
 use crate::alarm::{Alarm, AlarmCode, Condition};
 use crate::controller::Flow;
@@ -34,44 +35,6 @@ impl std::fmt::Debug for SinumerikRun<'_> {
     }
 }
 
-/// The main program, handed over by the runner's sources.
-struct MainText<S> {
-    source: S,
-}
-
-impl<S: Source> ProgramText for MainText<S> {
-    fn read_line(&mut self, buf: &mut Vec<u8>) -> io::Result<bool> {
-        self.source.read_line(buf)
-    }
-
-    fn position(&self) -> u64 {
-        self.source.position()
-    }
-
-    fn seek(&mut self, offset: u64) -> io::Result<()> {
-        self.source.seek(offset)
-    }
-}
-
-/// A program of the program memory.
-struct LibraryText {
-    source: Box<dyn Source>,
-}
-
-impl ProgramText for LibraryText {
-    fn read_line(&mut self, buf: &mut Vec<u8>) -> io::Result<bool> {
-        self.source.read_line(buf)
-    }
-
-    fn position(&self) -> u64 {
-        self.source.position()
-    }
-
-    fn seek(&mut self, offset: u64) -> io::Result<()> {
-        self.source.seek(offset)
-    }
-}
-
 /// The program memory (`--programs DIR`) as the language reads it.
 struct Store {
     library: Option<Box<dyn ProgramLibrary>>,
@@ -84,7 +47,7 @@ impl ProgramStore for Store {
         };
         Ok(library
             .open_sinumerik(name)?
-            .map(|(source, _)| Box::new(LibraryText { source }) as Box<dyn ProgramText>))
+            .map(|(source, _)| Box::new(SourceText(source)) as Box<dyn ProgramText>))
     }
 
     fn definitions(&mut self) -> io::Result<Vec<(String, Box<dyn ProgramText>)>> {
@@ -94,12 +57,7 @@ impl ProgramStore for Store {
         Ok(library
             .sinumerik_definitions()?
             .into_iter()
-            .map(|(source, name)| {
-                (
-                    name,
-                    Box::new(LibraryText { source }) as Box<dyn ProgramText>,
-                )
-            })
+            .map(|(source, name)| (name, Box::new(SourceText(source)) as Box<dyn ProgramText>))
             .collect())
     }
 }
@@ -120,7 +78,7 @@ impl<'m, S: Source> Runner<'m, S> {
             let Some(main) = self.source.take_main() else {
                 return Ok(());
             };
-            let main = MainText { source: main };
+            let main = SourceText(main);
             let interp = Interpreter::new(Box::new(main), Box::new(store), options)
                 .map_err(|e| self.language_alarm(&e, "definitions"))?;
             self.sinumerik = Some(Box::new(SinumerikRun {
