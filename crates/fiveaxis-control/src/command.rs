@@ -236,6 +236,91 @@ pub enum WorkOffset {
     Extended(u8),
 }
 
+/// Which work offset of the offset memory a data setting writes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum OffsetMemory {
+    /// The external work offset, added to every work coordinate system.
+    External,
+    /// G54 … G59 (0 … 5).
+    Standard(u8),
+    /// The extended work offsets (1-based: G54.1 P1 …, Haas G154 P1 …).
+    Extended(u8),
+}
+
+/// One value of a tool offset.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ToolField {
+    /// The length geometry.
+    Length,
+    /// The length wear.
+    LengthWear,
+    /// The radius geometry.
+    Radius,
+    /// The radius wear.
+    RadiusWear,
+}
+
+/// A tool length a data setting gives, read as it says.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ToolLength {
+    /// The length itself, mm.
+    Value(f64),
+    /// The length that makes the current Z, with the tool's length
+    /// offset applied, read this value in the work coordinates, mm.
+    Reads(f64),
+    /// The length that makes the current machine Z read this value, mm.
+    ReadsMachine(f64),
+}
+
+/// Data the program writes into the offset memory, in the kernel's units
+/// (FANUC and Haas `G10`, LinuxCNC's `G10`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum DataSetting {
+    /// A work offset's values, one per named axis (by joint index); with
+    /// `incremental`, added to the values held.
+    WorkOffset {
+        /// Which offset.
+        memory: OffsetMemory,
+        /// The values, mm or degrees.
+        values: [Option<f64>; MAX_AXES],
+        /// Added to the values held.
+        incremental: bool,
+    },
+    /// One value of a tool offset; with `incremental`, added to it.
+    ToolOffset {
+        /// The offset number (1 …).
+        number: u32,
+        /// Which value.
+        field: ToolField,
+        /// The value, mm.
+        value: f64,
+        /// Added to the value held.
+        incremental: bool,
+    },
+    /// A coordinate system of LinuxCNC's nine (0-based: G54 … G59.3): the
+    /// named axes' origin (`at_position`: put where the current position
+    /// reads the values) and the rotation about Z.
+    CoordinateSystem {
+        /// Which system, 0-based.
+        system: usize,
+        /// The values, mm or degrees, by joint index.
+        values: [Option<f64>; MAX_AXES],
+        /// The rotation of the system about Z, degrees.
+        rotation: Option<f64>,
+        /// The values are where the current position is, not the origin.
+        at_position: bool,
+    },
+    /// A tool table entry: its length and radius (their wear cleared).
+    ToolTable {
+        /// The tool number.
+        number: u32,
+        /// The length.
+        length: Option<ToolLength>,
+        /// The radius, mm.
+        radius: Option<f64>,
+    },
+}
+
 /// One command to the controller.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Command {
@@ -375,6 +460,8 @@ pub enum Command {
         /// Where it is written.
         span: Span,
     },
+    /// Data written into the offset memory.
+    DataSetting(DataSetting),
     /// A move (at most one per block, the last command).
     Move(Move),
 }

@@ -11,14 +11,15 @@ use fiveaxis_machine::{
 };
 
 use crate::alarm::{Alarm, Condition};
+use crate::command::{DataSetting, OffsetMemory, ToolField};
 use crate::dialect::Dialect;
+use crate::fanuc::{Rules, Words};
 use crate::modal::{
     ContourControl, CuttingMode, Distance, FeedMode, LengthMode, Modal, MotionMode, Plane,
     TcpcType, Units,
 };
 use crate::reach;
 use crate::segment::{Arc, Motion, Path, Segment, TipPath};
-use crate::words::Words;
 
 mod commands;
 mod comp3d;
@@ -43,7 +44,6 @@ pub use system_vars::SystemVarFault;
 pub use tcpc::inclined;
 
 /// Millimetres in an inch.
-const MM_PER_INCH: f64 = 25.4;
 /// Distance under which two points count as the same (full circles, G27).
 pub const POSITION_TOLERANCE: f64 = 1e-6;
 /// Largest difference between the start and end radius of an arc (FANUC
@@ -420,7 +420,7 @@ impl<'m> Controller<'m> {
     /// Counts the block's axis words without a decimal point (only when
     /// asked for and read in increments).
     fn count_without_point(&mut self, block: &Block) {
-        if self.without_point.is_none() || self.calculator_input() {
+        if self.without_point.is_none() || self.rules().calculator {
             return;
         }
         let axes = &self.axis_letters[..self.machine.axis_count()];
@@ -1160,7 +1160,7 @@ impl<'m> Controller<'m> {
             }
             let scale = match (self.state.modal.feed_mode, self.state.modal.units) {
                 (FeedMode::InverseTime, _) | (_, Units::Metric) => 1.0,
-                (_, Units::Inch) => MM_PER_INCH,
+                (_, Units::Inch) => crate::fanuc::MM_PER_INCH,
             };
             self.state.feed = word.value * scale;
         }
@@ -1399,46 +1399,31 @@ impl<'m> Controller<'m> {
 
     // ----- values ---------------------------------------------------------
 
-    /// A length word in mm: FANUC's decimal-point rule (a value without a
-    /// decimal point counts in least input increments unless calculator
-    /// input, 3401#0 DPI, is set), then G20 inches to mm.
-    fn length(&self, word: &Word) -> f64 {
-        let params = &self.machine.params;
-        let inch = self.state.modal.units == Units::Inch;
-        let value = if word.decimal_point || self.calculator_input() {
-            word.value
-        } else if inch {
-            word.value * params.least_input_increment / 10.0
-        } else {
-            word.value * params.least_input_increment
-        };
-        if inch { value * MM_PER_INCH } else { value }
-    }
-
-    /// Numbers without a decimal point count in whole units: calculator
-    /// input (No.3401#0 DPI) or a control that has no least input
-    /// increment rule (LinuxCNC).
-    fn calculator_input(&self) -> bool {
-        self.machine.params.decimal_point_input || self.dialect.calculator_input
-    }
-
-    /// An angle word in degrees (decimal-point rule, no unit change).
-    fn angle(&self, word: &Word) -> f64 {
-        let params = &self.machine.params;
-        if word.decimal_point || self.calculator_input() {
-            word.value
-        } else {
-            word.value * params.least_input_increment
+    /// The reading rules of the block being executed (`fanuc/values.rs`).
+    fn rules(&self) -> Rules {
+        Rules {
+            inch: self.state.modal.units == Units::Inch,
+            increment: self.machine.params.least_input_increment,
+            calculator: self.machine.params.decimal_point_input || self.dialect.calculator_input,
+            letters: self.axis_letters,
+            axes: self.machine.axis_count(),
+            linear: self.machine.linear.len(),
         }
+    }
+
+    /// A length word in mm (`Rules::length`).
+    fn length(&self, word: &Word) -> f64 {
+        self.rules().length(word)
+    }
+
+    /// An angle word in degrees (`Rules::angle`).
+    fn angle(&self, word: &Word) -> f64 {
+        self.rules().angle(word)
     }
 
     /// The value of an axis word, in mm or degrees.
     fn axis_value(&self, axis: usize, word: &Word) -> f64 {
-        if axis < self.machine.linear.len() {
-            self.length(word)
-        } else {
-            self.angle(word)
-        }
+        self.rules().axis_value(axis, word)
     }
 
     /// Axis words of the block, by joint index, marked used.
@@ -1650,8 +1635,7 @@ impl<'m> Controller<'m> {
     ) -> Result<(), Alarm> {
         match code.major {
             4 => self.dwell(span),
-            10 if self.dialect.rs274ngc => self.data_setting_linuxcnc(span, from),
-            10 => self.data_setting(span),
+            10 => self.data_setting(span, from),
             27 => self.reference_check(from, out),
             28 | 30 if code.minor == 1 => {
                 // LinuxCNC G28.1 / G30.1: the machine position becomes the
@@ -1716,16 +1700,6 @@ impl<'m> Controller<'m> {
 
     /// G04: dwell, P in ms (Haas: seconds with a decimal point) or X in
     /// s. No axis moves.
-    /// The seconds of a G04 X word: without a decimal point, in least
-    /// input increments (as for lengths).
-    fn dwell_seconds(&self, word: &Word) -> f64 {
-        if word.decimal_point || self.calculator_input() {
-            word.value
-        } else {
-            word.value * self.machine.params.least_input_increment
-        }
-    }
-
     fn dwell(&mut self, span: Span) -> Result<(), Alarm> {
         let p = self.words.take(b'P');
         let x = self.words.peek(b'X');
@@ -1737,7 +1711,7 @@ impl<'m> Controller<'m> {
             )?;
         } else if let Some(word) = x {
             self.words.take(b'X');
-            let seconds = self.dwell_seconds(&word);
+            let seconds = self.rules().seconds(&word);
             if !(0.0..=MAX_DWELL_SECONDS).contains(&seconds) {
                 return Err(self.alarm(
                     Condition::ValueOutOfRange,
@@ -1758,120 +1732,82 @@ impl<'m> Controller<'m> {
         Ok(())
     }
 
-    /// G10: programmable data input of work offsets (L2, L20) and tool
-    /// offsets (L10 to L13).
-    fn data_setting(&mut self, span: Span) -> Result<(), Alarm> {
-        let l = self.words.take(b'L');
-        let l_value = match l {
-            // Haas: L1 is L11, the length wear.
-            Some(l) if self.dialect.haas_codes && self.words.integer(&l, 99)? == 1 => 11,
-            Some(l) => self.words.integer(&l, 99)?,
-            // Tool offset memory A format, `G10 P R`: the offset value of
-            // number P, which is what H reads: the length geometry.
-            None if self.words.has(b'P') && self.words.has(b'R') => 10,
-            None => {
-                return Err(self.alarm(
-                    Condition::IllegalG10L,
-                    Some(span),
-                    "G10 needs L (or P and R: tool offset value)".into(),
-                ));
-            }
+    /// G10: the FANUC family's programmable data input, read by the front
+    /// end (`fanuc/data_setting.rs`) and written into the offset memory.
+    fn data_setting(&mut self, span: Span, from: &Joints) -> Result<(), Alarm> {
+        let rules = self.rules();
+        let data = if self.dialect.rs274ngc {
+            let work = self.state.modal.work;
+            self.words.data_setting_linuxcnc(span, &rules, work)?
+        } else {
+            let incremental = self.state.modal.distance == Distance::Incremental;
+            let haas = self.dialect.haas_codes;
+            self.words.data_setting(span, &rules, haas, incremental)?
         };
-        let Some(p) = self.words.take(b'P') else {
-            return Err(self.alarm(Condition::IllegalG10P, Some(span), "G10 needs P".into()));
-        };
-        let incremental = self.state.modal.distance == Distance::Incremental;
-        match l_value {
-            2 | 20 => {
-                let n = self.words.integer(&p, 9999)?;
-                let max = if l_value == 2 {
-                    6
-                } else if self.dialect.haas_codes {
-                    // Haas: G154 P1-P99 (G110-G129 are P1-P20).
-                    fiveaxis_machine::MAX_HAAS_WORK
-                } else {
-                    fiveaxis_machine::MAX_EXTENDED_WORK
-                };
-                if (l_value == 20 && n == 0) || n > max {
-                    return Err(self.alarm(
-                        Condition::IllegalG10P,
-                        Some(p.span),
-                        format!("G10 L{l_value} P{n}: no such work offset"),
-                    ));
-                }
-                let (mut value, mut beyond) = match (l_value, n) {
-                    (2, 0) => (self.offsets.external, self.offsets.external_beyond),
-                    (2, n) => (
-                        self.offsets.work[n as usize - 1],
-                        self.offsets.work_beyond[n as usize - 1],
+        self.set_data(&data, from)
+    }
+
+    /// Writes `data` into the offset memory; `from` is where the program
+    /// stands.
+    fn set_data(&mut self, data: &DataSetting, from: &Joints) -> Result<(), Alarm> {
+        match *data {
+            DataSetting::WorkOffset {
+                memory,
+                values,
+                incremental,
+            } => {
+                let (value, beyond) = match memory {
+                    OffsetMemory::External => (
+                        &mut self.offsets.external,
+                        &mut self.offsets.external_beyond,
                     ),
-                    (_, n) => (
-                        self.offsets.extended_work[n as usize - 1],
-                        self.offsets.extended_work_beyond[n as usize - 1],
+                    OffsetMemory::Standard(i) => (
+                        &mut self.offsets.work[usize::from(i)],
+                        &mut self.offsets.work_beyond[usize::from(i)],
+                    ),
+                    OffsetMemory::Extended(n) => (
+                        &mut self.offsets.extended_work[usize::from(n) - 1],
+                        &mut self.offsets.extended_work_beyond[usize::from(n) - 1],
                     ),
                 };
-                // One value per controlled axis, rotary axes included.
-                for i in 0..self.machine.axis_count() {
-                    let letter = self.axis_letters[i];
-                    if let Some(word) = self.words.take(letter) {
-                        let v = self.axis_value(i, &word);
-                        let slot = if i < 3 {
-                            &mut value[i]
-                        } else {
-                            &mut beyond[i - 3]
-                        };
-                        *slot = if incremental { *slot + v } else { v };
-                    }
+                for (i, v) in values.iter().enumerate() {
+                    let Some(v) = *v else { continue };
+                    let slot = if i < 3 {
+                        &mut value[i]
+                    } else {
+                        &mut beyond[i - 3]
+                    };
+                    *slot = if incremental { *slot + v } else { v };
                 }
-                match (l_value, n) {
-                    (2, 0) => {
-                        self.offsets.external = value;
-                        self.offsets.external_beyond = beyond;
-                    }
-                    (2, n) => {
-                        self.offsets.work[n as usize - 1] = value;
-                        self.offsets.work_beyond[n as usize - 1] = beyond;
-                    }
-                    (_, n) => {
-                        self.offsets.extended_work[n as usize - 1] = value;
-                        self.offsets.extended_work_beyond[n as usize - 1] = beyond;
-                    }
-                }
-                Ok(())
             }
-            10..=13 => {
-                let n = self.words.integer(&p, 9999)?;
-                if n == 0 || n > MAX_TOOL_OFFSET {
-                    return Err(self.alarm(
-                        Condition::IllegalG10P,
-                        Some(p.span),
-                        format!("G10 L{l_value} P{n}: no such tool offset"),
-                    ));
-                }
-                let Some(r) = self.words.take(b'R') else {
-                    return Err(self.alarm(
-                        Condition::NoDataAfterAddress,
-                        Some(span),
-                        "G10 L10-L13 needs R".into(),
-                    ));
+            DataSetting::ToolOffset {
+                number,
+                field,
+                value,
+                incremental,
+            } => {
+                let tool = self.offsets.tools.entry(number).or_default();
+                let slot = match field {
+                    ToolField::Length => &mut tool.length,
+                    ToolField::LengthWear => &mut tool.length_wear,
+                    ToolField::Radius => &mut tool.radius,
+                    ToolField::RadiusWear => &mut tool.radius_wear,
                 };
-                let v = self.length(&r);
-                let tool = self.offsets.tools.entry(n).or_default();
-                let field = match l_value {
-                    10 => &mut tool.length,
-                    11 => &mut tool.length_wear,
-                    12 => &mut tool.radius,
-                    _ => &mut tool.radius_wear,
-                };
-                *field = if incremental { *field + v } else { v };
-                Ok(())
+                *slot = if incremental { *slot + value } else { value };
             }
-            _ => Err(self.alarm(
-                Condition::IllegalG10L,
-                l.map(|l| l.span),
-                format!("G10 L{l_value} is not a data-setting format of this control"),
-            )),
+            DataSetting::CoordinateSystem {
+                system,
+                values,
+                rotation,
+                at_position,
+            } => self.set_coordinate_system_data(system, &values, rotation, at_position, from),
+            DataSetting::ToolTable {
+                number,
+                length,
+                radius,
+            } => self.set_tool_table(number, length, radius, from),
         }
+        Ok(())
     }
 
     /// G27: positions the named axes, then checks that they stand at

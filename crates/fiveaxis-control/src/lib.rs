@@ -13,6 +13,7 @@ pub mod command;
 mod controller;
 pub mod cutter;
 mod dialect;
+mod fanuc;
 mod heidenhain;
 mod language;
 mod modal;
@@ -21,7 +22,6 @@ mod runner;
 pub mod search;
 mod segment;
 mod sinumerik;
-mod words;
 
 pub use alarm::{Alarm, AlarmCode, Condition, Num, alarm_reference};
 pub use controller::{

@@ -145,6 +145,10 @@ impl Controller<'_> {
                         ));
                     }
                 }
+                Command::DataSetting(data) => {
+                    let from = self.programmed(&self.state.joints);
+                    self.set_data(&data, &from)?;
+                }
                 Command::Move(m) => motion = Some(m),
                 Command::Retract { distance, span } => {
                     motion = Some(self.retract_move(distance, span));

@@ -53,8 +53,9 @@ pub(crate) mod font;
 use fiveaxis_gcode::Span;
 use fiveaxis_machine::Joints;
 
-use super::{Controller, MM_PER_INCH};
+use super::Controller;
 use crate::alarm::{Alarm, Condition};
+use crate::fanuc::MM_PER_INCH;
 use crate::modal::{Distance, FeedMode, Units};
 use crate::segment::{Motion, Segment};
 

@@ -15,20 +15,14 @@
 //! and radius (other axis words are alarms); G59.1–G59.3 (P7–P9) are
 //! kept as G54.1 P1–P3.
 
-use fiveaxis_gcode::Span;
-use fiveaxis_machine::{Joints, MAX_TOOL_OFFSET, SetupError, Vec3};
+use fiveaxis_machine::{Joints, MAX_AXES, SetupError, Vec3};
 use nalgebra::Rotation3;
 
 use super::Controller;
 use crate::alarm::{Alarm, Condition};
-use crate::modal::{LengthMode, WorkSelect};
-
-/// LinuxCNC's coordinate systems (G54 … G59.3).
-const NGC_WORK_SYSTEMS: u32 = 9;
-/// G54 … G59, the standard work offsets of the kernel's offset memory.
-const KERNEL_WORK_SYSTEMS: u32 = 6;
-/// G59.1 … G59.3, kept as G54.1 P1 … P3.
-const NGC_EXTRA_SYSTEMS: u32 = 3;
+use crate::command::ToolLength;
+use crate::fanuc::KERNEL_WORK_SYSTEMS;
+use crate::modal::LengthMode;
 
 /// LinuxCNC's motion modes of group 1 beyond G0–G3.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -143,143 +137,101 @@ impl Controller<'_> {
         }
     }
 
-    /// G10 by LinuxCNC's rules; `from` is where the program stands.
-    pub(super) fn data_setting_linuxcnc(&mut self, span: Span, from: &Joints) -> Result<(), Alarm> {
-        let Some(l) = self.words.take(b'L') else {
-            return Err(self.alarm(Condition::IllegalG10L, Some(span), "G10 needs L".into()));
+    /// LinuxCNC's G10 L2 / L20: coordinate system `slot`'s origin on the
+    /// named axes (`at_position`: put so that the current position reads
+    /// the values) and its rotation; `from` is where the program stands.
+    pub(super) fn set_coordinate_system_data(
+        &mut self,
+        slot: usize,
+        values: &[Option<f64>; MAX_AXES],
+        rotation: Option<f64>,
+        at_position: bool,
+        from: &Joints,
+    ) {
+        let kernel = KERNEL_WORK_SYSTEMS as usize;
+        let mut value = if slot < kernel {
+            self.offsets.work[slot]
+        } else {
+            self.offsets.extended_work[slot - kernel]
         };
-        let l_value = self.words.integer(&l, 99)?;
-        let Some(p) = self.words.take(b'P') else {
-            return Err(self.alarm(Condition::IllegalG10P, Some(span), "G10 needs P".into()));
+        // Where the program stands, and the point as system P is to read
+        // it: the values, the current position on the axes not named.
+        let here = Vec3::new(from[0], from[1], from[2]);
+        let mut q = here;
+        for axis in 0..3 {
+            if let Some(v) = values[axis] {
+                q[axis] = v;
+            }
+        }
+        // L2: the values are the origin. L20: the origin is where the
+        // tool stands less P's turned G92 shift and q (coordinates.adoc:
+        // G92 applies inside the rotation). An axis not named keeps its
+        // offset.
+        let origin = if at_position {
+            let turn = rotation_z(self.state.xy_rotation[slot]);
+            self.to_real(&here) - self.offsets.external - turn * (q + self.state.shift)
+        } else {
+            q
         };
-        match l_value {
-            2 | 20 => {
-                let n = self.words.integer(&p, NGC_WORK_SYSTEMS)?;
-                let n = match (n, self.state.modal.work) {
-                    (0, WorkSelect::Standard(i)) => u32::from(i) + 1,
-                    (0, WorkSelect::Extended(k)) if u32::from(k) <= NGC_EXTRA_SYSTEMS => {
-                        KERNEL_WORK_SYSTEMS + u32::from(k)
-                    }
-                    (0, WorkSelect::Extended(k)) => {
-                        return Err(self.alarm(
-                            Condition::IllegalG10P,
-                            Some(p.span),
-                            format!(
-                                "G10 P0: the system in use is G54.1 P{k}, not one of LinuxCNC's"
-                            ),
-                        ));
-                    }
-                    (n, _) => n,
-                };
-                let rotation = self.words.take(b'R');
-                if let Some(r) = &rotation
-                    && l_value == 20
-                {
-                    // rs274: "R not allowed in G10 L20".
-                    return Err(self.alarm(
-                        Condition::WordNotUsed,
-                        Some(r.span),
-                        "G10 L20 takes no R: the rotation is set by G10 L2".into(),
-                    ));
-                }
-                let slot = n as usize - 1;
-                let mut value = if slot < KERNEL_WORK_SYSTEMS as usize {
-                    self.offsets.work[slot]
-                } else {
-                    self.offsets.extended_work[slot - KERNEL_WORK_SYSTEMS as usize]
-                };
-                // Where the program stands, and the point as system P is to
-                // read it: the words' values, the current position on the
-                // axes not named.
-                let here = Vec3::new(from[0], from[1], from[2]);
-                let mut named = [false; 3];
-                let mut q = here;
-                for (axis, letter) in [b'X', b'Y', b'Z'].into_iter().enumerate() {
-                    if let Some(word) = self.words.take(letter) {
-                        named[axis] = true;
-                        q[axis] = self.length(&word);
-                    }
-                }
-                // L2: the values are the origin. L20: the origin is where
-                // the tool stands less P's turned G92 shift and q
-                // (coordinates.adoc: G92 applies inside the rotation). An
-                // axis not named keeps its offset.
-                let origin = if l_value == 20 {
-                    let turn = rotation_z(self.state.xy_rotation[slot]);
-                    self.to_real(&here) - self.offsets.external - turn * (q + self.state.shift)
-                } else {
-                    q
-                };
-                for axis in (0..3).filter(|&a| named[a]) {
-                    value[axis] = origin[axis];
-                }
-                // The axes beyond X, Y, Z (A, B, C…): their offsets are kept
-                // per system beside the offset memory (LinuxCNC's G5x
-                // offsets hold every axis).
-                let active = self.linuxcnc_system().unwrap_or(slot);
-                for (i, here) in from
-                    .iter()
-                    .enumerate()
-                    .take(self.machine.axis_count())
-                    .skip(3)
-                {
-                    let Some(word) = self.words.take(self.axis_letters[i]) else {
-                        continue;
-                    };
-                    let v = self.axis_value(i, &word);
-                    let now = self.state.rotary_work[active][i];
-                    self.state.rotary_work[slot][i] = if l_value == 2 { v } else { now + here - v };
-                }
-                if let Some(r) = rotation {
-                    self.state.xy_rotation[slot] = self.angle(&r);
-                }
-                if slot < KERNEL_WORK_SYSTEMS as usize {
-                    self.offsets.work[slot] = value;
-                } else {
-                    self.offsets.extended_work[slot - KERNEL_WORK_SYSTEMS as usize] = value;
-                }
-                self.refresh_xy_rotation();
-                Ok(())
+        for axis in (0..3).filter(|&a| values[a].is_some()) {
+            value[axis] = origin[axis];
+        }
+        // The axes beyond X, Y, Z (A, B, C…): their offsets are kept per
+        // system beside the offset memory (LinuxCNC's G5x offsets hold
+        // every axis).
+        let active = self.linuxcnc_system().unwrap_or(slot);
+        for (i, here) in from
+            .iter()
+            .enumerate()
+            .take(self.machine.axis_count())
+            .skip(3)
+        {
+            let Some(v) = values[i] else { continue };
+            let now = self.state.rotary_work[active][i];
+            self.state.rotary_work[slot][i] = if at_position { now + here - v } else { v };
+        }
+        if let Some(r) = rotation {
+            self.state.xy_rotation[slot] = r;
+        }
+        if slot < kernel {
+            self.offsets.work[slot] = value;
+        } else {
+            self.offsets.extended_work[slot - kernel] = value;
+        }
+        self.refresh_xy_rotation();
+    }
+
+    /// LinuxCNC's G10 L1 / L10 / L11: tool `number`'s length and radius,
+    /// their wear cleared; `from` is where the program stands.
+    pub(super) fn set_tool_table(
+        &mut self,
+        number: u32,
+        length: Option<ToolLength>,
+        radius: Option<f64>,
+        from: &Joints,
+    ) {
+        let applied = match self.state.modal.length {
+            LengthMode::Plus => {
+                let t = self.offsets.tool(self.state.h);
+                t.length + t.length_wear
             }
-            1 | 10 | 11 => {
-                let n = self.words.integer(&p, MAX_TOOL_OFFSET)?;
-                let applied = match self.state.modal.length {
-                    LengthMode::Plus => {
-                        let t = self.offsets.tool(self.state.h);
-                        t.length + t.length_wear
-                    }
-                    _ => 0.0,
-                };
-                let z = self.machine.axis_index('Z');
-                let length = match self.words.take(b'Z') {
-                    Some(word) => {
-                        let v = self.length(&word);
-                        Some(match (l_value, z) {
-                            (1, _) => v,
-                            (10, Some(i)) => from[i] + applied - v,
-                            (_, Some(i)) => self.state.joints[i] - v,
-                            (_, None) => v,
-                        })
-                    }
-                    None => None,
-                };
-                let radius = self.words.take(b'R').map(|word| self.length(&word));
-                let tool = self.offsets.tools.entry(n).or_default();
-                if let Some(length) = length {
-                    tool.length = length;
-                    tool.length_wear = 0.0;
-                }
-                if let Some(radius) = radius {
-                    tool.radius = radius;
-                    tool.radius_wear = 0.0;
-                }
-                Ok(())
-            }
-            _ => Err(self.alarm(
-                Condition::IllegalG10L,
-                Some(l.span),
-                format!("G10 L{l_value}: LinuxCNC's forms are L1, L10, L11, L2 and L20"),
-            )),
+            _ => 0.0,
+        };
+        let z = self.machine.axis_index('Z');
+        let length = length.map(|l| match (l, z) {
+            (ToolLength::Value(v), _) => v,
+            (ToolLength::Reads(v), Some(i)) => from[i] + applied - v,
+            (ToolLength::ReadsMachine(v), Some(i)) => self.state.joints[i] - v,
+            (ToolLength::Reads(v) | ToolLength::ReadsMachine(v), None) => v,
+        });
+        let tool = self.offsets.tools.entry(number).or_default();
+        if let Some(length) = length {
+            tool.length = length;
+            tool.length_wear = 0.0;
+        }
+        if let Some(radius) = radius {
+            tool.radius = radius;
+            tool.radius_wear = 0.0;
         }
     }
 }

@@ -1,0 +1,28 @@
+//! The FANUC family's front end: FANUC, Mitsubishi, Mazak, Haas and
+//! LinuxCNC's RS274/NGC, whose blocks are address words (`fiveaxis-gcode`
+//! parses a line into a `Block`, `fiveaxis-macro` evaluates macro B and
+//! O-words).
+//!
+//! The controller asks, the front end answers. A function of the kernel
+//! that a FANUC block calls takes its operands from here as typed values
+//! in the kernel's units (mm, degrees, seconds, numbers of the offset
+//! memory), with the tape's rules applied: the decimal-point rule, inch
+//! input, each address's format, the alarms of a word missing, malformed
+//! or out of range. The operands are read when their function runs,
+//! because a FANUC block's words mean what the modes set earlier in the
+//! same block say (`G20 X1.`, `G16 X Y`, `G91 G10 …`): the control reads
+//! them in that order too.
+//!
+//! * `words.rs`: the block's words by address, and which ones a function
+//!   used (a word no function uses is an alarm).
+//! * `values.rs`: the decimal-point and inch rules ([`Rules`]).
+//! * `data_setting.rs`: G10, FANUC's and LinuxCNC's formats, into
+//!   [`crate::command::DataSetting`].
+
+mod data_setting;
+mod values;
+pub(crate) mod words;
+
+pub(crate) use data_setting::KERNEL_WORK_SYSTEMS;
+pub(crate) use values::{MM_PER_INCH, Rules};
+pub(crate) use words::Words;
