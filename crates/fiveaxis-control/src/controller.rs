@@ -6,14 +6,12 @@
 //! manuals; where a control family differs, [`crate::dialect`] says how.
 
 use fiveaxis_gcode::{Block, Code, Span, Word};
-use fiveaxis_machine::{
-    Control, Joints, MAX_AXES, MAX_TOOL_OFFSET, Machine, Offsets, SetupError, Side, Vec3,
-};
+use fiveaxis_machine::{Control, Joints, MAX_AXES, Machine, Offsets, SetupError, Side, Vec3};
 
 use crate::alarm::{Alarm, Condition};
 use crate::command::{DataSetting, OffsetMemory, ToolField};
 use crate::dialect::Dialect;
-use crate::fanuc::{Rules, Words};
+use crate::fanuc::{AddedLength, CENTER_LETTERS, Rules, Words};
 use crate::modal::{
     ContourControl, CuttingMode, Distance, FeedMode, LengthMode, Modal, MotionMode, Plane,
     TcpcType, Units,
@@ -579,11 +577,7 @@ impl<'m> Controller<'m> {
 
     fn execute_loaded(&mut self, base: usize, out: &mut Vec<Segment>) -> Result<Flow, Alarm> {
         // A program-number line is a label (Haas: O00001 to O99999).
-        if let Some(word) = self.words.take(b'O')
-            && self.dialect.haas_codes
-        {
-            self.haas_program_number(&word)?;
-        }
+        self.words.program_number(self.dialect.haas_codes)?;
         let mut codes = self.classify_g_codes()?;
         self.block_exact_stop = codes.exact_stop || self.pending_exact_stop;
         self.block_chose_rotary.set(false);
@@ -1024,67 +1018,28 @@ impl<'m> Controller<'m> {
     /// motion in the block, or an offset on another axis (the kernel's
     /// length offset lies along the tool), is an alarm.
     fn dynamic_length_offset(&mut self, span: Span, name: &str) -> Result<(), Alarm> {
-        let letter = b'Z';
-        for &other in &self.axis_letters[..self.machine.axis_count()] {
-            if other != letter
-                && let Some(word) = self.words.peek(other)
-            {
-                return Err(self.alarm(
-                    Condition::WordNotUsed,
-                    Some(word.span),
-                    format!(
-                        "{name} {}: the kernel's tool length offset lies along the tool ({}) only",
-                        char::from(other),
-                        char::from(letter)
-                    ),
-                ));
-            }
-        }
-        let Some(word) = self.words.remove(letter) else {
-            return Err(self.alarm(
-                Condition::NoDataAfterAddress,
-                Some(span),
-                format!(
-                    "{name} needs {}, the tool length offset",
-                    char::from(letter)
-                ),
-            ));
-        };
-        self.state.dynamic_length = Some(self.length(&word));
+        let rules = self.rules();
+        self.state.dynamic_length = Some(self.words.tool_axis_offset(span, name, &rules)?);
         Ok(())
     }
 
     /// LinuxCNC `G43.2 H-` or `G43.2 axes` (g-code.adoc, G43.2): the
     /// length of tool H, or the value of the word of the axis along the
     /// tool (Z on a mill), to add to the length offset in force; the
-    /// caller makes the sum the offset until G43 or G49. H and an axis word
-    /// together, neither, or an H the tool table lacks are the manual's
-    /// errors; an offset on another axis is refused as in G43.1.
+    /// caller makes the sum the offset until G43 or G49. An H the tool
+    /// table lacks is the manual's error.
     fn additional_length_offset(&mut self, span: Span) -> Result<f64, Alarm> {
-        let h = self.words.take(b'H');
-        let z = self.words.peek(b'Z');
-        if let (Some(h), Some(_)) = (&h, &z) {
-            return Err(self.alarm(
-                Condition::WordNotUsed,
-                Some(h.span),
-                "G43.2: H and axis offsets together".into(),
-            ));
-        }
-        let Some(h) = h else {
-            return self.dynamic_length_offset(span, "G43.2").map(|()| {
-                // dynamic_length_offset stored the word: take it back as
-                // the amount to add.
-                self.state.dynamic_length.take().unwrap_or(0.0)
-            });
-        };
-        let n = self.words.integer(&h, MAX_TOOL_OFFSET)?;
-        match self.offsets.tools.get(&n) {
-            Some(tool) => Ok(tool.length + tool.length_wear),
-            None => Err(self.alarm(
-                Condition::IllegalOffsetNumber,
-                Some(h.span),
-                format!("G43.2 H{n}: tool {n} is not in the tool table"),
-            )),
+        let rules = self.rules();
+        match self.words.added_length(span, &rules)? {
+            AddedLength::Value(v) => Ok(v),
+            AddedLength::Tool(n, span) => match self.offsets.tools.get(&n) {
+                Some(tool) => Ok(tool.length + tool.length_wear),
+                None => Err(self.alarm(
+                    Condition::IllegalOffsetNumber,
+                    Some(span),
+                    format!("G43.2 H{n}: tool {n} is not in the tool table"),
+                )),
+            },
         }
     }
 
@@ -1092,51 +1047,14 @@ impl<'m> Controller<'m> {
     /// naive CAM tolerance Q (Q defaults to P), kept in the modal state
     /// (g-code.adoc, G64); they change speed, not the programmed path.
     fn blend_tolerance(&mut self) -> Result<(), Alarm> {
-        let p = self.words.take(b'P').map(|word| self.length(&word));
-        let q = self.words.take(b'Q').map(|word| self.length(&word));
-        for (letter, value) in [('P', p), ('Q', q)] {
-            if value.is_some_and(|v| v < 0.0) {
-                return Err(self.alarm(
-                    Condition::ValueOutOfRange,
-                    None,
-                    format!("G64 {letter} must not be negative"),
-                ));
-            }
-        }
-        self.state.modal.blend = p.map(|p| [p, q.unwrap_or(p)]);
+        let rules = self.rules();
+        self.state.modal.blend = self.words.blend_tolerance(&rules)?;
         Ok(())
     }
 
     /// G05.1 Q1 / Q3 / Q0, G05 P10000 / P0, G08 P1 / P0.
     fn accuracy_mode(&mut self, code: Code, span: Span) -> Result<(), Alarm> {
-        let (letter, allowed): (u8, &[u32]) = match (code.major, code.minor) {
-            (5, 1) => (b'Q', &[0, 1, 3]),
-            (5, _) => (b'P', &[0, 10_000]),
-            _ => (b'P', &[0, 1]),
-        };
-        let written = allowed
-            .iter()
-            .map(|v| format!("{}{v}", char::from(letter)))
-            .collect::<Vec<_>>()
-            .join(", ");
-        let Some(word) = self.words.take(letter) else {
-            return Err(self.alarm(
-                Condition::NoDataAfterAddress,
-                Some(span),
-                format!("G{code} needs {written}"),
-            ));
-        };
-        let value = self.words.integer(&word, 99_999_999)?;
-        if !allowed.contains(&value) {
-            return Err(self.alarm(
-                Condition::ValueOutOfRange,
-                Some(word.span),
-                format!(
-                    "G{code} {}{value} is not a mode of this control: {written}",
-                    char::from(letter)
-                ),
-            ));
-        }
+        let value = self.words.accuracy_mode(code, span)?;
         let accuracy = &mut self.state.modal.accuracy;
         match (code.major, code.minor, value) {
             (5, 1, 1) => accuracy.contour = ContourControl::AiContour,
@@ -1150,71 +1068,23 @@ impl<'m> Controller<'m> {
 
     /// F, S, T, D words: modal values.
     fn apply_values(&mut self, d_for_cycle: bool) -> Result<(), Alarm> {
-        if let Some(word) = self.words.take(b'F') {
-            if word.value < 0.0 {
-                return Err(self.alarm(
-                    Condition::ValueOutOfRange,
-                    Some(word.span),
-                    "F must not be negative".into(),
-                ));
-            }
-            let scale = match (self.state.modal.feed_mode, self.state.modal.units) {
-                (FeedMode::InverseTime, _) | (_, Units::Metric) => 1.0,
-                (_, Units::Inch) => crate::fanuc::MM_PER_INCH,
-            };
-            self.state.feed = word.value * scale;
+        let scale = match (self.state.modal.feed_mode, self.state.modal.units) {
+            (FeedMode::InverseTime, _) | (_, Units::Metric) => 1.0,
+            (_, Units::Inch) => crate::fanuc::MM_PER_INCH,
+        };
+        if let Some(feed) = self.words.feed(scale)? {
+            self.state.feed = feed;
         }
-        if let Some(word) = self.words.take(b'S') {
-            self.state.spindle_speed = if self.dialect.rs274ngc {
-                // LinuxCNC: S is a real number, not negative
-                // (other-code.adoc, Set Spindle Speed: an error "if the S
-                // number is negative").
-                if word.value < 0.0 {
-                    return Err(self.alarm(
-                        Condition::ValueOutOfRange,
-                        Some(word.span),
-                        "the S number is negative".into(),
-                    ));
-                }
-                word.value
-            } else {
-                f64::from(self.words.integer(&word, 999_999)?)
-            };
+        if let Some(s) = self.words.spindle_speed(self.dialect.rs274ngc)? {
+            self.state.spindle_speed = s;
         }
-        if let Some(word) = self.words.take(b'T') {
-            let t = self.words.integer(&word, 99_999_999)?;
-            if let Some(max) = self.tool_memory
-                && t > max
-            {
-                return Err(self.alarm(
-                    Condition::IllegalOffsetNumber,
-                    Some(word.span),
-                    format!(
-                        "T{t} is beyond the offset memory: the offsets file holds tools up to {max}"
-                    ),
-                ));
-            }
+        if let Some(t) = self.words.tool_number(self.tool_memory)? {
             self.state.tool = t;
         }
-        if !d_for_cycle && let Some(word) = self.words.take(b'D') {
-            self.state.d = self.offset_number(&word)?;
+        if !d_for_cycle && let Some(d) = self.words.radius_offset()? {
+            self.state.d = d;
         }
         Ok(())
-    }
-
-    fn offset_number(&self, word: &Word) -> Result<u32, Alarm> {
-        if word.decimal_point || (0.0..=f64::from(MAX_TOOL_OFFSET)).contains(&word.value) {
-            return self.words.integer(word, MAX_TOOL_OFFSET);
-        }
-        Err(self.alarm(
-            Condition::IllegalOffsetNumber,
-            Some(word.span),
-            format!(
-                "offset number {}{} is outside the offset memory: numbers are 0 to {MAX_TOOL_OFFSET}",
-                char::from(word.letter),
-                word.value
-            ),
-        ))
     }
 
     /// Group 08 and H: returns whether the length offset vector may have
@@ -1263,13 +1133,12 @@ impl<'m> Controller<'m> {
             // The H number stays modal through G49 (FANUC: #4111 keeps it;
             // a later G43 without H takes it again).
         }
-        if let Some(word) = self.words.peek(b'H')
+        if self.words.has_length_offset()
             && (self.state.modal.length != LengthMode::Off || codes.length.is_some())
             && (codes.length.is_some()
                 || self.state.ngc_motion != Some(linuxcnc::NgcMotion::ThreadingCycle))
         {
-            self.words.take(b'H');
-            self.state.h = self.offset_number(&word)?;
+            self.state.h = self.words.length_offset()?.unwrap_or(0);
         } else if self.dialect.rs274ngc
             && !codes.length_synthesized
             && (codes.length_from_spindle
@@ -1329,30 +1198,14 @@ impl<'m> Controller<'m> {
     /// the next block is taken.
     fn cutter_ij_vector(&mut self, span: Span) -> Result<(), Alarm> {
         let arc = matches!(self.state.modal.motion, MotionMode::Cw | MotionMode::Ccw);
-        let [p, q, _] = self.state.modal.plane.axes();
-        if arc || !(self.words.has(CENTER_LETTERS[p]) || self.words.has(CENTER_LETTERS[q])) {
+        if arc {
             return Ok(());
         }
-        let i = self
-            .words
-            .take(CENTER_LETTERS[p])
-            .map_or(0.0, |w| self.length(&w));
-        let j = self
-            .words
-            .take(CENTER_LETTERS[q])
-            .map_or(0.0, |w| self.length(&w));
-        if i == 0.0 && j == 0.0 {
-            return Err(self.alarm(
-                Condition::ToolVectorZero,
-                Some(span),
-                format!(
-                    "the I, J type vector {}0 {}0 gives no direction",
-                    char::from(CENTER_LETTERS[p]),
-                    char::from(CENTER_LETTERS[q])
-                ),
-            ));
+        let [p, q, _] = self.state.modal.plane.axes();
+        let rules = self.rules();
+        if let Some([i, j]) = self.words.plane_vector(p, q, span, &rules)? {
+            self.cutter.vector = Some(crate::cutter::P2::new(i, j));
         }
-        self.cutter.vector = Some(crate::cutter::P2::new(i, j));
         Ok(())
     }
 
@@ -1378,22 +1231,7 @@ impl<'m> Controller<'m> {
     /// M98 P… L…: FANUC also reads P as four digits of repetitions then
     /// four digits of program number when it has more than four digits.
     fn call(&mut self) -> Result<Flow, Alarm> {
-        let Some(p) = self.words.take(b'P') else {
-            return Err(self.alarm(
-                Condition::SubprogramNumberMissing,
-                None,
-                "M98 needs P, the number of the program to call".into(),
-            ));
-        };
-        let p = self.words.integer(&p, 99_999_999)?;
-        let (mut repeats, program) = if p > 9999 {
-            (p / 10_000, p % 10_000)
-        } else {
-            (1, p)
-        };
-        if let Some(l) = self.words.take(b'L') {
-            repeats = self.words.integer(&l, 9999)?;
-        }
+        let (program, repeats) = self.words.program_call()?;
         Ok(Flow::Call { program, repeats })
     }
 
@@ -1408,6 +1246,12 @@ impl<'m> Controller<'m> {
             letters: self.axis_letters,
             axes: self.machine.axis_count(),
             linear: self.machine.linear.len(),
+            polar_axis: self
+                .state
+                .frames
+                .polar
+                .then(|| self.state.modal.plane.axes()[1]),
+            diameter: self.state.modal.diameter_mode,
         }
     }
 
@@ -1428,23 +1272,8 @@ impl<'m> Controller<'m> {
 
     /// Axis words of the block, by joint index, marked used.
     fn axis_words(&mut self) -> Targets {
-        let mut targets = [None; MAX_AXES];
-        for (i, &letter) in self.axis_letters[..self.machine.axis_count()]
-            .iter()
-            .enumerate()
-        {
-            if let Some(word) = self.words.take(letter) {
-                targets[i] = Some(if self.polar_angle_axis(i) {
-                    self.angle(&word)
-                } else if i == 0 && self.state.modal.diameter_mode {
-                    // LinuxCNC G7: X is a diameter (g-code.adoc, G7).
-                    self.axis_value(i, &word) / 2.0
-                } else {
-                    self.axis_value(i, &word)
-                });
-            }
-        }
-        targets
+        let rules = self.rules();
+        self.words.axes(&rules)
     }
 
     /// The active H value (geometry + wear), mm.
@@ -1645,10 +1474,7 @@ impl<'m> Controller<'m> {
             }
             28 => self.reference_return(from, 1, out),
             30 => {
-                let n = match self.words.take(b'P') {
-                    Some(word) => self.words.integer(&word, 4)?,
-                    None => 2,
-                };
+                let n = self.words.reference_number()?;
                 self.reference_return(from, n, out)
             }
             53 if code.minor != 0 && self.twp_remap() => self.twp_orient(code, span, out),
@@ -1701,34 +1527,14 @@ impl<'m> Controller<'m> {
     /// G04: dwell, P in ms (Haas: seconds with a decimal point) or X in
     /// s. No axis moves.
     fn dwell(&mut self, span: Span) -> Result<(), Alarm> {
-        let p = self.words.take(b'P');
-        let x = self.words.peek(b'X');
-        if let Some(word) = p {
-            self.words.dwell_ms(
-                &word,
-                self.dialect.dwell_p_seconds_with_point,
-                self.dialect.dwell_p_seconds,
-            )?;
-        } else if let Some(word) = x {
-            self.words.take(b'X');
-            let seconds = self.rules().seconds(&word);
-            if !(0.0..=MAX_DWELL_SECONDS).contains(&seconds) {
-                return Err(self.alarm(
-                    Condition::ValueOutOfRange,
-                    Some(word.span),
-                    format!(
-                        "dwell time X{} is outside 0 to {MAX_DWELL_SECONDS} s",
-                        word.value
-                    ),
-                ));
-            }
-        } else {
-            return Err(self.alarm(
-                Condition::NoDataAfterAddress,
-                Some(span),
-                "G04 needs P (ms) or X (s)".into(),
-            ));
-        }
+        let rules = self.rules();
+        self.words.dwell(
+            span,
+            &rules,
+            self.dialect.dwell_p_seconds_with_point,
+            self.dialect.dwell_p_seconds,
+            MAX_DWELL_SECONDS,
+        )?;
         Ok(())
     }
 
@@ -1819,7 +1625,7 @@ impl<'m> Controller<'m> {
         let reference = self.machine.params.reference_1;
         for (i, name) in self.machine.axis_names().enumerate() {
             if targets[i].is_some() && (end[i] - reference[i]).abs() > REFERENCE_CHECK_TOLERANCE {
-                let span = self.words.peek(name as u8).map(|w| w.span);
+                let span = self.words.axis_span(&self.rules(), i);
                 return Err(self.alarm(
                     Condition::ReferenceReturnCheck,
                     span,
@@ -1846,7 +1652,7 @@ impl<'m> Controller<'m> {
             1 => self.machine.params.reference_1,
             2 => self.machine.params.reference_2,
             _ => {
-                let span = self.words.peek(b'P').map(|w| w.span);
+                let span = self.words.reference_span();
                 return Err(self.alarm(
                     Condition::ReferencePositionUndefined,
                     span,
@@ -1893,9 +1699,10 @@ impl<'m> Controller<'m> {
     fn machine_coordinates(&mut self, out: &mut Vec<Segment>) -> Result<(), Alarm> {
         let mut end = self.state.joints;
         let mut travel = [0.0; MAX_AXES];
-        for (i, name) in self.machine.axis_names().enumerate() {
-            if let Some(word) = self.words.take(name as u8) {
-                let value = self.axis_value(i, &word);
+        let rules = self.rules();
+        let values = self.words.axis_values(&rules);
+        for (i, value) in values.into_iter().enumerate() {
+            if let Some(value) = value {
                 end[i] = if self.is_rollover(i) {
                     normalize_360(value)
                 } else {
@@ -1967,7 +1774,7 @@ impl<'m> Controller<'m> {
             } else {
                 continue;
             };
-            let span = self.words.peek(name as u8).map(|w| w.span);
+            let span = self.words.axis_span(&self.rules(), i);
             return Err(self.alarm(
                 condition,
                 span,
@@ -1987,7 +1794,7 @@ impl<'m> Controller<'m> {
             let name = char::from(name);
             return Err(self.alarm(
                 condition,
-                self.words.peek(name as u8).map(|w| w.span),
+                self.words.axis_span(&self.rules(), i),
                 format!("{name}{side} over-travel: {name} would reach {value} beyond the soft limit {bound} on the way"),
             ));
         }
@@ -2103,7 +1910,6 @@ impl Piece<'_> {
 const LIMIT_TOLERANCE: f64 = 1e-9;
 
 /// Centre-offset letters by axis: I for X, J for Y, K for Z.
-const CENTER_LETTERS: [u8; 3] = [b'I', b'J', b'K'];
 
 /// An alarm about a segment of an earlier block (held back by cutter
 /// compensation C) names that block's line.

@@ -41,8 +41,8 @@
 //!   first and second rotary axes), M88 / M89 through-spindle coolant and
 //!   the other switching codes as signals.
 
-use fiveaxis_gcode::{Code, Span, Word};
-use fiveaxis_machine::{MAX_HAAS_WORK, MFunction, Machine, Side};
+use fiveaxis_gcode::{Code, Span};
+use fiveaxis_machine::{MFunction, Machine, Side};
 
 use super::coordinates::Feature;
 use super::{Controller, Flow};
@@ -74,23 +74,7 @@ pub(super) fn standard_m_code(machine: &Machine, code: Code) -> Option<MFunction
     })
 }
 
-/// The highest Haas program number (O99999: five digits).
-pub const MAX_HAAS_PROGRAM: u32 = 99_999;
-
 impl Controller<'_> {
-    /// A Haas program number: O00001 to O99999, without a decimal point.
-    pub(super) fn haas_program_number(&self, word: &Word) -> Result<(), Alarm> {
-        let number = self.words.integer(word, MAX_HAAS_PROGRAM)?;
-        if number == 0 {
-            return Err(self.alarm(
-                Condition::ValueOutOfRange,
-                Some(word.span),
-                format!("O0: Haas program numbers are O00001 to O{MAX_HAAS_PROGRAM}"),
-            ));
-        }
-        Ok(())
-    }
-
     /// G234: TCPC with Haas's frame (module documentation).
     pub(super) fn start_haas_tcpc(&mut self, span: Span) -> Result<(), Alarm> {
         if self.feature().is_some_and(|f| f.is_dwo()) {
@@ -101,10 +85,7 @@ impl Controller<'_> {
                     .into(),
             ));
         }
-        let h = match self.words.peek(b'H') {
-            Some(word) => self.offset_number(&word)?,
-            None => self.state.h,
-        };
+        let h = self.words.peek_length_offset()?.unwrap_or(self.state.h);
         if h == 0 {
             return Err(self.alarm(
                 Condition::NoDataAfterAddress,
@@ -150,11 +131,12 @@ impl Controller<'_> {
         if !self.feature().is_some_and(|f| f.is_dwo()) {
             return Ok(());
         }
-        for r in &self.machine.rotary {
-            if let Some(word) = self.words.peek(r.name as u8) {
+        let rules = self.rules();
+        for (k, r) in self.machine.rotary.iter().enumerate() {
+            if let Some(span) = self.words.axis_span(&rules, self.machine.rotary_index(k)) {
                 return Err(self.alarm(
                     Condition::FeatureNotAllowed,
-                    Some(word.span),
+                    Some(span),
                     format!(
                         "axis {} cannot move in the dynamic work offset (G254): give G255 before any rotary motion",
                         r.name
@@ -172,39 +154,8 @@ impl Controller<'_> {
         if span.is_none() {
             return Ok(());
         }
-        let level = match self.words.take(b'P') {
-            Some(word) => {
-                let p = self.words.integer(&word, 99)?;
-                if !(1..=3).contains(&p) {
-                    return Err(self.alarm(
-                        Condition::ValueOutOfRange,
-                        Some(word.span),
-                        format!(
-                            "G187 P{p}: the smoothness is P1 (rough), P2 (medium) or P3 (finish)"
-                        ),
-                    ));
-                }
-                p as u8
-            }
-            None => 0,
-        };
-        let rounding = match self.words.take(b'E') {
-            Some(word) => {
-                let e = self.length(&word);
-                if !(e.is_finite() && e > 0.0) {
-                    return Err(self.alarm(
-                        Condition::ValueOutOfRange,
-                        Some(word.span),
-                        format!(
-                            "G187 E{}: the corner rounding must be more than 0",
-                            word.value
-                        ),
-                    ));
-                }
-                Some(e)
-            }
-            None => None,
-        };
+        let rules = self.rules();
+        let (level, rounding) = self.words.smoothness(&rules)?;
         let accuracy = &mut self.state.modal.accuracy;
         accuracy.smoothness = level;
         accuracy.corner_rounding = rounding;
@@ -214,41 +165,12 @@ impl Controller<'_> {
     /// M97 P… L…: a local subprogram call to sequence number P of the
     /// running program, L times (1 when left out).
     pub(super) fn local_call(&mut self, span: Span) -> Result<Flow, Alarm> {
-        let Some(p) = self.words.take(b'P') else {
-            return Err(self.alarm(
-                Condition::SubprogramNumberMissing,
-                Some(span),
-                "M97 needs P, the sequence number (N) of the local subprogram".into(),
-            ));
-        };
-        let sequence = self.words.integer(&p, 99_999)?;
-        let repeats = match self.words.take(b'L') {
-            Some(l) => self.words.integer(&l, 9999)?,
-            None => 1,
-        };
+        let (sequence, repeats) = self.words.local_call(span)?;
         Ok(Flow::LocalCall { sequence, repeats })
     }
 
     /// G154 P1–P99, G110–G129 (G154 P1–P20).
     pub(super) fn haas_work_select(&mut self, code: Code, span: Span) -> Result<WorkSelect, Alarm> {
-        if code.major != 154 {
-            return Ok(WorkSelect::Haas((code.major - 109) as u8));
-        }
-        let Some(word) = self.words.take(b'P') else {
-            return Err(self.alarm(
-                Condition::NoDataAfterAddress,
-                Some(span),
-                format!("G154 needs P, the work offset P1 to P{MAX_HAAS_WORK}"),
-            ));
-        };
-        let p = self.words.integer(&word, 99_999)?;
-        if !(1..=MAX_HAAS_WORK).contains(&p) {
-            return Err(self.alarm(
-                Condition::IllegalOffsetNumber,
-                Some(word.span),
-                format!("G154 P{p}: the work offsets are P1 to P{MAX_HAAS_WORK}"),
-            ));
-        }
-        Ok(WorkSelect::Haas(p as u8))
+        self.words.haas_work(code, span)
     }
 }

@@ -16,13 +16,19 @@
 //! * `words.rs`: the block's words by address, and which ones a function
 //!   used (a word no function uses is an alarm).
 //! * `values.rs`: the decimal-point and inch rules ([`Rules`]).
+//! * `operands.rs`: what every block may give: axis values, F S T D H,
+//!   the dwell, the subprogram call, the numbers of mode codes.
+//! * `haas.rs`: Haas's own codes' operands (G187, M97, G154).
 //! * `data_setting.rs`: G10, FANUC's and LinuxCNC's formats, into
 //!   [`crate::command::DataSetting`].
 
 mod data_setting;
+mod haas;
+mod operands;
 mod values;
 pub(crate) mod words;
 
 pub(crate) use data_setting::KERNEL_WORK_SYSTEMS;
+pub(crate) use operands::{AddedLength, CENTER_LETTERS};
 pub(crate) use values::{MM_PER_INCH, Rules};
 pub(crate) use words::Words;

@@ -24,6 +24,10 @@ pub(crate) struct Rules {
     pub axes: usize,
     /// How many of them are linear (the first ones).
     pub linear: usize,
+    /// Polar coordinates (G16): the joint whose word is an angle.
+    pub polar_axis: Option<usize>,
+    /// LinuxCNC G7: X is a diameter.
+    pub diameter: bool,
 }
 
 impl Rules {

@@ -505,11 +505,6 @@ impl Controller<'_> {
         Ok(())
     }
 
-    /// Whether joint `axis` is read as the angle of a polar command.
-    pub(in crate::controller) fn polar_angle_axis(&self, axis: usize) -> bool {
-        self.state.frames.polar && axis == self.state.modal.plane.axes()[1]
-    }
-
     /// [`Controller::end_point`] under polar coordinates or a transform:
     /// the end point in program coordinates, then mapped.
     pub(in crate::controller) fn framed_end_point(
