@@ -108,7 +108,7 @@ impl Controller<'_> {
         let targets = self.axis_words();
         let mode = self.state.modal.motion;
         let is_arc = matches!(mode, MotionMode::Cw | MotionMode::Ccw);
-        let arc_words = is_arc && (self.words.has(b'R') || self.center_words_present());
+        let arc_words = is_arc && self.arc_words_present();
         let has_axes = targets.iter().any(Option::is_some) || arc_words;
         let (end_p, _) = if has_axes || changed {
             self.end_point(from, &targets)

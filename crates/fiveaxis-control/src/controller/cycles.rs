@@ -58,6 +58,7 @@ use fiveaxis_machine::{Joints, Vec3};
 
 use super::{Controller, GCodes};
 use crate::alarm::{Alarm, Condition};
+use crate::fanuc::DwellRules;
 use crate::modal::{Distance, TcpcType};
 use crate::segment::{Motion, Segment};
 
@@ -74,8 +75,6 @@ pub const LINUXCNC_PECK_CLEARANCE: f64 = 0.254;
 /// Most segments one cycle block may make (K repeats times pecks): a bound
 /// that holds whatever the magnitudes of Z, R, Q and K.
 pub const MAX_CYCLE_SEGMENTS: usize = 1 << 16;
-/// Largest K (repetitions), FANUC 1 to 9999.
-pub const MAX_REPEATS: u32 = 9999;
 
 /// The canned cycle of group 09.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -341,50 +340,31 @@ impl Controller<'_> {
         if std::mem::take(&mut self.state.cycle.pending_initial) {
             self.state.cycle.initial = [from[0], from[1], from[2]];
         }
-        let r_word = self.words.take(b'R');
-        if let Some(word) = r_word {
-            self.state.cycle.r = Some(self.length(&word));
+        let rules = self.rules();
+        let dwell = DwellRules {
+            seconds_with_point: self.dialect.dwell_p_seconds_with_point,
+            seconds: self.dialect.dwell_p_seconds,
+        };
+        let peck_clearance = self.dialect.rs274ngc && matches!(cycle, Cycle::G73 | Cycle::G83);
+        let data = self.words.cycle_data(&rules, dwell, peck_clearance)?;
+        if let Some(r) = data.r {
+            self.state.cycle.r = Some(r);
         }
-        let q_word = self.words.take(b'Q');
-        if let Some(word) = q_word {
-            self.state.cycle.q = self.length(&word).abs();
+        if let Some(q) = data.q {
+            self.state.cycle.q = q;
         }
-        if self.dialect.rs274ngc
-            && matches!(cycle, Cycle::G73 | Cycle::G83)
-            && let Some(word) = self.words.take(b'D')
-        {
-            let d = self.length(&word);
-            if !(d >= 0.0 && d.is_finite()) {
-                return Err(self.alarm(
-                    Condition::ValueOutOfRange,
-                    Some(word.span),
-                    format!(
-                        "D{}: the peck clearance of G73 / G83 cannot be negative",
-                        word.value
-                    ),
-                ));
-            }
+        if let Some(d) = data.d {
             self.state.cycle.d = Some(d);
         }
-        let p_word = self.words.peek(b'P');
-        if let Some(word) = self.words.take(b'P') {
-            self.state.cycle.p = self.words.dwell_ms(
-                &word,
-                self.dialect.dwell_p_seconds_with_point,
-                self.dialect.dwell_p_seconds,
-            )?;
+        if let Some(p) = data.p {
+            self.state.cycle.p = p;
         }
-        let repeats = match self.words.take(b'K').or_else(|| self.words.take(b'L')) {
-            Some(word) => self.words.integer(&word, MAX_REPEATS)?,
-            None => 1,
-        };
-        let z_letter = self.axis_letters[n];
-        let z_span = self.words.peek(z_letter).map(|w| w.span);
-        let mut targets = self.axis_words();
+        let repeats = data.repeats;
+        let mut targets = data.targets;
+        let drills = targets.iter().any(Option::is_some) || data.r.is_some();
         if let Some(z) = targets[n].take() {
             self.state.cycle.z = Some(z);
         }
-        let drills = z_span.is_some() || r_word.is_some() || targets.iter().any(Option::is_some);
         if !drills {
             if length_changed {
                 // A change of the length offset alone moves as outside
@@ -396,7 +376,7 @@ impl Controller<'_> {
         if repeats == 0 {
             return Ok(());
         }
-        if self.dialect.rs274ngc && cycle == Cycle::G86 && p_word.is_none() {
+        if self.dialect.rs274ngc && cycle == Cycle::G86 && data.p.is_none() {
             // LinuxCNC (g-code.adoc, G86: "uses a P number"; rs274: "Dwell
             // time p word missing with g86").
             return Err(self.alarm(
@@ -420,7 +400,7 @@ impl Controller<'_> {
             if q <= 0.0 {
                 return Err(self.alarm(
                     Condition::CycleDepthMissing,
-                    q_word.map(|w| w.span).or(code_span),
+                    data.q_span.or(code_span),
                     format!("{cycle:?} needs Q, the depth of each cut, greater than 0"),
                 ));
             }
@@ -429,7 +409,7 @@ impl Controller<'_> {
             if count * 3.0 * f64::from(repeats) > MAX_CYCLE_SEGMENTS as f64 {
                 return Err(self.alarm(
                     Condition::ValueOutOfRange,
-                    q_word.map(|w| w.span).or(code_span),
+                    data.q_span.or(code_span),
                     format!(
                         "Q{q} cuts {depth} mm in {count} pecks, {repeats} times: more than {MAX_CYCLE_SEGMENTS} moves"
                     ),
@@ -580,19 +560,17 @@ impl Controller<'_> {
     /// Cutter compensation C and 3-D tool compensation refuse canned
     /// cycles; under G43.5 a rotary word is type 2's alarm.
     fn cycle_allowed(&self, span: Option<Span>) -> Result<(), Alarm> {
-        let rotary_word = (self.machine.linear.len()..self.machine.axis_count())
-            .any(|i| self.words.has(self.axis_letters[i]));
         if self.tcpc_type() == Some(TcpcType::Vector)
-            && rotary_word
-            && let Some(i) = (self.machine.linear.len()..self.machine.axis_count())
-                .find(|&i| self.words.has(self.axis_letters[i]))
+            && let Some((i, span)) = self
+                .words
+                .first_axis(&self.rules(), self.machine.linear.len())
         {
             // Type 2 gives the tool by I J K, never by rotary words: the
             // alarm of any G43.5 block with one.
             let name = self.axis_letters[i];
             return Err(self.alarm(
                 Condition::TcpcRotaryWordInType2,
-                self.words.peek(name).map(|w| w.span),
+                Some(span),
                 format!(
                     "rotary axis word {} in TCPC type 2: program the tool vector I, J, K",
                     char::from(name)

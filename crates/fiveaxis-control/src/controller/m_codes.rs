@@ -68,9 +68,6 @@ fn standard_linuxcnc(code: Code) -> Option<MFunction> {
     }
 }
 
-/// The words LinuxCNC's I/O and user M codes take (m-code.adoc: M62–M65
-/// P; M66 P E L Q; M67/M68 E Q; M61 Q; M100–M199 P Q; M50–M53 P).
-const LINUXCNC_M_WORDS: &[u8] = b"PELQ";
 /// The highest tool number M61 takes (the offset memory's).
 const MAX_TOOL_NUMBER: u32 = fiveaxis_machine::MAX_TOOL_OFFSET;
 
@@ -108,7 +105,7 @@ impl Controller<'_> {
         if self.machine.control == Control::LinuxCnc {
             return self.linuxcnc_kinematics(codes);
         }
-        for &(code, span) in &self.words.m[..self.words.m_len] {
+        for &(code, span) in self.words.m_codes() {
             let g = match self.m_function(code) {
                 Some(MFunction::TcpcOn) => Code::new(43, 4),
                 Some(MFunction::TcpcOff) => Code::new(49, 0),
@@ -139,7 +136,7 @@ impl Controller<'_> {
             self.state.kinematics_pending = false;
             switch = Some((true, Span::default(), None));
         }
-        for &(code, span) in &self.words.m[..self.words.m_len] {
+        for &(code, span) in self.words.m_codes() {
             let on = match self.m_function(code) {
                 Some(MFunction::TcpcOn) => true,
                 Some(MFunction::TcpcOff) => false,
@@ -194,19 +191,19 @@ impl Controller<'_> {
             },
             span,
         ));
-        if tcp && !length_on && self.words.peek(b'H').is_none() {
+        if tcp && !length_on && !self.words.has_length_offset() {
             // The TCP kinematics with no tool length: H0. The H number of
             // the last G43 comes back with the next G43 without H.
             self.state.h_before_g49 = Some(self.state.h);
             self.state.h = 0;
-        } else if given.is_some_and(|(on, _)| on) && self.words.peek(b'H').is_none() {
+        } else if given.is_some_and(|(on, _)| on) && !self.words.has_length_offset() {
             // G43 without H: the tool in the spindle (g-code.adoc, G43),
             // under the TCP kinematics as under identity; taken when the
             // length is applied, after the block's M6.
             self.state.h_before_g49 = None;
             codes.length_from_spindle = true;
         } else if length_on
-            && self.words.peek(b'H').is_none()
+            && !self.words.has_length_offset()
             && let Some(h) = self.state.h_before_g49.take()
         {
             self.state.h = h;
@@ -216,8 +213,7 @@ impl Controller<'_> {
 
     pub(super) fn m_codes(&mut self) -> Result<Flow, Alarm> {
         let mut flow = Flow::Next;
-        if self.words.m_len > self.dialect.max_m_codes {
-            let span = self.words.m[self.dialect.max_m_codes].1;
+        if let Some(&(_, span)) = self.words.m_codes().get(self.dialect.max_m_codes) {
             return Err(self.alarm(
                 Condition::GCodeConflict,
                 Some(span),
@@ -227,17 +223,14 @@ impl Controller<'_> {
                 ),
             ));
         }
-        for i in 0..self.words.m_len {
-            let (code, span) = self.words.m[i];
+        for i in 0..self.words.m_codes().len() {
+            let (code, span) = self.words.m_codes()[i];
             self.state.last_m = Some(f64::from(code.major) + f64::from(code.minor) / 10.0);
             match (code.major, code.minor) {
                 (98, 0) => flow = self.call()?,
                 (97, 0) if self.dialect.haas_codes => flow = self.local_call(span)?,
                 (99, 0) => {
-                    let sequence = match self.words.take(b'P') {
-                        Some(word) => Some(self.words.integer(&word, 99_999)?),
-                        None => None,
-                    };
+                    let sequence = self.words.return_sequence()?;
                     flow = Flow::Return { sequence };
                 }
                 _ => match self.m_function(code) {
@@ -298,19 +291,10 @@ impl Controller<'_> {
             {
                 if code.major == 61 {
                     // M61 Q-: the tool in the spindle is now Q (no change).
-                    let Some(q) = self.words.take(b'Q') else {
-                        return Err(self.alarm(
-                            Condition::NoDataAfterAddress,
-                            Some(span),
-                            "M61 needs Q, the tool number now in the spindle".into(),
-                        ));
-                    };
-                    self.state.spindle_tool = self.words.integer(&q, MAX_TOOL_NUMBER)?;
+                    self.state.spindle_tool = self.words.spindle_tool(span, MAX_TOOL_NUMBER)?;
                 }
                 // Their P, E, L, Q words are I/O numbers and values.
-                for &letter in LINUXCNC_M_WORDS {
-                    let _ = self.words.take(letter);
-                }
+                self.words.io_words();
             }
             MFunction::Signal | MFunction::TcpcOn | MFunction::TcpcOff => {}
             MFunction::Clamp(axis) | MFunction::Unclamp(axis) => {
@@ -337,31 +321,7 @@ impl Controller<'_> {
     /// (0 shortest, 1 clockwise, 2 counter-clockwise). The spindle stops
     /// at the angle; no axis moves.
     fn linuxcnc_orient(&mut self) -> Result<(), Alarm> {
-        if let Some(r) = self.words.take(b'R')
-            && !(0.0..=360.0).contains(&r.value)
-        {
-            return Err(self.alarm(
-                Condition::ValueOutOfRange,
-                Some(r.span),
-                format!(
-                    "M19 R{}: the orientation angle is 0 to 360 degrees",
-                    r.value
-                ),
-            ));
-        }
-        if let Some(q) = self.words.take(b'Q')
-            && q.value < 0.0
-        {
-            return Err(self.alarm(
-                Condition::ValueOutOfRange,
-                Some(q.span),
-                format!("M19 Q{}: the time allowed cannot be negative", q.value),
-            ));
-        }
-        if let Some(p) = self.words.take(b'P') {
-            self.words.integer(&p, 2)?;
-        }
-        Ok(())
+        self.words.spindle_orientation()
     }
 
     /// Alarms when a segment moves a clamped rotary axis.
@@ -389,7 +349,7 @@ impl Controller<'_> {
                         })
                     })
                     .map_or(String::new(), |n| format!(" (M{n})"));
-                let span = self.words.peek(axis as u8).map(|w| w.span);
+                let span = self.words.axis_span(&self.rules(), i);
                 let alarm = self.alarm(
                     Condition::ClampedAxisMoved,
                     span,

@@ -6,8 +6,9 @@
 use fiveaxis_gcode::Span;
 use fiveaxis_machine::{Joints, SetupError, Vec3};
 
-use super::{ARC_RADIUS_TOLERANCE, CENTER_LETTERS, Controller, MAX_ARC_RADIUS, POSITION_TOLERANCE};
+use super::{ARC_RADIUS_TOLERANCE, Controller, MAX_ARC_RADIUS, POSITION_TOLERANCE};
 use crate::alarm::{Alarm, Condition};
+use crate::fanuc::ArcCenter;
 use crate::modal::{FeedMode, MotionMode};
 use crate::segment::{Arc, Motion, Path, Segment, TipPath};
 
@@ -60,7 +61,7 @@ impl Controller<'_> {
     pub(super) fn cutting_feed(&self, length: impl FnOnce() -> f64) -> Result<f64, Alarm> {
         let f = self.state.feed;
         if f <= 0.0 {
-            let span = self.words.peek(b'F').map(|w| w.span);
+            let span = self.words.feed_span();
             return Err(self.alarm(
                 Condition::FeedZero,
                 span,
@@ -80,7 +81,7 @@ impl Controller<'_> {
                 Ok(f * self.state.spindle_speed)
             }
             FeedMode::InverseTime => {
-                if !self.words.has(b'F') {
+                if !self.words.has_feed() {
                     return Err(self.alarm(
                         Condition::FeedZero,
                         None,
@@ -111,7 +112,7 @@ impl Controller<'_> {
         let has_axes = targets.iter().any(Option::is_some);
         let mode = self.state.modal.motion;
         let is_arc = matches!(mode, MotionMode::Cw | MotionMode::Ccw);
-        let arc_words = is_arc && (self.words.has(b'R') || self.center_words_present());
+        let arc_words = is_arc && self.arc_words_present();
         if !has_axes && !arc_words && !length_changed {
             return Ok(());
         }
@@ -150,10 +151,11 @@ impl Controller<'_> {
         Ok(())
     }
 
-    /// Whether the block has a centre word of the selected plane.
-    pub(super) fn center_words_present(&self) -> bool {
+    /// Whether the block gives a circle's radius or a centre word of the
+    /// selected plane.
+    pub(super) fn arc_words_present(&self) -> bool {
         let [p, q, _] = self.state.modal.plane.axes();
-        self.words.has(CENTER_LETTERS[p]) || self.words.has(CENTER_LETTERS[q])
+        self.words.has_arc_words(p, q)
     }
 
     /// G02 / G03: circle in the selected plane, helical on the normal axis,
@@ -237,77 +239,35 @@ impl Controller<'_> {
         let ccw = self.framed_ccw(mode);
         let (sp, sq) = (from[p], from[q]);
         let (ep, eq) = (end_p[p], end_p[q]);
-        let center = if let Some(r_word) = self.words.take(b'R') {
-            for letter in CENTER_LETTERS {
-                if let Some(word) = self.words.peek(letter) {
-                    return Err(self.alarm(
-                        Condition::GCodeConflict,
-                        Some(word.span),
-                        "an arc takes either R or I, J, K, not both".into(),
-                    ));
+        let rules = self.rules();
+        let absolute = self.state.modal.ijk_absolute;
+        let center = match self.words.arc_center(p, q, &rules, absolute)? {
+            ArcCenter::Radius(r, span) => {
+                let r = self.framed_radius(r, span)?;
+                match self.center_from_radius((sp, sq), (ep, eq), r, ccw, span)? {
+                    Some(c) => c,
+                    None => return Ok(None),
                 }
             }
-            let r = self.framed_radius(self.length(&r_word), r_word.span)?;
-            match self.center_from_radius((sp, sq), (ep, eq), r, ccw, r_word.span)? {
-                Some(c) => c,
-                None => return Ok(None),
-            }
-        } else {
-            let i_word = self.words.take(CENTER_LETTERS[p]);
-            let j_word = self.words.take(CENTER_LETTERS[q]);
-            let given = i_word.is_some() || j_word.is_some();
-            let (i, j) = if self.state.modal.ijk_absolute {
-                // LinuxCNC G90.1: the centre words are the centre itself,
-                // in program coordinates, and both are needed (rs274: "J
-                // word missing in absolute center arc").
-                let (Some(iw), Some(jw)) = (i_word, j_word) else {
-                    let missing = if i_word.is_none() {
-                        CENTER_LETTERS[p]
-                    } else {
-                        CENTER_LETTERS[q]
-                    };
+            ArcCenter::Center { i, j, span } => {
+                let (i, j) = if absolute { (i - sp, j - sq) } else { (i, j) };
+                if i == 0.0 && j == 0.0 {
                     return Err(self.alarm(
                         Condition::ArcCenterMissing,
-                        i_word.or(j_word).map(|w| w.span),
-                        format!(
-                            "{} word missing in an absolute centre arc (G90.1 takes both centre \
-                             words of the plane)",
-                            char::from(missing)
-                        ),
+                        span,
+                        "the arc's centre is its start point: the radius is 0".into(),
                     ));
-                };
-                (self.length(&iw) - sp, self.length(&jw) - sq)
-            } else {
-                (
-                    i_word.map_or(0.0, |w| self.length(&w)),
-                    j_word.map_or(0.0, |w| self.length(&w)),
-                )
-            };
-            if i == 0.0 && j == 0.0 {
-                let message = if given {
-                    format!(
-                        "the arc's centre words {}0 {}0 put the centre on the start point: the radius is 0",
-                        char::from(CENTER_LETTERS[p]),
-                        char::from(CENTER_LETTERS[q])
-                    )
-                } else {
-                    "arc needs R or the centre words of the selected plane".into()
-                };
-                return Err(self.alarm(
-                    Condition::ArcCenterMissing,
-                    i_word.or(j_word).map(|w| w.span),
-                    message,
-                ));
+                }
+                let (i, j) = self.framed_center(i, j, span)?;
+                (sp + i, sq + j)
             }
-            let (i, j) = self.framed_center(i, j, i_word.or(j_word).map(|w| w.span))?;
-            (sp + i, sq + j)
         };
         let r0 = (sp - center.0).hypot(sq - center.1);
         let r1 = (ep - center.0).hypot(eq - center.1);
         if r0.max(r1) > MAX_ARC_RADIUS {
             // A centre kilometres away: no machine makes that arc, and its
             // points would drown in rounding (program it as a line).
-            let span = self.words.peek(b'R').map(|w| w.span);
+            let span = self.words.radius_span();
             return Err(self.alarm(
                 Condition::ValueOutOfRange,
                 span,
@@ -330,18 +290,9 @@ impl Controller<'_> {
         let theta1 = (eq - center.1).atan2(ep - center.0);
         let mut sweep = arc_sweep(theta0, theta1, ccw, r0);
         if self.dialect.rs274ngc
-            && let Some(word) = self.words.take(b'P')
+            && let Some(turns) = self.words.arc_turns()?
         {
-            // LinuxCNC (g-code.adoc, G2/G3: "P - number of turns"): P − 1
-            // whole turns before the arc to the end point.
-            let turns = self.words.integer(&word, MAX_ARC_TURNS)?;
-            if turns == 0 {
-                return Err(self.alarm(
-                    Condition::ValueOutOfRange,
-                    Some(word.span),
-                    "P of an arc counts its turns: at least 1".into(),
-                ));
-            }
+            // LinuxCNC: P − 1 whole turns before the arc to the end point.
             sweep += sweep.signum() * std::f64::consts::TAU * f64::from(turns - 1);
         }
         if let Some(turns) = self.block_turns {
@@ -469,10 +420,6 @@ pub(super) fn arc_sweep(theta0: f64, theta1: f64, ccw: bool, radius: f64) -> f64
     }
     if ccw { d } else { -d }
 }
-
-/// Most turns a LinuxCNC arc's P may ask for (each turn is a circle in
-/// the segment's sweep).
-const MAX_ARC_TURNS: u32 = 10_000;
 
 /// A G02 / G03 circle in programmed coordinates.
 #[derive(Clone, Copy, Debug)]

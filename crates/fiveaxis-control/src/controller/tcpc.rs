@@ -448,7 +448,7 @@ impl Controller<'_> {
         let vector_given = self.tcpc_vector(kind)?;
         let mode = self.state.modal.motion;
         let is_arc = matches!(mode, MotionMode::Cw | MotionMode::Ccw);
-        let arc_words = is_arc && (self.words.has(b'R') || self.center_words_present());
+        let arc_words = is_arc && self.arc_words_present();
         let has_axes = targets.iter().any(Option::is_some) || vector_given || arc_words;
         if !has_axes && !length_changed {
             return Ok(());

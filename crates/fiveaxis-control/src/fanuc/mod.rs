@@ -18,17 +18,23 @@
 //! * `values.rs`: the decimal-point and inch rules ([`Rules`]).
 //! * `operands.rs`: what every block may give: axis values, F S T D H,
 //!   the dwell, the subprogram call, the numbers of mode codes.
+//! * `motion.rs`: a circle's radius or centre, LinuxCNC's turns.
 //! * `haas.rs`: Haas's own codes' operands (G187, M97, G154).
+//! * `cycles.rs`: a canned-cycle block's drilling data.
 //! * `data_setting.rs`: G10, FANUC's and LinuxCNC's formats, into
 //!   [`crate::command::DataSetting`].
 
+mod cycles;
 mod data_setting;
 mod haas;
+mod motion;
 mod operands;
 mod values;
 pub(crate) mod words;
 
+pub(crate) use cycles::DwellRules;
 pub(crate) use data_setting::KERNEL_WORK_SYSTEMS;
+pub(crate) use motion::ArcCenter;
 pub(crate) use operands::{AddedLength, CENTER_LETTERS};
 pub(crate) use values::{MM_PER_INCH, Rules};
 pub(crate) use words::Words;

@@ -83,14 +83,10 @@ impl Words {
         self.peek(rules.letters[i]).map(|w| w.span)
     }
 
-    /// Whether the block names axis `i`.
-    pub(crate) fn has_axis(&self, rules: &Rules, i: usize) -> bool {
-        self.has(rules.letters[i])
-    }
-
-    /// The first axis the block names, by joint index.
-    pub(crate) fn first_axis(&self, rules: &Rules) -> Option<usize> {
-        (0..rules.axes).find(|&i| self.has(rules.letters[i]))
+    /// The first axis from joint `from` on that the block names, and
+    /// where its word is.
+    pub(crate) fn first_axis(&self, rules: &Rules, from: usize) -> Option<(usize, Span)> {
+        (from..rules.axes).find_map(|i| self.axis_span(rules, i).map(|span| (i, span)))
     }
 
     /// LinuxCNC `G43.1 Z` (`name` is the code, for the alarms): the tool
@@ -420,5 +416,75 @@ impl Words {
             ));
         }
         Ok(seconds)
+    }
+}
+
+/// The words LinuxCNC's I/O and user M codes take (m-code.adoc: M62–M65
+/// P; M66 P E L Q; M67/M68 E Q; M61 Q; M100–M199 P Q; M50–M53 P).
+const LINUXCNC_IO_WORDS: &[u8] = b"PELQ";
+
+impl Words {
+    /// The block's M codes, in the order written.
+    pub(crate) fn m_codes(&self) -> &[(Code, Span)] {
+        &self.m[..self.m_len]
+    }
+
+    /// M99 `P`: the sequence number to return to.
+    pub(crate) fn return_sequence(&mut self) -> Result<Option<u32>, Alarm> {
+        match self.take(b'P') {
+            Some(word) => Ok(Some(self.integer(&word, 99_999)?)),
+            None => Ok(None),
+        }
+    }
+
+    /// LinuxCNC M61 `Q`: the tool now in the spindle.
+    pub(crate) fn spindle_tool(&mut self, span: Span, max: u32) -> Result<u32, Alarm> {
+        let Some(q) = self.take(b'Q') else {
+            return Err(self.alarm(
+                Condition::NoDataAfterAddress,
+                Some(span),
+                "M61 needs Q, the tool number now in the spindle".into(),
+            ));
+        };
+        self.integer(&q, max)
+    }
+
+    /// LinuxCNC's I/O M codes: their words are read (I/O numbers and
+    /// values, nothing the kernel simulates).
+    pub(crate) fn io_words(&mut self) {
+        for &letter in LINUXCNC_IO_WORDS {
+            let _ = self.take(letter);
+        }
+    }
+
+    /// LinuxCNC `M19 R- Q- P-` (m-code.adoc, M19): the angle R (0–360),
+    /// the time Q allowed (not negative), the direction P (0, 1, 2),
+    /// checked; the spindle stops at the angle and no axis moves.
+    pub(crate) fn spindle_orientation(&mut self) -> Result<(), Alarm> {
+        if let Some(r) = self.take(b'R')
+            && !(0.0..=360.0).contains(&r.value)
+        {
+            return Err(self.alarm(
+                Condition::ValueOutOfRange,
+                Some(r.span),
+                format!(
+                    "M19 R{}: the orientation angle is 0 to 360 degrees",
+                    r.value
+                ),
+            ));
+        }
+        if let Some(q) = self.take(b'Q')
+            && q.value < 0.0
+        {
+            return Err(self.alarm(
+                Condition::ValueOutOfRange,
+                Some(q.span),
+                format!("M19 Q{}: the time allowed cannot be negative", q.value),
+            ));
+        }
+        if let Some(p) = self.take(b'P') {
+            self.integer(&p, 2)?;
+        }
+        Ok(())
     }
 }
