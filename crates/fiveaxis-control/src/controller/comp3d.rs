@@ -33,11 +33,6 @@ pub(super) struct Comp3d {
     pub(super) vector: Vec3,
 }
 
-/// Address letters of the vector.
-const IJK: [u8; 3] = [b'I', b'J', b'K'];
-/// Each basic axis with the axis parallel to it.
-const PARALLEL: [(u8, u8); 3] = [(b'X', b'U'), (b'Y', b'V'), (b'Z', b'W')];
-
 impl Controller<'_> {
     /// G codes that 3-D tool compensation forbids in its mode, with their
     /// alarms: `None` when `code` is not one of them or the mode is off.
@@ -63,7 +58,7 @@ impl Controller<'_> {
         let arc = matches!(self.state.modal.motion, MotionMode::Cw | MotionMode::Ccw);
         matches!(codes.cutter, Some((code, _)) if code.major == 41 || code.major == 42)
             && !arc
-            && IJK.iter().all(|&l| self.words.has(l))
+            && self.words.has_whole_vector()
     }
 
     /// Group 07 for 3-D tool compensation and the vector at the end of this
@@ -90,7 +85,7 @@ impl Controller<'_> {
         } else if self.state.comp3d.active
             && !arc
             && self.tcpc_type() != Some(TcpcType::Vector)
-            && IJK.iter().any(|&l| self.words.has(l))
+            && self.words.has_vector()
         {
             // In the mode, I, J, K give the vector of this block end (an
             // omitted one counts 0). Arcs keep the vector: their I, J, K are
@@ -116,37 +111,15 @@ impl Controller<'_> {
     /// P/S 047 and 048 at start-up: two axes in the same direction, or an
     /// omitted axis whose basic axis the machine does not have.
     fn check_comp3d_startup(&self) -> Result<(), Alarm> {
-        for (basic, parallel) in PARALLEL {
-            if let (Some(_), Some(word)) = (self.words.peek(basic), self.words.peek(parallel)) {
-                return Err(self.alarm(
-                    Condition::Comp3dParallelAxes,
-                    Some(word.span),
-                    format!(
-                        "3-D tool compensation start-up names {} and {}, two axes in the same direction",
-                        char::from(basic),
-                        char::from(parallel)
-                    ),
-                ));
-            }
-            let named = self.words.has(basic) || self.words.has(parallel);
-            if !named && self.machine.axis_index(char::from(basic)).is_none() {
-                return Err(self.alarm(
-                    Condition::Comp3dBasicAxisMissing,
-                    None,
-                    format!(
-                        "3-D tool compensation start-up omits {0} but the machine has no basic axis {0}",
-                        char::from(basic)
-                    ),
-                ));
-            }
-        }
-        Ok(())
+        let machine = self.machine;
+        self.words
+            .comp3d_startup_axes(|name| machine.axis_index(name).is_some())
     }
 
     /// I, J, K of the block (an omitted one is 0), taken.
     fn read_ijk(&mut self) -> Vec3 {
-        let [i, j, k] = IJK.map(|l| self.words.take(l).map_or(0.0, |w| self.length(&w)));
-        Vec3::new(i, j, k)
+        let rules = self.rules();
+        Vec3::from(self.words.vector(&rules))
     }
 
     /// p of the vector: parameter No.5011, or the length of (i, j, k).

@@ -241,34 +241,29 @@ impl Controller<'_> {
                 format!("G43.5: {why}"),
             ));
         }
-        let ijk = [b'I', b'J', b'K']
-            .into_iter()
-            .find_map(|l| self.words.peek(l));
         if kind == TcpcType::Vector
             && !self.dialect.tcpc_startup_controls_tip
             && machine.machine_type() != MachineType::Head
-            && let Some(word) = ijk
+            && let Some(span) = self.words.vector_span()
         {
             return Err(self.alarm(
                 Condition::TcpcIjkInStartBlock,
-                Some(word.span),
+                Some(span),
                 "I, J, K cannot be given in the G43.5 block on a table or mixed machine".into(),
             ));
         }
         // LinuxCNC switches its kinematics by M code, which takes no P: a
         // P in that block belongs to another function (G64 P…); Haas's
         // G234 takes none either (its alarm is raised before).
-        let p_word = if machine.control == Control::LinuxCnc || table_zero {
+        let posture = if machine.control == Control::LinuxCnc || table_zero {
             None
         } else {
-            self.words.take(b'P')
+            self.words.tool_posture()?
         };
-        let posture = match p_word {
-            Some(word) => self.words.integer(&word, 1)? == 1,
-            None => machine.params.tool_posture_control,
-        };
+        let posture = posture.unwrap_or(machine.params.tool_posture_control);
+        let rules = self.rules();
         let inclination = match kind {
-            TcpcType::Vector => self.words.take(b'Q').map_or(0.0, |w| self.angle(&w)),
+            TcpcType::Vector => self.words.inclination(&rules),
             TcpcType::Angles => 0.0,
         };
         let joints = self.state.joints;
@@ -434,7 +429,7 @@ impl Controller<'_> {
             && let Some(i) = (first_rotary..machine.axis_count()).find(|&i| targets[i].is_some())
         {
             let name = self.axis_letters[i];
-            let span = self.words.peek(name).map(|w| w.span);
+            let span = self.words.axis_span(&self.rules(), i);
             return Err(self.alarm(
                 Condition::TcpcRotaryWordInType2,
                 span,
@@ -856,27 +851,22 @@ impl Controller<'_> {
     /// Mitsubishi; on FANUC they are left for the unused-word check.
     /// Returns whether a vector was given.
     fn tcpc_vector(&mut self, kind: TcpcType) -> Result<bool, Alarm> {
-        let present = [b'I', b'J', b'K'].map(|l| self.words.peek(l));
-        if present.iter().all(Option::is_none) {
+        let Some(span) = self.words.vector_span() else {
             return Ok(false);
-        }
+        };
         if kind == TcpcType::Angles {
             if self.dialect.tcpc_startup_controls_tip {
-                for letter in [b'I', b'J', b'K'] {
-                    self.words.take(letter);
-                }
+                self.words.drop_vector();
             }
             return Ok(false);
         }
-        let [i, j, k] =
-            [b'I', b'J', b'K'].map(|l| self.words.take(l).map_or(0.0, |w| self.length(&w)));
-        let v = Vec3::new(i, j, k);
+        let rules = self.rules();
+        let v = Vec3::from(self.words.vector(&rules));
         if v.norm() <= TRAVEL_EPSILON {
-            let span = present.iter().flatten().next().map(|w| w.span);
             return Err(self.alarm(
                 Condition::ToolVectorZero,
-                span,
-                "I, J, K give no tool direction".into(),
+                Some(span),
+                "the tool vector (I, J, K) gives no direction".into(),
             ));
         }
         self.state.tcpc.vector = v.normalize();

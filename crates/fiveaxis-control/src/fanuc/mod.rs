@@ -21,6 +21,8 @@
 //! * `motion.rs`: a circle's radius or centre, LinuxCNC's turns.
 //! * `haas.rs`: Haas's own codes' operands (G187, M97, G154).
 //! * `cycles.rs`: a canned-cycle block's drilling data.
+//! * `vectors.rs`: I, J, K as a tool vector or a surface normal; TCPC's
+//!   P and Q.
 //! * `data_setting.rs`: G10, FANUC's and LinuxCNC's formats, into
 //!   [`crate::command::DataSetting`].
 
@@ -30,6 +32,7 @@ mod haas;
 mod motion;
 mod operands;
 mod values;
+mod vectors;
 pub(crate) mod words;
 
 pub(crate) use cycles::DwellRules;
