@@ -1265,11 +1265,6 @@ impl<'m> Controller<'m> {
         self.rules().angle(word)
     }
 
-    /// The value of an axis word, in mm or degrees.
-    fn axis_value(&self, axis: usize, word: &Word) -> f64 {
-        self.rules().axis_value(axis, word)
-    }
-
     /// Axis words of the block, by joint index, marked used.
     fn axis_words(&mut self) -> Targets {
         let rules = self.rules();

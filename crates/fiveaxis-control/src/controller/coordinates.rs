@@ -29,7 +29,7 @@ use fiveaxis_gcode::{Code, Span};
 use fiveaxis_machine::{Joints, Vec3};
 
 use super::Controller;
-use crate::alarm::{Alarm, Condition};
+use crate::alarm::Alarm;
 use crate::modal::WorkSelect;
 
 mod feature_frame;
@@ -96,41 +96,15 @@ impl Controller<'_> {
 
     /// The work coordinate system a G54–G59 / G54.1 P block selects.
     pub(super) fn work_select(&mut self, code: Code, span: Span) -> Result<WorkSelect, Alarm> {
-        if code.major >= 110 {
-            return self.haas_work_select(code, span);
-        }
-        if self.dialect.rs274ngc && code.major == 59 && code.minor > 0 {
-            // LinuxCNC G59.1 / G59.2 / G59.3: systems 7–9, kept in the
-            // offset memory of G54.1 P1–P3.
-            return Ok(WorkSelect::Extended(code.minor));
-        }
-        let extended = code.minor == 1 || (code.major == 54 && self.words.has(b'P'));
-        if !extended {
-            return Ok(WorkSelect::Standard((code.major - 54) as u8));
-        }
-        let p = match self.words.take(b'P') {
-            Some(word) => self
-                .words
-                .integer(&word, fiveaxis_machine::MAX_EXTENDED_WORK)?,
-            // G54.1 without P selects P1 (as Mitsubishi documents).
-            None => 1,
-        };
-        if p == 0 {
-            return Err(self.alarm(
-                Condition::IllegalOffsetNumber,
-                Some(span),
-                "G54.1 P0 does not exist".into(),
-            ));
-        }
-        Ok(WorkSelect::Extended(p as u8))
+        self.words.work(code, span, self.dialect.rs274ngc)
     }
 
     /// G92: the current position gets the named coordinates (all work
     /// coordinate systems shift).
     pub(super) fn set_coordinate_system(&mut self, from: &Joints) -> Result<(), Alarm> {
-        for (i, name) in self.machine.axis_names().enumerate() {
-            if let Some(word) = self.words.take(name as u8) {
-                let value = self.axis_value(i, &word);
+        let rules = self.rules();
+        for (i, value) in self.words.axis_values(&rules).into_iter().enumerate() {
+            if let Some(value) = value {
                 if i < 3 {
                     // G92 cancels the local coordinate system of its axes.
                     self.state.shift[i] += from[i] - value + self.state.frames.local[i];

@@ -47,7 +47,7 @@ use fiveaxis_machine::{MFunction, Machine, Side};
 use super::coordinates::Feature;
 use super::{Controller, Flow};
 use crate::alarm::{Alarm, Condition};
-use crate::modal::{TcpcType, WorkSelect};
+use crate::modal::TcpcType;
 
 /// Haas's standard meaning of an M code on `machine`, where it differs
 /// from or adds to the common set.
@@ -167,10 +167,5 @@ impl Controller<'_> {
     pub(super) fn local_call(&mut self, span: Span) -> Result<Flow, Alarm> {
         let (sequence, repeats) = self.words.local_call(span)?;
         Ok(Flow::LocalCall { sequence, repeats })
-    }
-
-    /// G154 P1–P99, G110–G129 (G154 P1–P20).
-    pub(super) fn haas_work_select(&mut self, code: Code, span: Span) -> Result<WorkSelect, Alarm> {
-        self.words.haas_work(code, span)
     }
 }

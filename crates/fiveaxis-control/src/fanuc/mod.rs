@@ -23,11 +23,14 @@
 //! * `cycles.rs`: a canned-cycle block's drilling data.
 //! * `vectors.rs`: I, J, K as a tool vector or a surface normal; TCPC's
 //!   P and Q.
+//! * `frames.rs`: work offset selection, G52 / G92 values, the program
+//!   transforms' centres, factors and angle.
 //! * `data_setting.rs`: G10, FANUC's and LinuxCNC's formats, into
 //!   [`crate::command::DataSetting`].
 
 mod cycles;
 mod data_setting;
+mod frames;
 mod haas;
 mod motion;
 mod operands;
@@ -37,6 +40,7 @@ pub(crate) mod words;
 
 pub(crate) use cycles::DwellRules;
 pub(crate) use data_setting::KERNEL_WORK_SYSTEMS;
+pub(crate) use frames::ScaleFactors;
 pub(crate) use motion::ArcCenter;
 pub(crate) use operands::{AddedLength, CENTER_LETTERS};
 pub(crate) use values::{MM_PER_INCH, Rules};

@@ -310,26 +310,16 @@ impl Controller<'_> {
     /// The origin X, Y, Z of a definition block (absolute, 0 when left
     /// out).
     pub(super) fn definition_point(&mut self) -> Vec3 {
-        let mut point = Vec3::zeros();
-        for (i, letter) in [b'X', b'Y', b'Z'].into_iter().enumerate() {
-            if let Some(word) = self.words.take(letter) {
-                point[i] = self.length(&word);
-            }
-        }
-        point
+        let rules = self.rules();
+        Vec3::from(self.words.linear_values(&rules).map(|v| v.unwrap_or(0.0)))
     }
 
     /// I, J, K of a definition block as angles (P0, P1, P4) or vector
     /// components (P3): the decimal-point rule, no unit change; 0 when
     /// left out.
     pub(super) fn definition_ijk(&mut self) -> Vec3 {
-        let mut v = Vec3::zeros();
-        for (i, letter) in [b'I', b'J', b'K'].into_iter().enumerate() {
-            if let Some(word) = self.words.take(letter) {
-                v[i] = self.angle(&word);
-            }
-        }
-        v
+        let rules = self.rules();
+        Vec3::from(self.words.angle_vector(&rules).map(|v| v.unwrap_or(0.0)))
     }
 
     /// Alarms on a definition value that is not a finite number.
@@ -393,30 +383,7 @@ impl Controller<'_> {
     fn feature_by_rotation_order(&mut self, span: Span) -> Result<Feature, Alarm> {
         let origin = self.definition_point();
         let angles = self.definition_ijk();
-        let order = match self.words.take(b'Q') {
-            None => [0, 1, 2],
-            Some(word) => {
-                let q = self.words.integer(&word, 999)?;
-                let digits = [q / 100, q / 10 % 10, q % 10];
-                let mut seen = [false; 3];
-                for d in digits {
-                    if (1..=3).contains(&d) {
-                        seen[d as usize - 1] = true;
-                    }
-                }
-                if !seen.iter().all(|s| *s) || (word.decimal_point && !word.computed) {
-                    return Err(self.alarm(
-                        Condition::FeatureDefinition,
-                        Some(word.span),
-                        format!(
-                            "G268 Q{}: the order of rotation names each of 1 (X), 2 (Y) and 3 (Z) once, e.g. Q123",
-                            word.value
-                        ),
-                    ));
-                }
-                digits.map(|d| d as usize - 1)
-            }
-        };
+        let order = self.words.rotation_order()?;
         self.definition_finite(
             &[origin.x, origin.y, origin.z, angles.x, angles.y, angles.z],
             "G268",
@@ -450,7 +417,8 @@ impl Controller<'_> {
         let (mut pending, q) = self.definition_block(code, 2, name, span)?;
         let point = self.definition_point();
         let turn = if q == 0 {
-            self.words.take(b'R').map_or(0.0, |w| self.angle(&w))
+            let rules = self.rules();
+            self.words.rotation_angle(&rules).unwrap_or(0.0)
         } else {
             0.0
         };
@@ -536,10 +504,7 @@ impl Controller<'_> {
     /// definition given block by block is pending, only its next block may
     /// come.
     pub(super) fn definition_form(&mut self, code: Code, span: Span) -> Result<u32, Alarm> {
-        let form = match self.words.take(b'P') {
-            Some(word) => self.words.integer(&word, 9)?,
-            None => 0,
-        };
+        let form = self.words.definition_form()?;
         if let Some(pending) = self.state.feature_pending
             && (pending.code != code || pending.form != form)
         {
@@ -598,14 +563,7 @@ impl Controller<'_> {
         span: Span,
         last: u32,
     ) -> Result<u32, Alarm> {
-        match self.words.take(b'Q') {
-            Some(word) => self.words.integer(&word, last),
-            None => Err(self.alarm(
-                Condition::FeatureDefinition,
-                Some(span),
-                format!("{name}: the block-by-block forms P2 and P3 number their blocks with Q"),
-            )),
-        }
+        self.words.definition_step(name, span, last)
     }
 
     /// Alarms on a definition block out of its order.
@@ -714,10 +672,8 @@ impl Controller<'_> {
     /// (absolute whatever G90 / G91), or the current position when all
     /// three are left out; one or two left out is PS5457.
     fn feature_from_tool_axis(&mut self, span: Span) -> Result<(), Alarm> {
-        let given: Vec<_> = [b'X', b'Y', b'Z']
-            .into_iter()
-            .map(|letter| self.words.take(letter))
-            .collect();
+        let rules = self.rules();
+        let given = self.words.linear_values(&rules);
         let origin = match given.iter().filter(|w| w.is_some()).count() {
             0 => {
                 // Where the program stands, in workpiece coordinates.
@@ -725,15 +681,7 @@ impl Controller<'_> {
                 let p = self.programmed(&self.state.joints);
                 Vec3::new(p[0], p[1], p[2])
             }
-            3 => {
-                let mut o = Vec3::zeros();
-                for (i, word) in given.iter().enumerate() {
-                    if let Some(word) = word {
-                        o[i] = self.length(word);
-                    }
-                }
-                o
-            }
+            3 => Vec3::from(given.map(|v| v.unwrap_or(0.0))),
             _ => {
                 return Err(self.alarm(
                     Condition::FeatureOriginIncomplete,
@@ -742,7 +690,7 @@ impl Controller<'_> {
                 ));
             }
         };
-        let turn = self.words.take(b'R').map_or(0.0, |w| self.angle(&w));
+        let turn = self.words.rotation_angle(&rules).unwrap_or(0.0);
         let dir = self.machine.forward(&self.state.joints, 0.0).dir;
         let z = self.state.setup.inverse_vector(&dir).normalize();
         let rotation = tool_axis_frame(z) * about(Vec3::z(), turn);
@@ -758,9 +706,7 @@ impl Controller<'_> {
     /// Whether a G68 block asks for a three-dimensional coordinate
     /// conversion: one of I, J, K is given.
     pub(in crate::controller) fn conversion_requested(&self) -> bool {
-        [b'I', b'J', b'K']
-            .into_iter()
-            .any(|letter| self.words.peek(letter).is_some())
+        self.words.has_vector()
     }
 
     /// G68 X Y Z I J K R: three-dimensional coordinate conversion (FANUC
@@ -800,13 +746,14 @@ impl Controller<'_> {
             }
         };
         let mut center = *here;
-        for (i, letter) in [b'X', b'Y', b'Z'].into_iter().enumerate() {
-            if let Some(word) = self.words.take(letter) {
-                center[i] = self.length(&word);
+        let rules = self.rules();
+        for (i, value) in self.words.linear_values(&rules).into_iter().enumerate() {
+            if let Some(value) = value {
+                center[i] = value;
             }
         }
         let axis = self.definition_ijk();
-        let angle = self.words.take(b'R').map_or(0.0, |w| self.angle(&w));
+        let angle = self.words.rotation_angle(&rules).unwrap_or(0.0);
         self.definition_finite(
             &[center.x, center.y, center.z, axis.x, axis.y, axis.z, angle],
             "G68",

@@ -25,6 +25,7 @@ use fiveaxis_machine::{Joints, Vec3};
 use crate::alarm::{Alarm, Condition};
 use crate::controller::{Controller, GCodes, Targets};
 use crate::cutter::Side;
+use crate::fanuc::ScaleFactors;
 use crate::modal::{Distance, MotionMode, Plane};
 
 /// Slots of [`GCodes::frames`]: one per modal group.
@@ -200,7 +201,6 @@ fn rotate(plane: Plane, center: &Vec3, angle: f64, x: &Vec3) -> Vec3 {
 }
 
 /// X, Y, Z as joint indices 0, 1, 2 and their letters.
-const LINEAR: [u8; 3] = [b'X', b'Y', b'Z'];
 
 impl Controller<'_> {
     /// The transform codes of the block (after the modal groups, length
@@ -354,87 +354,48 @@ impl Controller<'_> {
     }
 
     fn mirror_cancel(&mut self) {
-        let mut named = false;
-        for (i, letter) in LINEAR.into_iter().enumerate() {
-            if self.words.take(letter).is_some() {
+        let rules = self.rules();
+        let named = self.words.linear_values(&rules);
+        for (i, value) in named.iter().enumerate() {
+            if value.is_some() {
                 self.state.frames.mirror[i] = None;
-                named = true;
             }
         }
-        if !named {
+        if named.iter().all(Option::is_none) {
             self.state.frames.mirror = [None; 3];
         }
     }
 
     fn mirror_start(&mut self, code: Code, span: Span) -> Result<(), Alarm> {
-        let mut named = false;
-        for (i, letter) in LINEAR.into_iter().enumerate() {
-            if let Some(word) = self.words.take(letter) {
-                self.state.frames.mirror[i] = Some(self.length(&word));
-                named = true;
-            }
-        }
-        if !named {
+        let rules = self.rules();
+        let named = self.words.linear_values(&rules);
+        if named.iter().all(Option::is_none) {
             return Err(self.alarm(
                 Condition::NoDataAfterAddress,
                 Some(span),
                 format!("G{code} needs the axis words of the mirror positions (X, Y, Z)"),
             ));
         }
-        Ok(())
-    }
-
-    /// A factor word of G51: without a decimal point in units of 0.001
-    /// (P1000 = 1.0), with one as written.
-    fn scale_factor(&self, letter: u8) -> Result<Option<f64>, Alarm> {
-        let Some(word) = self.words.peek(letter) else {
-            return Ok(None);
-        };
-        let value = if word.decimal_point {
-            word.value
-        } else {
-            word.value * 0.001
-        };
-        if value == 0.0 || !value.is_finite() || value.abs() > 1.0e4 {
-            return Err(self.alarm(
-                Condition::ValueOutOfRange,
-                Some(word.span),
-                format!(
-                    "scaling factor {}{} is out of range: not 0, at most 10000 (P1000 = 1.0)",
-                    char::from(letter),
-                    word.value
-                ),
-            ));
+        for (i, value) in named.into_iter().enumerate() {
+            if value.is_some() {
+                self.state.frames.mirror[i] = value;
+            }
         }
-        Ok(Some(value))
+        Ok(())
     }
 
     fn scaling_start(&mut self, code: Code, span: Span, here: &Vec3) -> Result<(), Alarm> {
         let mut center = self.state.frames.invert(here);
-        for (i, letter) in LINEAR.into_iter().enumerate() {
-            if let Some(word) = self.words.take(letter) {
-                center[i] = self.length(&word);
+        let rules = self.rules();
+        for (i, value) in self.words.linear_values(&rules).into_iter().enumerate() {
+            if let Some(value) = value {
+                center[i] = value;
             }
         }
-        let p = self.scale_factor(b'P')?;
-        let ijk = [
-            self.scale_factor(b'I')?,
-            self.scale_factor(b'J')?,
-            self.scale_factor(b'K')?,
-        ];
-        if p.is_some() && ijk.iter().any(Option::is_some) {
-            return Err(self.alarm(
-                Condition::GCodeConflict,
-                Some(span),
-                format!("G{code} takes either P or I, J, K, not both"),
-            ));
-        }
-        for letter in [b'P', b'I', b'J', b'K'] {
-            self.words.take(letter);
-        }
-        let factor = match p {
-            Some(p) => [p; 3],
-            None => ijk.map(|k| k.unwrap_or(1.0)),
+        let factor = match self.words.scale_factors(code, span)? {
+            ScaleFactors::Uniform(p) => [p; 3],
+            ScaleFactors::PerAxis(k) => k,
+            ScaleFactors::None => [1.0; 3],
         };
         // The centre is where the scaling acts: mirrored first.
         let center = self.state.frames.apply(&center);
@@ -445,7 +406,8 @@ impl Controller<'_> {
     fn rotation_start(&mut self, here: &Vec3) {
         let plane = self.state.modal.plane;
         let [p, q, _] = plane.axes();
-        let given = [LINEAR[p], LINEAR[q]].map(|l| self.words.take(l));
+        let rules = self.rules();
+        let given = [p, q].map(|axis| self.words.linear_value(axis, &rules));
         let center = if given.iter().any(Option::is_some) {
             // The centre in program coordinates, mirrored and scaled.
             let before = Frames {
@@ -453,9 +415,9 @@ impl Controller<'_> {
                 ..self.state.frames
             };
             let mut c = before.invert(here);
-            for (axis, word) in [p, q].into_iter().zip(given) {
-                if let Some(word) = word {
-                    c[axis] = self.length(&word);
+            for (axis, value) in [p, q].into_iter().zip(given) {
+                if let Some(value) = value {
+                    c[axis] = value;
                 }
             }
             before.apply(&c)
@@ -464,11 +426,9 @@ impl Controller<'_> {
             *here
         };
         let previous = self.state.frames.rotation.map_or(0.0, |r| r.angle);
-        let angle = match self.words.take(b'R') {
-            Some(word) if self.state.modal.distance == Distance::Incremental => {
-                previous + self.angle(&word)
-            }
-            Some(word) => self.angle(&word),
+        let angle = match self.words.rotation_angle(&rules) {
+            Some(angle) if self.state.modal.distance == Distance::Incremental => previous + angle,
+            Some(angle) => angle,
             // FANUC No.5410: the angle of a G68 without R; taken as 0.
             None => 0.0,
         };
@@ -489,9 +449,9 @@ impl Controller<'_> {
     /// `G52 X1`, prints the G92 offset 1): there, each named axis's G92
     /// shift becomes the value.
     pub(in crate::controller) fn local_coordinate_system(&mut self) -> Result<(), Alarm> {
-        for (i, letter) in LINEAR.into_iter().enumerate() {
-            if let Some(word) = self.words.take(letter) {
-                let value = self.length(&word);
+        let rules = self.rules();
+        for (i, value) in self.words.linear_values(&rules).into_iter().enumerate() {
+            if let Some(value) = value {
                 if self.dialect.rs274ngc {
                     self.state.shift[i] = value;
                     self.state.frames.local[i] = 0.0;

@@ -31,45 +31,14 @@ impl Controller<'_> {
         from: &Joints,
         out: &mut Vec<Segment>,
     ) -> Result<(), Alarm> {
-        if let Some(word) = self.words.first_other_than(b'P') {
-            return Err(self.alarm(
-                Condition::SetupErrorNotAlone,
-                Some(word.span),
-                "G54.4 must be alone in its block (with P only)".into(),
-            ));
-        }
-        if self.words.g_len > 1 || self.words.m_len > 0 {
-            return Err(self.alarm(
-                Condition::SetupErrorNotAlone,
-                Some(span),
-                "G54.4 must be alone in its block (with P only)".into(),
-            ));
-        }
-        let Some(p) = self.words.take(b'P') else {
-            return Err(self.alarm(
-                Condition::SetupErrorNumberMissing,
-                Some(span),
-                "G54.4 needs P, the data set number".into(),
-            ));
-        };
-        let value = if p.computed { p.value.round() } else { p.value };
-        if (p.decimal_point && !p.computed)
-            || !(0.0..=f64::from(MAX_SET)).contains(&value)
-            || value.fract() != 0.0
-        {
-            return Err(self.alarm(
-                Condition::SetupErrorNumberRange,
-                Some(p.span),
-                format!("G54.4 P{}: data sets are 0 (cancel) to {MAX_SET}", p.value),
-            ));
-        }
-        let n = value as u32;
+        let (n, p_span) = self.words.setup_error_set(span, MAX_SET)?;
+        self.words.take_setup_error_set();
         if n != 0 && self.machine.rotary.len() > 2 {
             // The correction turns the tool back onto its attitude on the
             // real workpiece, an inverse that needs two rotary axes.
             return Err(self.alarm(
                 Condition::TcpcWithoutRotaryAxis,
-                Some(p.span),
+                Some(p_span),
                 format!(
                     "G54.4 P{n}: workpiece setup error correction needs a machine with at most two \
                      rotary axes (this one has {})",
@@ -77,7 +46,7 @@ impl Controller<'_> {
                 ),
             ));
         }
-        let error = self.setup_error_of(n, p.span)?;
+        let error = self.setup_error_of(n, p_span)?;
         let before = self.state.setup;
         // Type 1 keeps its programmed angles apart from the machine's while
         // a correction is in force.

@@ -189,7 +189,8 @@ impl Controller<'_> {
 
     /// R: the turn about the plane's +Z, degrees, 0 when left out.
     fn twp_turn(&mut self) -> f64 {
-        self.words.take(b'R').map_or(0.0, |w| self.angle(&w))
+        let rules = self.rules();
+        self.words.rotation_angle(&rules).unwrap_or(0.0)
     }
 
     /// The rotation order Q of P0 / P1: one of `orders`, `default` when
@@ -200,24 +201,7 @@ impl Controller<'_> {
         } else {
             (FIXED_ORDERS, 123)
         };
-        let q = match self.words.take(b'Q') {
-            None => default,
-            Some(word) => {
-                let q = self.words.integer(&word, 999)?;
-                if !orders.contains(&q) {
-                    let list: Vec<String> = orders.iter().map(|o| format!("Q{o}")).collect();
-                    return Err(self.alarm(
-                        Condition::FeatureDefinition,
-                        Some(word.span),
-                        format!(
-                            "{name} P{form} Q{q}: the orders of rotation are {}",
-                            list.join(", ")
-                        ),
-                    ));
-                }
-                q
-            }
-        };
+        let q = self.words.twp_order(name, form, &orders, default)?;
         let axis = |d: u32| match d {
             1 => Vec3::x(),
             2 => Vec3::y(),
@@ -250,13 +234,8 @@ impl Controller<'_> {
 
     /// I J K as a point (lengths, G20 inches to mm), 0 when left out.
     fn twp_point_ijk(&mut self) -> Vec3 {
-        let mut v = Vec3::zeros();
-        for (i, letter) in [b'I', b'J', b'K'].into_iter().enumerate() {
-            if let Some(word) = self.words.take(letter) {
-                v[i] = self.length(&word);
-            }
-        }
-        v
+        let rules = self.rules();
+        Vec3::from(self.words.vector(&rules))
     }
 
     /// P2: three points, one block each (see the module documentation).
@@ -410,23 +389,17 @@ impl Controller<'_> {
                 format!("{name} needs a tilted working plane defined first (G68.2, G68.3, G68.4)"),
             ));
         };
-        let strategy = match self.words.take(b'P') {
-            None => Strategy::Shortest,
-            Some(word) => match self.words.integer(&word, 2)? {
-                0 => Strategy::Shortest,
-                1 => Strategy::Positive,
-                _ => Strategy::Negative,
-            },
+        let strategy = match self.words.twp_direction()? {
+            0 => Strategy::Shortest,
+            1 => Strategy::Positive,
+            _ => Strategy::Negative,
         };
         // G53.3's point of the plane, absolute; axes left out keep the
         // tip's coordinate of the plane.
         let mut goal = [None; 3];
         if code.minor == 3 {
-            for (i, letter) in [b'X', b'Y', b'Z'].into_iter().enumerate() {
-                if let Some(word) = self.words.take(letter) {
-                    goal[i] = Some(self.length(&word));
-                }
-            }
+            let rules = self.rules();
+            goal = self.words.linear_values(&rules);
         }
         let pair = self.twp_pair(span, &name)?;
         let dir = self.state.setup.vector(&(plane.rotation() * Vec3::z()));
