@@ -5,7 +5,7 @@
 //! next ([`Flow`]). Functions follow the FANUC Series 30i/16 operator's
 //! manuals; where a control family differs, [`crate::dialect`] says how.
 
-use fiveaxis_gcode::{Block, Code, Span, Word};
+use fiveaxis_gcode::{Block, Code, Span};
 use fiveaxis_machine::{Control, Joints, MAX_AXES, Machine, Offsets, SetupError, Side, Vec3};
 
 use crate::alarm::{Alarm, Condition};
@@ -1253,16 +1253,6 @@ impl<'m> Controller<'m> {
                 .then(|| self.state.modal.plane.axes()[1]),
             diameter: self.state.modal.diameter_mode,
         }
-    }
-
-    /// A length word in mm (`Rules::length`).
-    fn length(&self, word: &Word) -> f64 {
-        self.rules().length(word)
-    }
-
-    /// An angle word in degrees (`Rules::angle`).
-    fn angle(&self, word: &Word) -> f64 {
-        self.rules().angle(word)
     }
 
     /// Axis words of the block, by joint index, marked used.

@@ -56,7 +56,7 @@ use fiveaxis_machine::Joints;
 use super::Controller;
 use crate::alarm::{Alarm, Condition};
 use crate::fanuc::MM_PER_INCH;
-use crate::modal::{Distance, FeedMode, Units};
+use crate::modal::{Distance, FeedMode};
 use crate::segment::{Motion, Segment};
 
 use font::{ADVANCE, CAP_HEIGHT};
@@ -97,76 +97,20 @@ impl Controller<'_> {
         out: &mut Vec<Segment>,
     ) -> Result<(), Alarm> {
         self.engrave_allowed(span)?;
-        let Some(p_word) = self.words.take(b'P') else {
-            return Err(self.alarm(
-                Condition::NoDataAfterAddress,
-                Some(span),
-                "G47 needs P: P0 the text of the block's comment, P1 a serial number, P32 to P126 one character".into(),
-            ));
-        };
-        let p = self.words.integer(&p_word, 126)?;
-        if p > 1 && p < u32::from(font::FIRST) {
-            return Err(self.alarm(
-                Condition::ValueOutOfRange,
-                Some(p_word.span),
-                format!(
-                    "G47 P{p}: P is 0 (text), 1 (serial number) or an ASCII code from 32 to 126"
-                ),
-            ));
-        }
-        let height = match self.words.take(b'J') {
-            Some(word) => {
-                let j = self.length(&word);
-                if j.is_nan() || j < MIN_HEIGHT - HEIGHT_TOLERANCE {
-                    return Err(self.alarm(
-                        Condition::ValueOutOfRange,
-                        Some(word.span),
-                        format!(
-                            "G47 J{}: the height of the text is at least 0.001 inch ({MIN_HEIGHT} mm)",
-                            word.value
-                        ),
-                    ));
-                }
-                j
-            }
-            None => DEFAULT_HEIGHT,
-        };
-        let angle = match self.words.take(b'I') {
-            Some(word) => {
-                let a = self.angle(&word);
-                if !(-360.0..=360.0).contains(&a) {
-                    return Err(self.alarm(
-                        Condition::ValueOutOfRange,
-                        Some(word.span),
-                        format!("G47 I{}: the angle is -360 to 360 degrees", word.value),
-                    ));
-                }
-                a
-            }
-            None => 0.0,
-        };
-        let plunge = match self.words.take(b'E') {
-            Some(word) => {
-                if word.value.is_nan() || word.value <= 0.0 {
-                    return Err(self.alarm(
-                        Condition::ValueOutOfRange,
-                        Some(word.span),
-                        format!("G47 E{}: the plunge feed must be more than 0", word.value),
-                    ));
-                }
-                let scale = if self.state.modal.units == Units::Inch {
-                    MM_PER_INCH
-                } else {
-                    1.0
-                };
-                Some(word.value * scale)
-            }
-            None => None,
-        };
-        let r_word = self.words.take(b'R');
+        let rules = self.rules();
+        let data = self.words.engraving(
+            span,
+            &rules,
+            u32::from(font::FIRST),
+            MIN_HEIGHT,
+            HEIGHT_TOLERANCE,
+        )?;
+        let (p, p_word_span) = (data.p, data.p_span);
+        let height = data.height.unwrap_or(DEFAULT_HEIGHT);
+        let (angle, plunge, r_word) = (data.angle, data.plunge, data.r);
         let [pa, qa, n] = self.state.modal.plane.axes();
         let mut targets = self.axis_words();
-        let text = self.engraving_text(p, p_word.span)?;
+        let text = self.engraving_text(p, p_word_span)?;
         if let Text::SetSerial = text {
             // `G47 P1 (0001)` sets the first serial number and engraves
             // nothing.
@@ -186,8 +130,8 @@ impl Controller<'_> {
         let initial = from[n];
         let incremental = self.state.modal.distance == Distance::Incremental;
         let r_level = match r_word {
-            Some(word) if incremental => initial + self.length(&word),
-            Some(word) => self.length(&word),
+            Some((r, _)) if incremental => initial + r,
+            Some((r, _)) => r,
             None => initial,
         };
         let z_level = if incremental { r_level + z } else { z };
@@ -195,7 +139,7 @@ impl Controller<'_> {
             let letter = char::from(self.axis_letters[n]);
             return Err(self.alarm(
                 Condition::ValueOutOfRange,
-                r_word.map(|w| w.span).or(Some(span)),
+                r_word.map(|(_, span)| span).or(Some(span)),
                 format!(
                     "G47: the depth {letter}{z_level:.4} is not below the return plane R{r_level:.4}"
                 ),
@@ -265,8 +209,10 @@ impl Controller<'_> {
 
     /// G47's refusals: modes it does not combine with.
     fn engrave_allowed(&self, span: Span) -> Result<(), Alarm> {
-        let rotary_word = (self.machine.linear.len()..self.machine.axis_count())
-            .any(|i| self.words.has(self.axis_letters[i]));
+        let rotary_word = self
+            .words
+            .first_axis(&self.rules(), self.machine.linear.len())
+            .is_some();
         let mode = if self.cutter.side.is_some() {
             "cutter compensation C (G41/G42)"
         } else if self.state.comp3d.active {

@@ -19,6 +19,7 @@ use fiveaxis_machine::Joints;
 
 use super::Controller;
 use crate::alarm::{Alarm, Condition};
+use crate::fanuc::SplineData;
 use crate::modal::{Distance, Plane};
 use crate::segment::{Motion, Segment};
 
@@ -43,23 +44,12 @@ impl Controller<'_> {
                 format!("{name} draws in the XY plane: select G17"),
             ));
         }
-        let count = self.machine.axis_count();
-        for (i, &letter) in self.axis_letters[..count].iter().enumerate() {
-            if i >= 2
-                && let Some(word) = self.words.peek(letter)
-            {
-                return Err(self.alarm(
-                    Condition::WordNotUsed,
-                    Some(word.span),
-                    format!(
-                        "{name} moves X and Y only: {} is not a word of it",
-                        char::from(letter)
-                    ),
-                ));
-            }
-        }
-        let i = self.words.take(b'I').map(|w| self.length(&w));
-        let j = self.words.take(b'J').map(|w| self.length(&w));
+        let rules = self.rules();
+        let SplineData {
+            i,
+            j,
+            end: control_end,
+        } = self.words.spline(name, cubic, &rules)?;
         let start = [from[0], from[1]];
         let targets = self.axis_words();
         let end = [
@@ -67,14 +57,7 @@ impl Controller<'_> {
             end_coordinate(self.state.modal.distance, from[1], targets[1]),
         ];
         let (points, len) = if cubic {
-            let (Some(p), Some(q)) = (self.words.take(b'P'), self.words.take(b'Q')) else {
-                return Err(self.alarm(
-                    Condition::CycleDataMissing,
-                    None,
-                    "G5 needs both P and Q, the end point's control offset".into(),
-                ));
-            };
-            let (p, q) = (self.length(&p), self.length(&q));
+            let [p, q] = control_end.unwrap_or_default();
             let first = match (i, j, self.state.spline_tangent) {
                 (Some(i), Some(j), _) => [i, j],
                 (None, None, Some([p0, q0])) => [-p0, -q0],

@@ -38,6 +38,7 @@ use super::Controller;
 use super::cycles::MAX_CYCLE_SEGMENTS;
 use super::linuxcnc::NgcMotion;
 use crate::alarm::{Alarm, Condition};
+use crate::fanuc::ThreadData;
 use crate::modal::Plane;
 use crate::segment::{Motion, Path, Segment};
 
@@ -62,16 +63,10 @@ impl Controller<'_> {
             "G33.1"
         };
         let targets = self.axis_words();
-        if let Some(f) = self.words.peek(b'F') {
-            return Err(self.alarm(
-                Condition::WordNotUsed,
-                Some(f.span),
-                format!("{name} takes no F: the feed is K per revolution of the spindle"),
-            ));
-        }
-        let pitch = self.sync_pitch(name, b'K')?;
+        let rules = self.rules();
+        let pitch = self.words.sync_pitch(name, &rules)?;
         let multiplier = if mode == NgcMotion::RigidTap {
-            self.words.take(b'I').map_or(1.0, |w| w.value.max(1.0))
+            self.words.retract_multiplier()
         } else {
             1.0
         };
@@ -84,34 +79,6 @@ impl Controller<'_> {
             self.push_sync(end, start, rate * multiplier, out);
         }
         Ok(())
-    }
-
-    /// The distance per revolution, mm: `letter`, K of G33 / G33.1, P of
-    /// G76.
-    fn sync_pitch(&mut self, name: &str, letter: u8) -> Result<f64, Alarm> {
-        let Some(word) = self.words.take(letter) else {
-            return Err(self.alarm(
-                Condition::CycleDataMissing,
-                None,
-                format!(
-                    "{name} needs {}, the distance per revolution",
-                    char::from(letter)
-                ),
-            ));
-        };
-        let pitch = self.length(&word);
-        if !(pitch > 0.0 && pitch.is_finite()) {
-            return Err(self.alarm(
-                Condition::ValueOutOfRange,
-                Some(word.span),
-                format!(
-                    "{name}: {}{} must be positive",
-                    char::from(letter),
-                    word.value
-                ),
-            ));
-        }
-        Ok(pitch)
     }
 
     /// The feed, mm/min, of `pitch` per revolution of the spindle; the
@@ -146,102 +113,26 @@ impl Controller<'_> {
                 "G76 threads in the ZX plane: select G18".into(),
             ));
         }
-        for letter in [b'X', b'Y', b'A', b'B', b'C', b'U', b'V', b'W'] {
-            if let Some(word) = self.words.peek(letter) {
-                return Err(self.alarm(
-                    Condition::WordNotUsed,
-                    Some(word.span),
-                    format!(
-                        "G76 takes Z only: {} is not a word of it",
-                        char::from(letter)
-                    ),
-                ));
-            }
-        }
-        let required = |c: &Self, letter: u8| {
-            c.words.peek(letter).ok_or_else(|| {
-                c.alarm(
-                    Condition::CycleDataMissing,
-                    None,
-                    format!("G76 needs {}", char::from(letter)),
-                )
-            })
-        };
-        let pitch = self.sync_pitch("G76", b'P')?;
-        let z_word = required(self, b'Z')?;
-        let i_word = required(self, b'I')?;
-        let j_word = required(self, b'J')?;
-        let k_word = required(self, b'K')?;
-        for letter in [b'Z', b'I', b'J', b'K'] {
-            self.words.take(letter);
-        }
-        let z_end = self.length(&z_word);
+        let rules = self.rules();
+        let data = self
+            .words
+            .thread_data(&rules, self.state.modal.diameter_mode, MAX_PASSES)?;
+        let ThreadData {
+            pitch,
+            peak_offset,
+            first,
+            full,
+            degression,
+            compound,
+            spring,
+            taper,
+            ends,
+            ..
+        } = data;
         let z_end = if self.state.modal.distance == crate::modal::Distance::Incremental {
-            from[2] + z_end
+            from[2] + data.z
         } else {
-            z_end
-        };
-        // In G7 (lathe diameter mode) I, J and K are diameters
-        // (g-code.adoc, G76).
-        let scale = if self.state.modal.diameter_mode {
-            0.5
-        } else {
-            1.0
-        };
-        let peak_offset = self.length(&i_word) * scale;
-        let first = self.length(&j_word) * scale;
-        let full = self.length(&k_word) * scale;
-        if first <= 0.0 {
-            return Err(self.alarm(
-                Condition::ValueOutOfRange,
-                Some(j_word.span),
-                "G76: J, the first cut's depth, must be greater than 0".into(),
-            ));
-        }
-        if full < 0.0 {
-            return Err(self.alarm(
-                Condition::ValueOutOfRange,
-                Some(k_word.span),
-                "G76: K, the full thread depth, cannot be negative".into(),
-            ));
-        }
-        let degression = match self.words.take(b'R') {
-            Some(w) if w.value < 1.0 => {
-                return Err(self.alarm(
-                    Condition::ValueOutOfRange,
-                    Some(w.span),
-                    format!("G76: the depth degression R{} is below 1", w.value),
-                ));
-            }
-            Some(w) => w.value,
-            None => 1.0,
-        };
-        let compound = self.words.take(b'Q').map_or(0.0, |w| w.value);
-        let spring = match self.words.take(b'H') {
-            Some(w) if w.value < 0.0 => {
-                return Err(self.alarm(
-                    Condition::ValueOutOfRange,
-                    Some(w.span),
-                    "G76: H, the spring passes, cannot be negative".into(),
-                ));
-            }
-            Some(w) if w.value > MAX_PASSES as f64 => {
-                return Err(self.alarm(
-                    Condition::ValueOutOfRange,
-                    Some(w.span),
-                    format!(
-                        "G76: H{} asks for more than {MAX_PASSES} spring passes",
-                        w.value
-                    ),
-                ));
-            }
-            Some(w) => w.value.round() as u32,
-            None => 0,
-        };
-        let taper = self.words.take(b'E').map(|w| (self.length(&w), w.span));
-        let ends = match self.words.take(b'L') {
-            Some(w) => self.words.integer(&w, 3)?,
-            None => 0,
+            data.z
         };
         let drive = from[0];
         let z_start = from[2];
@@ -266,10 +157,9 @@ impl Controller<'_> {
             if below > MAX_PASSES {
                 return Err(self.alarm(
                     Condition::ValueOutOfRange,
-                    Some(j_word.span),
+                    Some(data.first_span),
                     format!(
-                        "G76: J{} with K{} and R{degression} makes more than {MAX_PASSES} passes",
-                        j_word.value, k_word.value,
+                        "G76: a first cut of {first} mm to a full depth of {full} mm with R{degression} makes more than {MAX_PASSES} passes",
                     ),
                 ));
             }

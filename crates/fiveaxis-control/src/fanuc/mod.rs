@@ -25,15 +25,21 @@
 //!   P and Q.
 //! * `frames.rs`: work offset selection, G52 / G92 values, the program
 //!   transforms' centres, factors and angle.
+//! * `threading.rs`: LinuxCNC's G33 / G33.1 / G76 data.
+//! * `engrave.rs`: Haas G47's words.
+//! * `splines.rs`: LinuxCNC's G5 / G5.1 control offsets.
 //! * `data_setting.rs`: G10, FANUC's and LinuxCNC's formats, into
 //!   [`crate::command::DataSetting`].
 
 mod cycles;
 mod data_setting;
+mod engrave;
 mod frames;
 mod haas;
 mod motion;
 mod operands;
+mod splines;
+mod threading;
 mod values;
 mod vectors;
 pub(crate) mod words;
@@ -43,5 +49,7 @@ pub(crate) use data_setting::KERNEL_WORK_SYSTEMS;
 pub(crate) use frames::ScaleFactors;
 pub(crate) use motion::ArcCenter;
 pub(crate) use operands::{AddedLength, CENTER_LETTERS};
+pub(crate) use splines::SplineData;
+pub(crate) use threading::ThreadData;
 pub(crate) use values::{MM_PER_INCH, Rules};
 pub(crate) use words::Words;
