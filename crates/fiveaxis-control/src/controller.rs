@@ -11,7 +11,7 @@ use fiveaxis_machine::{Control, Joints, MAX_AXES, Machine, Offsets, SetupError, 
 use crate::alarm::{Alarm, Condition};
 use crate::command::{DataSetting, OffsetMemory, ToolField};
 use crate::dialect::Dialect;
-use crate::fanuc::{AddedLength, CENTER_LETTERS, Rules, Words};
+use crate::fanuc::{AddedLength, Rules, Words};
 use crate::modal::{
     ContourControl, CuttingMode, Distance, FeedMode, LengthMode, Modal, MotionMode, Plane,
     TcpcType, Units,
@@ -29,6 +29,7 @@ mod haas;
 mod linuxcnc;
 mod m_codes;
 mod motion;
+mod operands;
 mod splines;
 mod system_vars;
 mod tcpc;
@@ -192,6 +193,8 @@ pub struct Controller<'m> {
     dialect: Dialect,
     state: State,
     words: Words,
+    /// The operands of a block of commands (`operands.rs`).
+    operands: operands::Operands,
     /// Address letters of the machine's axes, in joint order.
     axis_letters: [u8; MAX_AXES],
     /// The tool posture law worked out for the block being executed (kept
@@ -330,6 +333,7 @@ impl<'m> Controller<'m> {
                 orientation_path: None,
             },
             words: Words::new(machine.control),
+            operands: operands::Operands::default(),
             block_posture: None,
             block_exact_stop: false,
             pending_exact_stop: false,
@@ -556,6 +560,7 @@ impl<'m> Controller<'m> {
         if self.without_point.is_some() {
             self.count_without_point(block);
         }
+        self.operands.active = false;
         self.words.load(block, self.machine)?;
         if self.dialect.haas_codes {
             // Haas G47 engraves the block's comment.
@@ -1068,19 +1073,11 @@ impl<'m> Controller<'m> {
 
     /// F, S, T, D words: modal values.
     fn apply_values(&mut self, d_for_cycle: bool) -> Result<(), Alarm> {
-        let scale = match (self.state.modal.feed_mode, self.state.modal.units) {
-            (FeedMode::InverseTime, _) | (_, Units::Metric) => 1.0,
-            (_, Units::Inch) => crate::fanuc::MM_PER_INCH,
-        };
-        if let Some(feed) = self.words.feed(scale)? {
-            self.state.feed = feed;
-        }
+        self.op_feed()?;
         if let Some(s) = self.words.spindle_speed(self.dialect.rs274ngc)? {
             self.state.spindle_speed = s;
         }
-        if let Some(t) = self.words.tool_number(self.tool_memory)? {
-            self.state.tool = t;
-        }
+        self.op_tool()?;
         if !d_for_cycle && let Some(d) = self.words.radius_offset()? {
             self.state.d = d;
         }
@@ -1257,8 +1254,7 @@ impl<'m> Controller<'m> {
 
     /// Axis words of the block, by joint index, marked used.
     fn axis_words(&mut self) -> Targets {
-        let rules = self.rules();
-        self.words.axes(&rules)
+        self.op_axes()
     }
 
     /// The active H value (geometry + wear), mm.
@@ -1610,7 +1606,7 @@ impl<'m> Controller<'m> {
         let reference = self.machine.params.reference_1;
         for (i, name) in self.machine.axis_names().enumerate() {
             if targets[i].is_some() && (end[i] - reference[i]).abs() > REFERENCE_CHECK_TOLERANCE {
-                let span = self.words.axis_span(&self.rules(), i);
+                let span = self.op_axis_span(i);
                 return Err(self.alarm(
                     Condition::ReferenceReturnCheck,
                     span,
@@ -1759,7 +1755,7 @@ impl<'m> Controller<'m> {
             } else {
                 continue;
             };
-            let span = self.words.axis_span(&self.rules(), i);
+            let span = self.op_axis_span(i);
             return Err(self.alarm(
                 condition,
                 span,
@@ -1779,7 +1775,7 @@ impl<'m> Controller<'m> {
             let name = char::from(name);
             return Err(self.alarm(
                 condition,
-                self.words.axis_span(&self.rules(), i),
+                self.op_axis_span(i),
                 format!("{name}{side} over-travel: {name} would reach {value} beyond the soft limit {bound} on the way"),
             ));
         }

@@ -49,6 +49,7 @@ impl Controller<'_> {
         let base = out.len();
         self.stop = None;
         self.words.clear(block.line);
+        self.operands.start();
         let saved = self.state.clone();
         let saved_frames = self.neutral;
         if let Some(n) = block.number {
@@ -81,10 +82,10 @@ impl Controller<'_> {
                 Command::FeedMode(mode) => self.state.modal.feed_mode = mode,
                 Command::PathMode(mode) => self.state.modal.cutting = mode,
                 Command::ExactStop => self.pending_exact_stop = true,
-                Command::Feed { value, span } => self.words.set(b'F', value, span),
+                Command::Feed { value, span } => self.operands.feed = Some((value, span)),
                 Command::SpindleSpeed(s) => self.state.spindle_speed = s,
-                Command::MFunction { number, span } => self.words.push_m(number, span)?,
-                Command::ToolSelect { tool, span } => self.words.set(b'T', f64::from(tool), span),
+                Command::MFunction { number, span } => self.push_m_function(number, span)?,
+                Command::ToolSelect { tool, span } => self.operands.tool = Some((tool, span)),
                 Command::ToolOffset { number, span } => self.tool_offset(number, span)?,
                 Command::ToolDelta { length, radius } => self.state.tool_delta = [length, radius],
                 Command::Radius { side, span } => self.radius_side(side, span)?,
@@ -447,7 +448,7 @@ impl Controller<'_> {
                 Some(from) => self.increment(i, from[i], t.value, t.mode),
                 None => t.value,
             };
-            self.words.set(self.axis_letters[i], value, t.span);
+            self.operands.targets[i] = Some((value, t.span));
         }
         for (k, c) in m.center.iter().enumerate() {
             if let Some(c) = *c {
@@ -456,12 +457,11 @@ impl Controller<'_> {
                 } else {
                     c
                 };
-                self.words.set(super::CENTER_LETTERS[k], value, m.span);
+                self.operands.center[k] = Some(value);
             }
         }
-        if let Some(r) = m.radius {
-            self.words.set(b'R', r, m.span);
-        }
+        self.operands.radius = m.radius;
+        self.operands.span = m.span;
         self.block_turns = m.turns.filter(|&t| t > 0);
         if let Some(v) = m.tool_vector {
             if m.center.iter().any(Option::is_some) {
@@ -471,9 +471,7 @@ impl Controller<'_> {
                     "a circle and a tool vector in one block".into(),
                 ));
             }
-            for (k, letter) in [b'I', b'J', b'K'].into_iter().enumerate() {
-                self.words.set(letter, v[k], m.span);
-            }
+            self.operands.vector = Some(v);
         }
         let saved_distance = self.state.modal.distance;
         if mixed {
@@ -620,6 +618,22 @@ impl Controller<'_> {
     pub(crate) fn plane_axes(&self, higher: Option<bool>, span: Span) -> Result<[f64; 2], Alarm> {
         let choice = higher.map(super::tcpc::Choice::FirstAxis);
         self.plane_rotaries("PLANE", span, choice)
+    }
+
+    /// Adds M function `number` of a block of commands. Alarms past the
+    /// kernel's bound of M functions per block.
+    fn push_m_function(&mut self, number: u16, span: Span) -> Result<(), Alarm> {
+        let o = &mut self.operands;
+        if o.m_len >= o.m.len() {
+            return Err(self.alarm(
+                Condition::GCodeConflict,
+                Some(span),
+                "too many M functions in one block".into(),
+            ));
+        }
+        o.m[o.m_len] = (fiveaxis_gcode::Code::new(number, 0), span);
+        o.m_len += 1;
+        Ok(())
     }
 
     /// The M functions and F, S, T values of a block whose move does not

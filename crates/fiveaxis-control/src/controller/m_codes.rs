@@ -213,7 +213,7 @@ impl Controller<'_> {
 
     pub(super) fn m_codes(&mut self) -> Result<Flow, Alarm> {
         let mut flow = Flow::Next;
-        if let Some(&(_, span)) = self.words.m_codes().get(self.dialect.max_m_codes) {
+        if let Some(&(_, span)) = self.op_m_codes().get(self.dialect.max_m_codes) {
             return Err(self.alarm(
                 Condition::GCodeConflict,
                 Some(span),
@@ -223,8 +223,8 @@ impl Controller<'_> {
                 ),
             ));
         }
-        for i in 0..self.words.m_codes().len() {
-            let (code, span) = self.words.m_codes()[i];
+        for i in 0..self.op_m_codes().len() {
+            let (code, span) = self.op_m_codes()[i];
             self.state.last_m = Some(f64::from(code.major) + f64::from(code.minor) / 10.0);
             match (code.major, code.minor) {
                 (98, 0) => flow = self.call()?,
@@ -349,7 +349,7 @@ impl Controller<'_> {
                         })
                     })
                     .map_or(String::new(), |n| format!(" (M{n})"));
-                let span = self.words.axis_span(&self.rules(), i);
+                let span = self.op_axis_span(i);
                 let alarm = self.alarm(
                     Condition::ClampedAxisMoved,
                     span,

@@ -61,7 +61,7 @@ impl Controller<'_> {
     pub(super) fn cutting_feed(&self, length: impl FnOnce() -> f64) -> Result<f64, Alarm> {
         let f = self.state.feed;
         if f <= 0.0 {
-            let span = self.words.feed_span();
+            let span = self.op_feed_span();
             return Err(self.alarm(
                 Condition::FeedZero,
                 span,
@@ -81,7 +81,7 @@ impl Controller<'_> {
                 Ok(f * self.state.spindle_speed)
             }
             FeedMode::InverseTime => {
-                if !self.words.has_feed() {
+                if self.op_feed_span().is_none() {
                     return Err(self.alarm(
                         Condition::FeedZero,
                         None,
@@ -155,7 +155,7 @@ impl Controller<'_> {
     /// selected plane.
     pub(super) fn arc_words_present(&self) -> bool {
         let [p, q, _] = self.state.modal.plane.axes();
-        self.words.has_arc_words(p, q)
+        self.op_has_arc(p, q)
     }
 
     /// G02 / G03: circle in the selected plane, helical on the normal axis,
@@ -239,9 +239,8 @@ impl Controller<'_> {
         let ccw = self.framed_ccw(mode);
         let (sp, sq) = (from[p], from[q]);
         let (ep, eq) = (end_p[p], end_p[q]);
-        let rules = self.rules();
         let absolute = self.state.modal.ijk_absolute;
-        let center = match self.words.arc_center(p, q, &rules, absolute)? {
+        let center = match self.op_arc_center(p, q)? {
             ArcCenter::Radius(r, span) => {
                 let r = self.framed_radius(r, span)?;
                 match self.center_from_radius((sp, sq), (ep, eq), r, ccw, span)? {
@@ -267,7 +266,7 @@ impl Controller<'_> {
         if r0.max(r1) > MAX_ARC_RADIUS {
             // A centre kilometres away: no machine makes that arc, and its
             // points would drown in rounding (program it as a line).
-            let span = self.words.radius_span();
+            let span = self.op_radius_span();
             return Err(self.alarm(
                 Condition::ValueOutOfRange,
                 span,

@@ -244,7 +244,7 @@ impl Controller<'_> {
         if kind == TcpcType::Vector
             && !self.dialect.tcpc_startup_controls_tip
             && machine.machine_type() != MachineType::Head
-            && let Some(span) = self.words.vector_span()
+            && let Some(span) = self.op_vector_span()
         {
             return Err(self.alarm(
                 Condition::TcpcIjkInStartBlock,
@@ -429,7 +429,7 @@ impl Controller<'_> {
             && let Some(i) = (first_rotary..machine.axis_count()).find(|&i| targets[i].is_some())
         {
             let name = self.axis_letters[i];
-            let span = self.words.axis_span(&self.rules(), i);
+            let span = self.op_axis_span(i);
             return Err(self.alarm(
                 Condition::TcpcRotaryWordInType2,
                 span,
@@ -851,7 +851,7 @@ impl Controller<'_> {
     /// Mitsubishi; on FANUC they are left for the unused-word check.
     /// Returns whether a vector was given.
     fn tcpc_vector(&mut self, kind: TcpcType) -> Result<bool, Alarm> {
-        let Some(span) = self.words.vector_span() else {
+        let Some(span) = self.op_vector_span() else {
             return Ok(false);
         };
         if kind == TcpcType::Angles {
@@ -860,8 +860,7 @@ impl Controller<'_> {
             }
             return Ok(false);
         }
-        let rules = self.rules();
-        let v = Vec3::from(self.words.vector(&rules));
+        let v = Vec3::from(self.op_vector());
         if v.norm() <= TRAVEL_EPSILON {
             return Err(self.alarm(
                 Condition::ToolVectorZero,

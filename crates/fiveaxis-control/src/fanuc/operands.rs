@@ -201,29 +201,14 @@ impl Words {
         Ok(value)
     }
 
-    /// F: the feed, times `scale` (inch to mm), not negative.
-    pub(crate) fn feed(&mut self, scale: f64) -> Result<Option<f64>, Alarm> {
-        let Some(word) = self.take(b'F') else {
-            return Ok(None);
-        };
-        if word.value < 0.0 {
-            return Err(self.alarm(
-                Condition::ValueOutOfRange,
-                Some(word.span),
-                "F must not be negative".into(),
-            ));
-        }
-        Ok(Some(word.value * scale))
+    /// F: the feed, times `scale` (inch to mm), and where it is written.
+    pub(crate) fn feed(&mut self, scale: f64) -> Option<(f64, Span)> {
+        self.take(b'F').map(|word| (word.value * scale, word.span))
     }
 
     /// Where F is written, if the block has it.
     pub(crate) fn feed_span(&self) -> Option<Span> {
         self.peek(b'F').map(|w| w.span)
-    }
-
-    /// Whether the block gives a feed.
-    pub(crate) fn has_feed(&self) -> bool {
-        self.has(b'F')
     }
 
     /// S: the spindle speed, rev/min; `real`: a real number not negative
@@ -246,25 +231,12 @@ impl Words {
         Ok(Some(word.value))
     }
 
-    /// T: the tool number; beyond `memory` (the offsets file's highest
-    /// tool) an alarm.
-    pub(crate) fn tool_number(&mut self, memory: Option<u32>) -> Result<Option<u32>, Alarm> {
+    /// T: the tool number, and where it is written.
+    pub(crate) fn tool_number(&mut self) -> Result<Option<(u32, Span)>, Alarm> {
         let Some(word) = self.take(b'T') else {
             return Ok(None);
         };
-        let t = self.integer(&word, 99_999_999)?;
-        if let Some(max) = memory
-            && t > max
-        {
-            return Err(self.alarm(
-                Condition::IllegalOffsetNumber,
-                Some(word.span),
-                format!(
-                    "T{t} is beyond the offset memory: the offsets file holds tools up to {max}"
-                ),
-            ));
-        }
-        Ok(Some(t))
+        Ok(Some((self.integer(&word, 99_999_999)?, word.span)))
     }
 
     /// An offset number (H, D): 0 to the offset memory's end.

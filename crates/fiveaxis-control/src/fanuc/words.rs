@@ -145,44 +145,13 @@ impl Words {
     }
 
     /// Empties the set for a block of commands (`crate::command`) on
-    /// `line`: the values the commands give are set one by one
-    /// ([`Words::set`], [`Words::push_m`]).
+    /// `line`: it has no words.
     pub fn clear(&mut self, line: u32) {
         self.present = 0;
         self.used = 0;
         self.g_len = 0;
         self.m_len = 0;
         self.line = line;
-    }
-
-    /// Sets the value of `letter` from a command: a value in the kernel's
-    /// units, which no reading rule of a tape changes (it counts as
-    /// computed and written with a decimal point).
-    pub fn set(&mut self, letter: u8, value: f64, span: Span) {
-        self.present |= 1 << index(letter);
-        self.by_letter[index(letter)] = Some(Word {
-            letter,
-            value,
-            decimal_point: true,
-            code: None,
-            computed: true,
-            span,
-        });
-    }
-
-    /// Adds M function `number` from a command. Alarms past the kernel's
-    /// bound of M functions per block.
-    pub fn push_m(&mut self, number: u16, span: Span) -> Result<(), Alarm> {
-        if self.m_len >= MAX_M_CODES {
-            return Err(self.alarm(
-                Condition::GCodeConflict,
-                Some(span),
-                "too many M functions in one block".into(),
-            ));
-        }
-        self.m[self.m_len] = (Code::new(number, 0), span);
-        self.m_len += 1;
-        Ok(())
     }
 
     /// The word with this letter, marking it used.
