@@ -11,7 +11,7 @@ use fiveaxis_machine::{Control, Joints, MAX_AXES, Machine, Offsets, SetupError, 
 use crate::alarm::{Alarm, Condition};
 use crate::command::{DataSetting, OffsetMemory, ToolField};
 use crate::dialect::Dialect;
-use crate::fanuc::{AddedLength, Rules, Words};
+use crate::fanuc::{AddedLength, Classify, GCodes, Rules, Words};
 use crate::modal::{
     ContourControl, CuttingMode, Distance, FeedMode, LengthMode, Modal, MotionMode, Plane,
     TcpcType, Units,
@@ -35,6 +35,7 @@ mod system_vars;
 mod tcpc;
 mod threading;
 
+pub(crate) use coordinates::{MIRROR, POLAR, ROTATION, SCALING};
 pub use cycles::{MAX_CYCLE_SEGMENTS, PECK_CLEARANCE, PECK_RETRACT};
 pub use engrave::SERIAL_VARIABLE;
 pub use m_codes::ProgramStop;
@@ -745,156 +746,12 @@ impl<'m> Controller<'m> {
     // ----- G codes --------------------------------------------------------
 
     fn classify_g_codes(&self) -> Result<GCodes, Alarm> {
-        let mut codes = GCodes::default();
-        let haas = self.dialect.haas_codes;
-        let twp = self.twp_remap();
-        for &(code, span) in &self.words.g[..self.words.g_len] {
-            let kind = match (code.major, code.minor) {
-                // LinuxCNC's tilted-working-plane remap (coordinates/twp.rs).
-                (68, 2..=4) | (69, 0) if twp => GKind::Feature,
-                (53, 1 | 3 | 6) if twp => GKind::OneShot,
-                // Without the remap LinuxCNC has none of them.
-                (68, 2..=4) | (53, 1 | 6) if self.dialect.rs274ngc => {
-                    return Err(self.alarm(
-                        Condition::ImproperGCode,
-                        Some(span),
-                        format!("G{code} is not a G code of this control (LinuxCNC has it only through a tilted-working-plane remap: twp_remap in the machine file)"),
-                    ));
-                }
-                // Haas's own codes (controller/haas.rs).
-                (234, 0) if haas => GKind::Length,
-                (254 | 255, 0) if haas => GKind::Dwo,
-                (268 | 269, 0) if haas => GKind::Feature,
-                (253, 0) if haas => GKind::OneShot,
-                // G47 text engraving (controller/engrave.rs).
-                (47, 0) if haas => GKind::OneShot,
-                (187, 0) if haas => GKind::Smoothness,
-                (154 | 110..=129, 0) if haas => GKind::Work,
-                (0..=3, 0) => GKind::Motion,
-                // LinuxCNC's spindle-synchronized motion and threading
-                // cycle (controller/threading.rs): group 1.
-                (33, 0 | 1) | (76, 0) | (5, 0 | 1) if self.dialect.rs274ngc => GKind::Motion,
-                (17..=19, 0) => GKind::Plane,
-                (90 | 91, 0) => GKind::Distance,
-                (90 | 91, 1) if self.dialect.rs274ngc => GKind::ArcDistance,
-                // LinuxCNC G7 / G8: lathe diameter / radius mode.
-                (7 | 8, 0) if self.dialect.rs274ngc => GKind::Diameter,
-                (93..=95, 0) => GKind::Feed,
-                (20 | 21, 0) => GKind::Units,
-                (43 | 44 | 49, 0) | (43, 1 | 4 | 5) => GKind::Length,
-                // LinuxCNC G43.2: an additional length offset.
-                (43, 2) if self.dialect.rs274ngc => GKind::Length,
-                (54..=59, 0) | (54, 1) => GKind::Work,
-                (54, 4) => GKind::SetupError,
-                (4 | 10 | 27 | 28 | 30 | 52 | 53 | 92, 0) | (53, 1 | 6) => GKind::OneShot,
-                // LinuxCNC G92.1 / G92.2 / G92.3.
-                (92, 1..=3) | (28 | 30, 1) if self.dialect.rs274ngc => GKind::OneShot,
-                (59, 1..=3) if self.dialect.rs274ngc => GKind::Work,
-                (68, 2..=4) => GKind::Feature,
-                (61..=64, 0) => GKind::Cutting,
-                // LinuxCNC G61.1: exact path (speed only, as G61).
-                (61, 1) if self.dialect.rs274ngc => GKind::Cutting,
-                // G05 is refused in 3-D tool compensation (below).
-                (5, 0) if self.comp3d_forbidden(code).is_none() => GKind::Accuracy,
-                (5, 1) | (8, 0) => GKind::Accuracy,
-                // Exact stop for one block: speed only.
-                (9, 0) => GKind::ExactStop,
-                (40..=42, 0) => GKind::Cutter,
-                (73 | 74 | 76 | 80..=89, 0) => GKind::Cycle,
-                (98 | 99, 0) => GKind::CycleReturn,
-                // Program transforms (controller/coordinates); G51 is
-                // refused in 3-D tool compensation (below).
-                (51, 0) if self.comp3d_forbidden(code).is_none() => GKind::Frame,
-                (15 | 16 | 50 | 68 | 69, 0) | (50 | 51, 1) => GKind::Frame,
-                _ => {
-                    if let Some((condition, what)) = self.comp3d_forbidden(code) {
-                        return Err(self.alarm(
-                            condition,
-                            Some(span),
-                            format!("G{code} ({what}) cannot be used in 3-D tool compensation"),
-                        ));
-                    }
-                    return Err(self.alarm(
-                        Condition::ImproperGCode,
-                        Some(span),
-                        format!("G{code} is not a G code of this control"),
-                    ));
-                }
-            };
-            match kind {
-                GKind::OneShot => {
-                    if let Some((other, _)) = codes.one_shot {
-                        return Err(self.alarm(
-                            Condition::GCodeConflict,
-                            Some(span),
-                            format!("G{code} and G{other} cannot be in the same block"),
-                        ));
-                    }
-                    codes.one_shot = Some((code, span));
-                }
-                GKind::Motion => codes.motion = Some((code, span)),
-                GKind::Plane => codes.plane = Some(code),
-                GKind::Distance => codes.distance = Some(code),
-                GKind::ArcDistance => codes.arc_distance = Some(code),
-                GKind::Diameter => codes.diameter = Some(code.major == 7),
-                GKind::Feed => codes.feed = Some(code),
-                GKind::Units => codes.units = Some(code),
-                GKind::Length => codes.length = Some((code, span)),
-                GKind::Work => codes.work = Some((code, span)),
-                GKind::Cutter => codes.cutter = Some((code, span)),
-                GKind::SetupError => codes.setup = Some((code, span)),
-                GKind::Cutting => codes.cutting = Some(code),
-                GKind::Accuracy => {
-                    if let Some((other, _)) = codes.accuracy {
-                        return Err(self.alarm(
-                            Condition::GCodeConflict,
-                            Some(span),
-                            format!("G{code} and G{other} cannot be in the same block"),
-                        ));
-                    }
-                    codes.accuracy = Some((code, span));
-                }
-                GKind::Cycle => {
-                    // G80 also ends M29's rigid tapping.
-                    codes.canned_cancel |= code.major == 80;
-                    codes.cycle = Some((code, span));
-                }
-                GKind::CycleReturn => codes.cycle_return = Some(code),
-                GKind::Feature => codes.feature = Some((code, span)),
-                GKind::Frame => {
-                    // G69 cancels the tilted working plane too.
-                    if code == Code::new(69, 0) {
-                        codes.feature = Some((code, span));
-                    }
-                    codes.frames[coordinates::slot(code)] = Some((code, span));
-                }
-                GKind::ExactStop => codes.exact_stop = true,
-                GKind::Dwo => codes.dwo = Some((code, span)),
-                GKind::Smoothness => codes.smoothness = Some(span),
-            }
-        }
-        // G04, G10 and G92 do not move; G53 moves at rapid whatever the
-        // motion code (posts write `G90 G53 G00 Z0.`), which stays modal.
-        if let (Some((motion, span)), Some((one, _))) = (codes.motion, codes.one_shot)
-            && !matches!(one.major, 4 | 10 | 92)
-            && !(one.major == 53 && (one.minor == 0 || !twp) && motion.major <= 1)
-        {
-            return Err(self.alarm(
-                Condition::GCodeConflict,
-                Some(span),
-                format!("G{motion} and G{one} cannot be in the same block"),
-            ));
-        }
-        // The TWP remap's codes are of modal group 1 (REMAP … modalgroup=1):
-        // one motion code per block.
-        if twp && let (Some((motion, span)), Some((feature, _))) = (codes.motion, codes.feature) {
-            return Err(self.alarm(
-                Condition::GCodeConflict,
-                Some(span),
-                format!("G{motion} and G{feature} are both of modal group 1 and cannot be in the same block"),
-            ));
-        }
-        Ok(codes)
+        self.words.g_codes(&Classify {
+            haas: self.dialect.haas_codes,
+            ngc: self.dialect.rs274ngc,
+            twp: self.twp_remap(),
+            comp3d: self.state.comp3d.active,
+        })
     }
 
     fn apply_modal(&mut self, codes: &GCodes) -> Result<(), Alarm> {
@@ -1959,83 +1816,4 @@ enum LengthChange {
     Moves,
     /// Cancelled where it stands: no axis moves for it.
     InPlace,
-}
-
-#[derive(Clone, Copy, Debug)]
-enum GKind {
-    Motion,
-    Plane,
-    Distance,
-    Feed,
-    Units,
-    Length,
-    Work,
-    OneShot,
-    Cutter,
-    SetupError,
-    Cutting,
-    Accuracy,
-    Cycle,
-    CycleReturn,
-    Feature,
-    Frame,
-    /// G09: exact stop for one block.
-    ExactStop,
-    /// Haas G254 / G255 (group 23).
-    Dwo,
-    /// Haas G187.
-    Smoothness,
-    /// LinuxCNC G90.1 / G91.1: arc centre distance mode.
-    ArcDistance,
-    Diameter,
-}
-
-/// The G codes of one block, by group; the last of a group wins.
-#[derive(Clone, Copy, Debug, Default)]
-struct GCodes {
-    motion: Option<(Code, Span)>,
-    /// LinuxCNC: the block's group 08 comes from a kinematics switch or a
-    /// tool length change, which move nothing: the axes stay and the
-    /// programmed position is read again under the new kinematics and
-    /// length (as LinuxCNC's interpreter synchronises with motion).
-    length_in_place: bool,
-    /// LinuxCNC: the block's group 08 is the kinematics switch's own, not
-    /// a programmed G43 (so not "G43 without H": the H in force stays).
-    length_synthesized: bool,
-    /// LinuxCNC: a programmed G43 without H, turned into the TCP
-    /// kinematics' G43.4: it takes the tool in the spindle after the
-    /// block's M6 (overview.adoc, order of execution: change tool before
-    /// tool length offsets).
-    length_from_spindle: bool,
-    plane: Option<Code>,
-    distance: Option<Code>,
-    /// LinuxCNC G90.1 / G91.1.
-    arc_distance: Option<Code>,
-    /// LinuxCNC G7 (true) / G8.
-    diameter: Option<bool>,
-    feed: Option<Code>,
-    units: Option<Code>,
-    length: Option<(Code, Span)>,
-    work: Option<(Code, Span)>,
-    cutter: Option<(Code, Span)>,
-    setup: Option<(Code, Span)>,
-    one_shot: Option<(Code, Span)>,
-    /// Group 15.
-    cutting: Option<Code>,
-    /// G05.1, G05 or G08 (one per block).
-    accuracy: Option<(Code, Span)>,
-    /// G80: ends rigid tapping.
-    canned_cancel: bool,
-    /// G09: exact stop at the end of this block.
-    exact_stop: bool,
-    cycle: Option<(Code, Span)>,
-    cycle_return: Option<Code>,
-    /// G68.2 or G69 (tilted working plane).
-    feature: Option<(Code, Span)>,
-    /// G15/G16, G50.1/G51.1, G50/G51, G68/G69 (`coordinates::slot`).
-    frames: [Option<(Code, Span)>; 4],
-    /// Haas G254 / G255: dynamic work offset on / off.
-    dwo: Option<(Code, Span)>,
-    /// Haas G187 (its span).
-    smoothness: Option<Span>,
 }

@@ -13,11 +13,11 @@
 //! manual describes) the compensated point goes through the same
 //! kinematics.
 
-use fiveaxis_gcode::Code;
 use fiveaxis_machine::Vec3;
 
-use super::{Controller, GCodes};
-use crate::alarm::{Alarm, Condition};
+use super::Controller;
+use crate::alarm::Alarm;
+use crate::fanuc::GCodes;
 use crate::modal::{MotionMode, TcpcType};
 
 /// 3-D tool compensation state.
@@ -34,24 +34,6 @@ pub(super) struct Comp3d {
 }
 
 impl Controller<'_> {
-    /// G codes that 3-D tool compensation forbids in its mode, with their
-    /// alarms: `None` when `code` is not one of them or the mode is off.
-    pub(super) fn comp3d_forbidden(&self, code: Code) -> Option<(Condition, &'static str)> {
-        if !self.state.comp3d.active {
-            return None;
-        }
-        match code.major {
-            5 => Some((
-                Condition::Comp3dHighSpeedCycle,
-                "high-speed cycle machining",
-            )),
-            31 => Some((Condition::Comp3dSkip, "the skip function")),
-            51 => Some((Condition::Comp3dScaling, "scaling")),
-            45..=48 => Some((Condition::Comp3dToolOffset, "tool offset")),
-            _ => None,
-        }
-    }
-
     /// Whether a G41 / G42 block starts 3-D tool compensation (it gives all
     /// of I, J, K and is not an arc) rather than cutter compensation C.
     pub(super) fn starts_comp3d(&self, codes: &GCodes) -> bool {

@@ -38,7 +38,8 @@ mod setup_error;
 mod twp;
 
 pub(super) use feature_frame::{Feature, Pending};
-pub(super) use program_transforms::{Frames, slot};
+pub(super) use program_transforms::Frames;
+pub(crate) use program_transforms::{MIRROR, POLAR, ROTATION, SCALING};
 
 impl Controller<'_> {
     /// The active work offset W plus G92 and external shifts.

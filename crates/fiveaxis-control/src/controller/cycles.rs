@@ -56,9 +56,10 @@
 use fiveaxis_gcode::{Code, Span};
 use fiveaxis_machine::{Joints, Vec3};
 
-use super::{Controller, GCodes};
+use super::Controller;
 use crate::alarm::{Alarm, Condition};
 use crate::fanuc::DwellRules;
+use crate::fanuc::GCodes;
 use crate::modal::{Distance, TcpcType};
 use crate::segment::{Motion, Segment};
 

@@ -8,8 +8,9 @@
 use fiveaxis_gcode::{Code, Span};
 use fiveaxis_machine::{Control, MFunction};
 
-use super::{Controller, Flow, GCodes, at_line};
+use super::{Controller, Flow, at_line};
 use crate::alarm::{Alarm, Condition};
+use crate::fanuc::GCodes;
 use crate::segment::{Path, Segment};
 
 /// Why the last block would stop a real control (the run goes on).

@@ -13,6 +13,8 @@
 //! same block say (`G20 X1.`, `G16 X Y`, `G91 G10 …`): the control reads
 //! them in that order too.
 //!
+//! * `gcodes.rs`: the block's G codes by modal group, and the codes a
+//!   control refuses.
 //! * `words.rs`: the block's words by address, and which ones a function
 //!   used (a word no function uses is an alarm).
 //! * `values.rs`: the decimal-point and inch rules ([`Rules`]).
@@ -35,6 +37,7 @@ mod cycles;
 mod data_setting;
 mod engrave;
 mod frames;
+mod gcodes;
 mod haas;
 mod motion;
 mod operands;
@@ -47,6 +50,7 @@ pub(crate) mod words;
 pub(crate) use cycles::DwellRules;
 pub(crate) use data_setting::KERNEL_WORK_SYSTEMS;
 pub(crate) use frames::ScaleFactors;
+pub(crate) use gcodes::{Classify, GCodes};
 pub(crate) use motion::ArcCenter;
 pub(crate) use operands::AddedLength;
 use operands::CENTER_LETTERS;

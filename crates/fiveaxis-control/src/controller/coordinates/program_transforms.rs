@@ -23,29 +23,20 @@ use fiveaxis_gcode::{Code, Span};
 use fiveaxis_machine::{Joints, Vec3};
 
 use crate::alarm::{Alarm, Condition};
-use crate::controller::{Controller, GCodes, Targets};
+use crate::controller::{Controller, Targets};
 use crate::cutter::Side;
+use crate::fanuc::GCodes;
 use crate::fanuc::ScaleFactors;
 use crate::modal::{Distance, MotionMode, Plane};
 
 /// Slots of [`GCodes::frames`]: one per modal group.
-pub(in crate::controller) const POLAR: usize = 0;
+pub(crate) const POLAR: usize = 0;
 /// Group 22: G50.1 / G51.1.
-pub(in crate::controller) const MIRROR: usize = 1;
+pub(crate) const MIRROR: usize = 1;
 /// Group 11: G50 / G51.
-pub(in crate::controller) const SCALING: usize = 2;
+pub(crate) const SCALING: usize = 2;
 /// Group 16: G68 / G69.
-pub(in crate::controller) const ROTATION: usize = 3;
-
-/// The slot of a transform code.
-pub(in crate::controller) fn slot(code: Code) -> usize {
-    match (code.major, code.minor) {
-        (15 | 16, _) => POLAR,
-        (50 | 51, 1) => MIRROR,
-        (50 | 51, _) => SCALING,
-        _ => ROTATION,
-    }
-}
+pub(crate) const ROTATION: usize = 3;
 
 /// Scaling: about `center` (where the scaling acts: already mirrored), by
 /// a factor per linear axis.
