@@ -9,15 +9,16 @@ use fiveaxis_gcode::{Block, Code, Span};
 use fiveaxis_machine::{Control, Joints, MAX_AXES, Machine, Offsets, SetupError, Side, Vec3};
 
 use crate::alarm::{Alarm, Condition};
+use crate::command::CutterSide;
 use crate::command::{DataSetting, OffsetMemory, ToolField};
 use crate::dialect::Dialect;
-use crate::fanuc::{AddedLength, Classify, GCodes, Rules, Words};
+use crate::fanuc::{AddedLength, Classify, GCodes, LengthCode, Rules, Words};
 use crate::modal::{
-    ContourControl, CuttingMode, Distance, FeedMode, LengthMode, Modal, MotionMode, Plane,
-    TcpcType, Units,
+    ContourControl, CuttingMode, Distance, LengthMode, Modal, MotionMode, TcpcType, Units,
 };
 use crate::reach;
 use crate::segment::{Arc, Motion, Path, Segment, TipPath};
+use linuxcnc::NgcMotion;
 
 mod commands;
 mod comp3d;
@@ -36,8 +37,10 @@ mod tcpc;
 mod threading;
 
 pub(crate) use coordinates::{MIRROR, POLAR, ROTATION, SCALING};
+pub(crate) use cycles::Cycle;
 pub use cycles::{MAX_CYCLE_SEGMENTS, PECK_CLEARANCE, PECK_RETRACT};
 pub use engrave::SERIAL_VARIABLE;
+pub(crate) use linuxcnc::NgcMotion as NgcMotionMode;
 pub use m_codes::ProgramStop;
 use motion::arc_sweep;
 pub use system_vars::SystemVarFault;
@@ -751,119 +754,64 @@ impl<'m> Controller<'m> {
             ngc: self.dialect.rs274ngc,
             twp: self.twp_remap(),
             comp3d: self.state.comp3d.active,
+            inch_input: self.machine.params.input_unit == fiveaxis_machine::InputUnit::Inch,
+            g44_cancels: self.dialect.g44_cancels,
         })
     }
 
     fn apply_modal(&mut self, codes: &GCodes) -> Result<(), Alarm> {
         let modal = &mut self.state.modal;
-        if let Some((code, _)) = codes.motion {
-            self.state.ngc_motion = linuxcnc::NgcMotion::of(code);
-            if self.state.ngc_motion != Some(linuxcnc::NgcMotion::CubicSpline) {
+        if let Some((mode, ngc, _)) = codes.motion {
+            self.state.ngc_motion = ngc;
+            if ngc != Some(NgcMotion::CubicSpline) {
                 self.state.spline_tangent = None;
             }
-            modal.motion = match code.major {
-                0 => MotionMode::Rapid,
-                2 => MotionMode::Cw,
-                3 => MotionMode::Ccw,
-                _ => MotionMode::Linear,
-            };
+            modal.motion = mode;
         }
         if codes.cycle.is_some() {
             self.state.ngc_motion = None;
             self.state.spline_tangent = None;
         }
-        let modal = &mut self.state.modal;
-        if let Some(code) = codes.plane {
-            let plane = match code.major {
-                17 => Plane::Xy,
-                18 => Plane::Zx,
-                _ => Plane::Yz,
-            };
-            if plane != modal.plane && self.cutter.routing() {
-                return Err(self.alarm(
-                    Condition::CrcPlaneChange,
-                    None,
-                    "the plane cannot change in cutter compensation C".into(),
-                ));
-            }
+        if let Some(plane) = codes.plane
+            && plane != self.state.modal.plane
+            && self.cutter.routing()
+        {
+            return Err(self.alarm(
+                Condition::CrcPlaneChange,
+                None,
+                "the plane cannot change in cutter compensation C".into(),
+            ));
         }
         let modal = &mut self.state.modal;
-        if let Some(code) = codes.plane {
-            modal.plane = match code.major {
-                17 => Plane::Xy,
-                18 => Plane::Zx,
-                _ => Plane::Yz,
-            };
+        if let Some(plane) = codes.plane {
+            modal.plane = plane;
         }
-        if let Some(code) = codes.distance {
-            modal.distance = if code.major == 90 {
-                Distance::Absolute
-            } else {
-                Distance::Incremental
-            };
+        if let Some(distance) = codes.distance {
+            modal.distance = distance;
         }
-        if let Some(code) = codes.arc_distance {
-            modal.ijk_absolute = code.major == 90;
+        if let Some(absolute) = codes.arc_distance {
+            modal.ijk_absolute = absolute;
         }
         if let Some(diameter) = codes.diameter {
             modal.diameter_mode = diameter;
         }
-        if let Some(code) = codes.feed {
-            modal.feed_mode = match code.major {
-                93 => FeedMode::InverseTime,
-                94 => FeedMode::PerMinute,
-                _ => FeedMode::PerRevolution,
-            };
+        if let Some(feed) = codes.feed {
+            modal.feed_mode = feed;
         }
-        if let Some(code) = codes.units
-            && self.dialect.haas_codes
-            && (code.major == 20)
-                != (self.machine.params.input_unit == fiveaxis_machine::InputUnit::Inch)
-        {
-            // Haas NGC mill operator's manual, G20 / G21: "Use Setting 9
-            // to select between inch and metric programming. G20 in a
-            // program causes an alarm if Setting 9 is not set to inch";
-            // G21 against an inch Setting 9 likewise (the codes are there
-            // "to make sure that the inch/metric selection is set
-            // correctly").
-            let (unit, setting) = if code.major == 20 {
-                ("inch", "MM")
-            } else {
-                ("mm", "INCH")
-            };
-            return Err(self.alarm(
-                Condition::UnitsMismatch,
-                None,
-                format!(
-                    "G{} asks for {unit} while Setting 9 (the machine's input_unit) is {setting}",
-                    code.major
-                ),
-            ));
-        }
-        let modal = &mut self.state.modal;
-        if let Some(code) = codes.units {
-            modal.units = if code.major == 20 {
-                Units::Inch
-            } else {
-                Units::Metric
-            };
+        if let Some(units) = codes.units {
+            modal.units = units;
         }
         if let Some((code, span)) = codes.work {
             self.state.modal.work = self.work_select(code, span)?;
         }
-        if let Some(code) = codes.cutting {
+        if let Some(cutting) = codes.cutting {
             if self.dialect.rs274ngc {
                 self.state.modal.blend = None;
-                if code.major == 64 {
+                if cutting == CuttingMode::Cutting {
                     self.blend_tolerance()?;
                 }
             }
-            self.state.modal.cutting = match code.major {
-                61 => CuttingMode::ExactStop,
-                62 => CuttingMode::CornerOverride,
-                63 => CuttingMode::Tapping,
-                _ => CuttingMode::Cutting,
-            };
+            self.state.modal.cutting = cutting;
         }
         if let Some((code, span)) = codes.accuracy {
             self.accuracy_mode(code, span)?;
@@ -948,40 +896,35 @@ impl<'m> Controller<'m> {
         let mut in_place = false;
         self.state.tcpc.startup = false;
         let dynamic_before = self.state.dynamic_length;
-        if let Some((code, span)) = codes.length {
+        if let Some((what, span, _)) = codes.length {
             let length_before = self.tool_length();
             self.state.dynamic_length = None;
-            self.state.modal.length = match (code.major, code.minor) {
-                (43, 2) => {
+            self.state.modal.length = match what {
+                LengthCode::Added => {
                     let added = self.additional_length_offset(span)?;
                     self.state.dynamic_length = Some(length_before + added);
                     LengthMode::Plus
                 }
-                (234, _) => {
+                LengthCode::HaasTcpc => {
                     self.start_haas_tcpc(span)?;
                     LengthMode::Tcpc(TcpcType::Angles)
                 }
-                (43, 1) if self.dialect.rs274ngc => {
+                LengthCode::Given => {
                     self.dynamic_length_offset(span, "G43.1")?;
                     LengthMode::Plus
                 }
-                (43, 1) => LengthMode::ToolAxis,
-                (43, minor @ (4 | 5)) => {
-                    let kind = if minor == 4 {
-                        TcpcType::Angles
-                    } else {
-                        TcpcType::Vector
-                    };
+                LengthCode::ToolAxis => LengthMode::ToolAxis,
+                LengthCode::Tcpc(kind) => {
                     in_place = self.start_tcpc(kind, span)? == LengthChange::InPlace;
                     LengthMode::Tcpc(kind)
                 }
-                (43, _) => LengthMode::Plus,
-                (44, _) if self.dialect.g44_cancels => {
+                LengthCode::Plus => LengthMode::Plus,
+                LengthCode::OffInPlace => {
                     in_place = true;
                     LengthMode::Off
                 }
-                (44, _) => LengthMode::Minus,
-                _ => LengthMode::Off,
+                LengthCode::Minus => LengthMode::Minus,
+                LengthCode::Off => LengthMode::Off,
             };
             in_place |= codes.length_in_place;
             // The H number stays modal through G49 (FANUC: #4111 keeps it;
@@ -998,7 +941,7 @@ impl<'m> Controller<'m> {
             && (codes.length_from_spindle
                 || codes
                     .length
-                    .is_some_and(|(c, _)| c.major == 43 && c.minor == 0))
+                    .is_some_and(|(what, _, _)| what == LengthCode::Plus))
         {
             // LinuxCNC: G43 without H takes the tool in the spindle
             // (g-code.adoc, G43: "If H is not given, the current tool").
@@ -1030,10 +973,10 @@ impl<'m> Controller<'m> {
     /// compensation C. Returns whether the offset vector changed.
     fn apply_cutter(&mut self, codes: &GCodes) -> Result<bool, Alarm> {
         self.cutter.vector = None;
-        if let Some((code, span)) = codes.cutter {
-            let side = match code.major {
-                41 if !self.starts_comp3d(codes) => Some(crate::cutter::Side::Left),
-                42 if !self.starts_comp3d(codes) => Some(crate::cutter::Side::Right),
+        if let Some((side, span)) = codes.cutter {
+            let side = match side {
+                CutterSide::Left if !self.starts_comp3d(codes) => Some(crate::cutter::Side::Left),
+                CutterSide::Right if !self.starts_comp3d(codes) => Some(crate::cutter::Side::Right),
                 _ => None,
             };
             self.select_cutter_side(side);

@@ -17,6 +17,7 @@ use fiveaxis_machine::Vec3;
 
 use super::Controller;
 use crate::alarm::Alarm;
+use crate::command::CutterSide;
 use crate::fanuc::GCodes;
 use crate::modal::{MotionMode, TcpcType};
 
@@ -38,8 +39,10 @@ impl Controller<'_> {
     /// of I, J, K and is not an arc) rather than cutter compensation C.
     pub(super) fn starts_comp3d(&self, codes: &GCodes) -> bool {
         let arc = matches!(self.state.modal.motion, MotionMode::Cw | MotionMode::Ccw);
-        matches!(codes.cutter, Some((code, _)) if code.major == 41 || code.major == 42)
-            && !arc
+        matches!(
+            codes.cutter,
+            Some((CutterSide::Left | CutterSide::Right, _))
+        ) && !arc
             && self.words.has_whole_vector()
     }
 
@@ -51,7 +54,10 @@ impl Controller<'_> {
         let arc = matches!(self.state.modal.motion, MotionMode::Cw | MotionMode::Ccw);
         if self.starts_comp3d(codes) {
             self.check_comp3d_startup()?;
-            let sign = if codes.cutter.is_some_and(|(code, _)| code.major == 41) {
+            let sign = if codes
+                .cutter
+                .is_some_and(|(side, _)| side == CutterSide::Left)
+            {
                 1.0
             } else {
                 -1.0
@@ -62,7 +68,10 @@ impl Controller<'_> {
                 ijk: self.read_ijk(),
                 vector: before,
             };
-        } else if codes.cutter.is_some_and(|(code, _)| code.major == 40) {
+        } else if codes
+            .cutter
+            .is_some_and(|(side, _)| side == CutterSide::Off)
+        {
             self.state.comp3d = Comp3d::default();
         } else if self.state.comp3d.active
             && !arc

@@ -125,7 +125,8 @@ impl Cycle {
         }
     }
 
-    fn of(code: Code) -> Option<Self> {
+    /// The cycle of a group-09 code (`None`: G80, the end of the cycle).
+    pub(crate) fn of(code: Code) -> Option<Self> {
         Some(match code.major {
             73 => Cycle::G73,
             74 => Cycle::G74,
@@ -266,23 +267,14 @@ impl Controller<'_> {
     /// Groups 09 and 10 of the block: G73 … G89, G80, G98, G99; a group-01
     /// code cancels the cycle. Called after the other modal groups.
     pub(super) fn apply_cycle_codes(&mut self, codes: &GCodes) -> Result<(), Alarm> {
-        if let Some(code) = codes.cycle_return {
-            self.state.cycle.return_initial = code.major == 98;
-        }
-        if let (Some((cycle, span)), Some((motion, _))) = (codes.cycle, codes.motion)
-            && Cycle::of(cycle).is_some()
-        {
-            return Err(self.alarm(
-                Condition::GCodeConflict,
-                Some(span),
-                format!("G{cycle} and G{motion} cannot be in the same block"),
-            ));
+        if let Some(initial) = codes.cycle_return {
+            self.state.cycle.return_initial = initial;
         }
         if codes.motion.is_some() {
             self.state.cycle.cancel();
         }
-        if let Some((code, _)) = codes.cycle {
-            match Cycle::of(code) {
+        if let Some((cycle, _)) = codes.cycle {
+            match cycle {
                 None => self.state.cycle.cancel(),
                 Some(cycle) => {
                     if self.state.cycle.cycle.is_none() {

@@ -26,7 +26,7 @@ use crate::modal::LengthMode;
 
 /// LinuxCNC's motion modes of group 1 beyond G0–G3.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(super) enum NgcMotion {
+pub(crate) enum NgcMotion {
     /// G5 (`controller/splines.rs`).
     CubicSpline,
     /// G5.1.
@@ -41,7 +41,7 @@ pub(super) enum NgcMotion {
 
 impl NgcMotion {
     /// The mode a group-1 code selects (`None` for G0–G3).
-    pub(super) fn of(code: fiveaxis_gcode::Code) -> Option<Self> {
+    pub(crate) fn of(code: fiveaxis_gcode::Code) -> Option<Self> {
         Some(match (code.major, code.minor) {
             (5, 0) => Self::CubicSpline,
             (5, 1) => Self::QuadraticSpline,

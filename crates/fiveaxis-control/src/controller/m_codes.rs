@@ -10,7 +10,8 @@ use fiveaxis_machine::{Control, MFunction};
 
 use super::{Controller, Flow, at_line};
 use crate::alarm::{Alarm, Condition};
-use crate::fanuc::GCodes;
+use crate::fanuc::{GCodes, LengthCode};
+use crate::modal::TcpcType;
 use crate::segment::{Path, Segment};
 
 /// Why the last block would stop a real control (the run goes on).
@@ -106,13 +107,13 @@ impl Controller<'_> {
         if self.machine.control == Control::LinuxCnc {
             return self.linuxcnc_kinematics(codes);
         }
-        for &(code, span) in self.words.m_codes() {
+        for &(code, span) in self.op_m_codes() {
             let g = match self.m_function(code) {
-                Some(MFunction::TcpcOn) => Code::new(43, 4),
-                Some(MFunction::TcpcOff) => Code::new(49, 0),
+                Some(MFunction::TcpcOn) => (LengthCode::Tcpc(TcpcType::Angles), Code::new(43, 4)),
+                Some(MFunction::TcpcOff) => (LengthCode::Off, Code::new(49, 0)),
                 _ => continue,
             };
-            if let Some((other, _)) = codes.length {
+            if let Some((_, _, other)) = codes.length {
                 return Err(self.alarm(
                     Condition::GCodeConflict,
                     Some(span),
@@ -121,7 +122,7 @@ impl Controller<'_> {
                     ),
                 ));
             }
-            codes.length = Some((g, span));
+            codes.length = Some((g.0, span, g.1));
         }
         Ok(())
     }
@@ -137,7 +138,7 @@ impl Controller<'_> {
             self.state.kinematics_pending = false;
             switch = Some((true, Span::default(), None));
         }
-        for &(code, span) in self.words.m_codes() {
+        for &(code, span) in self.op_m_codes() {
             let on = match self.m_function(code) {
                 Some(MFunction::TcpcOn) => true,
                 Some(MFunction::TcpcOff) => false,
@@ -156,11 +157,11 @@ impl Controller<'_> {
         }
         let given = match codes.length {
             None => None,
-            Some((code, span)) if code == Code::new(43, 0) => Some((true, span)),
-            Some((code, span)) if code == Code::new(49, 0) => Some((false, span)),
+            Some((LengthCode::Plus, span, _)) => Some((true, span)),
+            Some((LengthCode::Off, span, _)) => Some((false, span)),
             // Other group 08 codes (G43.1, G44…) act as programmed outside
             // the TCP kinematics.
-            Some((code, span)) => {
+            Some((_, span, code)) => {
                 if self.state.kinematics_tcp || switch.is_some_and(|(on, _, _)| on) {
                     return Err(self.alarm(
                         Condition::GCodeConflict,
@@ -184,14 +185,12 @@ impl Controller<'_> {
         self.state.length_on = length_on;
         codes.length_in_place = true;
         codes.length_synthesized = given.is_none();
-        codes.length = Some((
-            match (tcp, length_on) {
-                (true, _) => Code::new(43, 4),
-                (false, true) => Code::new(43, 0),
-                (false, false) => Code::new(49, 0),
-            },
-            span,
-        ));
+        let (what, name) = match (tcp, length_on) {
+            (true, _) => (LengthCode::Tcpc(TcpcType::Angles), Code::new(43, 4)),
+            (false, true) => (LengthCode::Plus, Code::new(43, 0)),
+            (false, false) => (LengthCode::Off, Code::new(49, 0)),
+        };
+        codes.length = Some((what, span, name));
         if tcp && !length_on && !self.words.has_length_offset() {
             // The TCP kinematics with no tool length: H0. The H number of
             // the last G43 comes back with the next G43 without H.

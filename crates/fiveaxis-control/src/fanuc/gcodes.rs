@@ -6,7 +6,10 @@ use fiveaxis_gcode::{Code, Span};
 
 use super::Words;
 use crate::alarm::{Alarm, Condition};
+use crate::command::CutterSide;
+use crate::controller::{Cycle, NgcMotionMode as NgcMotion};
 use crate::controller::{MIRROR, POLAR, ROTATION, SCALING};
+use crate::modal::{CuttingMode, Distance, FeedMode, MotionMode, Plane, TcpcType, Units};
 
 /// What the classification depends on besides the block.
 #[derive(Clone, Copy, Debug)]
@@ -19,6 +22,10 @@ pub(crate) struct Classify {
     pub twp: bool,
     /// 3-D tool compensation is in force.
     pub comp3d: bool,
+    /// The machine's input unit is the inch (Haas Setting 9).
+    pub inch_input: bool,
+    /// G44 cancels the length offset (Mitsubishi).
+    pub g44_cancels: bool,
 }
 
 /// The transform slot of a program transform code: G15 / G16, G50.1 /
@@ -61,10 +68,55 @@ enum GKind {
     Diameter,
 }
 
+/// A tool length function of group 08.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum LengthCode {
+    /// The length offset along +Z (G43).
+    Plus,
+    /// Along −Z (G44).
+    Minus,
+    /// Off (G49).
+    Off,
+    /// Off, the axes staying where they are (Mitsubishi G44).
+    OffInPlace,
+    /// Along the tool axis (FANUC G43.1).
+    ToolAxis,
+    /// The length given in the block (LinuxCNC G43.1).
+    Given,
+    /// The length given in the block or of a tool, added to the one in
+    /// force (LinuxCNC G43.2).
+    Added,
+    /// Tool centre point control (G43.4 type 1, G43.5 type 2).
+    Tcpc(TcpcType),
+    /// Haas's TCPC (G234).
+    HaasTcpc,
+}
+
+impl LengthCode {
+    /// The function of `code` on a control with these rules.
+    pub(crate) fn of(code: Code, ngc: bool, g44_cancels: bool) -> LengthCode {
+        match (code.major, code.minor) {
+            (43, 2) => LengthCode::Added,
+            (234, _) => LengthCode::HaasTcpc,
+            (43, 1) if ngc => LengthCode::Given,
+            (43, 1) => LengthCode::ToolAxis,
+            (43, 4) => LengthCode::Tcpc(TcpcType::Angles),
+            (43, 5) => LengthCode::Tcpc(TcpcType::Vector),
+            (43, _) => LengthCode::Plus,
+            (44, _) if g44_cancels => LengthCode::OffInPlace,
+            (44, _) => LengthCode::Minus,
+            _ => LengthCode::Off,
+        }
+    }
+}
+
 /// The G codes of one block, by group; the last of a group wins.
 #[derive(Clone, Copy, Debug, Default)]
 pub(crate) struct GCodes {
-    pub motion: Option<(Code, Span)>,
+    /// Group 01: the interpolation, with LinuxCNC's modes beyond G0–G3
+    /// (G5, G5.1, G33, G33.1, G76: linear interpolation with their own
+    /// function).
+    pub motion: Option<(MotionMode, Option<NgcMotion>, Span)>,
     /// LinuxCNC: the block's group 08 comes from a kinematics switch or a
     /// tool length change, which move nothing: the axes stay and the
     /// programmed position is read again under the new kinematics and
@@ -78,29 +130,38 @@ pub(crate) struct GCodes {
     /// block's M6 (overview.adoc, order of execution: change tool before
     /// tool length offsets).
     pub length_from_spindle: bool,
-    pub plane: Option<Code>,
-    pub distance: Option<Code>,
-    /// LinuxCNC G90.1 / G91.1.
-    pub arc_distance: Option<Code>,
+    /// G17 / G18 / G19.
+    pub plane: Option<Plane>,
+    /// G90 / G91.
+    pub distance: Option<Distance>,
+    /// LinuxCNC G90.1 (true: arc centres absolute) / G91.1.
+    pub arc_distance: Option<bool>,
     /// LinuxCNC G7 (true) / G8.
     pub diameter: Option<bool>,
-    pub feed: Option<Code>,
-    pub units: Option<Code>,
-    pub length: Option<(Code, Span)>,
+    /// G93 / G94 / G95.
+    pub feed: Option<FeedMode>,
+    /// G20 / G21.
+    pub units: Option<Units>,
+    /// Group 08: the tool length function, where it is written, and the
+    /// code as written (for messages).
+    pub length: Option<(LengthCode, Span, Code)>,
     pub work: Option<(Code, Span)>,
-    pub cutter: Option<(Code, Span)>,
+    /// Group 07: G40 / G41 / G42.
+    pub cutter: Option<(CutterSide, Span)>,
     pub setup: Option<(Code, Span)>,
     pub one_shot: Option<(Code, Span)>,
-    /// Group 15.
-    pub cutting: Option<Code>,
+    /// Group 15: G61 / G62 / G63 / G64 (LinuxCNC G61.1 as G61).
+    pub cutting: Option<CuttingMode>,
     /// G05.1, G05 or G08 (one per block).
     pub accuracy: Option<(Code, Span)>,
     /// G80: ends rigid tapping.
     pub canned_cancel: bool,
     /// G09: exact stop at the end of this block.
     pub exact_stop: bool,
-    pub cycle: Option<(Code, Span)>,
-    pub cycle_return: Option<Code>,
+    /// Group 09: a canned cycle, or its end (`None`: G80).
+    pub cycle: Option<(Option<Cycle>, Span)>,
+    /// G98 (true: back to the initial level) / G99.
+    pub cycle_return: Option<bool>,
     /// G68.2 or G69 (tilted working plane).
     pub feature: Option<(Code, Span)>,
     /// G15/G16, G50.1/G51.1, G50/G51, G68/G69 (`coordinates::slot`).
@@ -112,10 +173,33 @@ pub(crate) struct GCodes {
 }
 
 impl Words {
+    /// G20 / G21: Haas checks them against Setting 9 (Haas NGC mill
+    /// operator's manual, G20 / G21: "G20 in a program causes an alarm if
+    /// Setting 9 is not set to inch"; G21 against an inch Setting 9
+    /// likewise: the codes are there "to make sure that the inch/metric
+    /// selection is set correctly").
+    fn units(&self, code: Code, ctx: &Classify) -> Result<Units, Alarm> {
+        let inch = code.major == 20;
+        if ctx.haas && inch != ctx.inch_input {
+            let (unit, setting) = if inch { ("inch", "MM") } else { ("mm", "INCH") };
+            return Err(self.alarm(
+                Condition::UnitsMismatch,
+                None,
+                format!(
+                    "G{} asks for {unit} while Setting 9 (the machine's input_unit) is {setting}",
+                    code.major
+                ),
+            ));
+        }
+        Ok(if inch { Units::Inch } else { Units::Metric })
+    }
+
     /// The block's G codes by group: an alarm for a code this control
     /// does not have, or two that cannot be in one block.
     pub(crate) fn g_codes(&self, ctx: &Classify) -> Result<GCodes, Alarm> {
         let mut codes = GCodes::default();
+        let mut motion_code = None;
+        let mut cycle_code = None;
         let haas = ctx.haas;
         let twp = ctx.twp;
         for &(code, span) in &self.g[..self.g_len] {
@@ -202,18 +286,62 @@ impl Words {
                     }
                     codes.one_shot = Some((code, span));
                 }
-                GKind::Motion => codes.motion = Some((code, span)),
-                GKind::Plane => codes.plane = Some(code),
-                GKind::Distance => codes.distance = Some(code),
-                GKind::ArcDistance => codes.arc_distance = Some(code),
+                GKind::Motion => {
+                    let mode = match code.major {
+                        0 => MotionMode::Rapid,
+                        2 => MotionMode::Cw,
+                        3 => MotionMode::Ccw,
+                        _ => MotionMode::Linear,
+                    };
+                    codes.motion = Some((mode, NgcMotion::of(code), span));
+                    motion_code = Some(code);
+                }
+                GKind::Plane => {
+                    codes.plane = Some(match code.major {
+                        17 => Plane::Xy,
+                        18 => Plane::Zx,
+                        _ => Plane::Yz,
+                    });
+                }
+                GKind::Distance => {
+                    codes.distance = Some(if code.major == 90 {
+                        Distance::Absolute
+                    } else {
+                        Distance::Incremental
+                    });
+                }
+                GKind::ArcDistance => codes.arc_distance = Some(code.major == 90),
                 GKind::Diameter => codes.diameter = Some(code.major == 7),
-                GKind::Feed => codes.feed = Some(code),
-                GKind::Units => codes.units = Some(code),
-                GKind::Length => codes.length = Some((code, span)),
+                GKind::Feed => {
+                    codes.feed = Some(match code.major {
+                        93 => FeedMode::InverseTime,
+                        94 => FeedMode::PerMinute,
+                        _ => FeedMode::PerRevolution,
+                    });
+                }
+                GKind::Units => codes.units = Some(self.units(code, ctx)?),
+                GKind::Length => {
+                    let what = LengthCode::of(code, ctx.ngc, ctx.g44_cancels);
+                    codes.length = Some((what, span, code));
+                }
                 GKind::Work => codes.work = Some((code, span)),
-                GKind::Cutter => codes.cutter = Some((code, span)),
+                GKind::Cutter => {
+                    let side = match code.major {
+                        41 => CutterSide::Left,
+                        42 => CutterSide::Right,
+                        _ => CutterSide::Off,
+                    };
+                    codes.cutter = Some((side, span));
+                }
                 GKind::SetupError => codes.setup = Some((code, span)),
-                GKind::Cutting => codes.cutting = Some(code),
+                GKind::Cutting => {
+                    codes.cutting = Some(match code.major {
+                        61 => CuttingMode::ExactStop,
+                        62 => CuttingMode::CornerOverride,
+                        63 => CuttingMode::Tapping,
+                        _ => CuttingMode::Cutting,
+                    });
+                }
                 GKind::Accuracy => {
                     if let Some((other, _)) = codes.accuracy {
                         return Err(self.alarm(
@@ -227,9 +355,10 @@ impl Words {
                 GKind::Cycle => {
                     // G80 also ends M29's rigid tapping.
                     codes.canned_cancel |= code.major == 80;
-                    codes.cycle = Some((code, span));
+                    codes.cycle = Some((Cycle::of(code), span));
+                    cycle_code = Some(code);
                 }
-                GKind::CycleReturn => codes.cycle_return = Some(code),
+                GKind::CycleReturn => codes.cycle_return = Some(code.major == 98),
                 GKind::Feature => codes.feature = Some((code, span)),
                 GKind::Frame => {
                     // G69 cancels the tilted working plane too.
@@ -245,7 +374,19 @@ impl Words {
         }
         // G04, G10 and G92 do not move; G53 moves at rapid whatever the
         // motion code (posts write `G90 G53 G00 Z0.`), which stays modal.
-        if let (Some((motion, span)), Some((one, _))) = (codes.motion, codes.one_shot)
+        let motion = motion_code.zip(codes.motion.map(|(_, _, span)| span));
+        // A canned cycle and a motion code of group 01 (G80 with one is
+        // the cycle's end).
+        if let (Some(cycle), Some((motion, _)), Some((Some(_), span))) =
+            (cycle_code, motion, codes.cycle)
+        {
+            return Err(self.alarm(
+                Condition::GCodeConflict,
+                Some(span),
+                format!("G{cycle} and G{motion} cannot be in the same block"),
+            ));
+        }
+        if let (Some((motion, span)), Some((one, _))) = (motion, codes.one_shot)
             && !matches!(one.major, 4 | 10 | 92)
             && !(one.major == 53 && (one.minor == 0 || !twp) && motion.major <= 1)
         {
@@ -257,7 +398,7 @@ impl Words {
         }
         // The TWP remap's codes are of modal group 1 (REMAP … modalgroup=1):
         // one motion code per block.
-        if twp && let (Some((motion, span)), Some((feature, _))) = (codes.motion, codes.feature) {
+        if twp && let (Some((motion, span)), Some((feature, _))) = (motion, codes.feature) {
             return Err(self.alarm(
                 Condition::GCodeConflict,
                 Some(span),

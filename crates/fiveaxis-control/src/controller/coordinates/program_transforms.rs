@@ -308,9 +308,9 @@ impl Controller<'_> {
         {
             let span = any_code
                 .or(local_code)
-                .or(codes.length)
-                .or(codes.cutter)
-                .map(|(_, s)| s);
+                .map(|(_, s)| s)
+                .or(codes.length.map(|(_, s, _)| s))
+                .or(codes.cutter.map(|(_, s)| s));
             return Err(self.alarm(
                 Condition::FrameNotAllowed,
                 span,
