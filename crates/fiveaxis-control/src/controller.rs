@@ -12,7 +12,7 @@ use crate::alarm::{Alarm, Condition};
 use crate::command::CutterSide;
 use crate::command::{DataSetting, OffsetMemory, ToolField};
 use crate::dialect::Dialect;
-use crate::fanuc::{AddedLength, Classify, GCodes, LengthCode, Rules, Words};
+use crate::fanuc::{AddedLength, Classify, GCodes, LengthCode, OneShot, Rules, Words};
 use crate::modal::{
     ContourControl, CuttingMode, Distance, LengthMode, Modal, MotionMode, TcpcType, Units,
 };
@@ -714,13 +714,15 @@ impl<'m> Controller<'m> {
             return self.ngc_motion(mode, &from, out);
         }
         match codes.one_shot {
-            Some((code, span)) if self.cutter.routing() && matches!(code.major, 4 | 10) => {
+            Some((what @ (OneShot::Dwell | OneShot::DataSetting), span, _))
+                if self.cutter.routing() =>
+            {
                 // A dwell or data setting in cutter compensation C is a
                 // block without movement.
-                self.one_shot(code, span, &from, out)?;
+                self.one_shot(what, span, &from, out)?;
                 self.cutter_c_motion(&from, false, out)?;
             }
-            Some((code, span)) => {
+            Some((what, span, _)) => {
                 // Other group-00 functions end the compensated path here;
                 // the next move starts the offset again.
                 let routing = self.cutter.routing();
@@ -732,7 +734,7 @@ impl<'m> Controller<'m> {
                     from
                 };
                 let before = out.len();
-                self.one_shot(code, span, &from, out)?;
+                self.one_shot(what, span, &from, out)?;
                 if routing {
                     // The next block starts where this one left the
                     // program (a G53 / G28 move changes it).
@@ -1238,45 +1240,43 @@ impl<'m> Controller<'m> {
 
     fn one_shot(
         &mut self,
-        code: Code,
+        what: OneShot,
         span: Span,
         from: &Joints,
         out: &mut Vec<Segment>,
     ) -> Result<(), Alarm> {
-        match code.major {
-            4 => self.dwell(span),
-            10 => self.data_setting(span, from),
-            27 => self.reference_check(from, out),
-            28 | 30 if code.minor == 1 => {
+        match what {
+            OneShot::Dwell => self.dwell(span),
+            OneShot::DataSetting => self.data_setting(span, from),
+            OneShot::ReferenceCheck => self.reference_check(from, out),
+            OneShot::SetHome(n) => {
                 // LinuxCNC G28.1 / G30.1: the machine position becomes the
                 // G28 / G30 position.
-                self.state.homes[usize::from(code.major == 30)] = self.state.joints;
+                self.state.homes[n] = self.state.joints;
                 Ok(())
             }
-            28 => self.reference_return(from, 1, out),
-            30 => {
+            OneShot::ReferenceReturn { numbered: false } => self.reference_return(from, 1, out),
+            OneShot::ReferenceReturn { numbered: true } => {
                 let n = self.words.reference_number()?;
                 self.reference_return(from, n, out)
             }
-            53 if code.minor != 0 && self.twp_remap() => self.twp_orient(code, span, out),
-            53 if code.minor == 1 => self.tool_axis_control(span, false, out),
-            // Haas G253: the spindle normal to the feature coordinate
-            // system (G268), as G53.1.
-            253 => self.tool_axis_control(span, false, out),
+            OneShot::TwpOrient(how) => self.twp_orient(how, span, out),
+            // G53.1, G53.6; Haas G253: the spindle normal to the feature
+            // coordinate system (G268), as G53.1.
+            OneShot::ToolAxis { keep_tip } => self.tool_axis_control(span, keep_tip, out),
             // Haas G47: text engraving.
-            47 => self.engrave(span, from, out),
-            53 if code.minor == 6 => self.tool_axis_control(span, true, out),
-            52 => {
+            OneShot::Engrave => self.engrave(span, from, out),
+            OneShot::LocalShift => {
                 self.local_coordinate_system()?;
                 self.refresh_xy_rotation();
                 Ok(())
             }
-            53 => self.machine_coordinates(out),
-            92 if code.minor != 0 => {
-                self.g92_reset(code.minor);
+            OneShot::MachineMove => self.machine_coordinates(out),
+            OneShot::ShiftReset(minor) => {
+                self.g92_reset(minor);
                 Ok(())
             }
-            _ => {
+            OneShot::SetPosition => {
                 self.set_coordinate_system(from)?;
                 self.state.g92_kept = (self.state.shift, self.state.axis_shift);
                 // LinuxCNC: the G92 shift turns with the rotation in force.

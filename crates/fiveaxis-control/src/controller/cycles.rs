@@ -59,7 +59,7 @@ use fiveaxis_machine::{Joints, Vec3};
 use super::Controller;
 use crate::alarm::{Alarm, Condition};
 use crate::fanuc::DwellRules;
-use crate::fanuc::GCodes;
+use crate::fanuc::{GCodes, OneShot};
 use crate::modal::{Distance, TcpcType};
 use crate::segment::{Motion, Segment};
 
@@ -285,8 +285,11 @@ impl Controller<'_> {
             }
         }
         if self.state.cycle.cycle.is_some()
-            && let Some((code, span)) = codes.one_shot
-            && matches!(code.major, 27 | 28 | 30)
+            && let Some((what, span, code)) = codes.one_shot
+            && matches!(
+                what,
+                OneShot::ReferenceCheck | OneShot::ReferenceReturn { .. }
+            )
         {
             return Err(self.alarm(
                 Condition::CycleReferenceReturn,

@@ -110,6 +110,81 @@ impl LengthCode {
     }
 }
 
+/// A function of group 00 (one block only).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum OneShot {
+    /// A dwell (G04).
+    Dwell,
+    /// Data written into the offset memory (G10).
+    DataSetting,
+    /// Positioning, then a check that the axes stand at reference
+    /// position 1 (G27).
+    ReferenceCheck,
+    /// Through an intermediate point to reference position 1 (G28), or
+    /// the one `P` names, 2 by default (G30).
+    ReferenceReturn {
+        /// G30: the reference position is read from P.
+        numbered: bool,
+    },
+    /// LinuxCNC: the machine position becomes the G28 (0) or G30 (1)
+    /// position (G28.1, G30.1).
+    SetHome(usize),
+    /// The local coordinate system (G52).
+    LocalShift,
+    /// Positioning in machine coordinates (G53).
+    MachineMove,
+    /// The tool along the feature frame's Z (G53.1; G53.6 keeping the
+    /// tip; Haas G253).
+    ToolAxis {
+        /// The tool tip stays where it is.
+        keep_tip: bool,
+    },
+    /// LinuxCNC's TWP remap: orient the tool to the plane defined (G53.1),
+    /// and move to a point of it (G53.3) or keep the tip (G53.6).
+    TwpOrient(TwpOrient),
+    /// Haas text engraving (G47).
+    Engrave,
+    /// The current position gets the named coordinates (G92).
+    SetPosition,
+    /// LinuxCNC G92.1 (clear), G92.2 (suspend), G92.3 (restore).
+    ShiftReset(u8),
+}
+
+/// How LinuxCNC's TWP remap orients the tool.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum TwpOrient {
+    /// The rotary axes turn (G53.1).
+    Turn,
+    /// And the tip goes to a point of the plane (G53.3).
+    ToPoint,
+    /// The tip stays (G53.6).
+    KeepTip,
+}
+
+impl OneShot {
+    /// The function of a group-00 code; `twp`: LinuxCNC's TWP remap.
+    fn of(code: Code, twp: bool) -> OneShot {
+        match (code.major, code.minor) {
+            (4, _) => OneShot::Dwell,
+            (10, _) => OneShot::DataSetting,
+            (27, _) => OneShot::ReferenceCheck,
+            (28 | 30, 1) => OneShot::SetHome(usize::from(code.major == 30)),
+            (28, _) => OneShot::ReferenceReturn { numbered: false },
+            (30, _) => OneShot::ReferenceReturn { numbered: true },
+            (53, 1) if twp => OneShot::TwpOrient(TwpOrient::Turn),
+            (53, 3) if twp => OneShot::TwpOrient(TwpOrient::ToPoint),
+            (53, 6) if twp => OneShot::TwpOrient(TwpOrient::KeepTip),
+            (53, 1) | (253, _) => OneShot::ToolAxis { keep_tip: false },
+            (53, 6) => OneShot::ToolAxis { keep_tip: true },
+            (47, _) => OneShot::Engrave,
+            (52, _) => OneShot::LocalShift,
+            (53, _) => OneShot::MachineMove,
+            (92, minor @ 1..=3) => OneShot::ShiftReset(minor),
+            _ => OneShot::SetPosition,
+        }
+    }
+}
+
 /// The G codes of one block, by group; the last of a group wins.
 #[derive(Clone, Copy, Debug, Default)]
 pub(crate) struct GCodes {
@@ -149,7 +224,8 @@ pub(crate) struct GCodes {
     /// Group 07: G40 / G41 / G42.
     pub cutter: Option<(CutterSide, Span)>,
     pub setup: Option<(Code, Span)>,
-    pub one_shot: Option<(Code, Span)>,
+    /// Group 00: the function, where it is written, the code as written.
+    pub one_shot: Option<(OneShot, Span, Code)>,
     /// Group 15: G61 / G62 / G63 / G64 (LinuxCNC G61.1 as G61).
     pub cutting: Option<CuttingMode>,
     /// G05.1, G05 or G08 (one per block).
@@ -164,8 +240,10 @@ pub(crate) struct GCodes {
     pub cycle_return: Option<bool>,
     /// G68.2 or G69 (tilted working plane).
     pub feature: Option<(Code, Span)>,
-    /// G15/G16, G50.1/G51.1, G50/G51, G68/G69 (`coordinates::slot`).
-    pub frames: [Option<(Code, Span)>; 4],
+    /// The program transforms by slot (polar coordinates G15 / G16,
+    /// mirror image G50.1 / G51.1, scaling G50 / G51, rotation G69 /
+    /// G68): on (true) or off, where, and the code as written.
+    pub frames: [Option<(bool, Span, Code)>; 4],
     /// Haas G254 / G255: dynamic work offset on / off.
     pub dwo: Option<(Code, Span)>,
     /// Haas G187 (its span).
@@ -277,14 +355,14 @@ impl Words {
             };
             match kind {
                 GKind::OneShot => {
-                    if let Some((other, _)) = codes.one_shot {
+                    if let Some((_, _, other)) = codes.one_shot {
                         return Err(self.alarm(
                             Condition::GCodeConflict,
                             Some(span),
                             format!("G{code} and G{other} cannot be in the same block"),
                         ));
                     }
-                    codes.one_shot = Some((code, span));
+                    codes.one_shot = Some((OneShot::of(code, twp), span, code));
                 }
                 GKind::Motion => {
                     let mode = match code.major {
@@ -365,7 +443,8 @@ impl Words {
                     if code == Code::new(69, 0) {
                         codes.feature = Some((code, span));
                     }
-                    codes.frames[transform_slot(code)] = Some((code, span));
+                    let on = matches!(code.major, 16 | 51 | 68);
+                    codes.frames[transform_slot(code)] = Some((on, span, code));
                 }
                 GKind::ExactStop => codes.exact_stop = true,
                 GKind::Dwo => codes.dwo = Some((code, span)),
@@ -386,7 +465,7 @@ impl Words {
                 format!("G{cycle} and G{motion} cannot be in the same block"),
             ));
         }
-        if let (Some((motion, span)), Some((one, _))) = (motion, codes.one_shot)
+        if let (Some((motion, span)), Some((_, _, one))) = (motion, codes.one_shot)
             && !matches!(one.major, 4 | 10 | 92)
             && !(one.major == 53 && (one.minor == 0 || !twp) && motion.major <= 1)
         {

@@ -50,7 +50,7 @@ pub(crate) mod words;
 pub(crate) use cycles::DwellRules;
 pub(crate) use data_setting::KERNEL_WORK_SYSTEMS;
 pub(crate) use frames::ScaleFactors;
-pub(crate) use gcodes::{Classify, GCodes, LengthCode};
+pub(crate) use gcodes::{Classify, GCodes, LengthCode, OneShot, TwpOrient};
 pub(crate) use motion::ArcCenter;
 pub(crate) use operands::AddedLength;
 use operands::CENTER_LETTERS;

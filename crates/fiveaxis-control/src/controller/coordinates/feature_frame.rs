@@ -643,15 +643,15 @@ impl Controller<'_> {
             codes
                 .frames
                 .iter()
-                .flatten()
-                .find(|(c, _)| {
-                    let nested_conversion = c.major == 68
+                .enumerate()
+                .filter_map(|(slot, f)| f.map(|f| (slot, f)))
+                .find(|&(slot, (on, _, _))| {
+                    let nested_conversion = slot == crate::controller::ROTATION
                         && self.conversion_requested()
                         && self.feature().is_some_and(|f| f.conversions > 0);
-                    !nested_conversion
-                        && !matches!((c.major, c.minor), (69, 0) | (15, 0) | (50, 0) | (50, 1))
+                    !nested_conversion && on
                 })
-                .map(|&(c, s)| (c, s, "a program transform")),
+                .map(|(_, (_, s, c))| (c, s, "a program transform")),
         ];
         match refused.into_iter().flatten().next() {
             Some((code, span, what)) => Err(self.alarm(

@@ -26,7 +26,7 @@ use crate::alarm::{Alarm, Condition};
 use crate::controller::{Controller, Targets};
 use crate::cutter::Side;
 use crate::fanuc::GCodes;
-use crate::fanuc::ScaleFactors;
+use crate::fanuc::{OneShot, ScaleFactors};
 use crate::modal::{Distance, MotionMode, Plane};
 
 /// Slots of [`GCodes::frames`]: one per modal group.
@@ -206,39 +206,26 @@ impl Controller<'_> {
         from: &Joints,
     ) -> Result<bool, Alarm> {
         let here = Vec3::new(from[0], from[1], from[2]);
-        let starts: Vec<(Code, Span)> = codes
-            .frames
-            .iter()
-            .flatten()
-            .copied()
-            .filter(|(c, _)| matches!((c.major, c.minor), (68, 0) | (51, 0 | 1)))
-            .collect();
-        if starts.len() > 1 {
-            let (code, span) = starts[1];
+        let mut starts = [MIRROR, SCALING, ROTATION]
+            .into_iter()
+            .filter_map(|slot| codes.frames[slot].filter(|&(on, _, _)| on));
+        let first = starts.next();
+        if let (Some((_, _, first)), Some((_, span, code))) = (first, starts.next()) {
             return Err(self.alarm(
                 Condition::GCodeConflict,
                 Some(span),
-                format!(
-                    "G{code} and G{} both take X, Y, Z: give them in separate blocks",
-                    starts[0].0
-                ),
+                format!("G{code} and G{first} both take X, Y, Z: give them in separate blocks"),
             ));
         }
         // Cancels first, innermost first; then the start.
-        if let Some((code, _)) = codes.frames[ROTATION]
-            && code.major == 69
-        {
+        if let Some((false, _, _)) = codes.frames[ROTATION] {
             self.state.frames.rotation = None;
         }
-        if let Some((code, span)) = codes.frames[SCALING]
-            && code.major == 50
-        {
+        if let Some((false, span, code)) = codes.frames[SCALING] {
             self.nesting(self.state.frames.rotation.is_some(), code, span, "G69")?;
             self.state.frames.scaling = None;
         }
-        if let Some((code, span)) = codes.frames[MIRROR]
-            && code.major == 50
-        {
+        if let Some((false, span, code)) = codes.frames[MIRROR] {
             let f = self.state.frames;
             self.nesting(
                 f.rotation.is_some() || f.scaling.is_some(),
@@ -248,12 +235,10 @@ impl Controller<'_> {
             )?;
             self.mirror_cancel();
         }
-        if let Some((code, _)) = codes.frames[POLAR] {
-            self.state.frames.polar = code.major == 16;
+        if let Some((on, _, _)) = codes.frames[POLAR] {
+            self.state.frames.polar = on;
         }
-        if let Some((code, span)) = codes.frames[MIRROR]
-            && code.major == 51
-        {
+        if let Some((true, span, code)) = codes.frames[MIRROR] {
             let f = self.state.frames;
             self.nesting(
                 f.rotation.is_some() || f.scaling.is_some(),
@@ -263,15 +248,11 @@ impl Controller<'_> {
             )?;
             self.mirror_start(code, span)?;
         }
-        if let Some((code, span)) = codes.frames[SCALING]
-            && code.major == 51
-        {
+        if let Some((true, span, code)) = codes.frames[SCALING] {
             self.nesting(self.state.frames.rotation.is_some(), code, span, "G69")?;
             self.scaling_start(code, span, &here)?;
         }
-        if let Some((code, span)) = codes.frames[ROTATION]
-            && code.major == 68
-        {
+        if let Some((true, span, _)) = codes.frames[ROTATION] {
             if self.conversion_requested() {
                 // G68 with I, J, K: three-dimensional coordinate conversion
                 // (feature_frame.rs).
@@ -282,7 +263,7 @@ impl Controller<'_> {
         }
         self.frames_restrictions(codes)?;
         let mirror = codes.frames[MIRROR].is_some();
-        Ok(!starts.is_empty() || mirror)
+        Ok(first.is_some() || mirror)
     }
 
     fn nesting(&self, inner: bool, code: Code, span: Span, first: &str) -> Result<(), Alarm> {
@@ -301,14 +282,16 @@ impl Controller<'_> {
     /// The alarms of a block once its transforms are in force.
     fn frames_restrictions(&self, codes: &GCodes) -> Result<(), Alarm> {
         let f = &self.state.frames;
-        let any_code = codes.frames.iter().flatten().next().copied();
-        let local_code = codes.one_shot.filter(|(c, _)| c.major == 52);
+        let any_code = codes.frames.iter().flatten().next().map(|&(_, s, _)| s);
+        let local_code = codes
+            .one_shot
+            .filter(|&(what, _, _)| what == OneShot::LocalShift)
+            .map(|(_, s, _)| s);
         if (self.tcpc_type().is_some() || self.state.comp3d.active)
             && (f.active() || f.local != Vec3::zeros())
         {
             let span = any_code
                 .or(local_code)
-                .map(|(_, s)| s)
                 .or(codes.length.map(|(_, s, _)| s))
                 .or(codes.cutter.map(|(_, s)| s));
             return Err(self.alarm(
@@ -329,7 +312,17 @@ impl Controller<'_> {
         if f.maps() {
             let forbidden = codes
                 .one_shot
-                .filter(|(c, _)| matches!(c.major, 27 | 28 | 30 | 52 | 92))
+                .filter(|&(what, _, _)| {
+                    matches!(
+                        what,
+                        OneShot::ReferenceCheck
+                            | OneShot::ReferenceReturn { .. }
+                            | OneShot::LocalShift
+                            | OneShot::SetPosition
+                            | OneShot::ShiftReset(_)
+                    )
+                })
+                .map(|(_, span, code)| (code, span))
                 .or(codes.work);
             if let Some((code, span)) = forbidden {
                 return Err(self.alarm(

@@ -54,6 +54,7 @@ use fiveaxis_machine::{Side, Vec3, principal};
 use super::feature_frame::{DEFINITION_TOLERANCE, Feature, about, frame_of, tool_axis_frame};
 use crate::alarm::{Alarm, Condition};
 use crate::controller::Controller;
+use crate::fanuc::TwpOrient;
 use crate::modal::{MotionMode, Units, WorkSelect};
 use crate::segment::{Motion, Path, Segment, TcpcPath, TipPath};
 
@@ -376,12 +377,16 @@ impl Controller<'_> {
     /// program in it (G59, TOOL kinematics).
     pub(in crate::controller) fn twp_orient(
         &mut self,
-        code: Code,
+        how: TwpOrient,
         span: Span,
         out: &mut Vec<Segment>,
     ) -> Result<(), Alarm> {
-        let name = format!("G{code}");
-        self.twp_not_with_tcp(span, &name)?;
+        let name = match how {
+            TwpOrient::Turn => "G53.1",
+            TwpOrient::ToPoint => "G53.3",
+            TwpOrient::KeepTip => "G53.6",
+        };
+        self.twp_not_with_tcp(span, name)?;
         let Some(plane) = self.state.twp else {
             return Err(self.alarm(
                 Condition::FeatureNotAllowed,
@@ -397,7 +402,7 @@ impl Controller<'_> {
         // G53.3's point of the plane, absolute; axes left out keep the
         // tip's coordinate of the plane.
         let mut goal = [None; 3];
-        if code.minor == 3 {
+        if how == TwpOrient::ToPoint {
             let rules = self.rules();
             goal = self.words.linear_values(&rules);
         }
@@ -420,9 +425,9 @@ impl Controller<'_> {
         self.state.modal.work = G54;
         self.state.feature = Some(plane);
         let length = self.feature_tool_length();
-        match code.minor {
-            1 => self.push_line(Motion::Rapid, start, end, out)?,
-            3 => {
+        match how {
+            TwpOrient::Turn => self.push_line(Motion::Rapid, start, end, out)?,
+            TwpOrient::ToPoint => {
                 let here = self.feature_programmed(&current);
                 let p = Vec3::new(
                     goal[0].unwrap_or(here.x),
@@ -438,7 +443,7 @@ impl Controller<'_> {
                     out.push(seg);
                 }
             }
-            _ => {
+            TwpOrient::KeepTip => {
                 // TCP: the tip stands while the axes turn.
                 let tip = self.machine.forward(&current, length).tip;
                 let gauge = self.machine.gauge_for_tip(&end, &tip, length);
