@@ -5,17 +5,17 @@
 //! next ([`Flow`]). Functions follow the FANUC Series 30i/16 operator's
 //! manuals; where a control family differs, [`crate::dialect`] says how.
 
-use fiveaxis_gcode::{Block, Code, Span};
+use fiveaxis_gcode::{Block, Span};
 use fiveaxis_machine::{Control, Joints, MAX_AXES, Machine, Offsets, SetupError, Side, Vec3};
 
 use crate::alarm::{Alarm, Condition};
 use crate::command::CutterSide;
 use crate::command::{DataSetting, OffsetMemory, ToolField};
 use crate::dialect::Dialect;
-use crate::fanuc::{AddedLength, Classify, GCodes, LengthCode, OneShot, Rules, Words};
-use crate::modal::{
-    ContourControl, CuttingMode, Distance, LengthMode, Modal, MotionMode, TcpcType, Units,
+use crate::fanuc::{
+    AccuracyCode, AddedLength, Classify, FeatureCode, GCodes, LengthCode, OneShot, Rules, Words,
 };
+use crate::modal::{CuttingMode, Distance, LengthMode, Modal, MotionMode, TcpcType, Units};
 use crate::reach;
 use crate::segment::{Arc, Motion, Path, Segment, TipPath};
 use linuxcnc::NgcMotion;
@@ -608,17 +608,16 @@ impl<'m> Controller<'m> {
         // G69 (Haas G269) ends the tilted working plane before the block's
         // move, which is then in the workpiece frame; Haas G254 / G255
         // switch the dynamic work offset the same way.
-        if let Some((code, _)) = codes.feature
-            && matches!((code.major, code.minor), (69 | 269, 0))
+        if let Some((FeatureCode::Cancel, _, _)) = codes.feature
             && self.feature().is_some_and(|f| !f.is_dwo())
         {
             self.state.feature = None;
         }
-        if self.twp_remap() && codes.feature.is_some_and(|(c, _)| c == Code::new(69, 0)) {
+        if self.twp_remap() && matches!(codes.feature, Some((FeatureCode::Cancel, _, _))) {
             self.twp_cancel();
         }
-        if let Some((code, span)) = codes.dwo {
-            self.dwo_command(code, span)?;
+        if let Some((on, span)) = codes.dwo {
+            self.dwo_command(on, span)?;
         }
         self.smoothness(codes.smoothness)?;
         // Where the program stands, in the (possibly new) work coordinate
@@ -669,15 +668,18 @@ impl<'m> Controller<'m> {
         let framed = self.apply_frames(&codes, &from)?;
         let length_changed = change == LengthChange::Moves || comp_changed;
         self.dwo_rotary_words()?;
-        if let Some((code, span)) = codes.feature.filter(|(c, _)| matches!(c.major, 68 | 268)) {
+        if let Some((what, span, code)) = codes
+            .feature
+            .filter(|&(what, _, _)| what != FeatureCode::Cancel)
+        {
             // G68.2 / G68.4 define the frame and move nothing: the program
             // stands where it was, in the new frame.
             if self.twp_remap() {
-                self.twp_define(code, span)?;
+                self.twp_define(what, code, span)?;
             } else {
-                self.feature_command(code, span)?;
+                self.feature_command(what, code, span)?;
             }
-        } else if let Some((_, span)) = codes.setup {
+        } else if let Some(span) = codes.setup {
             if self.cutter.routing() {
                 // The held block is emitted with the correction it was
                 // read with.
@@ -750,7 +752,7 @@ impl<'m> Controller<'m> {
 
     // ----- G codes --------------------------------------------------------
 
-    fn classify_g_codes(&self) -> Result<GCodes, Alarm> {
+    fn classify_g_codes(&mut self) -> Result<GCodes, Alarm> {
         self.words.g_codes(&Classify {
             haas: self.dialect.haas_codes,
             ngc: self.dialect.rs274ngc,
@@ -803,8 +805,8 @@ impl<'m> Controller<'m> {
         if let Some(units) = codes.units {
             modal.units = units;
         }
-        if let Some((code, span)) = codes.work {
-            self.state.modal.work = self.work_select(code, span)?;
+        if let Some((work, _, _)) = codes.work {
+            self.state.modal.work = work;
         }
         if let Some(cutting) = codes.cutting {
             if self.dialect.rs274ngc {
@@ -815,8 +817,13 @@ impl<'m> Controller<'m> {
             }
             self.state.modal.cutting = cutting;
         }
-        if let Some((code, span)) = codes.accuracy {
-            self.accuracy_mode(code, span)?;
+        if let Some((what, _)) = codes.accuracy {
+            let accuracy = &mut self.state.modal.accuracy;
+            match what {
+                AccuracyCode::Contour(c) => accuracy.contour = c,
+                AccuracyCode::HighPrecision(on) => accuracy.high_precision = on,
+                AccuracyCode::LookAhead(on) => accuracy.look_ahead = on,
+            }
         }
         if codes.canned_cancel {
             self.state.rigid_tap = false;
@@ -861,20 +868,6 @@ impl<'m> Controller<'m> {
     fn blend_tolerance(&mut self) -> Result<(), Alarm> {
         let rules = self.rules();
         self.state.modal.blend = self.words.blend_tolerance(&rules)?;
-        Ok(())
-    }
-
-    /// G05.1 Q1 / Q3 / Q0, G05 P10000 / P0, G08 P1 / P0.
-    fn accuracy_mode(&mut self, code: Code, span: Span) -> Result<(), Alarm> {
-        let value = self.words.accuracy_mode(code, span)?;
-        let accuracy = &mut self.state.modal.accuracy;
-        match (code.major, code.minor, value) {
-            (5, 1, 1) => accuracy.contour = ContourControl::AiContour,
-            (5, 1, 3) => accuracy.contour = ContourControl::NanoSmoothing,
-            (5, 1, _) => accuracy.contour = ContourControl::Off,
-            (5, _, v) => accuracy.high_precision = v != 0,
-            (_, _, v) => accuracy.look_ahead = v != 0,
-        }
         Ok(())
     }
 
@@ -1689,8 +1682,6 @@ impl Piece<'_> {
 
 /// How far past a soft limit rounding may carry a position, mm or degrees.
 const LIMIT_TOLERANCE: f64 = 1e-9;
-
-/// Centre-offset letters by axis: I for X, J for Y, K for Z.
 
 /// An alarm about a segment of an earlier block (held back by cutter
 /// compensation C) names that block's line.

@@ -25,7 +25,6 @@
 //! The tool length is added after the chain (`length_vector`), along the
 //! tool in the feature frame.
 
-use fiveaxis_gcode::{Code, Span};
 use fiveaxis_machine::{Joints, Vec3};
 
 use super::Controller;
@@ -93,11 +92,6 @@ impl Controller<'_> {
     /// 3-D compensation vector and the G52 local coordinate system.
     pub(super) fn local_vector(&self) -> Vec3 {
         self.state.comp3d.vector + self.state.frames.local
-    }
-
-    /// The work coordinate system a G54–G59 / G54.1 P block selects.
-    pub(super) fn work_select(&mut self, code: Code, span: Span) -> Result<WorkSelect, Alarm> {
-        self.words.work(code, span, self.dialect.rs274ngc)
     }
 
     /// G92: the current position gets the named coordinates (all work

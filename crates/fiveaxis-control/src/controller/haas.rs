@@ -98,8 +98,8 @@ impl Controller<'_> {
     }
 
     /// G254 (on) / G255 (off), before the block's move.
-    pub(super) fn dwo_command(&mut self, code: Code, span: Span) -> Result<(), Alarm> {
-        if code.major == 255 {
+    pub(super) fn dwo_command(&mut self, on: bool, span: Span) -> Result<(), Alarm> {
+        if !on {
             if self.feature().is_some_and(|f| f.is_dwo()) {
                 self.state.feature = None;
             }

@@ -9,7 +9,9 @@ use crate::alarm::{Alarm, Condition};
 use crate::command::CutterSide;
 use crate::controller::{Cycle, NgcMotionMode as NgcMotion};
 use crate::controller::{MIRROR, POLAR, ROTATION, SCALING};
-use crate::modal::{CuttingMode, Distance, FeedMode, MotionMode, Plane, TcpcType, Units};
+use crate::modal::{
+    ContourControl, CuttingMode, Distance, FeedMode, MotionMode, Plane, TcpcType, Units, WorkSelect,
+};
 
 /// What the classification depends on besides the block.
 #[derive(Clone, Copy, Debug)]
@@ -185,6 +187,44 @@ impl OneShot {
     }
 }
 
+/// A function of the tilted working plane's group.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum FeatureCode {
+    /// Define the plane (G68.2).
+    Plane,
+    /// Define it from the tool axis (G68.3).
+    ToolAxis,
+    /// Define it relative to the plane in force (G68.4).
+    Relative,
+    /// Haas's feature coordinate system (G268).
+    HaasPlane,
+    /// End it (G69, Haas G269).
+    Cancel,
+}
+
+impl FeatureCode {
+    fn of(code: Code) -> FeatureCode {
+        match (code.major, code.minor) {
+            (68, 3) => FeatureCode::ToolAxis,
+            (68, 4) => FeatureCode::Relative,
+            (68, _) => FeatureCode::Plane,
+            (268, _) => FeatureCode::HaasPlane,
+            _ => FeatureCode::Cancel,
+        }
+    }
+}
+
+/// An accuracy mode code and its number (G05.1 Q, G05 P, G08 P).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum AccuracyCode {
+    /// AI contour control / nano smoothing (G05.1 Q1 / Q3), or off (Q0).
+    Contour(ContourControl),
+    /// High-precision contour control (G05 P10000), or off (P0).
+    HighPrecision(bool),
+    /// Advanced preview control (G08 P1), or off (P0).
+    LookAhead(bool),
+}
+
 /// The G codes of one block, by group; the last of a group wins.
 #[derive(Clone, Copy, Debug, Default)]
 pub(crate) struct GCodes {
@@ -220,16 +260,18 @@ pub(crate) struct GCodes {
     /// Group 08: the tool length function, where it is written, and the
     /// code as written (for messages).
     pub length: Option<(LengthCode, Span, Code)>,
-    pub work: Option<(Code, Span)>,
+    /// Group 14: the work coordinate system selected, where, the code.
+    pub work: Option<(WorkSelect, Span, Code)>,
     /// Group 07: G40 / G41 / G42.
     pub cutter: Option<(CutterSide, Span)>,
-    pub setup: Option<(Code, Span)>,
+    /// G54.4: workpiece setup error correction (its span).
+    pub setup: Option<Span>,
     /// Group 00: the function, where it is written, the code as written.
     pub one_shot: Option<(OneShot, Span, Code)>,
     /// Group 15: G61 / G62 / G63 / G64 (LinuxCNC G61.1 as G61).
     pub cutting: Option<CuttingMode>,
     /// G05.1, G05 or G08 (one per block).
-    pub accuracy: Option<(Code, Span)>,
+    pub accuracy: Option<(AccuracyCode, Span)>,
     /// G80: ends rigid tapping.
     pub canned_cancel: bool,
     /// G09: exact stop at the end of this block.
@@ -239,13 +281,13 @@ pub(crate) struct GCodes {
     /// G98 (true: back to the initial level) / G99.
     pub cycle_return: Option<bool>,
     /// G68.2 or G69 (tilted working plane).
-    pub feature: Option<(Code, Span)>,
+    pub feature: Option<(FeatureCode, Span, Code)>,
     /// The program transforms by slot (polar coordinates G15 / G16,
     /// mirror image G50.1 / G51.1, scaling G50 / G51, rotation G69 /
     /// G68): on (true) or off, where, and the code as written.
     pub frames: [Option<(bool, Span, Code)>; 4],
     /// Haas G254 / G255: dynamic work offset on / off.
-    pub dwo: Option<(Code, Span)>,
+    pub dwo: Option<(bool, Span)>,
     /// Haas G187 (its span).
     pub smoothness: Option<Span>,
 }
@@ -274,13 +316,15 @@ impl Words {
 
     /// The block's G codes by group: an alarm for a code this control
     /// does not have, or two that cannot be in one block.
-    pub(crate) fn g_codes(&self, ctx: &Classify) -> Result<GCodes, Alarm> {
+    pub(crate) fn g_codes(&mut self, ctx: &Classify) -> Result<GCodes, Alarm> {
         let mut codes = GCodes::default();
         let mut motion_code = None;
         let mut cycle_code = None;
+        let mut accuracy_code: Option<Code> = None;
         let haas = ctx.haas;
         let twp = ctx.twp;
-        for &(code, span) in &self.g[..self.g_len] {
+        for i in 0..self.g_len {
+            let (code, span) = self.g[i];
             let kind = match (code.major, code.minor) {
                 // LinuxCNC's tilted-working-plane remap (coordinates/twp.rs).
                 (68, 2..=4) | (69, 0) if twp => GKind::Feature,
@@ -402,7 +446,10 @@ impl Words {
                     let what = LengthCode::of(code, ctx.ngc, ctx.g44_cancels);
                     codes.length = Some((what, span, code));
                 }
-                GKind::Work => codes.work = Some((code, span)),
+                GKind::Work => {
+                    let work = self.work(code, span, ctx.ngc)?;
+                    codes.work = Some((work, span, code));
+                }
                 GKind::Cutter => {
                     let side = match code.major {
                         41 => CutterSide::Left,
@@ -411,7 +458,7 @@ impl Words {
                     };
                     codes.cutter = Some((side, span));
                 }
-                GKind::SetupError => codes.setup = Some((code, span)),
+                GKind::SetupError => codes.setup = Some(span),
                 GKind::Cutting => {
                     codes.cutting = Some(match code.major {
                         61 => CuttingMode::ExactStop,
@@ -421,14 +468,23 @@ impl Words {
                     });
                 }
                 GKind::Accuracy => {
-                    if let Some((other, _)) = codes.accuracy {
+                    if let Some(other) = accuracy_code {
                         return Err(self.alarm(
                             Condition::GCodeConflict,
                             Some(span),
                             format!("G{code} and G{other} cannot be in the same block"),
                         ));
                     }
-                    codes.accuracy = Some((code, span));
+                    let value = self.accuracy_mode(code, span)?;
+                    let what = match (code.major, code.minor, value) {
+                        (5, 1, 1) => AccuracyCode::Contour(ContourControl::AiContour),
+                        (5, 1, 3) => AccuracyCode::Contour(ContourControl::NanoSmoothing),
+                        (5, 1, _) => AccuracyCode::Contour(ContourControl::Off),
+                        (5, _, v) => AccuracyCode::HighPrecision(v != 0),
+                        (_, _, v) => AccuracyCode::LookAhead(v != 0),
+                    };
+                    codes.accuracy = Some((what, span));
+                    accuracy_code = Some(code);
                 }
                 GKind::Cycle => {
                     // G80 also ends M29's rigid tapping.
@@ -437,17 +493,17 @@ impl Words {
                     cycle_code = Some(code);
                 }
                 GKind::CycleReturn => codes.cycle_return = Some(code.major == 98),
-                GKind::Feature => codes.feature = Some((code, span)),
+                GKind::Feature => codes.feature = Some((FeatureCode::of(code), span, code)),
                 GKind::Frame => {
                     // G69 cancels the tilted working plane too.
                     if code == Code::new(69, 0) {
-                        codes.feature = Some((code, span));
+                        codes.feature = Some((FeatureCode::Cancel, span, code));
                     }
                     let on = matches!(code.major, 16 | 51 | 68);
                     codes.frames[transform_slot(code)] = Some((on, span, code));
                 }
                 GKind::ExactStop => codes.exact_stop = true,
-                GKind::Dwo => codes.dwo = Some((code, span)),
+                GKind::Dwo => codes.dwo = Some((code.major == 254, span)),
                 GKind::Smoothness => codes.smoothness = Some(span),
             }
         }
@@ -477,7 +533,7 @@ impl Words {
         }
         // The TWP remap's codes are of modal group 1 (REMAP … modalgroup=1):
         // one motion code per block.
-        if twp && let (Some((motion, span)), Some((feature, _))) = (motion, codes.feature) {
+        if twp && let (Some((motion, span)), Some((_, _, feature))) = (motion, codes.feature) {
             return Err(self.alarm(
                 Condition::GCodeConflict,
                 Some(span),

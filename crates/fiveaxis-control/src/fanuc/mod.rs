@@ -50,7 +50,9 @@ pub(crate) mod words;
 pub(crate) use cycles::DwellRules;
 pub(crate) use data_setting::KERNEL_WORK_SYSTEMS;
 pub(crate) use frames::ScaleFactors;
-pub(crate) use gcodes::{Classify, GCodes, LengthCode, OneShot, TwpOrient};
+pub(crate) use gcodes::{
+    AccuracyCode, Classify, FeatureCode, GCodes, LengthCode, OneShot, TwpOrient,
+};
 pub(crate) use motion::ArcCenter;
 pub(crate) use operands::AddedLength;
 use operands::CENTER_LETTERS;

@@ -64,6 +64,7 @@ use nalgebra::{IsometryMatrix3, Rotation3, Translation3, Unit};
 
 use crate::alarm::{Alarm, Condition};
 use crate::controller::Controller;
+use crate::fanuc::FeatureCode;
 use crate::modal::LengthMode;
 use crate::segment::{Motion, Segment, TipPath};
 
@@ -266,15 +267,16 @@ impl Controller<'_> {
     /// in force). G69 cancels it before the block's move (in `execute`).
     pub(in crate::controller) fn feature_command(
         &mut self,
+        what: FeatureCode,
         code: Code,
         span: Span,
     ) -> Result<(), Alarm> {
         let name = format!("G{code}");
         self.feature_allowed(span, &name)?;
-        if code.minor == 3 {
+        if what == FeatureCode::ToolAxis {
             return self.feature_from_tool_axis(span);
         }
-        if code.major == 268 {
+        if what == FeatureCode::HaasPlane {
             let feature = self.feature_by_rotation_order(span)?;
             self.state.feature = Some(feature);
             return Ok(());
@@ -300,7 +302,7 @@ impl Controller<'_> {
         };
         // G68.4: the new frame is given in the frame in force.
         let feature = match self.state.feature {
-            Some(outer) if code.minor == 4 => outer.within(&defined),
+            Some(outer) if what == FeatureCode::Relative => outer.within(&defined),
             _ => defined,
         };
         self.state.feature = Some(feature);
@@ -602,7 +604,7 @@ impl Controller<'_> {
         codes: &crate::controller::GCodes,
     ) -> Result<(), Alarm> {
         if let Some(pending) = self.state.feature_pending
-            && codes.feature.is_none_or(|(c, _)| c != pending.code)
+            && codes.feature.is_none_or(|(_, _, c)| c != pending.code)
         {
             return Err(self.alarm(
                 Condition::FeatureDefinition,
@@ -622,8 +624,8 @@ impl Controller<'_> {
         let refused = [
             codes
                 .feature
-                .filter(|(c, _)| matches!(c.major, 69 | 269) && self.tcpc_type().is_some())
-                .map(|(c, s)| {
+                .filter(|&(what, _, _)| what == FeatureCode::Cancel && self.tcpc_type().is_some())
+                .map(|(_, s, c)| {
                     (
                         c,
                         s,
@@ -636,10 +638,10 @@ impl Controller<'_> {
             codes
                 .work
                 .filter(|_| !self.feature().is_some_and(|f| f.dwo))
-                .map(|(c, s)| (c, s, "a change of the work offset")),
+                .map(|(_, s, c)| (c, s, "a change of the work offset")),
             codes
                 .setup
-                .map(|(c, s)| (c, s, "workpiece setup error correction")),
+                .map(|s| (Code::new(54, 4), s, "workpiece setup error correction")),
             codes
                 .frames
                 .iter()

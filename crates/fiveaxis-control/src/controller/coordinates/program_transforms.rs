@@ -191,8 +191,6 @@ fn rotate(plane: Plane, center: &Vec3, angle: f64, x: &Vec3) -> Vec3 {
     y
 }
 
-/// X, Y, Z as joint indices 0, 1, 2 and their letters.
-
 impl Controller<'_> {
     /// The transform codes of the block (after the modal groups, length
     /// compensation and cutter compensation are applied): the centres are
@@ -323,7 +321,7 @@ impl Controller<'_> {
                     )
                 })
                 .map(|(_, span, code)| (code, span))
-                .or(codes.work);
+                .or(codes.work.map(|(_, span, code)| (code, span)));
             if let Some((code, span)) = forbidden {
                 return Err(self.alarm(
                     Condition::FrameCommandForbidden,

@@ -54,7 +54,7 @@ use fiveaxis_machine::{Side, Vec3, principal};
 use super::feature_frame::{DEFINITION_TOLERANCE, Feature, about, frame_of, tool_axis_frame};
 use crate::alarm::{Alarm, Condition};
 use crate::controller::Controller;
-use crate::fanuc::TwpOrient;
+use crate::fanuc::{FeatureCode, TwpOrient};
 use crate::modal::{MotionMode, Units, WorkSelect};
 use crate::segment::{Motion, Path, Segment, TcpcPath, TipPath};
 
@@ -99,6 +99,7 @@ impl Controller<'_> {
     /// stays in its coordinate system until G53.x).
     pub(in crate::controller) fn twp_define(
         &mut self,
+        what: FeatureCode,
         code: Code,
         span: Span,
     ) -> Result<(), Alarm> {
@@ -106,7 +107,7 @@ impl Controller<'_> {
         self.twp_not_with_tcp(span, &name)?;
         let work = self.state.modal.work;
         let oriented = self.state.feature.is_some();
-        if code.minor == 4 {
+        if what == FeatureCode::Relative {
             if self.state.twp.is_none() {
                 return Err(self.alarm(
                     Condition::FeatureNotAllowed,
@@ -135,7 +136,7 @@ impl Controller<'_> {
                 ),
             ));
         }
-        let defined = if code.minor == 3 {
+        let defined = if what == FeatureCode::ToolAxis {
             self.twp_from_tool_axis(span)?
         } else {
             let form = self.definition_form(code, span)?;
@@ -160,7 +161,7 @@ impl Controller<'_> {
             defined
         };
         let plane = match self.state.twp {
-            Some(outer) if code.minor == 4 => outer.within(&defined),
+            Some(outer) if what == FeatureCode::Relative => outer.within(&defined),
             _ => defined,
         };
         self.state.twp = Some(plane);
@@ -406,10 +407,10 @@ impl Controller<'_> {
             let rules = self.rules();
             goal = self.words.linear_values(&rules);
         }
-        let pair = self.twp_pair(span, &name)?;
+        let pair = self.twp_pair(span, name)?;
         let dir = self.state.setup.vector(&(plane.rotation() * Vec3::z()));
         let current = self.state.joints;
-        let chosen = self.twp_angles(&dir, pair, strategy, span, &name)?;
+        let chosen = self.twp_angles(&dir, pair, strategy, span, name)?;
         let mut start = current;
         let mut end = current;
         for (slot, k) in pair.into_iter().enumerate() {
@@ -434,7 +435,7 @@ impl Controller<'_> {
                     goal[1].unwrap_or(here.y),
                     goal[2].unwrap_or(here.z),
                 );
-                self.definition_finite(&[p.x, p.y, p.z], &name, span)?;
+                self.definition_finite(&[p.x, p.y, p.z], name, span)?;
                 let gauge = self.feature_gauge(&end, &p);
                 end[..3].copy_from_slice(gauge.as_slice());
                 let mut seg = self.segment(Motion::Rapid, start, end, Path::Joint);
