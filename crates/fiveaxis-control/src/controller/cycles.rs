@@ -53,7 +53,7 @@
 //!   cycle under cutter compensation C or 3-D tool compensation is refused
 //!   (FX0133).
 
-use fiveaxis_gcode::{Code, Span};
+use fiveaxis_gcode::Span;
 use fiveaxis_machine::{Joints, Vec3};
 
 use super::Controller;
@@ -123,25 +123,6 @@ impl Cycle {
             Cycle::G88 => 88.0,
             Cycle::G89 => 89.0,
         }
-    }
-
-    /// The cycle of a group-09 code (`None`: G80, the end of the cycle).
-    pub(crate) fn of(code: Code) -> Option<Self> {
-        Some(match code.major {
-            73 => Cycle::G73,
-            74 => Cycle::G74,
-            76 => Cycle::G76,
-            81 => Cycle::G81,
-            82 => Cycle::G82,
-            83 => Cycle::G83,
-            84 => Cycle::G84,
-            85 => Cycle::G85,
-            86 => Cycle::G86,
-            87 => Cycle::G87,
-            88 => Cycle::G88,
-            89 => Cycle::G89,
-            _ => return None,
-        })
     }
 }
 

@@ -39,19 +39,7 @@ pub(crate) enum NgcMotion {
     ThreadingCycle,
 }
 
-impl NgcMotion {
-    /// The mode a group-1 code selects (`None` for G0–G3).
-    pub(crate) fn of(code: fiveaxis_gcode::Code) -> Option<Self> {
-        Some(match (code.major, code.minor) {
-            (5, 0) => Self::CubicSpline,
-            (5, 1) => Self::QuadraticSpline,
-            (33, 0) => Self::Thread,
-            (33, 1) => Self::RigidTap,
-            (76, 0) => Self::ThreadingCycle,
-            _ => return None,
-        })
-    }
-}
+impl NgcMotion {}
 
 /// The rotation of LinuxCNC's XY plane about Z by `degrees`
 /// (counter-clockwise seen from +Z).

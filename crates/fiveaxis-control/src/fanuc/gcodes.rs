@@ -415,7 +415,7 @@ impl Words {
                         3 => MotionMode::Ccw,
                         _ => MotionMode::Linear,
                     };
-                    codes.motion = Some((mode, NgcMotion::of(code), span));
+                    codes.motion = Some((mode, ngc_motion_of(code), span));
                     motion_code = Some(code);
                 }
                 GKind::Plane => {
@@ -489,7 +489,7 @@ impl Words {
                 GKind::Cycle => {
                     // G80 also ends M29's rigid tapping.
                     codes.canned_cancel |= code.major == 80;
-                    codes.cycle = Some((Cycle::of(code), span));
+                    codes.cycle = Some((cycle_of(code), span));
                     cycle_code = Some(code);
                 }
                 GKind::CycleReturn => codes.cycle_return = Some(code.major == 98),
@@ -560,4 +560,36 @@ fn comp3d_forbidden(active: bool, code: Code) -> Option<(Condition, &'static str
         45..=48 => Some((Condition::Comp3dToolOffset, "tool offset")),
         _ => None,
     }
+}
+
+/// The canned cycle of a group-09 code (`None`: G80, the end of the
+/// cycle).
+fn cycle_of(code: Code) -> Option<Cycle> {
+    Some(match code.major {
+        73 => Cycle::G73,
+        74 => Cycle::G74,
+        76 => Cycle::G76,
+        81 => Cycle::G81,
+        82 => Cycle::G82,
+        83 => Cycle::G83,
+        84 => Cycle::G84,
+        85 => Cycle::G85,
+        86 => Cycle::G86,
+        87 => Cycle::G87,
+        88 => Cycle::G88,
+        89 => Cycle::G89,
+        _ => return None,
+    })
+}
+
+/// LinuxCNC's motion mode of a group-1 code (`None` for G0–G3).
+fn ngc_motion_of(code: Code) -> Option<NgcMotion> {
+    Some(match (code.major, code.minor) {
+        (5, 0) => NgcMotion::CubicSpline,
+        (5, 1) => NgcMotion::QuadraticSpline,
+        (33, 0) => NgcMotion::Thread,
+        (33, 1) => NgcMotion::RigidTap,
+        (76, 0) => NgcMotion::ThreadingCycle,
+        _ => return None,
+    })
 }
