@@ -196,7 +196,9 @@ pub struct Controller<'m> {
     offsets: Offsets,
     dialect: Dialect,
     state: State,
-    words: Words,
+    /// The FANUC family's front end: the block's words, read on the
+    /// controller's typed questions (`crate::fanuc`).
+    fanuc: Words,
     /// The operands of a block of commands (`operands.rs`).
     operands: operands::Operands,
     /// Address letters of the machine's axes, in joint order.
@@ -251,10 +253,6 @@ pub struct WordsWithoutPoint {
     /// The line of the first (0 while `count` is 0).
     pub first_line: u32,
 }
-
-/// The addresses counted in [`WordsWithoutPoint`] besides the machine's
-/// axes: arc centres and radius, the R level of canned cycles (lengths).
-const LENGTH_ADDRESSES: [u8; 4] = [b'I', b'J', b'K', b'R'];
 
 /// Where the control point goes, for each axis: programmed value if the
 /// block names the axis.
@@ -336,7 +334,7 @@ impl<'m> Controller<'m> {
                 serial: None,
                 orientation_path: None,
             },
-            words: Words::new(machine.control),
+            fanuc: Words::new(machine.control),
             operands: operands::Operands::default(),
             block_posture: None,
             block_exact_stop: false,
@@ -429,17 +427,10 @@ impl<'m> Controller<'m> {
         if self.without_point.is_none() || self.rules().calculator {
             return;
         }
-        let axes = &self.axis_letters[..self.machine.axis_count()];
-        let found = block
-            .words
-            .iter()
-            .filter(|w| {
-                // Zero is zero in any unit.
-                !w.decimal_point
-                    && w.value != 0.0
-                    && (axes.contains(&w.letter) || LENGTH_ADDRESSES.contains(&w.letter))
-            })
-            .count() as u64;
+        let found = crate::fanuc::words_without_point(
+            block,
+            &self.axis_letters[..self.machine.axis_count()],
+        );
         if let Some(counted) = &mut self.without_point
             && found > 0
         {
@@ -498,11 +489,7 @@ impl<'m> Controller<'m> {
     /// Whether `block` engraves (Haas G47), so that the runner passes it
     /// the serial number `#599`.
     pub fn engraves(&self, block: &Block) -> bool {
-        self.dialect.haas_codes
-            && block
-                .words
-                .iter()
-                .any(|w| w.letter == b'G' && w.value == 47.0)
+        self.dialect.haas_codes && crate::fanuc::engraves(block)
     }
 
     /// Whether the spindle turns (M03 / M04 and not stopped since).
@@ -551,7 +538,7 @@ impl<'m> Controller<'m> {
 
     /// An alarm for the current block.
     fn alarm(&self, condition: Condition, span: Option<Span>, message: String) -> Alarm {
-        self.words.alarm(condition, span, message)
+        self.fanuc.alarm(condition, span, message)
     }
 
     /// Executes one block: appends its segments to `out` and says what
@@ -565,7 +552,7 @@ impl<'m> Controller<'m> {
             self.count_without_point(block);
         }
         self.operands.active = false;
-        self.words.load(block, self.machine)?;
+        self.fanuc.load(block, self.machine)?;
         if self.dialect.haas_codes {
             // Haas G47 engraves the block's comment.
             self.comment.clear();
@@ -586,7 +573,7 @@ impl<'m> Controller<'m> {
 
     fn execute_loaded(&mut self, base: usize, out: &mut Vec<Segment>) -> Result<Flow, Alarm> {
         // A program-number line is a label (Haas: O00001 to O99999).
-        self.words.program_number(self.dialect.haas_codes)?;
+        self.fanuc.program_number(self.dialect.haas_codes)?;
         let mut codes = self.classify_g_codes()?;
         self.block_exact_stop = codes.exact_stop || self.pending_exact_stop;
         self.block_chose_rotary.set(false);
@@ -690,7 +677,7 @@ impl<'m> Controller<'m> {
         } else if !framed {
             self.block_motion(&codes, &from, length_changed, out)?;
         }
-        self.words.check_all_used()?;
+        self.fanuc.check_all_used()?;
         self.check_clamps(&out[base..])?;
         for seg in &out[base..] {
             self.check_limits(seg).map_err(|a| at_line(a, seg.line))?;
@@ -753,7 +740,7 @@ impl<'m> Controller<'m> {
     // ----- G codes --------------------------------------------------------
 
     fn classify_g_codes(&mut self) -> Result<GCodes, Alarm> {
-        self.words.g_codes(&Classify {
+        self.fanuc.g_codes(&Classify {
             haas: self.dialect.haas_codes,
             ngc: self.dialect.rs274ngc,
             twp: self.twp_remap(),
@@ -838,7 +825,7 @@ impl<'m> Controller<'m> {
     /// length offset lies along the tool), is an alarm.
     fn dynamic_length_offset(&mut self, span: Span, name: &str) -> Result<(), Alarm> {
         let rules = self.rules();
-        self.state.dynamic_length = Some(self.words.tool_axis_offset(span, name, &rules)?);
+        self.state.dynamic_length = Some(self.fanuc.tool_axis_offset(span, name, &rules)?);
         Ok(())
     }
 
@@ -849,7 +836,7 @@ impl<'m> Controller<'m> {
     /// table lacks is the manual's error.
     fn additional_length_offset(&mut self, span: Span) -> Result<f64, Alarm> {
         let rules = self.rules();
-        match self.words.added_length(span, &rules)? {
+        match self.fanuc.added_length(span, &rules)? {
             AddedLength::Value(v) => Ok(v),
             AddedLength::Tool(n, span) => match self.offsets.tools.get(&n) {
                 Some(tool) => Ok(tool.length + tool.length_wear),
@@ -867,18 +854,21 @@ impl<'m> Controller<'m> {
     /// (g-code.adoc, G64); they change speed, not the programmed path.
     fn blend_tolerance(&mut self) -> Result<(), Alarm> {
         let rules = self.rules();
-        self.state.modal.blend = self.words.blend_tolerance(&rules)?;
+        self.state.modal.blend = self.fanuc.blend_tolerance(&rules)?;
         Ok(())
     }
 
     /// F, S, T, D words: modal values.
     fn apply_values(&mut self, d_for_cycle: bool) -> Result<(), Alarm> {
+        if !self.operands.active && !self.fanuc.has_values() {
+            return Ok(());
+        }
         self.op_feed()?;
-        if let Some(s) = self.words.spindle_speed(self.dialect.rs274ngc)? {
+        if let Some(s) = self.fanuc.spindle_speed(self.dialect.rs274ngc)? {
             self.state.spindle_speed = s;
         }
         self.op_tool()?;
-        if !d_for_cycle && let Some(d) = self.words.radius_offset()? {
+        if !d_for_cycle && let Some(d) = self.fanuc.radius_offset()? {
             self.state.d = d;
         }
         Ok(())
@@ -925,12 +915,12 @@ impl<'m> Controller<'m> {
             // The H number stays modal through G49 (FANUC: #4111 keeps it;
             // a later G43 without H takes it again).
         }
-        if self.words.has_length_offset()
+        if self.fanuc.has_length_offset()
             && (self.state.modal.length != LengthMode::Off || codes.length.is_some())
             && (codes.length.is_some()
                 || self.state.ngc_motion != Some(linuxcnc::NgcMotion::ThreadingCycle))
         {
-            self.state.h = self.words.length_offset()?.unwrap_or(0);
+            self.state.h = self.fanuc.length_offset()?.unwrap_or(0);
         } else if self.dialect.rs274ngc
             && !codes.length_synthesized
             && (codes.length_from_spindle
@@ -995,7 +985,7 @@ impl<'m> Controller<'m> {
         }
         let [p, q, _] = self.state.modal.plane.axes();
         let rules = self.rules();
-        if let Some([i, j]) = self.words.plane_vector(p, q, span, &rules)? {
+        if let Some([i, j]) = self.fanuc.plane_vector(p, q, span, &rules)? {
             self.cutter.vector = Some(crate::cutter::P2::new(i, j));
         }
         Ok(())
@@ -1023,7 +1013,7 @@ impl<'m> Controller<'m> {
     /// M98 P… L…: FANUC also reads P as four digits of repetitions then
     /// four digits of program number when it has more than four digits.
     fn call(&mut self) -> Result<Flow, Alarm> {
-        let (program, repeats) = self.words.program_call()?;
+        let (program, repeats) = self.fanuc.program_call()?;
         Ok(Flow::Call { program, repeats })
     }
 
@@ -1250,7 +1240,7 @@ impl<'m> Controller<'m> {
             }
             OneShot::ReferenceReturn { numbered: false } => self.reference_return(from, 1, out),
             OneShot::ReferenceReturn { numbered: true } => {
-                let n = self.words.reference_number()?;
+                let n = self.fanuc.reference_number()?;
                 self.reference_return(from, n, out)
             }
             OneShot::TwpOrient(how) => self.twp_orient(how, span, out),
@@ -1302,7 +1292,7 @@ impl<'m> Controller<'m> {
     /// s. No axis moves.
     fn dwell(&mut self, span: Span) -> Result<(), Alarm> {
         let rules = self.rules();
-        self.words.dwell(
+        self.fanuc.dwell(
             span,
             &rules,
             self.dialect.dwell_p_seconds_with_point,
@@ -1318,11 +1308,11 @@ impl<'m> Controller<'m> {
         let rules = self.rules();
         let data = if self.dialect.rs274ngc {
             let work = self.state.modal.work;
-            self.words.data_setting_linuxcnc(span, &rules, work)?
+            self.fanuc.data_setting_linuxcnc(span, &rules, work)?
         } else {
             let incremental = self.state.modal.distance == Distance::Incremental;
             let haas = self.dialect.haas_codes;
-            self.words.data_setting(span, &rules, haas, incremental)?
+            self.fanuc.data_setting(span, &rules, haas, incremental)?
         };
         self.set_data(&data, from)
     }
@@ -1426,7 +1416,7 @@ impl<'m> Controller<'m> {
             1 => self.machine.params.reference_1,
             2 => self.machine.params.reference_2,
             _ => {
-                let span = self.words.reference_span();
+                let span = self.fanuc.reference_span();
                 return Err(self.alarm(
                     Condition::ReferencePositionUndefined,
                     span,
@@ -1474,7 +1464,7 @@ impl<'m> Controller<'m> {
         let mut end = self.state.joints;
         let mut travel = [0.0; MAX_AXES];
         let rules = self.rules();
-        let values = self.words.axis_values(&rules);
+        let values = self.fanuc.axis_values(&rules);
         for (i, value) in values.into_iter().enumerate() {
             if let Some(value) = value {
                 end[i] = if self.is_rollover(i) {

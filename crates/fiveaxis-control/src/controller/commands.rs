@@ -48,7 +48,7 @@ impl Controller<'_> {
     ) -> Result<Flow, Alarm> {
         let base = out.len();
         self.stop = None;
-        self.words.clear(block.line);
+        self.fanuc.clear(block.line);
         self.operands.start();
         let saved = self.state.clone();
         let saved_frames = self.neutral;
@@ -647,7 +647,7 @@ impl Controller<'_> {
     /// The checks every block ends with: every value used, clamps, soft
     /// limits; the position taken on.
     fn finish_block(&mut self, base: usize, out: &mut [Segment]) -> Result<(), Alarm> {
-        self.words.check_all_used()?;
+        self.fanuc.check_all_used()?;
         self.check_clamps(&out[base..])?;
         for seg in &out[base..] {
             self.check_limits(seg)

@@ -43,7 +43,7 @@ impl Controller<'_> {
             codes.cutter,
             Some((CutterSide::Left | CutterSide::Right, _))
         ) && !arc
-            && self.words.has_whole_vector()
+            && self.fanuc.has_whole_vector()
     }
 
     /// Group 07 for 3-D tool compensation and the vector at the end of this
@@ -76,7 +76,7 @@ impl Controller<'_> {
         } else if self.state.comp3d.active
             && !arc
             && self.tcpc_type() != Some(TcpcType::Vector)
-            && self.words.has_vector()
+            && self.fanuc.has_vector()
         {
             // In the mode, I, J, K give the vector of this block end (an
             // omitted one counts 0). Arcs keep the vector: their I, J, K are
@@ -103,14 +103,14 @@ impl Controller<'_> {
     /// omitted axis whose basic axis the machine does not have.
     fn check_comp3d_startup(&self) -> Result<(), Alarm> {
         let machine = self.machine;
-        self.words
+        self.fanuc
             .comp3d_startup_axes(|name| machine.axis_index(name).is_some())
     }
 
     /// I, J, K of the block (an omitted one is 0), taken.
     fn read_ijk(&mut self) -> Vec3 {
         let rules = self.rules();
-        Vec3::from(self.words.vector(&rules))
+        Vec3::from(self.fanuc.vector(&rules))
     }
 
     /// p of the vector: parameter No.5011, or the length of (i, j, k).

@@ -98,7 +98,7 @@ impl Controller<'_> {
     /// coordinate systems shift).
     pub(super) fn set_coordinate_system(&mut self, from: &Joints) -> Result<(), Alarm> {
         let rules = self.rules();
-        for (i, value) in self.words.axis_values(&rules).into_iter().enumerate() {
+        for (i, value) in self.fanuc.axis_values(&rules).into_iter().enumerate() {
             if let Some(value) = value {
                 if i < 3 {
                     // G92 cancels the local coordinate system of its axes.

@@ -178,7 +178,7 @@ impl Controller<'_> {
         }
         self.cutter.queue.push_back(Deferred {
             tag,
-            line: self.words.line,
+            line: self.fanuc.line,
             motion,
             feed,
             from: *from,
@@ -245,7 +245,7 @@ impl Controller<'_> {
             .queue
             .iter()
             .find(|d| d.tag == error.tag())
-            .map_or(self.words.line, |d| d.line);
+            .map_or(self.fanuc.line, |d| d.line);
         let mut alarm = self.alarm(condition, None, error.message().into());
         alarm.line = line;
         alarm

@@ -323,7 +323,7 @@ impl Controller<'_> {
             seconds: self.dialect.dwell_p_seconds,
         };
         let peck_clearance = self.dialect.rs274ngc && matches!(cycle, Cycle::G73 | Cycle::G83);
-        let data = self.words.cycle_data(&rules, dwell, peck_clearance)?;
+        let data = self.fanuc.cycle_data(&rules, dwell, peck_clearance)?;
         if let Some(r) = data.r {
             self.state.cycle.r = Some(r);
         }
@@ -539,7 +539,7 @@ impl Controller<'_> {
     fn cycle_allowed(&self, span: Option<Span>) -> Result<(), Alarm> {
         if self.tcpc_type() == Some(TcpcType::Vector)
             && let Some((i, span)) = self
-                .words
+                .fanuc
                 .first_axis(&self.rules(), self.machine.linear.len())
         {
             // Type 2 gives the tool by I J K, never by rotary words: the

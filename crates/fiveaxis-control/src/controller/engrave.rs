@@ -98,7 +98,7 @@ impl Controller<'_> {
     ) -> Result<(), Alarm> {
         self.engrave_allowed(span)?;
         let rules = self.rules();
-        let data = self.words.engraving(
+        let data = self.fanuc.engraving(
             span,
             &rules,
             u32::from(font::FIRST),
@@ -210,7 +210,7 @@ impl Controller<'_> {
     /// G47's refusals: modes it does not combine with.
     fn engrave_allowed(&self, span: Span) -> Result<(), Alarm> {
         let rotary_word = self
-            .words
+            .fanuc
             .first_axis(&self.rules(), self.machine.linear.len())
             .is_some();
         let mode = if self.cutter.side.is_some() {

@@ -85,7 +85,7 @@ impl Controller<'_> {
                     .into(),
             ));
         }
-        let h = self.words.peek_length_offset()?.unwrap_or(self.state.h);
+        let h = self.fanuc.peek_length_offset()?.unwrap_or(self.state.h);
         if h == 0 {
             return Err(self.alarm(
                 Condition::NoDataAfterAddress,
@@ -133,7 +133,7 @@ impl Controller<'_> {
         }
         let rules = self.rules();
         for (k, r) in self.machine.rotary.iter().enumerate() {
-            if let Some(span) = self.words.axis_span(&rules, self.machine.rotary_index(k)) {
+            if let Some(span) = self.fanuc.axis_span(&rules, self.machine.rotary_index(k)) {
                 return Err(self.alarm(
                     Condition::FeatureNotAllowed,
                     Some(span),
@@ -155,7 +155,7 @@ impl Controller<'_> {
             return Ok(());
         }
         let rules = self.rules();
-        let (level, rounding) = self.words.smoothness(&rules)?;
+        let (level, rounding) = self.fanuc.smoothness(&rules)?;
         let accuracy = &mut self.state.modal.accuracy;
         accuracy.smoothness = level;
         accuracy.corner_rounding = rounding;
@@ -165,7 +165,7 @@ impl Controller<'_> {
     /// M97 P… L…: a local subprogram call to sequence number P of the
     /// running program, L times (1 when left out).
     pub(super) fn local_call(&mut self, span: Span) -> Result<Flow, Alarm> {
-        let (sequence, repeats) = self.words.local_call(span)?;
+        let (sequence, repeats) = self.fanuc.local_call(span)?;
         Ok(Flow::LocalCall { sequence, repeats })
     }
 }

@@ -84,8 +84,8 @@ impl Controller<'_> {
         // A block of the mode without axis words moves nothing (rs274: a
         // lone `G17` after G76 is no threading cycle, `M2` after G5.1 no
         // spline).
-        if self.words.first_axis(&self.rules(), 0).is_none() {
-            if matches!(mode, NgcMotion::Thread | NgcMotion::RigidTap) && self.words.has_pitch() {
+        if self.fanuc.first_axis(&self.rules(), 0).is_none() {
+            if matches!(mode, NgcMotion::Thread | NgcMotion::RigidTap) && self.fanuc.has_pitch() {
                 return Err(self.alarm(
                     Condition::CycleDataMissing,
                     None,

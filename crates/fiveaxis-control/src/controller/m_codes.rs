@@ -191,19 +191,19 @@ impl Controller<'_> {
             (false, false) => (LengthCode::Off, Code::new(49, 0)),
         };
         codes.length = Some((what, span, name));
-        if tcp && !length_on && !self.words.has_length_offset() {
+        if tcp && !length_on && !self.fanuc.has_length_offset() {
             // The TCP kinematics with no tool length: H0. The H number of
             // the last G43 comes back with the next G43 without H.
             self.state.h_before_g49 = Some(self.state.h);
             self.state.h = 0;
-        } else if given.is_some_and(|(on, _)| on) && !self.words.has_length_offset() {
+        } else if given.is_some_and(|(on, _)| on) && !self.fanuc.has_length_offset() {
             // G43 without H: the tool in the spindle (g-code.adoc, G43),
             // under the TCP kinematics as under identity; taken when the
             // length is applied, after the block's M6.
             self.state.h_before_g49 = None;
             codes.length_from_spindle = true;
         } else if length_on
-            && !self.words.has_length_offset()
+            && !self.fanuc.has_length_offset()
             && let Some(h) = self.state.h_before_g49.take()
         {
             self.state.h = h;
@@ -230,7 +230,7 @@ impl Controller<'_> {
                 (98, 0) => flow = self.call()?,
                 (97, 0) if self.dialect.haas_codes => flow = self.local_call(span)?,
                 (99, 0) => {
-                    let sequence = self.words.return_sequence()?;
+                    let sequence = self.fanuc.return_sequence()?;
                     flow = Flow::Return { sequence };
                 }
                 _ => match self.m_function(code) {
@@ -291,10 +291,10 @@ impl Controller<'_> {
             {
                 if code.major == 61 {
                     // M61 Q-: the tool in the spindle is now Q (no change).
-                    self.state.spindle_tool = self.words.spindle_tool(span, MAX_TOOL_NUMBER)?;
+                    self.state.spindle_tool = self.fanuc.spindle_tool(span, MAX_TOOL_NUMBER)?;
                 }
                 // Their P, E, L, Q words are I/O numbers and values.
-                self.words.io_words();
+                self.fanuc.io_words();
             }
             MFunction::Signal | MFunction::TcpcOn | MFunction::TcpcOff => {}
             MFunction::Clamp(axis) | MFunction::Unclamp(axis) => {
@@ -309,7 +309,7 @@ impl Controller<'_> {
                 };
                 self.state.clamped[k] = matches!(function, MFunction::Clamp(_)).then_some(Clamp {
                     code: code.major,
-                    line: self.words.line,
+                    line: self.fanuc.line,
                 });
             }
         }
@@ -321,7 +321,7 @@ impl Controller<'_> {
     /// (0 shortest, 1 clockwise, 2 counter-clockwise). The spindle stops
     /// at the angle; no axis moves.
     fn linuxcnc_orient(&mut self) -> Result<(), Alarm> {
-        self.words.spindle_orientation()
+        self.fanuc.spindle_orientation()
     }
 
     /// Alarms when a segment moves a clamped rotary axis.

@@ -39,7 +39,7 @@ impl Controller<'_> {
         // control works out.
         let posture = matches!(&path, Path::Tcpc(t) if t.posture.is_some());
         Segment {
-            line: self.words.line,
+            line: self.fanuc.line,
             motion,
             feed: None,
             start,
@@ -289,7 +289,7 @@ impl Controller<'_> {
         let theta1 = (eq - center.1).atan2(ep - center.0);
         let mut sweep = arc_sweep(theta0, theta1, ccw, r0);
         if self.dialect.rs274ngc
-            && let Some(turns) = self.words.arc_turns()?
+            && let Some(turns) = self.fanuc.arc_turns()?
         {
             // LinuxCNC: P − 1 whole turns before the arc to the end point.
             sweep += sweep.signum() * std::f64::consts::TAU * f64::from(turns - 1);

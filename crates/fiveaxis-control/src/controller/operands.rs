@@ -76,7 +76,7 @@ impl Controller<'_> {
             return self.operands.targets.map(|t| t.map(|(v, _)| v));
         }
         let rules = self.rules();
-        self.words.axes(&rules)
+        self.fanuc.axes(&rules)
     }
 
     /// Where the value of axis `i` is written.
@@ -84,7 +84,7 @@ impl Controller<'_> {
         if self.operands.active {
             return self.operands.targets[i].map(|(_, span)| span);
         }
-        self.words.axis_span(&self.rules(), i)
+        self.fanuc.axis_span(&self.rules(), i)
     }
 
     /// Whether the block gives a circle's radius or centre in the plane of
@@ -94,7 +94,7 @@ impl Controller<'_> {
             let o = &self.operands;
             return o.radius.is_some() || o.center[p].is_some() || o.center[q].is_some();
         }
-        self.words.has_arc_words(p, q)
+        self.fanuc.has_arc_words(p, q)
     }
 
     /// The circle's radius or centre in the plane of `p`, `q`.
@@ -112,7 +112,7 @@ impl Controller<'_> {
         }
         let rules = self.rules();
         let absolute = self.state.modal.ijk_absolute;
-        self.words.arc_center(p, q, &rules, absolute)
+        self.fanuc.arc_center(p, q, &rules, absolute)
     }
 
     /// Where the circle's radius is written.
@@ -120,7 +120,7 @@ impl Controller<'_> {
         if self.operands.active {
             return self.operands.radius.map(|_| self.operands.span);
         }
-        self.words.radius_span()
+        self.fanuc.radius_span()
     }
 
     /// The tool vector and where it is written, if the block gives one.
@@ -128,7 +128,7 @@ impl Controller<'_> {
         if self.operands.active {
             return self.operands.vector.map(|_| self.operands.span);
         }
-        self.words.vector_span()
+        self.fanuc.vector_span()
     }
 
     /// The block's tool vector (an omitted component 0).
@@ -137,7 +137,7 @@ impl Controller<'_> {
             return self.operands.vector.unwrap_or_default();
         }
         let rules = self.rules();
-        self.words.vector(&rules)
+        self.fanuc.vector(&rules)
     }
 
     /// Whether the block gives a feed, and where.
@@ -145,7 +145,7 @@ impl Controller<'_> {
         if self.operands.active {
             return self.operands.feed.map(|(_, span)| span);
         }
-        self.words.feed_span()
+        self.fanuc.feed_span()
     }
 
     /// The block's M functions, in order.
@@ -153,7 +153,7 @@ impl Controller<'_> {
         if self.operands.active {
             return &self.operands.m[..self.operands.m_len];
         }
-        self.words.m_codes()
+        self.fanuc.m_codes()
     }
 
     /// F: the feed (not negative; G20 inches to mm outside inverse
@@ -161,12 +161,14 @@ impl Controller<'_> {
     pub(super) fn op_feed(&mut self) -> Result<(), Alarm> {
         let feed = if self.operands.active {
             self.operands.feed
+        } else if !self.fanuc.has_feed() {
+            None
         } else {
             let scale = match (self.state.modal.feed_mode, self.state.modal.units) {
                 (FeedMode::InverseTime, _) | (_, Units::Metric) => 1.0,
                 (_, Units::Inch) => crate::fanuc::MM_PER_INCH,
             };
-            self.words.feed(scale)
+            self.fanuc.feed(scale)
         };
         if let Some((value, span)) = feed {
             if value < 0.0 {
@@ -186,7 +188,7 @@ impl Controller<'_> {
         let tool = if self.operands.active {
             self.operands.tool
         } else {
-            self.words.tool_number()?
+            self.fanuc.tool_number()?
         };
         if let Some((t, span)) = tool {
             if let Some(max) = self.tool_memory

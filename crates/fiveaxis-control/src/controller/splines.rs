@@ -49,7 +49,7 @@ impl Controller<'_> {
             i,
             j,
             end: control_end,
-        } = self.words.spline(name, cubic, &rules)?;
+        } = self.fanuc.spline(name, cubic, &rules)?;
         let start = [from[0], from[1]];
         let targets = self.axis_words();
         let end = [

@@ -258,12 +258,12 @@ impl Controller<'_> {
         let posture = if machine.control == Control::LinuxCnc || table_zero {
             None
         } else {
-            self.words.tool_posture()?
+            self.fanuc.tool_posture()?
         };
         let posture = posture.unwrap_or(machine.params.tool_posture_control);
         let rules = self.rules();
         let inclination = match kind {
-            TcpcType::Vector => self.words.inclination(&rules),
+            TcpcType::Vector => self.fanuc.inclination(&rules),
             TcpcType::Angles => 0.0,
         };
         let joints = self.state.joints;
@@ -856,7 +856,7 @@ impl Controller<'_> {
         };
         if kind == TcpcType::Angles {
             if self.dialect.tcpc_startup_controls_tip {
-                self.words.drop_vector();
+                self.fanuc.drop_vector();
             }
             return Ok(false);
         }

@@ -64,9 +64,9 @@ impl Controller<'_> {
         };
         let targets = self.axis_words();
         let rules = self.rules();
-        let pitch = self.words.sync_pitch(name, &rules)?;
+        let pitch = self.fanuc.sync_pitch(name, &rules)?;
         let multiplier = if mode == NgcMotion::RigidTap {
-            self.words.retract_multiplier()
+            self.fanuc.retract_multiplier()
         } else {
             1.0
         };
@@ -115,7 +115,7 @@ impl Controller<'_> {
         }
         let rules = self.rules();
         let data = self
-            .words
+            .fanuc
             .thread_data(&rules, self.state.modal.diameter_mode, MAX_PASSES)?;
         let ThreadData {
             pitch,

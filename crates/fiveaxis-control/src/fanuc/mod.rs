@@ -54,8 +54,8 @@ pub(crate) use gcodes::{
     AccuracyCode, Classify, FeatureCode, GCodes, LengthCode, OneShot, TwpOrient,
 };
 pub(crate) use motion::ArcCenter;
-pub(crate) use operands::AddedLength;
 use operands::CENTER_LETTERS;
+pub(crate) use operands::{AddedLength, engraves, words_without_point};
 pub(crate) use splines::SplineData;
 pub(crate) use threading::ThreadData;
 pub(crate) use values::{MM_PER_INCH, Rules};

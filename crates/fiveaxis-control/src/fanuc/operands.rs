@@ -4,7 +4,7 @@
 //! G64 P Q), the length offsets given in the block (LinuxCNC G43.1 /
 //! G43.2) and the I, J type vector of cutter compensation C.
 
-use fiveaxis_gcode::{Code, Span, Word};
+use fiveaxis_gcode::{Block, Code, Span, Word};
 use fiveaxis_machine::{MAX_AXES, MAX_TOOL_OFFSET};
 
 use super::{Rules, Words};
@@ -23,6 +23,35 @@ pub(crate) enum AddedLength {
     Tool(u32, Span),
     /// This length, mm (`G43.2 Z`).
     Value(f64),
+}
+
+/// The addresses counted in [`words_without_point`] besides the machine's
+/// axes: arc centres and radius, the R level of canned cycles (lengths).
+const LENGTH_ADDRESSES: [u8; 4] = [b'I', b'J', b'K', b'R'];
+
+/// How many of `block`'s axis words (`axes`: the machine's axis letters)
+/// and I, J, K, R are written without a decimal point and are not 0 (zero
+/// is zero in any unit): the words a control with decimal point input off
+/// reads in least input increments.
+pub(crate) fn words_without_point(block: &Block, axes: &[u8]) -> u64 {
+    block
+        .words
+        .iter()
+        .filter(|w| {
+            !w.decimal_point
+                && w.value != 0.0
+                && (axes.contains(&w.letter) || LENGTH_ADDRESSES.contains(&w.letter))
+        })
+        .count() as u64
+}
+
+/// Whether `block` is a Haas G47 engraving block (the runner passes it the
+/// serial number `#599`).
+pub(crate) fn engraves(block: &Block) -> bool {
+    block
+        .words
+        .iter()
+        .any(|w| w.letter == b'G' && w.value == 47.0)
 }
 
 impl Words {
@@ -201,9 +230,19 @@ impl Words {
         Ok(value)
     }
 
+    /// Whether the block gives one of F, S, T, D.
+    pub(crate) fn has_values(&self) -> bool {
+        self.has_any(b"FSTD")
+    }
+
     /// F: the feed, times `scale` (inch to mm), and where it is written.
     pub(crate) fn feed(&mut self, scale: f64) -> Option<(f64, Span)> {
         self.take(b'F').map(|word| (word.value * scale, word.span))
+    }
+
+    /// Whether the block gives a feed.
+    pub(crate) fn has_feed(&self) -> bool {
+        self.has(b'F')
     }
 
     /// Where F is written, if the block has it.

@@ -22,13 +22,13 @@ pub struct Words {
     present: u32,
     used: u32,
     /// G codes in the order written.
-    pub g: [(Code, Span); MAX_G_CODES],
+    pub(super) g: [(Code, Span); MAX_G_CODES],
     /// How many of `g` are set.
-    pub g_len: usize,
+    pub(super) g_len: usize,
     /// M codes in the order written.
-    pub m: [(Code, Span); MAX_M_CODES],
+    pub(super) m: [(Code, Span); MAX_M_CODES],
     /// How many of `m` are set.
-    pub m_len: usize,
+    pub(super) m_len: usize,
     /// 1-based line of the block.
     pub line: u32,
     control: Control,
@@ -155,7 +155,7 @@ impl Words {
     }
 
     /// The word with this letter, marking it used.
-    pub fn take(&mut self, letter: u8) -> Option<Word> {
+    pub(super) fn take(&mut self, letter: u8) -> Option<Word> {
         let word = self.peek(letter);
         if word.is_some() {
             self.used |= 1 << index(letter);
@@ -166,14 +166,14 @@ impl Words {
     /// The word with this letter, marked used and taken out of the block,
     /// so that later functions do not see it (LinuxCNC's G43.1 axis
     /// words are offsets, not a move).
-    pub fn remove(&mut self, letter: u8) -> Option<Word> {
+    pub(super) fn remove(&mut self, letter: u8) -> Option<Word> {
         let word = self.take(letter);
         self.present &= !(1 << index(letter));
         word
     }
 
     /// The word with this letter, without marking it used.
-    pub fn peek(&self, letter: u8) -> Option<Word> {
+    pub(super) fn peek(&self, letter: u8) -> Option<Word> {
         if self.present & (1 << index(letter)) == 0 {
             return None;
         }
@@ -181,15 +181,21 @@ impl Words {
     }
 
     /// The first word whose letter is not `letter`.
-    pub fn first_other_than(&self, letter: u8) -> Option<Word> {
+    pub(super) fn first_other_than(&self, letter: u8) -> Option<Word> {
         let others = self.present & !(1 << index(letter));
         (0..26)
             .find(|i| others & (1 << i) != 0)
             .and_then(|i| self.by_letter[i])
     }
 
+    /// Whether a word with one of these letters is present.
+    pub(super) fn has_any(&self, letters: &[u8]) -> bool {
+        let mask = letters.iter().fold(0u32, |m, &l| m | 1 << index(l));
+        self.present & mask != 0
+    }
+
     /// Whether a word with this letter is present.
-    pub fn has(&self, letter: u8) -> bool {
+    pub(super) fn has(&self, letter: u8) -> bool {
         self.present & (1 << index(letter)) != 0
     }
 
@@ -221,7 +227,7 @@ impl Words {
     /// beyond `max`. A computed value (`P#1`, `H[#2+1]`) is rounded to the
     /// integer, half away from zero, as FANUC rounds a variable's value to
     /// the address's least increment.
-    pub fn integer(&self, word: &Word, max: u32) -> Result<u32, Alarm> {
+    pub(super) fn integer(&self, word: &Word, max: u32) -> Result<u32, Alarm> {
         let letter = char::from(word.letter);
         if word.computed {
             let value = word.value.round();
@@ -260,7 +266,7 @@ impl Words {
     /// without is milliseconds; otherwise (FANUC) P is an integer of
     /// milliseconds and a decimal point is an alarm.
     /// With `always_seconds` (LinuxCNC) P is seconds however written.
-    pub fn dwell_ms(
+    pub(super) fn dwell_ms(
         &self,
         word: &Word,
         seconds_with_point: bool,

@@ -313,7 +313,7 @@ impl Controller<'_> {
     /// out).
     pub(super) fn definition_point(&mut self) -> Vec3 {
         let rules = self.rules();
-        Vec3::from(self.words.linear_values(&rules).map(|v| v.unwrap_or(0.0)))
+        Vec3::from(self.fanuc.linear_values(&rules).map(|v| v.unwrap_or(0.0)))
     }
 
     /// I, J, K of a definition block as angles (P0, P1, P4) or vector
@@ -321,7 +321,7 @@ impl Controller<'_> {
     /// left out.
     pub(super) fn definition_ijk(&mut self) -> Vec3 {
         let rules = self.rules();
-        Vec3::from(self.words.angle_vector(&rules).map(|v| v.unwrap_or(0.0)))
+        Vec3::from(self.fanuc.angle_vector(&rules).map(|v| v.unwrap_or(0.0)))
     }
 
     /// Alarms on a definition value that is not a finite number.
@@ -385,7 +385,7 @@ impl Controller<'_> {
     fn feature_by_rotation_order(&mut self, span: Span) -> Result<Feature, Alarm> {
         let origin = self.definition_point();
         let angles = self.definition_ijk();
-        let order = self.words.rotation_order()?;
+        let order = self.fanuc.rotation_order()?;
         self.definition_finite(
             &[origin.x, origin.y, origin.z, angles.x, angles.y, angles.z],
             "G268",
@@ -420,7 +420,7 @@ impl Controller<'_> {
         let point = self.definition_point();
         let turn = if q == 0 {
             let rules = self.rules();
-            self.words.rotation_angle(&rules).unwrap_or(0.0)
+            self.fanuc.rotation_angle(&rules).unwrap_or(0.0)
         } else {
             0.0
         };
@@ -506,7 +506,7 @@ impl Controller<'_> {
     /// definition given block by block is pending, only its next block may
     /// come.
     pub(super) fn definition_form(&mut self, code: Code, span: Span) -> Result<u32, Alarm> {
-        let form = self.words.definition_form()?;
+        let form = self.fanuc.definition_form()?;
         if let Some(pending) = self.state.feature_pending
             && (pending.code != code || pending.form != form)
         {
@@ -565,7 +565,7 @@ impl Controller<'_> {
         span: Span,
         last: u32,
     ) -> Result<u32, Alarm> {
-        self.words.definition_step(name, span, last)
+        self.fanuc.definition_step(name, span, last)
     }
 
     /// Alarms on a definition block out of its order.
@@ -675,7 +675,7 @@ impl Controller<'_> {
     /// three are left out; one or two left out is PS5457.
     fn feature_from_tool_axis(&mut self, span: Span) -> Result<(), Alarm> {
         let rules = self.rules();
-        let given = self.words.linear_values(&rules);
+        let given = self.fanuc.linear_values(&rules);
         let origin = match given.iter().filter(|w| w.is_some()).count() {
             0 => {
                 // Where the program stands, in workpiece coordinates.
@@ -692,7 +692,7 @@ impl Controller<'_> {
                 ));
             }
         };
-        let turn = self.words.rotation_angle(&rules).unwrap_or(0.0);
+        let turn = self.fanuc.rotation_angle(&rules).unwrap_or(0.0);
         let dir = self.machine.forward(&self.state.joints, 0.0).dir;
         let z = self.state.setup.inverse_vector(&dir).normalize();
         let rotation = tool_axis_frame(z) * about(Vec3::z(), turn);
@@ -708,7 +708,7 @@ impl Controller<'_> {
     /// Whether a G68 block asks for a three-dimensional coordinate
     /// conversion: one of I, J, K is given.
     pub(in crate::controller) fn conversion_requested(&self) -> bool {
-        self.words.has_vector()
+        self.fanuc.has_vector()
     }
 
     /// G68 X Y Z I J K R: three-dimensional coordinate conversion (FANUC
@@ -749,13 +749,13 @@ impl Controller<'_> {
         };
         let mut center = *here;
         let rules = self.rules();
-        for (i, value) in self.words.linear_values(&rules).into_iter().enumerate() {
+        for (i, value) in self.fanuc.linear_values(&rules).into_iter().enumerate() {
             if let Some(value) = value {
                 center[i] = value;
             }
         }
         let axis = self.definition_ijk();
-        let angle = self.words.rotation_angle(&rules).unwrap_or(0.0);
+        let angle = self.fanuc.rotation_angle(&rules).unwrap_or(0.0);
         self.definition_finite(
             &[center.x, center.y, center.z, axis.x, axis.y, axis.z, angle],
             "G68",

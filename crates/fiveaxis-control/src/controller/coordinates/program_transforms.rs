@@ -337,7 +337,7 @@ impl Controller<'_> {
 
     fn mirror_cancel(&mut self) {
         let rules = self.rules();
-        let named = self.words.linear_values(&rules);
+        let named = self.fanuc.linear_values(&rules);
         for (i, value) in named.iter().enumerate() {
             if value.is_some() {
                 self.state.frames.mirror[i] = None;
@@ -350,7 +350,7 @@ impl Controller<'_> {
 
     fn mirror_start(&mut self, code: Code, span: Span) -> Result<(), Alarm> {
         let rules = self.rules();
-        let named = self.words.linear_values(&rules);
+        let named = self.fanuc.linear_values(&rules);
         if named.iter().all(Option::is_none) {
             return Err(self.alarm(
                 Condition::NoDataAfterAddress,
@@ -369,12 +369,12 @@ impl Controller<'_> {
     fn scaling_start(&mut self, code: Code, span: Span, here: &Vec3) -> Result<(), Alarm> {
         let mut center = self.state.frames.invert(here);
         let rules = self.rules();
-        for (i, value) in self.words.linear_values(&rules).into_iter().enumerate() {
+        for (i, value) in self.fanuc.linear_values(&rules).into_iter().enumerate() {
             if let Some(value) = value {
                 center[i] = value;
             }
         }
-        let factor = match self.words.scale_factors(code, span)? {
+        let factor = match self.fanuc.scale_factors(code, span)? {
             ScaleFactors::Uniform(p) => [p; 3],
             ScaleFactors::PerAxis(k) => k,
             ScaleFactors::None => [1.0; 3],
@@ -389,7 +389,7 @@ impl Controller<'_> {
         let plane = self.state.modal.plane;
         let [p, q, _] = plane.axes();
         let rules = self.rules();
-        let given = [p, q].map(|axis| self.words.linear_value(axis, &rules));
+        let given = [p, q].map(|axis| self.fanuc.linear_value(axis, &rules));
         let center = if given.iter().any(Option::is_some) {
             // The centre in program coordinates, mirrored and scaled.
             let before = Frames {
@@ -408,7 +408,7 @@ impl Controller<'_> {
             *here
         };
         let previous = self.state.frames.rotation.map_or(0.0, |r| r.angle);
-        let angle = match self.words.rotation_angle(&rules) {
+        let angle = match self.fanuc.rotation_angle(&rules) {
             Some(angle) if self.state.modal.distance == Distance::Incremental => previous + angle,
             Some(angle) => angle,
             // FANUC No.5410: the angle of a G68 without R; taken as 0.
@@ -432,7 +432,7 @@ impl Controller<'_> {
     /// shift becomes the value.
     pub(in crate::controller) fn local_coordinate_system(&mut self) -> Result<(), Alarm> {
         let rules = self.rules();
-        for (i, value) in self.words.linear_values(&rules).into_iter().enumerate() {
+        for (i, value) in self.fanuc.linear_values(&rules).into_iter().enumerate() {
             if let Some(value) = value {
                 if self.dialect.rs274ngc {
                     self.state.shift[i] = value;

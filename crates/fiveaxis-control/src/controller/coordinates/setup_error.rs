@@ -31,8 +31,8 @@ impl Controller<'_> {
         from: &Joints,
         out: &mut Vec<Segment>,
     ) -> Result<(), Alarm> {
-        let (n, p_span) = self.words.setup_error_set(span, MAX_SET)?;
-        self.words.take_setup_error_set();
+        let (n, p_span) = self.fanuc.setup_error_set(span, MAX_SET)?;
+        self.fanuc.take_setup_error_set();
         if n != 0 && self.machine.rotary.len() > 2 {
             // The correction turns the tool back onto its attitude on the
             // real workpiece, an inverse that needs two rotary axes.

@@ -192,7 +192,7 @@ impl Controller<'_> {
     /// R: the turn about the plane's +Z, degrees, 0 when left out.
     fn twp_turn(&mut self) -> f64 {
         let rules = self.rules();
-        self.words.rotation_angle(&rules).unwrap_or(0.0)
+        self.fanuc.rotation_angle(&rules).unwrap_or(0.0)
     }
 
     /// The rotation order Q of P0 / P1: one of `orders`, `default` when
@@ -203,7 +203,7 @@ impl Controller<'_> {
         } else {
             (FIXED_ORDERS, 123)
         };
-        let q = self.words.twp_order(name, form, &orders, default)?;
+        let q = self.fanuc.twp_order(name, form, &orders, default)?;
         let axis = |d: u32| match d {
             1 => Vec3::x(),
             2 => Vec3::y(),
@@ -237,7 +237,7 @@ impl Controller<'_> {
     /// I J K as a point (lengths, G20 inches to mm), 0 when left out.
     fn twp_point_ijk(&mut self) -> Vec3 {
         let rules = self.rules();
-        Vec3::from(self.words.vector(&rules))
+        Vec3::from(self.fanuc.vector(&rules))
     }
 
     /// P2: three points, one block each (see the module documentation).
@@ -395,7 +395,7 @@ impl Controller<'_> {
                 format!("{name} needs a tilted working plane defined first (G68.2, G68.3, G68.4)"),
             ));
         };
-        let strategy = match self.words.twp_direction()? {
+        let strategy = match self.fanuc.twp_direction()? {
             0 => Strategy::Shortest,
             1 => Strategy::Positive,
             _ => Strategy::Negative,
@@ -405,7 +405,7 @@ impl Controller<'_> {
         let mut goal = [None; 3];
         if how == TwpOrient::ToPoint {
             let rules = self.rules();
-            goal = self.words.linear_values(&rules);
+            goal = self.fanuc.linear_values(&rules);
         }
         let pair = self.twp_pair(span, name)?;
         let dir = self.state.setup.vector(&(plane.rotation() * Vec3::z()));
