@@ -334,7 +334,7 @@ impl<'m> Controller<'m> {
                 serial: None,
                 orientation_path: None,
             },
-            fanuc: Words::new(machine.control),
+            fanuc: Words::new(machine),
             operands: operands::Operands::default(),
             block_posture: None,
             block_exact_stop: false,
@@ -552,7 +552,7 @@ impl<'m> Controller<'m> {
             self.count_without_point(block);
         }
         self.operands.active = false;
-        self.fanuc.load(block, self.machine)?;
+        self.fanuc.load(block)?;
         if self.dialect.haas_codes {
             // Haas G47 engraves the block's comment.
             self.comment.clear();

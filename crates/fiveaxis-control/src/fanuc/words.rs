@@ -21,6 +21,9 @@ pub struct Words {
     by_letter: [Option<Word>; 26],
     present: u32,
     used: u32,
+    /// The addresses a block may have on this machine and control, by
+    /// letter bit.
+    addresses: u32,
     /// G codes in the order written.
     pub(super) g: [(Code, Span); MAX_G_CODES],
     /// How many of `g` are set.
@@ -39,10 +42,18 @@ fn index(letter: u8) -> usize {
 }
 
 impl Words {
-    /// An empty set for `control`.
-    pub fn new(control: Control) -> Self {
+    /// An empty set for `machine` (its control and axes decide which
+    /// addresses a block may have).
+    pub fn new(machine: &Machine) -> Self {
         let blank = (Code::new(0, 0), Span::default());
+        let control = machine.control;
+        let addresses = (b'A'..=b'Z')
+            .filter(|&l| {
+                is_address(l, machine) || (control == Control::LinuxCnc && l == LINUXCNC_E)
+            })
+            .fold(0u32, |mask, l| mask | 1 << index(l));
         Self {
+            addresses,
             by_letter: [None; 26],
             present: 0,
             used: 0,
@@ -68,7 +79,7 @@ impl Words {
 
     /// Sorts `block`'s words. Alarms on an address the machine does not
     /// have, a repeated address, and a G or M code that is not a code.
-    pub fn load(&mut self, block: &Block, machine: &Machine) -> Result<(), Alarm> {
+    pub fn load(&mut self, block: &Block) -> Result<(), Alarm> {
         self.present = 0;
         self.used = 0;
         self.g_len = 0;
@@ -79,8 +90,8 @@ impl Words {
             match letter {
                 b'G' | b'M' => self.push_code(word)?,
                 _ => {
-                    let linuxcnc_e = self.control == Control::LinuxCnc && letter == LINUXCNC_E;
-                    if !(is_address(letter, machine) || linuxcnc_e) {
+                    let bit = 1 << index(letter);
+                    if !letter.is_ascii_uppercase() || self.addresses & bit == 0 {
                         return Err(self.alarm(
                             Condition::ImproperAddress,
                             Some(word.span),
@@ -90,7 +101,6 @@ impl Words {
                             ),
                         ));
                     }
-                    let bit = 1 << index(letter);
                     if self.present & bit != 0 {
                         return Err(self.alarm(
                             Condition::DuplicateAddress,
