@@ -79,6 +79,7 @@ fn three_axis() -> Machine {
         rotary: Vec::new(),
         params: Parameters::default(),
         m_codes: MCodes::default(),
+        bodies: Vec::new(),
     }
 }
 

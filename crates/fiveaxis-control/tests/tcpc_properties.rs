@@ -132,6 +132,7 @@ fn tcpc_machine(frame: ProgrammingFrame) -> impl Strategy<Value = Machine> {
                 ..Parameters::default()
             },
             m_codes: MCodes::default(),
+            bodies: Vec::new(),
         }
     })
 }
@@ -744,6 +745,7 @@ fn nutating_head() -> Machine {
         ],
         params: Parameters::default(),
         m_codes: MCodes::default(),
+        bodies: Vec::new(),
     }
 }
 
@@ -1312,6 +1314,7 @@ fn any_machine() -> impl Strategy<Value = Machine> {
             rotary,
             params,
             m_codes: MCodes::default(),
+            bodies: Vec::new(),
         })
 }
 

@@ -10,6 +10,10 @@
 //! (`$TC_CARR`, kinematic type M) that
 //! [`import_tc_carr`](crate::import_tc_carr) turns into the same machine
 //! (`data/sinumerik-dmu-bc.spf`).
+//!
+//! Every built-in machine has a plausible set of bodies (`[[body]]`: bed,
+//! table, cradle, spindle head; `geometry.rs`), assumed from the size of
+//! its travels, not a maker's figures.
 
 use crate::Machine;
 
@@ -93,6 +97,151 @@ max_jerk = 50000.0
     };
 }
 
+/// Plausible bodies of the built-in trunnion machines, assumed, not a
+/// maker's figures: a bed 510 mm below the table face with two supports
+/// carrying the tilt axis (100 mm below the face, as its `center`), a
+/// cradle on the tilt axis (a 40 mm plate under the table and two walls
+/// at its ends, rising to the table face), a round table Ø500 × 40 on the
+/// turning axis, and a spindle housing Ø180 rising from the gauge point.
+/// `$tilt` names the tilt axis, `$along` the machine axis it lies along.
+macro_rules! trunnion_bodies {
+    ("A", "x") => {
+        r#"
+[[body]]
+name = "bed"
+on = "base"
+solids = [
+    { box = [1200.0, 1000.0, 100.0], at = [0.0, 0.0, -560.0] },
+    { box = [100.0, 400.0, 450.0], at = [-460.0, 0.0, -285.0] },
+    { box = [100.0, 400.0, 450.0], at = [460.0, 0.0, -285.0] },
+]
+
+[[body]]
+name = "cradle"
+on = "A"
+solids = [
+    { box = [780.0, 560.0, 40.0], at = [0.0, 0.0, -80.0] },
+    { box = [40.0, 560.0, 100.0], at = [-370.0, 0.0, -50.0] },
+    { box = [40.0, 560.0, 100.0], at = [370.0, 0.0, -50.0] },
+]
+
+[[body]]
+name = "table"
+on = "C"
+solids = [{ cylinder = [250.0, 40.0], at = [0.0, 0.0, -40.0] }]
+
+[[body]]
+name = "head"
+on = "head"
+solids = [{ cylinder = [90.0, 450.0], at = [0.0, 0.0, 0.0] }]
+"#
+    };
+    ("B", "y") => {
+        r#"
+[[body]]
+name = "bed"
+on = "base"
+solids = [
+    { box = [1200.0, 1000.0, 100.0], at = [0.0, 0.0, -560.0] },
+    { box = [400.0, 100.0, 450.0], at = [0.0, -460.0, -285.0] },
+    { box = [400.0, 100.0, 450.0], at = [0.0, 460.0, -285.0] },
+]
+
+[[body]]
+name = "cradle"
+on = "B"
+solids = [
+    { box = [560.0, 780.0, 40.0], at = [0.0, 0.0, -80.0] },
+    { box = [560.0, 40.0, 100.0], at = [0.0, -370.0, -50.0] },
+    { box = [560.0, 40.0, 100.0], at = [0.0, 370.0, -50.0] },
+]
+
+[[body]]
+name = "table"
+on = "C"
+solids = [{ cylinder = [250.0, 40.0], at = [0.0, 0.0, -40.0] }]
+
+[[body]]
+name = "head"
+on = "head"
+solids = [{ cylinder = [90.0, 450.0], at = [0.0, 0.0, 0.0] }]
+"#
+    };
+}
+
+/// Plausible bodies of `head-table-bc`, assumed: a bed under a round table
+/// Ø600 × 60 on C, the spindle Ø140 from the gauge point up to the B
+/// pivot (150 mm above it) and the swivel housing Ø220 along the B axis.
+macro_rules! head_table_bodies {
+    () => {
+        r#"
+[[body]]
+name = "bed"
+on = "base"
+solids = [{ box = [1200.0, 1000.0, 100.0], at = [0.0, 0.0, -111.0] }]
+
+[[body]]
+name = "table"
+on = "C"
+solids = [{ cylinder = [300.0, 60.0], at = [0.0, 0.0, -60.0] }]
+
+[[body]]
+name = "head"
+on = "head"
+solids = [
+    { cylinder = [70.0, 150.0], at = [0.0, 0.0, 0.0] },
+    { cylinder = [110.0, 200.0], at = [0.0, -100.0, 150.0], axis = [0.0, 1.0, 0.0] },
+]
+"#
+    };
+}
+
+/// Plausible bodies of `head-head-ca`, assumed: a fixed table 1000 × 800
+/// with its face at Z 0, the fork on C (two arms beside the A pivot, 150
+/// mm above the gauge point, and their bridge), the spindle Ø140 on A.
+macro_rules! head_head_bodies {
+    () => {
+        r#"
+[[body]]
+name = "table"
+on = "base"
+solids = [{ box = [1000.0, 800.0, 60.0], at = [0.0, 0.0, -30.0] }]
+
+[[body]]
+name = "fork"
+on = "C"
+solids = [
+    { box = [40.0, 160.0, 220.0], at = [-140.0, 0.0, 200.0] },
+    { box = [40.0, 160.0, 220.0], at = [140.0, 0.0, 200.0] },
+    { box = [320.0, 160.0, 60.0], at = [0.0, 0.0, 340.0] },
+]
+
+[[body]]
+name = "spindle"
+on = "head"
+solids = [{ cylinder = [70.0, 200.0], at = [0.0, 0.0, 0.0] }]
+"#
+    };
+}
+
+/// Plausible bodies of `mill-3axis`, assumed: a fixed table 1000 × 500
+/// with its face at Z 0 and a spindle housing Ø180.
+macro_rules! mill_bodies {
+    () => {
+        r#"
+[[body]]
+name = "table"
+on = "base"
+solids = [{ box = [1000.0, 500.0, 60.0], at = [0.0, 0.0, -30.0] }]
+
+[[body]]
+name = "head"
+on = "head"
+solids = [{ cylinder = [90.0, 450.0], at = [0.0, 0.0, 0.0] }]
+"#
+    };
+}
+
 const TRUNNION_AC: &str = concat!(
     r#"
 name = "A/C trunnion table (A tilts the table, C turns on it)"
@@ -130,7 +279,8 @@ max_jerk = 40000.0
 11 = "unclamp A"
 12 = "clamp C"
 13 = "unclamp C"
-"#
+"#,
+    trunnion_bodies!("A", "x")
 );
 
 const TRUNNION_BC: &str = concat!(
@@ -170,7 +320,8 @@ max_jerk = 40000.0
 11 = "unclamp B"
 12 = "clamp C"
 13 = "unclamp C"
-"#
+"#,
+    trunnion_bodies!("B", "y")
 );
 
 const HEAD_TABLE_BC: &str = concat!(
@@ -210,7 +361,8 @@ max_jerk = 40000.0
 11 = "unclamp B"
 12 = "clamp C"
 13 = "unclamp C"
-"#
+"#,
+    head_table_bodies!()
 );
 
 const HEAD_HEAD_CA: &str = concat!(
@@ -251,7 +403,8 @@ max_jerk = 60000.0
 11 = "unclamp C"
 12 = "clamp A"
 13 = "unclamp A"
-"#
+"#,
+    head_head_bodies!()
 );
 
 const MILL_3AXIS: &str = concat!(
@@ -261,7 +414,8 @@ type = "none"
 control = "fanuc30i"
 "#,
     linear_axes!(),
-    standard_m_codes!()
+    standard_m_codes!(),
+    mill_bodies!()
 );
 
 /// Linear axes of a Haas machine as Haas lays them out: machine zero is the
@@ -283,6 +437,44 @@ macro_rules! haas_linear_axes {
             $z,
             "\nmax = 0.0\nmax_velocity = 16510.0\nrapid = 25400.0\nmax_acceleration = 3000.0\nmax_jerk = 50000.0\n"
         )
+    };
+}
+
+/// Plausible bodies of `haas-umc750`, assumed: the platter Ø630 × 50 on
+/// C with its face on the B axis (430 mm below the gauge line at home),
+/// the trunnion's cradle on B (a plate under the platter, walls at its Y
+/// ends), the base with the two trunnion supports, the spindle housing.
+macro_rules! haas_umc750_bodies {
+    () => {
+        r#"
+[[body]]
+name = "bed"
+on = "base"
+solids = [
+    { box = [1500.0, 1100.0, 100.0], at = [-381.0, -254.0, -1000.0] },
+    { box = [400.0, 100.0, 450.0], at = [-381.0, -714.0, -725.0] },
+    { box = [400.0, 100.0, 450.0], at = [-381.0, 206.0, -725.0] },
+]
+
+[[body]]
+name = "cradle"
+on = "B"
+solids = [
+    { box = [700.0, 780.0, 50.0], at = [-381.0, -254.0, -515.0] },
+    { box = [700.0, 40.0, 150.0], at = [-381.0, -624.0, -465.0] },
+    { box = [700.0, 40.0, 150.0], at = [-381.0, 116.0, -465.0] },
+]
+
+[[body]]
+name = "table"
+on = "C"
+solids = [{ cylinder = [315.0, 50.0], at = [-381.0, -254.0, -480.0] }]
+
+[[body]]
+name = "head"
+on = "head"
+solids = [{ cylinder = [90.0, 450.0], at = [0.0, 0.0, 0.0] }]
+"#
     };
 }
 
@@ -331,8 +523,43 @@ max_jerk = 40000.0
 
 [parameters]
 input_unit = "inch"
-"#
+"#,
+    haas_umc750_bodies!()
 );
+
+/// Plausible bodies of `haas-vf2-tr160`, assumed: the VF-2's table (its
+/// face 610 mm below the gauge line at home) with the TR160's two
+/// supports, its cradle on A, the platter Ø160 × 40 on B with its face on
+/// the A axis, the spindle housing.
+macro_rules! haas_vf2_tr160_bodies {
+    () => {
+        r#"
+[[body]]
+name = "bed"
+on = "base"
+solids = [
+    { box = [1370.0, 356.0, 60.0], at = [-381.0, -203.0, -640.0] },
+    { box = [80.0, 220.0, 200.0], at = [-611.0, -203.0, -510.0] },
+    { box = [80.0, 220.0, 200.0], at = [-151.0, -203.0, -510.0] },
+]
+
+[[body]]
+name = "cradle"
+on = "A"
+solids = [{ box = [300.0, 220.0, 40.0], at = [-381.0, -203.0, -510.0] }]
+
+[[body]]
+name = "table"
+on = "B"
+solids = [{ cylinder = [80.0, 40.0], at = [-381.0, -203.0, -480.0] }]
+
+[[body]]
+name = "head"
+on = "head"
+solids = [{ cylinder = [90.0, 450.0], at = [0.0, 0.0, 0.0] }]
+"#
+    };
+}
 
 /// Haas VF-2 with a TR160 trunnion: A tilts the trunnion about X (±120°),
 /// the platter turns on it, endless. Haas names the TR160's platter B
@@ -377,7 +604,8 @@ max_jerk = 40000.0
 
 [parameters]
 input_unit = "inch"
-"#
+"#,
+    haas_vf2_tr160_bodies!()
 );
 
 /// The M functions of a SINUMERIK (840D sl / 828D programming manuals,
@@ -398,6 +626,33 @@ macro_rules! sinumerik_m_codes {
 8 = "coolant_on"
 9 = "coolant_off"
 30 = "end"
+"#
+    };
+}
+
+/// Plausible bodies of `sinumerik-dmu-bc`, assumed: a bed under a round
+/// table Ø600 × 60 on C, the spindle Ø140 from the gauge point to the
+/// B pivot and the swivel housing Ø220 along the 45° B axis.
+macro_rules! sinumerik_dmu_bodies {
+    () => {
+        r#"
+[[body]]
+name = "bed"
+on = "base"
+solids = [{ box = [1200.0, 1000.0, 100.0], at = [0.0, 0.0, -111.0] }]
+
+[[body]]
+name = "table"
+on = "C"
+solids = [{ cylinder = [300.0, 60.0], at = [0.0, 0.0, -60.0] }]
+
+[[body]]
+name = "head"
+on = "head"
+solids = [
+    { cylinder = [70.0, 150.0], at = [0.0, 0.0, 0.0] },
+    { cylinder = [110.0, 180.0], at = [0.0, -63.64, 86.36], axis = [0.0, 1.0, 1.0] },
+]
 "#
     };
 }
@@ -447,7 +702,8 @@ max_jerk = 40000.0
 reference_1 = { Z = 500.0 }
 reference_2 = { Z = 500.0 }
 "#,
-    sinumerik_m_codes!()
+    sinumerik_m_codes!(),
+    sinumerik_dmu_bodies!()
 );
 
 /// A HEIDENHAIN machine of the kind the corpus's hyperMILL programs are
@@ -463,6 +719,9 @@ reference_2 = { Z = 500.0 }
 /// senses as the table axes of `trunnion-ac` (the part carried by the
 /// axis turns about −X and −Z): PLANE SPATIAL SPA+90 SPC+180 with SEQ−
 /// then stands at A −90, C 0, as the corpus programs' own comments say.
+/// Plausible bodies, assumed: the table Ø600 × 40 on C with its face
+/// 100 mm above the A axis, the cradle on A, the bed with the supports of
+/// the A axis, the spindle housing.
 const HEIDENHAIN_DMU_AC: &str = r#"
 name = "Swivelling rotary table A/C (HEIDENHAIN TNC 640, DMU monoBLOCK style)"
 type = "table"
@@ -533,6 +792,34 @@ reference_2 = { Z = 0.0 }
 8 = "coolant_on"
 9 = "coolant_off"
 30 = "end"
+
+[[body]]
+name = "bed"
+on = "base"
+solids = [
+    { box = [1200.0, 1000.0, 100.0], at = [0.0, 0.0, -1060.0] },
+    { box = [100.0, 400.0, 450.0], at = [-460.0, 0.0, -785.0] },
+    { box = [100.0, 400.0, 450.0], at = [460.0, 0.0, -785.0] },
+]
+
+[[body]]
+name = "cradle"
+on = "A"
+solids = [
+    { box = [780.0, 640.0, 40.0], at = [0.0, 0.0, -580.0] },
+    { box = [40.0, 640.0, 100.0], at = [-370.0, 0.0, -550.0] },
+    { box = [40.0, 640.0, 100.0], at = [370.0, 0.0, -550.0] },
+]
+
+[[body]]
+name = "table"
+on = "C"
+solids = [{ cylinder = [300.0, 40.0], at = [0.0, 0.0, -540.0] }]
+
+[[body]]
+name = "head"
+on = "head"
+solids = [{ cylinder = [90.0, 450.0], at = [0.0, 0.0, 0.0] }]
 "#;
 
 /// The library: name and machine-file text.

@@ -7,7 +7,9 @@
 //! turned into the public types. Every error carries the 1-based line and
 //! column of the offending text and, when there is one, the key at fault.
 
+mod bodies;
 mod machine;
+pub use bodies::{MAX_BODIES, MAX_SOLIDS, RESERVED_BODY_NAMES};
 pub use machine::{MAX_JERK, MIN_ACCELERATION, MIN_JERK, MIN_VELOCITY};
 mod offsets;
 mod write;

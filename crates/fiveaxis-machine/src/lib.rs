@@ -19,6 +19,7 @@
 
 mod builtin;
 mod file;
+pub mod geometry;
 mod inverse;
 mod kinematics;
 mod linuxcnc;
@@ -29,7 +30,7 @@ mod sinumerik;
 mod tool_table;
 
 pub use builtin::{DEFAULT_MACHINE, builtin, builtin_names, builtin_source};
-pub use file::{FileError, MAX_FILE_MAGNITUDE};
+pub use file::{FileError, MAX_BODIES, MAX_FILE_MAGNITUDE, MAX_SOLIDS, RESERVED_BODY_NAMES};
 pub use file::{MAX_JERK, MIN_ACCELERATION, MIN_JERK, MIN_VELOCITY};
 pub use inverse::{Orientations, SINGULAR_TOLERANCE, principal, turn_angle};
 pub use kinematics::{Pose, rotation, sin_cos_degrees};
@@ -405,6 +406,9 @@ pub struct Machine {
     /// The machine builder's M codes (`[m_codes]`): each replaces the
     /// control's standard meaning of its number.
     pub m_codes: MCodes,
+    /// The machine's bodies (`[[body]]`), for collision checking and the
+    /// view; none when the file gives none.
+    pub bodies: Vec<geometry::Body>,
 }
 
 impl Machine {

@@ -53,6 +53,9 @@ pub struct Offsets {
     /// Tool offsets by number (1 ..= [`MAX_TOOL_OFFSET`]); a number not
     /// listed is all zero.
     pub tools: BTreeMap<u32, ToolOffset>,
+    /// The shapes of the tools and holders the file describes, by offset
+    /// number (collision checking and the view).
+    pub tool_shapes: BTreeMap<u32, crate::geometry::ToolShape>,
     /// Work offsets `G54` … `G59`, table-frame coordinates of the work zero.
     pub work: [Vec3; 6],
     /// Extended work offsets, index 0 is P1: `G54.1 P1` … `P48` on FANUC
@@ -85,6 +88,7 @@ impl Default for Offsets {
     fn default() -> Self {
         Self {
             tools: BTreeMap::new(),
+            tool_shapes: BTreeMap::new(),
             work: [Vec3::zeros(); 6],
             extended_work: [Vec3::zeros(); MAX_HAAS_WORK as usize],
             external: Vec3::zeros(),

@@ -64,6 +64,7 @@ pub fn five_axis(control: Control, name: &'static str) -> impl Strategy<Value = 
             rotary,
             params: Parameters::default(),
             m_codes: MCodes::default(),
+            bodies: Vec::new(),
         }
     })
 }

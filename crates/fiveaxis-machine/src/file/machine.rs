@@ -36,6 +36,8 @@ struct RawMachine {
     parameters: RawParameters,
     #[serde(default)]
     m_codes: RawMCodes,
+    #[serde(default)]
+    body: Vec<Spanned<super::bodies::RawBody>>,
 }
 
 /// M number → function word, as written in `[m_codes]`.
@@ -228,10 +230,12 @@ impl Machine {
             rotary,
             params: Parameters::default(),
             m_codes: MCodes::default(),
+            bodies: Vec::new(),
         };
         check_type(&src, &raw.kind, machine.machine_type())?;
         machine.params = parameters(&src, &raw.parameters, &machine)?;
         machine.m_codes = m_codes(&src, &raw.m_codes, &machine)?;
+        machine.bodies = super::bodies::bodies(&src, &raw.body, &machine)?;
         Ok(machine)
     }
 }
@@ -508,7 +512,7 @@ fn rotary_limits(
 /// A non-zero 3-vector, normalised. A vector that is already of unit
 /// length to within rounding is kept exactly as written, so that a file
 /// written by [`Machine::to_toml`] reads back to the same bits.
-fn unit_vector(
+pub(super) fn unit_vector(
     src: &Source<'_>,
     value: &Spanned<Vec<f64>>,
     key: &str,

@@ -6,6 +6,7 @@ use serde::Deserialize;
 use toml::Spanned;
 
 use super::{FileError, Source, in_file_order};
+use crate::geometry::{Cutter, HolderStep, ToolShape};
 use crate::offsets::{MAX_EXTENDED_WORK, MAX_HAAS_WORK, MAX_TOOL_OFFSET};
 use crate::{Offsets, SetupErrorSet, ToolOffset, Vec3};
 
@@ -30,6 +31,21 @@ struct RawTool {
     length_wear: Option<Spanned<f64>>,
     radius: Option<Spanned<f64>>,
     radius_wear: Option<Spanned<f64>>,
+    cutter: Option<Spanned<String>>,
+    corner_radius: Option<Spanned<f64>>,
+    point_angle: Option<Spanned<f64>>,
+    taper_angle: Option<Spanned<f64>>,
+    flute_length: Option<Spanned<f64>>,
+    shank_diameter: Option<Spanned<f64>>,
+    holder: Option<Spanned<Vec<Spanned<RawHolderStep>>>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawHolderStep {
+    diameter: Spanned<f64>,
+    length: Spanned<f64>,
+    tip_diameter: Option<Spanned<f64>>,
 }
 
 #[derive(Deserialize)]
@@ -86,6 +102,9 @@ impl Offsets {
                 continue;
             }
             let n = number(&src, key, 1, MAX_TOOL_OFFSET, "a tool offset number")?;
+            if let Some(shape) = tool_shape(&src, tool)? {
+                offsets.tool_shapes.insert(n, shape);
+            }
             if offsets.tools.insert(n, tool_offset(&src, tool)?).is_some() {
                 return Err(src.at(
                     key,
@@ -108,6 +127,9 @@ impl Offsets {
                     key.get_ref(),
                     format!("no offset number is left for tool {:?}", key.get_ref()),
                 ));
+            }
+            if let Some(shape) = tool_shape(&src, tool)? {
+                offsets.tool_shapes.insert(n, shape);
             }
             offsets.tools.insert(n, tool_offset(&src, tool)?);
             offsets
@@ -270,3 +292,168 @@ fn setup_error(src: &Source<'_>, raw: &RawSetupError) -> Result<SetupErrorSet, F
         table,
     })
 }
+
+/// Most steps of a tool holder.
+const MAX_HOLDER_STEPS: usize = 16;
+
+/// A size in the file's bounds, above 0.
+fn size(src: &Source<'_>, value: &Spanned<f64>, key: &str) -> Result<f64, FileError> {
+    let v = src.finite(value, key)?;
+    if v > 0.0 {
+        Ok(v)
+    } else {
+        Err(src.at(value, key, format!("`{key}` must be greater than 0")))
+    }
+}
+
+/// The tool's shape, when the file gives any of its keys: the cutter
+/// (`cutter` flat, ball, bull, drill or taper, with its `corner_radius`,
+/// `point_angle` or `taper_angle`), `flute_length`, `shank_diameter` and
+/// the `holder` steps; checked against the tool's length and radius.
+fn tool_shape(src: &Source<'_>, raw: &RawTool) -> Result<Option<ToolShape>, FileError> {
+    let given = raw.cutter.is_some()
+        || raw.corner_radius.is_some()
+        || raw.point_angle.is_some()
+        || raw.taper_angle.is_some()
+        || raw.flute_length.is_some()
+        || raw.shank_diameter.is_some()
+        || raw.holder.is_some();
+    if !given {
+        return Ok(None);
+    }
+    let radius = match &raw.radius {
+        Some(r) => src.finite(r, "radius")?,
+        None => 0.0,
+    };
+    let length = match &raw.length {
+        Some(l) => src.finite(l, "length")?,
+        None => 0.0,
+    };
+    let only = |value: &Option<Spanned<f64>>, key: &str, cutter: &str| match value {
+        Some(v) => Err(src.at(v, key, format!("`{key}` belongs to a {cutter} cutter"))),
+        None => Ok(()),
+    };
+    let kind = raw.cutter.as_ref().map_or("flat", |c| c.get_ref().as_str());
+    let at_cutter = |message: String| match &raw.cutter {
+        Some(c) => src.at(c, "cutter", message),
+        None => src.error(0..0, Some("cutter"), message),
+    };
+    let cutter = match kind {
+        "flat" | "ball" => {
+            only(&raw.corner_radius, "corner_radius", "bull")?;
+            only(&raw.point_angle, "point_angle", "drill")?;
+            only(&raw.taper_angle, "taper_angle", "taper")?;
+            if kind == "flat" {
+                Cutter::Flat
+            } else {
+                Cutter::Ball
+            }
+        }
+        "bull" => {
+            only(&raw.point_angle, "point_angle", "drill")?;
+            only(&raw.taper_angle, "taper_angle", "taper")?;
+            let Some(c) = &raw.corner_radius else {
+                return Err(at_cutter("a bull cutter needs `corner_radius`".into()));
+            };
+            let corner = size(src, c, "corner_radius")?;
+            if corner > radius {
+                return Err(src.at(
+                    c,
+                    "corner_radius",
+                    format!("`corner_radius` {corner} is larger than the tool's radius {radius}"),
+                ));
+            }
+            Cutter::BullNose { corner }
+        }
+        "drill" => {
+            only(&raw.corner_radius, "corner_radius", "bull")?;
+            only(&raw.taper_angle, "taper_angle", "taper")?;
+            let angle = match &raw.point_angle {
+                Some(a) => {
+                    let v = src.finite(a, "point_angle")?;
+                    if !(v > 0.0 && v < 180.0) {
+                        return Err(src.at(
+                            a,
+                            "point_angle",
+                            "`point_angle` is between 0 and 180 degrees",
+                        ));
+                    }
+                    v
+                }
+                None => DEFAULT_POINT_ANGLE,
+            };
+            Cutter::Drill { point_angle: angle }
+        }
+        "taper" => {
+            only(&raw.corner_radius, "corner_radius", "bull")?;
+            only(&raw.point_angle, "point_angle", "drill")?;
+            let Some(a) = &raw.taper_angle else {
+                return Err(at_cutter(
+                    "a taper cutter needs `taper_angle`, its half angle".into(),
+                ));
+            };
+            let v = src.finite(a, "taper_angle")?;
+            if !(v > 0.0 && v < 45.0) {
+                return Err(src.at(
+                    a,
+                    "taper_angle",
+                    "`taper_angle` (the half angle) is between 0 and 45 degrees",
+                ));
+            }
+            Cutter::Taper { half_angle: v }
+        }
+        other => {
+            return Err(at_cutter(format!(
+                "`{other}`: a cutter is flat, ball, bull, drill or taper"
+            )));
+        }
+    };
+    let shank = match &raw.shank_diameter {
+        Some(d) => size(src, d, "shank_diameter")?,
+        None => 2.0 * radius,
+    };
+    let mut holder = Vec::new();
+    if let Some(steps) = &raw.holder {
+        if let Some(extra) = steps.get_ref().get(MAX_HOLDER_STEPS) {
+            return Err(src.at(
+                extra,
+                "holder",
+                format!("a holder has at most {MAX_HOLDER_STEPS} steps"),
+            ));
+        }
+        for step in steps.get_ref() {
+            let s = step.get_ref();
+            let diameter = size(src, &s.diameter, "diameter")?;
+            let tip_diameter = match &s.tip_diameter {
+                Some(d) => size(src, d, "tip_diameter")?,
+                None => diameter,
+            };
+            holder.push(HolderStep {
+                diameter,
+                tip_diameter,
+                length: size(src, &s.length, "length")?,
+            });
+        }
+    }
+    let holder_length: f64 = holder.iter().map(|s| s.length).sum();
+    let flute = match &raw.flute_length {
+        Some(f) => size(src, f, "flute_length")?,
+        None => (length - holder_length).max(0.0),
+    };
+    if let Some(steps) = &raw.holder
+        && holder_length + flute > length
+    {
+        return Err(src.at(steps, "holder", format!(
+            "the holder ({holder_length} mm) and the cutting part ({flute} mm) are longer than the tool's length {length}: the gauge length is the holder, the shank and the cutting part"
+        )));
+    }
+    Ok(Some(ToolShape {
+        cutter,
+        flute,
+        shank,
+        holder,
+    }))
+}
+
+/// A twist drill's point angle, degrees.
+const DEFAULT_POINT_ANGLE: f64 = 118.0;

@@ -3,6 +3,7 @@
 //! Numbers are written with Rust's shortest round-trip form (`{:?}`), so
 //! that [`Machine::from_toml`] reads the file back to an equal machine.
 
+use crate::geometry::{Body, Link, Shape, Solid};
 use std::collections::BTreeSet;
 use std::fmt::Write as _;
 
@@ -45,6 +46,9 @@ impl Machine {
         }
         self.write_parameters(&mut w);
         self.write_m_codes(&mut w);
+        for body in &self.bodies {
+            self.write_body(&mut w, body);
+        }
         w.out
     }
 
@@ -248,6 +252,33 @@ impl Machine {
     }
 
     /// A reference position as an inline table over every axis.
+    fn write_body(&self, w: &mut Writer, body: &Body) {
+        w.blank();
+        w.table(
+            "[[body]]",
+            "a solid part of the machine: the union of its solids, which move with `on`",
+        );
+        w.key("name", &quote(&body.name), "named in collision findings");
+        let on = match body.on {
+            Link::Base => "base".to_owned(),
+            Link::Head => "head".to_owned(),
+            Link::Axis(i) => self
+                .axis_names()
+                .nth(i)
+                .map_or_else(String::new, String::from),
+        };
+        w.key(
+            "on",
+            &quote(&on),
+            "\"base\", \"head\", X, Y, Z or a rotary axis; coordinates: machine frame, every axis at 0",
+        );
+        w.line("solids = [", "");
+        for solid in &body.solids {
+            w.line(&format!("    {},", solid_text(solid)), "");
+        }
+        w.line("]", "");
+    }
+
     fn positions(&self, joints: &Joints) -> String {
         let items: Vec<String> = self
             .axis_names()
@@ -379,6 +410,40 @@ impl Writer {
 }
 
 /// A number that reads back to the same bits.
+/// A solid as an inline table (`file/bodies.rs` reads it back).
+fn solid_text(solid: &Solid) -> String {
+    let shape = match solid.shape {
+        Shape::Box { size } => format!("box = {}", vector(&size)),
+        Shape::Cylinder { radius, length } => {
+            format!("cylinder = [{}, {}]", number(radius), number(length))
+        }
+        Shape::Cone {
+            bottom,
+            top,
+            length,
+        } => format!(
+            "cone = [{}, {}, {}]",
+            number(bottom),
+            number(top),
+            number(length)
+        ),
+        Shape::Sphere { radius } => format!("sphere = {}", number(radius)),
+        Shape::Capsule { radius, length } => {
+            format!("capsule = [{}, {}]", number(radius), number(length))
+        }
+    };
+    let p = &solid.place;
+    let mut text = format!("{{ {shape}, at = {}", vector(&p.at));
+    if p.axis.into_inner() != Vec3::z() {
+        text.push_str(&format!(", axis = {}", vector(&p.axis)));
+    }
+    if p.turn != 0.0 {
+        text.push_str(&format!(", turn = {}", number(p.turn)));
+    }
+    text.push_str(" }");
+    text
+}
+
 fn number(v: f64) -> String {
     format!("{v:?}")
 }

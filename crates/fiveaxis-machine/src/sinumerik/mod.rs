@@ -711,6 +711,7 @@ impl Builder<'_> {
             rotary,
             params,
             m_codes,
+            bodies: Vec::new(),
         }
     }
 }

@@ -306,6 +306,7 @@ pub fn machine_on(sides: Vec<Side>) -> impl Strategy<Value = Machine> {
                     rotary: rotary.clone(),
                     params,
                     m_codes,
+                    bodies: Vec::new(),
                 }
             })
         })

@@ -1,0 +1,241 @@
+//! The machine's bodies: solids attached to the links of its kinematic
+//! chain (the bed, a linear axis' carriage, a rotary axis' part, the
+//! spindle head), placed by the same forward kinematics as the tool
+//! (`machine-model.md` §3), for collision checking and the view.
+//!
+//! Coordinates are the machine frame with every axis at 0 (the spindle
+//! gauge point at the origin). A body moves with its link:
+//!
+//! * `base`: not at all (the bed, the enclosure);
+//! * a table rotary axis: with the table chain from the bed out to that
+//!   axis (a trunnion's cradle rides on its first axis, the round table
+//!   on the second);
+//! * a linear axis (X, Y, Z): by that axis' travel alone, as the tool
+//!   moves relative to the workpiece (ISO 841): a carriage that carries
+//!   the spindle side;
+//! * a head rotary axis: with X, Y, Z and the head chain from the
+//!   carriage out to that axis;
+//! * `head`: with X, Y, Z and the whole head chain (the spindle housing).
+
+use nalgebra::{IsometryMatrix3, Rotation3, Translation3, Unit};
+
+use crate::{Joints, Machine, Side, Vec3};
+
+/// What a body rides on.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Link {
+    /// The machine bed: it does not move.
+    Base,
+    /// The spindle head: X, Y, Z and every head rotary axis.
+    Head,
+    /// An axis of the machine, by joint index (linear axes first).
+    Axis(usize),
+}
+
+/// A solid's position in its link's frame: its reference point and the
+/// direction of its own Z axis, turned about that axis.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Placement {
+    /// Where the solid's reference point is, mm.
+    pub at: Vec3,
+    /// The solid's own +Z.
+    pub axis: Unit<Vec3>,
+    /// A turn about `axis`, degrees (a box's X and Y).
+    pub turn: f64,
+}
+
+impl Default for Placement {
+    fn default() -> Self {
+        Self {
+            at: Vec3::zeros(),
+            axis: Vec3::z_axis(),
+            turn: 0.0,
+        }
+    }
+}
+
+impl Placement {
+    /// The map from the solid's own frame to its link's frame.
+    pub fn isometry(&self) -> IsometryMatrix3<f64> {
+        let up = Rotation3::rotation_between(&Vec3::z(), &self.axis).unwrap_or_else(|| {
+            // Straight down: half a turn about X.
+            Rotation3::from_axis_angle(&Vec3::x_axis(), std::f64::consts::PI)
+        });
+        let spin = Rotation3::from_axis_angle(&Vec3::z_axis(), self.turn.to_radians());
+        IsometryMatrix3::from_parts(Translation3::from(self.at), up * spin)
+    }
+}
+
+/// A solid primitive, in its own frame ([`Placement`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Shape {
+    /// A box of these sizes along its X, Y, Z, centred on its reference
+    /// point.
+    Box {
+        /// Sizes, mm.
+        size: Vec3,
+    },
+    /// A cylinder standing on its reference point, along its +Z.
+    Cylinder {
+        /// Radius, mm.
+        radius: f64,
+        /// Length, mm.
+        length: f64,
+    },
+    /// A truncated cone standing on its reference point, along its +Z.
+    Cone {
+        /// Radius at the reference point, mm.
+        bottom: f64,
+        /// Radius at the far end, mm.
+        top: f64,
+        /// Length, mm.
+        length: f64,
+    },
+    /// A sphere about its reference point.
+    Sphere {
+        /// Radius, mm.
+        radius: f64,
+    },
+    /// A capsule: every point within `radius` of the segment from the
+    /// reference point along +Z by `length`.
+    Capsule {
+        /// Radius, mm.
+        radius: f64,
+        /// Length of the core segment, mm.
+        length: f64,
+    },
+}
+
+/// A placed solid.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Solid {
+    /// Its shape.
+    pub shape: Shape,
+    /// Where it is on its link.
+    pub place: Placement,
+}
+
+/// A body of the machine: a union of solids that move together.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Body {
+    /// Its name (findings name it).
+    pub name: String,
+    /// What it rides on.
+    pub on: Link,
+    /// Its solids.
+    pub solids: Vec<Solid>,
+}
+
+/// Rodrigues: the map turning by `degrees` about the line along `axis`
+/// through `center`.
+fn turn_about(axis: &Unit<Vec3>, center: &Vec3, degrees: f64) -> IsometryMatrix3<f64> {
+    let r = Rotation3::from_axis_angle(axis, degrees.to_radians());
+    IsometryMatrix3::from_parts(Translation3::from(center - r * center), r)
+}
+
+impl Machine {
+    /// The map from a link's frame (the machine frame with every axis at
+    /// 0) to the machine frame at `joints`.
+    pub fn link_pose(&self, link: Link, joints: &Joints) -> IsometryMatrix3<f64> {
+        let first = self.linear.len();
+        // The head side: X, Y, Z, then the head chain out to `last`.
+        let head = |last: usize| {
+            let xyz = Vec3::new(joints[0], joints[1], joints[2]);
+            let mut map =
+                IsometryMatrix3::from_parts(Translation3::from(xyz), Rotation3::identity());
+            for (k, axis) in self.rotary.iter().enumerate().take(last) {
+                if axis.on == Side::Head {
+                    map *= turn_about(&axis.axis, &axis.center, joints[first + k]);
+                }
+            }
+            map
+        };
+        match link {
+            Link::Base => IsometryMatrix3::identity(),
+            Link::Head => head(self.rotary.len()),
+            Link::Axis(i) if i < first => {
+                let mut shift = Vec3::zeros();
+                let along = self.linear[i].name as usize;
+                // X, Y, Z move along their own direction.
+                let k = along.wrapping_sub('X' as usize).min(2);
+                shift[k] = joints[i];
+                IsometryMatrix3::from_parts(Translation3::from(shift), Rotation3::identity())
+            }
+            Link::Axis(i) => {
+                let k = i - first;
+                match self.rotary.get(k).map(|a| a.on) {
+                    Some(Side::Head) => head(k + 1),
+                    Some(Side::Table) => {
+                        let mut map = IsometryMatrix3::identity();
+                        for (j, axis) in self.rotary.iter().enumerate().take(k + 1) {
+                            if axis.on == Side::Table {
+                                map *= turn_about(&axis.axis, &axis.center, joints[first + j]);
+                            }
+                        }
+                        map
+                    }
+                    None => IsometryMatrix3::identity(),
+                }
+            }
+        }
+    }
+}
+
+/// The cutting end of a tool.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Cutter {
+    /// A flat end mill.
+    Flat,
+    /// A ball end mill (its corner radius is the tool radius).
+    Ball,
+    /// A bull nose (toroidal) end mill.
+    BullNose {
+        /// The corner radius, mm (0 to the tool radius).
+        corner: f64,
+    },
+    /// A drill with a conical point.
+    Drill {
+        /// The point's included angle, degrees (118° on a twist drill).
+        point_angle: f64,
+    },
+    /// A tapered end mill: the cutting part widens from the tip.
+    Taper {
+        /// The half angle of the taper, degrees.
+        half_angle: f64,
+    },
+}
+
+/// One step of a tool holder, from the spindle's gauge line towards the
+/// tool: a cylinder, or a cone when its two diameters differ.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct HolderStep {
+    /// Diameter at the spindle's end of the step, mm.
+    pub diameter: f64,
+    /// Diameter at the tool's end, mm.
+    pub tip_diameter: f64,
+    /// Length along the tool, mm.
+    pub length: f64,
+}
+
+/// The shape of a tool and its holder (an offsets file's `[tools.N]`), for
+/// collision checking and the view. Along the tool from the gauge point:
+/// the holder's steps, then the shank, then the cutting part (`flute`
+/// long) down to the tip, `length` (the tool's length offset) away.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ToolShape {
+    /// The cutting end.
+    pub cutter: Cutter,
+    /// The length of the cutting part, mm.
+    pub flute: f64,
+    /// The shank's diameter, mm.
+    pub shank: f64,
+    /// The holder's steps, from the gauge line towards the tool.
+    pub holder: Vec<HolderStep>,
+}
+
+impl ToolShape {
+    /// How far the holder reaches from the gauge line, mm.
+    pub fn holder_length(&self) -> f64 {
+        self.holder.iter().map(|s| s.length).sum()
+    }
+}
