@@ -19,6 +19,7 @@
 
 use nalgebra::{IsometryMatrix3, Rotation3, Translation3, Unit};
 
+use crate::kinematics::rotation_about;
 use crate::{Joints, Machine, Side, Vec3};
 
 /// What a body rides on.
@@ -126,13 +127,6 @@ pub struct Body {
     pub solids: Vec<Solid>,
 }
 
-/// Rodrigues: the map turning by `degrees` about the line along `axis`
-/// through `center`.
-fn turn_about(axis: &Unit<Vec3>, center: &Vec3, degrees: f64) -> IsometryMatrix3<f64> {
-    let r = Rotation3::from_axis_angle(axis, degrees.to_radians());
-    IsometryMatrix3::from_parts(Translation3::from(center - r * center), r)
-}
-
 impl Machine {
     /// The map from a link's frame (the machine frame with every axis at
     /// 0) to the machine frame at `joints`.
@@ -145,7 +139,7 @@ impl Machine {
                 IsometryMatrix3::from_parts(Translation3::from(xyz), Rotation3::identity());
             for (k, axis) in self.rotary.iter().enumerate().take(last) {
                 if axis.on == Side::Head {
-                    map *= turn_about(&axis.axis, &axis.center, joints[first + k]);
+                    map *= rotation_about(&axis.axis, &axis.center, joints[first + k]);
                 }
             }
             map
@@ -154,11 +148,12 @@ impl Machine {
             Link::Base => IsometryMatrix3::identity(),
             Link::Head => head(self.rotary.len()),
             Link::Axis(i) if i < first => {
+                // X, Y, Z are joints 0, 1, 2 and move along their own
+                // direction (the file puts no body on another linear axis).
                 let mut shift = Vec3::zeros();
-                let along = self.linear[i].name as usize;
-                // X, Y, Z move along their own direction.
-                let k = along.wrapping_sub('X' as usize).min(2);
-                shift[k] = joints[i];
+                if i < 3 {
+                    shift[i] = joints[i];
+                }
                 IsometryMatrix3::from_parts(Translation3::from(shift), Rotation3::identity())
             }
             Link::Axis(i) => {
@@ -169,7 +164,7 @@ impl Machine {
                         let mut map = IsometryMatrix3::identity();
                         for (j, axis) in self.rotary.iter().enumerate().take(k + 1) {
                             if axis.on == Side::Table {
-                                map *= turn_about(&axis.axis, &axis.center, joints[first + j]);
+                                map *= rotation_about(&axis.axis, &axis.center, joints[first + j]);
                             }
                         }
                         map

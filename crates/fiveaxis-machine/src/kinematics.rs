@@ -27,7 +27,11 @@ pub fn sin_cos_degrees(degrees: f64) -> (f64, f64) {
 
 /// The rigid map of a rotation by `degrees` about the line through `center`
 /// along `axis`: `p ↦ center + R·(p − center)`.
-fn rotation_about(axis: &Unit<Vec3>, center: &Vec3, degrees: f64) -> IsometryMatrix3<f64> {
+pub(crate) fn rotation_about(
+    axis: &Unit<Vec3>,
+    center: &Vec3,
+    degrees: f64,
+) -> IsometryMatrix3<f64> {
     let r = rotation(axis, degrees);
     let t = center - r * center;
     IsometryMatrix3::from_parts(Translation3::from(t), r)

@@ -4,7 +4,7 @@
 //! (coordinate systems; g-code.adoc, G10).
 
 use fiveaxis_gcode::Span;
-use fiveaxis_machine::{MAX_AXES, MAX_EXTENDED_WORK, MAX_HAAS_WORK, MAX_TOOL_OFFSET};
+use fiveaxis_machine::{MAX_EXTENDED_WORK, MAX_HAAS_WORK, MAX_TOOL_OFFSET};
 
 use super::{Rules, Words};
 use crate::alarm::{Alarm, Condition};
@@ -71,12 +71,7 @@ impl Words {
                     (_, n) => OffsetMemory::Extended(n as u8),
                 };
                 // One value per controlled axis, rotary axes included.
-                let mut values = [None; MAX_AXES];
-                for (i, value) in values.iter_mut().enumerate().take(rules.axes) {
-                    *value = self
-                        .take(rules.letters[i])
-                        .map(|word| rules.axis_value(i, &word));
-                }
+                let values = self.axis_values(rules);
                 Ok(DataSetting::WorkOffset {
                     memory,
                     values,
@@ -164,16 +159,8 @@ impl Words {
                         "G10 L20 takes no R: the rotation is set by G10 L2".into(),
                     ));
                 }
-                let mut values = [None; MAX_AXES];
-                for (axis, letter) in [b'X', b'Y', b'Z'].into_iter().enumerate() {
-                    values[axis] = self.take(letter).map(|word| rules.length(&word));
-                }
-                // The axes beyond X, Y, Z (A, B, C…).
-                for (i, value) in values.iter_mut().enumerate().take(rules.axes).skip(3) {
-                    *value = self
-                        .take(rules.letters[i])
-                        .map(|word| rules.axis_value(i, &word));
-                }
+                // X, Y, Z and the axes beyond them (A, B, C…).
+                let values = self.axis_values(rules);
                 Ok(DataSetting::CoordinateSystem {
                     system: n as usize - 1,
                     values,

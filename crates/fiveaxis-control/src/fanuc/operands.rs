@@ -296,10 +296,13 @@ impl Words {
 
     /// D: the radius offset number.
     pub(crate) fn radius_offset(&mut self) -> Result<Option<u32>, Alarm> {
-        match self.take(b'D') {
-            Some(word) => self.offset_number(&word).map(Some),
-            None => Ok(None),
-        }
+        let word = self.take(b'D');
+        self.offset_of(word)
+    }
+
+    /// The offset number of `word`, if there is one.
+    fn offset_of(&self, word: Option<Word>) -> Result<Option<u32>, Alarm> {
+        word.map(|w| self.offset_number(&w)).transpose()
     }
 
     /// Whether the block gives a length offset number (H).
@@ -309,18 +312,13 @@ impl Words {
 
     /// H: the length offset number, checked but not marked used.
     pub(crate) fn peek_length_offset(&self) -> Result<Option<u32>, Alarm> {
-        match self.peek(b'H') {
-            Some(word) => self.offset_number(&word).map(Some),
-            None => Ok(None),
-        }
+        self.offset_of(self.peek(b'H'))
     }
 
     /// H: the length offset number.
     pub(crate) fn length_offset(&mut self) -> Result<Option<u32>, Alarm> {
-        match self.take(b'H') {
-            Some(word) => self.offset_number(&word).map(Some),
-            None => Ok(None),
-        }
+        let word = self.take(b'H');
+        self.offset_of(word)
     }
 
     /// Whether the block writes a centre word of plane axes `p` or `q`.

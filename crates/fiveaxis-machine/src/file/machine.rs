@@ -802,7 +802,11 @@ fn non_negative(src: &Source<'_>, value: &Spanned<f64>, key: &str) -> Result<f64
 }
 
 /// A number above 0 (and within the file bound).
-fn positive(src: &Source<'_>, value: &Spanned<f64>, key: &str) -> Result<f64, FileError> {
+pub(super) fn positive(
+    src: &Source<'_>,
+    value: &Spanned<f64>,
+    key: &str,
+) -> Result<f64, FileError> {
     let v = src.finite(value, key)?;
     if v > 0.0 {
         Ok(v)

@@ -5,6 +5,7 @@ use std::collections::BTreeMap;
 use serde::Deserialize;
 use toml::Spanned;
 
+use super::machine::positive;
 use super::{FileError, Source, in_file_order};
 use crate::geometry::{Cutter, HolderStep, ToolShape};
 use crate::offsets::{MAX_EXTENDED_WORK, MAX_HAAS_WORK, MAX_TOOL_OFFSET};
@@ -296,16 +297,6 @@ fn setup_error(src: &Source<'_>, raw: &RawSetupError) -> Result<SetupErrorSet, F
 /// Most steps of a tool holder.
 const MAX_HOLDER_STEPS: usize = 16;
 
-/// A size in the file's bounds, above 0.
-fn size(src: &Source<'_>, value: &Spanned<f64>, key: &str) -> Result<f64, FileError> {
-    let v = src.finite(value, key)?;
-    if v > 0.0 {
-        Ok(v)
-    } else {
-        Err(src.at(value, key, format!("`{key}` must be greater than 0")))
-    }
-}
-
 /// The tool's shape, when the file gives any of its keys: the cutter
 /// (`cutter` flat, ball, bull, drill or taper, with its `corner_radius`,
 /// `point_angle` or `taper_angle`), `flute_length`, `shank_diameter` and
@@ -355,7 +346,7 @@ fn tool_shape(src: &Source<'_>, raw: &RawTool) -> Result<Option<ToolShape>, File
             let Some(c) = &raw.corner_radius else {
                 return Err(at_cutter("a bull cutter needs `corner_radius`".into()));
             };
-            let corner = size(src, c, "corner_radius")?;
+            let corner = positive(src, c, "corner_radius")?;
             if corner > radius {
                 return Err(src.at(
                     c,
@@ -409,7 +400,7 @@ fn tool_shape(src: &Source<'_>, raw: &RawTool) -> Result<Option<ToolShape>, File
         }
     };
     let shank = match &raw.shank_diameter {
-        Some(d) => size(src, d, "shank_diameter")?,
+        Some(d) => positive(src, d, "shank_diameter")?,
         None => 2.0 * radius,
     };
     let mut holder = Vec::new();
@@ -423,21 +414,21 @@ fn tool_shape(src: &Source<'_>, raw: &RawTool) -> Result<Option<ToolShape>, File
         }
         for step in steps.get_ref() {
             let s = step.get_ref();
-            let diameter = size(src, &s.diameter, "diameter")?;
+            let diameter = positive(src, &s.diameter, "diameter")?;
             let tip_diameter = match &s.tip_diameter {
-                Some(d) => size(src, d, "tip_diameter")?,
+                Some(d) => positive(src, d, "tip_diameter")?,
                 None => diameter,
             };
             holder.push(HolderStep {
                 diameter,
                 tip_diameter,
-                length: size(src, &s.length, "length")?,
+                length: positive(src, &s.length, "length")?,
             });
         }
     }
     let holder_length: f64 = holder.iter().map(|s| s.length).sum();
     let flute = match &raw.flute_length {
-        Some(f) => size(src, f, "flute_length")?,
+        Some(f) => positive(src, f, "flute_length")?,
         None => (length - holder_length).max(0.0),
     };
     if let Some(steps) = &raw.holder
