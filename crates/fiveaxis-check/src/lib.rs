@@ -23,6 +23,7 @@
 //!   derivative bound decides, and a block it cannot clear is sampled.
 
 pub mod bound;
+pub mod collision;
 mod extent;
 mod law;
 mod motion;
@@ -76,17 +77,25 @@ pub enum Kind {
     /// (decimal point input off): one finding for the program, at the
     /// first such word, with their count.
     NoDecimalPoint,
+    /// Two parts that must not touch overlap during a move (a machine
+    /// body, the holder, shank or tool against the table's side or a
+    /// fixture).
+    Collision,
+    /// Two such parts pass nearer than the clearance without touching.
+    NearMiss,
 }
 
 impl Kind {
     /// Every kind, in the order reports group them.
-    pub const ALL: [Kind; 7] = [
+    pub const ALL: [Kind; 9] = [
         Kind::Alarm,
+        Kind::Collision,
         Kind::Overtravel,
         Kind::SingularPassage,
         Kind::RotaryFlip,
         Kind::FeedLimited,
         Kind::ChordError,
+        Kind::NearMiss,
         Kind::NoDecimalPoint,
     ];
 
@@ -95,12 +104,14 @@ impl Kind {
     pub fn index(self) -> usize {
         match self {
             Kind::Alarm => 0,
-            Kind::Overtravel => 1,
-            Kind::SingularPassage => 2,
-            Kind::RotaryFlip => 3,
-            Kind::FeedLimited => 4,
-            Kind::ChordError => 5,
-            Kind::NoDecimalPoint => 6,
+            Kind::Collision => 1,
+            Kind::Overtravel => 2,
+            Kind::SingularPassage => 3,
+            Kind::RotaryFlip => 4,
+            Kind::FeedLimited => 5,
+            Kind::ChordError => 6,
+            Kind::NearMiss => 7,
+            Kind::NoDecimalPoint => 8,
         }
     }
 
@@ -114,13 +125,15 @@ impl Kind {
             Kind::FeedLimited => "feed_limited",
             Kind::ChordError => "chord_error",
             Kind::NoDecimalPoint => "no_decimal_point",
+            Kind::Collision => "collision",
+            Kind::NearMiss => "near_miss",
         }
     }
 
     /// The contract's severity of this kind.
     pub fn severity(self) -> Severity {
         match self {
-            Kind::Overtravel | Kind::Alarm => Severity::Error,
+            Kind::Overtravel | Kind::Alarm | Kind::Collision => Severity::Error,
             Kind::NoDecimalPoint => Severity::Info,
             _ => Severity::Warning,
         }
@@ -140,6 +153,8 @@ pub struct Finding {
     pub axis: Option<char>,
     /// The measure of the finding (see the contract), when there is one.
     pub value: Option<f64>,
+    /// The two parts of a collision or near miss.
+    pub bodies: Option<Box<[String; 2]>>,
     /// Position in the run, for program order.
     order: u64,
 }
@@ -326,6 +341,8 @@ pub struct Checker<'m> {
     plan: time::TimePlan,
     /// Each segment's end time, when asked for.
     timeline: Option<Timeline>,
+    /// The collision check, when asked for.
+    collisions: Option<collision::Collisions>,
 }
 
 impl<'m> Checker<'m> {
@@ -355,7 +372,13 @@ impl<'m> Checker<'m> {
             limited_minutes: 0.0,
             plan: time::TimePlan::new(machine),
             timeline: None,
+            collisions: None,
         }
+    }
+
+    /// Checks collisions too ([`collision::Collisions`]).
+    pub fn check_collisions(&mut self, collisions: collision::Collisions) {
+        self.collisions = Some(collisions);
     }
 
     /// Keeps the time at which each segment ends, for
@@ -428,6 +451,7 @@ impl<'m> Checker<'m> {
             message,
             axis,
             value,
+            bodies: None,
             order: self.order,
         });
     }
@@ -465,6 +489,13 @@ impl<'m> Checker<'m> {
         }
         self.time(seg);
         self.plan.segment(self.machine, seg);
+        if let Some(collisions) = &mut self.collisions {
+            let (counts, findings) = (&mut self.counts, &mut self.findings);
+            collisions.segment(self.machine, seg, self.order, &mut |f| {
+                counts[f.kind.index()] += 1;
+                findings.push(f);
+            });
+        }
         let rotary = self.machine.linear.len()..self.machine.axis_count();
         let turns = rotary.clone().any(|i| seg.start[i] != seg.end[i])
             || matches!(&seg.path, Path::Via(mid) if rotary.clone().any(|i| mid[i] != seg.start[i]))
@@ -568,6 +599,7 @@ impl<'m> Checker<'m> {
             message,
             axis: Some(name),
             value: Some(run.farthest),
+            bodies: None,
             order: run.order,
         });
     }
@@ -701,6 +733,7 @@ impl<'m> Checker<'m> {
             .flatten()
             .flatten()
             .map(|run| run.order)
+            .chain(self.collisions.as_ref().and_then(|c| c.open_order()))
             .min()
             .unwrap_or(u64::MAX);
         // Findings are pushed in segment order but for closed runs, which
@@ -726,6 +759,13 @@ impl<'m> Checker<'m> {
                     self.close_run(i, side, run);
                 }
             }
+        }
+        if let Some(mut collisions) = self.collisions.take() {
+            let (counts, findings) = (&mut self.counts, &mut self.findings);
+            collisions.close_all(self.machine, &mut |f| {
+                counts[f.kind.index()] += 1;
+                findings.push(f);
+            });
         }
         if let Some(alarm) = &ending.alarm {
             self.alarm(alarm);
@@ -840,12 +880,30 @@ pub fn check_run<S: Source>(
 pub fn check_run_into<S: Source>(
     runner: &mut Runner<'_, S>,
     keep_going: bool,
+    progress: impl FnMut(u64),
+    take: impl FnMut(Finding),
+) -> Result<(Report, Option<Finding>), RunError> {
+    check_run_with(runner, keep_going, None, progress, take)
+}
+
+/// [`check_run_into`] with the collision check `collisions`, when given.
+///
+/// # Errors
+///
+/// As [`check_run`].
+pub fn check_run_with<S: Source>(
+    runner: &mut Runner<'_, S>,
+    keep_going: bool,
+    collisions: Option<collision::Collisions>,
     mut progress: impl FnMut(u64),
     mut take: impl FnMut(Finding),
 ) -> Result<(Report, Option<Finding>), RunError> {
     let machine = runner.controller().machine();
     runner.count_words_without_point();
     let mut checker = Checker::new(machine);
+    if let Some(collisions) = collisions {
+        checker.check_collisions(collisions);
+    }
     let mut first_alarm: Option<AlarmInfo> = None;
     let mut segments = Vec::with_capacity(BATCH);
     let alarm = loop {
@@ -930,6 +988,7 @@ fn words_without_point(
         message,
         axis: None,
         value: Some(words.count as f64),
+        bodies: None,
         order: 0,
     })
 }

@@ -11,7 +11,8 @@ use std::path::PathBuf;
 use std::sync::atomic::{AtomicU64, Ordering};
 
 use anstyle::{AnsiColor, Style};
-use fiveaxis_check::{Finding, Kind, Report, Severity, check_run_into};
+use fiveaxis_check::collision::{Collisions, WorkSolid};
+use fiveaxis_check::{Finding, Kind, Report, Severity, check_run_with};
 use fiveaxis_control::{DEFAULT_MAX_BLOCKS, ReaderSource, RunError, RunOptions, Runner};
 use fiveaxis_machine::{DEFAULT_MACHINE, Machine, Offsets};
 use rayon::prelude::*;
@@ -95,6 +96,87 @@ pub struct CheckArgs {
     /// call by number (`--programs`, as for `run` and `view`).
     #[arg(long = "programs", id = "program_memory", value_name = "DIR")]
     programs_dir: Option<PathBuf>,
+    /// Check collisions along every move: the machine's bodies, the tool,
+    /// its shank and holder (the offsets file's tool shapes) and the
+    /// fixtures. Implied by `--fixture`.
+    #[arg(long)]
+    collisions: bool,
+    /// Parts nearer than this without touching are near misses, mm.
+    #[arg(long, default_value_t = fiveaxis_check::collision::DEFAULT_CLEARANCE, value_parser = positive_mm)]
+    clearance: f64,
+    /// A fixture or clamp in the work frame: an STL file or
+    /// `box:x0,y0,z0,x1,y1,z1` (repeatable).
+    #[arg(long, value_name = "PATH.stl|box:…")]
+    fixture: Vec<String>,
+    /// Where the work zero stands in the table frame, `X,Y,Z` mm; default:
+    /// the work offset G54.
+    #[arg(long, value_name = "X,Y,Z")]
+    place: Option<String>,
+}
+
+/// A length in mm above zero.
+fn positive_mm(text: &str) -> Result<f64, String> {
+    match text.parse::<f64>() {
+        Ok(x) if x.is_finite() && x > 0.0 => Ok(x),
+        _ => Err(format!("`{text}` is not a length above 0 mm")),
+    }
+}
+
+/// The work's solids and the collision check they ask for, read once for
+/// all programs.
+struct Work {
+    collisions: bool,
+    fixtures: Vec<crate::work::NamedShape>,
+    zero: fiveaxis_machine::Vec3,
+}
+
+impl Work {
+    fn read(args: &CheckArgs, offsets: &Offsets) -> Result<Self, InputError> {
+        let fixtures = args
+            .fixture
+            .iter()
+            .map(|f| crate::work::read("--fixture", f))
+            .collect::<Result<Vec<_>, _>>()?;
+        let zero = match &args.place {
+            Some(place) => crate::work::read_place(place)?,
+            None => offsets.work[0],
+        };
+        Ok(Self {
+            collisions: args.collisions || !fixtures.is_empty(),
+            fixtures,
+            zero,
+        })
+    }
+
+    /// A fresh collision check for one program, if asked for.
+    fn collisions(
+        &self,
+        args: &CheckArgs,
+        machine: &Machine,
+        offsets: &Offsets,
+    ) -> Result<Option<Collisions>, InputError> {
+        if !self.collisions {
+            return Ok(None);
+        }
+        let mut solids = Vec::new();
+        for (fixture, value) in self.fixtures.iter().zip(&args.fixture) {
+            let shape = fixture.shape.placed(&self.zero).ok_or_else(|| {
+                InputError(format!(
+                    "error: --fixture {value}: the mesh cannot be used (no triangle with an area)"
+                ))
+            })?;
+            solids.push(WorkSolid {
+                name: fixture.name.clone(),
+                shape,
+            });
+        }
+        Ok(Some(Collisions::new(
+            machine,
+            offsets,
+            args.clearance,
+            solids,
+        )))
+    }
 }
 
 /// One program's outcome: its report and its findings as the format keeps
@@ -130,6 +212,7 @@ pub fn check(args: &CheckArgs) -> Result<u8, InputError> {
             "error: standard input (`-`) can be checked once only".into(),
         ));
     }
+    let work = Work::read(args, &offsets)?;
     let progress = Progress::new(args.programs.len());
     let mut outcomes: Vec<Outcome> = args
         .programs
@@ -141,6 +224,7 @@ pub fn check(args: &CheckArgs) -> Result<u8, InputError> {
                 &machine,
                 &offsets,
                 variables.as_deref(),
+                &work,
                 &progress,
             );
             progress.program_done();
@@ -218,6 +302,7 @@ fn check_one(
     machine: &Machine,
     offsets: &Offsets,
     variables: Option<&[(u32, f64)]>,
+    work: &Work,
     progress: &Progress,
 ) -> Outcome {
     let mut file = open_program(program)?;
@@ -246,9 +331,11 @@ fn check_one(
     let mut json = JsonFindings::default();
     let mut text = TextFindings::default();
     let mut spill_error = None;
-    let (report, whole_program) = check_run_into(
+    let collisions = work.collisions(args, machine, offsets)?;
+    let (report, whole_program) = check_run_with(
         &mut runner,
         args.keep_going,
+        collisions,
         |blocks| {
             progress.blocks(blocks - last);
             last = blocks;
@@ -349,6 +436,13 @@ fn finding_json(w: &mut Vec<u8>, f: &Finding) {
         w.extend_from_slice(b"\"axis\":");
         string(w, &axis.to_string());
         w.push(b',');
+    }
+    if let Some(bodies) = &f.bodies {
+        w.extend_from_slice(b"\"bodies\":[");
+        string(w, &bodies[0]);
+        w.push(b',');
+        string(w, &bodies[1]);
+        w.extend_from_slice(b"],");
     }
     w.extend_from_slice(b"\"kind\":");
     string(w, f.kind.name());

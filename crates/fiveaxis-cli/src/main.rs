@@ -11,6 +11,7 @@ mod progress;
 mod signals;
 mod text;
 mod view;
+mod work;
 
 use std::fs::File;
 use std::io::{self, BufReader, Read, Seek, Write};

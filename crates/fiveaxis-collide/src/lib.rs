@@ -12,10 +12,10 @@
 //! Distances and penetration depths are parry's (`parry3d-f64`).
 
 pub mod shapes;
+pub mod work;
 
 use fiveaxis_machine::geometry::{Link, ToolShape};
 use fiveaxis_machine::{Joints, MAX_AXES, Machine, Side, Vec3};
-use parry3d_f64::math::Pose;
 use parry3d_f64::query;
 use parry3d_f64::shape::SharedShape;
 
@@ -220,7 +220,10 @@ impl Scene {
                     && pa.on != pb.on
                     && pa.kind == PartKind::Machine
                     && pb.kind == PartKind::Machine;
-                if across || work_bodies {
+                // The part on the tool's side first: it is what hits.
+                if across && tb {
+                    self.pairs.push((b, a));
+                } else if across || work_bodies {
                     self.pairs.push((a, b));
                 }
             }
@@ -267,25 +270,13 @@ impl Scene {
         &self.pairs
     }
 
-    /// Every pair's distance at `joints`: (pair index, distance; 0 when
-    /// they touch).
-    fn distances(&self, machine: &Machine, joints: &Joints, out: &mut Vec<f64>) {
-        let poses: Vec<Pose> = self
-            .parts
-            .iter()
-            .map(|p| shapes::pose(&machine.link_pose(p.on, joints)))
-            .collect();
-        out.clear();
-        for &(a, b) in &self.pairs {
-            let d = query::distance(
-                &poses[a],
-                &*self.parts[a].shape,
-                &poses[b],
-                &*self.parts[b].shape,
-            )
-            .map_or(f64::INFINITY, |d| d.distance);
-            out.push(d);
-        }
+    /// The distance of pair `pair` at `joints` (0 when they touch).
+    fn distance(&self, machine: &Machine, pair: usize, joints: &Joints) -> f64 {
+        let (a, b) = self.pairs[pair];
+        let pa = shapes::pose(&machine.link_pose(self.parts[a].on, joints));
+        let pb = shapes::pose(&machine.link_pose(self.parts[b].on, joints));
+        query::distance(&pa, &*self.parts[a].shape, &pb, &*self.parts[b].shape)
+            .map_or(f64::INFINITY, |d| d.distance)
     }
 
     /// The penetration depth of pair `pair` at `joints` (0 when apart).
@@ -318,60 +309,74 @@ impl Scene {
     /// The contacts of a move whose machine positions are `joints_at(s)`
     /// for s from 0 to 1: per pair, the first instant nearer than the
     /// clearance, the smallest distance and the largest depth.
-    pub fn check_move(&self, machine: &Machine, joints_at: impl Fn(f64) -> Joints) -> Vec<Contact> {
-        let mut found: Vec<Option<Contact>> = vec![None; self.pairs.len()];
+    ///
+    /// Each pair is refined on its own (conservative advancement): a span
+    /// between two samples whose distances `d0` and `d1` exceed the
+    /// relative travel `T` by the clearance (`d0 + d1 − T ≥ clearance`)
+    /// keeps the pair at least half the clearance apart throughout, and a
+    /// span with `T` at most half the clearance is fine enough; other
+    /// spans are halved. A contact is never missed, nor a near miss under
+    /// half the clearance. Each contact comes with its pair's index into
+    /// [`Scene::pairs`].
+    pub fn check_move(
+        &self,
+        machine: &Machine,
+        joints_at: impl Fn(f64) -> Joints,
+    ) -> Vec<(usize, Contact)> {
+        let mut found = Vec::new();
         if self.pairs.is_empty() {
-            return Vec::new();
+            return found;
         }
-        let mut d = Vec::with_capacity(self.pairs.len());
-        // Intervals still to refine: (s0, q0, s1, q1, depth).
         let q0 = joints_at(0.0);
         let q1 = joints_at(1.0);
-        let mut stack = vec![(0.0, q0, 1.0, q1, 0u32)];
-        let mut samples: Vec<(f64, Joints)> = vec![(1.0, q1)];
-        while let Some((s0, q0, s1, q1, depth)) = stack.pop() {
-            let worst = (0..self.pairs.len())
-                .map(|p| self.travel(machine, p, &q0, &q1))
-                .fold(0.0, f64::max);
-            if worst > self.clearance / 2.0 && depth < MAX_DEPTH {
-                let sm = (s0 + s1) / 2.0;
-                let qm = joints_at(sm);
-                // Later half first on the stack: the earlier half is
-                // sampled first.
-                stack.push((sm, qm, s1, q1, depth + 1));
-                stack.push((s0, q0, sm, qm, depth + 1));
-            } else {
-                samples.push((s0, q0));
-            }
-        }
-        samples.sort_by(|a, b| a.0.total_cmp(&b.0));
-        for (s, q) in &samples {
-            self.distances(machine, q, &mut d);
-            for (p, &dist) in d.iter().enumerate() {
-                if dist >= self.clearance {
-                    continue;
+        // Spans still to refine: (s0, q0, d0, s1, q1, d1, depth).
+        let mut stack: Vec<(f64, Joints, f64, f64, Joints, f64, u32)> = Vec::new();
+        for pair in 0..self.pairs.len() {
+            let d0 = self.distance(machine, pair, &q0);
+            let d1 = self.distance(machine, pair, &q1);
+            let mut contact: Option<Contact> = None;
+            let mut note = |s: f64, q: &Joints, d: f64| {
+                if d >= self.clearance {
+                    return;
                 }
-                let depth = if dist <= 0.0 {
-                    self.depth(machine, p, q)
+                let depth = if d <= 0.0 {
+                    self.depth(machine, pair, q)
                 } else {
                     0.0
                 };
-                let (a, b) = self.pairs[p];
-                let entry = found[p].get_or_insert_with(|| Contact {
+                let (a, b) = self.pairs[pair];
+                let entry = contact.get_or_insert_with(|| Contact {
                     bodies: [self.parts[a].name.clone(), self.parts[b].name.clone()],
-                    s: *s,
+                    s,
                     joints: *q,
-                    distance: dist,
+                    distance: d,
                     depth,
                 });
-                if dist < entry.distance {
-                    entry.distance = dist;
+                entry.distance = entry.distance.min(d);
+                entry.depth = entry.depth.max(depth);
+            };
+            note(0.0, &q0, d0);
+            stack.clear();
+            stack.push((0.0, q0, d0, 1.0, q1, d1, 0));
+            while let Some((s0, qa, da, s1, qb, db, depth)) = stack.pop() {
+                let travel = self.travel(machine, pair, &qa, &qb);
+                let apart = da + db - travel >= self.clearance;
+                if apart || travel <= self.clearance / 2.0 || depth >= MAX_DEPTH {
+                    // Spans are taken in order: the end is the next
+                    // sample.
+                    note(s1, &qb, db);
+                    continue;
                 }
-                if depth > entry.depth {
-                    entry.depth = depth;
-                }
+                let sm = (s0 + s1) / 2.0;
+                let qm = joints_at(sm);
+                let dm = self.distance(machine, pair, &qm);
+                // The later half first on the stack: the earlier half is
+                // taken first.
+                stack.push((sm, qm, dm, s1, qb, db, depth + 1));
+                stack.push((s0, qa, da, sm, qm, dm, depth + 1));
             }
+            found.extend(contact.map(|c| (pair, c)));
         }
-        found.into_iter().flatten().collect()
+        found
     }
 }

@@ -184,3 +184,37 @@ fn cutter(kind: Cutter, radius: f64, flute: f64) -> Option<(Pose, SharedShape)> 
         }
     }
 }
+
+/// A closed triangle mesh (a fixture or stock read from STL), its
+/// vertices already where it stands; `None` without triangles or when
+/// parry refuses the mesh.
+pub fn mesh(triangles: &[[Vec3; 3]]) -> Option<SharedShape> {
+    if triangles.is_empty() {
+        return None;
+    }
+    let mut vertices = Vec::with_capacity(triangles.len() * 3);
+    let mut indices = Vec::with_capacity(triangles.len());
+    for (k, t) in triangles.iter().enumerate() {
+        vertices.extend(t.iter().map(vector));
+        let k = u32::try_from(3 * k).ok()?;
+        indices.push([k, k + 1, k + 2]);
+    }
+    use parry3d_f64::shape::TriMeshFlags;
+    let flags = TriMeshFlags::MERGE_DUPLICATE_VERTICES
+        | TriMeshFlags::DELETE_DEGENERATE_TRIANGLES
+        | TriMeshFlags::DELETE_DUPLICATE_TRIANGLES
+        | TriMeshFlags::ORIENTED;
+    SharedShape::trimesh_with_flags(vertices.clone(), indices.clone(), flags)
+        .or_else(|_| SharedShape::trimesh(vertices, indices))
+        .ok()
+}
+
+/// The box between corners `min` and `max`.
+pub fn cuboid(min: &Vec3, max: &Vec3) -> SharedShape {
+    let half = (max - min) / 2.0;
+    let centre = (min + max) / 2.0;
+    SharedShape::compound(vec![(
+        Pose::from_translation(vector(&centre)),
+        SharedShape::cuboid(half.x, half.y, half.z),
+    )])
+}

@@ -98,11 +98,11 @@ fn a_block_meets_the_head_half_way_through_a_tilt_and_clears_it_at_both_ends() {
     // Clear at both ends, by the independent check.
     assert!(!block_inside_head(&m, &path(0.0)));
     assert!(!block_inside_head(&m, &path(1.0)));
-    let contacts = scene.check_move(&m, path);
+    let contacts = contacts_of(scene.check_move(&m, path));
     assert_eq!(contacts.len(), 1, "{contacts:?}");
     let c = &contacts[0];
     assert!(c.collides(), "{c:?}");
-    assert_eq!(c.bodies, ["block".to_string(), "head".to_string()]);
+    assert_eq!(c.bodies, ["head".to_string(), "block".to_string()]);
     assert!(c.s > 0.0 && c.s < 1.0, "{c:?}");
     assert!(c.depth > 10.0, "the block runs deep into the head: {c:?}");
     // At the reported instant the block is inside the head.
@@ -119,10 +119,10 @@ fn moves_a_known_distance_away_report_no_collision() {
     let scene = Scene::new(&m, 0.5);
     // The head passes 100 mm above the block's top face (z 20).
     let high = |s: f64| joints(-500.0 + 1000.0 * s, 200.0, 120.0, 0.0);
-    assert!(scene.check_move(&m, high).is_empty());
+    assert!(contacts_of(scene.check_move(&m, high)).is_empty());
     // It stops 0.3 mm above it: a near miss, not a collision.
     let near = |s: f64| joints(0.0, 200.0, 120.0 - 99.7 * s, 0.0);
-    let contacts = scene.check_move(&m, near);
+    let contacts = contacts_of(scene.check_move(&m, near));
     assert_eq!(contacts.len(), 1, "{contacts:?}");
     assert!(!contacts[0].collides());
     assert!(
@@ -166,12 +166,12 @@ fn the_holder_hits_a_fixture_while_the_cutter_cuts_the_stock() {
     // −10, the gauge point at 90; the holder (Ø40, from 90 down to 40)
     // reaches x 20, short of the wall at 30.
     let plunge = |s: f64| joints(0.0, -100.0, 100.0 - 10.0 * s, 0.0);
-    let contacts = scene.check_move(&m, plunge);
+    let contacts = contacts_of(scene.check_move(&m, plunge));
     // Cutting is not a collision, and nothing else comes near.
     assert!(contacts.is_empty(), "{contacts:?}");
     // Moving over to x 15 the holder (radius 20) runs 5 mm into the wall.
     let over = |s: f64| joints(15.0 * s, -100.0, 90.0, 0.0);
-    let contacts = scene.check_move(&m, over);
+    let contacts = contacts_of(scene.check_move(&m, over));
     let hit: Vec<_> = contacts.iter().filter(|c| c.collides()).collect();
     assert_eq!(hit.len(), 1, "{contacts:?}");
     assert_eq!(hit[0].bodies, ["holder".to_string(), "fixture".to_string()]);
@@ -182,6 +182,11 @@ fn the_holder_hits_a_fixture_while_the_cutter_cuts_the_stock() {
             .iter()
             .all(|c| !c.bodies.contains(&"shank".to_string()))
     );
+}
+
+/// The contacts without their pair indices.
+fn contacts_of(found: Vec<(usize, fiveaxis_collide::Contact)>) -> Vec<fiveaxis_collide::Contact> {
+    found.into_iter().map(|(_, c)| c).collect()
 }
 
 mod properties {
@@ -210,7 +215,7 @@ mod properties {
                 )
             };
             let inside = (0..=100).any(|k| block_inside_head(&m, &path(f64::from(k) / 100.0)));
-            let contacts = scene.check_move(&m, path);
+            let contacts = contacts_of(scene.check_move(&m, path));
             if inside {
                 prop_assert!(contacts.iter().any(|c| c.collides()), "{contacts:?}");
             }

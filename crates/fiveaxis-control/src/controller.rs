@@ -110,6 +110,9 @@ struct State {
     joints: Joints,
     /// Active H number (0: none).
     h: u32,
+    /// The last H number other than 0: the tool of a program that never
+    /// changes tools, still in the spindle after G49.
+    length_tool: u32,
     /// LinuxCNC: the TCP kinematics are switched on (`tcpc_on` M code,
     /// M428 in the sim configurations).
     kinematics_tcp: bool,
@@ -301,6 +304,7 @@ impl<'m> Controller<'m> {
                 twp: None,
                 joints: machine.params.reference_1,
                 h: 0,
+                length_tool: 0,
                 kinematics_tcp: false,
                 length_on: false,
                 kinematics_pending: machine.params.tcpc_at_start,
@@ -921,6 +925,7 @@ impl<'m> Controller<'m> {
                 || self.state.ngc_motion != Some(linuxcnc::NgcMotion::ThreadingCycle))
         {
             self.state.h = self.fanuc.length_offset()?.unwrap_or(0);
+            self.note_length_tool();
         } else if self.dialect.rs274ngc
             && !codes.length_synthesized
             && (codes.length_from_spindle
@@ -931,6 +936,7 @@ impl<'m> Controller<'m> {
             // LinuxCNC: G43 without H takes the tool in the spindle
             // (g-code.adoc, G43: "If H is not given, the current tool").
             self.state.h = self.state.spindle_tool;
+            self.note_length_tool();
         }
         if self.dialect.rs274ngc
             && (before != (self.state.modal.length, self.state.h)

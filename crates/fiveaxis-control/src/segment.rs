@@ -358,6 +358,10 @@ pub struct Segment {
     pub path: Path,
     /// Tool length used for the reported tip (the active H value).
     pub tool_length: f64,
+    /// The tool in the spindle (0: none; a program that never changes
+    /// tools has the tool of its length offset number), whose shape the
+    /// collision check and the stock model take from the offsets.
+    pub tool: u32,
     /// Work offset: table-frame coordinates of the part frame's origin.
     pub work: Vec3,
     /// Workpiece setup error in force (G54.4): rows report the tip and

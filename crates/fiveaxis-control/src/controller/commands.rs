@@ -180,6 +180,7 @@ impl Controller<'_> {
             ));
         }
         self.state.h = number;
+        self.note_length_tool();
         self.state.d = number;
         if !matches!(self.state.modal.length, LengthMode::Tcpc(_)) {
             self.state.modal.length = if number == 0 {

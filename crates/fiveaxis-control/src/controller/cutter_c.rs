@@ -400,6 +400,7 @@ impl Controller<'_> {
                 end: end_joints,
                 path,
                 tool_length: block.tool_length,
+                tool: self.physical_tool(),
                 work: block.work,
                 setup: self.state.setup,
                 exact_stop: self.state.modal.cutting == crate::modal::CuttingMode::ExactStop,

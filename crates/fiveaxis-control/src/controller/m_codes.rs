@@ -207,6 +207,7 @@ impl Controller<'_> {
             && let Some(h) = self.state.h_before_g49.take()
         {
             self.state.h = h;
+            self.note_length_tool();
         }
         Ok(())
     }

@@ -46,6 +46,7 @@ impl Controller<'_> {
             end,
             path,
             tool_length: self.tool_length(),
+            tool: self.physical_tool(),
             work: self.work(),
             setup: self.state.setup,
             exact_stop: self.block_exact_stop
@@ -53,6 +54,25 @@ impl Controller<'_> {
             inverse_time: self.state.modal.feed_mode == FeedMode::InverseTime,
             rotary_chosen: self.block_chose_rotary.get() || posture,
             rows: 1,
+        }
+    }
+
+    /// The tool in the spindle; for a program that never changes tools,
+    /// the tool of the last length offset it called (tool and offset
+    /// numbers alike, the usual setup).
+    pub(super) fn physical_tool(&self) -> u32 {
+        if self.state.spindle_tool != 0 {
+            self.state.spindle_tool
+        } else {
+            self.state.length_tool
+        }
+    }
+
+    /// Keeps the H number just set as the tool of a program without tool
+    /// changes ([`Controller::physical_tool`]).
+    pub(super) fn note_length_tool(&mut self) {
+        if self.state.h != 0 {
+            self.state.length_tool = self.state.h;
         }
     }
 

@@ -1,0 +1,114 @@
+//! The work's solids on the command line: `--fixture`, `--stock` and
+//! `--part` take an STL file (binary or ASCII) or `box:x0,y0,z0,x1,y1,z1`,
+//! in the work frame; `--place X,Y,Z` puts the work zero in the table
+//! frame (default: the offsets' G54).
+
+use std::fs::File;
+use std::io::BufReader;
+use std::path::Path;
+
+use fiveaxis_collide::work::WorkShape;
+use fiveaxis_machine::Vec3;
+
+use crate::InputError;
+
+/// Triangles at most in one STL file (a 100,000-triangle fixture is a
+/// detailed one).
+const MAX_TRIANGLES: usize = 20_000_000;
+
+/// A named solid of the work.
+#[derive(Clone, Debug)]
+pub struct NamedShape {
+    /// The file's stem, or `box`.
+    pub name: String,
+    /// The solid, in the work frame.
+    pub shape: WorkShape,
+}
+
+/// Reads `value` of option `option`: a `box:` or an STL file.
+pub fn read(option: &str, value: &str) -> Result<NamedShape, InputError> {
+    if let Some(numbers) = value.strip_prefix("box:") {
+        let v = numbers_of(option, value, numbers, 6)?;
+        let (a, b) = (Vec3::new(v[0], v[1], v[2]), Vec3::new(v[3], v[4], v[5]));
+        let (min, max) = (a.inf(&b), a.sup(&b));
+        if (max - min).min() <= 0.0 {
+            return Err(InputError(format!(
+                "error: {option} {value}: the box has no volume (two corners share a coordinate)"
+            )));
+        }
+        return Ok(NamedShape {
+            name: "box".into(),
+            shape: WorkShape::Box { min, max },
+        });
+    }
+    let path = Path::new(value);
+    let file = File::open(path).map_err(|e| InputError::io(value, &e))?;
+    let mesh = stl_io::read_stl(&mut BufReader::new(file)).map_err(|e| {
+        InputError(format!(
+            "error: {option} {value}: not an STL file ({e}); give an STL file or box:x0,y0,z0,x1,y1,z1"
+        ))
+    })?;
+    if mesh.faces.is_empty() {
+        return Err(InputError(format!(
+            "error: {option} {value}: the STL file has no triangles"
+        )));
+    }
+    if mesh.faces.len() > MAX_TRIANGLES {
+        return Err(InputError(format!(
+            "error: {option} {value}: {} triangles, more than the {MAX_TRIANGLES} a work solid may have",
+            mesh.faces.len()
+        )));
+    }
+    let point = |i: usize| {
+        let p = mesh.vertices[i].0;
+        Vec3::new(f64::from(p[0]), f64::from(p[1]), f64::from(p[2]))
+    };
+    let triangles: Vec<[Vec3; 3]> = mesh
+        .faces
+        .iter()
+        .map(|f| {
+            [
+                point(f.vertices[0]),
+                point(f.vertices[1]),
+                point(f.vertices[2]),
+            ]
+        })
+        .collect();
+    if triangles
+        .iter()
+        .flatten()
+        .any(|p| !p.iter().all(|c| c.is_finite()))
+    {
+        return Err(InputError(format!(
+            "error: {option} {value}: a vertex is not a finite number"
+        )));
+    }
+    let name = path
+        .file_stem()
+        .map_or_else(|| value.to_string(), |s| s.to_string_lossy().into_owned());
+    Ok(NamedShape {
+        name,
+        shape: WorkShape::Mesh(triangles),
+    })
+}
+
+/// Reads `--place X,Y,Z`.
+pub fn read_place(value: &str) -> Result<Vec3, InputError> {
+    let v = numbers_of("--place", value, value, 3)?;
+    Ok(Vec3::new(v[0], v[1], v[2]))
+}
+
+/// `count` comma-separated finite numbers.
+fn numbers_of(option: &str, value: &str, text: &str, count: usize) -> Result<Vec<f64>, InputError> {
+    let numbers: Vec<f64> = text
+        .split(',')
+        .map(|t| t.trim().parse::<f64>().ok().filter(|x| x.is_finite()))
+        .collect::<Option<_>>()
+        .filter(|v: &Vec<f64>| v.len() == count)
+        .ok_or_else(|| {
+            InputError(format!(
+                "error: {option} {value}: expected {count} numbers separated by commas"
+            ))
+        })?;
+    Ok(numbers)
+}
