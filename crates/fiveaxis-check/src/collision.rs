@@ -240,7 +240,7 @@ impl Collisions {
 }
 
 /// Machine positions as the control shows them, `X12.5 Y0 …`.
-fn positions(machine: &Machine, joints: &Joints) -> String {
+pub(crate) fn positions(machine: &Machine, joints: &Joints) -> String {
     machine
         .axis_names()
         .zip(joints.iter())

@@ -28,6 +28,7 @@ mod extent;
 mod law;
 mod motion;
 pub mod singular;
+pub mod stock;
 mod time;
 
 use fiveaxis_control::{Motion, Path, RunError, Runner, Segment, Source};
@@ -83,19 +84,28 @@ pub enum Kind {
     Collision,
     /// Two such parts pass nearer than the clearance without touching.
     NearMiss,
+    /// A rapid move takes the tool into the stock.
+    RapidIntoStock,
+    /// The tool cuts into the designed part beyond the tolerance.
+    Gouge,
+    /// Material is left on the designed part beyond the tolerance.
+    Excess,
 }
 
 impl Kind {
     /// Every kind, in the order reports group them.
-    pub const ALL: [Kind; 9] = [
+    pub const ALL: [Kind; 12] = [
         Kind::Alarm,
         Kind::Collision,
+        Kind::RapidIntoStock,
+        Kind::Gouge,
         Kind::Overtravel,
         Kind::SingularPassage,
         Kind::RotaryFlip,
         Kind::FeedLimited,
         Kind::ChordError,
         Kind::NearMiss,
+        Kind::Excess,
         Kind::NoDecimalPoint,
     ];
 
@@ -105,13 +115,16 @@ impl Kind {
         match self {
             Kind::Alarm => 0,
             Kind::Collision => 1,
-            Kind::Overtravel => 2,
-            Kind::SingularPassage => 3,
-            Kind::RotaryFlip => 4,
-            Kind::FeedLimited => 5,
-            Kind::ChordError => 6,
-            Kind::NearMiss => 7,
-            Kind::NoDecimalPoint => 8,
+            Kind::RapidIntoStock => 2,
+            Kind::Gouge => 3,
+            Kind::Overtravel => 4,
+            Kind::SingularPassage => 5,
+            Kind::RotaryFlip => 6,
+            Kind::FeedLimited => 7,
+            Kind::ChordError => 8,
+            Kind::NearMiss => 9,
+            Kind::Excess => 10,
+            Kind::NoDecimalPoint => 11,
         }
     }
 
@@ -127,13 +140,20 @@ impl Kind {
             Kind::NoDecimalPoint => "no_decimal_point",
             Kind::Collision => "collision",
             Kind::NearMiss => "near_miss",
+            Kind::RapidIntoStock => "rapid_into_stock",
+            Kind::Gouge => "gouge",
+            Kind::Excess => "excess",
         }
     }
 
     /// The contract's severity of this kind.
     pub fn severity(self) -> Severity {
         match self {
-            Kind::Overtravel | Kind::Alarm | Kind::Collision => Severity::Error,
+            Kind::Overtravel
+            | Kind::Alarm
+            | Kind::Collision
+            | Kind::RapidIntoStock
+            | Kind::Gouge => Severity::Error,
             Kind::NoDecimalPoint => Severity::Info,
             _ => Severity::Warning,
         }
@@ -271,6 +291,8 @@ pub struct Report {
     /// at the tip feed the axes allow less that at the programmed feed (not
     /// part of `time.programmed`, which is the program's own figure).
     pub feed_limited_seconds: f64,
+    /// What the stock model saw, when there was one.
+    pub stock: Option<stock::StockSummary>,
 }
 
 impl Report {
@@ -343,6 +365,8 @@ pub struct Checker<'m> {
     timeline: Option<Timeline>,
     /// The collision check, when asked for.
     collisions: Option<collision::Collisions>,
+    /// The stock model, when given.
+    stock: Option<stock::StockCheck>,
 }
 
 impl<'m> Checker<'m> {
@@ -373,7 +397,13 @@ impl<'m> Checker<'m> {
             plan: time::TimePlan::new(machine),
             timeline: None,
             collisions: None,
+            stock: None,
         }
+    }
+
+    /// Cuts a stock model too ([`stock::StockCheck`]).
+    pub fn check_stock(&mut self, stock: stock::StockCheck) {
+        self.stock = Some(stock);
     }
 
     /// Checks collisions too ([`collision::Collisions`]).
@@ -492,6 +522,13 @@ impl<'m> Checker<'m> {
         if let Some(collisions) = &mut self.collisions {
             let (counts, findings) = (&mut self.counts, &mut self.findings);
             collisions.segment(self.machine, seg, self.order, &mut |f| {
+                counts[f.kind.index()] += 1;
+                findings.push(f);
+            });
+        }
+        if let Some(stock) = &mut self.stock {
+            let (counts, findings) = (&mut self.counts, &mut self.findings);
+            stock.segment(self.machine, seg, self.order, &mut |f| {
                 counts[f.kind.index()] += 1;
                 findings.push(f);
             });
@@ -734,6 +771,7 @@ impl<'m> Checker<'m> {
             .flatten()
             .map(|run| run.order)
             .chain(self.collisions.as_ref().and_then(|c| c.open_order()))
+            .chain(self.stock.as_ref().and_then(|c| c.open_order()))
             .min()
             .unwrap_or(u64::MAX);
         // Findings are pushed in segment order but for closed runs, which
@@ -767,6 +805,15 @@ impl<'m> Checker<'m> {
                 findings.push(f);
             });
         }
+        let stock_summary = self.stock.take().map(|mut stock| {
+            let (counts, findings) = (&mut self.counts, &mut self.findings);
+            let mut add = |f: Finding| {
+                counts[f.kind.index()] += 1;
+                findings.push(f);
+            };
+            stock.close_all(self.machine, &mut add);
+            stock.finish(&mut add)
+        });
         if let Some(alarm) = &ending.alarm {
             self.alarm(alarm);
         }
@@ -825,6 +872,7 @@ impl<'m> Checker<'m> {
             findings: self.findings,
             counts: self.counts,
             feed_limited_seconds: self.limited_minutes * 60.0,
+            stock: stock_summary,
         };
         (report, times)
     }
@@ -883,10 +931,19 @@ pub fn check_run_into<S: Source>(
     progress: impl FnMut(u64),
     take: impl FnMut(Finding),
 ) -> Result<(Report, Option<Finding>), RunError> {
-    check_run_with(runner, keep_going, None, progress, take)
+    check_run_with(runner, keep_going, WorkChecks::default(), progress, take)
 }
 
-/// [`check_run_into`] with the collision check `collisions`, when given.
+/// The checks of the work a run may add: collisions, the stock.
+#[derive(Debug, Default)]
+pub struct WorkChecks {
+    /// The collision check.
+    pub collisions: Option<collision::Collisions>,
+    /// The stock model.
+    pub stock: Option<stock::StockCheck>,
+}
+
+/// [`check_run_into`] with the checks of the work `work`.
 ///
 /// # Errors
 ///
@@ -894,15 +951,18 @@ pub fn check_run_into<S: Source>(
 pub fn check_run_with<S: Source>(
     runner: &mut Runner<'_, S>,
     keep_going: bool,
-    collisions: Option<collision::Collisions>,
+    work: WorkChecks,
     mut progress: impl FnMut(u64),
     mut take: impl FnMut(Finding),
 ) -> Result<(Report, Option<Finding>), RunError> {
     let machine = runner.controller().machine();
     runner.count_words_without_point();
     let mut checker = Checker::new(machine);
-    if let Some(collisions) = collisions {
+    if let Some(collisions) = work.collisions {
         checker.check_collisions(collisions);
+    }
+    if let Some(stock) = work.stock {
+        checker.check_stock(stock);
     }
     let mut first_alarm: Option<AlarmInfo> = None;
     let mut segments = Vec::with_capacity(BATCH);

@@ -12,9 +12,11 @@ use std::sync::atomic::{AtomicU64, Ordering};
 
 use anstyle::{AnsiColor, Style};
 use fiveaxis_check::collision::{Collisions, WorkSolid};
-use fiveaxis_check::{Finding, Kind, Report, Severity, check_run_with};
+use fiveaxis_check::stock::StockCheck;
+use fiveaxis_check::{Finding, Kind, Report, Severity, WorkChecks, check_run_with};
 use fiveaxis_control::{DEFAULT_MAX_BLOCKS, ReaderSource, RunError, RunOptions, Runner};
 use fiveaxis_machine::{DEFAULT_MACHINE, Machine, Offsets};
+use fiveaxis_stock::dexel::Dexels;
 use rayon::prelude::*;
 
 use crate::progress::DelayedBar;
@@ -112,6 +114,47 @@ pub struct CheckArgs {
     /// the work offset G54.
     #[arg(long, value_name = "X,Y,Z")]
     place: Option<String>,
+    /// The raw stock in the work frame, cut as the program runs: an STL
+    /// file or `box:x0,y0,z0,x1,y1,z1`.
+    #[arg(long, value_name = "PATH.stl|box:…")]
+    stock: Option<String>,
+    /// The stock model's cell size, mm.
+    #[arg(long, default_value_t = fiveaxis_stock::DEFAULT_RESOLUTION, value_parser = positive_mm)]
+    resolution: f64,
+    /// The designed part in the work frame (STL or `box:`): cuts into it
+    /// are gouges, material left on it is excess. Needs `--stock`.
+    #[arg(long, value_name = "PATH.stl|box:…", requires = "stock")]
+    part: Option<String>,
+    /// Gouges and excess count beyond this, mm.
+    #[arg(long, default_value_t = DEFAULT_GOUGE_TOLERANCE, value_parser = positive_mm)]
+    gouge_tolerance: f64,
+    /// Write the stock left at the end as a binary STL file (one program).
+    #[arg(long, value_name = "PATH.stl", requires = "stock")]
+    stock_out: Option<PathBuf>,
+}
+
+/// Gouges and excess count beyond this unless told (`--gouge-tolerance`),
+/// mm.
+const DEFAULT_GOUGE_TOLERANCE: f64 = 0.05;
+
+/// Fills `dexels` with `shape` placed at the work zero `zero`.
+fn fill(
+    dexels: &mut Dexels,
+    shape: &fiveaxis_collide::work::WorkShape,
+    zero: &fiveaxis_machine::Vec3,
+) {
+    match shape {
+        fiveaxis_collide::work::WorkShape::Box { min, max } => {
+            dexels.fill_box(&(min + zero), &(max + zero));
+        }
+        fiveaxis_collide::work::WorkShape::Mesh(triangles) => {
+            let moved: Vec<[fiveaxis_machine::Vec3; 3]> = triangles
+                .iter()
+                .map(|t| [t[0] + zero, t[1] + zero, t[2] + zero])
+                .collect();
+            dexels.fill_mesh(&moved);
+        }
+    }
 }
 
 /// A length in mm above zero.
@@ -127,6 +170,8 @@ fn positive_mm(text: &str) -> Result<f64, String> {
 struct Work {
     collisions: bool,
     fixtures: Vec<crate::work::NamedShape>,
+    stock: Option<crate::work::NamedShape>,
+    part: Option<crate::work::NamedShape>,
     zero: fiveaxis_machine::Vec3,
 }
 
@@ -141,11 +186,67 @@ impl Work {
             Some(place) => crate::work::read_place(place)?,
             None => offsets.work[0],
         };
+        if args.stock_out.is_some() && args.programs.len() > 1 {
+            return Err(InputError(
+                "error: --stock-out writes the stock of one program: give one program".into(),
+            ));
+        }
+        let stock = args
+            .stock
+            .as_deref()
+            .map(|v| crate::work::read("--stock", v))
+            .transpose()?;
+        let part = args
+            .part
+            .as_deref()
+            .map(|v| crate::work::read("--part", v))
+            .transpose()?;
         Ok(Self {
             collisions: args.collisions || !fixtures.is_empty(),
             fixtures,
+            stock,
+            part,
             zero,
         })
+    }
+
+    /// A fresh stock model for one program, if given.
+    fn stock(
+        &self,
+        args: &CheckArgs,
+        machine: &Machine,
+        offsets: &Offsets,
+    ) -> Result<Option<StockCheck>, InputError> {
+        let Some(stock) = &self.stock else {
+            return Ok(None);
+        };
+        let value = args.stock.as_deref().unwrap_or_default();
+        let (min, max) = stock.shape.bounds();
+        let (min, max) = (min + self.zero, max + self.zero);
+        // One cell of margin: the mesh's walls fall inside the grid.
+        let margin = fiveaxis_machine::Vec3::repeat(args.resolution);
+        let mut dexels = Dexels::empty(&(min - margin), &(max + margin), args.resolution)
+            .map_err(|e| InputError(format!("error: --stock {value}: {e}")))?;
+        fill(&mut dexels, &stock.shape, &self.zero);
+        let part = match &self.part {
+            Some(part) => {
+                let mut design = dexels.like();
+                fill(&mut design, &part.shape, &self.zero);
+                let shape = part.shape.placed(&self.zero).ok_or_else(|| {
+                    InputError(format!(
+                        "error: --part {}: the mesh cannot be used (no triangle with an area)",
+                        args.part.as_deref().unwrap_or_default()
+                    ))
+                })?;
+                Some(fiveaxis_stock::Part {
+                    dexels: design,
+                    depth: Box::new(move |p| fiveaxis_collide::work::depth_inside(&shape, p)),
+                })
+            }
+            None => None,
+        };
+        let model = fiveaxis_stock::Stock::new(dexels, part, args.gouge_tolerance);
+        Ok(Some(StockCheck::new(machine, offsets, model, self.zero)))
     }
 
     /// A fresh collision check for one program, if asked for.
@@ -332,10 +433,15 @@ fn check_one(
     let mut text = TextFindings::default();
     let mut spill_error = None;
     let collisions = work.collisions(args, machine, offsets)?;
+    let mut stock = work.stock(args, machine, offsets)?;
+    let kept_stock = std::sync::Arc::new(std::sync::Mutex::new(None));
+    if let Some(stock) = &mut stock {
+        stock.keep_final(kept_stock.clone());
+    }
     let (report, whole_program) = check_run_with(
         &mut runner,
         args.keep_going,
-        collisions,
+        WorkChecks { collisions, stock },
         |blocks| {
             progress.blocks(blocks - last);
             last = blocks;
@@ -360,6 +466,12 @@ fn check_one(
     })?;
     if let Some(e) = spill_error {
         return Err(InputError::io("temporary file", &e));
+    }
+    if let Some(path) = &args.stock_out {
+        let left = kept_stock.lock().ok().and_then(|mut s| s.take());
+        if let Some(left) = left {
+            crate::work::write_stl(path, &left.dexels)?;
+        }
     }
     let kept = match source {
         None => {
@@ -618,6 +730,26 @@ fn json_tail(w: &mut Vec<u8>, program: &str, report: &Report) {
     string(w, &report.machine);
     w.extend_from_slice(b",\"program\":");
     string(w, program);
+    if let Some(stock) = &report.stock {
+        w.extend_from_slice(b",\"stock\":{\"air_cut_seconds\":");
+        number(w, stock.air_cut_seconds);
+        w.extend_from_slice(b",\"end_volume\":");
+        number(w, stock.end_volume);
+        w.extend_from_slice(b",\"removed\":{");
+        for (k, (tool, volume)) in stock.removed.iter().enumerate() {
+            if k > 0 {
+                w.push(b',');
+            }
+            string(w, &tool.to_string());
+            w.push(b':');
+            number(w, *volume);
+        }
+        w.extend_from_slice(b"},\"resolution\":");
+        number(w, stock.resolution);
+        w.extend_from_slice(b",\"start_volume\":");
+        number(w, stock.start_volume);
+        w.push(b'}');
+    }
     w.extend_from_slice(b",\"time\":{\"estimated\":");
     number(w, report.time.estimated);
     w.extend_from_slice(b",\"programmed\":");
@@ -699,6 +831,15 @@ fn verdict(report: &Report) -> (&'static str, Style) {
 }
 
 /// Seconds as `1 h 02 min`, `12 min 05 s` or `4.2 s`.
+/// A volume for people: mm³ below a cm³, else cm³.
+fn volume(mm3: f64) -> String {
+    if mm3.abs() < 1000.0 {
+        format!("{mm3:.1} mm³")
+    } else {
+        format!("{:.2} cm³", mm3 / 1000.0)
+    }
+}
+
 fn duration(seconds: f64) -> String {
     if !seconds.is_finite() {
         return "-".into();
@@ -752,6 +893,27 @@ fn text_report(t: &mut String, program: &str, report: &Report, findings: &TextFi
             t,
             "          feed limits add about {} to it",
             duration(report.feed_limited_seconds)
+        );
+    }
+    if let Some(stock) = &report.stock {
+        let tools: Vec<String> = stock
+            .removed
+            .iter()
+            .filter(|(_, v)| **v > 0.0)
+            .map(|(t, v)| format!("T{t} {}", volume(*v)))
+            .collect();
+        let _ = writeln!(
+            t,
+            "  stock   {} removed of {} ({}), {} left; cutting air {}",
+            volume(stock.start_volume - stock.end_volume),
+            volume(stock.start_volume),
+            if tools.is_empty() {
+                "no tool cut".to_string()
+            } else {
+                tools.join(", ")
+            },
+            volume(stock.end_volume),
+            duration(stock.air_cut_seconds)
         );
     }
     let _ = writeln!(t, "  axes");

@@ -112,3 +112,44 @@ fn numbers_of(option: &str, value: &str, text: &str, count: usize) -> Result<Vec
         })?;
     Ok(numbers)
 }
+
+/// Writes the surface of `dexels` to `path` as a binary STL file, whole
+/// or not at all (a temporary file beside it, renamed).
+pub fn write_stl(path: &Path, dexels: &fiveaxis_stock::dexel::Dexels) -> Result<(), InputError> {
+    let shown = path.display().to_string();
+    let dir = path
+        .parent()
+        .filter(|d| !d.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    let mut triangles = Vec::new();
+    dexels.triangles(|t| {
+        let v = |p: &Vec3| stl_io::Vector::new([p.x as f32, p.y as f32, p.z as f32]);
+        let n = (t[1] - t[0]).cross(&(t[2] - t[0])).normalize();
+        triangles.push(stl_io::Triangle {
+            normal: v(&n),
+            vertices: [v(&t[0]), v(&t[1]), v(&t[2])],
+        });
+    });
+    let mut builder = tempfile::Builder::new();
+    builder.prefix(".fiveaxis-");
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt;
+        // A new file gets the mode the umask leaves, as any other.
+        builder.permissions(std::fs::Permissions::from_mode(0o666));
+    }
+    let mut file = builder
+        .tempfile_in(dir)
+        .map_err(|e| InputError::io(&shown, &e))?;
+    if let Ok(m) = std::fs::metadata(path) {
+        let _ = std::fs::set_permissions(file.path(), m.permissions());
+    }
+    {
+        let mut w = std::io::BufWriter::new(file.as_file_mut());
+        stl_io::write_stl(&mut w, triangles.iter()).map_err(|e| InputError::io(&shown, &e))?;
+        std::io::Write::flush(&mut w).map_err(|e| InputError::io(&shown, &e))?;
+    }
+    file.persist(path)
+        .map_err(|e| InputError::io(&shown, &e.error))?;
+    Ok(())
+}

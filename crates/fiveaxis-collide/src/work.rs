@@ -53,3 +53,13 @@ impl WorkShape {
         }
     }
 }
+
+/// How deep point `p` lies inside `shape` (its distance to the surface;
+/// negative outside).
+pub fn depth_inside(shape: &SharedShape, p: &Vec3) -> f64 {
+    use parry3d_f64::math::Pose;
+    let at = shapes::vector(p);
+    let projection = shape.project_point(&Pose::IDENTITY, at, false);
+    let d = (projection.point - at).length();
+    if projection.is_inside { d } else { -d }
+}
