@@ -1,0 +1,278 @@
+//! Material removal against closed-form volumes: a slot, a hole, a ball's
+//! cap, a trench cut by the side of a horizontal tool, a gouge of known
+//! depth; the dexels of a mesh against those of the same box; the
+//! surface written out encloses the dexels' volume.
+
+use std::f64::consts::PI;
+
+use fiveaxis_machine::Vec3;
+use fiveaxis_machine::geometry::{Cutter, ToolShape};
+use fiveaxis_stock::dexel::Dexels;
+use fiveaxis_stock::solid::{Posed, ToolPieces};
+use fiveaxis_stock::{Part, Stock};
+
+const CELL: f64 = 0.1;
+
+/// A stock box 0..100 × 0..50 × −20..0.
+fn block() -> Dexels {
+    let (min, max) = (Vec3::new(0.0, 0.0, -20.0), Vec3::new(100.0, 50.0, 0.0));
+    let margin = Vec3::repeat(1.0);
+    let mut d = Dexels::empty(&(min - margin), &(max + margin), CELL).unwrap();
+    d.fill_box(&min, &max);
+    d
+}
+
+fn tool(cutter: Cutter, radius: f64) -> ToolPieces {
+    let shape = ToolShape {
+        cutter,
+        flute: 30.0,
+        shank: 2.0 * radius,
+        holder: Vec::new(),
+    };
+    ToolPieces::of(&shape, 100.0, radius)
+}
+
+/// Cuts along the straight move from `a` to `b` with the axis `axis`, at
+/// poses `step` apart; the volume removed.
+fn sweep(stock: &mut Stock, pieces: &ToolPieces, a: Vec3, b: Vec3, axis: Vec3) -> f64 {
+    let n = ((b - a).norm() / CELL).ceil().max(1.0) as u32;
+    let mut removed = 0.0;
+    for k in 0..=n {
+        let tip = a + (b - a) * (f64::from(k) / f64::from(n));
+        let posed = Posed::new(&pieces.cutting, &tip, &axis);
+        removed += stock.cut(&posed, 1, false).removed;
+    }
+    removed
+}
+
+fn close(got: f64, want: f64, relative: f64) {
+    assert!(
+        (got - want).abs() <= relative * want,
+        "got {got}, want {want} (±{:.2} %)",
+        relative * 100.0
+    );
+}
+
+#[test]
+fn a_slot_through_the_block() {
+    let mut stock = Stock::new(block(), None, 0.05);
+    let start = stock.dexels.volume();
+    close(start, 100.0 * 50.0 * 20.0, 1e-9);
+    let up = Vec3::z();
+    let removed = sweep(
+        &mut stock,
+        &tool(Cutter::Flat, 5.0),
+        Vec3::new(-10.0, 25.0, -5.0),
+        Vec3::new(110.0, 25.0, -5.0),
+        up,
+    );
+    // 10 wide, 5 deep, 100 long.
+    close(removed, 5000.0, 0.005);
+    close(start - stock.dexels.volume(), removed, 1e-6);
+    // The same pass again cuts air.
+    let again = sweep(
+        &mut stock,
+        &tool(Cutter::Flat, 5.0),
+        Vec3::new(-10.0, 25.0, -5.0),
+        Vec3::new(110.0, 25.0, -5.0),
+        up,
+    );
+    assert!(again < 1e-6, "{again}");
+}
+
+#[test]
+fn a_hole_and_a_ball_cap() {
+    let mut stock = Stock::new(block(), None, 0.05);
+    let up = Vec3::z();
+    // A flat end mill of radius 4 plunges 10 mm: π r² h.
+    let hole = sweep(
+        &mut stock,
+        &tool(Cutter::Flat, 4.0),
+        Vec3::new(20.0, 20.0, 5.0),
+        Vec3::new(20.0, 20.0, -10.0),
+        up,
+    );
+    close(hole, PI * 16.0 * 10.0, 0.01);
+    // A ball of radius 5 pressed 3 mm in: the cap π h² (3R − h) / 3.
+    let posed = Posed::new(
+        &tool(Cutter::Ball, 5.0).cutting,
+        &Vec3::new(60.0, 25.0, -3.0),
+        &up,
+    );
+    let cap = stock.cut(&posed, 1, false).removed;
+    close(cap, PI * 9.0 * (15.0 - 3.0) / 3.0, 0.01);
+    // A drill of 118°: the cone's volume π r² h / 3 below the full
+    // diameter, then the cylinder.
+    let drill = tool(Cutter::Drill { point_angle: 118.0 }, 3.0);
+    let point = 3.0 / 59f64.to_radians().tan();
+    let posed = Posed::new(&drill.cutting, &Vec3::new(80.0, 25.0, -10.0), &up);
+    let removed = stock.cut(&posed, 1, false).removed;
+    let want = PI * 9.0 * point / 3.0 + PI * 9.0 * (10.0 - point);
+    close(removed, want, 0.01);
+}
+
+#[test]
+fn the_side_of_a_horizontal_tool_cuts_a_trench() {
+    let mut stock = Stock::new(block(), None, 0.05);
+    // The axis along +y, the tip at y 10: the cutting part (30 long, radius
+    // 4) spans y 10..40 inside the block, its axis at z 0 (the top):
+    // moving along x it sweeps everything from the top down to z −4 over
+    // those 30 mm, a trench 30 · 4 · 100.
+    let removed = sweep(
+        &mut stock,
+        &tool(Cutter::Flat, 4.0),
+        Vec3::new(-10.0, 10.0, 0.0),
+        Vec3::new(110.0, 10.0, 0.0),
+        Vec3::y(),
+    );
+    close(removed, 30.0 * 4.0 * 100.0, 0.005);
+}
+
+#[test]
+fn a_tilted_flat_end_mill_pressed_into_a_plane_cuts_a_wedge_of_its_disc() {
+    let mut stock = Stock::new(block(), None, 0.05);
+    // Tilted 30° about y, the tip's centre at the surface: the lower half
+    // of the end face goes below z 0, at most r·sin 30° deep. The volume
+    // below the plane of a cylinder tilted by θ whose end-face centre
+    // lies on the plane: 2 r³ tan θ / 3.
+    let theta = 30f64.to_radians();
+    let axis = Vec3::new(theta.sin(), 0.0, theta.cos());
+    let r: f64 = 5.0;
+    let posed = Posed::new(
+        &tool(Cutter::Flat, r).cutting,
+        &Vec3::new(50.0, 25.0, 0.0),
+        &axis,
+    );
+    let removed = stock.cut(&posed, 1, false).removed;
+    close(removed, 2.0 * r.powi(3) * theta.tan() / 3.0, 0.02);
+}
+
+#[test]
+fn a_ball_mill_gouges_a_plane_at_a_known_depth() {
+    // The part is the block below z −2; the stock the whole block. A ball
+    // mill of radius 5 runs along x with its tip at z −2.3: 0.3 mm into
+    // the part.
+    let stock_dexels = block();
+    let mut design = stock_dexels.like();
+    let (pmin, pmax) = (Vec3::new(0.0, 0.0, -20.0), Vec3::new(100.0, 50.0, -2.0));
+    design.fill_box(&pmin, &pmax);
+    let depth = move |p: &Vec3| {
+        let inside = [
+            p.x - pmin.x,
+            pmax.x - p.x,
+            p.y - pmin.y,
+            pmax.y - p.y,
+            p.z - pmin.z,
+            pmax.z - p.z,
+        ];
+        inside.into_iter().fold(f64::INFINITY, f64::min)
+    };
+    let part = Part {
+        dexels: design,
+        depth: Box::new(depth),
+    };
+    let mut stock = Stock::new(stock_dexels, Some(part), 0.05);
+    let ball = tool(Cutter::Ball, 5.0);
+    let mut deepest: f64 = 0.0;
+    for k in 0..=200 {
+        let tip = Vec3::new(20.0 + 0.1 * f64::from(k), 25.0, -2.3);
+        let cut = stock.cut(&Posed::new(&ball.cutting, &tip, &Vec3::z()), 7, false);
+        deepest = deepest.max(cut.gouge);
+    }
+    assert!((deepest - 0.3).abs() < 1e-3, "{deepest}");
+    // Material is left over the part where the ball did not pass.
+    let left = stock.left_on_part();
+    assert!(left.iter().any(|l| l.0 == 0 && (l.1 - 2.0).abs() < 1e-3));
+    // A tool that stays 0.02 mm above the part gouges nothing.
+    let mut clean = Stock::new(block(), None, 0.05);
+    let cut = clean.cut(
+        &Posed::new(&ball.cutting, &Vec3::new(50.0, 25.0, -1.98), &Vec3::z()),
+        1,
+        false,
+    );
+    assert_eq!(cut.gouge, 0.0);
+}
+
+/// The triangles of a box's surface, outward.
+fn box_mesh(min: Vec3, max: Vec3) -> Vec<[Vec3; 3]> {
+    let p = |i: usize| {
+        Vec3::new(
+            if i & 1 == 0 { min.x } else { max.x },
+            if i & 2 == 0 { min.y } else { max.y },
+            if i & 4 == 0 { min.z } else { max.z },
+        )
+    };
+    let faces = [
+        [0, 2, 3, 1], // bottom (−z)
+        [4, 5, 7, 6], // top (+z)
+        [0, 1, 5, 4], // −y
+        [2, 6, 7, 3], // +y
+        [0, 4, 6, 2], // −x
+        [1, 3, 7, 5], // +x
+    ];
+    let mut out = Vec::new();
+    for f in faces {
+        out.push([p(f[0]), p(f[1]), p(f[2])]);
+        out.push([p(f[0]), p(f[2]), p(f[3])]);
+    }
+    out
+}
+
+#[test]
+fn a_mesh_fills_the_same_dexels_as_its_box() {
+    let (min, max) = (Vec3::new(3.05, 4.05, -7.0), Vec3::new(40.05, 20.05, 2.5));
+    let margin = Vec3::repeat(1.0);
+    let mut from_box = Dexels::empty(&(min - margin), &(max + margin), 0.5).unwrap();
+    let mut from_mesh = from_box.like();
+    from_box.fill_box(&min, &max);
+    from_mesh.fill_mesh(&box_mesh(min, max));
+    close(from_mesh.volume(), from_box.volume(), 1e-6);
+    // Reversed triangles fill the same (nonzero winding).
+    let mut reversed = from_box.like();
+    let flipped: Vec<_> = box_mesh(min, max)
+        .into_iter()
+        .map(|[a, b, c]| [a, c, b])
+        .collect();
+    reversed.fill_mesh(&flipped);
+    close(reversed.volume(), from_box.volume(), 1e-6);
+}
+
+#[test]
+fn the_surface_of_a_cut_stock_is_closed() {
+    let mut stock = Stock::new(block(), None, 0.05);
+    sweep(
+        &mut stock,
+        &tool(Cutter::Ball, 3.0),
+        Vec3::new(-5.0, 10.0, -2.0),
+        Vec3::new(40.0, 30.0, -4.0),
+        Vec3::z(),
+    );
+    // A coarse copy keeps the count of edges small.
+    let mut coarse = Dexels::empty(
+        &Vec3::new(-1.0, -1.0, -21.0),
+        &Vec3::new(11.0, 7.0, 1.0),
+        1.0,
+    )
+    .unwrap();
+    coarse.fill_box(&Vec3::new(0.0, 0.0, -20.0), &Vec3::new(10.0, 6.0, 0.0));
+    let mut c = Stock::new(coarse, None, 0.05);
+    c.cut(
+        &Posed::new(
+            &tool(Cutter::Flat, 2.0).cutting,
+            &Vec3::new(5.0, 3.0, -3.0),
+            &Vec3::z(),
+        ),
+        1,
+        false,
+    );
+    let mut count = 0;
+    c.dexels.triangles(|_| count += 1);
+    assert!(count > 12);
+    // The volume the surface encloses (divergence theorem) is the
+    // dexels': no face is missing or turned inwards.
+    let mut enclosed = 0.0;
+    c.dexels.triangles(|t| {
+        enclosed += t[0].dot(&t[1].cross(&t[2])) / 6.0;
+    });
+    close(enclosed, c.dexels.volume(), 1e-9);
+}
