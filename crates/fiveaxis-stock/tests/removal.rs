@@ -276,3 +276,46 @@ fn the_surface_of_a_cut_stock_is_closed() {
     });
     close(enclosed, c.dexels.volume(), 1e-9);
 }
+
+mod properties {
+    use super::*;
+    use fiveaxis_stock::solid::Piece;
+    use proptest::prelude::*;
+
+    proptest! {
+        #![proptest_config(ProptestConfig { cases: 400, ..ProptestConfig::default() })]
+
+        /// Where a vertical ray meets a sphere or a frustum of any size,
+        /// axis and placement (found in closed form) is where points are
+        /// inside it by the membership test (depth ≥ 0), sampled along
+        /// the ray every 0.01 mm.
+        #[test]
+        fn ray_spans_are_the_inside_of_each_piece(
+            sphere in any::<bool>(),
+            dims in (0.0..8.0f64, 0.5..8.0f64, 0.5..30.0f64),
+            axis in (-1.0..1.0f64, -1.0..1.0f64, -1.0..1.0f64),
+            at in (-5.0..5.0f64, -5.0..5.0f64),
+        ) {
+            let axis = Vec3::new(axis.0, axis.1, axis.2);
+            prop_assume!(axis.norm() > 0.1);
+            let axis = axis.normalize();
+            let piece = if sphere {
+                Piece::Sphere { at: dims.2 / 3.0, radius: dims.1 }
+            } else {
+                Piece::Frustum { a0: 0.0, a1: dims.2, r0: dims.0, r1: dims.1 }
+            };
+            let posed = Posed::new(&[piece], &Vec3::zeros(), &axis);
+            let (x, y) = at;
+            let span = posed.ray(x, y);
+            let (lo, hi) = (posed.min.z - 1.0, posed.max.z + 1.0);
+            let n = ((hi - lo) / 0.01) as usize;
+            for k in 0..=n {
+                let z = lo + 0.01 * k as f64;
+                let inside = posed.depth(&Vec3::new(x, y, z)) >= 0.0;
+                let claimed = span.is_some_and(|(a, b)| z >= a && z <= b);
+                let near_end = span.is_some_and(|(a, b)| (z - a).abs() < 1e-6 || (z - b).abs() < 1e-6);
+                prop_assert!(inside == claimed || near_end, "z {z}: inside {inside}, span {span:?}");
+            }
+        }
+    }
+}
