@@ -16,7 +16,7 @@ pub mod work;
 
 use fiveaxis_machine::geometry::{Link, ToolShape};
 use fiveaxis_machine::{Joints, MAX_AXES, Machine, Side, Vec3};
-use parry3d_f64::query;
+use parry3d_f64::query::{self, ClosestPoints};
 use parry3d_f64::shape::SharedShape;
 
 /// Most halvings of a move when its samples are refined.
@@ -55,6 +55,8 @@ pub struct Part {
     /// bound on its distance from the axis line (mm per radian), 0 for a
     /// joint that does not move it.
     pub reach: [f64; MAX_AXES],
+    /// Its bounding sphere in its link's frame: centre and radius.
+    pub sphere: (Vec3, f64),
 }
 
 impl std::fmt::Debug for Part {
@@ -189,12 +191,16 @@ impl Scene {
         shape: SharedShape,
     ) {
         let reach = reach(machine, on, &shape);
+        let bound = shape.compute_local_bounding_sphere();
+        let c = bound.center();
+        let sphere = (Vec3::new(c.x, c.y, c.z), bound.radius());
         self.parts.push(Part {
             name,
             kind,
             on,
             shape,
             reach,
+            sphere,
         });
         self.refresh_pairs(machine);
     }
@@ -270,13 +276,28 @@ impl Scene {
         &self.pairs
     }
 
-    /// The distance of pair `pair` at `joints` (0 when they touch).
-    fn distance(&self, machine: &Machine, pair: usize, joints: &Joints) -> f64 {
+    /// The distance of pair `pair` at `joints` (0 when they touch), or
+    /// `limit` when it is at least that: far pairs are settled by their
+    /// bounding spheres, or by parry's search bounded by `limit`, without
+    /// finding their closest points.
+    fn distance(&self, machine: &Machine, pair: usize, joints: &Joints, limit: f64) -> f64 {
         let (a, b) = self.pairs[pair];
-        let pa = shapes::pose(&machine.link_pose(self.parts[a].on, joints));
-        let pb = shapes::pose(&machine.link_pose(self.parts[b].on, joints));
-        query::distance(&pa, &*self.parts[a].shape, &pb, &*self.parts[b].shape)
-            .map_or(f64::INFINITY, |d| d.distance)
+        let (pa, pb) = (&self.parts[a], &self.parts[b]);
+        let ia = machine.link_pose(pa.on, joints);
+        let ib = machine.link_pose(pb.on, joints);
+        let ca = ia * nalgebra::Point3::from(pa.sphere.0);
+        let cb = ib * nalgebra::Point3::from(pb.sphere.0);
+        if (ca - cb).norm() - pa.sphere.1 - pb.sphere.1 >= limit {
+            return limit;
+        }
+        let (pose_a, pose_b) = (shapes::pose(&ia), shapes::pose(&ib));
+        match query::closest_points(&pose_a, &*pa.shape, &pose_b, &*pb.shape, limit) {
+            Ok(ClosestPoints::Intersecting) => 0.0,
+            Ok(ClosestPoints::WithinMargin(p, q)) => (p - q).length().min(limit),
+            Ok(ClosestPoints::Disjoint) => limit,
+            Err(_) => query::distance(&pose_a, &*pa.shape, &pose_b, &*pb.shape)
+                .map_or(limit, |d| d.distance.min(limit)),
+        }
     }
 
     /// The penetration depth of pair `pair` at `joints` (0 when apart).
@@ -332,8 +353,15 @@ impl Scene {
         // Spans still to refine: (s0, q0, d0, s1, q1, d1, depth).
         let mut stack: Vec<(f64, Joints, f64, f64, Joints, f64, u32)> = Vec::new();
         for pair in 0..self.pairs.len() {
-            let d0 = self.distance(machine, pair, &q0);
-            let d1 = self.distance(machine, pair, &q1);
+            // Nearer than the clearance anywhere only if nearer than the
+            // travel and the clearance at the start: distances beyond that
+            // are not needed exactly.
+            let limit = self.travel(machine, pair, &q0, &q1) + 2.0 * self.clearance;
+            let d0 = self.distance(machine, pair, &q0, limit);
+            if d0 >= limit {
+                continue;
+            }
+            let d1 = self.distance(machine, pair, &q1, limit);
             let mut contact: Option<Contact> = None;
             let mut note = |s: f64, q: &Joints, d: f64| {
                 if d >= self.clearance {
@@ -369,7 +397,7 @@ impl Scene {
                 }
                 let sm = (s0 + s1) / 2.0;
                 let qm = joints_at(sm);
-                let dm = self.distance(machine, pair, &qm);
+                let dm = self.distance(machine, pair, &qm, limit);
                 // The later half first on the stack: the earlier half is
                 // taken first.
                 stack.push((sm, qm, dm, s1, qb, db, depth + 1));
