@@ -235,8 +235,8 @@ impl StockCheck {
         if !rapid && removed < AIR_CUT_VOLUME {
             self.air_minutes += block_minutes(machine, seg);
         }
-        for which in 0..4 {
-            match (worst[which], &mut self.runs[which]) {
+        for (which, worst) in worst.into_iter().enumerate() {
+            match (worst, &mut self.runs[which]) {
                 (Some((depth, at, joints)), Some(run)) => {
                     if depth > run.depth {
                         run.depth = depth;

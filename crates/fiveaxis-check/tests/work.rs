@@ -21,7 +21,11 @@ const OFFSETS: &str = r#"
 2 = { length = 80.0, radius = 5.0, cutter = "ball", flute_length = 20.0 }
 "#;
 
-fn run(machine: &Machine, program: &str, mut setup: impl FnMut(&mut Checker, &Offsets)) -> Report {
+fn run(
+    machine: &Machine,
+    program: &str,
+    mut setup: impl FnMut(&mut Checker<'_>, &Offsets),
+) -> Report {
     let options = RunOptions {
         lift_soft_limits: true,
         ..RunOptions::default()

@@ -366,7 +366,10 @@ fn quad(each: &mut impl FnMut([Vec3; 3]), at: [f64; 3], u: [f64; 3], v: [f64; 3]
 /// Indices of cells whose centres `origin + (i + ½)·cell` may lie in
 /// `lo..=hi`, within `0..n`.
 fn index_range(lo: f64, hi: f64, origin: f64, cell: f64, n: usize) -> Range<usize> {
-    if !(lo <= hi) {
+    if lo
+        .partial_cmp(&hi)
+        .is_none_or(|o| o == std::cmp::Ordering::Greater)
+    {
         return 0..0;
     }
     let first = ((lo - origin) / cell - 0.5).ceil().max(0.0);

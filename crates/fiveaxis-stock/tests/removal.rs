@@ -17,7 +17,7 @@ const CELL: f64 = 0.1;
 fn block() -> Dexels {
     let (min, max) = (Vec3::new(0.0, 0.0, -20.0), Vec3::new(100.0, 50.0, 0.0));
     let margin = Vec3::repeat(1.0);
-    let mut d = Dexels::empty(&(min - margin), &(max + margin), CELL).unwrap();
+    let mut d = Dexels::empty(&(min - margin), &(max + margin), CELL).expect("grid");
     d.fill_box(&min, &max);
     d
 }
@@ -222,7 +222,7 @@ fn box_mesh(min: Vec3, max: Vec3) -> Vec<[Vec3; 3]> {
 fn a_mesh_fills_the_same_dexels_as_its_box() {
     let (min, max) = (Vec3::new(3.05, 4.05, -7.0), Vec3::new(40.05, 20.05, 2.5));
     let margin = Vec3::repeat(1.0);
-    let mut from_box = Dexels::empty(&(min - margin), &(max + margin), 0.5).unwrap();
+    let mut from_box = Dexels::empty(&(min - margin), &(max + margin), 0.5).expect("grid");
     let mut from_mesh = from_box.like();
     from_box.fill_box(&min, &max);
     from_mesh.fill_mesh(&box_mesh(min, max));
@@ -253,7 +253,7 @@ fn the_surface_of_a_cut_stock_is_closed() {
         &Vec3::new(11.0, 7.0, 1.0),
         1.0,
     )
-    .unwrap();
+    .expect("grid");
     coarse.fill_box(&Vec3::new(0.0, 0.0, -20.0), &Vec3::new(10.0, 6.0, 0.0));
     let mut c = Stock::new(coarse, None, 0.05);
     c.cut(
