@@ -177,11 +177,19 @@ struct Work {
 
 impl Work {
     fn read(args: &CheckArgs, offsets: &Offsets) -> Result<Self, InputError> {
-        let fixtures = args
+        let mut fixtures = args
             .fixture
             .iter()
             .map(|f| crate::work::read("--fixture", f))
             .collect::<Result<Vec<_>, _>>()?;
+        // Fixtures of one name (two boxes) are told apart by their place
+        // on the command line.
+        let names: Vec<String> = fixtures.iter().map(|f| f.name.clone()).collect();
+        for (k, fixture) in fixtures.iter_mut().enumerate() {
+            if names.iter().filter(|n| **n == fixture.name).count() > 1 {
+                fixture.name = format!("{} {}", fixture.name, k + 1);
+            }
+        }
         let zero = match &args.place {
             Some(place) => crate::work::read_place(place)?,
             None => offsets.work[0],
