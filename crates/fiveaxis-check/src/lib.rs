@@ -935,12 +935,29 @@ pub fn check_run_into<S: Source>(
 }
 
 /// The checks of the work a run may add: collisions, the stock.
-#[derive(Debug, Default)]
-pub struct WorkChecks {
+#[derive(Default)]
+pub struct WorkChecks<'a> {
     /// The collision check.
     pub collisions: Option<collision::Collisions>,
     /// The stock model.
     pub stock: Option<stock::StockCheck>,
+    /// Without `stock`: the stock model of the stock the program
+    /// declares (HEIDENHAIN `BLK FORM`), made once it has been read.
+    pub declared: Option<DeclaredStock<'a>>,
+}
+
+/// Makes the stock model of a stock the program declares.
+pub type DeclaredStock<'a> =
+    Box<dyn FnOnce(&fiveaxis_control::Stock) -> Option<stock::StockCheck> + 'a>;
+
+impl std::fmt::Debug for WorkChecks<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("WorkChecks")
+            .field("collisions", &self.collisions)
+            .field("stock", &self.stock)
+            .field("declared", &self.declared.is_some())
+            .finish()
+    }
 }
 
 /// [`check_run_into`] with the checks of the work `work`.
@@ -951,7 +968,7 @@ pub struct WorkChecks {
 pub fn check_run_with<S: Source>(
     runner: &mut Runner<'_, S>,
     keep_going: bool,
-    work: WorkChecks,
+    work: WorkChecks<'_>,
     mut progress: impl FnMut(u64),
     mut take: impl FnMut(Finding),
 ) -> Result<(Report, Option<Finding>), RunError> {
@@ -961,14 +978,25 @@ pub fn check_run_with<S: Source>(
     if let Some(collisions) = work.collisions {
         checker.check_collisions(collisions);
     }
+    let mut declared = work.declared;
     if let Some(stock) = work.stock {
         checker.check_stock(stock);
+        declared = None;
     }
     let mut first_alarm: Option<AlarmInfo> = None;
     let mut segments = Vec::with_capacity(BATCH);
     let alarm = loop {
         segments.clear();
         let filled = runner.fill(&mut segments, BATCH);
+        // A declared stock comes first in its program (BLK FORM after
+        // BEGIN PGM), before any move.
+        if declared.is_some()
+            && let Some(blk) = runner.stock()
+            && let Some(make) = declared.take()
+            && let Some(stock) = make(&blk)
+        {
+            checker.check_stock(stock);
+        }
         for seg in &segments {
             checker.segment(seg);
         }

@@ -115,21 +115,23 @@ pub struct CheckArgs {
     #[arg(long, value_name = "X,Y,Z")]
     place: Option<String>,
     /// The raw stock in the work frame, cut as the program runs: an STL
-    /// file or `box:x0,y0,z0,x1,y1,z1`.
+    /// file or `box:x0,y0,z0,x1,y1,z1`; with `--collisions`, `--fixture`,
+    /// `--part` or `--stock-out` and no `--stock`: the stock the program
+    /// declares (HEIDENHAIN `BLK FORM`), if any.
     #[arg(long, value_name = "PATH.stl|box:…")]
     stock: Option<String>,
     /// The stock model's cell size, mm.
     #[arg(long, default_value_t = fiveaxis_stock::DEFAULT_RESOLUTION, value_parser = positive_mm)]
     resolution: f64,
     /// The designed part in the work frame (STL or `box:`): cuts into it
-    /// are gouges, material left on it is excess. Needs `--stock`.
-    #[arg(long, value_name = "PATH.stl|box:…", requires = "stock")]
+    /// are gouges, material left on it is excess. Needs a stock.
+    #[arg(long, value_name = "PATH.stl|box:…")]
     part: Option<String>,
     /// Gouges and excess count beyond this, mm.
     #[arg(long, default_value_t = DEFAULT_GOUGE_TOLERANCE, value_parser = positive_mm)]
     gouge_tolerance: f64,
     /// Write the stock left at the end as a binary STL file (one program).
-    #[arg(long, value_name = "PATH.stl", requires = "stock")]
+    #[arg(long, value_name = "PATH.stl")]
     stock_out: Option<PathBuf>,
 }
 
@@ -228,14 +230,26 @@ impl Work {
         let Some(stock) = &self.stock else {
             return Ok(None);
         };
-        let value = args.stock.as_deref().unwrap_or_default();
-        let (min, max) = stock.shape.bounds();
+        self.stock_of(args, machine, offsets, &stock.shape)
+            .map(Some)
+    }
+
+    /// A fresh stock model of `shape` for one program.
+    fn stock_of(
+        &self,
+        args: &CheckArgs,
+        machine: &Machine,
+        offsets: &Offsets,
+        shape: &fiveaxis_collide::work::WorkShape,
+    ) -> Result<StockCheck, InputError> {
+        let value = args.stock.as_deref().unwrap_or("BLK FORM");
+        let (min, max) = shape.bounds();
         let (min, max) = (min + self.zero, max + self.zero);
         // One cell of margin: the mesh's walls fall inside the grid.
         let margin = fiveaxis_machine::Vec3::repeat(args.resolution);
         let mut dexels = Dexels::empty(&(min - margin), &(max + margin), args.resolution)
             .map_err(|e| InputError(format!("error: --stock {value}: {e}")))?;
-        fill(&mut dexels, &stock.shape, &self.zero);
+        fill(&mut dexels, shape, &self.zero);
         let part = match &self.part {
             Some(part) => {
                 let mut design = dexels.like();
@@ -254,7 +268,7 @@ impl Work {
             None => None,
         };
         let model = fiveaxis_stock::Stock::new(dexels, part, args.gouge_tolerance);
-        Ok(Some(StockCheck::new(machine, offsets, model, self.zero)))
+        Ok(StockCheck::new(machine, offsets, model, self.zero))
     }
 
     /// A fresh collision check for one program, if asked for.
@@ -446,10 +460,30 @@ fn check_one(
     if let Some(stock) = &mut stock {
         stock.keep_final(kept_stock.clone());
     }
+    // Without --stock, with the work asked for: the stock the program
+    // declares (BLK FORM).
+    let wants_work = work.collisions || args.part.is_some() || args.stock_out.is_some();
+    let declared: Option<fiveaxis_check::DeclaredStock<'_>> =
+        (stock.is_none() && wants_work).then(|| {
+            let kept = kept_stock.clone();
+            Box::new(move |blk: &fiveaxis_control::Stock| {
+                let shape = fiveaxis_collide::work::WorkShape::Box {
+                    min: blk.min.into(),
+                    max: blk.max.into(),
+                };
+                let mut check = work.stock_of(args, machine, offsets, &shape).ok()?;
+                check.keep_final(kept);
+                Some(check)
+            }) as fiveaxis_check::DeclaredStock<'_>
+        });
     let (report, whole_program) = check_run_with(
         &mut runner,
         args.keep_going,
-        WorkChecks { collisions, stock },
+        WorkChecks {
+            collisions,
+            stock,
+            declared,
+        },
         |blocks| {
             progress.blocks(blocks - last);
             last = blocks;
@@ -474,6 +508,11 @@ fn check_one(
     })?;
     if let Some(e) = spill_error {
         return Err(InputError::io("temporary file", &e));
+    }
+    if report.stock.is_none() && (args.part.is_some() || args.stock_out.is_some()) {
+        return Err(InputError(format!(
+            "error: {program}: --part and --stock-out need a stock: give --stock (the program declares none)"
+        )));
     }
     if let Some(path) = &args.stock_out {
         let left = kept_stock.lock().ok().and_then(|mut s| s.take());

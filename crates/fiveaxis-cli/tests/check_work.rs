@@ -192,9 +192,10 @@ fn bad_work_inputs_are_refused_with_their_option() {
         let err = String::from_utf8_lossy(&out.stderr);
         assert!(err.contains(want), "{extra:?}: {err}");
     }
-    // --part needs --stock; --stock-out one program.
+    // --part needs a stock; --stock-out one program.
     let out = run(dir.path(), &["check", "p.nc", "--part", "box:0,0,0,1,1,1"]);
     assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("need a stock"));
     let out = run(
         dir.path(),
         &[
