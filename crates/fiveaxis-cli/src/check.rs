@@ -11,12 +11,9 @@ use std::path::PathBuf;
 use std::sync::atomic::{AtomicU64, Ordering};
 
 use anstyle::{AnsiColor, Style};
-use fiveaxis_check::collision::{Collisions, WorkSolid};
-use fiveaxis_check::stock::StockCheck;
 use fiveaxis_check::{Finding, Kind, Report, Severity, WorkChecks, check_run_with};
 use fiveaxis_control::{DEFAULT_MAX_BLOCKS, ReaderSource, RunError, RunOptions, Runner};
 use fiveaxis_machine::{DEFAULT_MACHINE, Machine, Offsets};
-use fiveaxis_stock::dexel::Dexels;
 use rayon::prelude::*;
 
 use crate::progress::DelayedBar;
@@ -98,208 +95,9 @@ pub struct CheckArgs {
     /// call by number (`--programs`, as for `run` and `view`).
     #[arg(long = "programs", id = "program_memory", value_name = "DIR")]
     programs_dir: Option<PathBuf>,
-    /// Check collisions along every move: the machine's bodies, the tool,
-    /// its shank and holder (the offsets file's tool shapes) and the
-    /// fixtures. Implied by `--fixture`.
-    #[arg(long)]
-    collisions: bool,
-    /// Parts nearer than this without touching are near misses, mm.
-    #[arg(long, default_value_t = fiveaxis_check::collision::DEFAULT_CLEARANCE, value_parser = positive_mm)]
-    clearance: f64,
-    /// A fixture or clamp in the work frame: an STL file or
-    /// `box:x0,y0,z0,x1,y1,z1` (repeatable).
-    #[arg(long, value_name = "PATH.stl|box:…")]
-    fixture: Vec<String>,
-    /// Where the work zero stands in the table frame, `X,Y,Z` mm; default:
-    /// the work offset G54.
-    #[arg(long, value_name = "X,Y,Z")]
-    place: Option<String>,
-    /// The raw stock in the work frame, cut as the program runs: an STL
-    /// file or `box:x0,y0,z0,x1,y1,z1`; with `--collisions`, `--fixture`,
-    /// `--part` or `--stock-out` and no `--stock`: the stock the program
-    /// declares (HEIDENHAIN `BLK FORM`), if any.
-    #[arg(long, value_name = "PATH.stl|box:…")]
-    stock: Option<String>,
-    /// The stock model's cell size, mm.
-    #[arg(long, default_value_t = fiveaxis_stock::DEFAULT_RESOLUTION, value_parser = positive_mm)]
-    resolution: f64,
-    /// The designed part in the work frame (STL or `box:`): cuts into it
-    /// are gouges, material left on it is excess. Needs a stock.
-    #[arg(long, value_name = "PATH.stl|box:…")]
-    part: Option<String>,
-    /// Gouges and excess count beyond this, mm.
-    #[arg(long, default_value_t = DEFAULT_GOUGE_TOLERANCE, value_parser = positive_mm)]
-    gouge_tolerance: f64,
-    /// Write the stock left at the end as a binary STL file (one program).
-    #[arg(long, value_name = "PATH.stl")]
-    stock_out: Option<PathBuf>,
-}
-
-/// Gouges and excess count beyond this unless told (`--gouge-tolerance`),
-/// mm.
-const DEFAULT_GOUGE_TOLERANCE: f64 = 0.05;
-
-/// Fills `dexels` with `shape` placed at the work zero `zero`.
-fn fill(
-    dexels: &mut Dexels,
-    shape: &fiveaxis_collide::work::WorkShape,
-    zero: &fiveaxis_machine::Vec3,
-) {
-    match shape {
-        fiveaxis_collide::work::WorkShape::Box { min, max } => {
-            dexels.fill_box(&(min + zero), &(max + zero));
-        }
-        fiveaxis_collide::work::WorkShape::Mesh(triangles) => {
-            let moved: Vec<[fiveaxis_machine::Vec3; 3]> = triangles
-                .iter()
-                .map(|t| [t[0] + zero, t[1] + zero, t[2] + zero])
-                .collect();
-            dexels.fill_mesh(&moved);
-        }
-    }
-}
-
-/// A length in mm above zero.
-fn positive_mm(text: &str) -> Result<f64, String> {
-    match text.parse::<f64>() {
-        Ok(x) if x.is_finite() && x > 0.0 => Ok(x),
-        _ => Err(format!("`{text}` is not a length above 0 mm")),
-    }
-}
-
-/// The work's solids and the collision check they ask for, read once for
-/// all programs.
-struct Work {
-    collisions: bool,
-    fixtures: Vec<crate::work::NamedShape>,
-    stock: Option<crate::work::NamedShape>,
-    part: Option<crate::work::NamedShape>,
-    zero: fiveaxis_machine::Vec3,
-}
-
-impl Work {
-    fn read(args: &CheckArgs, offsets: &Offsets) -> Result<Self, InputError> {
-        let mut fixtures = args
-            .fixture
-            .iter()
-            .map(|f| crate::work::read("--fixture", f))
-            .collect::<Result<Vec<_>, _>>()?;
-        // Fixtures of one name (two boxes) are told apart by their place
-        // on the command line.
-        let names: Vec<String> = fixtures.iter().map(|f| f.name.clone()).collect();
-        for (k, fixture) in fixtures.iter_mut().enumerate() {
-            if names.iter().filter(|n| **n == fixture.name).count() > 1 {
-                fixture.name = format!("{} {}", fixture.name, k + 1);
-            }
-        }
-        let zero = match &args.place {
-            Some(place) => crate::work::read_place(place)?,
-            None => offsets.work[0],
-        };
-        if args.stock_out.is_some() && args.programs.len() > 1 {
-            return Err(InputError(
-                "error: --stock-out writes the stock of one program: give one program".into(),
-            ));
-        }
-        let stock = args
-            .stock
-            .as_deref()
-            .map(|v| crate::work::read("--stock", v))
-            .transpose()?;
-        let part = args
-            .part
-            .as_deref()
-            .map(|v| crate::work::read("--part", v))
-            .transpose()?;
-        Ok(Self {
-            collisions: args.collisions || !fixtures.is_empty(),
-            fixtures,
-            stock,
-            part,
-            zero,
-        })
-    }
-
-    /// A fresh stock model for one program, if given.
-    fn stock(
-        &self,
-        args: &CheckArgs,
-        machine: &Machine,
-        offsets: &Offsets,
-    ) -> Result<Option<StockCheck>, InputError> {
-        let Some(stock) = &self.stock else {
-            return Ok(None);
-        };
-        self.stock_of(args, machine, offsets, &stock.shape)
-            .map(Some)
-    }
-
-    /// A fresh stock model of `shape` for one program.
-    fn stock_of(
-        &self,
-        args: &CheckArgs,
-        machine: &Machine,
-        offsets: &Offsets,
-        shape: &fiveaxis_collide::work::WorkShape,
-    ) -> Result<StockCheck, InputError> {
-        let value = args.stock.as_deref().unwrap_or("BLK FORM");
-        let (min, max) = shape.bounds();
-        let (min, max) = (min + self.zero, max + self.zero);
-        // One cell of margin: the mesh's walls fall inside the grid.
-        let margin = fiveaxis_machine::Vec3::repeat(args.resolution);
-        let mut dexels = Dexels::empty(&(min - margin), &(max + margin), args.resolution)
-            .map_err(|e| InputError(format!("error: --stock {value}: {e}")))?;
-        fill(&mut dexels, shape, &self.zero);
-        let part = match &self.part {
-            Some(part) => {
-                let mut design = dexels.like();
-                fill(&mut design, &part.shape, &self.zero);
-                let shape = part.shape.placed(&self.zero).ok_or_else(|| {
-                    InputError(format!(
-                        "error: --part {}: the mesh cannot be used (no triangle with an area)",
-                        args.part.as_deref().unwrap_or_default()
-                    ))
-                })?;
-                Some(fiveaxis_stock::Part {
-                    dexels: design,
-                    depth: Box::new(move |p| fiveaxis_collide::work::depth_inside(&shape, p)),
-                })
-            }
-            None => None,
-        };
-        let model = fiveaxis_stock::Stock::new(dexels, part, args.gouge_tolerance);
-        Ok(StockCheck::new(machine, offsets, model, self.zero))
-    }
-
-    /// A fresh collision check for one program, if asked for.
-    fn collisions(
-        &self,
-        args: &CheckArgs,
-        machine: &Machine,
-        offsets: &Offsets,
-    ) -> Result<Option<Collisions>, InputError> {
-        if !self.collisions {
-            return Ok(None);
-        }
-        let mut solids = Vec::new();
-        for (fixture, value) in self.fixtures.iter().zip(&args.fixture) {
-            let shape = fixture.shape.placed(&self.zero).ok_or_else(|| {
-                InputError(format!(
-                    "error: --fixture {value}: the mesh cannot be used (no triangle with an area)"
-                ))
-            })?;
-            solids.push(WorkSolid {
-                name: fixture.name.clone(),
-                shape,
-            });
-        }
-        Ok(Some(Collisions::new(
-            machine,
-            offsets,
-            args.clearance,
-            solids,
-        )))
-    }
+    /// The work: fixtures, stock, part, collisions.
+    #[command(flatten)]
+    work: crate::work::WorkArgs,
 }
 
 /// One program's outcome: its report and its findings as the format keeps
@@ -335,7 +133,7 @@ pub fn check(args: &CheckArgs) -> Result<u8, InputError> {
             "error: standard input (`-`) can be checked once only".into(),
         ));
     }
-    let work = Work::read(args, &offsets)?;
+    let work = crate::work::Work::read(&args.work, args.programs.len(), &offsets)?;
     let progress = Progress::new(args.programs.len());
     let mut outcomes: Vec<Outcome> = args
         .programs
@@ -425,7 +223,7 @@ fn check_one(
     machine: &Machine,
     offsets: &Offsets,
     variables: Option<&[(u32, f64)]>,
-    work: &Work,
+    work: &crate::work::Work,
     progress: &Progress,
 ) -> Outcome {
     let mut file = open_program(program)?;
@@ -454,15 +252,15 @@ fn check_one(
     let mut json = JsonFindings::default();
     let mut text = TextFindings::default();
     let mut spill_error = None;
-    let collisions = work.collisions(args, machine, offsets)?;
-    let mut stock = work.stock(args, machine, offsets)?;
+    let collisions = work.collisions(&args.work, machine, offsets)?;
+    let mut stock = work.stock(&args.work, machine, offsets)?;
     let kept_stock = std::sync::Arc::new(std::sync::Mutex::new(None));
     if let Some(stock) = &mut stock {
         stock.keep_final(kept_stock.clone());
     }
     // Without --stock, with the work asked for: the stock the program
     // declares (BLK FORM).
-    let wants_work = work.collisions || args.part.is_some() || args.stock_out.is_some();
+    let wants_work = work.wants_work();
     let declared: Option<fiveaxis_check::DeclaredStock<'_>> =
         (stock.is_none() && wants_work).then(|| {
             let kept = kept_stock.clone();
@@ -471,7 +269,7 @@ fn check_one(
                     min: blk.min.into(),
                     max: blk.max.into(),
                 };
-                let mut check = work.stock_of(args, machine, offsets, &shape).ok()?;
+                let mut check = work.stock_of(&args.work, machine, offsets, &shape).ok()?;
                 check.keep_final(kept);
                 Some(check)
             }) as fiveaxis_check::DeclaredStock<'_>
@@ -509,12 +307,12 @@ fn check_one(
     if let Some(e) = spill_error {
         return Err(InputError::io("temporary file", &e));
     }
-    if report.stock.is_none() && (args.part.is_some() || args.stock_out.is_some()) {
+    if report.stock.is_none() && (args.work.part.is_some() || args.work.stock_out.is_some()) {
         return Err(InputError(format!(
             "error: {program}: --part and --stock-out need a stock: give --stock (the program declares none)"
         )));
     }
-    if let Some(path) = &args.stock_out {
+    if let Some(path) = &args.work.stock_out {
         let left = kept_stock.lock().ok().and_then(|mut s| s.take());
         if let Some(left) = left {
             crate::work::write_stl(path, &left.dexels)?;

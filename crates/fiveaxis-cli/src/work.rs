@@ -5,12 +5,17 @@
 
 use std::fs::File;
 use std::io::BufReader;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use fiveaxis_collide::work::WorkShape;
 use fiveaxis_machine::Vec3;
 
 use crate::InputError;
+
+use fiveaxis_check::collision::{Collisions, WorkSolid};
+use fiveaxis_check::stock::StockCheck;
+use fiveaxis_machine::{Machine, Offsets};
+use fiveaxis_stock::dexel::Dexels;
 
 /// Triangles at most in one STL file (a 100,000-triangle fixture is a
 /// detailed one).
@@ -153,3 +158,219 @@ pub fn write_stl(path: &Path, dexels: &fiveaxis_stock::dexel::Dexels) -> Result<
         .map_err(|e| InputError::io(&shown, &e.error))?;
     Ok(())
 }
+
+/// The work's options, shared by `check` and `view`.
+#[derive(Debug, Default, clap::Args)]
+pub struct WorkArgs {
+    /// Check collisions along every move: the machine's bodies, the tool,
+    /// its shank and holder (the offsets file's tool shapes) and the
+    /// fixtures. Implied by `--fixture`.
+    #[arg(long)]
+    pub collisions: bool,
+    /// Parts nearer than this without touching are near misses, mm.
+    #[arg(long, default_value_t = fiveaxis_check::collision::DEFAULT_CLEARANCE, value_parser = positive_mm)]
+    pub clearance: f64,
+    /// A fixture or clamp in the work frame: an STL file or
+    /// `box:x0,y0,z0,x1,y1,z1` (repeatable).
+    #[arg(long, value_name = "PATH.stl|box:…")]
+    pub fixture: Vec<String>,
+    /// Where the work zero stands in the table frame, `X,Y,Z` mm; default:
+    /// the work offset G54.
+    #[arg(long, value_name = "X,Y,Z")]
+    pub place: Option<String>,
+    /// The raw stock in the work frame, cut as the program runs: an STL
+    /// file or `box:x0,y0,z0,x1,y1,z1`; with `--collisions`, `--fixture`,
+    /// `--part` or `--stock-out` and no `--stock`: the stock the program
+    /// declares (HEIDENHAIN `BLK FORM`), if any.
+    #[arg(long, value_name = "PATH.stl|box:…")]
+    pub stock: Option<String>,
+    /// The stock model's cell size, mm.
+    #[arg(long, default_value_t = fiveaxis_stock::DEFAULT_RESOLUTION, value_parser = positive_mm)]
+    pub resolution: f64,
+    /// The designed part in the work frame (STL or `box:`): cuts into it
+    /// are gouges, material left on it is excess. Needs a stock.
+    #[arg(long, value_name = "PATH.stl|box:…")]
+    pub part: Option<String>,
+    /// Gouges and excess count beyond this, mm.
+    #[arg(long, default_value_t = DEFAULT_GOUGE_TOLERANCE, value_parser = positive_mm)]
+    pub gouge_tolerance: f64,
+    /// Write the stock left at the end as a binary STL file (one program).
+    #[arg(long, value_name = "PATH.stl")]
+    pub stock_out: Option<PathBuf>,
+}
+
+/// Gouges and excess count beyond this unless told (`--gouge-tolerance`),
+/// mm.
+const DEFAULT_GOUGE_TOLERANCE: f64 = 0.05;
+
+/// Fills `dexels` with `shape` placed at the work zero `zero`.
+fn fill(
+    dexels: &mut Dexels,
+    shape: &fiveaxis_collide::work::WorkShape,
+    zero: &fiveaxis_machine::Vec3,
+) {
+    match shape {
+        fiveaxis_collide::work::WorkShape::Box { min, max } => {
+            dexels.fill_box(&(min + zero), &(max + zero));
+        }
+        fiveaxis_collide::work::WorkShape::Mesh(triangles) => {
+            let moved: Vec<[fiveaxis_machine::Vec3; 3]> = triangles
+                .iter()
+                .map(|t| [t[0] + zero, t[1] + zero, t[2] + zero])
+                .collect();
+            dexels.fill_mesh(&moved);
+        }
+    }
+}
+
+/// A length in mm above zero.
+fn positive_mm(text: &str) -> Result<f64, String> {
+    match text.parse::<f64>() {
+        Ok(x) if x.is_finite() && x > 0.0 => Ok(x),
+        _ => Err(format!("`{text}` is not a length above 0 mm")),
+    }
+}
+
+/// The work's solids and the collision check they ask for, read once for
+/// all programs.
+pub struct Work {
+    collisions: bool,
+    fixtures: Vec<NamedShape>,
+    stock: Option<NamedShape>,
+    part: Option<NamedShape>,
+    stock_out: bool,
+    zero: fiveaxis_machine::Vec3,
+}
+
+impl Work {
+    /// Whether the work checks are asked for (collisions, a part, the
+    /// stock written out): then the stock a program declares is cut.
+    pub fn wants_work(&self) -> bool {
+        self.collisions || self.part.is_some() || self.stock_out
+    }
+
+    pub fn read(args: &WorkArgs, programs: usize, offsets: &Offsets) -> Result<Self, InputError> {
+        let mut fixtures = args
+            .fixture
+            .iter()
+            .map(|f| read("--fixture", f))
+            .collect::<Result<Vec<_>, _>>()?;
+        // Fixtures of one name (two boxes) are told apart by their place
+        // on the command line.
+        let names: Vec<String> = fixtures.iter().map(|f| f.name.clone()).collect();
+        for (k, fixture) in fixtures.iter_mut().enumerate() {
+            if names.iter().filter(|n| **n == fixture.name).count() > 1 {
+                fixture.name = format!("{} {}", fixture.name, k + 1);
+            }
+        }
+        let zero = match &args.place {
+            Some(place) => read_place(place)?,
+            None => offsets.work[0],
+        };
+        if args.stock_out.is_some() && programs > 1 {
+            return Err(InputError(
+                "error: --stock-out writes the stock of one program: give one program".into(),
+            ));
+        }
+        let stock = args
+            .stock
+            .as_deref()
+            .map(|v| read("--stock", v))
+            .transpose()?;
+        let part = args
+            .part
+            .as_deref()
+            .map(|v| read("--part", v))
+            .transpose()?;
+        Ok(Self {
+            collisions: args.collisions || !fixtures.is_empty(),
+            fixtures,
+            stock,
+            part,
+            stock_out: args.stock_out.is_some(),
+            zero,
+        })
+    }
+
+    /// A fresh stock model for one program, if given.
+    pub fn stock(
+        &self,
+        args: &WorkArgs,
+        machine: &Machine,
+        offsets: &Offsets,
+    ) -> Result<Option<StockCheck>, InputError> {
+        let Some(stock) = &self.stock else {
+            return Ok(None);
+        };
+        self.stock_of(args, machine, offsets, &stock.shape)
+            .map(Some)
+    }
+
+    /// A fresh stock model of `shape` for one program.
+    pub fn stock_of(
+        &self,
+        args: &WorkArgs,
+        machine: &Machine,
+        offsets: &Offsets,
+        shape: &fiveaxis_collide::work::WorkShape,
+    ) -> Result<StockCheck, InputError> {
+        let value = args.stock.as_deref().unwrap_or("BLK FORM");
+        let (min, max) = shape.bounds();
+        let (min, max) = (min + self.zero, max + self.zero);
+        // One cell of margin: the mesh's walls fall inside the grid.
+        let margin = fiveaxis_machine::Vec3::repeat(args.resolution);
+        let mut dexels = Dexels::empty(&(min - margin), &(max + margin), args.resolution)
+            .map_err(|e| InputError(format!("error: --stock {value}: {e}")))?;
+        fill(&mut dexels, shape, &self.zero);
+        let part = match &self.part {
+            Some(part) => {
+                let mut design = dexels.like();
+                fill(&mut design, &part.shape, &self.zero);
+                let shape = part.shape.placed(&self.zero).ok_or_else(|| {
+                    InputError(format!(
+                        "error: --part {}: the mesh cannot be used (no triangle with an area)",
+                        args.part.as_deref().unwrap_or_default()
+                    ))
+                })?;
+                Some(fiveaxis_stock::Part {
+                    dexels: design,
+                    depth: Box::new(move |p| fiveaxis_collide::work::depth_inside(&shape, p)),
+                })
+            }
+            None => None,
+        };
+        let model = fiveaxis_stock::Stock::new(dexels, part, args.gouge_tolerance);
+        Ok(StockCheck::new(machine, offsets, model, self.zero))
+    }
+
+    /// A fresh collision check for one program, if asked for.
+    pub fn collisions(
+        &self,
+        args: &WorkArgs,
+        machine: &Machine,
+        offsets: &Offsets,
+    ) -> Result<Option<Collisions>, InputError> {
+        if !self.collisions {
+            return Ok(None);
+        }
+        let mut solids = Vec::new();
+        for (fixture, value) in self.fixtures.iter().zip(&args.fixture) {
+            let shape = fixture.shape.placed(&self.zero).ok_or_else(|| {
+                InputError(format!(
+                    "error: --fixture {value}: the mesh cannot be used (no triangle with an area)"
+                ))
+            })?;
+            solids.push(WorkSolid {
+                name: fixture.name.clone(),
+                shape,
+            });
+        }
+        Ok(Some(Collisions::new(
+            machine,
+            offsets,
+            args.clearance,
+            solids,
+        )))
+    }
+}
+
