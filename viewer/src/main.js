@@ -194,6 +194,8 @@ async function start() {
       return out;
     },
     seek: (t) => seek(t),
+    /** The work drawn, by name, with its box as the bodies stand. */
+    work: () => scene.workSummary(),
     seekBlock: (b) => seek(data.ends[b], { block: b }),
     selectLine: (line) => selectLine(line),
     /** The machine position, the tool tip by the bodies and by forward kinematics. */

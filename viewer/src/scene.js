@@ -8,6 +8,7 @@
 import {
   AmbientLight,
   AxesHelper,
+  Box3,
   BoxGeometry,
   BufferAttribute,
   BufferGeometry,
@@ -37,6 +38,7 @@ import {
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 import { MOTIONS, stockCorners } from './data.js';
 import { simplifyToSpacing } from './simplify.js';
+import { bodyGroup, fixtureGroup, stockMesh, toolGroup } from './work.js';
 
 /** Colours of the path by motion: rapid, linear feed, arcs. */
 export const MOTION_COLOURS = { rapid: '#e8554e', linear: '#3fb950', cw: '#58a6ff', ccw: '#58a6ff' };
@@ -191,6 +193,11 @@ export class MachineScene {
     const headMat = mat('#d08c3c');
     const spindleMat = mat('#b8bcc4');
     this.toolMat = mat('#f2f2f2');
+    this.toolMats = { cutter: mat('#f2f2f2'), shank: mat('#9aa0a8'), holder: mat('#5b6270') };
+    // The machine file's bodies, where it has them, instead of the
+    // generic table, cradle, bed and head drawn from the strokes.
+    const bodies = machine.bodies || [];
+    const hasBodies = bodies.length > 0;
 
     // Table chain, bed outwards.
     this.tableGroups = [];
@@ -217,9 +224,9 @@ export class MachineScene {
     const tableCenter = tables.length ? tables[tables.length - 1].center : [0, 0, 0];
     table.position.x += tableCenter[0];
     table.position.y += tableCenter[1];
-    this.tableInner.add(table);
+    if (!hasBodies) this.tableInner.add(table);
     // The outer table axis of a trunnion: a cradle along its line.
-    if (tables.length === 2) {
+    if (tables.length === 2 && !hasBodies) {
       const outer = tables[0];
       const g = this.tableGroups[0];
       const a = outer.axis;
@@ -256,7 +263,7 @@ export class MachineScene {
     }
     // The bed: fixed, under everything.
     const bedZ = topZ - thick - 2 * thick - (tables.length === 2 ? tableRadius : 0);
-    this.scene.add(box([Math.max(span(0), 2.5 * tableRadius), Math.max(span(1), 2.5 * tableRadius), thick], [tableCenter[0], tableCenter[1], bedZ], bedMat));
+    if (!hasBodies) this.scene.add(box([Math.max(span(0), 2.5 * tableRadius), Math.max(span(1), 2.5 * tableRadius), thick], [tableCenter[0], tableCenter[1], bedZ], bedMat));
 
     // Head: X, Y, Z move the gauge point; head axes turn about their lines.
     this.carriage = new Group();
@@ -270,16 +277,55 @@ export class MachineScene {
       g.userData.index = r.index;
       g.name = `head-${r.name}`;
       // The housing of the axis around its centre.
-      g.add(box([0.5 * tableRadius, 0.5 * tableRadius, 0.5 * tableRadius], r.center, headMat));
+      if (!hasBodies) g.add(box([0.5 * tableRadius, 0.5 * tableRadius, 0.5 * tableRadius], r.center, headMat));
       carrier.add(g);
       carrier = g;
       this.headGroups.push(g);
     }
     this.spindle = carrier;
     const spindleR = Math.max(0.12 * tableRadius, 15);
-    this.spindle.add(cylinder([0, 0, 0], t0, 2.5 * spindleR, spindleR, spindleMat));
-    if (this.headGroups.length === 0) {
+    if (!hasBodies) this.spindle.add(cylinder([0, 0, 0], t0, 2.5 * spindleR, spindleR, spindleMat));
+    if (this.headGroups.length === 0 && !hasBodies) {
       this.spindle.add(box([3 * spindleR, 3 * spindleR, 3 * spindleR], [t0[0] * 4 * spindleR, t0[1] * 4 * spindleR, t0[2] * 4 * spindleR], headMat));
+    }
+    // Each body on its link: the bed, a carriage (moved by its own axis),
+    // a rotary axis' group, the head.
+    this.linearGroups = [];
+    const nLinear = machine.linear.length;
+    for (const body of bodies) {
+      const on = body.on;
+      let carrier2 = this.scene;
+      let material = bedMat;
+      if (on === 'head') {
+        carrier2 = this.spindle;
+        material = headMat;
+      } else if (typeof on === 'number' && on < nLinear) {
+        let g = this.linearGroups.find((x) => x.userData.linear === on);
+        if (!g) {
+          g = new Group();
+          g.name = `carriage-${machine.linear[on].name}`;
+          g.userData.linear = on;
+          this.scene.add(g);
+          this.linearGroups.push(g);
+        }
+        carrier2 = g;
+        material = headMat;
+      } else if (typeof on === 'number') {
+        const g = [...this.tableGroups, ...this.headGroups].find((x) => x.userData.index === on);
+        if (g) carrier2 = g;
+        material = this.headGroups.includes(g) ? headMat : tableMat;
+      }
+      carrier2.add(bodyGroup(body, material));
+    }
+    // The fixtures and the stock left ride on the table.
+    const work = data.work;
+    if (work && work.fixtures.length) {
+      this.tableInner.add(fixtureGroup(work.fixtures, work.triangles, mat('#8a6d5a')));
+    }
+    if (work && work.stockModel) {
+      if (this.stock) this.tableInner.remove(this.stock);
+      this.stock = stockMesh(work.stockModel, work.stockTops, mat('#c9a86a'));
+      this.tableInner.add(this.stock);
     }
     this.tool = null;
     this.toolTip = new Object3D();
@@ -520,12 +566,16 @@ export class MachineScene {
     for (const g of this.tableGroups) setRotary(g, joints[g.userData.index]);
     this.carriage.position.set(joints[0], joints[1], joints[2]);
     for (const g of this.headGroups) setRotary(g, joints[g.userData.index]);
+    for (const g of this.linearGroups) g.position.setComponent(g.userData.linear, joints[g.userData.linear]);
     const t0 = this.data.machine.toolDirection;
-    const key = `${tool.tool_length}/${tool.tool_radius}`;
+    const shape = this.data.work && this.data.work.tools[String(tool.tool)];
+    const key = shape ? `T${tool.tool}` : `${tool.tool_length}/${tool.tool_radius}`;
     if (this.toolKey !== key) {
       if (this.tool) this.spindle.remove(this.tool);
       const L = tool.tool_length;
-      this.tool = cylinder([-L * t0[0], -L * t0[1], -L * t0[2]], t0, Math.max(L, 1e-3), tool.tool_radius, this.toolMat);
+      // The tool's own shape and length where the offsets file gives it;
+      // else a cylinder of the length offset in force.
+      this.tool = shape ? toolGroup(shape, t0, this.toolMats) : cylinder([-L * t0[0], -L * t0[1], -L * t0[2]], t0, Math.max(L, 1e-3), tool.tool_radius, this.toolMat);
       this.tool.name = 'tool';
       this.spindle.add(this.tool);
       this.toolKey = key;
@@ -535,6 +585,23 @@ export class MachineScene {
     this.scene.updateMatrixWorld(true);
     this.tipMarker.position.setFromMatrixPosition(this.toolTip.matrixWorld);
     this.requestRender();
+  }
+
+  /**
+   * The work drawn (the machine's bodies, the tool's parts, the fixtures,
+   * the stock left) by name, with each one's box in the machine frame as
+   * the bodies stand.
+   */
+  workSummary() {
+    this.scene.updateMatrixWorld(true);
+    const out = {};
+    this.scene.traverse((o) => {
+      if (o.name && /^(body-|fixture-|stock-left$|cutter$|shank$|holder$)/.test(o.name)) {
+        const b = new Box3().setFromObject(o);
+        out[o.name] = { min: b.min.toArray(), max: b.max.toArray() };
+      }
+    });
+    return out;
   }
 
   /** The tool tip as the bodies stand: in the machine frame and in the table frame. */

@@ -12,7 +12,7 @@ import { spawnSync } from 'node:child_process';
 import { mkdirSync, writeFileSync } from 'node:fs';
 import { join } from 'node:path';
 import { launch, open } from './browser.mjs';
-import { CASES, FIVEAXIS, OUT, blockRows, checkReport, makePage, runRows } from './cases.mjs';
+import { CASES, FIVEAXIS, OUT, ROOT, blockRows, checkReport, makePage, runRows } from './cases.mjs';
 
 let browser;
 before(async () => {
@@ -217,6 +217,47 @@ test('view: the BLK FORM stock of a Klartext program on heidenhain-dmu-ac', asyn
     await button.click();
     assert.equal((await page.evaluate(() => window.__viewer.stock())).visible, true, 'shown again');
     await page.screenshot({ path: join(OUT, 'blk-form.png') });
+  } finally {
+    await page.close();
+  }
+});
+
+// The work on the table (`view --stock --fixture`): the machine file's
+// bodies instead of the generic ones, the tool with its holder, the
+// fixtures and the stock left, and the collision `check` finds.
+test('view: bodies, tool, fixtures and the stock left of examples/pocket.nc', async () => {
+  mkdirSync(OUT, { recursive: true });
+  const file = join(OUT, 'pocket-work.html');
+  const r = spawnSync(
+    FIVEAXIS,
+    ['view', join(ROOT, 'examples/pocket.nc'), '--offsets', join(ROOT, 'examples/offsets.toml'), '--stock', 'box:-40,-30,-25,40,30,0',
+      '--fixture', 'box:-40,30,-25,40,42,12', '--fixture', 'box:-40,-42,-25,40,-30,12', '-o', file],
+    { encoding: 'utf8' },
+  );
+  assert.equal(r.status, 0, r.stderr);
+  const { page, errors } = await open(browser, file);
+  try {
+    assert.deepEqual(errors, [], 'no console error');
+    const work = await page.evaluate(() => {
+      const v = window.__viewer;
+      v.seekBlock(0);
+      return v.work();
+    });
+    // trunnion-ac's bodies, and nothing generic.
+    for (const name of ['body-bed', 'body-cradle', 'body-table', 'body-head']) assert.ok(work[name], `${name} drawn`);
+    // G54 is 50 mm up the table: the jaws from z 25 to 62, the stock
+    // left from its bottom (25) to its top (50), the pocket cut into it.
+    near(work['fixture-box 1'].min[2], 25, 1e-6, 'jaw bottom');
+    near(work['fixture-box 1'].max[2], 62, 1e-6, 'jaw top');
+    near(work['stock-left'].min[2], 25, 1e-4, 'stock bottom');
+    near(work['stock-left'].max[2], 50, 1e-4, 'stock top');
+    // The end mill: 10 mm across, 25 mm of flute, from its tip up.
+    near(work.cutter.max[0] - work.cutter.min[0], 10, 1e-6, 'cutter diameter');
+    near(work.cutter.max[2] - work.cutter.min[2], 25, 1e-6, 'flute length');
+    const findings = await page.evaluate(() => window.__viewer.findings());
+    assert.deepEqual(findings.map((f) => [f.line, f.kind]), [[28, 'collision']]);
+    await page.evaluate(() => window.__viewer.selectLine(28));
+    await page.screenshot({ path: join(OUT, 'pocket-work.png') });
   } finally {
     await page.close();
   }

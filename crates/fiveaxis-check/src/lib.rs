@@ -93,20 +93,22 @@ pub enum Kind {
 }
 
 impl Kind {
-    /// Every kind, in the order reports group them.
+    /// Every kind: the index of each ([`Kind::index`]) is its place here,
+    /// kept as kinds are added (a page of `view` holds findings by it).
+    /// Reports group them by severity, then in this order.
     pub const ALL: [Kind; 12] = [
         Kind::Alarm,
-        Kind::Collision,
-        Kind::RapidIntoStock,
-        Kind::Gouge,
         Kind::Overtravel,
         Kind::SingularPassage,
         Kind::RotaryFlip,
         Kind::FeedLimited,
         Kind::ChordError,
-        Kind::NearMiss,
-        Kind::Excess,
         Kind::NoDecimalPoint,
+        Kind::Collision,
+        Kind::NearMiss,
+        Kind::RapidIntoStock,
+        Kind::Gouge,
+        Kind::Excess,
     ];
 
     /// The position of this kind in [`Kind::ALL`] (and in
@@ -114,17 +116,17 @@ impl Kind {
     pub fn index(self) -> usize {
         match self {
             Kind::Alarm => 0,
-            Kind::Collision => 1,
-            Kind::RapidIntoStock => 2,
-            Kind::Gouge => 3,
-            Kind::Overtravel => 4,
-            Kind::SingularPassage => 5,
-            Kind::RotaryFlip => 6,
-            Kind::FeedLimited => 7,
-            Kind::ChordError => 8,
-            Kind::NearMiss => 9,
-            Kind::Excess => 10,
-            Kind::NoDecimalPoint => 11,
+            Kind::Overtravel => 1,
+            Kind::SingularPassage => 2,
+            Kind::RotaryFlip => 3,
+            Kind::FeedLimited => 4,
+            Kind::ChordError => 5,
+            Kind::NoDecimalPoint => 6,
+            Kind::Collision => 7,
+            Kind::NearMiss => 8,
+            Kind::RapidIntoStock => 9,
+            Kind::Gouge => 10,
+            Kind::Excess => 11,
         }
     }
 

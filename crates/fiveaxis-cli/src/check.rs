@@ -768,7 +768,10 @@ fn text_report(t: &mut String, program: &str, report: &Report, findings: &TextFi
     if report.total() == 0 {
         let _ = writeln!(t, "  {GREEN}no findings{GREEN:#}");
     }
-    for kind in Kind::ALL {
+    let mut kinds = Kind::ALL;
+    // Errors first, then warnings, then information.
+    kinds.sort_by_key(|k| std::cmp::Reverse(k.severity()));
+    for kind in kinds {
         let count = report.count(kind);
         if count == 0 {
             continue;

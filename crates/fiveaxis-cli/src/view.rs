@@ -80,7 +80,19 @@ pub struct ViewArgs {
     /// Say on standard error what was skipped and why.
     #[arg(short, long)]
     verbose: bool,
+    /// The work: fixtures, stock, part, collisions (as for `check`; the
+    /// page shows the fixtures, the stock left and the findings).
+    #[command(flatten)]
+    work: crate::work::WorkArgs,
 }
+
+/// Cells of the stock drawn along its longer side at most (the model's
+/// rays are merged into them, each at their highest material).
+const STOCK_CELLS: usize = 320;
+
+/// Triangles of all fixtures drawn at most; a mesh beyond is drawn as its
+/// bounding box.
+const FIXTURE_TRIANGLES: usize = 300_000;
 
 /// Findings whose message the page holds; beyond them the viewer shows a
 /// finding by its kind, line, axis and value (the check report has every
@@ -174,6 +186,7 @@ fn motion_code(motion: Motion) -> u8 {
 /// blocks: the tool, the work offset and the setup error.
 #[derive(Clone, Copy, Debug, PartialEq)]
 struct Frame {
+    tool: u32,
     tool_length: f64,
     tool_radius: f64,
     work: Vec3,
@@ -197,6 +210,7 @@ impl Frame {
             .flat_map(|r| [columns[0][r], columns[1][r], columns[2][r], origin[r]])
             .collect();
         json!({
+            "tool": self.tool,
             "tool_length": self.tool_length,
             "tool_radius": self.tool_radius,
             "to_part": matrix,
@@ -264,7 +278,16 @@ pub fn view(args: &ViewArgs) -> Result<u8, InputError> {
         // the program goes on.
         lift_soft_limits: true,
     };
-    let mut runner = Runner::new(&machine, offsets, ReaderSource::new(file), options);
+    let work = crate::work::Work::read(&args.work, 1, &offsets)?;
+    let collisions = work.collisions(&args.work, &machine, &offsets)?;
+    let mut stock_check = work.stock(&args.work, &machine, &offsets)?;
+    let kept_stock = std::sync::Arc::new(std::sync::Mutex::new(None));
+    if let Some(stock) = &mut stock_check {
+        stock.keep_final(kept_stock.clone());
+    }
+    let tools = tools_json(&offsets);
+    let fixtures = work.fixtures_for_page(FIXTURE_TRIANGLES);
+    let mut runner = Runner::new(&machine, offsets.clone(), ReaderSource::new(file), options);
     let variables = match &args.variables {
         Some(path) => {
             let name = path.display().to_string();
@@ -302,13 +325,40 @@ pub fn view(args: &ViewArgs) -> Result<u8, InputError> {
         lines,
         "{spinner} view [{bar:30}] line {pos}/{len}, {msg} {elapsed}",
     );
+    let declared: Option<fiveaxis_check::DeclaredStock<'_>> =
+        (stock_check.is_none() && work.wants_work()).then(|| {
+            let kept = kept_stock.clone();
+            let (work, machine, offsets) = (&work, &machine, &offsets);
+            Box::new(move |blk: &Stock| {
+                let shape = fiveaxis_collide::work::WorkShape::Box {
+                    min: blk.min.into(),
+                    max: blk.max.into(),
+                };
+                let mut check = work.stock_of(&args.work, machine, offsets, &shape).ok()?;
+                check.keep_final(kept);
+                Some(check)
+            }) as fiveaxis_check::DeclaredStock<'_>
+        });
     let gathered = gather(
         &mut runner,
         &machine,
         args.tolerance,
         program_name,
         &progress,
+        fiveaxis_check::WorkChecks {
+            collisions,
+            stock: stock_check,
+            declared,
+        },
     )?;
+    let stock_left = kept_stock.lock().ok().and_then(|mut s| s.take());
+    let (stock_model, stock_tops) = match &stock_left {
+        Some(stock) => {
+            let (model, tops) = stock_heights(&stock.dexels, STOCK_CELLS);
+            (Some(model), tops)
+        }
+        None => (None, Vec::new()),
+    };
     let status = if gathered.alarm.is_some() {
         EXIT_ALARM
     } else {
@@ -316,7 +366,7 @@ pub fn view(args: &ViewArgs) -> Result<u8, InputError> {
     };
     let text = read_text(&mut source, TEXT_BYTES).map_err(|e| io_error(&e))?;
     let findings = &gathered.findings;
-    let meta = meta(
+    let mut meta = meta(
         &machine,
         &gathered,
         findings,
@@ -324,6 +374,9 @@ pub fn view(args: &ViewArgs) -> Result<u8, InputError> {
         args.tolerance,
         &text,
     );
+    meta["tools"] = tools;
+    meta["fixtures"] = fixtures.0;
+    meta["stock_model"] = stock_model.unwrap_or(Value::Null);
     use pack::Column;
     let blocks = &gathered.blocks;
     let arrays = [
@@ -336,6 +389,8 @@ pub fn view(args: &ViewArgs) -> Result<u8, InputError> {
         ("finding_kinds", Column::U8(&findings.kinds)),
         ("finding_axes", Column::U8(&findings.axes)),
         ("finding_values", Column::F64(&findings.values)),
+        ("fixture_triangles", Column::F32(&fixtures.1)),
+        ("stock_tops", Column::F32(&stock_tops)),
     ]
     .map(|(name, column)| html::Array { name, column });
     if let Some(bar) = progress.visible() {
@@ -499,6 +554,7 @@ fn gather<S: fiveaxis_control::Source>(
     tolerance: f64,
     program_name: &str,
     progress: &DelayedBar,
+    work: fiveaxis_check::WorkChecks<'_>,
 ) -> Result<Gathered, InputError> {
     let axes = machine.axis_count();
     let mut g = Gathered {
@@ -517,6 +573,14 @@ fn gather<S: fiveaxis_control::Source>(
         stock: None,
     };
     let mut checker = fiveaxis_check::Checker::new(machine);
+    if let Some(collisions) = work.collisions {
+        checker.check_collisions(collisions);
+    }
+    let mut declared = work.declared;
+    if let Some(stock) = work.stock {
+        checker.check_stock(stock);
+        declared = None;
+    }
     // The timeline is the check's: each segment's end in its estimated
     // time. Those come once the planner has looked ahead past them, so the
     // path is timed by the programmed time first and moved to the
@@ -532,6 +596,13 @@ fn gather<S: fiveaxis_control::Source>(
         // One block at a time, so that the controller's tool is the
         // block's own.
         let filled = runner.fill(&mut segments, 1);
+        if declared.is_some()
+            && let Some(blk) = runner.stock()
+            && let Some(make) = declared.take()
+            && let Some(stock) = make(&blk)
+        {
+            checker.check_stock(stock);
+        }
         ticks += 1;
         if ticks.is_multiple_of(PROGRESS_BLOCKS)
             && let Some(bar) = progress.visible()
@@ -545,6 +616,7 @@ fn gather<S: fiveaxis_control::Source>(
         let radius = runner.controller().offsets().tool(tool).radius;
         for seg in &segments {
             let frame = Frame {
+                tool: seg.tool,
                 tool_length: seg.tool_length,
                 tool_radius: if radius > 0.0 {
                     radius
@@ -746,6 +818,7 @@ fn meta(
             "tool_direction": vec(machine.tool_direction.as_ref()),
             "linear": linear,
             "rotary": rotary,
+            "bodies": bodies_json(machine),
         },
         "frames": g.blocks.frames.iter().map(|f| f.to_json()).collect::<Vec<_>>(),
         "frame_runs": g.blocks.frame_runs,
@@ -781,6 +854,119 @@ fn meta(
         "finding_kinds": finding_kinds(),
         "finding_messages": findings.messages,
     })
+}
+
+/// The machine's bodies for the page: each solid's shape, size and
+/// placement in its link's frame (`geometry.rs`).
+fn bodies_json(machine: &Machine) -> Value {
+    use fiveaxis_machine::geometry::{Link, Shape};
+    let vec = |v: &Vec3| json!([v.x, v.y, v.z]);
+    machine
+        .bodies
+        .iter()
+        .map(|body| {
+            let on = match body.on {
+                Link::Base => json!("base"),
+                Link::Head => json!("head"),
+                Link::Axis(i) => json!(i),
+            };
+            let solids: Vec<Value> = body
+                .solids
+                .iter()
+                .map(|solid| {
+                    let mut v = match solid.shape {
+                        Shape::Box { size } => json!({ "shape": "box", "size": vec(&size) }),
+                        Shape::Cylinder { radius, length } => {
+                            json!({ "shape": "cylinder", "radius": radius, "length": length })
+                        }
+                        Shape::Cone {
+                            bottom,
+                            top,
+                            length,
+                        } => json!({ "shape": "cone", "bottom": bottom, "top": top, "length": length }),
+                        Shape::Sphere { radius } => json!({ "shape": "sphere", "radius": radius }),
+                        Shape::Capsule { radius, length } => {
+                            json!({ "shape": "capsule", "radius": radius, "length": length })
+                        }
+                    };
+                    v["at"] = vec(&solid.place.at);
+                    v["axis"] = vec(solid.place.axis.as_ref());
+                    v["turn"] = json!(solid.place.turn);
+                    v
+                })
+                .collect();
+            json!({ "name": body.name, "on": on, "solids": solids })
+        })
+        .collect()
+}
+
+/// The tools' shapes for the page, by number: length and radius from the
+/// offsets, the cutter, flute, shank and holder steps where the offsets
+/// file gives them.
+fn tools_json(offsets: &fiveaxis_machine::Offsets) -> Value {
+    use fiveaxis_machine::geometry::Cutter;
+    let mut tools = serde_json::Map::new();
+    for (&n, shape) in &offsets.tool_shapes {
+        let offset = offsets.tools.get(&n).cloned().unwrap_or_default();
+        let (cutter, extra) = match shape.cutter {
+            Cutter::Flat => ("flat", 0.0),
+            Cutter::Ball => ("ball", 0.0),
+            Cutter::BullNose { corner } => ("bull", corner),
+            Cutter::Drill { point_angle } => ("drill", point_angle),
+            Cutter::Taper { half_angle } => ("taper", half_angle),
+        };
+        let holder: Vec<Value> = shape
+            .holder
+            .iter()
+            .map(|h| json!({ "diameter": h.diameter, "tip_diameter": h.tip_diameter, "length": h.length }))
+            .collect();
+        tools.insert(
+            n.to_string(),
+            json!({
+                "length": offset.length + offset.length_wear,
+                "radius": offset.radius + offset.radius_wear,
+                "cutter": cutter,
+                "cutter_value": extra,
+                "flute": shape.flute,
+                "shank": shape.shank,
+                "holder": holder,
+            }),
+        );
+    }
+    Value::Object(tools)
+}
+
+/// The stock left for the page: the model's rays merged into at most
+/// `cells` cells along its longer side, each at its highest material
+/// (NaN where none is left), in the table frame; and the grid's
+/// description.
+fn stock_heights(d: &fiveaxis_stock::dexel::Dexels, cells: usize) -> (Value, Vec<f32>) {
+    let k = d.nx.max(d.ny).div_ceil(cells).max(1);
+    let (nx, ny) = (d.nx.div_ceil(k), d.ny.div_ceil(k));
+    let mut tops = vec![f32::NAN; nx * ny];
+    let mut base = f32::INFINITY;
+    for j in 0..d.ny {
+        for i in 0..d.nx {
+            if let Some(top) = d.spans(j * d.nx + i).last() {
+                let cell = &mut tops[(j / k) * nx + i / k];
+                *cell = if cell.is_nan() { top[1] } else { cell.max(top[1]) };
+                base = base.min(d.spans(j * d.nx + i)[0][0]);
+            }
+        }
+    }
+    let oz = d.origin.z;
+    for t in &mut tops {
+        *t += oz as f32;
+    }
+    let base = if base.is_finite() { f64::from(base) + oz } else { oz };
+    let model = json!({
+        "origin": [d.origin.x, d.origin.y],
+        "cell": d.cell * k as f64,
+        "nx": nx,
+        "ny": ny,
+        "base": base,
+    });
+    (model, tops)
 }
 
 /// The declared stock for the page: its corners in workpiece coordinates

@@ -372,5 +372,30 @@ impl Work {
             solids,
         )))
     }
-}
 
+    /// The fixtures for the page, placed in the table frame: their names
+    /// and kinds (a box by its corners, a mesh by its triangles' range in
+    /// the flat array of vertices that comes with them); a mesh beyond
+    /// `max_triangles` in all is drawn as its bounding box.
+    pub fn fixtures_for_page(&self, max_triangles: usize) -> (serde_json::Value, Vec<f32>) {
+        let mut flat = Vec::new();
+        let mut list = Vec::new();
+        for f in &self.fixtures {
+            let (lo, hi) = f.shape.bounds();
+            let (lo, hi) = (lo + self.zero, hi + self.zero);
+            let as_box = serde_json::json!({ "name": f.name, "min": [lo.x, lo.y, lo.z], "max": [hi.x, hi.y, hi.z] });
+            match &f.shape {
+                WorkShape::Mesh(triangles) if flat.len() / 9 + triangles.len() <= max_triangles => {
+                    let first = flat.len() / 9;
+                    for p in triangles.iter().flatten() {
+                        let q = p + self.zero;
+                        flat.extend([q.x as f32, q.y as f32, q.z as f32]);
+                    }
+                    list.push(serde_json::json!({ "name": f.name, "first": first, "count": triangles.len() }));
+                }
+                _ => list.push(as_box),
+            }
+        }
+        (serde_json::Value::Array(list), flat)
+    }
+}
