@@ -949,7 +949,11 @@ fn stock_heights(d: &fiveaxis_stock::dexel::Dexels, cells: usize) -> (Value, Vec
         for i in 0..d.nx {
             if let Some(top) = d.spans(j * d.nx + i).last() {
                 let cell = &mut tops[(j / k) * nx + i / k];
-                *cell = if cell.is_nan() { top[1] } else { cell.max(top[1]) };
+                *cell = if cell.is_nan() {
+                    top[1]
+                } else {
+                    cell.max(top[1])
+                };
                 base = base.min(d.spans(j * d.nx + i)[0][0]);
             }
         }
@@ -958,7 +962,11 @@ fn stock_heights(d: &fiveaxis_stock::dexel::Dexels, cells: usize) -> (Value, Vec
     for t in &mut tops {
         *t += oz as f32;
     }
-    let base = if base.is_finite() { f64::from(base) + oz } else { oz };
+    let base = if base.is_finite() {
+        f64::from(base) + oz
+    } else {
+        oz
+    };
     let model = json!({
         "origin": [d.origin.x, d.origin.y],
         "cell": d.cell * k as f64,
@@ -1054,6 +1062,7 @@ mod tests {
     #[test]
     fn frame_matrix_is_the_work_offset_alone_without_setup_error() {
         let frame = Frame {
+            tool: 1,
             tool_length: 100.0,
             tool_radius: 5.0,
             work: Vec3::new(10.0, -20.0, 30.0),
