@@ -139,6 +139,7 @@ def programs() -> List[Path]:
 
 EXAMPLE_OPTIONS = {
     "bracket.nc": ["--offsets", "offsets.toml"],
+    "pocket.nc": ["--offsets", "offsets.toml", "--step", "10"],
     "subprogram.nc": ["--offsets", "offsets.toml"],
     "tcpc-vector.nc": ["--machine", "head-table-bc", "--offsets", "offsets.toml", "--step", "10"],
     "tcpc-winding.nc": ["--machine", "head-table-bc", "--offsets", "offsets.toml", "--step", "10"],
