@@ -63,6 +63,13 @@ function solidGeometry(s) {
       g.translate(0, 0, s.length / 2);
       return g;
     }
+    case 'mesh': {
+      if (!s.triangles || !s.triangles.length) return null;
+      const g = new BufferGeometry();
+      g.setAttribute('position', new BufferAttribute(new Float32Array(s.triangles), 3));
+      g.computeVertexNormals();
+      return g;
+    }
     default:
       return null;
   }

@@ -461,7 +461,9 @@ fn load_machine(spec: &str) -> Result<Machine, InputError> {
         return Err(unknown_machine(spec));
     }
     let (bytes, text) = read_data_file(spec, Path::new(spec))?;
-    Machine::from_toml(&text).map_err(|e| InputError::file(spec, &bytes, &e))
+    let mut machine = Machine::from_toml(&text).map_err(|e| InputError::file(spec, &bytes, &e))?;
+    work::read_body_meshes(&mut machine, Path::new(spec))?;
+    Ok(machine)
 }
 
 fn load_offsets(path: Option<&Path>) -> Result<Offsets, InputError> {

@@ -90,6 +90,10 @@ pub struct ViewArgs {
 /// rays are merged into them, each at their highest material).
 const STOCK_CELLS: usize = 320;
 
+/// Triangles of one body mesh drawn at most (the page holds them as
+/// JSON); a bigger mesh is left out of the drawing.
+const BODY_MESH_TRIANGLES: usize = 100_000;
+
 /// Triangles of all fixtures drawn at most; a mesh beyond is drawn as its
 /// bounding box.
 const FIXTURE_TRIANGLES: usize = 300_000;
@@ -887,6 +891,16 @@ fn bodies_json(machine: &Machine) -> Value {
                         Shape::Sphere { radius } => json!({ "shape": "sphere", "radius": radius }),
                         Shape::Capsule { radius, length } => {
                             json!({ "shape": "capsule", "radius": radius, "length": length })
+                        }
+                        // The triangles in the solid's own frame, flat.
+                        Shape::Mesh { mesh } => {
+                            let flat: Vec<f32> = machine
+                                .meshes
+                                .get(mesh)
+                                .filter(|m| m.triangles.len() <= BODY_MESH_TRIANGLES)
+                                .map(|m| m.triangles.iter().flatten().flat_map(|p| [p.x as f32, p.y as f32, p.z as f32]).collect())
+                                .unwrap_or_default();
+                            json!({ "shape": "mesh", "triangles": flat })
                         }
                     };
                     v["at"] = vec(&solid.place.at);

@@ -47,20 +47,34 @@ pub fn read(option: &str, value: &str) -> Result<NamedShape, InputError> {
         });
     }
     let path = Path::new(value);
-    let file = File::open(path).map_err(|e| InputError::io(value, &e))?;
+    let triangles = read_stl(&format!("{option} {value}"), path)?;
+    let name = path
+        .file_stem()
+        .map_or_else(|| value.to_string(), |s| s.to_string_lossy().into_owned());
+    Ok(NamedShape {
+        name,
+        shape: WorkShape::Mesh(triangles),
+    })
+}
+
+/// The triangles of an STL file (binary or ASCII); `what` names it in
+/// errors.
+pub fn read_stl(what: &str, path: &Path) -> Result<Vec<[Vec3; 3]>, InputError> {
+    let shown = path.display().to_string();
+    let file = File::open(path).map_err(|e| InputError::io(&shown, &e))?;
     let mesh = stl_io::read_stl(&mut BufReader::new(file)).map_err(|e| {
         InputError(format!(
-            "error: {option} {value}: not an STL file ({e}); give an STL file or box:x0,y0,z0,x1,y1,z1"
+            "error: {what}: not an STL file ({e}); give an STL file or box:x0,y0,z0,x1,y1,z1"
         ))
     })?;
     if mesh.faces.is_empty() {
         return Err(InputError(format!(
-            "error: {option} {value}: the STL file has no triangles"
+            "error: {what}: the STL file has no triangles"
         )));
     }
     if mesh.faces.len() > MAX_TRIANGLES {
         return Err(InputError(format!(
-            "error: {option} {value}: {} triangles, more than the {MAX_TRIANGLES} a work solid may have",
+            "error: {what}: {} triangles, more than the {MAX_TRIANGLES} a solid may have",
             mesh.faces.len()
         )));
     }
@@ -85,16 +99,25 @@ pub fn read(option: &str, value: &str) -> Result<NamedShape, InputError> {
         .any(|p| !p.iter().all(|c| c.is_finite()))
     {
         return Err(InputError(format!(
-            "error: {option} {value}: a vertex is not a finite number"
+            "error: {what}: a vertex is not a finite number"
         )));
     }
-    let name = path
-        .file_stem()
-        .map_or_else(|| value.to_string(), |s| s.to_string_lossy().into_owned());
-    Ok(NamedShape {
-        name,
-        shape: WorkShape::Mesh(triangles),
-    })
+    Ok(triangles)
+}
+
+/// Reads the STL files the machine file's `mesh` solids name, relative to
+/// the machine file `file`.
+pub fn read_body_meshes(machine: &mut Machine, file: &Path) -> Result<(), InputError> {
+    let dir = file.parent().unwrap_or(Path::new("."));
+    for mesh in &mut machine.meshes {
+        let path = dir.join(&mesh.file);
+        let what = format!("{}: mesh {}", file.display(), mesh.file);
+        mesh.triangles = read_stl(&what, &path).map_err(|e| match std::fs::metadata(&path) {
+            Err(io) => InputError(format!("error: {what}: {io}")),
+            Ok(_) => e,
+        })?;
+    }
+    Ok(())
 }
 
 /// Reads `--place X,Y,Z`.

@@ -37,11 +37,16 @@ const SLOT: &str = "G21 G90 G54 T1 M6\nG0 G43 H1 X-10. Y25. Z30.\nZ-5.\nG1 X60. 
 
 /// An ASCII STL of the box 0..50 × 0..50 × −20..0 (12 triangles).
 fn box_stl() -> String {
+    box_stl_between([0.0, 0.0, -20.0], [50.0, 50.0, 0.0])
+}
+
+/// An ASCII STL of the box from `lo` to `hi` (12 triangles, outwards).
+fn box_stl_between(lo: [f64; 3], hi: [f64; 3]) -> String {
     let p = |i: usize| {
         [
-            if i & 1 == 0 { 0.0 } else { 50.0 },
-            if i & 2 == 0 { 0.0 } else { 50.0 },
-            if i & 4 == 0 { -20.0 } else { 0.0 },
+            if i & 1 == 0 { lo[0] } else { hi[0] },
+            if i & 2 == 0 { lo[1] } else { hi[1] },
+            if i & 4 == 0 { lo[2] } else { hi[2] },
         ]
     };
     let faces = [
@@ -211,4 +216,60 @@ fn bad_work_inputs_are_refused_with_their_option() {
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("one program"));
     assert!(!dir.path().join("x.stl").exists());
+}
+
+#[test]
+fn a_body_of_the_machine_file_can_be_a_mesh() {
+    // mill-3axis with a clamp as a mesh body on the base: the box
+    // 0..10 × 0..50 × 0..35 of clamp.stl placed at x 20. G54 50 mm up: the
+    // holder's face comes 2 mm into its top, as the fixture of the test
+    // above.
+    let dir = scratch(&[]);
+    let shown = run(dir.path(), &["machines", "show", "mill-3axis"]);
+    assert_eq!(shown.status.code(), Some(0));
+    let mut machine = String::from_utf8_lossy(&shown.stdout).into_owned();
+    machine.push_str(
+        "\n[[body]]\nname = \"clamp\"\non = \"base\"\nsolids = [{ mesh = \"meshes/clamp.stl\", at = [20.0, 0.0, 0.0] }]\n",
+    );
+    std::fs::create_dir_all(dir.path().join("setup/meshes")).expect("folder");
+    std::fs::write(dir.path().join("setup/m.toml"), &machine).expect("machine");
+    std::fs::write(
+        dir.path().join("setup/meshes/clamp.stl"),
+        box_stl_between([0.0, 0.0, 0.0], [10.0, 50.0, 35.0]),
+    )
+    .expect("mesh");
+    let program = "G21 G90 G54 T1 M6\nG0 G43 H1 X10. Y25. Z30.\nG1 Z-47. F300.\nG0 Z30.\nM30\n";
+    let offsets = format!("{OFFSETS}\n[work]\nG54 = [0.0, 0.0, 50.0]\n");
+    std::fs::write(dir.path().join("p.nc"), program).expect("program");
+    std::fs::write(dir.path().join("o.toml"), offsets).expect("offsets");
+    let out = run(
+        dir.path(),
+        &[
+            "check",
+            "p.nc",
+            "--machine",
+            "setup/m.toml",
+            "--offsets",
+            "o.toml",
+            "--collisions",
+            "--format",
+            "json",
+        ],
+    );
+    let v = json(&out);
+    let hits: Vec<&Value> = v["findings"]
+        .as_array()
+        .expect("findings")
+        .iter()
+        .filter(|f| f["kind"] == "collision")
+        .collect();
+    assert_eq!(hits.len(), 1, "{v}");
+    assert_eq!(hits[0]["bodies"], serde_json::json!(["holder", "clamp"]));
+    let depth = hits[0]["value"].as_f64().expect("depth");
+    assert!((depth - 2.0).abs() < 0.05, "{v}");
+    // A mesh file that is not there is refused with its name.
+    std::fs::remove_file(dir.path().join("setup/meshes/clamp.stl")).expect("removed");
+    let out = run(dir.path(), &["check", "p.nc", "--machine", "setup/m.toml"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("mesh meshes/clamp.stl"));
 }

@@ -178,6 +178,18 @@ impl Scene {
                     shape,
                 );
             }
+            // Its meshes, each a part of the same name.
+            for solid in &body.solids {
+                if let Some(shape) = shapes::mesh_solid(solid, &machine.meshes) {
+                    scene.push(
+                        machine,
+                        body.name.clone(),
+                        PartKind::Machine,
+                        body.on,
+                        shape,
+                    );
+                }
+            }
         }
         scene
     }

@@ -71,6 +71,9 @@ pub fn solid(solid: &Solid) -> Option<(Pose, SharedShape)> {
             Pose::IDENTITY,
             SharedShape::capsule(Vector::ZERO, Vector::new(0.0, 0.0, length), radius),
         ),
+        // A mesh is a part of its own (`mesh_solid`): parry's compounds
+        // hold convex shapes.
+        Shape::Mesh { .. } => return None,
     };
     Some((place * local, shape))
 }
@@ -217,4 +220,24 @@ pub fn cuboid(min: &Vec3, max: &Vec3) -> SharedShape {
         Pose::from_translation(vector(&centre)),
         SharedShape::cuboid(half.x, half.y, half.z),
     )])
+}
+
+/// A body's mesh solid as a shape in its link's frame: the triangles of
+/// `meshes` it names, moved by its placement; `None` when they were not
+/// read or parry refuses them.
+pub fn mesh_solid(
+    solid: &Solid,
+    meshes: &[fiveaxis_machine::geometry::BodyMesh],
+) -> Option<SharedShape> {
+    let Shape::Mesh { mesh } = solid.shape else {
+        return None;
+    };
+    let iso = solid.place.isometry();
+    let moved: Vec<[Vec3; 3]> = meshes
+        .get(mesh)?
+        .triangles
+        .iter()
+        .map(|t| t.map(|p| (iso * nalgebra::Point3::from(p)).coords))
+        .collect();
+    self::mesh(&moved)
 }

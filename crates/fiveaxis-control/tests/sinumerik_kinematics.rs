@@ -80,6 +80,7 @@ fn three_axis() -> Machine {
         params: Parameters::default(),
         m_codes: MCodes::default(),
         bodies: Vec::new(),
+        meshes: Vec::new(),
     }
 }
 

@@ -133,6 +133,7 @@ fn tcpc_machine(frame: ProgrammingFrame) -> impl Strategy<Value = Machine> {
             },
             m_codes: MCodes::default(),
             bodies: Vec::new(),
+            meshes: Vec::new(),
         }
     })
 }
@@ -746,6 +747,7 @@ fn nutating_head() -> Machine {
         params: Parameters::default(),
         m_codes: MCodes::default(),
         bodies: Vec::new(),
+        meshes: Vec::new(),
     }
 }
 
@@ -1315,6 +1317,7 @@ fn any_machine() -> impl Strategy<Value = Machine> {
             params,
             m_codes: MCodes::default(),
             bodies: Vec::new(),
+            meshes: Vec::new(),
         })
 }
 

@@ -105,6 +105,23 @@ pub enum Shape {
         /// Length of the core segment, mm.
         length: f64,
     },
+    /// A closed triangle mesh (an STL file) in its own frame: the
+    /// machine's [`BodyMesh`] of this index.
+    Mesh {
+        /// Index into [`crate::Machine::meshes`].
+        mesh: usize,
+    },
+}
+
+/// A body's triangle mesh: the file the machine file names, and its
+/// triangles once read (the machine file is text; whoever reads it from
+/// disk reads the mesh files too, relative to it).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct BodyMesh {
+    /// The file as the machine file writes it.
+    pub file: String,
+    /// Its triangles in the solid's own frame; empty until read.
+    pub triangles: Vec<[Vec3; 3]>,
 }
 
 /// A placed solid.

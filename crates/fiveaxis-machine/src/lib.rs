@@ -409,6 +409,8 @@ pub struct Machine {
     /// The machine's bodies (`[[body]]`), for collision checking and the
     /// view; none when the file gives none.
     pub bodies: Vec<geometry::Body>,
+    /// The triangle meshes the bodies' `mesh` solids name, in order.
+    pub meshes: Vec<geometry::BodyMesh>,
 }
 
 impl Machine {

@@ -320,3 +320,33 @@ fn bad_tool_shapes_are_refused_where_they_are_written() {
         assert!(e.line >= 4, "{keys}: line {}", e.line);
     }
 }
+
+#[test]
+fn a_mesh_solid_names_its_file_and_is_written_back() {
+    let m = with(
+        "[[body]]\nname = \"jaw\"\non = \"A\"\nsolids = [{ mesh = \"meshes/jaw.stl\", at = [20.0, 0.0, 5.0] }, { box = [1.0, 1.0, 1.0] }]\n",
+    )
+    .expect("machine");
+    assert_eq!(m.meshes.len(), 1);
+    assert_eq!(m.meshes[0].file, "meshes/jaw.stl");
+    assert!(
+        m.meshes[0].triangles.is_empty(),
+        "read by whoever reads files"
+    );
+    assert!(matches!(
+        m.bodies[0].solids[0].shape,
+        Shape::Mesh { mesh: 0 }
+    ));
+    let again = Machine::from_toml(&m.to_toml()).expect("written back");
+    assert_eq!(again, m);
+    // A mesh with another shape in one solid, or an empty name: refused.
+    let (line, key, message) = refusal(
+        "[[body]]\nname = \"j\"\non = \"A\"\nsolids = [{ mesh = \"a.stl\", sphere = 1.0 }]\n",
+    );
+    assert!(
+        line > 0 && message.contains("mesh = \"FILE.stl\""),
+        "{key:?} {message}"
+    );
+    let (_, key, _) = refusal("[[body]]\nname = \"j\"\non = \"A\"\nsolids = [{ mesh = \" \" }]\n");
+    assert_eq!(key.as_deref(), Some("mesh"));
+}

@@ -65,6 +65,7 @@ pub fn five_axis(control: Control, name: &'static str) -> impl Strategy<Value = 
             params: Parameters::default(),
             m_codes: MCodes::default(),
             bodies: Vec::new(),
+            meshes: Vec::new(),
         }
     })
 }

@@ -4,7 +4,7 @@ use serde::Deserialize;
 use toml::Spanned;
 
 use super::{FileError, Source};
-use crate::geometry::{Body, Link, Placement, Shape, Solid};
+use crate::geometry::{Body, BodyMesh, Link, Placement, Shape, Solid};
 use crate::{Machine, Vec3};
 
 /// Names a body cannot take: the tool assembly's parts and the work's
@@ -12,7 +12,10 @@ use crate::{Machine, Vec3};
 pub const RESERVED_BODY_NAMES: [&str; 5] = ["tool", "shank", "holder", "fixture", "stock"];
 
 /// What a solid is.
-const ONE_SHAPE: &str = "a solid is one of box = [x, y, z], cylinder = [radius, length], cone = [bottom radius, top radius, length], sphere = radius or capsule = [radius, length]";
+const ONE_SHAPE: &str = "a solid is one of box = [x, y, z], cylinder = [radius, length], cone = [bottom radius, top radius, length], sphere = radius, capsule = [radius, length] or mesh = \"FILE.stl\"";
+
+/// Most mesh solids in a machine file.
+pub const MAX_MESHES: usize = 64;
 
 /// Most bodies in a machine file.
 pub const MAX_BODIES: usize = 64;
@@ -36,17 +39,20 @@ struct RawSolid {
     cone: Option<Spanned<Vec<f64>>>,
     sphere: Option<Spanned<f64>>,
     capsule: Option<Spanned<Vec<f64>>>,
+    mesh: Option<Spanned<String>>,
     at: Option<Spanned<Vec<f64>>>,
     axis: Option<Spanned<Vec<f64>>>,
     turn: Option<Spanned<f64>>,
 }
 
-/// The bodies of `raw`, checked against `machine`'s axes.
+/// The bodies of `raw`, checked against `machine`'s axes, and the mesh
+/// files their `mesh` solids name (not read).
 pub(super) fn bodies(
     src: &Source<'_>,
     raw: &[Spanned<RawBody>],
     machine: &Machine,
-) -> Result<Vec<Body>, FileError> {
+) -> Result<(Vec<Body>, Vec<BodyMesh>), FileError> {
+    let mut meshes = Vec::new();
     if let Some(extra) = raw.get(MAX_BODIES) {
         return Err(src.at(
             extra,
@@ -87,7 +93,7 @@ pub(super) fn bodies(
         }
         let solids = solids
             .iter()
-            .map(|s| solid(src, s))
+            .map(|s| solid(src, s, &mut meshes))
             .collect::<Result<Vec<_>, _>>()?;
         out.push(Body {
             name: name.to_owned(),
@@ -95,7 +101,7 @@ pub(super) fn bodies(
             solids,
         });
     }
-    Ok(out)
+    Ok((out, meshes))
 }
 
 /// `on`: `base`, `head`, X / Y / Z or a rotary axis of the machine.
@@ -155,7 +161,11 @@ fn size(
     Ok(v.clone())
 }
 
-fn solid(src: &Source<'_>, raw: &Spanned<RawSolid>) -> Result<Solid, FileError> {
+fn solid(
+    src: &Source<'_>,
+    raw: &Spanned<RawSolid>,
+    meshes: &mut Vec<BodyMesh>,
+) -> Result<Solid, FileError> {
     let s = raw.get_ref();
     let given = [
         s.cuboid.is_some(),
@@ -163,6 +173,7 @@ fn solid(src: &Source<'_>, raw: &Spanned<RawSolid>) -> Result<Solid, FileError> 
         s.cone.is_some(),
         s.sphere.is_some(),
         s.capsule.is_some(),
+        s.mesh.is_some(),
     ]
     .into_iter()
     .filter(|&g| g)
@@ -170,6 +181,44 @@ fn solid(src: &Source<'_>, raw: &Spanned<RawSolid>) -> Result<Solid, FileError> 
     if given != 1 {
         return Err(src.at(raw, "solids", ONE_SHAPE));
     }
+    let shape = if let Some(file) = &s.mesh {
+        let name = file.get_ref().trim();
+        if name.is_empty() {
+            return Err(src.at(file, "mesh", "`mesh` names an STL file"));
+        }
+        if meshes.len() >= MAX_MESHES {
+            return Err(src.at(
+                file,
+                "mesh",
+                format!("a machine has at most {MAX_MESHES} mesh solids"),
+            ));
+        }
+        meshes.push(BodyMesh {
+            file: name.to_owned(),
+            triangles: Vec::new(),
+        });
+        Shape::Mesh {
+            mesh: meshes.len() - 1,
+        }
+    } else {
+        primitive(src, raw)?
+    };
+    let mut place = Placement::default();
+    if let Some(at) = &s.at {
+        place.at = src.vec3(at, "at")?;
+    }
+    if let Some(axis) = &s.axis {
+        place.axis = super::machine::unit_vector(src, axis, "axis")?;
+    }
+    if let Some(turn) = &s.turn {
+        place.turn = src.finite(turn, "turn")?;
+    }
+    Ok(Solid { shape, place })
+}
+
+/// A box, cylinder, cone, sphere or capsule.
+fn primitive(src: &Source<'_>, raw: &Spanned<RawSolid>) -> Result<Shape, FileError> {
+    let s = raw.get_ref();
     let shape = match (&s.cuboid, &s.cylinder, &s.cone, &s.sphere, &s.capsule) {
         (Some(v), ..) => {
             let v = size(src, v, "box", 3)?;
@@ -208,15 +257,5 @@ fn solid(src: &Source<'_>, raw: &Spanned<RawSolid>) -> Result<Solid, FileError> 
         }
         (None, None, None, None, None) => return Err(src.at(raw, "solids", ONE_SHAPE)),
     };
-    let mut place = Placement::default();
-    if let Some(at) = &s.at {
-        place.at = src.vec3(at, "at")?;
-    }
-    if let Some(axis) = &s.axis {
-        place.axis = super::machine::unit_vector(src, axis, "axis")?;
-    }
-    if let Some(turn) = &s.turn {
-        place.turn = src.finite(turn, "turn")?;
-    }
-    Ok(Solid { shape, place })
+    Ok(shape)
 }

@@ -231,11 +231,14 @@ impl Machine {
             params: Parameters::default(),
             m_codes: MCodes::default(),
             bodies: Vec::new(),
+            meshes: Vec::new(),
         };
         check_type(&src, &raw.kind, machine.machine_type())?;
         machine.params = parameters(&src, &raw.parameters, &machine)?;
         machine.m_codes = m_codes(&src, &raw.m_codes, &machine)?;
-        machine.bodies = super::bodies::bodies(&src, &raw.body, &machine)?;
+        let (bodies, meshes) = super::bodies::bodies(&src, &raw.body, &machine)?;
+        machine.bodies = bodies;
+        machine.meshes = meshes;
         Ok(machine)
     }
 }

@@ -274,7 +274,7 @@ impl Machine {
         );
         w.line("solids = [", "");
         for solid in &body.solids {
-            w.line(&format!("    {},", solid_text(solid)), "");
+            w.line(&format!("    {},", solid_text(solid, &self.meshes)), "");
         }
         w.line("]", "");
     }
@@ -411,7 +411,7 @@ impl Writer {
 
 /// A number that reads back to the same bits.
 /// A solid as an inline table (`file/bodies.rs` reads it back).
-fn solid_text(solid: &Solid) -> String {
+fn solid_text(solid: &Solid, meshes: &[crate::geometry::BodyMesh]) -> String {
     let shape = match solid.shape {
         Shape::Box { size } => format!("box = {}", vector(&size)),
         Shape::Cylinder { radius, length } => {
@@ -431,6 +431,10 @@ fn solid_text(solid: &Solid) -> String {
         Shape::Capsule { radius, length } => {
             format!("capsule = [{}, {}]", number(radius), number(length))
         }
+        Shape::Mesh { mesh } => format!(
+            "mesh = {}",
+            toml::Value::String(meshes.get(mesh).map_or(String::new(), |m| m.file.clone()))
+        ),
     };
     let p = &solid.place;
     let mut text = format!("{{ {shape}, at = {}", vector(&p.at));

@@ -215,6 +215,7 @@ pub fn import_linuxcnc(ini_path: &Path, read: &mut Reader<'_>) -> Result<Importe
         params,
         m_codes: MCodes::new(m_codes),
         bodies: Vec::new(),
+        meshes: Vec::new(),
     };
     // The machine file must read back: a value out of the file's bounds
     // is reported here, against the INI file, rather than later.

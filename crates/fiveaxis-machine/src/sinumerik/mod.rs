@@ -712,6 +712,7 @@ impl Builder<'_> {
             params,
             m_codes,
             bodies: Vec::new(),
+            meshes: Vec::new(),
         }
     }
 }

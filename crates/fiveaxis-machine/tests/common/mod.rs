@@ -307,6 +307,7 @@ pub fn machine_on(sides: Vec<Side>) -> impl Strategy<Value = Machine> {
                     params,
                     m_codes,
                     bodies: Vec::new(),
+                    meshes: Vec::new(),
                 }
             })
         })
