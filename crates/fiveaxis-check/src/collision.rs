@@ -4,11 +4,9 @@
 //! `fiveaxis-collide`. A contact that lasts several segments is one
 //! finding, at its first line, as an over-travel excursion is.
 
-use std::collections::BTreeMap;
-
 use fiveaxis_collide::{Contact, PartKind, Scene};
 use fiveaxis_control::Segment;
-use fiveaxis_machine::geometry::{Cutter, ToolShape};
+
 use fiveaxis_machine::{Joints, Machine, Offsets};
 use parry3d_f64::shape::SharedShape;
 
@@ -33,14 +31,6 @@ impl std::fmt::Debug for WorkSolid {
     }
 }
 
-/// A tool as the collision check sees it.
-#[derive(Clone, Debug)]
-struct ToolSolid {
-    shape: ToolShape,
-    length: f64,
-    radius: f64,
-}
-
 /// A contact in progress: consecutive segments in which one pair is
 /// nearer than the clearance.
 #[derive(Clone, Debug)]
@@ -55,7 +45,8 @@ struct ContactRun {
 /// The collision check of one run.
 pub struct Collisions {
     scene: Scene,
-    tools: BTreeMap<u32, ToolSolid>,
+    /// The tools' lengths, radii and shapes.
+    tools: Offsets,
     /// The tool the scene holds (`None` before the first segment).
     tool: Option<u32>,
     /// Runs in progress, by pair index of the scene.
@@ -73,25 +64,6 @@ impl std::fmt::Debug for Collisions {
     }
 }
 
-/// The shape of tool `n`: the offsets file's, else a flat cylinder of its
-/// radius that cuts along its whole length.
-fn tool_solid(offsets: &Offsets, n: u32) -> ToolSolid {
-    let offset = offsets.tools.get(&n).cloned().unwrap_or_default();
-    let length = offset.length + offset.length_wear;
-    let radius = offset.radius + offset.radius_wear;
-    let shape = offsets.tool_shapes.get(&n).cloned().unwrap_or(ToolShape {
-        cutter: Cutter::Flat,
-        flute: length,
-        shank: 2.0 * radius,
-        holder: Vec::new(),
-    });
-    ToolSolid {
-        shape,
-        length,
-        radius,
-    }
-}
-
 impl Collisions {
     /// The check of `machine`'s bodies, the tools of `offsets` and the
     /// fixtures `work`, reporting parts nearer than `clearance` (mm).
@@ -100,12 +72,7 @@ impl Collisions {
         for solid in work {
             scene.add_work(machine, &solid.name, PartKind::Fixture, solid.shape);
         }
-        let tools = offsets
-            .tools
-            .keys()
-            .chain(offsets.tool_shapes.keys())
-            .map(|&n| (n, tool_solid(offsets, n)))
-            .collect();
+        let tools = offsets.clone();
         Self {
             scene,
             tools,
@@ -113,11 +80,6 @@ impl Collisions {
             runs: Vec::new(),
             touched: Vec::new(),
         }
-    }
-
-    /// The parts in the scene.
-    pub fn scene(&self) -> &Scene {
-        &self.scene
     }
 
     /// The first segment order of a contact still open, if any.
@@ -136,16 +98,7 @@ impl Collisions {
     ) {
         if self.tool != Some(seg.tool) {
             self.close_all(machine, add);
-            let solid = self.tools.get(&seg.tool).cloned().unwrap_or(ToolSolid {
-                shape: ToolShape {
-                    cutter: Cutter::Flat,
-                    flute: 0.0,
-                    shank: 0.0,
-                    holder: Vec::new(),
-                },
-                length: 0.0,
-                radius: 0.0,
-            });
+            let solid = self.tools.tool_solid(seg.tool);
             self.scene
                 .set_tool(machine, &solid.shape, solid.length, solid.radius);
             self.tool = Some(seg.tool);

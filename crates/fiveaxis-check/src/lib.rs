@@ -948,6 +948,48 @@ pub struct WorkChecks<'a> {
     pub declared: Option<DeclaredStock<'a>>,
 }
 
+impl<'a> WorkChecks<'a> {
+    /// Hands the collision check and the stock model to `checker`; what
+    /// is left is the stock the program may still declare.
+    pub fn install(self, checker: &mut Checker<'_>) -> Declared<'a> {
+        if let Some(collisions) = self.collisions {
+            checker.check_collisions(collisions);
+        }
+        match self.stock {
+            Some(stock) => {
+                checker.check_stock(stock);
+                Declared(None)
+            }
+            None => Declared(self.declared),
+        }
+    }
+}
+
+/// The stock model a program's declared stock will make, until it is
+/// read.
+pub struct Declared<'a>(Option<DeclaredStock<'a>>);
+
+impl std::fmt::Debug for Declared<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_tuple("Declared").field(&self.0.is_some()).finish()
+    }
+}
+
+impl Declared<'_> {
+    /// Gives `checker` the stock model once the program has declared its
+    /// stock (`Runner::stock`). A declared stock comes first in its
+    /// program (BLK FORM after BEGIN PGM), before any move.
+    pub fn offer(&mut self, declared: Option<fiveaxis_control::Stock>, checker: &mut Checker<'_>) {
+        if self.0.is_some()
+            && let Some(blk) = declared
+            && let Some(make) = self.0.take()
+            && let Some(stock) = make(&blk)
+        {
+            checker.check_stock(stock);
+        }
+    }
+}
+
 /// Makes the stock model of a stock the program declares.
 pub type DeclaredStock<'a> =
     Box<dyn FnOnce(&fiveaxis_control::Stock) -> Option<stock::StockCheck> + 'a>;
@@ -977,28 +1019,13 @@ pub fn check_run_with<S: Source>(
     let machine = runner.controller().machine();
     runner.count_words_without_point();
     let mut checker = Checker::new(machine);
-    if let Some(collisions) = work.collisions {
-        checker.check_collisions(collisions);
-    }
-    let mut declared = work.declared;
-    if let Some(stock) = work.stock {
-        checker.check_stock(stock);
-        declared = None;
-    }
+    let mut declared = work.install(&mut checker);
     let mut first_alarm: Option<AlarmInfo> = None;
     let mut segments = Vec::with_capacity(BATCH);
     let alarm = loop {
         segments.clear();
         let filled = runner.fill(&mut segments, BATCH);
-        // A declared stock comes first in its program (BLK FORM after
-        // BEGIN PGM), before any move.
-        if declared.is_some()
-            && let Some(blk) = runner.stock()
-            && let Some(make) = declared.take()
-            && let Some(stock) = make(&blk)
-        {
-            checker.check_stock(stock);
-        }
+        declared.offer(runner.stock(), &mut checker);
         for seg in &segments {
             checker.segment(seg);
         }

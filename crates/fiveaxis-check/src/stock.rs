@@ -8,8 +8,8 @@
 use std::collections::BTreeMap;
 
 use fiveaxis_control::{Motion, Segment};
-use fiveaxis_machine::geometry::{Cutter, Link, ToolShape};
-use fiveaxis_machine::{Joints, Machine, Offsets, Side, Vec3};
+use fiveaxis_machine::geometry::Link;
+use fiveaxis_machine::{Joints, Machine, Offsets, Vec3};
 use fiveaxis_stock::Stock;
 use fiveaxis_stock::solid::{Posed, ToolPieces};
 
@@ -92,23 +92,17 @@ impl StockCheck {
             .keys()
             .chain(offsets.tool_shapes.keys())
             .map(|&n| {
-                let offset = offsets.tools.get(&n).cloned().unwrap_or_default();
-                let length = offset.length + offset.length_wear;
-                let radius = offset.radius + offset.radius_wear;
-                let shape = offsets.tool_shapes.get(&n).cloned().unwrap_or(ToolShape {
-                    cutter: Cutter::Flat,
-                    flute: length,
-                    shank: 2.0 * radius,
-                    holder: Vec::new(),
-                });
-                (n, (ToolPieces::of(&shape, length, radius), length))
+                let solid = offsets.tool_solid(n);
+                (
+                    n,
+                    (
+                        ToolPieces::of(&solid.shape, solid.length, solid.radius),
+                        solid.length,
+                    ),
+                )
             })
             .collect();
-        let table = machine
-            .rotary
-            .iter()
-            .rposition(|r| r.on == Side::Table)
-            .map_or(Link::Base, |k| Link::Axis(machine.linear.len() + k));
+        let table = machine.work_link();
         let start_volume = stock.dexels.volume();
         Self {
             stock,
@@ -128,11 +122,6 @@ impl StockCheck {
     /// Hands the stock as the run leaves it to `slot` at the end.
     pub fn keep_final(&mut self, slot: std::sync::Arc<std::sync::Mutex<Option<Stock>>>) {
         self.keep = Some(slot);
-    }
-
-    /// The stock as it is.
-    pub fn stock(&self) -> &Stock {
-        &self.stock
     }
 
     /// The first segment order of a finding still open, if any.

@@ -11,7 +11,7 @@ use std::path::PathBuf;
 use std::sync::atomic::{AtomicU64, Ordering};
 
 use anstyle::{AnsiColor, Style};
-use fiveaxis_check::{Finding, Kind, Report, Severity, WorkChecks, check_run_with};
+use fiveaxis_check::{Finding, Kind, Report, Severity, check_run_with};
 use fiveaxis_control::{DEFAULT_MAX_BLOCKS, ReaderSource, RunError, RunOptions, Runner};
 use fiveaxis_machine::{DEFAULT_MACHINE, Machine, Offsets};
 use rayon::prelude::*;
@@ -252,36 +252,11 @@ fn check_one(
     let mut json = JsonFindings::default();
     let mut text = TextFindings::default();
     let mut spill_error = None;
-    let collisions = work.collisions(&args.work, machine, offsets)?;
-    let mut stock = work.stock(&args.work, machine, offsets)?;
-    let kept_stock = std::sync::Arc::new(std::sync::Mutex::new(None));
-    if let Some(stock) = &mut stock {
-        stock.keep_final(kept_stock.clone());
-    }
-    // Without --stock, with the work asked for: the stock the program
-    // declares (BLK FORM).
-    let wants_work = work.wants_work();
-    let declared: Option<fiveaxis_check::DeclaredStock<'_>> =
-        (stock.is_none() && wants_work).then(|| {
-            let kept = kept_stock.clone();
-            Box::new(move |blk: &fiveaxis_control::Stock| {
-                let shape = fiveaxis_collide::work::WorkShape::Box {
-                    min: blk.min.into(),
-                    max: blk.max.into(),
-                };
-                let mut check = work.stock_of(&args.work, machine, offsets, &shape).ok()?;
-                check.keep_final(kept);
-                Some(check)
-            }) as fiveaxis_check::DeclaredStock<'_>
-        });
+    let (checks, kept_stock) = work.checks(&args.work, machine, offsets)?;
     let (report, whole_program) = check_run_with(
         &mut runner,
         args.keep_going,
-        WorkChecks {
-            collisions,
-            stock,
-            declared,
-        },
+        checks,
         |blocks| {
             progress.blocks(blocks - last);
             last = blocks;

@@ -283,12 +283,6 @@ pub fn view(args: &ViewArgs) -> Result<u8, InputError> {
         lift_soft_limits: true,
     };
     let work = crate::work::Work::read(&args.work, 1, &offsets)?;
-    let collisions = work.collisions(&args.work, &machine, &offsets)?;
-    let mut stock_check = work.stock(&args.work, &machine, &offsets)?;
-    let kept_stock = std::sync::Arc::new(std::sync::Mutex::new(None));
-    if let Some(stock) = &mut stock_check {
-        stock.keep_final(kept_stock.clone());
-    }
     let tools = tools_json(&offsets);
     let fixtures = work.fixtures_for_page(FIXTURE_TRIANGLES);
     let mut runner = Runner::new(&machine, offsets.clone(), ReaderSource::new(file), options);
@@ -329,31 +323,14 @@ pub fn view(args: &ViewArgs) -> Result<u8, InputError> {
         lines,
         "{spinner} view [{bar:30}] line {pos}/{len}, {msg} {elapsed}",
     );
-    let declared: Option<fiveaxis_check::DeclaredStock<'_>> =
-        (stock_check.is_none() && work.wants_work()).then(|| {
-            let kept = kept_stock.clone();
-            let (work, machine, offsets) = (&work, &machine, &offsets);
-            Box::new(move |blk: &Stock| {
-                let shape = fiveaxis_collide::work::WorkShape::Box {
-                    min: blk.min.into(),
-                    max: blk.max.into(),
-                };
-                let mut check = work.stock_of(&args.work, machine, offsets, &shape).ok()?;
-                check.keep_final(kept);
-                Some(check)
-            }) as fiveaxis_check::DeclaredStock<'_>
-        });
+    let (checks, kept_stock) = work.checks(&args.work, &machine, &offsets)?;
     let gathered = gather(
         &mut runner,
         &machine,
         args.tolerance,
         program_name,
         &progress,
-        fiveaxis_check::WorkChecks {
-            collisions,
-            stock: stock_check,
-            declared,
-        },
+        checks,
     )?;
     let stock_left = kept_stock.lock().ok().and_then(|mut s| s.take());
     let (stock_model, stock_tops) = match &stock_left {
@@ -577,14 +554,7 @@ fn gather<S: fiveaxis_control::Source>(
         stock: None,
     };
     let mut checker = fiveaxis_check::Checker::new(machine);
-    if let Some(collisions) = work.collisions {
-        checker.check_collisions(collisions);
-    }
-    let mut declared = work.declared;
-    if let Some(stock) = work.stock {
-        checker.check_stock(stock);
-        declared = None;
-    }
+    let mut declared = work.install(&mut checker);
     // The timeline is the check's: each segment's end in its estimated
     // time. Those come once the planner has looked ahead past them, so the
     // path is timed by the programmed time first and moved to the
@@ -600,13 +570,7 @@ fn gather<S: fiveaxis_control::Source>(
         // One block at a time, so that the controller's tool is the
         // block's own.
         let filled = runner.fill(&mut segments, 1);
-        if declared.is_some()
-            && let Some(blk) = runner.stock()
-            && let Some(make) = declared.take()
-            && let Some(stock) = make(&blk)
-        {
-            checker.check_stock(stock);
-        }
+        declared.offer(runner.stock(), &mut checker);
         ticks += 1;
         if ticks.is_multiple_of(PROGRESS_BLOCKS)
             && let Some(bar) = progress.visible()

@@ -12,8 +12,12 @@ use fiveaxis_machine::Vec3;
 
 use crate::InputError;
 
+use fiveaxis_check::WorkChecks;
 use fiveaxis_check::collision::{Collisions, WorkSolid};
 use fiveaxis_check::stock::StockCheck;
+
+/// Where the stock left at the end of a run is handed.
+pub type KeptStock = std::sync::Arc<std::sync::Mutex<Option<fiveaxis_stock::Stock>>>;
 use fiveaxis_machine::{Machine, Offsets};
 use fiveaxis_stock::dexel::Dexels;
 
@@ -316,7 +320,7 @@ impl Work {
     }
 
     /// A fresh stock model for one program, if given.
-    pub fn stock(
+    fn stock(
         &self,
         args: &WorkArgs,
         machine: &Machine,
@@ -330,7 +334,7 @@ impl Work {
     }
 
     /// A fresh stock model of `shape` for one program.
-    pub fn stock_of(
+    fn stock_of(
         &self,
         args: &WorkArgs,
         machine: &Machine,
@@ -366,8 +370,46 @@ impl Work {
         Ok(StockCheck::new(machine, offsets, model, self.zero))
     }
 
+    /// The work checks of one program: a fresh collision check and stock
+    /// model as asked for, or, with the work asked for and no `--stock`,
+    /// the stock the program declares (BLK FORM); and where the stock left
+    /// at the end is handed.
+    pub fn checks<'a>(
+        &'a self,
+        args: &'a WorkArgs,
+        machine: &'a Machine,
+        offsets: &'a Offsets,
+    ) -> Result<(WorkChecks<'a>, KeptStock), InputError> {
+        let collisions = self.collisions(args, machine, offsets)?;
+        let mut stock = self.stock(args, machine, offsets)?;
+        let kept: KeptStock = std::sync::Arc::new(std::sync::Mutex::new(None));
+        if let Some(stock) = &mut stock {
+            stock.keep_final(kept.clone());
+        }
+        let declared = (stock.is_none() && self.wants_work()).then(|| {
+            let kept = kept.clone();
+            Box::new(move |blk: &fiveaxis_control::Stock| {
+                let shape = WorkShape::Box {
+                    min: blk.min.into(),
+                    max: blk.max.into(),
+                };
+                let mut check = self.stock_of(args, machine, offsets, &shape).ok()?;
+                check.keep_final(kept);
+                Some(check)
+            }) as fiveaxis_check::DeclaredStock<'a>
+        });
+        Ok((
+            WorkChecks {
+                collisions,
+                stock,
+                declared,
+            },
+            kept,
+        ))
+    }
+
     /// A fresh collision check for one program, if asked for.
-    pub fn collisions(
+    fn collisions(
         &self,
         args: &WorkArgs,
         machine: &Machine,

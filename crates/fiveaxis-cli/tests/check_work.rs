@@ -9,13 +9,7 @@ use std::process::Output;
 
 use serde_json::Value;
 
-fn scratch(files: &[(&str, &str)]) -> tempfile::TempDir {
-    let dir = tempfile::tempdir().expect("a temporary directory");
-    for (name, text) in files {
-        std::fs::write(dir.path().join(name), text).expect("scratch file written");
-    }
-    dir
-}
+use common::scratch;
 
 fn run(dir: &Path, args: &[&str]) -> Output {
     common::run_in(dir, args, b"")

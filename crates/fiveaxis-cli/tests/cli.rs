@@ -9,7 +9,6 @@ use std::process::Output;
 
 use fiveaxis_control::{RunError, RunOptions, Runner, SliceSource};
 use fiveaxis_machine::{DEFAULT_MACHINE, Offsets, builtin, builtin_names};
-use tempfile::TempDir;
 
 /// A short program that moves and ends.
 const PROGRAM: &str = "G0 X10. Y5.\nG1 Z-1. F100.\nM30\n";
@@ -19,14 +18,7 @@ fn fiveaxis_in(dir: &Path, args: &[&str], stdin: &str) -> Output {
     common::run_in(dir, args, stdin.as_bytes())
 }
 
-/// A scratch directory holding `files` (name, contents).
-fn scratch(files: &[(&str, &str)]) -> TempDir {
-    let dir = tempfile::tempdir().expect("a temporary directory");
-    for (name, text) in files {
-        std::fs::write(dir.path().join(name), text).expect("scratch file written");
-    }
-    dir
-}
+use common::scratch;
 
 /// Runs the binary in a scratch directory holding `program.nc` = `PROGRAM`.
 fn fiveaxis(args: &[&str]) -> Output {

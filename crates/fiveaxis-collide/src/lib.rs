@@ -270,12 +270,7 @@ impl Scene {
     /// A fixture or the stock, placed in the table frame (the machine
     /// frame with the table's axes at 0), turning with the table.
     pub fn add_work(&mut self, machine: &Machine, name: &str, kind: PartKind, shape: SharedShape) {
-        let on = machine
-            .rotary
-            .iter()
-            .rposition(|r| r.on == Side::Table)
-            .map_or(Link::Base, |k| Link::Axis(machine.linear.len() + k));
-        self.push(machine, name.into(), kind, on, shape);
+        self.push(machine, name.into(), kind, machine.work_link(), shape);
     }
 
     /// The parts.

@@ -145,6 +145,15 @@ pub struct Body {
 }
 
 impl Machine {
+    /// The link the work rides on: the outermost table axis (the one that
+    /// carries the table top), else the base.
+    pub fn work_link(&self) -> Link {
+        self.rotary
+            .iter()
+            .rposition(|r| r.on == Side::Table)
+            .map_or(Link::Base, |k| Link::Axis(self.linear.len() + k))
+    }
+
     /// The map from a link's frame (the machine frame with every axis at
     /// 0) to the machine frame at `joints`.
     pub fn link_pose(&self, link: Link, joints: &Joints) -> IsometryMatrix3<f64> {
@@ -243,6 +252,18 @@ pub struct ToolShape {
     pub shank: f64,
     /// The holder's steps, from the gauge line towards the tool.
     pub holder: Vec<HolderStep>,
+}
+
+/// A tool as a solid: its shape, its length from the gauge line to the
+/// tip and its radius, mm ([`crate::Offsets::tool_solid`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct ToolSolid {
+    /// Cutting end, shank and holder.
+    pub shape: ToolShape,
+    /// Gauge line to tip, mm (length geometry plus wear).
+    pub length: f64,
+    /// Radius, mm (geometry plus wear).
+    pub radius: f64,
 }
 
 impl ToolShape {

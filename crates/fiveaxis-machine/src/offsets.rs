@@ -118,6 +118,31 @@ impl Offsets {
         self.tools.get(&n).copied().unwrap_or_default()
     }
 
+    /// Tool `n` as a solid, for collisions and the stock: its shape from
+    /// `[tools.N]`, else a flat cylinder of its radius that cuts along its
+    /// whole length; length and radius with their wear. A tool the offsets
+    /// do not list has no length and cuts nothing.
+    pub fn tool_solid(&self, n: u32) -> crate::geometry::ToolSolid {
+        let offset = self.tool(n);
+        let length = offset.length + offset.length_wear;
+        let radius = offset.radius + offset.radius_wear;
+        let shape = self
+            .tool_shapes
+            .get(&n)
+            .cloned()
+            .unwrap_or(crate::geometry::ToolShape {
+                cutter: crate::geometry::Cutter::Flat,
+                flute: length,
+                shank: 2.0 * radius,
+                holder: Vec::new(),
+            });
+        crate::geometry::ToolSolid {
+            shape,
+            length,
+            radius,
+        }
+    }
+
     /// Whether the work offsets give no more values than a machine of
     /// `axes` axes has.
     ///
