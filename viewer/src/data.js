@@ -72,11 +72,11 @@ export function splitLines(text) {
 export async function readPage(doc, mark = () => {}) {
   const meta = JSON.parse(doc.getElementById(META_ID).textContent);
   const machine = prepareMachine(meta.machine);
-  const names = ['joints', 'times', 'lines', 'ends', 'motions', 'finding_lines', 'finding_kinds', 'finding_axes', 'finding_values', 'fixture_triangles', 'stock_tops'];
-  const types = [Float32Array, Float64Array, Uint32Array, Float64Array, Uint8Array, Uint32Array, Uint8Array, Uint8Array, Float64Array, Float32Array, Float32Array];
+  const names = ['joints', 'times', 'lines', 'ends', 'motions', 'finding_lines', 'finding_kinds', 'finding_axes', 'finding_values', 'finding_points', 'fixture_triangles', 'stock_tops', 'stock_cells', 'stock_values'];
+  const types = [Float32Array, Float64Array, Uint32Array, Float64Array, Uint8Array, Uint32Array, Uint8Array, Uint8Array, Float64Array, Float32Array, Float32Array, Float32Array, Uint32Array, Float32Array];
   const arrays = await Promise.all(names.map((name, k) => array(doc, name, types[k])));
   mark('arrays');
-  const [joints, times, lines, ends, motions, findingLines, findingKinds, findingAxes, findingValues, fixtureTriangles, stockTops] = arrays;
+  const [joints, times, lines, ends, motions, findingLines, findingKinds, findingAxes, findingValues, findingPoints, fixtureTriangles, stockTops, stockCells, stockValues] = arrays;
   const data = {
     meta,
     machine,
@@ -91,17 +91,20 @@ export async function readPage(doc, mark = () => {}) {
       kinds: findingKinds,
       axes: findingAxes,
       values: findingValues,
+      points: findingPoints,
       table: meta.finding_kinds || [],
       messages: meta.finding_messages || [],
     },
   };
-  // The work on the table: fixtures, the stock left (`view --fixture`,
-  // `--stock`), the tools' shapes.
+  // The work on the table: fixtures, the stock along the run (`view
+  // --fixture`, `--stock`), the tools' shapes.
   data.work = {
     fixtures: meta.fixtures || [],
     triangles: fixtureTriangles,
     stockModel: meta.stock_model || null,
     stockTops,
+    stockCells,
+    stockValues,
     tools: meta.tools || {},
   };
   data.findings.count = data.findings.lines.length;

@@ -28,7 +28,9 @@ async function start() {
   const state = { t: 0, playing: false, speed: 1, selectedLine: 0, block: -1 };
   const frameOf = (b) => data.meta.frames[frameOfBlock(data, Math.max(0, b))] || { tool_length: 0, tool_radius: 5, to_part: [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0] };
 
-  // Findings: markers on the path, entries in a list, marks in the text.
+  // Findings: markers where they happened (a contact point, a gouge)
+  // or else at the end of their line's path, entries in a list, marks in
+  // the text.
   const findings = data.findings;
   const vertexOfLine = (line) => {
     const { first, order } = lineIndex;
@@ -49,9 +51,10 @@ async function start() {
         i = Math.max(0, Math.min(vertexOfLine(line), data.times.length - 1));
         lastLine = line;
       }
-      at[3 * k] = data.tips[3 * i];
-      at[3 * k + 1] = data.tips[3 * i + 1];
-      at[3 * k + 2] = data.tips[3 * i + 2];
+      const placed = findings.points.length >= 3 * (k + 1) && Number.isFinite(findings.points[3 * k]);
+      const from = placed ? findings.points : data.tips;
+      const j = placed ? k : i;
+      for (let c = 0; c < 3; c++) at[3 * k + c] = from[3 * j + c];
       const type = findings.table[findings.kinds[k]];
       severities[k] = severityCodes[type && type.severity] ?? 1;
     }
@@ -74,6 +77,7 @@ async function start() {
     const b = block >= 0 && data.ends[block] === state.t ? block : blockAt(data, state.t);
     state.block = b;
     scene.pose(joints, frameOf(b));
+    scene.stockAt(state.t);
     ui.slider.value = String(data.duration > 0 ? Math.round((state.t / data.duration) * SLIDER_STEPS) : 0);
     ui.time.textContent = `${clock(state.t)} / ${clock(data.duration)}`;
     const line = b >= 0 ? data.lines[b] : 0;
@@ -194,6 +198,13 @@ async function start() {
       return out;
     },
     seek: (t) => seek(t),
+    /** Where each finding's marker is, in the table frame. */
+    markers: () => {
+      const a = scene.markerPoints ? scene.markerPoints.geometry.getAttribute('position').array : [];
+      const out = [];
+      for (let k = 0; k + 2 < a.length; k += 3) out.push([a[k], a[k + 1], a[k + 2]]);
+      return out;
+    },
     /** The work drawn, by name, with its box as the bodies stand. */
     work: () => scene.workSummary(),
     seekBlock: (b) => seek(data.ends[b], { block: b }),
@@ -243,6 +254,13 @@ async function start() {
     /** Path vertices in the last frame drawn, and in the whole path. */
     drawn: () => ({ drawn: scene.drawnVertices, total: scene.path.geometry.getAttribute('position').count }),
     zoomBy: (f) => scene.zoomBy(f),
+    /** The stock model's grid and its cells' tops as drawn now (null without one). */
+    stockTops() {
+      const t = scene.stockTimeline;
+      if (!t) return null;
+      const { nx, ny, cell, origin } = data.work.stockModel;
+      return { nx, ny, cell, origin, snapshots: t.times.length, shown: t.shown, tops: Array.from(t.tops) };
+    },
     /** Shows or hides the stock layer; whether there is a stock. */
     setStock: (on) => setStock(on),
     /** The stock as drawn: whether declared (BLK FORM), visible, and its table-frame corners (declared) or box. */

@@ -38,7 +38,7 @@ import {
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 import { MOTIONS, stockCorners } from './data.js';
 import { simplifyToSpacing } from './simplify.js';
-import { bodyGroup, fixtureGroup, stockMesh, toolGroup } from './work.js';
+import { StockTimeline, bodyGroup, fixtureGroup, stockGeometry, stockMesh, toolGroup } from './work.js';
 
 /** Colours of the path by motion: rapid, linear feed, arcs. */
 export const MOTION_COLOURS = { rapid: '#e8554e', linear: '#3fb950', cw: '#58a6ff', ccw: '#58a6ff' };
@@ -322,8 +322,11 @@ export class MachineScene {
     if (work && work.fixtures.length) {
       this.tableInner.add(fixtureGroup(work.fixtures, work.triangles, mat('#8a6d5a')));
     }
+    // The stock model: as cut by the time the slider is at (`stockAt`).
+    this.stockTimeline = null;
     if (work && work.stockModel) {
       if (this.stock) this.tableInner.remove(this.stock);
+      this.stockTimeline = new StockTimeline(work.stockModel, work.stockTops, work.stockCells, work.stockValues, data.ends);
       this.stock = stockMesh(work.stockModel, work.stockTops, mat('#c9a86a'));
       this.tableInner.add(this.stock);
     }
@@ -504,6 +507,16 @@ export class MachineScene {
     this.stock.visible = on;
     this.requestRender();
     return true;
+  }
+
+  /** The stock model as cut by time `t` (nothing to do without one, or when unchanged). */
+  stockAt(t) {
+    const tops = this.stockTimeline && this.stockTimeline.at(t);
+    if (!tops) return;
+    const old = this.stock.geometry;
+    this.stock.geometry = stockGeometry(this.data.work.stockModel, tops);
+    old.dispose();
+    this.requestRender();
   }
 
   /** Draws the blocks (vertex ranges `[from, to]`) of the selected line. */

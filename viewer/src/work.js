@@ -179,11 +179,67 @@ export function fixtureGroup(fixtures, triangles, material) {
 }
 
 /**
- * The stock left, from its cells' highest material (`tops`, NaN where
- * none is left) down to its base: each cell's top, and walls where a
- * neighbour stands lower.
+ * The stock along the run (`view --stock`): the cells' tops at the start
+ * and, per snapshot (`model.snapshots`: the last block it includes and
+ * the end of its changes), the cells that changed. `at(t)` gives the
+ * tops at time `t` when they differ from the ones it gave last.
+ */
+export class StockTimeline {
+  constructor(model, start, cells, values, ends) {
+    this.start = start;
+    this.cells = cells;
+    this.values = values;
+    const snapshots = model.snapshots || [];
+    this.times = snapshots.map(([block]) => ends[Math.min(block, ends.length - 1)] ?? 0);
+    this.ends = snapshots.map(([, end]) => end);
+    this.tops = Float32Array.from(start);
+    // Snapshots applied to `tops`.
+    this.applied = 0;
+    this.shown = -1;
+  }
+
+  /** How many snapshots were taken by time `t`. */
+  countAt(t) {
+    let lo = 0;
+    let hi = this.times.length;
+    while (lo < hi) {
+      const mid = (lo + hi) >> 1;
+      if (this.times[mid] <= t) lo = mid + 1;
+      else hi = mid;
+    }
+    return lo;
+  }
+
+  /** The tops at time `t`, or null when they are the ones last given. */
+  at(t) {
+    const n = this.countAt(t);
+    if (n === this.shown) return null;
+    if (n < this.applied) {
+      this.tops.set(this.start);
+      this.applied = 0;
+    }
+    const from = this.applied ? this.ends[this.applied - 1] : 0;
+    const to = n ? this.ends[n - 1] : 0;
+    for (let e = from; e < to; e++) this.tops[this.cells[e]] = this.values[e];
+    this.applied = n;
+    this.shown = n;
+    return this.tops;
+  }
+}
+
+/**
+ * The stock, from its cells' highest material (`tops`, NaN where none is
+ * left) down to its base: each cell's top, and walls where a neighbour
+ * stands lower.
  */
 export function stockMesh(model, tops, material) {
+  const mesh = new Mesh(stockGeometry(model, tops), material);
+  mesh.name = 'stock-left';
+  return mesh;
+}
+
+/** The geometry of `stockMesh`. */
+export function stockGeometry(model, tops) {
   const { nx, ny, cell, base } = model;
   const [ox, oy] = model.origin;
   const positions = [];
@@ -213,7 +269,5 @@ export function stockMesh(model, tops, material) {
   const geometry = new BufferGeometry();
   geometry.setAttribute('position', new BufferAttribute(new Float32Array(positions), 3));
   geometry.computeVertexNormals();
-  const mesh = new Mesh(geometry, material);
-  mesh.name = 'stock-left';
-  return mesh;
+  return geometry;
 }

@@ -254,8 +254,26 @@ test('view: bodies, tool, fixtures and the stock left of examples/pocket.nc', as
     // The end mill: 10 mm across, 25 mm of flute, from its tip up.
     near(work.cutter.max[0] - work.cutter.min[0], 10, 1e-6, 'cutter diameter');
     near(work.cutter.max[2] - work.cutter.min[2], 25, 1e-6, 'flute length');
+    // The stock as the slider moves: whole at the start, the first level
+    // (3 mm) cut by line 15, both (6 mm) at the end; the pocket's middle
+    // is the grid's.
+    const centre = (s) => s.tops[Math.floor(s.ny / 2) * s.nx + Math.floor(s.nx / 2)];
+    const atStart = await page.evaluate(() => window.__viewer.stockTops());
+    near(centre(atStart), 50, 1e-4, 'uncut at the start');
+    assert.ok(atStart.snapshots > 5, `snapshots: ${atStart.snapshots}`);
+    await page.evaluate(() => window.__viewer.selectLine(15));
+    near(centre(await page.evaluate(() => window.__viewer.stockTops())), 47, 1e-4, 'first level cut by line 15');
+    await page.evaluate(() => window.__viewer.seek(1e9));
+    const atEnd = await page.evaluate(() => window.__viewer.stockTops());
+    near(centre(atEnd), 44, 1e-4, 'both levels at the end');
+    await page.evaluate(() => window.__viewer.seekBlock(0));
+    near(centre(await page.evaluate(() => window.__viewer.stockTops())), 50, 1e-4, 'whole again, back at the start');
     const findings = await page.evaluate(() => window.__viewer.findings());
     assert.deepEqual(findings.map((f) => [f.line, f.kind]), [[28, 'collision']]);
+    // The collision's marker at the contact point (the holder against a
+    // jaw, above the stock's top), not on the path.
+    const marker = await page.evaluate(() => window.__viewer.markers()[0]);
+    assert.ok(marker[2] > 50, `marker z ${marker[2]}`);
     await page.evaluate(() => window.__viewer.selectLine(28));
     await page.screenshot({ path: join(OUT, 'pocket-work.png') });
   } finally {

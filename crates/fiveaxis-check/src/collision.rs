@@ -40,6 +40,8 @@ struct ContactRun {
     first: Contact,
     distance: f64,
     depth: f64,
+    /// Where `first` meets, in the table frame.
+    point: Option<[f64; 3]>,
 }
 
 /// The collision check of one run.
@@ -107,11 +109,19 @@ impl Collisions {
         }
         self.touched.iter_mut().for_each(|t| *t = false);
         let contacts = self.scene.check_move(machine, |s| seg.eval(machine, s));
+        let table = machine.work_link();
+        let point = |contact: &Contact, pair: usize| {
+            let p = self.scene.witness(machine, pair, &contact.joints)?;
+            let on_table =
+                machine.link_pose(table, &contact.joints).inverse() * nalgebra::Point3::from(p);
+            Some(on_table.coords.into())
+        };
         for (pair, contact) in contacts {
             self.touched[pair] = true;
             match &mut self.runs[pair] {
                 Some(run) => {
                     if contact.collides() && !run.first.collides() {
+                        run.point = point(&contact, pair);
                         run.first = contact.clone();
                     }
                     run.distance = run.distance.min(contact.distance);
@@ -123,6 +133,7 @@ impl Collisions {
                         order,
                         distance: contact.distance,
                         depth: contact.depth,
+                        point: point(&contact, pair),
                         first: contact,
                     });
                 }
@@ -187,6 +198,7 @@ impl Collisions {
             axis: None,
             value: Some(value),
             bodies: Some(Box::new([a.clone(), b.clone()])),
+            point: run.point,
             order: run.order,
         }
     }

@@ -177,6 +177,11 @@ pub struct Finding {
     pub value: Option<f64>,
     /// The two parts of a collision or near miss.
     pub bodies: Option<Box<[String; 2]>>,
+    /// Where it happened, in the table frame (the frame of the link the
+    /// work rides on, every axis at 0: where the view draws the path),
+    /// when the finding has a place apart from its block's path: a
+    /// contact point, a gouge, material left on the part.
+    pub point: Option<[f64; 3]>,
     /// Position in the run, for program order.
     order: u64,
 }
@@ -408,6 +413,11 @@ impl<'m> Checker<'m> {
         self.stock = Some(stock);
     }
 
+    /// The stock model as cut so far, when there is one.
+    pub fn stock_model(&mut self) -> Option<&mut fiveaxis_stock::Stock> {
+        self.stock.as_mut().map(stock::StockCheck::model_mut)
+    }
+
     /// Checks collisions too ([`collision::Collisions`]).
     pub fn check_collisions(&mut self, collisions: collision::Collisions) {
         self.collisions = Some(collisions);
@@ -484,6 +494,7 @@ impl<'m> Checker<'m> {
             axis,
             value,
             bodies: None,
+            point: None,
             order: self.order,
         });
     }
@@ -639,6 +650,7 @@ impl<'m> Checker<'m> {
             axis: Some(name),
             value: Some(run.farthest),
             bodies: None,
+            point: None,
             order: run.order,
         });
     }
@@ -1106,6 +1118,7 @@ fn words_without_point(
         axis: None,
         value: Some(words.count as f64),
         bodies: None,
+        point: None,
         order: 0,
     })
 }

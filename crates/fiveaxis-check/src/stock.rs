@@ -47,7 +47,9 @@ struct Run {
     line: u32,
     order: u64,
     depth: f64,
-    at: Vec3,
+    /// Where: in the table frame, and in the workpiece coordinates of
+    /// its segment.
+    at: [Vec3; 2],
     joints: Joints,
 }
 
@@ -69,7 +71,8 @@ pub struct StockCheck {
     removed: BTreeMap<u32, f64>,
     air_minutes: f64,
     runs: [Option<Run>; 4],
-    /// The work zero in the stock's frame, for positions in findings.
+    /// The work zero in the stock's frame, for the places of material
+    /// left on the part (a move's findings use its own block's frame).
     zero: Vec3,
     /// Where the stock goes at the end, when the caller keeps it.
     keep: Option<std::sync::Arc<std::sync::Mutex<Option<Stock>>>>,
@@ -122,6 +125,11 @@ impl StockCheck {
     /// Hands the stock as the run leaves it to `slot` at the end.
     pub fn keep_final(&mut self, slot: std::sync::Arc<std::sync::Mutex<Option<Stock>>>) {
         self.keep = Some(slot);
+    }
+
+    /// The stock model as the run has cut it so far.
+    pub fn model_mut(&mut self) -> &mut Stock {
+        &mut self.stock
     }
 
     /// The first segment order of a finding still open, if any.
@@ -183,8 +191,8 @@ impl StockCheck {
         let n = (travel / step).ceil().clamp(1.0, MAX_POSES) as u32;
         let first = if self.last == Some(q0) { 1 } else { 0 };
         let mut removed = 0.0;
-        let mut worst: [Option<(f64, Vec3, Joints)>; 4] = [None; 4];
-        let mut note = |which: usize, depth: f64, at: Vec3, q: Joints| {
+        let mut worst: [Option<(f64, [Vec3; 2], Joints)>; 4] = [None; 4];
+        let mut note = |which: usize, depth: f64, at: [Vec3; 2], q: Joints| {
             if worst[which].is_none_or(|w| depth > w.0) {
                 worst[which] = Some((depth, at, q));
             }
@@ -193,6 +201,8 @@ impl StockCheck {
         // the tool removes material.
         let mut through = 0.0;
         let mut previous: Option<Vec3> = None;
+        // Places in the workpiece coordinates of the segment.
+        let work = |p: &Vec3| seg.setup.inverse_point(&(p - seg.work));
         for k in first..=n {
             let s = f64::from(k) / f64::from(n);
             let q = if k == n { q1 } else { seg.eval(machine, s) };
@@ -202,11 +212,11 @@ impl StockCheck {
             removed += cut.removed;
             if rapid && cut.depth > CONTACT_DEPTH {
                 through += previous.map_or(cut.depth, |p| (tip - p).norm());
-                note(RAPID, through, tip - self.zero, q);
+                note(RAPID, through, [tip, work(&tip)], q);
             }
             previous = Some(tip);
             if cut.gouge > 0.0 {
-                note(GOUGE, cut.gouge, cut.gouge_at - self.zero, q);
+                note(GOUGE, cut.gouge, [cut.gouge_at, work(&cut.gouge_at)], q);
             }
             for (which, part) in [(SHANK, &pieces.shank), (HOLDER, &pieces.holder)] {
                 if part.is_empty() {
@@ -215,7 +225,7 @@ impl StockCheck {
                 let solid = Posed::new(part, &tip, &axis);
                 let depth = self.stock.interference(&solid);
                 if depth > CONTACT_DEPTH {
-                    note(which, depth, tip, q);
+                    note(which, depth, [tip, work(&tip)], q);
                 }
             }
         }
@@ -283,7 +293,7 @@ impl StockCheck {
                 )
             }
             _ => {
-                let p = run.at;
+                let p = run.at[1];
                 (
                     Kind::Gouge,
                     format!(
@@ -304,6 +314,7 @@ impl StockCheck {
             axis: None,
             value: Some(run.depth),
             bodies,
+            point: Some(run.at[0].into()),
             order: run.order,
         }
     }
@@ -312,6 +323,7 @@ impl StockCheck {
     /// cut there, and what the stock saw over the run.
     pub(crate) fn finish(self, add: &mut impl FnMut(Finding)) -> StockSummary {
         for (line, most, at, volume) in self.stock.left_on_part() {
+            let point = Some(at.into());
             let at = at - self.zero;
             let message = if line == 0 {
                 format!(
@@ -341,6 +353,7 @@ impl StockCheck {
                 axis: None,
                 value: Some(most),
                 bodies: None,
+                point,
                 order: u64::MAX,
             });
         }

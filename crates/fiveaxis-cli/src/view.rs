@@ -10,6 +10,7 @@
 pub mod blocks;
 pub mod html;
 pub mod pack;
+pub mod stock;
 
 use std::io::{BufWriter, Read, Write};
 use std::path::{Path, PathBuf};
@@ -131,6 +132,9 @@ pub struct FindingColumns {
     pub axes: Vec<u8>,
     /// The value of each finding, NaN when none.
     pub values: Vec<f64>,
+    /// Where each finding happened (X, Y, Z in the table frame, where
+    /// the path is drawn), NaN when it has no place apart from its block.
+    pub points: Vec<f32>,
     /// The messages of the first findings.
     pub messages: Vec<String>,
 }
@@ -152,6 +156,8 @@ impl FindingColumns {
             .push(f.axis.filter(char::is_ascii).map_or(0, |a| a as u8));
         self.values
             .push(f.value.filter(|v| v.is_finite()).unwrap_or(f64::NAN));
+        let point = f.point.unwrap_or([f64::NAN; 3]);
+        self.points.extend(point.map(|v| v as f32));
         if self.messages.len() < FINDING_MESSAGES {
             self.messages.push(f.message);
         }
@@ -252,6 +258,8 @@ struct Gathered {
     /// workpiece coordinates, as read by the end of the run (or by its
     /// alarm).
     stock: Option<Stock>,
+    /// The stock model along the run, when there is one.
+    stock_history: Option<stock::StockHistory>,
 }
 
 /// Runs `fiveaxis view`.
@@ -332,14 +340,19 @@ pub fn view(args: &ViewArgs) -> Result<u8, InputError> {
         &progress,
         checks,
     )?;
-    let stock_left = kept_stock.lock().ok().and_then(|mut s| s.take());
-    let (stock_model, stock_tops) = match &stock_left {
-        Some(stock) => {
-            let (model, tops) = stock_heights(&stock.dexels, STOCK_CELLS);
-            (Some(model), tops)
+    if let Some(path) = &args.work.stock_out {
+        match kept_stock.lock().ok().and_then(|mut s| s.take()) {
+            Some(left) => crate::work::write_stl(path, &left.dexels)?,
+            None => {
+                return Err(InputError(format!(
+                    "error: {program_name}: --stock-out needs a stock: give --stock (the program declares none)"
+                )));
+            }
         }
-        None => (None, Vec::new()),
-    };
+    }
+    let history = gathered.stock_history.as_ref();
+    let no_floats: &[f32] = &[];
+    let stock_model = history.map(stock::StockHistory::model);
     let status = if gathered.alarm.is_some() {
         EXIT_ALARM
     } else {
@@ -370,8 +383,20 @@ pub fn view(args: &ViewArgs) -> Result<u8, InputError> {
         ("finding_kinds", Column::U8(&findings.kinds)),
         ("finding_axes", Column::U8(&findings.axes)),
         ("finding_values", Column::F64(&findings.values)),
+        ("finding_points", Column::F32(&findings.points)),
         ("fixture_triangles", Column::F32(&fixtures.1)),
-        ("stock_tops", Column::F32(&stock_tops)),
+        (
+            "stock_tops",
+            Column::F32(history.map_or(no_floats, |h| &h.start)),
+        ),
+        (
+            "stock_cells",
+            Column::U32(history.map_or(&[], |h| &h.cells)),
+        ),
+        (
+            "stock_values",
+            Column::F32(history.map_or(no_floats, |h| &h.values)),
+        ),
     ]
     .map(|(name, column)| html::Array { name, column });
     if let Some(bar) = progress.visible() {
@@ -552,6 +577,7 @@ fn gather<S: fiveaxis_control::Source>(
         },
         time_kind: fiveaxis_check::TimeKind::Programmed,
         stock: None,
+        stock_history: None,
     };
     let mut checker = fiveaxis_check::Checker::new(machine);
     let mut declared = work.install(&mut checker);
@@ -651,6 +677,12 @@ fn gather<S: fiveaxis_control::Source>(
             g.rows += rows.len() as u64;
             last = Some((seg.motion, seg.end));
         }
+        if let Some(model) = checker.stock_model() {
+            let block = g.blocks.lines.len().saturating_sub(1) as u32;
+            g.stock_history
+                .get_or_insert_with(|| stock::StockHistory::start(model, STOCK_CELLS))
+                .after_block(model, block);
+        }
         match filled {
             Ok(true) => {}
             Ok(false) => break,
@@ -670,6 +702,9 @@ fn gather<S: fiveaxis_control::Source>(
     // program stops with an alarm after them.
     g.stock = runner.stock();
     g.path.finish();
+    if let (Some(history), Some(model)) = (&mut g.stock_history, checker.stock_model()) {
+        history.finish(model, g.blocks.lines.len().saturating_sub(1) as u32);
+    }
     let (report, kind) = checker.finish_streamed(
         fiveaxis_check::Ending {
             ended: g.alarm.is_none(),
@@ -912,47 +947,6 @@ fn tools_json(offsets: &fiveaxis_machine::Offsets) -> Value {
         );
     }
     Value::Object(tools)
-}
-
-/// The stock left for the page: the model's rays merged into at most
-/// `cells` cells along its longer side, each at its highest material
-/// (NaN where none is left), in the table frame; and the grid's
-/// description.
-fn stock_heights(d: &fiveaxis_stock::dexel::Dexels, cells: usize) -> (Value, Vec<f32>) {
-    let k = d.nx.max(d.ny).div_ceil(cells).max(1);
-    let (nx, ny) = (d.nx.div_ceil(k), d.ny.div_ceil(k));
-    let mut tops = vec![f32::NAN; nx * ny];
-    let mut base = f32::INFINITY;
-    for j in 0..d.ny {
-        for i in 0..d.nx {
-            if let Some(top) = d.spans(j * d.nx + i).last() {
-                let cell = &mut tops[(j / k) * nx + i / k];
-                *cell = if cell.is_nan() {
-                    top[1]
-                } else {
-                    cell.max(top[1])
-                };
-                base = base.min(d.spans(j * d.nx + i)[0][0]);
-            }
-        }
-    }
-    let oz = d.origin.z;
-    for t in &mut tops {
-        *t += oz as f32;
-    }
-    let base = if base.is_finite() {
-        f64::from(base) + oz
-    } else {
-        oz
-    };
-    let model = json!({
-        "origin": [d.origin.x, d.origin.y],
-        "cell": d.cell * k as f64,
-        "nx": nx,
-        "ny": ny,
-        "base": base,
-    });
-    (model, tops)
 }
 
 /// The declared stock for the page: its corners in workpiece coordinates

@@ -121,6 +121,66 @@ fn the_stock_is_cut_and_reported_in_json() {
 }
 
 #[test]
+fn view_writes_the_stock_left_as_check_does() {
+    let dir = scratch(&[("slot.nc", SLOT), ("o.toml", OFFSETS)]);
+    let mut stls = Vec::new();
+    for command in ["check", "view"] {
+        let out_file = format!("{command}.stl");
+        let out = run(
+            dir.path(),
+            &[
+                command,
+                "slot.nc",
+                "--machine",
+                "mill-3axis",
+                "--offsets",
+                "o.toml",
+                "--stock",
+                "box:0,0,-20,50,50,0",
+                "--resolution",
+                "0.5",
+                "--stock-out",
+                &out_file,
+                "-o",
+                "slot.html",
+            ][..if command == "check" { 12 } else { 14 }],
+        );
+        assert!(
+            out.status.code().is_some_and(|c| c <= 1),
+            "{command}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        stls.push(std::fs::read(dir.path().join(&out_file)).expect("the stock left"));
+    }
+    // The same stock, cut by the same moves.
+    assert!(stls[0].len() > 84);
+    assert_eq!(stls[0][80..], stls[1][80..]);
+    // Without a stock, --stock-out is refused by view as by check.
+    let out = run(
+        dir.path(),
+        &[
+            "view",
+            "slot.nc",
+            "--machine",
+            "mill-3axis",
+            "--offsets",
+            "o.toml",
+            "--stock-out",
+            "none.stl",
+            "-o",
+            "none.html",
+        ],
+    );
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        String::from_utf8_lossy(&out.stderr).contains("--stock-out needs a stock"),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(!dir.path().join("none.stl").exists());
+}
+
+#[test]
 fn a_fixture_the_holder_meets_is_a_collision_with_its_bodies() {
     // G54 50 mm above the table. A clamp 20..30 in x rising to z −15;
     // the holder's face 30 mm above the tip, radius 20 about x 10: with

@@ -318,6 +318,28 @@ impl Scene {
             .map_or(0.0, |c| (-c.dist).max(0.0))
     }
 
+    /// Where pair `pair` meets at `joints`, in the machine frame: the
+    /// middle of the two parts' nearest points (of their deepest points
+    /// when they overlap); `None` when they are farther apart than twice
+    /// the clearance.
+    pub fn witness(&self, machine: &Machine, pair: usize, joints: &Joints) -> Option<Vec3> {
+        let (a, b) = self.pairs[pair];
+        let pa = shapes::pose(&machine.link_pose(self.parts[a].on, joints));
+        let pb = shapes::pose(&machine.link_pose(self.parts[b].on, joints));
+        let prediction = 2.0 * self.clearance;
+        let c = query::contact(
+            &pa,
+            &*self.parts[a].shape,
+            &pb,
+            &*self.parts[b].shape,
+            prediction,
+        )
+        .ok()
+        .flatten()?;
+        let m = (c.point1 + c.point2) / 2.0;
+        Some(Vec3::new(m.x, m.y, m.z))
+    }
+
     /// How far any point of pair `pair` can move relative to the other
     /// between machine positions `q0` and `q1` (joints linear between).
     fn travel(&self, machine: &Machine, pair: usize, q0: &Joints, q1: &Joints) -> f64 {

@@ -63,6 +63,34 @@ pub struct Stock {
     /// The line that last cut each ray (with a part only, for material
     /// left on it).
     last_line: Vec<u32>,
+    /// The rays cut since [`Stock::take_touched`] last asked.
+    touched: Option<Touched>,
+}
+
+/// A rectangle of rays: columns `i.0..i.1`, rows `j.0..j.1`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Touched {
+    /// First column and the one past the last.
+    pub i: (usize, usize),
+    /// First row and the one past the last.
+    pub j: (usize, usize),
+}
+
+impl Touched {
+    fn add(this: &mut Option<Touched>, i: usize, j: usize) {
+        match this {
+            Some(t) => {
+                t.i = (t.i.0.min(i), t.i.1.max(i + 1));
+                t.j = (t.j.0.min(j), t.j.1.max(j + 1));
+            }
+            None => {
+                *this = Some(Touched {
+                    i: (i, i + 1),
+                    j: (j, j + 1),
+                });
+            }
+        }
+    }
 }
 
 impl Stock {
@@ -80,7 +108,14 @@ impl Stock {
             tolerance,
             top,
             last_line,
+            touched: None,
         }
+    }
+
+    /// The rays cut since the last call, as the rectangle around them
+    /// (`None`: nothing was cut).
+    pub fn take_touched(&mut self) -> Option<Touched> {
+        self.touched.take()
     }
 
     /// Whether `posed` may reach the stock at all (its box against the
@@ -146,6 +181,7 @@ impl Stock {
                 });
                 if length > 0.0 {
                     removed += f64::from(length);
+                    Touched::add(&mut self.touched, i, j);
                     if !self.last_line.is_empty() {
                         self.last_line[k] = line;
                     }
