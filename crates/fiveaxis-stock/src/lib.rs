@@ -229,59 +229,88 @@ impl Stock {
         depth
     }
 
-    /// The material left on the part beyond the tolerance, measured along
-    /// the vertical over the part's footprint (floors and tops), grouped
-    /// by the line that last cut there (0: never cut): (line, most left
-    /// mm, where, volume mm³), by line.
+    /// The material left on the part beyond the tolerance, grouped by the
+    /// line that last cut there (0: never cut): (line, most left mm,
+    /// where, volume mm³), by line.
+    ///
+    /// The material left is what stands outside the part: above or below
+    /// its spans on a ray, in the gaps between them, and on the rays the
+    /// part does not reach (beside its walls). How much is left at a
+    /// point is its distance from the part (the thickness standing on a
+    /// floor, a top or a wall, along its normal), taken at the ends and
+    /// the middle of each piece; a piece whose ends lie within the
+    /// tolerance of the part along its own ray is not measured further.
     pub fn left_on_part(&self) -> Vec<(u32, f64, Vec3, f64)> {
         let Some(part) = &self.part else {
             return Vec::new();
         };
         let d = &self.dexels;
+        let oz = d.origin.z;
         let mut by_line: std::collections::BTreeMap<u32, (f64, Vec3, f64)> =
             std::collections::BTreeMap::new();
+        let mut pieces: smallvec::SmallVec<[(Span, f32); 4]> = smallvec::SmallVec::new();
         for j in 0..d.ny {
             for i in 0..d.nx {
                 let k = j * d.nx + i;
-                let design = part.dexels.spans(k);
-                if design.is_empty() {
+                let spans = d.spans(k);
+                if spans.is_empty() {
                     continue;
                 }
-                // Material on this ray outside the part's spans.
-                let (lo, hi) = (design[0][0], design[design.len() - 1][1]);
-                let mut excess = 0.0f32;
-                let mut at = 0.0f32;
-                for &[a, b] in d.spans(k) {
-                    // Above the part's top and below its bottom; between
-                    // its spans (an undercut left full).
-                    let mut pieces: smallvec::SmallVec<[Span; 4]> = smallvec::SmallVec::new();
+                let design = part.dexels.spans(k);
+                // Pieces of material outside the part, each with a bound
+                // on how far its points lie from the part along the ray.
+                pieces.clear();
+                for &[a, b] in spans {
+                    if design.is_empty() {
+                        pieces.push(([a, b], f32::INFINITY));
+                        continue;
+                    }
+                    let (lo, hi) = (design[0][0], design[design.len() - 1][1]);
                     if b > hi {
-                        pieces.push([a.max(hi), b]);
+                        pieces.push(([a.max(hi), b], b - hi));
                     }
                     if a < lo {
-                        pieces.push([a, b.min(lo)]);
+                        pieces.push(([a, b.min(lo)], lo - a));
                     }
                     for w in design.windows(2) {
                         let (gap_lo, gap_hi) = (w[0][1], w[1][0]);
                         if b > gap_lo && a < gap_hi {
-                            pieces.push([a.max(gap_lo), b.min(gap_hi)]);
-                        }
-                    }
-                    for [p, q] in pieces {
-                        if q - p > excess {
-                            excess = q - p;
-                            at = (p + q) / 2.0;
+                            let piece = [a.max(gap_lo), b.min(gap_hi)];
+                            pieces.push((piece, (gap_hi - gap_lo) / 2.0));
                         }
                     }
                 }
-                if f64::from(excess) > self.tolerance {
-                    let (x, y) = d.centre(i, j);
+                let (x, y) = d.centre(i, j);
+                let mut excess = 0.0f64;
+                let mut at = Vec3::zeros();
+                let mut length = 0.0f64;
+                for &([p, q], bound) in &pieces {
+                    if f64::from(bound) <= self.tolerance || q <= p {
+                        continue;
+                    }
+                    let mut most = 0.0f64;
+                    for z in [p, q, (p + q) / 2.0] {
+                        let point = Vec3::new(x, y, oz + f64::from(z));
+                        let away = -(part.depth)(&point);
+                        if away > most {
+                            most = away;
+                            if away > excess {
+                                excess = away;
+                                at = point;
+                            }
+                        }
+                    }
+                    if most > self.tolerance {
+                        length += f64::from(q - p);
+                    }
+                }
+                if excess > self.tolerance {
                     let line = self.last_line.get(k).copied().unwrap_or(0);
                     let entry = by_line.entry(line).or_insert((0.0, Vec3::zeros(), 0.0));
-                    entry.2 += f64::from(excess) * d.cell * d.cell;
-                    if f64::from(excess) > entry.0 {
-                        entry.0 = f64::from(excess);
-                        entry.1 = Vec3::new(x, y, d.origin.z + f64::from(at));
+                    entry.2 += length * d.cell * d.cell;
+                    if excess > entry.0 {
+                        entry.0 = excess;
+                        entry.1 = at;
                     }
                 }
             }

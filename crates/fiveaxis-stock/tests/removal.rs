@@ -319,3 +319,109 @@ mod properties {
         }
     }
 }
+
+/// Removes the box `min`..`max` from `d` (rays whose centre is inside).
+fn cut_box(d: &mut Dexels, min: Vec3, max: Vec3) {
+    let (lo, hi) = ((min.z - d.origin.z) as f32, (max.z - d.origin.z) as f32);
+    for j in d.rows(min.y, max.y) {
+        for i in d.columns(min.x, max.x) {
+            let k = j * d.nx + i;
+            d.subtract(k, lo, hi, |_| {});
+        }
+    }
+}
+
+/// How deep `p` is inside the box `min`..`max` (negative outside, the
+/// distance then where one axis is out).
+fn box_depth(min: Vec3, max: Vec3, p: &Vec3) -> f64 {
+    let inside = [
+        p.x - min.x,
+        max.x - p.x,
+        p.y - min.y,
+        max.y - p.y,
+        p.z - min.z,
+        max.z - p.z,
+    ];
+    let least = inside.into_iter().fold(f64::INFINITY, f64::min);
+    if least >= 0.0 {
+        return least;
+    }
+    let out = Vec3::new(
+        (min.x - p.x).max(p.x - max.x).max(0.0),
+        (min.y - p.y).max(p.y - max.y).max(0.0),
+        (min.z - p.z).max(p.z - max.z).max(0.0),
+    );
+    -out.norm()
+}
+
+#[test]
+fn material_left_on_a_wall_is_measured_across_it() {
+    // The part: a boss 20..80 × 10..40, the block's full height. The
+    // stock left: the boss with 0.7 mm more on its +x wall, nothing
+    // elsewhere. Material beside the wall, where the part has no rays.
+    let (pmin, pmax) = (Vec3::new(20.0, 10.0, -20.0), Vec3::new(80.0, 40.0, 0.0));
+    let empty = block().like();
+    let mut design = empty.clone();
+    design.fill_box(&pmin, &pmax);
+    let mut left = empty;
+    left.fill_box(&pmin, &Vec3::new(80.7, 40.0, 0.0));
+    let part = Part {
+        dexels: design,
+        depth: Box::new(move |p| box_depth(pmin, pmax, p)),
+    };
+    let stock = Stock::new(left, Some(part), 0.05);
+    let found = stock.left_on_part();
+    assert_eq!(found.len(), 1, "{found:?}");
+    let (line, most, at, volume) = found[0];
+    assert_eq!(line, 0, "never cut");
+    // The farthest ray centre is 80.65: 0.65 mm from the wall.
+    assert!((most - 0.65).abs() < 1e-4, "{most}");
+    assert!((at.x - 80.65).abs() < 1e-4, "{at:?}");
+    // 0.7 × 30 × 20 mm³, to the rays' width.
+    assert!((volume - 420.0).abs() < 0.1 * 30.0 * 20.0, "{volume}");
+}
+
+#[test]
+fn a_pocket_wall_left_thick_is_its_thickness_not_the_pocket_depth() {
+    // The part: the block with a pocket 30..70 × 15..35, 5 deep. The
+    // stock left: the pocket 0.5 mm narrower on every wall, its floor
+    // exact.
+    let (bmin, bmax) = (Vec3::new(0.0, 0.0, -20.0), Vec3::new(100.0, 50.0, 0.0));
+    let (qmin, qmax) = (Vec3::new(30.0, 15.0, -5.0), Vec3::new(70.0, 35.0, 10.0));
+    let mut design = block();
+    cut_box(&mut design, qmin, qmax);
+    let mut left = block();
+    cut_box(
+        &mut left,
+        qmin + Vec3::new(0.5, 0.5, 0.0),
+        qmax - Vec3::new(0.5, 0.5, 0.0),
+    );
+    let depth = move |p: &Vec3| box_depth(bmin, bmax, p).min(-box_depth(qmin, qmax, p));
+    let part = Part {
+        dexels: design,
+        depth: Box::new(depth),
+    };
+    let stock = Stock::new(left, Some(part), 0.05);
+    let found = stock.left_on_part();
+    assert_eq!(found.len(), 1, "{found:?}");
+    let (_, most, at, _) = found[0];
+    // Rays 0.05..0.45 mm in from the walls: the farthest 0.45 mm.
+    assert!((most - 0.45).abs() < 1e-4, "{most} at {at:?}");
+    assert!(at.z > -5.0 && at.z <= 0.0, "{at:?}");
+    // A tolerance above the thickness: nothing left to report.
+    let mut exact = Stock::new(block(), None, 0.5);
+    exact.part = Some(Part {
+        dexels: {
+            let mut d = block();
+            cut_box(&mut d, qmin, qmax);
+            d
+        },
+        depth: Box::new(depth),
+    });
+    cut_box(
+        &mut exact.dexels,
+        qmin + Vec3::new(0.5, 0.5, 0.0),
+        qmax - Vec3::new(0.5, 0.5, 0.0),
+    );
+    assert!(exact.left_on_part().is_empty());
+}
