@@ -414,8 +414,14 @@ impl<'m> Checker<'m> {
     }
 
     /// The stock model as cut so far, when there is one.
+    /// (The poses queued are cut first.)
     pub fn stock_model(&mut self) -> Option<&mut fiveaxis_stock::Stock> {
-        self.stock.as_mut().map(stock::StockCheck::model_mut)
+        let stock = self.stock.as_mut()?;
+        let (counts, findings) = (&mut self.counts, &mut self.findings);
+        Some(stock.model_mut(self.machine, &mut |f| {
+            counts[f.kind.index()] += 1;
+            findings.push(f);
+        }))
     }
 
     /// Checks collisions too ([`collision::Collisions`]).

@@ -9,9 +9,9 @@ use std::collections::BTreeMap;
 
 use fiveaxis_control::{Motion, Segment};
 use fiveaxis_machine::geometry::Link;
-use fiveaxis_machine::{Joints, Machine, Offsets, Vec3};
-use fiveaxis_stock::Stock;
-use fiveaxis_stock::solid::{Posed, ToolPieces};
+use fiveaxis_machine::{Joints, Machine, Offsets, SetupError, Vec3};
+use fiveaxis_stock::solid::{Piece, ToolPieces};
+use fiveaxis_stock::{Outcome, Pose, Stock};
 
 use crate::{Finding, Kind, block_minutes, round3};
 
@@ -59,10 +59,62 @@ const SHANK: usize = 1;
 const HOLDER: usize = 2;
 const GOUGE: usize = 3;
 
+/// Poses cut at once: enough to share out over the cores (a pose of a
+/// finishing tool at 0.2 mm is some 50 µs of cutting), few enough that
+/// the poses held stay small.
+const BATCH: usize = 512;
+
+/// A segment whose poses are queued or being cut.
+#[derive(Clone, Copy, Debug)]
+struct Queued {
+    line: u32,
+    order: u64,
+    rapid: bool,
+    tool: u32,
+    /// Its programmed time, for the time cutting air.
+    minutes: f64,
+    /// Its work offset and setup error, for places in findings.
+    work: Vec3,
+    setup: SetupError,
+    /// Its poses not yet cut.
+    remaining: usize,
+}
+
+/// What the poses of the segment being cut did so far.
+#[derive(Clone, Copy, Debug, Default)]
+struct Tally {
+    removed: f64,
+    worst: [Option<(f64, [Vec3; 2], Joints)>; 4],
+    /// A rapid move's path through the stock so far, and its last tip.
+    through: f64,
+    previous: Option<Vec3>,
+}
+
+impl Tally {
+    fn note(&mut self, which: usize, depth: f64, at: [Vec3; 2], q: Joints) {
+        if self.worst[which].is_none_or(|w| depth > w.0) {
+            self.worst[which] = Some((depth, at, q));
+        }
+    }
+}
+
 /// The stock check of one run.
 pub struct StockCheck {
     stock: Stock,
-    tools: BTreeMap<u32, (ToolPieces, f64)>,
+    /// Each tool's pieces, by index (the poses name them so).
+    pieces: Vec<ToolPieces>,
+    /// Per tool number: its index in `pieces`, its length, and how far
+    /// any of its points lies from its tip, mm.
+    tools: BTreeMap<u32, (usize, f64, f64)>,
+    /// Threads to cut on.
+    lanes: usize,
+    /// Segments queued, oldest first, and their poses with the machine
+    /// position of each.
+    queue: std::collections::VecDeque<Queued>,
+    poses: Vec<Pose>,
+    joints: Vec<Joints>,
+    outcomes: Vec<Outcome>,
+    tally: Tally,
     table: Link,
     start_volume: f64,
     tool: Option<u32>,
@@ -90,26 +142,43 @@ impl StockCheck {
     /// The check of `stock` on `machine`'s table with the tools of
     /// `offsets`, the work zero at `zero` of the table frame.
     pub fn new(machine: &Machine, offsets: &Offsets, stock: Stock, zero: Vec3) -> Self {
-        let tools = offsets
+        let numbers: std::collections::BTreeSet<u32> = offsets
             .tools
             .keys()
             .chain(offsets.tool_shapes.keys())
-            .map(|&n| {
-                let solid = offsets.tool_solid(n);
-                (
-                    n,
-                    (
-                        ToolPieces::of(&solid.shape, solid.length, solid.radius),
-                        solid.length,
-                    ),
-                )
-            })
+            .copied()
             .collect();
+        let mut pieces = Vec::new();
+        let mut tools = BTreeMap::new();
+        for n in numbers {
+            let solid = offsets.tool_solid(n);
+            let tool = ToolPieces::of(&solid.shape, solid.length, solid.radius);
+            let reach = tool
+                .cutting
+                .iter()
+                .chain(&tool.shank)
+                .chain(&tool.holder)
+                .map(|p| match *p {
+                    Piece::Sphere { at, radius } => at + radius,
+                    Piece::Frustum { a1, r0, r1, .. } => a1 + r0.max(r1),
+                })
+                .fold(0.0, f64::max);
+            tools.insert(n, (pieces.len(), solid.length, reach));
+            pieces.push(tool);
+        }
         let table = machine.work_link();
         let start_volume = stock.dexels.volume();
+        let lanes = std::thread::available_parallelism().map_or(1, std::num::NonZero::get);
         Self {
             stock,
+            pieces,
             tools,
+            lanes,
+            queue: std::collections::VecDeque::new(),
+            poses: Vec::with_capacity(BATCH),
+            joints: Vec::with_capacity(BATCH),
+            outcomes: Vec::with_capacity(BATCH),
+            tally: Tally::default(),
             table,
             start_volume,
             tool: None,
@@ -127,14 +196,31 @@ impl StockCheck {
         self.keep = Some(slot);
     }
 
-    /// The stock model as the run has cut it so far.
-    pub fn model_mut(&mut self) -> &mut Stock {
+    /// Cuts on at most `lanes` threads (all the cores unless told).
+    pub fn set_lanes(&mut self, lanes: usize) {
+        self.lanes = lanes.max(1);
+    }
+
+    /// The stock model as the run has cut it so far, once the poses
+    /// queued are cut (their findings to `add`).
+    pub(crate) fn model_mut(
+        &mut self,
+        machine: &Machine,
+        add: &mut impl FnMut(Finding),
+    ) -> &mut Stock {
+        self.flush(machine, add);
         &mut self.stock
     }
 
-    /// The first segment order of a finding still open, if any.
+    /// The first segment order of a finding still open or of a segment
+    /// still queued, if any.
     pub(crate) fn open_order(&self) -> Option<u64> {
-        self.runs.iter().flatten().map(|r| r.order).min()
+        self.runs
+            .iter()
+            .flatten()
+            .map(|r| r.order)
+            .chain(self.queue.front().map(|q| q.order))
+            .min()
     }
 
     /// The tool's tip and axis (tip towards the holder) in the stock's
@@ -162,24 +248,13 @@ impl StockCheck {
             self.last = None;
         }
         let rapid = seg.motion == Motion::Rapid;
-        let Some((pieces, length)) = self.tools.get(&seg.tool) else {
+        let Some(&(tool, length, reach)) = self.tools.get(&seg.tool) else {
             if !rapid {
                 self.air_minutes += block_minutes(machine, seg);
             }
             return;
         };
-        let (pieces, length) = (pieces.clone(), *length);
         let step = self.stock.dexels.cell;
-        let reach = pieces
-            .cutting
-            .iter()
-            .chain(&pieces.shank)
-            .chain(&pieces.holder)
-            .map(|p| match *p {
-                fiveaxis_stock::solid::Piece::Sphere { at, radius } => at + radius,
-                fiveaxis_stock::solid::Piece::Frustum { a1, r0, r1, .. } => a1 + r0.max(r1),
-            })
-            .fold(0.0, f64::max);
         let q0 = seg.eval(machine, 0.0);
         let qm = seg.eval(machine, 0.5);
         let q1 = seg.eval(machine, 1.0);
@@ -190,51 +265,106 @@ impl StockCheck {
         let travel = (pm - p0).norm() + (p1 - pm).norm() + turn * reach;
         let n = (travel / step).ceil().clamp(1.0, MAX_POSES) as u32;
         let first = if self.last == Some(q0) { 1 } else { 0 };
-        let mut removed = 0.0;
-        let mut worst: [Option<(f64, [Vec3; 2], Joints)>; 4] = [None; 4];
-        let mut note = |which: usize, depth: f64, at: [Vec3; 2], q: Joints| {
-            if worst[which].is_none_or(|w| depth > w.0) {
-                worst[which] = Some((depth, at, q));
-            }
-        };
-        // A rapid move's path through the stock: the tip's travel while
-        // the tool removes material.
-        let mut through = 0.0;
-        let mut previous: Option<Vec3> = None;
-        // Places in the workpiece coordinates of the segment.
-        let work = |p: &Vec3| seg.setup.inverse_point(&(p - seg.work));
+        self.queue.push_back(Queued {
+            line: seg.line,
+            order,
+            rapid,
+            tool: seg.tool,
+            minutes: if rapid {
+                0.0
+            } else {
+                block_minutes(machine, seg)
+            },
+            work: seg.work,
+            setup: seg.setup,
+            remaining: (n + 1 - first) as usize,
+        });
         for k in first..=n {
             let s = f64::from(k) / f64::from(n);
             let q = if k == n { q1 } else { seg.eval(machine, s) };
             let (tip, axis) = self.tool_pose(machine, &q, length);
-            let cutter = Posed::new(&pieces.cutting, &tip, &axis);
-            let cut = self.stock.cut(&cutter, seg.line, rapid);
-            removed += cut.removed;
-            if rapid && cut.depth > CONTACT_DEPTH {
-                through += previous.map_or(cut.depth, |p| (tip - p).norm());
-                note(RAPID, through, [tip, work(&tip)], q);
-            }
-            previous = Some(tip);
-            if cut.gouge > 0.0 {
-                note(GOUGE, cut.gouge, [cut.gouge_at, work(&cut.gouge_at)], q);
-            }
-            for (which, part) in [(SHANK, &pieces.shank), (HOLDER, &pieces.holder)] {
-                if part.is_empty() {
-                    continue;
-                }
-                let solid = Posed::new(part, &tip, &axis);
-                let depth = self.stock.interference(&solid);
-                if depth > CONTACT_DEPTH {
-                    note(which, depth, [tip, work(&tip)], q);
-                }
+            self.poses.push(Pose {
+                tool,
+                tip,
+                axis,
+                line: seg.line,
+                measure_depth: rapid,
+            });
+            self.joints.push(q);
+            if self.poses.len() >= BATCH {
+                self.flush(machine, add);
             }
         }
         self.last = Some(q1);
-        *self.removed.entry(seg.tool).or_insert(0.0) += removed;
-        if !rapid && removed < AIR_CUT_VOLUME {
-            self.air_minutes += block_minutes(machine, seg);
+    }
+
+    /// Cuts the poses queued, in order, and settles the segments they
+    /// finish.
+    fn flush(&mut self, machine: &Machine, add: &mut impl FnMut(Finding)) {
+        let mut outcomes = std::mem::take(&mut self.outcomes);
+        self.stock
+            .run(&self.pieces, &self.poses, &mut outcomes, self.lanes);
+        let mut next = 0;
+        while let Some(&front) = self.queue.front() {
+            let take = front.remaining.min(outcomes.len() - next);
+            // Places in the workpiece coordinates of the segment.
+            let work = |p: &Vec3| front.setup.inverse_point(&(p - front.work));
+            let range = next..next + take;
+            for ((o, pose), &q) in outcomes[range.clone()]
+                .iter()
+                .zip(&self.poses[range.clone()])
+                .zip(&self.joints[range])
+            {
+                let tally = &mut self.tally;
+                let tip = pose.tip;
+                tally.removed += o.cut.removed;
+                // A rapid move's path through the stock: the tip's
+                // travel while the tool removes material.
+                if front.rapid && o.cut.depth > CONTACT_DEPTH {
+                    tally.through += tally.previous.map_or(o.cut.depth, |p| (tip - p).norm());
+                    tally.note(RAPID, tally.through, [tip, work(&tip)], q);
+                }
+                tally.previous = Some(tip);
+                if o.cut.gouge > 0.0 {
+                    let at = o.cut.gouge_at;
+                    tally.note(GOUGE, o.cut.gouge, [at, work(&at)], q);
+                }
+                for (which, depth) in [(SHANK, o.shank), (HOLDER, o.holder)] {
+                    if depth > CONTACT_DEPTH {
+                        tally.note(which, depth, [tip, work(&tip)], q);
+                    }
+                }
+            }
+            next += take;
+            if take < front.remaining {
+                if let Some(f) = self.queue.front_mut() {
+                    f.remaining -= take;
+                }
+                break;
+            }
+            self.queue.pop_front();
+            let tally = std::mem::take(&mut self.tally);
+            self.settle(machine, &front, &tally, add);
         }
-        for (which, worst) in worst.into_iter().enumerate() {
+        self.poses.clear();
+        self.joints.clear();
+        self.outcomes = outcomes;
+    }
+
+    /// A segment's cuts done: its volume, its time cutting air, and the
+    /// findings it starts, continues or ends.
+    fn settle(
+        &mut self,
+        machine: &Machine,
+        seg: &Queued,
+        tally: &Tally,
+        add: &mut impl FnMut(Finding),
+    ) {
+        *self.removed.entry(seg.tool).or_insert(0.0) += tally.removed;
+        if !seg.rapid && tally.removed < AIR_CUT_VOLUME {
+            self.air_minutes += seg.minutes;
+        }
+        for (which, worst) in tally.worst.into_iter().enumerate() {
             match (worst, &mut self.runs[which]) {
                 (Some((depth, at, joints)), Some(run)) => {
                     if depth > run.depth {
@@ -246,7 +376,7 @@ impl StockCheck {
                 (Some((depth, at, joints)), slot @ None) => {
                     *slot = Some(Run {
                         line: seg.line,
-                        order,
+                        order: seg.order,
                         depth,
                         at,
                         joints,
@@ -264,6 +394,7 @@ impl StockCheck {
 
     /// Ends every finding in progress (a tool change, the run's end).
     pub(crate) fn close_all(&mut self, machine: &Machine, add: &mut impl FnMut(Finding)) {
+        self.flush(machine, add);
         for which in 0..4 {
             if let Some(run) = self.runs[which].take() {
                 add(self.finding(machine, which, run));

@@ -597,6 +597,12 @@ fn gather<S: fiveaxis_control::Source>(
         // block's own.
         let filled = runner.fill(&mut segments, 1);
         declared.offer(runner.stock(), &mut checker);
+        // The history begins with the stock model, before its first cut.
+        if g.stock_history.is_none()
+            && let Some(model) = checker.stock_model()
+        {
+            g.stock_history = Some(stock::StockHistory::start(model, STOCK_CELLS));
+        }
         ticks += 1;
         if ticks.is_multiple_of(PROGRESS_BLOCKS)
             && let Some(bar) = progress.visible()
@@ -677,11 +683,14 @@ fn gather<S: fiveaxis_control::Source>(
             g.rows += rows.len() as u64;
             last = Some((seg.motion, seg.end));
         }
-        if let Some(model) = checker.stock_model() {
-            let block = g.blocks.lines.len().saturating_sub(1) as u32;
-            g.stock_history
-                .get_or_insert_with(|| stock::StockHistory::start(model, STOCK_CELLS))
-                .after_block(model, block);
+        // The stock along the run: snapshots now and then (the checker
+        // cuts in batches, so only when one is due is it asked for the
+        // stock as it stands).
+        if let Some(history) = &mut g.stock_history
+            && history.due()
+            && let Some(model) = checker.stock_model()
+        {
+            history.snapshot(model, g.blocks.lines.len().saturating_sub(1) as u32);
         }
         match filled {
             Ok(true) => {}
@@ -703,7 +712,7 @@ fn gather<S: fiveaxis_control::Source>(
     g.stock = runner.stock();
     g.path.finish();
     if let (Some(history), Some(model)) = (&mut g.stock_history, checker.stock_model()) {
-        history.finish(model, g.blocks.lines.len().saturating_sub(1) as u32);
+        history.snapshot(model, g.blocks.lines.len().saturating_sub(1) as u32);
     }
     let (report, kind) = checker.finish_streamed(
         fiveaxis_check::Ending {

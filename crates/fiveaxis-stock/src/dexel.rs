@@ -198,42 +198,21 @@ impl Dexels {
     /// Removes `[lo, hi]` (heights from the origin) from ray `k`, handing
     /// each piece of material removed to `removed`; returns the length
     /// removed, mm.
-    pub fn subtract(&mut self, k: usize, lo: f32, hi: f32, mut removed: impl FnMut(Span)) -> f32 {
-        let spans = &mut self.rays[k];
-        let mut total = 0.0;
-        let mut i = 0;
-        while i < spans.len() {
-            let [a, b] = spans[i];
-            if b <= lo {
-                i += 1;
-                continue;
-            }
-            if a >= hi {
-                break;
-            }
-            let cut = [a.max(lo), b.min(hi)];
-            total += cut[1] - cut[0];
-            removed(cut);
-            match (a < lo, b > hi) {
-                (true, true) => {
-                    spans[i] = [a, lo];
-                    spans.insert(i + 1, [hi, b]);
-                    break;
-                }
-                (true, false) => {
-                    spans[i] = [a, lo];
-                    i += 1;
-                }
-                (false, true) => {
-                    spans[i] = [hi, b];
-                    break;
-                }
-                (false, false) => {
-                    spans.remove(i);
-                }
-            }
-        }
-        total
+    pub fn subtract(&mut self, k: usize, lo: f32, hi: f32, removed: impl FnMut(Span)) -> f32 {
+        subtract(&mut self.rays[k], lo, hi, removed)
+    }
+
+    /// The rays, taken out of the grid (which keeps its cells and is
+    /// empty until [`Dexels::put_rays`] gives them back), so that they
+    /// can be cut row by row on several threads while the grid's
+    /// geometry is read.
+    pub(crate) fn take_rays(&mut self) -> Vec<Spans> {
+        std::mem::take(&mut self.rays)
+    }
+
+    /// Gives back the rays [`Dexels::take_rays`] took.
+    pub(crate) fn put_rays(&mut self, rays: Vec<Spans>) {
+        self.rays = rays;
     }
 
     /// The pieces of ray `k`'s material inside `[lo, hi]`.
@@ -415,4 +394,43 @@ fn add_span(spans: &mut Spans, span: Span) {
         out.push([a, b]);
     }
     *spans = out;
+}
+
+/// Removes `[lo, hi]` from the spans of one ray, handing each piece of
+/// material removed to `removed`; returns the length removed.
+pub(crate) fn subtract(spans: &mut Spans, lo: f32, hi: f32, mut removed: impl FnMut(Span)) -> f32 {
+    let mut total = 0.0;
+    let mut i = 0;
+    while i < spans.len() {
+        let [a, b] = spans[i];
+        if b <= lo {
+            i += 1;
+            continue;
+        }
+        if a >= hi {
+            break;
+        }
+        let cut = [a.max(lo), b.min(hi)];
+        total += cut[1] - cut[0];
+        removed(cut);
+        match (a < lo, b > hi) {
+            (true, true) => {
+                spans[i] = [a, lo];
+                spans.insert(i + 1, [hi, b]);
+                break;
+            }
+            (true, false) => {
+                spans[i] = [a, lo];
+                i += 1;
+            }
+            (false, true) => {
+                spans[i] = [hi, b];
+                break;
+            }
+            (false, false) => {
+                spans.remove(i);
+            }
+        }
+    }
+    total
 }

@@ -8,11 +8,13 @@
 //! machine with the work zero placed; the caller places the tool.
 
 pub mod dexel;
+pub mod lanes;
 pub mod solid;
 
 use dexel::{Dexels, Span};
 use fiveaxis_machine::Vec3;
-use solid::Posed;
+pub use lanes::{Outcome, Pose};
+use solid::{Posed, ToolPieces};
 
 /// The cell size of the stock model unless told, mm.
 pub const DEFAULT_RESOLUTION: f64 = 0.2;
@@ -77,7 +79,7 @@ pub struct Touched {
 }
 
 impl Touched {
-    fn add(this: &mut Option<Touched>, i: usize, j: usize) {
+    pub(crate) fn add(this: &mut Option<Touched>, i: usize, j: usize) {
         match this {
             Some(t) => {
                 t.i = (t.i.0.min(i), t.i.1.max(i + 1));
@@ -118,115 +120,69 @@ impl Stock {
         self.touched.take()
     }
 
+    /// What the lanes read: the grid, the part, the tolerance, the top.
+    fn shared(&self) -> lanes::Shared<'_> {
+        lanes::Shared {
+            grid: &self.dexels,
+            part: self.part.as_ref(),
+            tolerance: self.tolerance,
+            top: self.top,
+        }
+    }
+
     /// Whether `posed` may reach the stock at all (its box against the
     /// grid and the top of the material).
     pub fn may_meet(&self, posed: &Posed) -> bool {
-        let d = &self.dexels;
-        let hi_x = d.origin.x + d.cell * d.nx as f64;
-        let hi_y = d.origin.y + d.cell * d.ny as f64;
-        !posed.pieces.is_empty()
-            && posed.min.z - d.origin.z <= f64::from(self.top)
-            && posed.max.x >= d.origin.x
-            && posed.min.x <= hi_x
-            && posed.max.y >= d.origin.y
-            && posed.min.y <= hi_y
+        self.shared().may_meet(posed)
     }
 
     /// Cuts the material inside `cutter` (line `line` of the program).
     pub fn cut(&mut self, cutter: &Posed, line: u32, measure_depth: bool) -> Cut {
         let mut cut = Cut::default();
-        if !self.may_meet(cutter) {
-            return cut;
-        }
-        let d = &mut self.dexels;
-        let oz = d.origin.z;
-        let floor = (cutter.min.z - oz) as f32;
-        let tolerance = self.tolerance;
-        let mut removed = 0.0f64;
-        for j in d.rows(cutter.min.y, cutter.max.y) {
-            for i in d.columns(cutter.min.x, cutter.max.x) {
-                let k = j * d.nx + i;
-                match d.spans(k).last() {
-                    Some(top) if top[1] > floor => {}
-                    _ => continue,
-                }
-                let (x, y) = d.centre(i, j);
-                let Some((lo, hi)) = cutter.ray(x, y) else {
-                    continue;
-                };
-                let (lo, hi) = ((lo - oz) as f32, (hi - oz) as f32);
-                let part = self.part.as_ref();
-                let mut gouge = (0.0, Vec3::zeros());
-                let mut depth = 0.0f64;
-                let length = d.subtract(k, lo, hi, |piece: Span| {
-                    if measure_depth {
-                        for z in [piece[0], piece[1], (piece[0] + piece[1]) / 2.0] {
-                            let p = Vec3::new(x, y, oz + f64::from(z));
-                            depth = depth.max(cutter.depth(&p));
-                        }
-                    }
-                    let Some(part) = part else { return };
-                    part.dexels.overlap(k, piece[0], piece[1], |[c, e]| {
-                        if f64::from(e - c) <= tolerance {
-                            return;
-                        }
-                        for z in [c, e, (c + e) / 2.0] {
-                            let p = Vec3::new(x, y, oz + f64::from(z));
-                            let g = (part.depth)(&p);
-                            if g > gouge.0 {
-                                gouge = (g, p);
-                            }
-                        }
-                    });
-                });
-                if length > 0.0 {
-                    removed += f64::from(length);
-                    Touched::add(&mut self.touched, i, j);
-                    if !self.last_line.is_empty() {
-                        self.last_line[k] = line;
-                    }
-                    if gouge.0 > tolerance && gouge.0 > cut.gouge {
-                        cut.gouge = gouge.0;
-                        cut.gouge_at = gouge.1;
-                    }
-                    cut.depth = cut.depth.max(depth);
-                }
-            }
-        }
-        cut.removed = removed * d.cell * d.cell;
+        self.with_lanes(1, |shared, lanes| {
+            cut = shared.cut(&mut lanes[0], cutter, line, measure_depth);
+            lanes[0].touched
+        });
         cut
     }
 
-    /// How deep the material left reaches into `solid` (0: it does not
-    /// meet it), without cutting.
-    pub fn interference(&self, solid: &Posed) -> f64 {
-        if !self.may_meet(solid) {
-            return 0.0;
+    /// Cuts with each of `poses` in order (their tools: indices into
+    /// `tools`), one [`lanes::Outcome`] each into `out`: on up to `lanes`
+    /// threads, each cutting its own rows ([`lanes`]); the stock left
+    /// is the same whatever their number.
+    pub fn run(
+        &mut self,
+        tools: &[ToolPieces],
+        poses: &[Pose],
+        out: &mut Vec<Outcome>,
+        lanes: usize,
+    ) {
+        let lanes = lanes.clamp(1, (poses.len() / lanes::POSES_PER_LANE).max(1));
+        self.with_lanes(lanes, |shared, lanes| {
+            lanes::run_lanes(shared, std::mem::take(lanes), tools, poses, out)
+        });
+    }
+
+    /// Runs `work` on the rays dealt out to `count` lanes, and notes the
+    /// rays it says it touched.
+    fn with_lanes(
+        &mut self,
+        count: usize,
+        work: impl FnOnce(&lanes::Shared<'_>, &mut Vec<lanes::Lane<'_>>) -> Option<Touched>,
+    ) {
+        let mut rays = self.dexels.take_rays();
+        let mut lines = std::mem::take(&mut self.last_line);
+        let nx = self.dexels.nx;
+        let touched = {
+            let mut dealt = lanes::deal(&mut rays, &mut lines, nx, count);
+            work(&self.shared(), &mut dealt)
+        };
+        self.dexels.put_rays(rays);
+        self.last_line = lines;
+        if let Some(t) = touched {
+            Touched::add(&mut self.touched, t.i.0, t.j.0);
+            Touched::add(&mut self.touched, t.i.1 - 1, t.j.1 - 1);
         }
-        let d = &self.dexels;
-        let oz = d.origin.z;
-        let floor = (solid.min.z - oz) as f32;
-        let mut depth = 0.0f64;
-        for j in d.rows(solid.min.y, solid.max.y) {
-            for i in d.columns(solid.min.x, solid.max.x) {
-                let k = j * d.nx + i;
-                match d.spans(k).last() {
-                    Some(top) if top[1] > floor => {}
-                    _ => continue,
-                }
-                let (x, y) = d.centre(i, j);
-                let Some((lo, hi)) = solid.ray(x, y) else {
-                    continue;
-                };
-                d.overlap(k, (lo - oz) as f32, (hi - oz) as f32, |piece| {
-                    for z in [piece[0], piece[1], (piece[0] + piece[1]) / 2.0] {
-                        let p = Vec3::new(x, y, oz + f64::from(z));
-                        depth = depth.max(solid.depth(&p));
-                    }
-                });
-            }
-        }
-        depth
     }
 
     /// The material left on the part beyond the tolerance, grouped by the

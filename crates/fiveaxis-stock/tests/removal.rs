@@ -425,3 +425,93 @@ fn a_pocket_wall_left_thick_is_its_thickness_not_the_pocket_depth() {
     );
     assert!(exact.left_on_part().is_empty());
 }
+
+#[test]
+fn cutting_on_several_lanes_leaves_what_one_leaves() {
+    use fiveaxis_stock::{Outcome, Pose};
+    // A bull nose with a shank and a holder, leaning and plunging along a
+    // seeded random walk over a block with a part inside it; the same
+    // poses cut on 1, 2 and 3 lanes.
+    let shape = ToolShape {
+        cutter: Cutter::BullNose { corner: 1.5 },
+        flute: 12.0,
+        shank: 8.0,
+        holder: vec![fiveaxis_machine::geometry::HolderStep {
+            length: 30.0,
+            diameter: 30.0,
+            tip_diameter: 24.0,
+        }],
+    };
+    let tools = [ToolPieces::of(&shape, 60.0, 4.0)];
+    let (pmin, pmax) = (Vec3::new(10.0, 10.0, -20.0), Vec3::new(90.0, 40.0, -6.0));
+    let part = || {
+        let mut d = block().like();
+        d.fill_box(&pmin, &pmax);
+        Part {
+            dexels: d,
+            depth: Box::new(move |p: &Vec3| box_depth(pmin, pmax, p)),
+        }
+    };
+    let mut seed = 11u64;
+    let mut next = move || {
+        seed = seed
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (seed >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let mut poses = Vec::new();
+    let mut tip = Vec3::new(50.0, 25.0, 5.0);
+    for k in 0..1200u32 {
+        tip += Vec3::new(next() - 0.5, next() - 0.5, 0.6 * (next() - 0.55));
+        tip.x = tip.x.clamp(-5.0, 105.0);
+        tip.y = tip.y.clamp(-5.0, 55.0);
+        tip.z = tip.z.clamp(-12.0, 5.0);
+        let lean = Vec3::new(0.4 * (next() - 0.5), 0.4 * (next() - 0.5), 1.0).normalize();
+        poses.push(Pose {
+            tool: 0,
+            tip,
+            axis: lean,
+            line: k + 1,
+            measure_depth: k % 7 == 0,
+        });
+    }
+    let mut results: Vec<(Stock, Vec<Outcome>)> = Vec::new();
+    for lanes in [1, 2, 3] {
+        let mut stock = Stock::new(block(), Some(part()), 0.05);
+        let mut all = Vec::new();
+        let mut out = Vec::new();
+        // In batches, as the check feeds them.
+        for batch in poses.chunks(100) {
+            stock.run(&tools, batch, &mut out, lanes);
+            all.extend_from_slice(&out);
+        }
+        results.push((stock, all));
+    }
+    let (one, outcomes) = &results[0];
+    assert!(
+        outcomes.iter().any(|o| o.cut.gouge > 0.0),
+        "the walk gouges the part"
+    );
+    assert!(
+        outcomes.iter().any(|o| o.shank > 0.0 || o.holder > 0.0),
+        "and runs the shank or holder in"
+    );
+    for (other, theirs) in &results[1..] {
+        assert_eq!(
+            one.dexels.rays(),
+            other.dexels.rays(),
+            "the same stock left"
+        );
+        assert_eq!(
+            one.left_on_part(),
+            other.left_on_part(),
+            "the same lines left material"
+        );
+        for (a, b) in outcomes.iter().zip(theirs) {
+            assert!((a.cut.removed - b.cut.removed).abs() <= 1e-9 * a.cut.removed.max(1.0));
+            assert_eq!(a.cut.gouge, b.cut.gouge);
+            assert_eq!(a.cut.depth, b.cut.depth);
+            assert_eq!((a.shank, a.holder), (b.shank, b.holder));
+        }
+    }
+}

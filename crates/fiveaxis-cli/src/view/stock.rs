@@ -132,22 +132,20 @@ impl StockHistory {
         }
     }
 
-    /// After block `block` (its index in the page): a snapshot when it
-    /// is time for one.
-    pub fn after_block(&mut self, stock: &mut Stock, block: u32) {
+    /// After a block: whether it is time for a snapshot.
+    pub fn due(&mut self) -> bool {
         self.since += 1;
         if self.since >= self.every {
             self.since = 0;
-            self.snapshot(stock, block);
+            true
+        } else {
+            false
         }
     }
 
-    /// At the run's end, `block` the last: the changes not yet taken.
-    pub fn finish(&mut self, stock: &mut Stock, block: u32) {
-        self.snapshot(stock, block);
-    }
-
-    fn snapshot(&mut self, stock: &mut Stock, block: u32) {
+    /// The changes since the last snapshot, as the stock stands after
+    /// block `block` (its index in the page); at the run's end too.
+    pub fn snapshot(&mut self, stock: &mut Stock, block: u32) {
         let Some(touched) = stock.take_touched() else {
             return;
         };
@@ -241,6 +239,13 @@ mod tests {
         stock.cut(&posed, 1, false);
     }
 
+    /// A block done: a snapshot when one is due.
+    fn after_block(h: &mut StockHistory, stock: &mut Stock, block: u32) {
+        if h.due() {
+            h.snapshot(stock, block);
+        }
+    }
+
     /// The tops replayed from the history: the start and every change.
     fn replay(h: &StockHistory) -> Vec<f32> {
         let mut tops = h.start.clone();
@@ -285,12 +290,12 @@ mod tests {
         for block in 0..2000u32 {
             let (x, y, z) = (10.0 * next(), 10.0 * next(), 10.0 * next());
             dig(&mut stock, x, y, z);
-            h.after_block(&mut stock, block);
+            after_block(&mut h, &mut stock, block);
             dig(&mut coarse, x, y, z);
-            h3.after_block(&mut coarse, block);
+            after_block(&mut h3, &mut coarse, block);
         }
-        h.finish(&mut stock, 2000);
-        h3.finish(&mut coarse, 2000);
+        h.snapshot(&mut stock, 2000);
+        h3.snapshot(&mut coarse, 2000);
         assert_eq!(h3.grid.k, 3);
         assert!(same(&replay(&h3), &direct(&coarse, 7)));
         assert!(same(&replay(&h), &direct(&stock, 20)));
@@ -301,7 +306,10 @@ mod tests {
                 .windows(2)
                 .all(|w| w[0].0 < w[1].0 && w[0].1 <= w[1].1)
         );
-        assert_eq!(h.snapshots.last().map(|s| s.1 as usize), Some(h.cells.len()));
+        assert_eq!(
+            h.snapshots.last().map(|s| s.1 as usize),
+            Some(h.cells.len())
+        );
         assert!(h.every > 1);
     }
 
@@ -311,12 +319,12 @@ mod tests {
         let mut h = StockHistory::start(&mut stock, 20);
         let untouched = replay(&h);
         dig(&mut stock, 2.25, 2.25, 5.0);
-        h.after_block(&mut stock, 0);
+        after_block(&mut h, &mut stock, 0);
         let first = direct(&stock, 20);
         dig(&mut stock, 7.75, 7.75, 3.0);
-        h.after_block(&mut stock, 1);
+        after_block(&mut h, &mut stock, 1);
         // A block that cuts nothing takes no snapshot.
-        h.after_block(&mut stock, 2);
+        after_block(&mut h, &mut stock, 2);
         assert_eq!(h.snapshots.len(), 2);
         let end = h.snapshots[0].1 as usize;
         let mut tops = h.start.clone();
