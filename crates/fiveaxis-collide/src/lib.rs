@@ -115,6 +115,23 @@ fn tool_side(machine: &Machine, link: Link) -> bool {
     }
 }
 
+/// The link a table-side link rides on: the table rotary axis before it
+/// in the chain, else the base (`None` for the base and the tool side).
+fn table_parent(machine: &Machine, link: Link) -> Option<Link> {
+    let first = machine.linear.len();
+    let Link::Axis(i) = link else { return None };
+    let k = i.checked_sub(first)?;
+    if machine.rotary.get(k)?.on != Side::Table {
+        return None;
+    }
+    Some(
+        machine.rotary[..k]
+            .iter()
+            .rposition(|r| r.on == Side::Table)
+            .map_or(Link::Base, |p| Link::Axis(first + p)),
+    )
+}
+
 /// The reach of a shape on `link` from every joint (`Part::reach`).
 fn reach(machine: &Machine, link: Link, shape: &SharedShape) -> [f64; MAX_AXES] {
     let sphere = shape.compute_local_bounding_sphere();
@@ -219,8 +236,11 @@ impl Scene {
 
     /// The pairs that must not touch: a part that moves with the tool
     /// and one of the work's side; two machine bodies of different links
-    /// on the work's side. The cutting part against the stock is cutting,
-    /// not a collision.
+    /// on the work's side, unless one rides on the other and they touch
+    /// with every axis at 0 (a round table on its cradle, a trunnion's
+    /// shaft in its bearing: parts assembled together, as a robot's
+    /// adjacent links are left out of its collision checks). The cutting
+    /// part against the stock is cutting, not a collision.
     fn refresh_pairs(&mut self, machine: &Machine) {
         self.pairs.clear();
         for a in 0..self.parts.len() {
@@ -237,7 +257,8 @@ impl Scene {
                     && !tb
                     && pa.on != pb.on
                     && pa.kind == PartKind::Machine
-                    && pb.kind == PartKind::Machine;
+                    && pb.kind == PartKind::Machine
+                    && !self.assembled(machine, a, b);
                 // The part on the tool's side first: it is what hits.
                 if across && tb {
                     self.pairs.push((b, a));
@@ -246,6 +267,25 @@ impl Scene {
                 }
             }
         }
+    }
+
+    /// Whether parts `a` and `b` ride one on the other and touch with
+    /// every axis at 0.
+    fn assembled(&self, machine: &Machine, a: usize, b: usize) -> bool {
+        let (pa, pb) = (&self.parts[a], &self.parts[b]);
+        let adjacent = table_parent(machine, pa.on) == Some(pb.on)
+            || table_parent(machine, pb.on) == Some(pa.on);
+        if !adjacent {
+            return false;
+        }
+        let home = [0.0; MAX_AXES];
+        let pose_a = shapes::pose(&machine.link_pose(pa.on, &home));
+        let pose_b = shapes::pose(&machine.link_pose(pb.on, &home));
+        // Touching counts: a micrometre apart.
+        matches!(
+            query::closest_points(&pose_a, &*pa.shape, &pose_b, &*pb.shape, 1e-3),
+            Ok(ClosestPoints::Intersecting | ClosestPoints::WithinMargin(..))
+        )
     }
 
     /// The tool in the spindle: its cutting part, shank and holder from

@@ -222,3 +222,80 @@ mod properties {
         }
     }
 }
+
+#[test]
+fn bodies_assembled_together_are_not_a_collision_but_the_rest_of_the_chain_is() {
+    // A trunnion on A carrying a round table on C: the table sits on the
+    // cradle (touching with every axis at 0), the cradle's shafts in the
+    // bed's supports. Tilted 90°, the table's edge swings into the bed's
+    // floor: that pair (not adjacent) is checked.
+    let text = r#"
+name = "trunnion"
+type = "table"
+[[linear]]
+name = "X"
+min = -1000.0
+max = 1000.0
+[[linear]]
+name = "Y"
+min = -1000.0
+max = 1000.0
+[[linear]]
+name = "Z"
+min = -1000.0
+max = 1000.0
+[[rotary]]
+name = "A"
+on = "table"
+axis = [1, 0, 0]
+center = [0, 0, 0]
+[[rotary]]
+name = "C"
+on = "table"
+axis = [0, 0, 1]
+center = [0, 0, 0]
+[[body]]
+name = "bed"
+on = "base"
+solids = [
+    { box = [100.0, 400.0, 20.0], at = [0.0, 0.0, -150.0] },
+    { box = [60.0, 40.0, 60.0], at = [-230.0, 0.0, 0.0] },
+]
+[[body]]
+name = "cradle"
+on = "A"
+solids = [
+    { box = [400.0, 300.0, 20.0], at = [0.0, 0.0, -30.0] },
+    { cylinder = [20.0, 60.0], at = [-260.0, 0.0, 0.0], axis = [1, 0, 0] },
+]
+[[body]]
+name = "table"
+on = "C"
+solids = [{ cylinder = [150.0, 20.0], at = [0.0, 0.0, -20.0] }]
+"#;
+    let m = Machine::from_toml(text).expect("the test machine");
+    let scene = Scene::new(&m, 0.5);
+    let names = |pair: &(usize, usize)| {
+        let parts = scene.parts();
+        let mut n = [parts[pair.0].name.clone(), parts[pair.1].name.clone()];
+        n.sort();
+        n
+    };
+    let pairs: Vec<[String; 2]> = scene.pairs().iter().map(names).collect();
+    assert_eq!(
+        pairs,
+        [["bed".to_string(), "table".to_string()]],
+        "{pairs:?}"
+    );
+    // Tilting A to 90°: the table (radius 150, z −20..0) reaches down to
+    // −(150·sin A + 20·cos A), the floor's top (−140) at A = 60.1°: the
+    // contact is first found there, less the clearance's worth.
+    let found = scene.check_move(&m, |s| joints(0.0, 0.0, 0.0, 90.0 * s));
+    assert_eq!(found.len(), 1, "{found:?}");
+    let contact = &found[0].1;
+    let mut bodies = contact.bodies.clone();
+    bodies.sort();
+    assert_eq!(bodies, ["bed".to_string(), "table".to_string()]);
+    let first = 90.0 * contact.s;
+    assert!((59.0..=60.1).contains(&first), "first contact at A{first}");
+}
