@@ -306,10 +306,7 @@ pub(crate) fn run_lanes(
         }
     }
     for lane in &lanes {
-        if let Some(t) = lane.touched {
-            Touched::add(&mut touched, t.i.0, t.j.0);
-            Touched::add(&mut touched, t.i.1 - 1, t.j.1 - 1);
-        }
+        Touched::merge(&mut touched, lane.touched);
     }
     touched
 }

@@ -79,6 +79,15 @@ pub struct Touched {
 }
 
 impl Touched {
+    /// Adds the rectangle `other` to `this`.
+    pub(crate) fn merge(this: &mut Option<Touched>, other: Option<Touched>) {
+        if let Some(t) = other {
+            Touched::add(this, t.i.0, t.j.0);
+            Touched::add(this, t.i.1 - 1, t.j.1 - 1);
+        }
+    }
+
+    /// Adds ray (`i`, `j`) to `this`.
     pub(crate) fn add(this: &mut Option<Touched>, i: usize, j: usize) {
         match this {
             Some(t) => {
@@ -179,10 +188,7 @@ impl Stock {
         };
         self.dexels.put_rays(rays);
         self.last_line = lines;
-        if let Some(t) = touched {
-            Touched::add(&mut self.touched, t.i.0, t.j.0);
-            Touched::add(&mut self.touched, t.i.1 - 1, t.j.1 - 1);
-        }
+        Touched::merge(&mut self.touched, touched);
     }
 
     /// The material left on the part beyond the tolerance, grouped by the
