@@ -585,7 +585,38 @@ impl Reading {
             let got: Vec<f64> = args.iter().skip(from).filter_map(number).collect();
             (args.len() == from + n && got.len() == n).then_some(got)
         };
-        if keywords > 0 && !matches!(name, "hal.component") {
+        const KNOWN: [&str; 28] = [
+            "hal.component",
+            "Capture",
+            "Box",
+            "BoxCentered",
+            "BoxCenteredXY",
+            "CylinderX",
+            "CylinderY",
+            "CylinderZ",
+            "Sphere",
+            "Collection",
+            "Translate",
+            "Rotate",
+            "Scale",
+            "HalTranslate",
+            "HalRotate",
+            "HalVectorTranslate",
+            "HalShow",
+            "Color",
+            "math.sqrt",
+            "sqrt",
+            "math.sin",
+            "sin",
+            "math.cos",
+            "cos",
+            "math.radians",
+            "radians",
+            "abs",
+            "float",
+        ];
+        let known = KNOWN.contains(&name) || matches!(name, "int" | "math.degrees" | "degrees");
+        if keywords > 0 && known && name != "hal.component" {
             return self.unread(line, format!("`{name}(…)` with keyword arguments"));
         }
         match name {
