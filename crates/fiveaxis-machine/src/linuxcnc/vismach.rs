@@ -220,10 +220,13 @@ const KEYWORDS: [&str; 22] = [
 /// Splits `text` into top-level logical statements (first line, and the
 /// code of each physical line with its number). Indented lines (block
 /// bodies) and triple-quoted strings are passed over.
-fn statements(text: &str) -> (Vec<(u32, Vec<(u32, String)>, bool)>, bool) {
+/// Physical lines of a statement: number and code.
+type Segments = Vec<(u32, String)>;
+
+fn statements(text: &str) -> (Vec<(u32, Segments, bool)>, bool) {
     let mut out = Vec::new();
     let mut triple: Option<&'static str> = None;
-    let mut current: Option<(u32, Vec<(u32, String)>, i64)> = None;
+    let mut current: Option<(u32, Segments, i64)> = None;
     let mut truncated = false;
     for (index, raw) in text.lines().enumerate() {
         let line = u32::try_from(index + 1).unwrap_or(u32::MAX);
@@ -265,10 +268,11 @@ fn statements(text: &str) -> (Vec<(u32, Vec<(u32, String)>, bool)>, bool) {
             }
             continue;
         }
-        if *depth <= 0 && !continued {
-            if let Some((start, segments, depth)) = current.take() {
-                out.push((start, segments, depth == 0));
-            }
+        if *depth <= 0
+            && !continued
+            && let Some((start, segments, depth)) = current.take()
+        {
+            out.push((start, segments, depth == 0));
         }
     }
     if let Some((start, segments, _)) = current.take() {
@@ -1573,6 +1577,10 @@ fn tidy_placement(p: Placement) -> Placement {
     }
 }
 
+/// Solids on one link moved by one node: the link, the node, each solid
+/// with its instance.
+type Group = (Link, Option<usize>, Vec<(Solid, usize)>);
+
 /// The machine's bodies from the configuration's vismach model, with the
 /// notes of what was read, mapped and left out. `joints` gives the
 /// coordinate letter of each LinuxCNC joint.
@@ -1696,7 +1704,7 @@ pub(crate) fn map_model(
         .path_pose(&tip_path, &[0.0; crate::MAX_AXES])
         .translation
         .vector;
-    let qs = samples(machine, SAMPLES, 0x5eed_0f_7a6e);
+    let qs = samples(machine, SAMPLES, 0x005e_ed0f_7a6e);
     let zero = [0.0; crate::MAX_AXES];
     // Candidate links, in order of preference.
     let mut links = vec![Link::Base];
@@ -1710,7 +1718,7 @@ pub(crate) fn map_model(
 
     let (mut tool, mut unmatched, mut empty, mut bounds) = (vec![], vec![], vec![], vec![]);
     // (link, motion node) → body index.
-    let mut groups: Vec<(Link, Option<usize>, Vec<(Solid, usize)>)> = Vec::new();
+    let mut groups: Vec<Group> = Vec::new();
     for (index, inst) in frame.instances.iter().enumerate() {
         if inst.tool {
             tool.push(inst.line);
