@@ -65,6 +65,28 @@ impl Placement {
         let spin = Rotation3::from_axis_angle(&Vec3::z_axis(), self.turn.to_radians());
         IsometryMatrix3::from_parts(Translation3::from(self.at), up * spin)
     }
+
+    /// The placement whose [`Placement::isometry`] is `map`: `axis` the
+    /// image of +Z, `turn` what is left about it once the solid's +Z is
+    /// brought there the way `isometry` does (in (−180°, 180°]).
+    pub fn from_isometry(map: &IsometryMatrix3<f64>) -> Self {
+        let axis = Unit::new_normalize(map.rotation * Vec3::z());
+        let up = Placement {
+            axis,
+            ..Placement::default()
+        }
+        .isometry()
+        .rotation;
+        // up⁻¹·R keeps +Z: a turn about it.
+        let spin = up.inverse() * map.rotation;
+        let m = spin.matrix();
+        let turn = m[(1, 0)].atan2(m[(0, 0)]).to_degrees();
+        Self {
+            at: map.translation.vector,
+            axis,
+            turn,
+        }
+    }
 }
 
 /// A solid primitive, in its own frame ([`Placement`]).
@@ -270,5 +292,52 @@ impl ToolShape {
     /// How far the holder reaches from the gauge line, mm.
     pub fn holder_length(&self) -> f64 {
         self.holder.iter().map(|s| s.length).sum()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    fn same(a: &IsometryMatrix3<f64>, b: &IsometryMatrix3<f64>) -> bool {
+        (a.to_homogeneous() - b.to_homogeneous()).abs().max() < 1e-9
+    }
+
+    proptest! {
+        #[test]
+        fn a_placement_from_an_isometry_gives_it_back(
+            ax in -1.0f64..1.0, ay in -1.0f64..1.0, az in -1.0f64..1.0,
+            angle in -7.0f64..7.0,
+            t in prop::array::uniform3(-1000.0f64..1000.0),
+        ) {
+            let axis = Vec3::new(ax, ay, az);
+            prop_assume!(axis.norm() > 1e-3);
+            let rotation = Rotation3::from_axis_angle(&Unit::new_normalize(axis), angle);
+            let map = IsometryMatrix3::from_parts(Translation3::new(t[0], t[1], t[2]), rotation);
+            let back = Placement::from_isometry(&map).isometry();
+            prop_assert!(same(&map, &back), "{map:?} {back:?}");
+        }
+    }
+
+    #[test]
+    fn straight_down_and_nearly_down_round_trip() {
+        let mut turns = vec![];
+        for spin in [0.0, 30.0, -90.0, 180.0] {
+            for tilt in [0.0, 1e-9, 1e-14, 1e-17] {
+                // +Z taken to -Z (half a turn about X or Y), then a spin,
+                // then a tilt of almost nothing.
+                for half in [Vec3::x_axis(), Vec3::y_axis()] {
+                    let r = Rotation3::from_axis_angle(&Vec3::x_axis(), tilt)
+                        * Rotation3::from_axis_angle(&half, std::f64::consts::PI)
+                        * Rotation3::from_axis_angle(&Vec3::z_axis(), f64::to_radians(spin));
+                    let map = IsometryMatrix3::from_parts(Translation3::new(1.0, 2.0, 3.0), r);
+                    let p = Placement::from_isometry(&map);
+                    assert!(same(&map, &p.isometry()), "{spin} {tilt}: {p:?}");
+                    turns.push(p.turn);
+                }
+            }
+        }
+        assert!(turns.iter().all(|t| (-180.0..=180.0).contains(t)));
     }
 }

@@ -9,6 +9,9 @@
 //! boxes (`[DISPLAY] PYVCP`) are read too: a panel's output pin drives its
 //! signal like any other.
 //!
+//! The `loadusr` commands are kept as they are (the vismach model is
+//! loaded by one).
+//!
 //! `LIB:` system files (`basic_sim.tcl`) and files that are not in the
 //! configuration folder (LinuxCNC takes those from its system library) are
 //! not part of the configuration, and Tcl HAL files need a Tcl
@@ -64,8 +67,19 @@ pub(crate) struct Hal {
     pin_signal: BTreeMap<String, String>,
     signal_pins: BTreeMap<String, Vec<String>>,
     panel: BTreeMap<String, (f64, Origin)>,
+    /// The `loadusr` commands, in the order they run (the vismach model
+    /// is one: `loadusr -W ./NAME-gui.py [var=value …]`).
+    pub loadusr: Vec<LoadUsr>,
     /// What was skipped, for the import notes.
     pub notes: Vec<String>,
+}
+
+/// A `loadusr` command: its words after `loadusr`, and where it is.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct LoadUsr {
+    pub words: Vec<String>,
+    pub file: PathBuf,
+    pub line: u32,
 }
 
 impl Hal {
@@ -229,6 +243,11 @@ impl Hal {
                     self.link(signal, pin);
                 }
             }
+            "loadusr" => self.loadusr.push(LoadUsr {
+                words: args.to_vec(),
+                file: file.to_path_buf(),
+                line,
+            }),
             "linksp" => {
                 if let [signal, pin] = args {
                     self.link(signal, pin);

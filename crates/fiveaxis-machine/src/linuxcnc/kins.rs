@@ -69,6 +69,9 @@ pub(crate) struct Kinematics {
     /// The linear axis that moves the tool along its own axis (5axiskins'
     /// W), if any.
     pub quill: Option<char>,
+    /// The coordinate letter of each LinuxCNC joint, by joint number (the
+    /// coordinates in order, a doubled letter a second joint of its axis).
+    pub joints: Vec<char>,
     /// Notes on the geometry's sources.
     pub notes: Vec<String>,
 }
@@ -131,11 +134,13 @@ impl Kinematics {
             (None, None) => String::new(),
         };
         let mut axes: Vec<char> = Vec::new();
+        let mut joints: Vec<char> = Vec::new();
         for c in letters.chars().filter(|c| !c.is_whitespace()) {
             let c = c.to_ascii_uppercase();
             if !"XYZABCUVW".contains(c) {
                 return Err(entry.error(format!("`{c}` is not a coordinate letter (XYZABCUVW)")));
             }
+            joints.push(c);
             // A doubled letter is a second joint of the same axis (gantry).
             if !axes.contains(&c) {
                 axes.push(c);
@@ -148,12 +153,14 @@ impl Kinematics {
             rotary: Vec::new(),
             types: Vec::new(),
             quill: None,
+            joints,
             notes: Vec::new(),
         };
         match module.as_str() {
             "trivkins" => {
                 if axes.is_empty() {
                     axes = "XYZABCUVW".chars().collect();
+                    k.joints.clone_from(&axes);
                 }
                 let rotary: String = axes.iter().filter(|c| "ABC".contains(**c)).collect();
                 if !rotary.is_empty() {
@@ -363,6 +370,7 @@ impl Kinematics {
                 // motors do.
                 if axes.is_empty() {
                     axes = vec!['X', 'Y', 'Z'];
+                    k.joints.clone_from(&axes);
                 }
                 let rotary: String = axes.iter().filter(|c| "ABC".contains(**c)).collect();
                 if !rotary.is_empty() {

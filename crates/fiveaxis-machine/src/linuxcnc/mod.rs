@@ -13,11 +13,14 @@
 //! * [`kins`]: each kinematics module's machine, with the source of its
 //!   formulas.
 //! * [`remap`]: the M codes of switchable kinematics (`REMAP = M428 …`).
+//! * [`vismach`]: the machine's bodies from its vismach model (the
+//!   `loadusr` Python script that draws it).
 
 mod hal;
 mod ini;
 mod kins;
 mod remap;
+mod vismach;
 
 use std::fmt;
 use std::path::{Component, Path, PathBuf};
@@ -206,7 +209,7 @@ pub fn import_linuxcnc(ini_path: &Path, read: &mut Reader<'_>) -> Result<Importe
     let name = ini
         .value("EMC", "MACHINE")
         .map_or_else(|| file_stem(ini_path), str::to_owned);
-    let machine = Machine {
+    let mut machine = Machine {
         name,
         control: Control::LinuxCnc,
         tool_direction: nalgebra::Unit::new_normalize(crate::Vec3::z()),
@@ -217,6 +220,10 @@ pub fn import_linuxcnc(ini_path: &Path, read: &mut Reader<'_>) -> Result<Importe
         bodies: Vec::new(),
         meshes: Vec::new(),
     };
+    // The bodies, from the configuration's vismach model where it has one.
+    let mapped = vismach::map_model(&folder, &hal, &kins.joints, &machine, units, read);
+    machine.bodies = mapped.bodies;
+    notes.extend(mapped.notes);
     // The machine file must read back: a value out of the file's bounds
     // is reported here, against the INI file, rather than later.
     Machine::from_toml(&machine.to_toml()).map_err(|e| {
