@@ -473,3 +473,53 @@ fn bridgemill_w_drills_along_the_tool() {
     }
     assert_eq!(drills, 8 * 16, "every hole is drilled");
 }
+
+/// The machine the vismach model of a configuration gives can be
+/// checked for collisions: its parts assembled together (the table on
+/// its saddle, the trunnion in its brackets) are not collisions, and
+/// tilts of ±10° with turns of the round table clear the rest (the
+/// model's round table meets the brackets' mounting plate past about
+/// 20°); a move of the head down into the round table is one.
+#[test]
+fn an_imported_vismach_model_checks_collisions() {
+    let Some(_) = common::corpus::corpus_path("linuxcnc-configs") else {
+        return;
+    };
+    let dir = tempfile::tempdir().expect("a temporary directory");
+    let machine = import_to(AC, dir.path());
+    let text = std::fs::read_to_string(&machine).expect("machine file");
+    assert!(text.contains("[[body]]"), "bodies from the vismach model");
+    let clear = dir.path().join("clear.ngc");
+    std::fs::write(&clear, "G0 Z60\nG0 A-10 C90\nG0 A10 C-90\nG0 A0 C0\nM30\n").expect("program");
+    let into = dir.path().join("into.ngc");
+    std::fs::write(&into, "G0 Z60\nG0 Z-20\nG0 Z60\nM30\n").expect("program");
+    let collisions = |program: &Path| {
+        let out = common::run_in(
+            dir.path(),
+            &[
+                "check",
+                path_str(program),
+                "--machine",
+                path_str(&machine),
+                "--collisions",
+                "--format",
+                "json",
+            ],
+            b"",
+        );
+        let v: serde_json::Value =
+            serde_json::from_str(common::stdout(&out).lines().next().unwrap_or_default())
+                .expect("a JSON report");
+        v["findings"]
+            .as_array()
+            .expect("findings")
+            .iter()
+            .filter(|f| f["kind"] == "collision")
+            .map(|f| f["line"].as_u64().unwrap_or_default())
+            .collect::<Vec<_>>()
+    };
+    assert_eq!(collisions(&clear), Vec::<u64>::new());
+    // The head's spindle nose (radius 10 about the gauge point) goes
+    // 20 mm below the round table's top on line 2.
+    assert_eq!(collisions(&into), [2]);
+}

@@ -115,23 +115,6 @@ fn tool_side(machine: &Machine, link: Link) -> bool {
     }
 }
 
-/// The link a table-side link rides on: the table rotary axis before it
-/// in the chain, else the base (`None` for the base and the tool side).
-fn table_parent(machine: &Machine, link: Link) -> Option<Link> {
-    let first = machine.linear.len();
-    let Link::Axis(i) = link else { return None };
-    let k = i.checked_sub(first)?;
-    if machine.rotary.get(k)?.on != Side::Table {
-        return None;
-    }
-    Some(
-        machine.rotary[..k]
-            .iter()
-            .rposition(|r| r.on == Side::Table)
-            .map_or(Link::Base, |p| Link::Axis(first + p)),
-    )
-}
-
 /// The reach of a shape on `link` from every joint (`Part::reach`).
 fn reach(machine: &Machine, link: Link, shape: &SharedShape) -> [f64; MAX_AXES] {
     let sphere = shape.compute_local_bounding_sphere();
@@ -236,10 +219,11 @@ impl Scene {
 
     /// The pairs that must not touch: a part that moves with the tool
     /// and one of the work's side; two machine bodies of different links
-    /// on the work's side, unless one rides on the other and they touch
-    /// with every axis at 0 (a round table on its cradle, a trunnion's
-    /// shaft in its bearing: parts assembled together, as a robot's
-    /// adjacent links are left out of its collision checks). The cutting
+    /// on the work's side. Two machine bodies that touch with every axis
+    /// at 0 are assembled, not colliding (a round table drawn on its
+    /// cradle, a shaft in its bearing, a table on the saddle it slides
+    /// on: as a robot's links in contact at rest are left out of its
+    /// collision checks), unless one is the spindle head. The cutting
     /// part against the stock is cutting, not a collision.
     fn refresh_pairs(&mut self, machine: &Machine) {
         self.pairs.clear();
@@ -257,8 +241,10 @@ impl Scene {
                     && !tb
                     && pa.on != pb.on
                     && pa.kind == PartKind::Machine
-                    && pb.kind == PartKind::Machine
-                    && !self.assembled(machine, a, b);
+                    && pb.kind == PartKind::Machine;
+                if (across || work_bodies) && self.assembled(machine, a, b) {
+                    continue;
+                }
                 // The part on the tool's side first: it is what hits.
                 if across && tb {
                     self.pairs.push((b, a));
@@ -269,13 +255,12 @@ impl Scene {
         }
     }
 
-    /// Whether parts `a` and `b` ride one on the other and touch with
-    /// every axis at 0.
+    /// Whether parts `a` and `b` are machine bodies assembled together:
+    /// they touch with every axis at 0, and neither is the spindle head.
     fn assembled(&self, machine: &Machine, a: usize, b: usize) -> bool {
         let (pa, pb) = (&self.parts[a], &self.parts[b]);
-        let adjacent = table_parent(machine, pa.on) == Some(pb.on)
-            || table_parent(machine, pb.on) == Some(pa.on);
-        if !adjacent {
+        let bodies = pa.kind == PartKind::Machine && pb.kind == PartKind::Machine;
+        if !bodies || pa.on == Link::Head || pb.on == Link::Head {
             return false;
         }
         let home = [0.0; MAX_AXES];
