@@ -44,12 +44,14 @@
 //! R_x, R_y, R_z are the plain right-handed rotation matrices of the
 //! document's "Translation and Rotation Matrices" section.
 
+mod common;
 #[path = "../../fiveaxis-cli/tests/common/corpus.rs"]
 mod corpus;
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
+use common::import_in_memory;
 use fiveaxis_machine::{ImportError, Imported, Joints, MFunction, Machine, import_linuxcnc};
 
 /// Agreement asked of the forward kinematics, mm and unit-vector
@@ -63,18 +65,6 @@ fn corpus() -> PathBuf {
 fn import(relative: &str) -> Result<Imported, ImportError> {
     let path = corpus().join(relative);
     import_linuxcnc(&path, &mut |p: &Path| std::fs::read_to_string(p))
-}
-
-fn import_in_memory(files: &[(&str, &str)]) -> Result<Imported, ImportError> {
-    let map: BTreeMap<PathBuf, String> = files
-        .iter()
-        .map(|(p, t)| (PathBuf::from(p), (*t).to_owned()))
-        .collect();
-    import_linuxcnc(Path::new(files[0].0), &mut |p: &Path| {
-        map.get(p)
-            .cloned()
-            .ok_or_else(|| std::io::Error::from(std::io::ErrorKind::NotFound))
-    })
 }
 
 /// A small seeded generator (xorshift64*), so that every run draws the

@@ -3,27 +3,16 @@
 //! corpus's xyzac-trt model with a few of its solids derived by hand from
 //! its script (`xyzac-trt-gui.py`).
 
+mod common;
 #[path = "../../fiveaxis-cli/tests/common/corpus.rs"]
 mod corpus;
 
-use std::collections::BTreeMap;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::time::{Duration, Instant};
 
+use common::import_in_memory;
 use fiveaxis_machine::geometry::{Body, Link, Shape, Solid};
-use fiveaxis_machine::{ImportError, Imported, Machine, Vec3, import_linuxcnc};
-
-fn import_in_memory(files: &[(&str, &str)]) -> Result<Imported, ImportError> {
-    let map: BTreeMap<PathBuf, String> = files
-        .iter()
-        .map(|(p, t)| (PathBuf::from(p), (*t).to_owned()))
-        .collect();
-    import_linuxcnc(Path::new(files[0].0), &mut |p: &Path| {
-        map.get(p)
-            .cloned()
-            .ok_or_else(|| std::io::Error::from(std::io::ErrorKind::NotFound))
-    })
-}
+use fiveaxis_machine::{Imported, Machine, Vec3, import_linuxcnc};
 
 /// A table-tilting A/C machine (xyzac-trt-kins: A about X through
 /// (0, 20, 10), C about Z through the origin) whose model is `gui.py`,

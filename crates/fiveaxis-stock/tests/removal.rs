@@ -156,20 +156,9 @@ fn a_ball_mill_gouges_a_plane_at_a_known_depth() {
     let mut design = stock_dexels.like();
     let (pmin, pmax) = (Vec3::new(0.0, 0.0, -20.0), Vec3::new(100.0, 50.0, -2.0));
     design.fill_box(&pmin, &pmax);
-    let depth = move |p: &Vec3| {
-        let inside = [
-            p.x - pmin.x,
-            pmax.x - p.x,
-            p.y - pmin.y,
-            pmax.y - p.y,
-            p.z - pmin.z,
-            pmax.z - p.z,
-        ];
-        inside.into_iter().fold(f64::INFINITY, f64::min)
-    };
     let part = Part {
         dexels: design,
-        depth: Box::new(depth),
+        depth: Box::new(move |p| box_depth(pmin, pmax, p)),
     };
     let mut stock = Stock::new(stock_dexels, Some(part), 0.05);
     let ball = tool(Cutter::Ball, 5.0);

@@ -899,12 +899,13 @@ impl Parser<'_> {
     fn term(&mut self, r: &mut Reading) -> Parsed {
         let mut left = self.unary(r)?;
         loop {
+            // `//` before `/`, which would take its first character.
             let op = if self.eat("*") {
                 '*'
-            } else if self.eat("/") {
-                '/'
             } else if self.eat("//") {
                 'f'
+            } else if self.eat("/") {
+                '/'
             } else {
                 break;
             };
@@ -2072,6 +2073,21 @@ main(m, m, m)
             Some(Node::Prim { prim: Prim::Sphere { radius, .. }, .. }) if *radius == 4.0
         ));
         assert!(matches!(script.root, Some(Value::Node(2))));
+    }
+
+    #[test]
+    fn floor_division_is_not_read_as_division() {
+        let script = read_script("b = BoxCentered(7 // 2, 9 / 2, 1)\nmain(b, b, b)\n", &[]);
+        let Some(Node::Prim { prim, .. }) = script.nodes.first() else {
+            panic!("{:?}", script.nodes)
+        };
+        assert_eq!(
+            *prim,
+            Prim::Box {
+                lo: Vec3::new(-1.5, -2.25, -0.5),
+                hi: Vec3::new(1.5, 2.25, 0.5)
+            }
+        );
     }
 
     #[test]

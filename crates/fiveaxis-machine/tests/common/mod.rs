@@ -364,3 +364,20 @@ pub fn posed(
 pub fn distance_to_line(p: &Vec3, c: &Vec3, a: &Vec3) -> f64 {
     (p - c).cross(a).norm()
 }
+
+/// Imports the LinuxCNC configuration held in memory: `files` as (path,
+/// text), the INI file first.
+pub fn import_in_memory(
+    files: &[(&str, &str)],
+) -> Result<fiveaxis_machine::Imported, fiveaxis_machine::ImportError> {
+    use std::path::{Path, PathBuf};
+    let map: std::collections::BTreeMap<PathBuf, String> = files
+        .iter()
+        .map(|(p, t)| (PathBuf::from(p), (*t).to_owned()))
+        .collect();
+    fiveaxis_machine::import_linuxcnc(Path::new(files[0].0), &mut |p: &Path| {
+        map.get(p)
+            .cloned()
+            .ok_or_else(|| std::io::Error::from(std::io::ErrorKind::NotFound))
+    })
+}
