@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Generates a seeded 5-axis benchmark program of straight feed moves.
 
-    gen.py BLOCKS OUTPUT [--seed N] [--tcpc]
+    gen.py BLOCKS OUTPUT [--seed N] [--tcpc | --smooth | --finish | --contour KIND | --splines]
 
 The program is valid for both `fiveaxis run` (FANUC syntax, default machine
 `trunnion-ac`) and LinuxCNC's `rs274` (RS274/NGC):
@@ -48,6 +48,13 @@ def main() -> int:
         " the tool along the surface normal, up to 34 degrees): a smooth path of BLOCKS short blocks",
     )
     parser.add_argument(
+        "--smooth",
+        action="store_true",
+        help="write a smooth 5-axis path for both tools: G1 X Y Z A C blocks 0.5 mm apart along a"
+        " wavy spiral, A and C turning a few hundredths of a degree per block (no chord error,"
+        " no flip, inside the soft limits)",
+    )
+    parser.add_argument(
         "--splines",
         action="store_true",
         help="write BLOCKS random LinuxCNC G5 cubic splines in G17 (run on a machine file with"
@@ -64,6 +71,9 @@ def main() -> int:
         return 0
     if args.finish:
         write_finish(args.blocks, args.output)
+        return 0
+    if args.smooth:
+        write_smooth(args.blocks, args.output)
         return 0
     if args.splines:
         with open(args.output, "w", encoding="ascii", newline="\n") as out:
@@ -136,6 +146,30 @@ def write_finish(blocks: int, output: str) -> None:
                     lines.clear()
         out.writelines(lines)
         out.write("G49\nM30\n")
+
+
+def write_smooth(blocks: int, output: str) -> None:
+    """A spiral of radius 60 to 180 mm with a wavy Z, the table tilting
+    between A-10 and A-50 and turning C slowly with the path: every value
+    moves a little per block, as on a finishing path of a 5-axis part."""
+    with open(output, "w", encoding="ascii", newline="\n") as out:
+        out.write("G21 G90 G94 G17\nG0 X120. Y0 Z20. A-30. C0\nF2000.\n")
+        lines = []
+        angle = 0.0
+        for i in range(blocks):
+            f = i / max(1, blocks - 1)
+            r = 120.0 + 60.0 * math.sin(2.0 * math.pi * 3.0 * f)
+            angle += 0.5 / r  # 0.5 mm along the spiral per block
+            x, y = r * math.cos(angle), r * math.sin(angle)
+            z = 20.0 + 10.0 * math.sin(7.0 * angle)
+            a = -30.0 + 20.0 * math.sin(0.37 * angle)
+            c = math.degrees(angle) * 0.25
+            lines.append("G1 X%.4f Y%.4f Z%.4f A%.4f C%.4f\n" % (x, y, z, a, c))
+            if len(lines) == 10000:
+                out.writelines(lines)
+                lines.clear()
+        out.writelines(lines)
+        out.write("M30\n")
 
 
 def write_contour(blocks: int, output: str, kind: str) -> None:

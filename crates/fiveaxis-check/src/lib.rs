@@ -374,6 +374,8 @@ pub struct Checker<'m> {
     collisions: Option<collision::Collisions>,
     /// The stock model, when given.
     stock: Option<stock::StockCheck>,
+    /// The last segment's end: joints, tool length and tool tip.
+    last_end: Option<(fiveaxis_machine::Joints, f64, fiveaxis_machine::Vec3)>,
 }
 
 impl<'m> Checker<'m> {
@@ -405,6 +407,7 @@ impl<'m> Checker<'m> {
             timeline: None,
             collisions: None,
             stock: None,
+            last_end: None,
         }
     }
 
@@ -536,8 +539,9 @@ impl<'m> Checker<'m> {
         if !seg.moves() {
             return;
         }
-        self.time(seg);
-        self.plan.segment(self.machine, seg);
+        let tips = self.end_tips(seg);
+        self.time(seg, &tips);
+        self.plan.segment(self.machine, seg, &tips);
         if let Some(collisions) = &mut self.collisions {
             let (counts, findings) = (&mut self.counts, &mut self.findings);
             collisions.segment(self.machine, seg, self.order, &mut |f| {
@@ -568,7 +572,7 @@ impl<'m> Checker<'m> {
                     self.singular_passage(seg);
                 }
                 if !matches!(seg.path, Path::Tcpc(_)) {
-                    self.chord_error(seg);
+                    self.chord_error(seg, &tips);
                 }
             }
         }
@@ -661,10 +665,26 @@ impl<'m> Checker<'m> {
         });
     }
 
-    /// Programmed time and feed limits.
-    fn time(&mut self, seg: &Segment) {
+    /// The tool tip at the segment's ends: the start is the previous
+    /// segment's end when the run goes on from there with the same tool
+    /// length (one forward kinematics a segment).
+    fn end_tips(&mut self, seg: &Segment) -> [fiveaxis_machine::Vec3; 2] {
         let machine = self.machine;
-        let minutes = block_minutes(machine, seg);
+        let start = match &self.last_end {
+            Some((joints, length, tip)) if *joints == seg.start && *length == seg.tool_length => {
+                *tip
+            }
+            _ => machine.forward(&seg.start, seg.tool_length).tip,
+        };
+        let end = machine.forward(&seg.end, seg.tool_length).tip;
+        self.last_end = Some((seg.end, seg.tool_length, end));
+        [start, end]
+    }
+
+    /// Programmed time and feed limits.
+    fn time(&mut self, seg: &Segment, tips: &[fiveaxis_machine::Vec3; 2]) {
+        let machine = self.machine;
+        let minutes = motion::block_minutes_at(machine, seg, tips);
         self.minutes += minutes;
         let Some(feed) = seg.feed else { return };
         if let Some((allowed, axis)) = tip_feed_allowed(machine, seg, minutes)
@@ -764,10 +784,10 @@ impl<'m> Checker<'m> {
         }
     }
 
-    fn chord_error(&mut self, seg: &Segment) {
+    fn chord_error(&mut self, seg: &Segment, tips: &[fiveaxis_machine::Vec3; 2]) {
         let machine = self.machine;
         let tolerance = machine.params.chord_tolerance;
-        if let Some(deviation) = chord_deviation(machine, seg, tolerance) {
+        if let Some(deviation) = chord_deviation_at(machine, seg, tolerance, tips) {
             let message = format!(
                 "the tip leaves the straight line between the block ends by {} mm (tolerance {tolerance} mm): the rotary axes move outside TCPC",
                 round6(deviation)
@@ -901,6 +921,78 @@ impl<'m> Checker<'m> {
 /// Segments taken from the runner at a time.
 const BATCH: usize = 1024;
 
+/// Batches the runner may be ahead of the checks.
+const PIPELINE_DEPTH: usize = 4;
+
+/// What the runner hands the checks: segments, and the run's state after
+/// them.
+struct Batch {
+    segments: Vec<Segment>,
+    /// The stock the program has declared so far.
+    stock: Option<fiveaxis_control::Stock>,
+    /// Blocks run so far.
+    blocks: u64,
+    end: BatchEnd,
+}
+
+/// How the run stands after a batch.
+enum BatchEnd {
+    /// More segments follow.
+    More,
+    /// An alarm after which the run goes on (`keep_going`).
+    Resumed(AlarmInfo),
+    /// The program ended.
+    Ended,
+    /// The program stopped with an alarm.
+    Alarm(AlarmInfo),
+    /// The program could not be read.
+    Failed(RunError),
+}
+
+/// The runner's side of [`check_run_with`]: fills batches until the
+/// program ends, stops or the checks hang up.
+fn produce<S: Source>(
+    runner: &mut Runner<'_, S>,
+    keep_going: bool,
+    full: &std::sync::mpsc::SyncSender<Batch>,
+    empty: &std::sync::mpsc::Receiver<Vec<Segment>>,
+) {
+    loop {
+        let mut segments = empty
+            .try_recv()
+            .unwrap_or_else(|_| Vec::with_capacity(BATCH));
+        segments.clear();
+        let filled = runner.fill(&mut segments, BATCH);
+        let end = match filled {
+            Ok(true) => BatchEnd::More,
+            Ok(false) => BatchEnd::Ended,
+            Err(RunError::Alarm { alarm, .. }) => {
+                let info = AlarmInfo {
+                    code: alarm.code.to_string(),
+                    line: alarm.line,
+                    message: alarm.message,
+                };
+                if keep_going && runner.resume() {
+                    BatchEnd::Resumed(info)
+                } else {
+                    BatchEnd::Alarm(info)
+                }
+            }
+            Err(other) => BatchEnd::Failed(other),
+        };
+        let last = !matches!(end, BatchEnd::More | BatchEnd::Resumed(_));
+        let batch = Batch {
+            segments,
+            stock: runner.stock(),
+            blocks: runner.blocks(),
+            end,
+        };
+        if full.send(batch).is_err() || last {
+            return;
+        }
+    }
+}
+
 /// Runs a program to its end or its alarm and checks every segment.
 /// The runner should lift the soft limits (`RunOptions::lift_soft_limits`)
 /// so that an over-travel is measured and the run goes on. `keep_going`:
@@ -1027,7 +1119,7 @@ impl std::fmt::Debug for WorkChecks<'_> {
 /// # Errors
 ///
 /// As [`check_run`].
-pub fn check_run_with<S: Source>(
+pub fn check_run_with<S: Source + Send>(
     runner: &mut Runner<'_, S>,
     keep_going: bool,
     work: WorkChecks<'_>,
@@ -1039,35 +1131,45 @@ pub fn check_run_with<S: Source>(
     let mut checker = Checker::new(machine);
     let mut declared = work.install(&mut checker);
     let mut first_alarm: Option<AlarmInfo> = None;
-    let mut segments = Vec::with_capacity(BATCH);
-    let alarm = loop {
-        segments.clear();
-        let filled = runner.fill(&mut segments, BATCH);
-        declared.offer(runner.stock(), &mut checker);
-        for seg in &segments {
-            checker.segment(seg);
-        }
-        checker.drain_settled(&mut take);
-        progress(runner.blocks());
-        match filled {
-            Ok(true) => {}
-            Ok(false) => break None,
-            Err(RunError::Alarm { alarm, .. }) => {
-                let info = AlarmInfo {
-                    code: alarm.code.to_string(),
-                    line: alarm.line,
-                    message: alarm.message,
-                };
-                if keep_going && runner.resume() {
+    // Two stages on two threads: the runner reads and interprets the
+    // program into batches of segments while this thread checks the
+    // batch before; batches go round between them (no allocation per
+    // batch once both are in use).
+    let (full_tx, full_rx) = std::sync::mpsc::sync_channel::<Batch>(PIPELINE_DEPTH);
+    let (empty_tx, empty_rx) = std::sync::mpsc::channel::<Vec<Segment>>();
+    let alarm = std::thread::scope(|scope| {
+        let producing = &mut *runner;
+        let producer = scope.spawn(move || produce(producing, keep_going, &full_tx, &empty_rx));
+        let mut alarm = None;
+        while let Ok(batch) = full_rx.recv() {
+            declared.offer(batch.stock, &mut checker);
+            for seg in &batch.segments {
+                checker.segment(seg);
+            }
+            checker.drain_settled(&mut take);
+            progress(batch.blocks);
+            // The producer may have ended: its batches are then dropped.
+            let _ = empty_tx.send(batch.segments);
+            match batch.end {
+                BatchEnd::More => {}
+                BatchEnd::Resumed(info) => {
                     checker.alarm(&info);
                     first_alarm.get_or_insert(info);
-                    continue;
                 }
-                break Some(info);
+                BatchEnd::Ended => break,
+                BatchEnd::Alarm(info) => {
+                    alarm = Some(info);
+                    break;
+                }
+                BatchEnd::Failed(e) => return Err(e),
             }
-            Err(other) => return Err(other),
         }
-    };
+        drop(full_rx);
+        match producer.join() {
+            Ok(()) => Ok(alarm),
+            Err(panic) => std::panic::resume_unwind(panic),
+        }
+    })?;
     let mut report = checker.finish(Ending {
         ended: alarm.is_none(),
         alarm,
@@ -1139,9 +1241,24 @@ pub const CHORD_PRECISION: f64 = 1e-7;
 /// if it exceeds `floor`: a machine-axis block whose rotary axes move
 /// linearly, bound and refine on the tip's law ([`law::machine_tip`]).
 pub fn chord_deviation(machine: &Machine, seg: &Segment, floor: f64) -> Option<f64> {
+    chord_deviation_at(machine, seg, floor, &motion::end_tips(machine, seg))
+}
+
+/// [`chord_deviation`] with the segment's [`motion::end_tips`] known.
+pub fn chord_deviation_at(
+    machine: &Machine,
+    seg: &Segment,
+    floor: f64,
+    tips: &[fiveaxis_machine::Vec3; 2],
+) -> Option<f64> {
     let law = law::machine_tip(machine, seg)?;
+    // The deviation is 0 at both ends: a curvature bound that keeps the
+    // whole block within the floor settles it without a sample.
+    if law.curvature / 8.0 <= floor + CHORD_PRECISION {
+        return None;
+    }
     let tip = |s: f64| machine.forward(&seg.eval(machine, s), seg.tool_length).tip;
-    let (a, b) = (tip(0.0), tip(1.0));
+    let [a, b] = *tips;
     let chord = b - a;
     let length = chord.norm();
     let along = if length > 0.0 { chord / length } else { chord };

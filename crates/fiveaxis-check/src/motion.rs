@@ -2,7 +2,7 @@
 //! programmed feed needs, and how far each rotary axis turns.
 
 use fiveaxis_control::{Motion, Path, Segment};
-use fiveaxis_machine::Machine;
+use fiveaxis_machine::{Machine, Vec3};
 
 use crate::{bound, law};
 
@@ -10,11 +10,31 @@ use crate::{bound, law};
 /// that turns rotary axes about the tip).
 const NO_TIP_MOTION: f64 = 1e-9;
 
+/// The tool tip at the two ends of a segment ([`Machine::forward`]): what
+/// the checks that measure the straight line between them share, computed
+/// once a segment.
+pub fn end_tips(machine: &Machine, seg: &Segment) -> [Vec3; 2] {
+    [
+        machine.forward(&seg.start, seg.tool_length).tip,
+        machine.forward(&seg.end, seg.tool_length).tip,
+    ]
+}
+
+/// [`end_tips`] where the feed length needs them (machine-axis lines),
+/// else zeros.
+fn straight_tips(machine: &Machine, seg: &Segment) -> [Vec3; 2] {
+    match &seg.path {
+        Path::Joint | Path::Via(_) => end_tips(machine, seg),
+        _ => [Vec3::zeros(); 2],
+    }
+}
+
 /// The path length the feed of a cutting segment applies to, as the
 /// controller measures it for inverse-time feed: the tip path of TCPC and
 /// of circles, the straight line between the tip's ends for machine-axis
 /// lines.
-pub fn feed_length(machine: &Machine, seg: &Segment) -> f64 {
+/// `tips`: the segment's [`end_tips`].
+pub fn feed_length_at(seg: &Segment, tips: &[Vec3; 2]) -> f64 {
     match &seg.path {
         Path::Tcpc(t) => t.tip.length(),
         Path::Helix { circle, .. } => circle.length(),
@@ -25,11 +45,7 @@ pub fn feed_length(machine: &Machine, seg: &Segment) -> f64 {
                 .sum();
             arc.length().hypot(normal.sqrt())
         }
-        Path::Joint | Path::Via(_) => {
-            let a = machine.forward(&seg.start, seg.tool_length).tip;
-            let b = machine.forward(&seg.end, seg.tool_length).tip;
-            (b - a).norm()
-        }
+        Path::Joint | Path::Via(_) => (tips[1] - tips[0]).norm(),
     }
 }
 
@@ -61,6 +77,15 @@ pub fn rotary_travel(machine: &Machine, seg: &Segment, k: usize) -> f64 {
 /// takes the longest of each axis' travel over its rapid rate (linear
 /// interpolation of positioning, FANUC No.1401#1 LRP = 1).
 pub fn block_minutes(machine: &Machine, seg: &Segment) -> f64 {
+    let tips = match (seg.motion, seg.feed) {
+        (Motion::Rapid, _) | (_, None) => [Vec3::zeros(); 2],
+        _ => straight_tips(machine, seg),
+    };
+    block_minutes_at(machine, seg, &tips)
+}
+
+/// [`block_minutes`] with the segment's [`end_tips`] known.
+pub fn block_minutes_at(machine: &Machine, seg: &Segment, tips: &[Vec3; 2]) -> f64 {
     let rapid_minutes = |seg: &Segment| {
         (0..machine.axis_count())
             .map(|i| {
@@ -75,7 +100,7 @@ pub fn block_minutes(machine: &Machine, seg: &Segment) -> f64 {
     match (seg.motion, seg.feed) {
         (Motion::Rapid, _) | (_, None) => rapid_minutes(seg),
         (_, Some(feed)) => {
-            let length = feed_length(machine, seg);
+            let length = feed_length_at(seg, tips);
             if length > NO_TIP_MOTION && feed > 0.0 {
                 length / feed
             } else {

@@ -3,7 +3,7 @@
 //! positions, with the path length the feed is measured along.
 
 use fiveaxis_control::{Motion, Path, Segment, TipPath};
-use fiveaxis_machine::{MAX_AXES, Machine};
+use fiveaxis_machine::{MAX_AXES, Machine, Vec3};
 use fiveaxis_planner::{AxisLimits, Block, Feed, Options, Planner, Point};
 
 /// Largest turn, degrees, of a rotary axis or of a circle between two
@@ -51,7 +51,7 @@ impl TimePlan {
     }
 
     /// Adds a segment that moves.
-    pub fn segment(&mut self, machine: &Machine, seg: &Segment) {
+    pub fn segment(&mut self, machine: &Machine, seg: &Segment, tips: &[Vec3; 2]) {
         let Some(planner) = self.planner.as_mut() else {
             return;
         };
@@ -66,15 +66,15 @@ impl TimePlan {
         // Tips first, then the lengths: a block whose tip stands (rotary
         // axes alone) gives lengths of 0, so that the planner measures the
         // composite axis distance (F in degrees per minute).
-        let mut previous = machine.forward(&seg.start, seg.tool_length).tip;
+        let mut previous = tips[0];
         let mut tip_length = 0.0;
         for k in 1..=n {
-            let joints = if k == n {
-                seg.end
+            let (joints, tip) = if k == n {
+                (seg.end, tips[1])
             } else {
-                seg.eval(machine, k as f64 / n as f64)
+                let joints = seg.eval(machine, k as f64 / n as f64);
+                (joints, machine.forward(&joints, seg.tool_length).tip)
             };
-            let tip = machine.forward(&joints, seg.tool_length).tip;
             let length = (tip - previous).norm();
             tip_length += length;
             previous = tip;

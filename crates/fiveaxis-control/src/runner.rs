@@ -29,7 +29,7 @@ use macros::{MacroFlow, MacroState};
 
 /// Lines of a program, read in order, with the ability to jump back to a
 /// line start (subprogram calls).
-pub trait Source {
+pub trait Source: Send {
     /// Reads the next line, without its line end, into `buf` (cleared
     /// first). `Ok(false)` at the end of the program.
     fn read_line(&mut self, buf: &mut Vec<u8>) -> io::Result<bool>;
@@ -124,7 +124,7 @@ impl<R: Read + Seek> ReaderSource<R> {
     }
 }
 
-impl<R: Read + Seek> Source for ReaderSource<R> {
+impl<R: Read + Seek + Send> Source for ReaderSource<R> {
     fn read_line(&mut self, buf: &mut Vec<u8>) -> io::Result<bool> {
         buf.clear();
         let mut any = false;
@@ -398,7 +398,7 @@ pub struct Runner<'m, S> {
     stock: Option<crate::heidenhain::Stock>,
     /// The program source lives as long as the machine's borrow (a
     /// SINUMERIK run hands it to its interpreter).
-    _source_outlives: std::marker::PhantomData<&'m S>,
+    _source_outlives: std::marker::PhantomData<fn() -> &'m S>,
     /// Lowest and highest line of the current and of the last full window
     /// of [`LOOP_WINDOW`] lines, for the message of an endless loop.
     window: [(u32, u32); 2],

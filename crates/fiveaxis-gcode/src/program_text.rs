@@ -6,7 +6,7 @@
 
 /// The lines of one program, read in order, with jumps back to a line
 /// start seen before.
-pub trait ProgramText {
+pub trait ProgramText: Send {
     /// Reads the next line, without its line end, into `buf` (cleared
     /// first). `Ok(false)` at the end.
     ///

@@ -245,7 +245,7 @@ pub enum LangErrorKind {
 pub use fiveaxis_gcode::ProgramText;
 
 /// The control's program memory beside the running program (`CALL PGM`).
-pub trait ProgramStore {
+pub trait ProgramStore: Send {
     /// The program called `name` as written (`SUB1`, `TNC:\PARTS\SUB1.H`,
     /// `SUB1.H`); the store finds it case-insensitively, with or without
     /// `.H`, by its file name. `None` when the store has no such program.

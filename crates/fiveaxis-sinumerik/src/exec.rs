@@ -163,7 +163,7 @@ pub use fiveaxis_gcode::ProgramText;
 
 /// The control's program memory beside the running program:
 /// subprograms, user cycles and definition files.
-pub trait ProgramStore {
+pub trait ProgramStore: Send {
     /// The program called `name` (as called: `RLIMIT`, `L100`, `4444411`,
     /// upper-cased), found case-insensitively as `NAME.SPF`, `NAME.MPF`,
     /// `_N_NAME_SPF`, `_N_NAME_MPF`; `None` when the store has no such

@@ -12,7 +12,7 @@ use std::io;
 use super::Source;
 
 /// Programs kept outside the running file (`--programs DIR`).
-pub trait ProgramLibrary {
+pub trait ProgramLibrary: Send {
     /// Program number `number`: a source at its start and a name for
     /// messages (its path), or `None` when the library has no such program.
     ///

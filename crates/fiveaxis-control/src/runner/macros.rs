@@ -11,7 +11,7 @@
 
 use fiveaxis_gcode::{Code, Span};
 use std::collections::HashMap;
-use std::rc::Rc;
+use std::sync::Arc;
 
 use fiveaxis_macro::{
     LOCAL_COUNT, Line, MacroError, MacroErrorKind, MacroSettings, Statement, SystemVarError,
@@ -31,7 +31,7 @@ pub(super) struct MacroState {
     pub(super) loops: Vec<Loop>,
     /// Macro lines parsed before, by their offset in the program: a loop
     /// parses its lines once. Bounded: cleared when full.
-    cache: HashMap<u64, Rc<Line>>,
+    cache: HashMap<u64, Arc<Line>>,
     /// Interface signal inputs `#1000`–`#1035` (the variables file may set
     /// them; otherwise 0).
     pub(super) inputs: [f64; INPUTS],
@@ -167,16 +167,16 @@ impl<S: Source> Runner<'_, S> {
     /// Carries out the macro statement of the line just read (`here`).
     pub(super) fn macro_line(&mut self, here: Mark) -> Result<MacroFlow, RunError> {
         let line = match self.macros.cache.get(&here.offset) {
-            Some(line) => Rc::clone(line),
+            Some(line) => Arc::clone(line),
             None => {
                 let line = match parse_statement(&self.text, here.line) {
-                    Ok(line) => Rc::new(line),
+                    Ok(line) => Arc::new(line),
                     Err(error) => return Err(self.macro_alarm(here.line, error)),
                 };
                 if self.macros.cache.len() >= CACHE_LINES {
                     self.macros.cache.clear();
                 }
-                self.macros.cache.insert(here.offset, Rc::clone(&line));
+                self.macros.cache.insert(here.offset, Arc::clone(&line));
                 line
             }
         };

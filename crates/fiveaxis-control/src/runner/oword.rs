@@ -34,7 +34,7 @@
 //!   read the text, and every line read counts against the budget.
 
 use std::collections::HashMap;
-use std::rc::Rc;
+use std::sync::Arc;
 
 use fiveaxis_gcode::{Block, Span, SyntaxErrorKind, parse_line_as};
 use fiveaxis_macro::{
@@ -98,7 +98,7 @@ pub(super) struct NgcState {
     /// Open control-flow blocks, innermost last.
     blocks: Vec<OBlock>,
     /// Parsed lines by position.
-    cache: HashMap<u64, Rc<NgcLine>>,
+    cache: HashMap<u64, Arc<NgcLine>>,
     /// Values of a line's assignments, before they are made.
     pending: Vec<(Target, f64)>,
     /// The line being executed (`#<_line>`).
@@ -462,16 +462,16 @@ impl<S: Source> Runner<'_, S> {
         out: &mut Vec<crate::Segment>,
     ) -> Result<(), RunError> {
         let line = match self.ngc.cache.get(&here.offset) {
-            Some(line) => Rc::clone(line),
+            Some(line) => Arc::clone(line),
             None => {
                 let line = match parse_ngc_line(&self.text, here.line) {
-                    Ok(line) => Rc::new(line),
+                    Ok(line) => Arc::new(line),
                     Err(e) => return Err(self.macro_alarm(here.line, e)),
                 };
                 if self.ngc.cache.len() >= CACHE_LINES {
                     self.ngc.cache.clear();
                 }
-                self.ngc.cache.insert(here.offset, Rc::clone(&line));
+                self.ngc.cache.insert(here.offset, Arc::clone(&line));
                 line
             }
         };
