@@ -11,18 +11,27 @@
 # and 2,000,000 blocks). Writes bench/out/summary.md and prints it.
 #
 # Exits 2 when a tool is missing or does not run the whole program, and
-# 1 when fiveaxis is less than MIN_RATIO times as fast as
-# rs274 in blocks per second, or when its peak RSS on the 2M-block program
-# reaches MAX_RSS_MB (decimal megabytes), or when `check` or `view` peak
-# at MAX_CHECK_RSS_MB / MAX_VIEW_RSS_MB or a page reaches MAX_PAGE_MB. All
-# can be overridden from the
-# environment, e.g. `MIN_RATIO=2 bench/run.sh`; BENCH_NO_HYPERFINE=1 times
-# with best of 5 runs instead of hyperfine.
+# 1 when a goal is missed: `fiveaxis run` less than MIN_RATIO times as
+# fast as rs274 in wall time or MIN_CPU_RATIO times in CPU time (user +
+# system) on the random program; `fiveaxis check` less than
+# MIN_CHECK_SMOOTH times as fast as rs274 on the smooth 5-axis program
+# (bench/gen.py --smooth) or MIN_CHECK times on the random one; TCPC
+# type 2 below MIN_TCPC of plain G1; the Python package (when it is
+# installed in the python3 on PATH) below MIN_PY_ROWS rows per second;
+# peak RSS on the 2M-block program at MAX_RSS_MB (decimal megabytes), or
+# `check` or `view` peaking at MAX_CHECK_RSS_MB / MAX_VIEW_RSS_MB or a
+# page reaching MAX_PAGE_MB. All can be overridden from the environment,
+# e.g. `MIN_RATIO=2 bench/run.sh`; BENCH_NO_HYPERFINE=1 times with best
+# of 5 runs instead of hyperfine.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-MIN_RATIO=${MIN_RATIO:-8}
-MIN_TCPC=${MIN_TCPC:-0.3}
+MIN_RATIO=${MIN_RATIO:-12}
+MIN_CPU_RATIO=${MIN_CPU_RATIO:-8}
+MIN_CHECK_SMOOTH=${MIN_CHECK_SMOOTH:-30}
+MIN_CHECK=${MIN_CHECK:-10}
+MIN_PY_ROWS=${MIN_PY_ROWS:-3000000}
+MIN_TCPC=${MIN_TCPC:-0.8}
 MAX_COMP=${MAX_COMP:-2}
 MIN_LOOP=${MIN_LOOP:-10}
 MAX_RSS_MB=${MAX_RSS_MB:-50}
@@ -74,6 +83,7 @@ mkdir -p "$OUT"
 SMALL_PROG=$OUT/prog200k.nc
 LARGE_PROG=$OUT/prog2M.nc
 TCPC_PROG=$OUT/tcpc200k.nc
+SMOOTH_PROG=$OUT/smooth200k.nc
 generate() { # blocks file [gen.py options]
   local stamp="$2.stamp" want
   want="seed=$SEED blocks=$1 ${3:-} gen=$(sha256sum bench/gen.py | cut -c1-16)"
@@ -87,6 +97,7 @@ generate() { # blocks file [gen.py options]
 generate "$SMALL" "$SMALL_PROG"
 generate "$LARGE" "$LARGE_PROG"
 generate "$SMALL" "$TCPC_PROG" --tcpc
+generate "$SMALL" "$SMOOTH_PROG" --smooth
 for kind in plain cutter comp3d; do
   generate "$SMALL" "$OUT/contour-$kind.nc" "--contour $kind"
 done
@@ -124,6 +135,13 @@ awk -v block="$last_block" -v feed="$last_feed" 'BEGIN {
   d = (f[4] - v["A"]) ^ 2 + (f[6] - v["C"]) ^ 2 + (f[1] - v["X"]) ^ 2
   if (d > 1e-6) { printf "rs274 last move %s does not match block %s\n", feed, block; exit 1 }
 }' || die "rs274 does not carry the A and C values"
+
+log "checking that rs274 runs all $SMALL blocks of the smooth program and check finds nothing in it"
+smooth_feeds=$(rs274 -g "$SMOOTH_PROG" 2>/dev/null | grep -c 'STRAIGHT_FEED(' || true)
+[ "$smooth_feeds" = "$SMALL" ] || die "rs274 executed $smooth_feeds feed moves of the smooth program, expected $SMALL"
+"$FIVEAXIS" check "$SMOOTH_PROG" --format json --fail-on never >"$OUT/check-smooth.json" \
+  || die "fiveaxis check failed on $SMOOTH_PROG"
+grep -q '"findings":\[\]' "$OUT/check-smooth.json" || die "fiveaxis check reports findings on the smooth program"
 
 # --- wall time -------------------------------------------------------------
 # Sets T_BEST and T_MEAN (seconds) for the command given.
@@ -170,6 +188,44 @@ time_cmd fiveaxis-check "$FIVEAXIS" check "$SMALL_PROG" --format json --fail-on 
 CK_BEST=$T_BEST CK_MEAN=$T_MEAN
 time_cmd fiveaxis-check-tcpc "$FIVEAXIS" check "$TCPC_PROG" --format json --fail-on never
 CKT_BEST=$T_BEST
+time_cmd fiveaxis-check-smooth "$FIVEAXIS" check "$SMOOTH_PROG" --format json --fail-on never
+CKS_BEST=$T_BEST
+time_cmd rs274-smooth rs274 -g "$SMOOTH_PROG"
+RSS_BEST=$T_BEST
+
+# CPU time (user + system), best of 5: `run` uses a second thread to write.
+cpu_best() { # command...
+  local best="" i t
+  for i in 1 2 3 4 5; do
+    t=$( { /usr/bin/time -f '%U %S' "$@" >/dev/null 2>/dev/null; } 2>&1 | awk '{ print $1 + $2 }')
+    if [ -z "$best" ] || awk -v a="$t" -v b="$best" 'BEGIN { exit !(a < b) }'; then best=$t; fi
+  done
+  printf '%s\n' "$best"
+}
+log "CPU time, $SMALL blocks"
+FA_CPU=$(cpu_best "$FIVEAXIS" run "$SMALL_PROG")
+RS_CPU=$(cpu_best rs274 -g "$SMALL_PROG")
+
+# The Python package, when this python3 has it.
+PY_ROWS=0
+if python3 -c 'import fiveaxis' >/dev/null 2>&1; then
+  log "the Python package: rows per second into numpy"
+  PY_ROWS=$(python3 - "$SMALL_PROG" <<'PY'
+import sys, time
+import fiveaxis as fx
+path = sys.argv[1]
+rows = len(fx.run(path))
+best = float("inf")
+for _ in range(5):
+    t = time.perf_counter()
+    fx.run(path)
+    best = min(best, time.perf_counter() - t)
+print(int(rows / best))
+PY
+)
+else
+  log "the Python package is not installed in python3: its rows per second are not measured"
+fi
 log "wall time, $SMALL-block contours: plain, cutter compensation C, 3-D tool compensation"
 for kind in plain cutter comp3d; do
   "$FIVEAXIS" run "$OUT/contour-$kind.nc" --machine mill-3axis --offsets "$OUT/offsets.toml" >/dev/null \
@@ -251,7 +307,16 @@ small, large = $SMALL, $LARGE
 fa_best, fa_mean, rs_best, rs_mean = $FA_BEST, $FA_MEAN, $RS_BEST, $RS_MEAN
 tc_best, tc_mean, min_tcpc = $TC_BEST, $TC_MEAN, float("$MIN_TCPC")
 ck_best, ck_mean, ckt_best = $CK_BEST, $CK_MEAN, $CKT_BEST
-ck_ratio = (small / ck_best) / (small / rs_best)
+ck_ratio = rs_best / ck_best
+cks_best, rss_best = $CKS_BEST, $RSS_BEST
+cks_ratio = rss_best / cks_best
+min_check, min_check_smooth = float("$MIN_CHECK"), float("$MIN_CHECK_SMOOTH")
+ok_check = ck_ratio >= min_check and cks_ratio >= min_check_smooth
+fa_cpu, rs_cpu, min_cpu = float("$FA_CPU"), float("$RS_CPU"), float("$MIN_CPU_RATIO")
+cpu_ratio = rs_cpu / fa_cpu
+ok_cpu = cpu_ratio >= min_cpu
+py_rows, min_py = int("$PY_ROWS"), float("$MIN_PY_ROWS")
+ok_py = py_rows == 0 or py_rows >= min_py
 c_plain, c_cutter, c_3d, max_comp = $CONTOUR_PLAIN, $CONTOUR_CUTTER, $CONTOUR_COMP3D, float("$MAX_COMP")
 fa_rss_s, fa_rss_l, rs_rss_s = $FA_RSS_SMALL, $FA_RSS_LARGE, $RS_RSS_SMALL
 loop_fa, loop_rs, min_loop = $LOOP_FA, $LOOP_RS, float("$MIN_LOOP")
@@ -296,13 +361,19 @@ lines = [
     f"| peak RSS, {small:,} blocks | {mb(fa_rss_s):.1f} MB | {mb(rs_rss_s):.1f} MB | {fa_rss_s / rs_rss_s:.2f} |",
     f"| peak RSS, {large:,} blocks | {mb(fa_rss_l):.1f} MB | | |",
     f"| wall time, {small:,} TCPC type 2 blocks (best / mean) | {tc_best:.3f} s / {tc_mean:.3f} s | | {tcpc_share:.2f} of plain G1 |",
+    f"| CPU time (user + system), {small:,} blocks (best of 5) | {fa_cpu:.3f} s | {rs_cpu:.3f} s | **{cpu_ratio:.2f}x** |",
     f"| \`fiveaxis check\`, {small:,} blocks (best / mean) | {ck_best:.3f} s / {ck_mean:.3f} s | | **{ck_ratio:.2f}x** rs274 |",
+    f"| \`fiveaxis check\` on the smooth 5-axis program (\`--smooth\`), {small:,} blocks (best) | {cks_best:.3f} s | {rss_best:.3f} s | **{cks_ratio:.2f}x** |",
     f"| \`fiveaxis check\`, {small:,} TCPC type 2 blocks (best) | {ckt_best:.3f} s | | {rs_best / ckt_best:.2f}x rs274 |",
     f"| {small:,}-block contour: plain / cutter comp C / 3-D comp (best) | {c_plain:.3f} / {c_cutter:.3f} / {c_3d:.3f} s | | {c_cutter / c_plain:.2f}x / {c_3d / c_plain:.2f}x |",
     f"| {small:,}-iteration macro loop (custom macro B WHILE / O-word while), best | {loop_fa:.3f} s | {loop_rs:.3f} s | **{loop_ratio:.2f}x** |",
     "",
     f"- speed: fiveaxis/rs274 = {ratio:.2f}, required >= {min_ratio:g}: **{'PASS' if ok_ratio else 'FAIL'}**",
-    f"- check: fiveaxis check/rs274 = {ck_ratio:.2f} (the issue's target is 30; reported, not gated)",
+    f"- run CPU time: rs274/fiveaxis = {cpu_ratio:.2f}, required >= {min_cpu:g}: **{'PASS' if ok_cpu else 'FAIL'}**",
+    f"- check: {cks_ratio:.2f}x rs274 on the smooth program, required >= {min_check_smooth:g};"
+    f" {ck_ratio:.2f}x on the random one, required >= {min_check:g}: **{'PASS' if ok_check else 'FAIL'}**",
+    (f"- Python: {py_rows / 1e6:.2f} M rows/s into numpy (one row per block), required >= {min_py / 1e6:g} M: **{'PASS' if ok_py else 'FAIL'}**"
+     if py_rows else "- Python: not measured (the package is not installed in python3)"),
     f"- macro loop: fiveaxis/rs274 = {loop_ratio:.2f}, required >= {min_loop:g}: **{'PASS' if ok_loop else 'FAIL'}**",
     f"- memory: {mb(fa_rss_l):.1f} MB on {large:,} blocks, required < {max_rss_mb:g} MB: **{'PASS' if ok_rss else 'FAIL'}**",
     f"- TCPC type 2 throughput: {tcpc_share:.2f} of plain G1, required >= {min_tcpc:g}: **{'PASS' if ok_tcpc else 'FAIL'}**",
@@ -318,5 +389,5 @@ lines = [
 text = "\n".join(lines) + "\n"
 open(sys.argv[1], "w").write(text)
 print(text, end="")
-sys.exit(0 if ok_ratio and ok_rss and ok_tcpc and ok_comp and ok_loop and ok_mem else 1)
+sys.exit(0 if ok_ratio and ok_cpu and ok_check and ok_py and ok_rss and ok_tcpc and ok_comp and ok_loop and ok_mem else 1)
 EOF

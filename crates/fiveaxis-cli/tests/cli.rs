@@ -566,14 +566,13 @@ fn a_letter_o_for_a_zero_is_pointed_out() {
 #[test]
 fn digits_rounds_every_number_and_the_default_stays_exact() {
     // A quarter turn of A on the A/C trunnion: the tool direction has
-    // 6.123233995736766e-17 and -0.49999999999999994 in it.
+    // -0.49999999999999994 in it, and its k is exactly 0 (the quarter turn
+    // is exact in degrees).
     let program = "G0 X10. Y-25. Z30.\nG1 A-90. C30. F1000.\nM30\n";
     let exact = fiveaxis_in(Path::new("."), &["run", "-"], program);
     assert_eq!(exact.status.code(), Some(0), "{}", stderr(&exact));
     assert!(
-        stdout(&exact).contains(
-            ",-0.49999999999999994,0.8660254037844387,0.00000000000000006123233995736766,"
-        ),
+        stdout(&exact).contains(",-0.49999999999999994,0.8660254037844387,0,1000"),
         "{}",
         stdout(&exact)
     );

@@ -389,6 +389,10 @@ fn lerp(a: f64, b: f64, s: f64) -> f64 {
     a + (b - a) * s
 }
 
+/// Share of a step by which a span may exceed a whole number of steps
+/// and still take that many ([`Segment::steps`]): rounding, not motion.
+const STEP_ROUNDING: f64 = 1e-9;
+
 impl Segment {
     /// Machine position at `s` (0 ≤ s ≤ 1); exactly `end` at s = 1.
     pub fn eval(&self, machine: &Machine, s: f64) -> Joints {
@@ -558,7 +562,9 @@ impl Segment {
         };
         let count = |span: f64, limit: f64| {
             if limit > 0.0 && span.is_finite() {
-                (span / limit).ceil()
+                // A span of a whole number of steps, up to rounding, takes
+                // that many (not one more for a last step of 1e-14 mm).
+                (span / limit - STEP_ROUNDING).ceil()
             } else {
                 1.0
             }
