@@ -374,6 +374,11 @@ pub struct Checker<'m> {
     collisions: Option<collision::Collisions>,
     /// The stock model, when given.
     stock: Option<stock::StockCheck>,
+    /// The chord proof of the segment being checked, when worked out
+    /// ahead ([`Checker::segments_ahead`]).
+    chord_known: Option<Option<f64>>,
+    /// Buffers of [`Checker::segments`].
+    ahead: ChordsAhead,
     /// The last segment's end: joints, tool length and tool tip.
     last_end: Option<(fiveaxis_machine::Joints, f64, fiveaxis_machine::Vec3)>,
 }
@@ -407,6 +412,8 @@ impl<'m> Checker<'m> {
             timeline: None,
             collisions: None,
             stock: None,
+            chord_known: None,
+            ahead: ChordsAhead::default(),
             last_end: None,
         }
     }
@@ -556,26 +563,46 @@ impl<'m> Checker<'m> {
                 findings.push(f);
             });
         }
-        let rotary = self.machine.linear.len()..self.machine.axis_count();
-        let turns = rotary.clone().any(|i| seg.start[i] != seg.end[i])
-            || matches!(&seg.path, Path::Via(mid) if rotary.clone().any(|i| mid[i] != seg.start[i]))
-            || matches!(&seg.path, Path::Tcpc(t) if t.posture.is_some());
-        if turns {
-            // Positioning moves cut nothing: they are where a program
-            // turns its rotary axes, and how the tool passes the singular
-            // direction or leaves the chord there does not matter.
-            if seg.motion != Motion::Rapid {
-                self.rotary_flip(seg);
-                // Only where the control chose the rotary axes: a program
-                // that writes them passes where it says.
-                if seg.rotary_chosen {
-                    self.singular_passage(seg);
-                }
-                if !matches!(seg.path, Path::Tcpc(_)) {
-                    self.chord_error(seg, &tips);
-                }
+        // Positioning moves cut nothing: they are where a program turns
+        // its rotary axes, and how the tool passes the singular direction
+        // or leaves the chord there does not matter.
+        if turns_cutting(self.machine, seg) {
+            self.rotary_flip(seg);
+            // Only where the control chose the rotary axes: a program that
+            // writes them passes where it says.
+            if seg.rotary_chosen {
+                self.singular_passage(seg);
+            }
+            if !matches!(seg.path, Path::Tcpc(_)) {
+                self.chord_error(seg, &tips);
             }
         }
+    }
+
+    /// Checks a batch of segments in order, as [`Checker::segment`] each,
+    /// with their chord proofs worked out first on every core
+    /// ([`ChordsAhead`]).
+    pub fn segments(&mut self, batch: &[Segment]) {
+        let mut ahead = std::mem::take(&mut self.ahead);
+        ahead.work_out(self.machine, batch);
+        self.segments_ahead(batch, &ahead);
+        self.ahead = ahead;
+    }
+
+    /// [`Checker::segments`] with the batch's chord proofs worked out
+    /// already (by [`ChordsAhead::work_out`], on another thread).
+    pub fn segments_ahead(&mut self, batch: &[Segment], ahead: &ChordsAhead) {
+        for (i, seg) in batch.iter().enumerate() {
+            self.segment_with(seg, ahead.get(i));
+        }
+    }
+
+    /// [`Checker::segment`] with its chord proof worked out already when
+    /// `chord` is given ([`ChordsAhead::get`]).
+    pub fn segment_with(&mut self, seg: &Segment, chord: Option<Option<f64>>) {
+        self.chord_known = chord;
+        self.segment(seg);
+        self.chord_known = None;
     }
 
     /// Axis ranges and over-travel runs.
@@ -787,7 +814,11 @@ impl<'m> Checker<'m> {
     fn chord_error(&mut self, seg: &Segment, tips: &[fiveaxis_machine::Vec3; 2]) {
         let machine = self.machine;
         let tolerance = machine.params.chord_tolerance;
-        if let Some(deviation) = chord_deviation_at(machine, seg, tolerance, tips) {
+        let found = match self.chord_known.take() {
+            Some(known) => known,
+            None => chord_deviation_at(machine, seg, tolerance, tips),
+        };
+        if let Some(deviation) = found {
             let message = format!(
                 "the tip leaves the straight line between the block ends by {} mm (tolerance {tolerance} mm): the rotary axes move outside TCPC",
                 round6(deviation)
@@ -918,6 +949,85 @@ impl<'m> Checker<'m> {
     }
 }
 
+/// The chord proofs of a batch of segments, worked out ahead of the
+/// checks that take the segments in order: they depend on nothing but
+/// their segment and take most of the time where the rotary axes turn far
+/// outside TCPC, so they are spread over every core.
+#[derive(Debug, Default)]
+pub struct ChordsAhead {
+    /// Indices in the batch of the segments that need a proof.
+    wanted: Vec<usize>,
+    /// Their deviations beyond the tolerance, in the same order (empty
+    /// when the batch had too few to be worth spreading: they are then
+    /// proved in order).
+    found: Vec<Option<f64>>,
+}
+
+impl ChordsAhead {
+    /// Works out the chord proofs of `batch` on every core, when it has
+    /// at least [`PARALLEL_CHORDS`] of them.
+    pub fn work_out(&mut self, machine: &Machine, batch: &[Segment]) {
+        let tolerance = machine.params.chord_tolerance;
+        self.wanted.clear();
+        self.found.clear();
+        self.wanted.extend(
+            batch
+                .iter()
+                .enumerate()
+                .filter(|(_, seg)| needs_chord_proof(machine, seg, tolerance))
+                .map(|(i, _)| i),
+        );
+        if self.wanted.len() >= PARALLEL_CHORDS {
+            use rayon::prelude::*;
+            self.wanted
+                .par_iter()
+                .with_min_len(CHORDS_PER_TASK)
+                .map(|&i| chord_deviation(machine, &batch[i], tolerance))
+                .collect_into_vec(&mut self.found);
+        }
+    }
+
+    /// The chord proof of segment `i` of the batch, when worked out: its
+    /// deviation beyond the tolerance, if any.
+    pub fn get(&self, i: usize) -> Option<Option<f64>> {
+        if self.found.is_empty() {
+            return None;
+        }
+        let k = self.wanted.binary_search(&i).ok()?;
+        self.found.get(k).copied()
+    }
+}
+
+/// Fewest chord proofs in a batch worth spreading over the cores.
+const PARALLEL_CHORDS: usize = 32;
+
+/// Chord proofs one task takes at least (each is some tens of forward
+/// kinematics).
+const CHORDS_PER_TASK: usize = 8;
+
+/// Whether a segment turns rotary axes in a cutting move: where flips,
+/// singular passages and the chord are checked.
+fn turns_cutting(machine: &Machine, seg: &Segment) -> bool {
+    if seg.motion == Motion::Rapid {
+        return false;
+    }
+    let rotary = machine.linear.len()..machine.axis_count();
+    rotary.clone().any(|i| seg.start[i] != seg.end[i])
+        || matches!(&seg.path, Path::Via(mid) if rotary.clone().any(|i| mid[i] != seg.start[i]))
+        || matches!(&seg.path, Path::Tcpc(t) if t.posture.is_some())
+}
+
+/// Whether the chord check of a segment needs a proof: a cutting move
+/// outside TCPC that turns rotary axes, whose curvature bound does not
+/// keep it within the tolerance by itself ([`chord_deviation_at`]).
+fn needs_chord_proof(machine: &Machine, seg: &Segment, tolerance: f64) -> bool {
+    seg.moves()
+        && !matches!(seg.path, Path::Tcpc(_))
+        && turns_cutting(machine, seg)
+        && law::machine_tip(machine, seg)
+            .is_some_and(|law| law.curvature / 8.0 > tolerance + CHORD_PRECISION)
+}
+
 /// Segments taken from the runner at a time.
 const BATCH: usize = 1024;
 
@@ -928,6 +1038,8 @@ const PIPELINE_DEPTH: usize = 4;
 /// them.
 struct Batch {
     segments: Vec<Segment>,
+    /// Their chord proofs.
+    chords: ChordsAhead,
     /// The stock the program has declared so far.
     stock: Option<fiveaxis_control::Stock>,
     /// Blocks run so far.
@@ -955,14 +1067,16 @@ fn produce<S: Source>(
     runner: &mut Runner<'_, S>,
     keep_going: bool,
     full: &std::sync::mpsc::SyncSender<Batch>,
-    empty: &std::sync::mpsc::Receiver<Vec<Segment>>,
+    empty: &std::sync::mpsc::Receiver<(Vec<Segment>, ChordsAhead)>,
 ) {
+    let machine = runner.controller().machine();
     loop {
-        let mut segments = empty
+        let (mut segments, mut chords) = empty
             .try_recv()
-            .unwrap_or_else(|_| Vec::with_capacity(BATCH));
+            .unwrap_or_else(|_| (Vec::with_capacity(BATCH), ChordsAhead::default()));
         segments.clear();
         let filled = runner.fill(&mut segments, BATCH);
+        chords.work_out(machine, &segments);
         let end = match filled {
             Ok(true) => BatchEnd::More,
             Ok(false) => BatchEnd::Ended,
@@ -983,6 +1097,7 @@ fn produce<S: Source>(
         let last = !matches!(end, BatchEnd::More | BatchEnd::Resumed(_));
         let batch = Batch {
             segments,
+            chords,
             stock: runner.stock(),
             blocks: runner.blocks(),
             end,
@@ -1136,20 +1251,18 @@ pub fn check_run_with<S: Source + Send>(
     // batch before; batches go round between them (no allocation per
     // batch once both are in use).
     let (full_tx, full_rx) = std::sync::mpsc::sync_channel::<Batch>(PIPELINE_DEPTH);
-    let (empty_tx, empty_rx) = std::sync::mpsc::channel::<Vec<Segment>>();
+    let (empty_tx, empty_rx) = std::sync::mpsc::channel::<(Vec<Segment>, ChordsAhead)>();
     let alarm = std::thread::scope(|scope| {
         let producing = &mut *runner;
         let producer = scope.spawn(move || produce(producing, keep_going, &full_tx, &empty_rx));
         let mut alarm = None;
         while let Ok(batch) = full_rx.recv() {
             declared.offer(batch.stock, &mut checker);
-            for seg in &batch.segments {
-                checker.segment(seg);
-            }
+            checker.segments_ahead(&batch.segments, &batch.chords);
             checker.drain_settled(&mut take);
             progress(batch.blocks);
             // The producer may have ended: its batches are then dropped.
-            let _ = empty_tx.send(batch.segments);
+            let _ = empty_tx.send((batch.segments, batch.chords));
             match batch.end {
                 BatchEnd::More => {}
                 BatchEnd::Resumed(info) => {

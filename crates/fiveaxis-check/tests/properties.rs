@@ -79,9 +79,46 @@ fn run(machine: &Machine, program: &str) -> (Vec<Segment>, Report) {
         blocks: runner.blocks(),
     };
     let report = checker.finish(ending.clone());
-    drained.extend(draining.finish(ending).findings);
+    drained.extend(draining.finish(ending.clone()).findings);
     assert_eq!(drained, report.findings, "drained findings\n{program}");
+    // The same segments in one batch: the chord proofs worked out ahead
+    // (on every core when there are enough) give the same report.
+    let mut batched = Checker::new(machine);
+    batched.segments(&segments);
+    assert_eq!(
+        batched.finish(ending).findings,
+        report.findings,
+        "batched\n{program}"
+    );
     (segments, report)
+}
+
+#[test]
+fn a_batch_with_its_chord_proofs_on_every_core_checks_as_block_by_block() {
+    // 200 moves turning A and C far outside TCPC: every one a chord proof,
+    // enough for the batch to spread them over the cores.
+    let machine = builtin("trunnion-ac").expect("built in");
+    let mut program = String::from("G90 G0 X0 Y0 Z0 A0 C0\nG1 F1000.\n");
+    let mut state = 12_345_u64;
+    let mut next = |lo: f64, hi: f64| {
+        state = state
+            .wrapping_mul(6_364_136_223_846_793_005)
+            .wrapping_add(1_442_695_040_888_963_407);
+        lo + (hi - lo) * ((state >> 11) as f64 / (1u64 << 53) as f64)
+    };
+    for _ in 0..200 {
+        let (x, y, z) = (next(-100.0, 100.0), next(-100.0, 100.0), next(-50.0, 50.0));
+        let (a, c) = (next(-90.0, 0.0), next(0.0, 359.0));
+        program.push_str(&format!("X{x:.3} Y{y:.3} Z{z:.3} A{a:.3} C{c:.3}\n"));
+    }
+    program.push_str("M30\n");
+    let (_, report) = run(&machine, &program);
+    let chords = report
+        .findings
+        .iter()
+        .filter(|f| f.kind == Kind::ChordError)
+        .count();
+    assert!(chords >= 100, "{chords} chord errors");
 }
 
 /// Dense sampling of `f` over [0, 1], then golden-section refinement around
