@@ -701,9 +701,9 @@ impl<'m> Checker<'m> {
             Some((joints, length, tip)) if *joints == seg.start && *length == seg.tool_length => {
                 *tip
             }
-            _ => machine.forward(&seg.start, seg.tool_length).tip,
+            _ => machine.forward_tip(&seg.start, seg.tool_length),
         };
-        let end = machine.forward(&seg.end, seg.tool_length).tip;
+        let end = machine.forward_tip(&seg.end, seg.tool_length);
         self.last_end = Some((seg.end, seg.tool_length, end));
         [start, end]
     }
@@ -1370,7 +1370,20 @@ pub fn chord_deviation_at(
     if law.curvature / 8.0 <= floor + CHORD_PRECISION {
         return None;
     }
-    let tip = |s: f64| machine.forward(&seg.eval(machine, s), seg.tool_length).tip;
+    let chain = fiveaxis_machine::TipChain::new(machine);
+    let tip = |s: f64| {
+        // Every axis linear in s on a joint line: the interpolation alone.
+        let joints = if matches!(seg.path, Path::Joint) && s < 1.0 {
+            let mut joints = seg.start;
+            for (j, (a, b)) in joints.iter_mut().zip(seg.start.iter().zip(&seg.end)) {
+                *j = a + (b - a) * s;
+            }
+            joints
+        } else {
+            seg.eval(machine, s)
+        };
+        chain.tip(&joints, seg.tool_length)
+    };
     let [a, b] = *tips;
     let chord = b - a;
     let length = chord.norm();

@@ -3,7 +3,7 @@
 
 use nalgebra::{IsometryMatrix3, Rotation3, Translation3, Unit};
 
-use crate::{Joints, Machine, Side, Vec3};
+use crate::{Joints, MAX_ROTARY, Machine, Side, Vec3};
 
 /// Where the tool is: tip and direction (tip → spindle, unit) in one frame.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -128,6 +128,22 @@ impl Machine {
     /// formula with `W − L` for `−L` (`machine-model.md` §3 extended as
     /// its §4 foresees, "more linear axes, e.g. W, allowed later").
     pub fn forward(&self, joints: &Joints, tool_length: f64) -> Pose {
+        let (tip, dir) = self.turn_tool::<true>(joints, tool_length);
+        Pose { tip, dir }
+    }
+
+    /// The tip of [`Machine::forward`] alone, the same to the last bit,
+    /// without turning the direction: for the checks that sample where
+    /// the tip goes.
+    #[inline]
+    pub fn forward_tip(&self, joints: &Joints, tool_length: f64) -> Vec3 {
+        self.turn_tool::<false>(joints, tool_length).0
+    }
+
+    /// The tip, and with `DIRECTION` the tool direction (else `t0`), as
+    /// [`Machine::forward`] describes.
+    #[inline]
+    fn turn_tool<const DIRECTION: bool>(&self, joints: &Joints, tool_length: f64) -> (Vec3, Vec3) {
         let t0 = self.tool_direction.into_inner();
         // A quill along the tool moves the tip before the head turns it.
         let mut tip = (self.quill(joints) - tool_length) * t0;
@@ -137,7 +153,9 @@ impl Machine {
             if axis.on == Side::Head {
                 let (sin, cos) = sin_cos_degrees(joints[first + k]);
                 tip = axis.center + turn(&axis.axis, &(tip - axis.center), sin, cos);
-                dir = turn(&axis.axis, &dir, sin, cos);
+                if DIRECTION {
+                    dir = turn(&axis.axis, &dir, sin, cos);
+                }
             }
         }
         tip += Vec3::new(joints[0], joints[1], joints[2]);
@@ -145,10 +163,12 @@ impl Machine {
             if axis.on == Side::Table {
                 let (sin, cos) = sin_cos_degrees(joints[first + k]);
                 tip = axis.center + turn(&axis.axis, &(tip - axis.center), -sin, cos);
-                dir = turn(&axis.axis, &dir, -sin, cos);
+                if DIRECTION {
+                    dir = turn(&axis.axis, &dir, -sin, cos);
+                }
             }
         }
-        Pose { tip, dir }
+        (tip, dir)
     }
 }
 
@@ -169,11 +189,80 @@ impl Machine {
     }
 }
 
+/// The forward kinematics of one machine laid out for many evaluations:
+/// the rotary axes of each side as plain arrays in the order
+/// [`Machine::forward`] applies them, the quill's index found once. Its
+/// tips are [`Machine::forward_tip`]'s to the last bit (the same
+/// operations in the same order); the checks that sample a block many
+/// times make one per block.
+#[derive(Clone, Copy, Debug)]
+pub struct TipChain {
+    t0: Vec3,
+    quill: Option<usize>,
+    /// Head axes, innermost first: axis, centre, joint index.
+    head: [(Vec3, Vec3, usize); MAX_ROTARY],
+    heads: usize,
+    /// Table axes, bed outwards.
+    table: [(Vec3, Vec3, usize); MAX_ROTARY],
+    tables: usize,
+}
+
+impl TipChain {
+    /// The chain of `machine`.
+    pub fn new(machine: &Machine) -> Self {
+        let none = (Vec3::zeros(), Vec3::zeros(), 0);
+        let mut chain = Self {
+            t0: machine.tool_direction.into_inner(),
+            quill: machine.quill_index(),
+            head: [none; MAX_ROTARY],
+            heads: 0,
+            table: [none; MAX_ROTARY],
+            tables: 0,
+        };
+        let first = machine.linear.len();
+        for (k, axis) in machine.rotary.iter().enumerate().rev() {
+            if axis.on == Side::Head && chain.heads < MAX_ROTARY {
+                chain.head[chain.heads] = (axis.axis.into_inner(), axis.center, first + k);
+                chain.heads += 1;
+            }
+        }
+        for (k, axis) in machine.rotary.iter().enumerate() {
+            if axis.on == Side::Table && chain.tables < MAX_ROTARY {
+                chain.table[chain.tables] = (axis.axis.into_inner(), axis.center, first + k);
+                chain.tables += 1;
+            }
+        }
+        chain
+    }
+
+    /// The tool tip for these machine positions and tool length.
+    #[inline]
+    pub fn tip(&self, joints: &Joints, tool_length: f64) -> Vec3 {
+        let along = self.quill.map_or(0.0, |i| joints[i]);
+        let mut tip = (along - tool_length) * self.t0;
+        for (axis, center, j) in &self.head[..self.heads] {
+            let (sin, cos) = sin_cos_degrees(joints[*j]);
+            tip = center + turn_vec(axis, &(tip - center), sin, cos);
+        }
+        tip += Vec3::new(joints[0], joints[1], joints[2]);
+        for (axis, center, j) in &self.table[..self.tables] {
+            let (sin, cos) = sin_cos_degrees(joints[*j]);
+            tip = center + turn_vec(axis, &(tip - center), -sin, cos);
+        }
+        tip
+    }
+}
+
 /// `v` turned about unit `axis` by the angle whose sine and cosine are
 /// given (Rodrigues: v·cos + (k × v)·sin + k·(k·v)·(1 − cos)).
 #[inline]
 fn turn(axis: &Unit<Vec3>, v: &Vec3, sin: f64, cos: f64) -> Vec3 {
-    let k = axis.as_ref();
+    turn_vec(axis.as_ref(), v, sin, cos)
+}
+
+/// [`turn`] about a unit vector given as a plain one.
+#[inline]
+fn turn_vec(k: &Vec3, v: &Vec3, sin: f64, cos: f64) -> Vec3 {
     v * cos + k.cross(v) * sin + k * (k.dot(v) * (1.0 - cos))
 }
 
@@ -216,6 +305,24 @@ mod tests {
         assert!((s - rs).abs() < 3e-16 && (c - rc).abs() < 3e-16);
         let (s, c) = sin_cos_degrees(f64::NAN);
         assert!(s.is_nan() && c.is_nan());
+    }
+
+    #[test]
+    fn tip_chain_is_forward_tip_to_the_last_bit() {
+        for name in crate::builtin_names() {
+            let machine = crate::builtin(name).expect("built in");
+            let chain = TipChain::new(&machine);
+            let mut joints = [0.0; crate::MAX_AXES];
+            for step in 0..50 {
+                let t = f64::from(step);
+                for (i, j) in joints.iter_mut().enumerate().take(machine.axis_count()) {
+                    *j = (t * 37.3 + i as f64 * 11.1).sin() * 170.0;
+                }
+                let pose = machine.forward(&joints, 12.5);
+                assert_eq!(chain.tip(&joints, 12.5), pose.tip, "{name}");
+                assert_eq!(machine.forward_tip(&joints, 12.5), pose.tip, "{name}");
+            }
+        }
     }
 
     #[test]
