@@ -52,9 +52,7 @@ pub fn write_f64(out: &mut Text, x: f64) {
     if text.contains(&b'e') || text.ends_with(b".0") {
         write_positional(out, text);
     } else {
-        for &byte in text {
-            out.push(byte);
-        }
+        out.put_slice(text);
     }
 }
 
