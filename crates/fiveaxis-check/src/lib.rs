@@ -379,6 +379,8 @@ pub struct Checker<'m> {
     chord_known: Option<Option<f64>>,
     /// Buffers of [`Checker::segments`].
     ahead: ChordsAhead,
+    /// Chord proofs worked out in order, not ahead, so far.
+    proofs_in_order: usize,
     /// The last segment's end: joints, tool length and tool tip.
     last_end: Option<(fiveaxis_machine::Joints, f64, fiveaxis_machine::Vec3)>,
 }
@@ -414,6 +416,7 @@ impl<'m> Checker<'m> {
             stock: None,
             chord_known: None,
             ahead: ChordsAhead::default(),
+            proofs_in_order: 0,
             last_end: None,
         }
     }
@@ -816,7 +819,9 @@ impl<'m> Checker<'m> {
         let tolerance = machine.params.chord_tolerance;
         let found = match self.chord_known.take() {
             Some(known) => known,
-            None => chord_deviation_at(machine, seg, tolerance, tips),
+            None => {
+                chord_deviation_counted(machine, seg, tolerance, tips, &mut self.proofs_in_order)
+            }
         };
         if let Some(deviation) = found {
             let message = format!(
@@ -987,6 +992,12 @@ impl ChordsAhead {
         }
     }
 
+    /// Nothing worked out (the proofs are made in order).
+    pub fn clear(&mut self) {
+        self.wanted.clear();
+        self.found.clear();
+    }
+
     /// The chord proof of segment `i` of the batch, when worked out: its
     /// deviation beyond the tolerance, if any.
     pub fn get(&self, i: usize) -> Option<Option<f64>> {
@@ -1068,6 +1079,7 @@ fn produce<S: Source>(
     keep_going: bool,
     full: &std::sync::mpsc::SyncSender<Batch>,
     empty: &std::sync::mpsc::Receiver<(Vec<Segment>, ChordsAhead)>,
+    ahead_wanted: &std::sync::atomic::AtomicBool,
 ) {
     let machine = runner.controller().machine();
     loop {
@@ -1076,7 +1088,16 @@ fn produce<S: Source>(
             .unwrap_or_else(|_| (Vec::with_capacity(BATCH), ChordsAhead::default()));
         segments.clear();
         let filled = runner.fill(&mut segments, BATCH);
-        chords.work_out(machine, &segments);
+        // Looking for proofs costs a law a segment: only while the last
+        // batches had enough of them (a smooth path has none).
+        if ahead_wanted.load(std::sync::atomic::Ordering::Relaxed) {
+            chords.work_out(machine, &segments);
+            if chords.found.is_empty() {
+                ahead_wanted.store(false, std::sync::atomic::Ordering::Relaxed);
+            }
+        } else {
+            chords.clear();
+        }
         let end = match filled {
             Ok(true) => BatchEnd::More,
             Ok(false) => BatchEnd::Ended,
@@ -1252,13 +1273,25 @@ pub fn check_run_with<S: Source + Send>(
     // batch once both are in use).
     let (full_tx, full_rx) = std::sync::mpsc::sync_channel::<Batch>(PIPELINE_DEPTH);
     let (empty_tx, empty_rx) = std::sync::mpsc::channel::<(Vec<Segment>, ChordsAhead)>();
+    // Whether the runner's thread works out the chord proofs ahead: from
+    // the start, until a batch has too few; again once the checks meet
+    // enough of them in order.
+    let ahead_wanted = std::sync::atomic::AtomicBool::new(true);
     let alarm = std::thread::scope(|scope| {
         let producing = &mut *runner;
-        let producer = scope.spawn(move || produce(producing, keep_going, &full_tx, &empty_rx));
+        let ahead = &ahead_wanted;
+        let producer =
+            scope.spawn(move || produce(producing, keep_going, &full_tx, &empty_rx, ahead));
         let mut alarm = None;
         while let Ok(batch) = full_rx.recv() {
             declared.offer(batch.stock, &mut checker);
+            let before = checker.proofs_in_order;
             checker.segments_ahead(&batch.segments, &batch.chords);
+            // Proofs worked out here in order are worth working out
+            // ahead on every core from the next batch on.
+            if checker.proofs_in_order - before >= PARALLEL_CHORDS {
+                ahead_wanted.store(true, std::sync::atomic::Ordering::Relaxed);
+            }
             checker.drain_settled(&mut take);
             progress(batch.blocks);
             // The producer may have ended: its batches are then dropped.
@@ -1364,12 +1397,25 @@ pub fn chord_deviation_at(
     floor: f64,
     tips: &[fiveaxis_machine::Vec3; 2],
 ) -> Option<f64> {
+    chord_deviation_counted(machine, seg, floor, tips, &mut 0)
+}
+
+/// [`chord_deviation_at`], counting in `proofs` the segments that needed
+/// more than their curvature bound.
+fn chord_deviation_counted(
+    machine: &Machine,
+    seg: &Segment,
+    floor: f64,
+    tips: &[fiveaxis_machine::Vec3; 2],
+    proofs: &mut usize,
+) -> Option<f64> {
     let law = law::machine_tip(machine, seg)?;
     // The deviation is 0 at both ends: a curvature bound that keeps the
     // whole block within the floor settles it without a sample.
     if law.curvature / 8.0 <= floor + CHORD_PRECISION {
         return None;
     }
+    *proofs += 1;
     let chain = fiveaxis_machine::TipChain::new(machine);
     let tip = |s: f64| {
         // Every axis linear in s on a joint line: the interpolation alone.
