@@ -366,7 +366,7 @@ fn finding_json(w: &mut Vec<u8>, f: &Finding) {
     w.push(b'{');
     if let Some(axis) = f.axis {
         w.extend_from_slice(b"\"axis\":");
-        string(w, &axis.to_string());
+        string(w, axis.encode_utf8(&mut [0; 4]));
         w.push(b',');
     }
     if let Some(bodies) = &f.bodies {
@@ -378,7 +378,9 @@ fn finding_json(w: &mut Vec<u8>, f: &Finding) {
     }
     w.extend_from_slice(b"\"kind\":");
     string(w, f.kind.name());
-    w.extend_from_slice(format!(",\"line\":{},\"message\":", f.line).as_bytes());
+    w.extend_from_slice(b",\"line\":");
+    w.extend_from_slice(itoa::Buffer::new().format(f.line).as_bytes());
+    w.extend_from_slice(b",\"message\":");
     string(w, &f.message);
     w.extend_from_slice(b",\"severity\":");
     string(w, f.severity().name());
@@ -412,7 +414,9 @@ impl JsonFindings {
         self.record.clear();
         finding_json(&mut self.record, f);
         let len = u32::try_from(self.record.len()).unwrap_or(u32::MAX);
-        let head = [f.line.to_le_bytes(), len.to_le_bytes()].concat();
+        let mut head = [0; 8];
+        head[..4].copy_from_slice(&f.line.to_le_bytes());
+        head[4..].copy_from_slice(&len.to_le_bytes());
         if self.file.is_none() && self.memory.len() + self.record.len() > SPILL_MEMORY {
             let mut file = io::BufWriter::new(tempfile::tempfile()?);
             file.write_all(&self.memory)?;
