@@ -197,7 +197,8 @@ RSS_BEST=$T_BEST
 cpu_best() { # command...
   local best="" i t
   for i in 1 2 3 4 5; do
-    t=$( { /usr/bin/time -f '%U %S' "$@" >/dev/null 2>/dev/null; } 2>&1 | awk '{ print $1 + $2 }')
+    /usr/bin/time -o "$OUT/cpu.txt" -f '%U %S' "$@" >/dev/null 2>&1 || die "$* failed"
+    t=$(awk '{ print $1 + $2 }' "$OUT/cpu.txt")
     if [ -z "$best" ] || awk -v a="$t" -v b="$best" 'BEGIN { exit !(a < b) }'; then best=$t; fi
   done
   printf '%s\n' "$best"
