@@ -377,8 +377,6 @@ pub struct Checker<'m> {
     /// The chord proof of the segment being checked, when worked out
     /// ahead ([`Checker::segments_ahead`]).
     chord_known: Option<Option<f64>>,
-    /// Buffers of [`Checker::segments`].
-    ahead: ChordsAhead,
     /// Chord proofs worked out in order, not ahead, so far.
     proofs_in_order: usize,
     /// The last segment's end: joints, tool length and tool tip.
@@ -415,7 +413,6 @@ impl<'m> Checker<'m> {
             collisions: None,
             stock: None,
             chord_known: None,
-            ahead: ChordsAhead::default(),
             proofs_in_order: 0,
             last_end: None,
         }
@@ -586,26 +583,19 @@ impl<'m> Checker<'m> {
     /// with their chord proofs worked out first on every core
     /// ([`ChordsAhead`]).
     pub fn segments(&mut self, batch: &[Segment]) {
-        let mut ahead = std::mem::take(&mut self.ahead);
+        let mut ahead = ChordsAhead::default();
         ahead.work_out(self.machine, batch);
         self.segments_ahead(batch, &ahead);
-        self.ahead = ahead;
     }
 
     /// [`Checker::segments`] with the batch's chord proofs worked out
     /// already (by [`ChordsAhead::work_out`], on another thread).
     pub fn segments_ahead(&mut self, batch: &[Segment], ahead: &ChordsAhead) {
         for (i, seg) in batch.iter().enumerate() {
-            self.segment_with(seg, ahead.get(i));
+            self.chord_known = ahead.get(i);
+            self.segment(seg);
+            self.chord_known = None;
         }
-    }
-
-    /// [`Checker::segment`] with its chord proof worked out already when
-    /// `chord` is given ([`ChordsAhead::get`]).
-    pub fn segment_with(&mut self, seg: &Segment, chord: Option<Option<f64>>) {
-        self.chord_known = chord;
-        self.segment(seg);
-        self.chord_known = None;
     }
 
     /// Axis ranges and over-travel runs.

@@ -10,13 +10,13 @@ use crate::{bound, law};
 /// that turns rotary axes about the tip).
 const NO_TIP_MOTION: f64 = 1e-9;
 
-/// The tool tip at the two ends of a segment ([`Machine::forward`]): what
+/// The tool tip at the two ends of a segment ([`Machine::forward_tip`]): what
 /// the checks that measure the straight line between them share, computed
 /// once a segment.
 pub fn end_tips(machine: &Machine, seg: &Segment) -> [Vec3; 2] {
     [
-        machine.forward(&seg.start, seg.tool_length).tip,
-        machine.forward(&seg.end, seg.tool_length).tip,
+        machine.forward_tip(&seg.start, seg.tool_length),
+        machine.forward_tip(&seg.end, seg.tool_length),
     ]
 }
 
