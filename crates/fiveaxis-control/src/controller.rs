@@ -31,6 +31,7 @@ mod linuxcnc;
 mod m_codes;
 mod motion;
 mod operands;
+mod plain;
 mod splines;
 mod system_vars;
 mod tcpc;
@@ -243,6 +244,11 @@ pub struct Controller<'m> {
     /// least input increments, when asked for
     /// ([`Controller::count_words_without_point`]); `None`: not counted.
     without_point: Option<WordsWithoutPoint>,
+    /// Plain blocks take the plain path (`plain.rs`); off only to test
+    /// it against the general path.
+    plain_path: bool,
+    /// The addresses of a plain block: the axes' and F, by letter bit.
+    plain_addresses: u32,
 }
 
 /// Axis words a program writes without a decimal point on a control that
@@ -281,6 +287,10 @@ impl<'m> Controller<'m> {
             comment: Vec::new(),
             comment_span: None,
             without_point: None,
+            plain_path: true,
+            plain_addresses: Words::letter_mask(
+                machine.axis_names().map(|name| name as u8).chain([b'F']),
+            ),
             optional_stop: false,
             stop: None,
             dialect: Dialect::of(machine.control),
@@ -562,6 +572,9 @@ impl<'m> Controller<'m> {
             self.comment.clear();
             self.comment.extend_from_slice(&block.comment);
             self.comment_span = block.comment_span;
+        }
+        if let Some(mode) = self.plain_block() {
+            return self.execute_plain(mode, block.sequence, base, out);
         }
         let saved = self.state.clone();
         if let Some(n) = block.sequence {

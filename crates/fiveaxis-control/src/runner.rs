@@ -481,6 +481,14 @@ impl<'m, S: Source> Runner<'m, S> {
         &self.controller
     }
 
+    /// Sends plain blocks through the controller's plain path (on, the
+    /// default) or every block through its general path (off): for the
+    /// tests that compare the two (`Controller::set_plain_path`).
+    #[doc(hidden)]
+    pub fn set_plain_path(&mut self, on: bool) {
+        self.controller.set_plain_path(on);
+    }
+
     /// From now on the controller counts the axis words written without a
     /// decimal point where they are read in least input increments
     /// ([`Controller::count_words_without_point`]; for verification).

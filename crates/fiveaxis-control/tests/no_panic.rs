@@ -2,6 +2,9 @@
 //! machine, it ends (`Ok(None)`) or stops with an alarm, and every row it
 //! yields on the way is made of finite numbers.
 //!
+//! The controller's plain path (`controller/plain.rs`) gives, block for
+//! block, the segments and alarms its general path gives.
+//!
 //! Programs come from a vocabulary of realistic words (the G and M codes the
 //! kernel has, with the values they take, axis and centre words with small,
 //! huge, zero and negative values, with and without a decimal point), from
@@ -633,6 +636,169 @@ proptest! {
     #[test]
     fn arbitrary_bytes_never_panic(program in prop::collection::vec(any::<u8>(), 0..400)) {
         check_on_every_machine(|_| program.clone(), RunOptions::default())?;
+    }
+}
+
+// ----- plain path against general path ------------------------------------
+
+/// Runs `program` on `machine` twice, plain blocks through the plain path
+/// and every block through the general path, and checks that both give the
+/// same segments, the same alarm at the same block and end in the same
+/// state.
+fn check_plain_path(machine: &Machine, program: &[u8]) -> Result<(), TestCaseError> {
+    let runner = |plain| {
+        let source = Budgeted {
+            inner: SliceSource::new(program),
+            budget: LINE_BUDGET,
+        };
+        let mut runner = Runner::new(machine, offsets(), source, RunOptions::default());
+        runner.set_plain_path(plain);
+        runner
+    };
+    let (mut plain, mut general) = (runner(true), runner(false));
+    for _ in 0..MAX_SEGMENTS {
+        let (a, b) = (plain.next_segment(), general.next_segment());
+        prop_assert_eq!(plain.blocks(), general.blocks());
+        match (a, b) {
+            (Ok(Some(a)), Ok(Some(b))) => prop_assert_eq!(a, b),
+            (Ok(None), Ok(None)) => break,
+            (Err(RunError::Alarm { alarm: a, .. }), Err(RunError::Alarm { alarm: b, .. })) => {
+                prop_assert_eq!(a, b);
+                break;
+            }
+            (Err(RunError::Io(a)), Err(RunError::Io(b))) if a.kind() == b.kind() => break,
+            (a, b) => {
+                return Err(TestCaseError::fail(format!(
+                    "plain path {a:?}, general path {b:?}"
+                )));
+            }
+        }
+    }
+    let (a, b) = (plain.controller(), general.controller());
+    prop_assert_eq!(a.joints(), b.joints());
+    prop_assert_eq!(a.modal(), b.modal());
+    prop_assert_eq!(a.feed().to_bits(), b.feed().to_bits());
+    prop_assert_eq!(a.programmed_position(), b.programmed_position());
+    Ok(())
+}
+
+/// A block that puts the control in a state a plain block then runs in
+/// (or refuses): modes, offsets, compensations, TCPC, cycles, frames,
+/// setup error correction, spindle and feed modes, all well formed.
+fn state_block() -> impl Strategy<Value = Vec<Word>> {
+    const STATES: &[&str] = &[
+        "G90",
+        "G91",
+        "G20",
+        "G21",
+        "G17",
+        "G18",
+        "G19",
+        "G43 H1",
+        "G43 H2",
+        "G44 H3",
+        "G49",
+        "G41 D1",
+        "G42 D2",
+        "G40",
+        "G41 D1 I0 J0 K1",
+        "G43.4 H1",
+        "G43.5 H2",
+        "G81 Z-10. R5.",
+        "G83 Z-20. R2. Q3.",
+        "G80",
+        "G68 X1. Y2. R30.",
+        "G69",
+        "G51 X0 Y0 P2000",
+        "G50",
+        "G51.1 X5.",
+        "G50.1 X0",
+        "G52 X10. Y5.",
+        "G52 X0 Y0",
+        "G16",
+        "G15",
+        "G93",
+        "G94",
+        "G95 S1000 M3",
+        "M5",
+        "M8",
+        "M9",
+        "G54",
+        "G55",
+        "G54.1 P1",
+        "G54.4 P1",
+        "G54.4 P0",
+        "G10 L2 P1 X5. Y-3.",
+        "G92 X0 Y0",
+        "G28 X0",
+        "G2 X10. Y10. R20.",
+        "G3 X-5. R40.",
+        "G09 G1 X1.",
+        "G61",
+        "G64",
+        "G4 P100",
+        "M1",
+        "S2000",
+        "T2 M6",
+        "G68.2 X0 Y0 Z0 I0 J30. K0",
+        "G53.1",
+        "G69",
+        "G254",
+        "G255",
+        "G43.4 H1 G68.2 X0 Y0 Z0 I0 J0 K0",
+    ];
+    prop::sample::select(STATES).prop_map(|text| {
+        text.split(' ')
+            .map(|word| fixed(&word[..1], &word[1..]))
+            .collect()
+    })
+}
+
+/// A plain block or one that just misses being plain: G00 / G01 or no
+/// code, axis words, a tool direction (plain under TCPC type 2), a feed.
+fn plain_block() -> impl Strategy<Value = Vec<Word>> {
+    let motion = prop::option::weighted(0.6, one_of_codes(&["G0", "G1", "G1", "G00", "G01"]));
+    let vector = prop::option::weighted(
+        0.3,
+        (
+            value("I", -10..=10),
+            value("J", -10..=10),
+            value("K", -10..=10),
+        ),
+    );
+    (motion, axes(), vector, feed()).prop_map(|(motion, axes, vector, feed)| {
+        let vector = vector.map(|(i, j, k)| vec![i, j, k]).unwrap_or_default();
+        motion
+            .into_iter()
+            .chain(axes)
+            .chain(vector)
+            .chain(feed)
+            .collect()
+    })
+}
+
+/// Programs of plain blocks in every state of [`state_block`].
+fn plain_program() -> impl Strategy<Value = Program> {
+    let block = prop_oneof![4 => plain_block(), 1 => state_block()];
+    prop::collection::vec(block, 1..40).prop_map(|blocks| {
+        let start = vec![code("G94"), fixed("F", "1000.")];
+        Program(std::iter::once(start).chain(blocks).collect())
+    })
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 1024, ..ProptestConfig::default() })]
+
+    #[test]
+    fn plain_path_gives_what_the_general_path_gives(program in prop_oneof![program(), plain_program()]) {
+        // LinuxCNC's reading too, on two of the machines.
+        let linuxcnc = ["trunnion-ac", "head-table-bc"].map(|name| Machine {
+            control: fiveaxis_machine::Control::LinuxCnc,
+            ..builtin(name).expect("built-in machine")
+        });
+        for machine in machines().into_iter().chain(linuxcnc) {
+            check_plain_path(&machine, program.text_for(&machine).as_bytes())?;
+        }
     }
 }
 

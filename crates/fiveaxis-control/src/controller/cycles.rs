@@ -175,7 +175,7 @@ impl Default for CycleState {
 
 impl CycleState {
     /// G80 or a group-01 code: the mode and its drilling data end.
-    fn cancel(&mut self) {
+    pub(super) fn cancel(&mut self) {
         *self = Self {
             return_initial: self.return_initial,
             ..Self::default()

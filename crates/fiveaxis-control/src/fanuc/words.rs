@@ -116,6 +116,21 @@ impl Words {
         Ok(())
     }
 
+    /// The bits of `letters` in the masks of addresses.
+    pub fn letter_mask(letters: impl IntoIterator<Item = u8>) -> u32 {
+        letters.into_iter().fold(0, |mask, l| mask | 1 << index(l))
+    }
+
+    /// The block's G code when it has only addresses of `allowed` (by
+    /// [`Words::letter_mask`]), no M code and at most one G code:
+    /// `Some(None)` when it has no G code, `None` when it has more.
+    pub(crate) fn plain_motion_code(&self, allowed: u32) -> Option<Option<Code>> {
+        if self.present & !allowed != 0 || self.m_len != 0 || self.g_len > 1 {
+            return None;
+        }
+        Some((self.g_len == 1).then(|| self.g[0].0))
+    }
+
     fn push_code(&mut self, word: &Word) -> Result<(), Alarm> {
         let letter = char::from(word.letter);
         // M codes are whole numbers: a computed value (`M#1`) is rounded to

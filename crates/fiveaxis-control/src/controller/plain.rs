@@ -1,0 +1,157 @@
+//! The plain block: a straight move written with axis words, F and at
+//! most G00 / G01, in a state where no function is in force that such a
+//! block could start, end or pass through (no canned cycle, cutter or
+//! 3-D tool compensation, tilted plane or dynamic work offset, LinuxCNC
+//! motion mode, TCP kinematics still to switch on). TCPC may be in force:
+//! the motion itself takes it into account. Most blocks of CAM output are such
+//! blocks.
+//!
+//! [`Controller::execute_plain`] runs them through the same functions as
+//! the general path (axis words, feed, end point, machine position,
+//! segment, clamps and soft limits) and leaves out only the passes that
+//! the conditions of [`Controller::plain_block`] prove have nothing to
+//! do: G-code classification beyond the motion code, M codes, length
+//! offset, compensations, frames, features, cycles. The state it changes
+//! is put back on an alarm, as the general path puts back its copy of
+//! the whole state.
+//!
+//! Invariant: for every block and state, the plain path gives the same
+//! segments, flow, alarm and state as the general path (tested block for
+//! block on random programs in `tests/plain_path.rs`).
+
+use fiveaxis_gcode::Code;
+use fiveaxis_machine::Vec3;
+
+use super::{Controller, Flow, at_line, cycles};
+use crate::alarm::Alarm;
+use crate::fanuc::Words;
+use crate::modal::{MotionMode, TcpcType};
+use crate::segment::Segment;
+
+/// G00 and G01.
+const RAPID: Code = Code::new(0, 0);
+const LINEAR: Code = Code::new(1, 0);
+
+/// The state a plain block changes, to put back on an alarm.
+struct Undo {
+    motion: MotionMode,
+    cycle: cycles::CycleState,
+    feed: f64,
+    tcpc_startup: bool,
+    sequence: Option<u32>,
+    setup: fiveaxis_machine::SetupError,
+}
+
+impl Controller<'_> {
+    /// Whether the block just loaded is a plain block in a plain state,
+    /// and its motion code if it has one: `Some(None)` a plain block
+    /// without G code, `Some(Some(mode))` one with G00 or G01, `None` a
+    /// block for the general path.
+    pub(super) fn plain_block(&self) -> Option<Option<MotionMode>> {
+        if !self.plain_path || self.operands.active {
+            return None;
+        }
+        // Under TCPC type 2, I, J, K give the tool direction of the move.
+        let addresses = if self.tcpc_type() == Some(TcpcType::Vector) {
+            self.plain_addresses | Words::letter_mask(*b"IJK")
+        } else {
+            self.plain_addresses
+        };
+        let code = self.fanuc.plain_motion_code(addresses)?;
+        let mode = match code {
+            None => None,
+            Some(RAPID) => Some(MotionMode::Rapid),
+            Some(LINEAR) => Some(MotionMode::Linear),
+            Some(_) => return None,
+        };
+        let state = &self.state;
+        let plain_state =
+            code.is_some() || matches!(state.modal.motion, MotionMode::Rapid | MotionMode::Linear);
+        let plain_state = plain_state
+            && state.cycle.cycle.is_none()
+            && state.ngc_motion.is_none()
+            && state.spline_tangent.is_none()
+            && state.feature.is_none()
+            && state.feature_pending.is_none()
+            && state.setup_angles.is_none()
+            && !state.kinematics_pending
+            && !state.comp3d.active
+            && state.comp3d.vector == Vec3::zeros()
+            && !self.cutter.routing();
+        plain_state.then_some(mode)
+    }
+
+    /// Executes a block [`Controller::plain_block`] admitted, with motion
+    /// code `mode`.
+    pub(super) fn execute_plain(
+        &mut self,
+        mode: Option<MotionMode>,
+        sequence: Option<u32>,
+        base: usize,
+        out: &mut Vec<Segment>,
+    ) -> Result<Flow, Alarm> {
+        let undo = Undo {
+            motion: self.state.modal.motion,
+            cycle: self.state.cycle,
+            feed: self.state.feed,
+            tcpc_startup: self.state.tcpc.startup,
+            sequence: self.state.sequence,
+            setup: self.state.setup,
+        };
+        if let Some(n) = sequence {
+            self.state.sequence = Some(n);
+        }
+        let result = self.plain_motion(mode, base, out);
+        if result.is_err() {
+            let state = &mut self.state;
+            state.modal.motion = undo.motion;
+            state.cycle = undo.cycle;
+            state.feed = undo.feed;
+            state.tcpc.startup = undo.tcpc_startup;
+            state.sequence = undo.sequence;
+            state.setup = undo.setup;
+            out.truncate(base);
+        }
+        result.map(|()| Flow::Next)
+    }
+
+    /// The general path's steps that act on a plain block, in its order.
+    fn plain_motion(
+        &mut self,
+        mode: Option<MotionMode>,
+        base: usize,
+        out: &mut Vec<Segment>,
+    ) -> Result<(), Alarm> {
+        self.block_exact_stop = self.pending_exact_stop;
+        self.block_chose_rotary.set(false);
+        if let Some(mode) = mode {
+            // Group 01 (apply_modal), which also cancels a canned cycle.
+            self.state.modal.motion = mode;
+            self.state.cycle.cancel();
+        }
+        self.refresh_xy_rotation();
+        self.apply_values(false)?;
+        let from = self.programmed(&self.state.joints);
+        // No length code or H: the offset stays (apply_length).
+        self.state.tcpc.startup = false;
+        // No G41 / G42 / G40 (apply_cutter).
+        self.cutter.vector = None;
+        self.motion(&from, false, out)?;
+        self.fanuc.check_all_used()?;
+        self.check_clamps(&out[base..])?;
+        for seg in &out[base..] {
+            self.check_limits(seg).map_err(|a| at_line(a, seg.line))?;
+        }
+        if let Some(last) = out[base..].last() {
+            self.state.joints = last.end;
+        }
+        Ok(())
+    }
+
+    /// Sends every block through the general path (off) or plain blocks
+    /// through the plain path (on, the default): for the tests that
+    /// compare the two.
+    pub fn set_plain_path(&mut self, on: bool) {
+        self.plain_path = on;
+    }
+}
