@@ -249,6 +249,10 @@ pub struct Controller<'m> {
     plain_path: bool,
     /// The addresses of a plain block: the axes' and F, by letter bit.
     plain_addresses: u32,
+    /// The soft limits of each axis, by joint index; infinite for a
+    /// rollover axis or one without limits (the machine's, laid out for
+    /// the check of every segment).
+    soft_limits: [(f64, f64); MAX_AXES],
 }
 
 /// Axis words a program writes without a decimal point on a control that
@@ -288,6 +292,7 @@ impl<'m> Controller<'m> {
             comment_span: None,
             without_point: None,
             plain_path: true,
+            soft_limits: soft_limits(machine),
             plain_addresses: Words::letter_mask(
                 machine.axis_names().map(|name| name as u8).chain([b'F']),
             ),
@@ -1542,14 +1547,7 @@ impl<'m> Controller<'m> {
             }
             Path::Joint => {}
         }
-        let limits = machine.linear.iter().map(|a| Some((a.min, a.max))).chain(
-            machine
-                .rotary
-                .iter()
-                .map(|r| if r.rollover { None } else { r.limits }),
-        );
-        for (i, (limit, name)) in limits.zip(machine.axis_names()).enumerate() {
-            let Some((min, max)) = limit else { continue };
+        for (i, &(min, max)) in self.soft_limits[..machine.axis_count()].iter().enumerate() {
             let (condition, side, reach, bound) = if hi[i] > max + LIMIT_TOLERANCE {
                 (Condition::OvertravelPlus, '+', hi[i], max)
             } else if lo[i] < min - LIMIT_TOLERANCE {
@@ -1558,6 +1556,7 @@ impl<'m> Controller<'m> {
                 continue;
             };
             let span = self.op_axis_span(i);
+            let name = char::from(self.axis_letters[i]);
             return Err(self.alarm(
                 condition,
                 span,
@@ -1694,6 +1693,24 @@ const LIMIT_TOLERANCE: f64 = 1e-9;
 
 /// An alarm about a segment of an earlier block (held back by cutter
 /// compensation C) names that block's line.
+/// The soft limits of `machine`'s axes by joint index: a rollover axis or
+/// a rotary axis without limits has none (infinite bounds).
+fn soft_limits(machine: &Machine) -> [(f64, f64); MAX_AXES] {
+    let mut limits = [(f64::NEG_INFINITY, f64::INFINITY); MAX_AXES];
+    let axes = machine.linear.iter().map(|a| Some((a.min, a.max))).chain(
+        machine
+            .rotary
+            .iter()
+            .map(|r| if r.rollover { None } else { r.limits }),
+    );
+    for (slot, limit) in limits.iter_mut().zip(axes) {
+        if let Some(limit) = limit {
+            *slot = limit;
+        }
+    }
+    limits
+}
+
 fn at_line(mut alarm: Alarm, line: u32) -> Alarm {
     if alarm.line != line {
         alarm.line = line;

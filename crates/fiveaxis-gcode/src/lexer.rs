@@ -289,24 +289,40 @@ fn read_word(
 /// `None` sends the word to [`read_general_number`], which then gives the
 /// same result as before this fast path existed (or the error).
 fn read_plain_number(text: &[u8], start: usize, exponent: bool) -> Option<(Number, usize)> {
-    let rest = text.get(start..)?;
-    let (sign, unsigned) = match rest {
-        [sign @ (PLUS | MINUS), tail @ ..] => (Some(*sign), tail),
-        _ => (None, rest),
-    };
-    // Each run of digits is read in one pass, value and count together.
-    let (integer, integer_digits, after_integer) = read_digits(0, skip_zeros(unsigned));
-    let (decimal_point, mantissa, fraction_digits, after) = match after_integer {
-        [DECIMAL_POINT, tail @ ..] => {
-            let (mantissa, fraction_digits, after) = read_digits(integer, tail);
-            (true, mantissa, fraction_digits, after)
+    let bytes = text.get(start..)?;
+    // One pass over the bytes by index: sign, zeros in front, integer
+    // digits, point, fraction digits.
+    let mut i = 0;
+    let sign = match bytes.first() {
+        Some(&sign @ (PLUS | MINUS)) => {
+            i = 1;
+            Some(sign)
         }
-        _ => (false, integer, 0, after_integer),
+        _ => None,
     };
-    let any_digit = after_integer.len() < unsigned.len() || fraction_digits > 0;
-    if !any_digit
+    let unsigned = i;
+    while bytes.get(i) == Some(&b'0') {
+        i += 1;
+    }
+    let significant = i;
+    let (integer, after_integer) = digits_at(bytes, i, 0);
+    let integer_digits = after_integer - significant;
+    let any_integer_digit = after_integer > unsigned;
+    let (decimal_point, mantissa, fraction_digits, first_fraction_digit, after) =
+        if bytes.get(after_integer) == Some(&DECIMAL_POINT) {
+            let fraction = after_integer + 1;
+            let (mantissa, after) = digits_at(bytes, fraction, integer);
+            let first = match bytes.get(fraction) {
+                Some(&digit @ b'0'..=b'9') if after > fraction => digit - b'0',
+                _ => 0,
+            };
+            (true, mantissa, after - fraction, first, after)
+        } else {
+            (false, integer, 0, 0, after_integer)
+        };
+    if !(any_integer_digit || fraction_digits > 0)
         || integer_digits + fraction_digits > MAX_DIGITS
-        || !ends_plain_number(after, exponent)
+        || !ends_plain_number(bytes.get(after..).unwrap_or_default(), exponent)
     {
         return None;
     }
@@ -321,33 +337,25 @@ fn read_plain_number(text: &[u8], start: usize, exponent: bool) -> Option<(Numbe
         decimal_point,
         integer,
         fraction_digits,
-        first_fraction_digit: match after_integer {
-            [DECIMAL_POINT, digit @ b'0'..=b'9', ..] => digit - b'0',
-            _ => 0,
-        },
+        first_fraction_digit,
     };
-    Some((number, text.len() - after.len()))
+    Some((number, start + after))
 }
 
-/// Reads the ASCII digits at the start of `bytes`, written after those of
-/// `value`: the new value, how many digits were read and what follows them.
-/// The value wraps past 19 digits; callers refuse more than [`MAX_DIGITS`].
-fn read_digits(mut value: u64, bytes: &[u8]) -> (u64, usize, &[u8]) {
-    let mut rest = bytes;
-    while let [digit @ b'0'..=b'9', tail @ ..] = rest {
-        value = value.wrapping_mul(10).wrapping_add(u64::from(digit - b'0'));
-        rest = tail;
+/// Reads the ASCII digits of `bytes` from `from`, written after those of
+/// `value`: the new value and where the digits end. The value wraps past
+/// 19 digits; callers refuse more than [`MAX_DIGITS`].
+fn digits_at(bytes: &[u8], from: usize, mut value: u64) -> (u64, usize) {
+    let mut i = from;
+    while let Some(&byte) = bytes.get(i) {
+        let digit = byte.wrapping_sub(b'0');
+        if digit > 9 {
+            break;
+        }
+        value = value.wrapping_mul(10).wrapping_add(u64::from(digit));
+        i += 1;
     }
-    (value, bytes.len() - rest.len(), rest)
-}
-
-/// `bytes` without the zeros in front.
-fn skip_zeros(bytes: &[u8]) -> &[u8] {
-    let mut rest = bytes;
-    while let [b'0', tail @ ..] = rest {
-        rest = tail;
-    }
-    rest
+    (value, i)
 }
 
 /// Whether the plain number followed by `after` ends there for
