@@ -18,6 +18,10 @@ use crate::text::Text;
 /// last place is far smaller than 0.001.
 const FAST_PATH_LIMIT: f64 = 1e12;
 const THOUSAND: f64 = 1000.0;
+/// Magnitudes `zmij` surely writes without an exponent (it does from
+/// 10^-5 to below 10^16; a margin of a decade on each side).
+const POSITIONAL_MIN: f64 = 1e-4;
+const POSITIONAL_MAX: f64 = 1e15;
 
 /// Appends `x` to `out`.
 pub fn write_f64(out: &mut Text, x: f64) {
@@ -33,7 +37,7 @@ pub fn write_f64(out: &mut Text, x: f64) {
             k -= 1;
         }
         if k as f64 / THOUSAND == x {
-            write_scaled(out, k, 3);
+            write_thousandths(out, k);
             return;
         }
     }
@@ -49,7 +53,10 @@ pub fn write_f64(out: &mut Text, x: f64) {
     }
     let mut buffer = zmij::Buffer::new();
     let text = buffer.format_finite(x).as_bytes();
-    if text.contains(&b'e') || text.ends_with(b".0") {
+    // zmij writes positionally from 1e-5 to below 1e16: no exponent to
+    // look for in between.
+    let positional = (POSITIONAL_MIN..POSITIONAL_MAX).contains(&x.abs());
+    if (!positional && text.contains(&b'e')) || text.ends_with(b".0") {
         write_positional(out, text);
     } else {
         out.put_slice(text);
@@ -113,6 +120,27 @@ fn write_scaled(out: &mut Text, k: i64, decimals: usize) {
     if frac != 0 {
         out.push(b'.');
         out.put_digits(frac, decimals);
+    }
+}
+
+/// Writes `k / 1000` without trailing zeros ([`write_scaled`] with three
+/// decimals, by constant divisors).
+fn write_thousandths(out: &mut Text, k: i64) {
+    let magnitude = k.unsigned_abs();
+    let (whole, frac) = (magnitude / 1000, magnitude % 1000);
+    if k < 0 {
+        out.push(b'-');
+    }
+    out.put_digits(whole, decimal_digits(whole));
+    if frac != 0 {
+        out.push(b'.');
+        if frac % 100 == 0 {
+            out.put_digits(frac / 100, 1);
+        } else if frac % 10 == 0 {
+            out.put_digits(frac / 10, 2);
+        } else {
+            out.put_digits(frac, 3);
+        }
     }
 }
 
@@ -298,6 +326,13 @@ mod tests {
         #[test]
         fn equals_rust_display_for_machine_sized_values(x in -1e9..1e9f64, scale in 0i32..12) {
             let x = x / 10f64.powi(scale);
+            prop_assert_eq!(text(x), format!("{}", x + 0.0));
+        }
+
+        #[test]
+        fn equals_rust_display_around_the_positional_range(m in 1.0..10.0f64, e in -7i32..=17, negative in any::<bool>()) {
+            let x = m * 10f64.powi(e);
+            let x = if negative { -x } else { x };
             prop_assert_eq!(text(x), format!("{}", x + 0.0));
         }
 
