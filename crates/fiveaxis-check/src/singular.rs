@@ -18,7 +18,7 @@
 //! same form in ψ: exact again.
 
 use fiveaxis_control::Posture;
-use fiveaxis_machine::{Joints, MAX_AXES, Machine, Side, Vec3};
+use fiveaxis_machine::{Joints, MAX_AXES, Machine, Side, Vec3, sin_cos_degrees};
 
 /// The singular line of a machine and the law of the tool direction's
 /// component along it.
@@ -79,7 +79,7 @@ impl Singular {
     pub fn smallest_on_tilt(&self, machine: &Machine, joints: &Joints, to: f64) -> (f64, f64) {
         let from = joints[self.tilt];
         let phi = best_angle(from, to, self.b, self.c, |phi| {
-            let (s, c) = phi.to_radians().sin_cos();
+            let (s, c) = sin_cos_degrees(phi);
             (self.a + self.b * c + self.c * s).abs()
         });
         let mut at = *joints;
@@ -104,10 +104,10 @@ impl Singular {
         let total = e0.cross(&e1).norm().atan2(e0.dot(&e1)).to_degrees();
         let (p, q) = (self.line.dot(&e0), self.line.dot(&w));
         let psi = best_angle(0.0, total, p, q, |psi| {
-            let (s, c) = psi.to_radians().sin_cos();
+            let (s, c) = sin_cos_degrees(psi);
             (p * c + q * s).abs()
         });
-        let (s, c) = psi.to_radians().sin_cos();
+        let (s, c) = sin_cos_degrees(psi);
         self.angle(&(e0 * c + w * s))
     }
 }

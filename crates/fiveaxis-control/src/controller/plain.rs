@@ -1,28 +1,27 @@
 //! The plain block: a straight move written with axis words, F and at
 //! most G00 / G01, in a state where no function is in force that such a
-//! block could start, end or pass through (no canned cycle, cutter or
-//! 3-D tool compensation, tilted plane or dynamic work offset, LinuxCNC
-//! motion mode, TCP kinematics still to switch on). TCPC may be in force:
-//! the motion itself takes it into account. Most blocks of CAM output are such
-//! blocks.
+//! block could start, end or pass through (no canned cycle, 3-D tool
+//! compensation, tilted plane or dynamic work offset, LinuxCNC motion
+//! mode, TCP kinematics still to switch on). TCPC and cutter
+//! compensation C may be in force: the motion itself takes them into
+//! account. Most blocks of CAM output are such blocks.
 //!
 //! [`Controller::execute_plain`] runs them through the same functions as
 //! the general path (axis words, feed, end point, machine position,
 //! segment, clamps and soft limits) and leaves out only the passes that
 //! the conditions of [`Controller::plain_block`] prove have nothing to
 //! do: G-code classification beyond the motion code, M codes, length
-//! offset, compensations, frames, features, cycles. The state it changes
-//! is put back on an alarm, as the general path puts back its copy of
-//! the whole state.
+//! offset, compensations, frames, features, cycles. On an alarm the
+//! state is put back as it was before the block, as on the general path.
 //!
 //! Invariant: for every block and state, the plain path gives the same
 //! segments, flow, alarm and state as the general path (tested block for
-//! block on random programs in `tests/plain_path.rs`).
+//! block on random programs in `tests/no_panic.rs`).
 
 use fiveaxis_gcode::Code;
 use fiveaxis_machine::Vec3;
 
-use super::{Controller, Flow, at_line, cycles};
+use super::{Controller, Flow, at_line};
 use crate::alarm::Alarm;
 use crate::fanuc::Words;
 use crate::modal::{MotionMode, TcpcType};
@@ -31,16 +30,6 @@ use crate::segment::Segment;
 /// G00 and G01.
 const RAPID: Code = Code::new(0, 0);
 const LINEAR: Code = Code::new(1, 0);
-
-/// The state a plain block changes, to put back on an alarm.
-struct Undo {
-    motion: MotionMode,
-    cycle: cycles::CycleState,
-    feed: f64,
-    tcpc_startup: bool,
-    sequence: Option<u32>,
-    setup: fiveaxis_machine::SetupError,
-}
 
 impl Controller<'_> {
     /// Whether the block just loaded is a plain block in a plain state,
@@ -76,8 +65,7 @@ impl Controller<'_> {
             && state.setup_angles.is_none()
             && !state.kinematics_pending
             && !state.comp3d.active
-            && state.comp3d.vector == Vec3::zeros()
-            && !self.cutter.routing();
+            && state.comp3d.vector == Vec3::zeros();
         plain_state.then_some(mode)
     }
 
@@ -90,26 +78,17 @@ impl Controller<'_> {
         base: usize,
         out: &mut Vec<Segment>,
     ) -> Result<Flow, Alarm> {
-        let undo = Undo {
-            motion: self.state.modal.motion,
-            cycle: self.state.cycle,
-            feed: self.state.feed,
-            tcpc_startup: self.state.tcpc.startup,
-            sequence: self.state.sequence,
-            setup: self.state.setup,
-        };
+        // As the general path: the whole state put back on an alarm (the
+        // motion functions may change more of it than the plain block's
+        // own words: cutter compensation C the position, TCPC its
+        // vector).
+        let saved = self.state.clone();
         if let Some(n) = sequence {
             self.state.sequence = Some(n);
         }
         let result = self.plain_motion(mode, base, out);
         if result.is_err() {
-            let state = &mut self.state;
-            state.modal.motion = undo.motion;
-            state.cycle = undo.cycle;
-            state.feed = undo.feed;
-            state.tcpc.startup = undo.tcpc_startup;
-            state.sequence = undo.sequence;
-            state.setup = undo.setup;
+            self.state = saved;
             out.truncate(base);
         }
         result.map(|()| Flow::Next)
@@ -131,7 +110,13 @@ impl Controller<'_> {
         }
         self.refresh_xy_rotation();
         self.apply_values(false)?;
-        let from = self.programmed(&self.state.joints);
+        let from = if self.cutter.routing() {
+            // Cutter compensation C holds blocks back: the program stands
+            // at the end of the last block read.
+            self.cutter.point
+        } else {
+            self.programmed(&self.state.joints)
+        };
         // No length code or H: the offset stays (apply_length).
         self.state.tcpc.startup = false;
         // No G41 / G42 / G40 (apply_cutter).
