@@ -86,8 +86,9 @@ pub enum Flow {
     },
 }
 
-/// Controller state besides the modal groups.
-#[derive(Clone, Debug)]
+/// Controller state besides the modal groups. Plain data (`Copy`): a
+/// block saves it whole, to put it back on an alarm, in one copy.
+#[derive(Clone, Copy, Debug)]
 struct State {
     modal: Modal,
     /// LinuxCNC: the G28 and G30 positions (`#5161`…, `#5181`…), machine
@@ -581,7 +582,7 @@ impl<'m> Controller<'m> {
         if let Some(mode) = self.plain_block() {
             return self.execute_plain(mode, block.sequence, base, out);
         }
-        let saved = self.state.clone();
+        let saved = self.state;
         if let Some(n) = block.sequence {
             self.state.sequence = Some(n);
         }

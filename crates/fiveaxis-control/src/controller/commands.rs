@@ -50,7 +50,7 @@ impl Controller<'_> {
         self.stop = None;
         self.fanuc.clear(block.line);
         self.operands.start();
-        let saved = self.state.clone();
+        let saved = self.state;
         let saved_frames = self.neutral;
         if let Some(n) = block.number {
             self.state.sequence = Some(n);

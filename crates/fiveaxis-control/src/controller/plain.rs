@@ -12,7 +12,9 @@
 //! the conditions of [`Controller::plain_block`] prove have nothing to
 //! do: G-code classification beyond the motion code, M codes, length
 //! offset, compensations, frames, features, cycles. On an alarm the
-//! state is put back as it was before the block, as on the general path.
+//! state is put back as it was before the block, as on the general path
+//! (which copies the whole state; the plain path saves the part it may
+//! change, [`Undo`]).
 //!
 //! Invariant: for every block and state, the plain path gives the same
 //! segments, flow, alarm and state as the general path (tested block for
@@ -30,6 +32,48 @@ use crate::segment::Segment;
 /// G00 and G01.
 const RAPID: Code = Code::new(0, 0);
 const LINEAR: Code = Code::new(1, 0);
+
+/// What of the state a plain block may change (its motion code, F, the
+/// position and what the motion functions keep: cutter compensation C
+/// the position, TCPC its vector and angles), to put back on an alarm as
+/// the general path puts back its copy of the whole state. Tests check,
+/// with debug assertions on, that the state put back equals the whole.
+struct Undo {
+    motion: MotionMode,
+    cycle: super::cycles::CycleState,
+    feed: f64,
+    tcpc: super::tcpc::TcpcState,
+    sequence: Option<u32>,
+    setup: fiveaxis_machine::SetupError,
+    setup_angles: Option<[f64; 2]>,
+    joints: fiveaxis_machine::Joints,
+}
+
+impl Undo {
+    fn of(state: &super::State) -> Self {
+        Self {
+            motion: state.modal.motion,
+            cycle: state.cycle,
+            feed: state.feed,
+            tcpc: state.tcpc,
+            sequence: state.sequence,
+            setup: state.setup,
+            setup_angles: state.setup_angles,
+            joints: state.joints,
+        }
+    }
+
+    fn put_back(self, state: &mut super::State) {
+        state.modal.motion = self.motion;
+        state.cycle = self.cycle;
+        state.feed = self.feed;
+        state.tcpc = self.tcpc;
+        state.sequence = self.sequence;
+        state.setup = self.setup;
+        state.setup_angles = self.setup_angles;
+        state.joints = self.joints;
+    }
+}
 
 impl Controller<'_> {
     /// Whether the block just loaded is a plain block in a plain state,
@@ -78,18 +122,19 @@ impl Controller<'_> {
         base: usize,
         out: &mut Vec<Segment>,
     ) -> Result<Flow, Alarm> {
-        // As the general path: the whole state put back on an alarm (the
-        // motion functions may change more of it than the plain block's
-        // own words: cutter compensation C the position, TCPC its
-        // vector).
-        let saved = self.state.clone();
+        let undo = Undo::of(&self.state);
+        #[cfg(debug_assertions)]
+        let whole = self.state;
         if let Some(n) = sequence {
             self.state.sequence = Some(n);
         }
         let result = self.plain_motion(mode, base, out);
         if result.is_err() {
-            self.state = saved;
+            undo.put_back(&mut self.state);
             out.truncate(base);
+            // The parts saved are all the plain path changes.
+            #[cfg(debug_assertions)]
+            debug_assert_eq!(format!("{:?}", self.state), format!("{whole:?}"));
         }
         result.map(|()| Flow::Next)
     }
