@@ -1692,8 +1692,6 @@ impl Piece<'_> {
 /// How far past a soft limit rounding may carry a position, mm or degrees.
 const LIMIT_TOLERANCE: f64 = 1e-9;
 
-/// An alarm about a segment of an earlier block (held back by cutter
-/// compensation C) names that block's line.
 /// The soft limits of `machine`'s axes by joint index: a rollover axis or
 /// a rotary axis without limits has none (infinite bounds).
 fn soft_limits(machine: &Machine) -> [(f64, f64); MAX_AXES] {
@@ -1712,6 +1710,8 @@ fn soft_limits(machine: &Machine) -> [(f64, f64); MAX_AXES] {
     limits
 }
 
+/// An alarm about a segment of an earlier block (held back by cutter
+/// compensation C) names that block's line.
 fn at_line(mut alarm: Alarm, line: u32) -> Alarm {
     if alarm.line != line {
         alarm.line = line;
