@@ -176,6 +176,12 @@ fn block_text_outside_comments(text: &[u8], nested: bool) -> &[u8] {
 /// Reads the block: tape mark or block delete first, then words and
 /// comments up to the end.
 fn read_block(text: &[u8], syntax: Syntax, block: &mut Block) -> Result<(), SyntaxError> {
+    if read_plain_block(text, block) {
+        return Ok(());
+    }
+    // Whatever the plain reader took is read again.
+    block.words.clear();
+    block.sequence = None;
     let mut pos = skip_blanks(text, 0);
     match text.get(pos) {
         Some(&TAPE_MARK) => {
@@ -205,6 +211,116 @@ fn read_block(text: &[u8], syntax: Syntax, block: &mut Block) -> Result<(), Synt
         } else {
             return Err(stray(text, pos));
         };
+    }
+}
+
+/// The fast path of [`read_block`] for the line most blocks are: words of
+/// an upper-case letter and a plain number (`[+|-] digits [. digits]`, at
+/// most [`MAX_DIGITS`] digits), separated by blanks or by nothing, one `N`
+/// at most. Reads it in one pass and returns true; returns false, at the
+/// first byte it does not take (a comment, a lower-case letter, `%`, `/`,
+/// a blank inside a number…), for [`read_block`] to read the line its
+/// general way. Taken or not, the block is the same (`lexer/equivalence.rs`
+/// checks it against the scanner without fast paths).
+fn read_plain_block(text: &[u8], block: &mut Block) -> bool {
+    let n = text.len();
+    let mut i = 0;
+    loop {
+        while i < n && is_blank(text[i]) {
+            i += 1;
+        }
+        if i == n {
+            return true;
+        }
+        let start = i;
+        let letter = text[i];
+        if !letter.is_ascii_uppercase() {
+            return false;
+        }
+        i += 1;
+        let negative = match text.get(i) {
+            Some(&PLUS) => {
+                i += 1;
+                Some(false)
+            }
+            Some(&MINUS) => {
+                i += 1;
+                Some(true)
+            }
+            _ => None,
+        };
+        let unsigned = i;
+        while i < n && text[i] == b'0' {
+            i += 1;
+        }
+        let significant = i;
+        let (integer, after) = digits_at(text, i, 0);
+        i = after;
+        let integer_digits = i - significant;
+        let any_integer_digit = i > unsigned;
+        let mut mantissa = integer;
+        let mut fraction_digits = 0;
+        let mut first_fraction_digit = 0;
+        let decimal_point = i < n && text[i] == DECIMAL_POINT;
+        if decimal_point {
+            let fraction = i + 1;
+            (mantissa, i) = digits_at(text, fraction, integer);
+            fraction_digits = i - fraction;
+            if fraction_digits > 0 {
+                first_fraction_digit = text[fraction] - b'0';
+            }
+        }
+        // Past MAX_DIGITS the digits may have wrapped: refused before use.
+        if (!any_integer_digit && fraction_digits == 0)
+            || integer_digits + fraction_digits > MAX_DIGITS
+        {
+            return false;
+        }
+        // The number ends at the end, at the next word's letter, or at
+        // blanks before either.
+        let mut next = i;
+        while next < n && is_blank(text[next]) {
+            next += 1;
+        }
+        if next < n && !text[next].is_ascii_uppercase() {
+            return false;
+        }
+        let Some(magnitude) = decimal_value(mantissa, fraction_digits) else {
+            return false;
+        };
+        let span = span(start, i);
+        if letter == SEQUENCE_LETTER {
+            let fits = u32::try_from(integer).ok();
+            match fits {
+                Some(sequence)
+                    if negative.is_none() && !decimal_point && block.sequence.is_none() =>
+                {
+                    block.sequence = Some(sequence);
+                }
+                _ => return false,
+            }
+        } else {
+            let code = if negative.is_some() || fraction_digits > 1 {
+                None
+            } else {
+                u16::try_from(integer)
+                    .ok()
+                    .map(|major| Code::new(major, first_fraction_digit))
+            };
+            block.words.push(Word {
+                letter,
+                value: if negative == Some(true) {
+                    -magnitude
+                } else {
+                    magnitude
+                },
+                decimal_point,
+                code,
+                computed: false,
+                span,
+            });
+        }
+        i = next;
     }
 }
 

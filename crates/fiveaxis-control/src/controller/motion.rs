@@ -158,16 +158,25 @@ impl Controller<'_> {
         end: Joints,
         out: &mut Vec<Segment>,
     ) -> Result<(), Alarm> {
-        let mut seg = self.segment(motion, start, end, Path::Joint);
-        if !seg.moves() {
+        // A joint move moves when its ends differ (`Segment::moves`).
+        if start == end {
             return Ok(());
         }
-        if motion == Motion::Linear {
+        let feed = if motion == Motion::Linear {
             let machine = self.machine;
-            let length = || (seg.row(machine, 1.0).tip - seg.row(machine, 0.0).tip).norm();
-            seg.feed = Some(self.cutting_feed(length)?);
-        }
-        out.push(seg);
+            let length = || {
+                let seg = self.segment(motion, start, end, Path::Joint);
+                (seg.row(machine, 1.0).tip - seg.row(machine, 0.0).tip).norm()
+            };
+            Some(self.cutting_feed(length)?)
+        } else {
+            None
+        };
+        // Built in place: a segment is a few hundred bytes.
+        out.push(Segment {
+            feed,
+            ..self.segment(motion, start, end, Path::Joint)
+        });
         Ok(())
     }
 
