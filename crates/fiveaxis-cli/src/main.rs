@@ -21,8 +21,8 @@ use std::sync::mpsc;
 
 use clap::{Parser, Subcommand};
 use fiveaxis_control::{
-    Alarm, DEFAULT_MAX_BLOCKS, Interpolation, MAX_LINE_BYTES, ReaderSource, Row, RunError,
-    RunOptions, Runner, Segment, Source,
+    Alarm, DEFAULT_MAX_BLOCKS, Interpolation, MAX_LINE_BYTES, ReaderSource, RunError, RunOptions,
+    Runner, Segment, Source,
 };
 use fiveaxis_machine::{DEFAULT_MACHINE, FileError, Machine, Offsets, builtin, builtin_names};
 
@@ -876,10 +876,10 @@ enum Stop {
 /// Segments handed from the controller thread to the writer thread at once.
 const BATCH: usize = 1024;
 
-/// Runs the program and writes every row. The controller, the sampling of
-/// segments and forward kinematics run on this thread; formatting and
-/// writing on a second one, fed with batches of rows whose buffers travel
-/// back for reuse.
+/// Runs the program and writes every row. The controller runs on this
+/// thread; the sampling of segments (`--step`), forward kinematics,
+/// formatting and writing on a second one, fed with batches of segments
+/// whose buffers travel back for reuse.
 fn stream<S: Source, W: Write + Send>(
     runner: &mut Runner<'_, S>,
     writer: &RowWriter<'_>,
@@ -887,44 +887,38 @@ fn stream<S: Source, W: Write + Send>(
 ) -> Result<(), Stop> {
     let machine = runner.controller().machine();
     std::thread::scope(|scope| {
-        let (full_tx, full_rx) = mpsc::sync_channel::<(Vec<Row>, Option<Alarm>)>(4);
-        let (empty_tx, empty_rx) = mpsc::channel::<Vec<Row>>();
+        let (full_tx, full_rx) = mpsc::sync_channel::<(Vec<Segment>, Option<Alarm>)>(4);
+        let (empty_tx, empty_rx) = mpsc::channel::<Vec<Segment>>();
         let formatter = scope.spawn(move || -> io::Result<()> {
             let mut out = out;
             let mut text = Text::default();
             writer.header(&mut text);
-            for (mut rows, alarm) in full_rx {
-                for row in &rows {
-                    writer.row(&mut text, row);
-                    if text.is_full() {
-                        out.write_all(text.as_bytes())?;
-                        text.clear();
+            for (mut segments, alarm) in full_rx {
+                for segment in &segments {
+                    // The runner has divided the block for `--step` (1
+                    // without): the rows inside it, then always its end.
+                    for s in segment.row_fractions() {
+                        writer.row(&mut text, &segment.row(machine, s));
+                        if text.is_full() {
+                            out.write_all(text.as_bytes())?;
+                            text.clear();
+                        }
                     }
                 }
                 if let Some(alarm) = alarm {
                     writer.alarm(&mut text, &alarm);
                 }
-                rows.clear();
+                segments.clear();
                 // The producer may be gone already; then the buffer is dropped.
-                let _ = empty_tx.send(rows);
+                let _ = empty_tx.send(segments);
             }
             out.write_all(text.as_bytes())?;
             out.flush()
         });
 
         let mut segments = Vec::with_capacity(BATCH);
-        let mut batch = RowBatch {
-            rows: Vec::with_capacity(BATCH),
-            full: full_tx,
-            empty: empty_rx,
-        };
         let outcome = loop {
-            segments.clear();
             let filled = runner.fill(&mut segments, BATCH);
-            let mut sent = true;
-            for segment in &segments {
-                sent &= sample(segment, machine, &mut batch);
-            }
             let (more, alarm, outcome) = match filled {
                 Ok(more) => (more, None, Ok(())),
                 Err(error) => {
@@ -935,11 +929,15 @@ fn stream<S: Source, W: Write + Send>(
                     (false, alarm, Err(Stop::Alarm(Box::new(error))))
                 }
             };
-            if !(sent && batch.send(alarm) && more) {
+            let next = empty_rx
+                .try_recv()
+                .unwrap_or_else(|_| Vec::with_capacity(BATCH));
+            let full = std::mem::replace(&mut segments, next);
+            let sent = full_tx.send((full, alarm)).is_ok();
+            if !(sent && more) {
                 break outcome;
             }
         };
-        let RowBatch { full: full_tx, .. } = batch;
         drop(full_tx);
         let written = formatter
             .join()
@@ -947,41 +945,6 @@ fn stream<S: Source, W: Write + Send>(
         written.map_err(Stop::Write)?;
         outcome
     })
-}
-
-/// Rows on their way to the writer thread.
-struct RowBatch {
-    rows: Vec<Row>,
-    full: mpsc::SyncSender<(Vec<Row>, Option<Alarm>)>,
-    empty: mpsc::Receiver<Vec<Row>>,
-}
-
-impl RowBatch {
-    /// Adds a row; hands the batch over when it is full. `false` when the
-    /// writer has stopped.
-    fn push(&mut self, row: Row) -> bool {
-        self.rows.push(row);
-        self.rows.len() < BATCH || self.send(None)
-    }
-
-    /// Hands the rows (and a closing alarm) over to the writer.
-    fn send(&mut self, alarm: Option<Alarm>) -> bool {
-        let next = self
-            .empty
-            .try_recv()
-            .unwrap_or_else(|_| Vec::with_capacity(BATCH));
-        let rows = std::mem::replace(&mut self.rows, next);
-        self.full.send((rows, alarm)).is_ok()
-    }
-}
-
-/// The rows of one segment: with `--step`, the ones inside it, then always
-/// its end. `false` when the writer has stopped.
-fn sample(segment: &Segment, machine: &Machine, batch: &mut RowBatch) -> bool {
-    // The runner has divided the block for `--step` (1 without).
-    segment
-        .row_fractions()
-        .all(|s| batch.push(segment.row(machine, s)))
 }
 
 /// Reports how the run ended and gives its exit status.
