@@ -700,6 +700,14 @@ impl<'m> Controller<'m> {
         } else if !framed {
             self.block_motion(&codes, &from, length_changed, out)?;
         }
+        self.end_block(base, out)?;
+        Ok(flow)
+    }
+
+    /// The end of every block, on either path: every word used, no
+    /// clamped axis moved, every segment from `base` on within the soft
+    /// limits; then the machine stands where the last one ends.
+    fn end_block(&mut self, base: usize, out: &[Segment]) -> Result<(), Alarm> {
         self.fanuc.check_all_used()?;
         self.check_clamps(&out[base..])?;
         for seg in &out[base..] {
@@ -708,7 +716,7 @@ impl<'m> Controller<'m> {
         if let Some(last) = out[base..].last() {
             self.state.joints = last.end;
         }
-        Ok(flow)
+        Ok(())
     }
 
     /// The movement of a block: its group-00 function or its motion.

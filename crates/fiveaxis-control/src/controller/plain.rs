@@ -23,7 +23,7 @@
 use fiveaxis_gcode::Code;
 use fiveaxis_machine::Vec3;
 
-use super::{Controller, Flow, at_line};
+use super::{Controller, Flow};
 use crate::alarm::Alarm;
 use crate::fanuc::Words;
 use crate::modal::{MotionMode, TcpcType};
@@ -167,15 +167,7 @@ impl Controller<'_> {
         // No G41 / G42 / G40 (apply_cutter).
         self.cutter.vector = None;
         self.motion(&from, false, out)?;
-        self.fanuc.check_all_used()?;
-        self.check_clamps(&out[base..])?;
-        for seg in &out[base..] {
-            self.check_limits(seg).map_err(|a| at_line(a, seg.line))?;
-        }
-        if let Some(last) = out[base..].last() {
-            self.state.joints = last.end;
-        }
-        Ok(())
+        self.end_block(base, out)
     }
 
     /// Sends every block through the general path (off) or plain blocks

@@ -598,6 +598,15 @@ impl Controller<'_> {
         } else {
             Some(self.cutting_feed(|| tip.length())?)
         };
+        // The program stands exactly where it programmed the tip, not
+        // where forward kinematics of the axes puts it back (the next
+        // block's start, while the axes, the tool and the frames stay).
+        self.state.tcpc.last = Some((
+            end,
+            self.tool_length(),
+            self.frames_key(),
+            Vec3::new(end_p[0], end_p[1], end_p[2]),
+        ));
         // Built in place: segments are large.
         out.push(self.segment(motion, start, end, path));
         if let Some(seg) = out.last_mut() {
