@@ -1,19 +1,24 @@
 //! Bound and refine: the largest value of a function of the block
-//! parameter `s` found to within a proven tolerance, from a bound on its
-//! second derivative.
+//! parameter `s` found to within a proven tolerance, from bounds on its
+//! derivatives.
 //!
 //! Every motion law of a block is built from points that move linearly or
 //! on circles in `s` and are turned about rotation lines by angles linear
 //! in `s`. [`Moving`] carries, through those steps, where a point is at
-//! `s = 0` and bounds on the size of its first and second derivatives in
-//! `s` (`|p'| ≤ speed`, `|p''| ≤ curvature`). A function with
-//! `|f''| ≤ M` stays within `M·h²/8` of the chord of its values over a
-//! piece of length `h` (the error of linear interpolation), so over that
-//! piece it is at most the larger end value plus `M·h²/8`. [`maximize`]
-//! halves pieces until that bound is below the best value found (plus
-//! [`EXTREMUM_TOLERANCE`]): the value it returns is reached, and nothing in
-//! the block exceeds it by more than the tolerance. The bound shrinks with
-//! the square of the piece, so a few dozen evaluations settle a block.
+//! `s = 0` and bounds on the size of its first, second and third
+//! derivatives in `s` (`|p'| ≤ speed`, `|p''| ≤ curvature`,
+//! `|p'''| ≤ jerk`). A function with `|f''| ≤ M` stays within `M·h²/8` of
+//! the chord of its values over a piece of length `h` (the error of linear
+//! interpolation), so over that piece it is at most the larger end value
+//! plus `M·h²/8`. [`maximize`] halves pieces until that bound is below the
+//! best value found (plus [`EXTREMUM_TOLERANCE`]): the value it returns is
+//! reached, and nothing in the block exceeds it by more than the
+//! tolerance. [`maximize_norm`] does the same for the length of a moving
+//! vector with the third derivative too: the parabola through a piece's
+//! ends and the far end of the piece it was halved from stays within
+//! `J·h³·2/(3·√3)/3!` of a function with `|f'''| ≤ J` on the piece (the
+//! error of quadratic interpolation), a bound that shrinks with the cube
+//! of the piece and settles a peak in fewer halvings.
 
 use fiveaxis_control::TipPath;
 use fiveaxis_machine::{Vec3, rotation};
@@ -44,6 +49,8 @@ pub struct Moving {
     pub speed: f64,
     /// `|d²p/ds²| ≤ curvature` over the block.
     pub curvature: f64,
+    /// `|d³p/ds³| ≤ jerk` over the block.
+    pub jerk: f64,
 }
 
 impl Moving {
@@ -53,6 +60,7 @@ impl Moving {
             at0: p,
             speed: 0.0,
             curvature: 0.0,
+            jerk: 0.0,
         }
     }
 
@@ -62,12 +70,14 @@ impl Moving {
             at0: a,
             speed: (b - a).norm(),
             curvature: 0.0,
+            jerk: 0.0,
         }
     }
 
     /// Along a tip path: `r(s)·(cos θ·u + sin θ·v) + rise·s·n` with `r`
-    /// and `θ` linear in `s` has `|p'| ≤ |Δr| + r·|sweep| + |rise|` and
-    /// `|p''| ≤ 2·|Δr|·|sweep| + r·sweep²`.
+    /// and `θ` linear in `s` has `|p'| ≤ |Δr| + r·|sweep| + |rise|`,
+    /// `|p''| ≤ 2·|Δr|·|sweep| + r·sweep²` and
+    /// `|p'''| ≤ 3·|Δr|·sweep² + r·|sweep|³`.
     pub fn tip_path(path: &TipPath) -> Self {
         match *path {
             TipPath::Line([a, b]) => Self::line(a, b),
@@ -84,6 +94,7 @@ impl Moving {
                     at0: path.at(0.0),
                     speed: dr + r * w + rise.abs(),
                     curvature: 2.0 * dr * w + r * w * w,
+                    jerk: 3.0 * dr * w * w + r * w * w * w,
                 }
             }
         }
@@ -91,10 +102,13 @@ impl Moving {
 
     /// The point turned about the line through `center` along `axis` by
     /// `angle0 + delta·s` degrees. With `q` the point and `R` the turn,
-    /// `p = c + R(q − c)`: `|p'| ≤ ω·ρ + |q'|` and
-    /// `|p''| ≤ ω²·ρ + 2ω·|q'| + |q''|`, where `ω` is the turn rate in
-    /// radians per unit `s` and `ρ` bounds the distance of `q` from the
-    /// line (its distance at `s = 0` plus how far it can move).
+    /// `p = c + R(q − c)`, and each derivative of `R` keeping only the
+    /// part across the line of what it turns, times `ω` (Leibniz):
+    /// `|p'| ≤ ω·ρ + |q'|`, `|p''| ≤ ω²·ρ + 2ω·|q'| + |q''|` and
+    /// `|p'''| ≤ ω³·ρ + 3ω²·|q'| + 3ω·|q''| + |q'''|`, where `ω` is the
+    /// turn rate in radians per unit `s` and `ρ` bounds the distance of
+    /// `q` from the line (its distance at `s = 0` plus how far it can
+    /// move).
     #[must_use]
     pub fn turned(self, axis: &Unit<Vec3>, center: &Vec3, angle0: f64, delta: f64) -> Self {
         let w = delta.to_radians().abs();
@@ -105,6 +119,7 @@ impl Moving {
             at0: center + rotation(axis, angle0) * rel,
             speed: w * rho + self.speed,
             curvature: w * w * rho + 2.0 * w * self.speed + self.curvature,
+            jerk: w * w * w * rho + 3.0 * w * w * self.speed + 3.0 * w * self.curvature + self.jerk,
         }
     }
 
@@ -125,6 +140,7 @@ impl Moving {
             at0: self.at0 + other.at0,
             speed: self.speed + other.speed,
             curvature: self.curvature + other.curvature,
+            jerk: self.jerk + other.jerk,
         }
     }
 
@@ -135,6 +151,7 @@ impl Moving {
             at0: self.at0 - other.at0,
             speed: self.speed + other.speed,
             curvature: self.curvature + other.curvature,
+            jerk: self.jerk + other.jerk,
         }
     }
 }
@@ -201,15 +218,137 @@ pub fn maximize_within<V: Copy>(
             level = xm;
             best = Some((mid, xm));
         }
-        // The half with the larger end is searched first: it raises the
-        // level soonest, which prunes the other.
+        // The half with the larger end is searched first (pushed last):
+        // it raises the level soonest, which prunes the other.
         let (first, second) = if x1 >= x0 {
             ((s0, x0, mid, xm), (mid, xm, s1, x1))
         } else {
             ((mid, xm, s1, x1), (s0, x0, mid, xm))
         };
-        stack[depth] = first;
-        stack[depth + 1] = second;
+        stack[depth] = second;
+        stack[depth + 1] = first;
+        depth += 2;
+    }
+    best
+}
+
+/// `2/(3·√3)/3!`: the parabola through `t = 0, 1, 2` misses a function
+/// with `|g'''| ≤ G` on [0, 1] by at most this times `G·h³` (the node
+/// polynomial `t·(t − 1)·(t − 2)` peaks there at `2/(3·√3)`, at
+/// `t = 1 − 1/√3`).
+const EXTRAPOLATION_ERROR: f64 = 0.064_150_029_909_958_36;
+
+/// A piece of `s` seen from one end: `g = |f|²` at that end (`t = 0`), at
+/// the other end (`t = 1`), and one piece length beyond it (`t = 2`, the
+/// far end of the piece it was halved from).
+#[derive(Clone, Copy, Default)]
+struct Piece {
+    s: [f64; 2],
+    g: [f64; 3],
+}
+
+/// The largest value over `t` in [0, 1] of the parabola through
+/// `(0, g0)`, `(1, g1)`, `(2, g2)`.
+fn parabola_max([g0, g1, g2]: [f64; 3]) -> f64 {
+    let a = 0.5 * (g2 - 2.0 * g1 + g0);
+    let b = g1 - g0 - a;
+    let ends = g0.max(g1);
+    if a < 0.0 {
+        let t = -b / (2.0 * a);
+        if t > 0.0 && t < 1.0 {
+            return ends.max(g0 - b * b / (4.0 * a));
+        }
+    }
+    ends
+}
+
+/// The largest length of the moving vector `f(s)` over `s` in [0, 1], if
+/// it is above `floor`: `(s, length)` where it is reached, and nothing in
+/// the block longer by more than `tolerance`. `law` bounds the
+/// derivatives of `f` (its `at0` is not used); `ends` are `f(0)`, `f(1)`.
+///
+/// Pieces are halved as in [`maximize_within`], one evaluation each, and
+/// a piece is settled by the smaller of two bounds: its larger end length
+/// plus `curvature·h²/8`, or the parabola of `g = |f|²` through its ends
+/// and the far end of its parent, plus that parabola's error with
+/// `|g'''| = |6·f'·f'' + 2·f·f'''| ≤ 6·speed·curvature + 2·|f|·jerk`.
+/// Near a peak the second shrinks with `h³` and settles it in fewer
+/// halvings.
+pub fn maximize_norm(
+    f: impl Fn(f64) -> Vec3,
+    law: &Moving,
+    floor: f64,
+    ends: [Vec3; 2],
+    tolerance: f64,
+) -> Option<(f64, f64)> {
+    let mut level = floor;
+    let mut best = None;
+    let g0 = ends[0].norm_squared();
+    let g1 = ends[1].norm_squared();
+    let gm = f(0.5).norm_squared();
+    for (s, g) in [(0.0, g0), (1.0, g1), (0.5, gm)] {
+        let x = g.sqrt();
+        if x > level {
+            level = x;
+            best = Some((s, x));
+        }
+    }
+    let (speed, curvature, jerk) = (law.speed, law.curvature, law.jerk);
+    let mut stack = [Piece::default(); STACK];
+    stack[0] = Piece {
+        s: [1.0, 0.5],
+        g: [g1, gm, g0],
+    };
+    stack[1] = Piece {
+        s: [0.0, 0.5],
+        g: [g0, gm, g1],
+    };
+    let mut depth = 2;
+    let mut evaluations = 1;
+    while depth > 0 {
+        depth -= 1;
+        let Piece { s: [sa, sb], g } = stack[depth];
+        let h = (sb - sa).abs();
+        let target = level + tolerance;
+        let (xa, xb) = (g[0].sqrt(), g[1].sqrt());
+        if xa.max(xb) + curvature * h * h / 8.0 <= target {
+            continue;
+        }
+        let near = (xa + xb + speed * h) / 2.0;
+        let g3 = 6.0 * speed * curvature + 2.0 * near * jerk;
+        let third = parabola_max(g) + g3 * EXTRAPOLATION_ERROR * h * h * h;
+        if third <= target * target
+            || h < MIN_PIECE
+            || evaluations >= MAX_EVALUATIONS
+            || depth + 2 > STACK
+        {
+            continue;
+        }
+        let mid = 0.5 * (sa + sb);
+        let gm = f(mid).norm_squared();
+        evaluations += 1;
+        let xm = gm.sqrt();
+        if xm > level {
+            level = xm;
+            best = Some((mid, xm));
+        }
+        // The half with the larger end is searched first (pushed last):
+        // it raises the level soonest, which prunes the other.
+        let a_side = Piece {
+            s: [sa, mid],
+            g: [g[0], gm, g[1]],
+        };
+        let b_side = Piece {
+            s: [sb, mid],
+            g: [g[1], gm, g[0]],
+        };
+        let (first, later) = if g[0] >= g[1] {
+            (a_side, b_side)
+        } else {
+            (b_side, a_side)
+        };
+        stack[depth] = later;
+        stack[depth + 1] = first;
         depth += 2;
     }
     best
@@ -265,6 +404,53 @@ mod tests {
         let w = std::f64::consts::FRAC_PI_2;
         assert!((m.speed - 10.0 * w).abs() < 1e-12);
         assert!((m.curvature - 10.0 * w * w).abs() < 1e-12);
+    }
+
+    #[test]
+    fn the_third_derivative_bound_holds_on_a_turned_moving_point() {
+        // A point on a line turned about a tilted line: finite third
+        // differences stay within the jerk bound.
+        let axis = Unit::new_normalize(Vec3::new(0.3, -0.4, 0.85));
+        let center = Vec3::new(1.0, 2.0, -3.0);
+        let (a0, b0) = (Vec3::new(4.0, 1.0, 2.0), Vec3::new(-2.0, 5.0, 7.0));
+        let m = Moving::line(a0, b0).turned(&axis, &center, 20.0, 130.0);
+        let p = |s: f64| center + rotation(&axis, 20.0 + 130.0 * s) * (a0 + (b0 - a0) * s - center);
+        let h = 1e-3;
+        let mut worst: f64 = 0.0;
+        for k in 0..997 {
+            let s = f64::from(k) * h;
+            let d3 = p(s + 3.0 * h) - 3.0 * p(s + 2.0 * h) + 3.0 * p(s + h) - p(s);
+            worst = worst.max(d3.norm() / (h * h * h));
+        }
+        assert!(worst <= m.jerk, "{worst} > {}", m.jerk);
+        assert!(worst > 0.2 * m.jerk, "bound {} far above {worst}", m.jerk);
+    }
+
+    #[test]
+    fn maximize_norm_finds_the_farthest_point_of_a_helix() {
+        // (10·cos 5s, 10·sin 5s + 3, 4s): |f'| ≤ 54, |f''| = 250 and
+        // |f'''| = 1250.
+        let f = |s: f64| {
+            Vec3::new(
+                10.0 * (5.0 * s).cos(),
+                10.0 * (5.0 * s).sin() + 3.0,
+                4.0 * s,
+            )
+        };
+        let law = Moving {
+            at0: f(0.0),
+            speed: 54.0,
+            curvature: 250.0,
+            jerk: 1250.0,
+        };
+        let ends = [f(0.0), f(1.0)];
+        let tolerance = 1e-9;
+        let (s, v) = maximize_norm(f, &law, 0.0, ends, tolerance).expect("above 0");
+        let (_, sampled) = sampled_max(|s| f(s).norm(), 20_000);
+        assert!((f(s).norm() - v).abs() < 1e-12, "reached where it says");
+        assert!(sampled <= v + tolerance, "{sampled} above {v}");
+        assert!(v <= sampled + 1e-9, "{v} above the sampled {sampled}");
+        assert_eq!(maximize_norm(f, &law, v, ends, tolerance), None);
     }
 
     #[test]

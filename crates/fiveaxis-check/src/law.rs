@@ -86,6 +86,7 @@ pub fn machine_tip(machine: &Machine, seg: &Segment) -> Option<Moving> {
                 at0: xyz(&seg.start),
                 speed: rest.speed + dr + r * w + drift,
                 curvature: 2.0 * dr * w + r * w * w,
+                jerk: 3.0 * dr * w * w + r * w * w * w,
             }
         }
         Path::Helix { circle, drift } => {
@@ -94,6 +95,7 @@ pub fn machine_tip(machine: &Machine, seg: &Segment) -> Option<Moving> {
                 at0: xyz(&seg.start),
                 speed: c.speed + drift.norm(),
                 curvature: c.curvature,
+                jerk: c.jerk,
             }
         }
         Path::Via(_) | Path::Tcpc(_) => return None,
@@ -106,4 +108,117 @@ pub fn machine_tip(machine: &Machine, seg: &Segment) -> Option<Moving> {
         }
     }
     Some(tip)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use fiveaxis_control::{RunOptions, Runner, SliceSource};
+    use fiveaxis_machine::{Offsets, builtin};
+    use proptest::prelude::*;
+    use proptest::test_runner::{Config, RngSeed, TestRunner};
+
+    /// Steps of the finite differences over a block.
+    const FD_STEPS: f64 = 2000.0;
+
+    /// The tip of `seg` by forward kinematics at `s`.
+    fn tip(machine: &Machine, seg: &Segment, s: f64) -> Vec3 {
+        machine.forward(&seg.eval(machine, s), seg.tool_length).tip
+    }
+
+    /// The largest first, second and third finite differences of the tip
+    /// over the block, per unit `s`.
+    fn measured(machine: &Machine, seg: &Segment) -> [f64; 3] {
+        let n = FD_STEPS as u32;
+        let h = 1.0 / FD_STEPS;
+        let p: Vec<Vec3> = (0..=n)
+            .map(|k| tip(machine, seg, f64::from(k) * h))
+            .collect();
+        let mut worst = [0.0_f64; 3];
+        for k in 0..p.len() - 3 {
+            let d1 = (p[k + 1] - p[k]).norm() / h;
+            let d2 = (p[k + 2] - 2.0 * p[k + 1] + p[k]).norm() / (h * h);
+            let d3 = (p[k + 3] - 3.0 * p[k + 2] + 3.0 * p[k + 1] - p[k]).norm() / (h * h * h);
+            worst = [worst[0].max(d1), worst[1].max(d2), worst[2].max(d3)];
+        }
+        worst
+    }
+
+    /// Random feed moves turning both rotary axes, straight or on a
+    /// circle in the XY plane, on each five-axis built-in machine: the
+    /// tip's speed, curvature and jerk stay within the law's bounds (the
+    /// bounds the chord proofs rest on).
+    #[test]
+    fn tip_laws_bound_the_first_three_derivatives_of_the_tip() {
+        let machines = [
+            "trunnion-ac",
+            "trunnion-bc",
+            "head-table-bc",
+            "head-head-ca",
+        ];
+        let block = (
+            -50.0..50.0f64,
+            -50.0..50.0f64,
+            -120.0..120.0f64,
+            -120.0..120.0f64,
+            any::<bool>(),
+        );
+        let strategy = (0..machines.len(), proptest::collection::vec(block, 1..4));
+        let config = Config {
+            cases: 32,
+            rng_seed: RngSeed::Fixed(0x1A3B_0DE5),
+            failure_persistence: None,
+            ..Config::default()
+        };
+        let offsets = Offsets::from_toml("[tools]\n1 = { length = 120.0 }\n").expect("offsets");
+        let mut runner = TestRunner::new(config);
+        let result = runner.run(&strategy, |(m, blocks)| {
+            let machine = builtin(machines[m]).expect("built in");
+            let names: Vec<char> = machine.rotary.iter().map(|r| r.name).collect();
+            let mut text = String::from("G21 G90 G94 G17 G43 H1\n");
+            for (x, y, a, b, arc) in blocks {
+                let motion = if arc { "G2 R80." } else { "G1" };
+                text.push_str(&format!(
+                    "{motion} X{x:.3} Y{y:.3} Z20. {}{a:.3} {}{b:.3} F1000.\n",
+                    names[0], names[1]
+                ));
+            }
+            text.push_str("M30\n");
+            let options = RunOptions {
+                lift_soft_limits: true,
+                ..RunOptions::default()
+            };
+            let mut run = Runner::new(
+                &machine,
+                offsets.clone(),
+                SliceSource::new(text.as_bytes()),
+                options,
+            );
+            while let Ok(Some(seg)) = run.next_segment() {
+                let Some(law) = machine_tip(&machine, &seg) else {
+                    continue;
+                };
+                let [speed, curvature, jerk] = measured(&machine, &seg);
+                // Rounding of tips some hundred millimetres from the
+                // origin, divided by the step to the power of the
+                // difference's order.
+                let rounding = |order: i32| 1e-12 * FD_STEPS.powi(order);
+                prop_assert!(
+                    speed <= law.speed + rounding(1),
+                    "speed {speed} > {}",
+                    law.speed
+                );
+                prop_assert!(
+                    curvature <= law.curvature + rounding(2),
+                    "curvature {curvature} > {}",
+                    law.curvature
+                );
+                prop_assert!(jerk <= law.jerk + rounding(3), "jerk {jerk} > {}", law.jerk);
+            }
+            Ok(())
+        });
+        if let Err(e) = result {
+            panic!("{e}");
+        }
+    }
 }

@@ -1429,15 +1429,7 @@ fn chord_deviation_counted(
         d - along * along.dot(&d)
     };
     let zero = fiveaxis_machine::Vec3::zeros();
-    bound::maximize_within(
-        off,
-        |v| v.norm(),
-        law.curvature,
-        floor,
-        [zero, zero],
-        CHORD_PRECISION,
-    )
-    .map(|(_, v)| v)
+    bound::maximize_norm(off, &law, floor, [zero, zero], CHORD_PRECISION).map(|(_, v)| v)
 }
 
 fn round6(x: f64) -> f64 {
