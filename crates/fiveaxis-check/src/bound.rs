@@ -240,11 +240,12 @@ const EXTRAPOLATION_ERROR: f64 = 0.064_150_029_909_958_36;
 
 /// A piece of `s` seen from one end: `g = |f|²` at that end (`t = 0`), at
 /// the other end (`t = 1`), and one piece length beyond it (`t = 2`, the
-/// far end of the piece it was halved from).
+/// far end of the piece it was halved from); `x = |f|` at its ends.
 #[derive(Clone, Copy, Default)]
 struct Piece {
     s: [f64; 2],
     g: [f64; 3],
+    x: [f64; 2],
 }
 
 /// The largest value over `t` in [0, 1] of the parabola through
@@ -286,8 +287,8 @@ pub fn maximize_norm(
     let g0 = ends[0].norm_squared();
     let g1 = ends[1].norm_squared();
     let gm = f(0.5).norm_squared();
-    for (s, g) in [(0.0, g0), (1.0, g1), (0.5, gm)] {
-        let x = g.sqrt();
+    let [x0, x1, xm] = [g0.sqrt(), g1.sqrt(), gm.sqrt()];
+    for (s, x) in [(0.0, x0), (1.0, x1), (0.5, xm)] {
         if x > level {
             level = x;
             best = Some((s, x));
@@ -298,19 +299,24 @@ pub fn maximize_norm(
     stack[0] = Piece {
         s: [1.0, 0.5],
         g: [g1, gm, g0],
+        x: [x1, xm],
     };
     stack[1] = Piece {
         s: [0.0, 0.5],
         g: [g0, gm, g1],
+        x: [x0, xm],
     };
     let mut depth = 2;
     let mut evaluations = 1;
     while depth > 0 {
         depth -= 1;
-        let Piece { s: [sa, sb], g } = stack[depth];
+        let Piece {
+            s: [sa, sb],
+            g,
+            x: [xa, xb],
+        } = stack[depth];
         let h = (sb - sa).abs();
         let target = level + tolerance;
-        let (xa, xb) = (g[0].sqrt(), g[1].sqrt());
         if xa.max(xb) + curvature * h * h / 8.0 <= target {
             continue;
         }
@@ -337,10 +343,12 @@ pub fn maximize_norm(
         let a_side = Piece {
             s: [sa, mid],
             g: [g[0], gm, g[1]],
+            x: [xa, xm],
         };
         let b_side = Piece {
             s: [sb, mid],
             g: [g[1], gm, g[0]],
+            x: [xb, xm],
         };
         let (first, later) = if g[0] >= g[1] {
             (a_side, b_side)
