@@ -17,8 +17,16 @@ use crate::{POSTURE_SAMPLE_ANGLE, law};
 /// the circle's extremes. TCPC blocks without tool posture control and
 /// every other circle: bound and refine on the axis' second derivative
 /// ([`law::tcpc_gauge`]). Tool posture control: sampled every
-/// [`POSTURE_SAMPLE_ANGLE`] of rotary motion and refined.
-pub fn axis_max(machine: &Machine, seg: &Segment, i: usize, sign: f64, floor: f64) -> Option<f64> {
+/// [`POSTURE_SAMPLE_ANGLE`] of rotary motion and refined. `law` is the
+/// block's [`law::tcpc_law`].
+pub fn axis_max(
+    machine: &Machine,
+    seg: &Segment,
+    i: usize,
+    sign: f64,
+    floor: f64,
+    law: Option<&Moving>,
+) -> Option<f64> {
     let ends = [sign * seg.start[i], sign * seg.end[i]];
     let mut best = ends[0].max(ends[1]);
     let linear = i < machine.linear.len();
@@ -63,8 +71,11 @@ pub fn axis_max(machine: &Machine, seg: &Segment, i: usize, sign: f64, floor: f6
             best = best.max(v);
         }
         Path::Tcpc(tcpc) if linear && i < 3 => {
-            let law = law::tcpc_gauge(machine, seg, tcpc);
-            return refine(machine, seg, i, sign, floor, law.curvature);
+            let curvature = law.map_or_else(
+                || law::tcpc_gauge(machine, seg, tcpc).curvature,
+                |l| l.curvature,
+            );
+            return refine(machine, seg, i, sign, floor, curvature);
         }
         Path::Tcpc(_) => {}
     }

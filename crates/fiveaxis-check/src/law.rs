@@ -62,6 +62,15 @@ pub fn tcpc_gauge(machine: &Machine, seg: &Segment, tcpc: &TcpcPath) -> Moving {
     tip.minus(tool_end(machine, seg, false))
 }
 
+/// [`tcpc_gauge`] of a TCPC block without tool posture control, the law
+/// its extremes and axis speeds are bounded by: worked out once a block.
+pub fn tcpc_law(machine: &Machine, seg: &Segment) -> Option<Moving> {
+    match &seg.path {
+        Path::Tcpc(tcpc) if tcpc.posture.is_none() => Some(tcpc_gauge(machine, seg, tcpc)),
+        _ => None,
+    }
+}
+
 /// The tool tip (table frame) of a machine-axis block whose rotary axes
 /// move linearly (`Joint`, `Arc`, `Helix` paths), as `Machine::forward`
 /// computes it: the tool end turned by the head axes, plus X, Y, Z, then

@@ -542,12 +542,13 @@ impl<'m> Checker<'m> {
 
     fn check_segment(&mut self, seg: &Segment) {
         self.order += 1;
-        self.positions(seg);
+        let law = law::tcpc_law(self.machine, seg);
+        self.positions(seg, law.as_ref());
         if !seg.moves() {
             return;
         }
         let tips = self.end_tips(seg);
-        self.time(seg, &tips);
+        self.time(seg, &tips, law.as_ref());
         self.plan.segment(self.machine, seg, &tips);
         if let Some(collisions) = &mut self.collisions {
             let (counts, findings) = (&mut self.counts, &mut self.findings);
@@ -599,7 +600,7 @@ impl<'m> Checker<'m> {
     }
 
     /// Axis ranges and over-travel runs.
-    fn positions(&mut self, seg: &Segment) {
+    fn positions(&mut self, seg: &Segment, law: Option<&bound::Moving>) {
         let machine = self.machine;
         for i in 0..machine.axis_count() {
             let limits = self.limits[i];
@@ -613,7 +614,7 @@ impl<'m> Checker<'m> {
                     };
                 let limit = limits.map(|(lo, hi)| sign * if side == 1 { hi } else { lo });
                 let floor = limit.map_or(reached, |l| reached.min(l + LIMIT_TOLERANCE));
-                let found = axis_max(machine, seg, i, sign, floor);
+                let found = axis_max(machine, seg, i, sign, floor, law);
                 if let Some(v) = found {
                     let position = sign * v;
                     if side == 1 {
@@ -702,12 +703,17 @@ impl<'m> Checker<'m> {
     }
 
     /// Programmed time and feed limits.
-    fn time(&mut self, seg: &Segment, tips: &[fiveaxis_machine::Vec3; 2]) {
+    fn time(
+        &mut self,
+        seg: &Segment,
+        tips: &[fiveaxis_machine::Vec3; 2],
+        law: Option<&bound::Moving>,
+    ) {
         let machine = self.machine;
         let minutes = motion::block_minutes_at(machine, seg, tips);
         self.minutes += minutes;
         let Some(feed) = seg.feed else { return };
-        if let Some((allowed, axis)) = tip_feed_allowed(machine, seg, minutes)
+        if let Some((allowed, axis)) = motion::tip_feed_allowed_by(machine, seg, minutes, law)
             && allowed < feed
         {
             self.limited_minutes += minutes * (feed / allowed - 1.0);

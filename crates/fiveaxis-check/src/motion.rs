@@ -121,7 +121,13 @@ pub fn block_minutes_at(machine: &Machine, seg: &Segment, tips: &[Vec3; 2]) -> f
 /// lines and circles; for TCPC blocks the derivative bound when it clears
 /// the axis (`budget`: the most the axis may move per unit `s`), else the
 /// largest mean speed over 1/N of the block, sampled and refined.
-fn axis_rate(machine: &Machine, seg: &Segment, i: usize, budget: f64) -> f64 {
+fn axis_rate(
+    machine: &Machine,
+    seg: &Segment,
+    i: usize,
+    budget: f64,
+    law: Option<&crate::bound::Moving>,
+) -> f64 {
     let travel = (seg.end[i] - seg.start[i]).abs();
     match &seg.path {
         Path::Joint | Path::Via(_) => travel,
@@ -155,7 +161,7 @@ fn axis_rate(machine: &Machine, seg: &Segment, i: usize, budget: f64) -> f64 {
         },
         Path::Helix { .. } => travel,
         Path::Tcpc(tcpc) if i < 3 && tcpc.posture.is_none() => {
-            let speed = law::tcpc_gauge(machine, seg, tcpc).speed;
+            let speed = law.map_or_else(|| law::tcpc_gauge(machine, seg, tcpc).speed, |l| l.speed);
             if speed <= budget {
                 speed
             } else {
@@ -208,6 +214,16 @@ fn peak_abs_trig(k: usize, theta0: f64, sweep: f64) -> f64 {
 /// some axis would need more than its `max_velocity`: the programmed feed
 /// scaled by the smallest ratio of allowed to needed axis speed.
 pub fn tip_feed_allowed(machine: &Machine, seg: &Segment, minutes: f64) -> Option<(f64, usize)> {
+    tip_feed_allowed_by(machine, seg, minutes, law::tcpc_law(machine, seg).as_ref())
+}
+
+/// [`tip_feed_allowed`] with the block's [`law::tcpc_law`] worked out.
+pub(crate) fn tip_feed_allowed_by(
+    machine: &Machine,
+    seg: &Segment,
+    minutes: f64,
+    law: Option<&crate::bound::Moving>,
+) -> Option<(f64, usize)> {
     let feed = seg.feed?;
     if minutes <= 0.0 {
         return None;
@@ -216,7 +232,7 @@ pub fn tip_feed_allowed(machine: &Machine, seg: &Segment, minutes: f64) -> Optio
     for i in 0..machine.axis_count() {
         let vmax = machine.dynamics(i).max_velocity;
         let budget = vmax * minutes;
-        let rate = axis_rate(machine, seg, i, budget);
+        let rate = axis_rate(machine, seg, i, budget, law);
         if rate > budget * (1.0 + FEED_SLACK) {
             let ratio = budget / rate;
             if worst.is_none_or(|(r, _)| ratio < r) {
