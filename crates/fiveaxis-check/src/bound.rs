@@ -13,12 +13,12 @@
 //! plus `M·h²/8`. [`maximize`] halves pieces until that bound is below the
 //! best value found (plus [`EXTREMUM_TOLERANCE`]): the value it returns is
 //! reached, and nothing in the block exceeds it by more than the
-//! tolerance. [`maximize_norm`] does the same for the length of a moving
-//! vector with the third derivative too: the parabola through a piece's
-//! ends and the far end of the piece it was halved from stays within
-//! `J·h³·2/(3·√3)/3!` of a function with `|f'''| ≤ J` on the piece (the
-//! error of quadratic interpolation), a bound that shrinks with the cube
-//! of the piece and settles a peak in fewer halvings.
+//! tolerance. The third derivative gives a second bound: the parabola
+//! through a piece's ends and the far end of the piece it was halved from
+//! stays within `J·h³·2/(3·√3)/3!` of a function with `|f'''| ≤ J` on the
+//! piece (the error of quadratic interpolation), a bound that shrinks
+//! with the cube of the piece and settles a peak in fewer halvings.
+//! [`maximize_norm`] does the same for the length of a moving vector.
 
 use fiveaxis_control::TipPath;
 use fiveaxis_machine::{Vec3, rotation};
@@ -156,80 +156,63 @@ impl Moving {
     }
 }
 
-/// The largest size of `f(s)` over `s` in [0, 1], if it is above `floor`:
-/// `(s, size)` where it is reached. `f` gives a value whose `size` is
-/// measured (a coordinate, or the length of a vector); `curvature` bounds
-/// the second derivative of that value (of each coordinate, or of the
-/// vector's length of change), so that the size over a piece is at most
-/// the larger end size plus `curvature·h²/8`. `ends` are `f(0)`, `f(1)`.
+/// The largest value of `f(s)` over `s` in [0, 1], if it is above
+/// `floor`: `(s, value)` where it is reached. `curvature` and `jerk`
+/// bound the second and third derivatives of `f`; `ends` are `f(0)`,
+/// `f(1)`.
 ///
 /// `None` proves that no value exceeds `floor + EXTREMUM_TOLERANCE`.
-pub fn maximize<V: Copy>(
-    f: impl Fn(f64) -> V,
-    size: impl Fn(&V) -> f64,
+pub fn maximize(
+    f: impl Fn(f64) -> f64,
     curvature: f64,
+    jerk: f64,
     floor: f64,
-    ends: [V; 2],
+    ends: [f64; 2],
 ) -> Option<(f64, f64)> {
-    maximize_within(f, size, curvature, floor, ends, EXTREMUM_TOLERANCE)
+    search(
+        |s| {
+            let x = f(s);
+            (x, x)
+        },
+        [(ends[0], ends[0]), (ends[1], ends[1])],
+        curvature,
+        |_, _, _| jerk,
+        |target| target,
+        floor,
+        EXTREMUM_TOLERANCE,
+    )
 }
 
-/// [`maximize`] to a tolerance of the caller's: the true maximum lies at
-/// most `tolerance` above the value returned.
-pub fn maximize_within<V: Copy>(
-    f: impl Fn(f64) -> V,
-    size: impl Fn(&V) -> f64,
-    curvature: f64,
+/// The largest length of the moving vector `f(s)` over `s` in [0, 1], if
+/// it is above `floor`: `(s, length)` where it is reached, and nothing in
+/// the block longer by more than `tolerance`. `law` bounds the
+/// derivatives of `f` (its `at0` is not used); `ends` are `f(0)`, `f(1)`.
+///
+/// The parabola is fitted to `g = |f|²`, smooth where the length is not,
+/// with `|g'''| = |6·f'·f'' + 2·f·f'''| ≤ 6·speed·curvature + 2·|f|·jerk`
+/// and `|f|` over a piece at most the mean of its end lengths plus half
+/// the piece's length times `speed`.
+pub fn maximize_norm(
+    f: impl Fn(f64) -> Vec3,
+    law: &Moving,
     floor: f64,
-    ends: [V; 2],
+    ends: [Vec3; 2],
     tolerance: f64,
 ) -> Option<(f64, f64)> {
-    let mut level = floor;
-    let mut best = None;
-    for (s, v) in [(0.0, &ends[0]), (1.0, &ends[1])] {
-        let x = size(v);
-        if x > level {
-            level = x;
-            best = Some((s, x));
-        }
-    }
-    let mut stack = [(0.0, 0.0, 1.0, 0.0); STACK];
-    stack[0] = (0.0, size(&ends[0]), 1.0, size(&ends[1]));
-    let mut depth = 1;
-    // Values at piece ends are kept as sizes; the vectors themselves are
-    // not needed once measured.
-    let mut evaluations = 0;
-    while depth > 0 {
-        depth -= 1;
-        let (s0, x0, s1, x1) = stack[depth];
-        let h = s1 - s0;
-        let bound = x0.max(x1) + curvature * h * h / 8.0;
-        if bound <= level + tolerance
-            || h < MIN_PIECE
-            || evaluations >= MAX_EVALUATIONS
-            || depth + 2 > STACK
-        {
-            continue;
-        }
-        let mid = 0.5 * (s0 + s1);
-        let xm = size(&f(mid));
-        evaluations += 1;
-        if xm > level {
-            level = xm;
-            best = Some((mid, xm));
-        }
-        // The half with the larger end is searched first (pushed last):
-        // it raises the level soonest, which prunes the other.
-        let (first, second) = if x1 >= x0 {
-            ((s0, x0, mid, xm), (mid, xm, s1, x1))
-        } else {
-            ((mid, xm, s1, x1), (s0, x0, mid, xm))
-        };
-        stack[depth] = second;
-        stack[depth + 1] = first;
-        depth += 2;
-    }
-    best
+    let (speed, curvature, jerk) = (law.speed, law.curvature, law.jerk);
+    let measure = |v: Vec3| {
+        let g = v.norm_squared();
+        (g, g.sqrt())
+    };
+    search(
+        |s| measure(f(s)),
+        [measure(ends[0]), measure(ends[1])],
+        curvature,
+        |xa, xb, h| 6.0 * speed * curvature + (xa + xb + speed * h) * jerk,
+        |target| target.max(0.0).powi(2),
+        floor,
+        tolerance,
+    )
 }
 
 /// `2/(3·√3)/3!`: the parabola through `t = 0, 1, 2` misses a function
@@ -238,9 +221,10 @@ pub fn maximize_within<V: Copy>(
 /// `t = 1 − 1/√3`).
 const EXTRAPOLATION_ERROR: f64 = 0.064_150_029_909_958_36;
 
-/// A piece of `s` seen from one end: `g = |f|²` at that end (`t = 0`), at
-/// the other end (`t = 1`), and one piece length beyond it (`t = 2`, the
-/// far end of the piece it was halved from); `x = |f|` at its ends.
+/// A piece of `s` seen from one end: the fitted value `g` at that end
+/// (`t = 0`), at the other end (`t = 1`), and one piece length beyond it
+/// (`t = 2`, the far end of the piece it was halved from); the sizes `x`
+/// at its ends.
 #[derive(Clone, Copy, Default)]
 struct Piece {
     s: [f64; 2],
@@ -263,38 +247,46 @@ fn parabola_max([g0, g1, g2]: [f64; 3]) -> f64 {
     ends
 }
 
-/// The largest length of the moving vector `f(s)` over `s` in [0, 1], if
-/// it is above `floor`: `(s, length)` where it is reached, and nothing in
-/// the block longer by more than `tolerance`. `law` bounds the
-/// derivatives of `f` (its `at0` is not used); `ends` are `f(0)`, `f(1)`.
+/// The halving search of [`maximize`] and [`maximize_norm`]. `measure`
+/// gives at `s` the value `g` a parabola is fitted to and the size `x`
+/// maximised (`g` increasing in `x`; `in_g` turns a size into `g`);
+/// `curvature` bounds the second derivative of `x` (so that over a piece
+/// it is at most its larger end plus `curvature·h²/8`, the error of
+/// linear interpolation), `third(xa, xb, h)` the third of `g` over a
+/// piece with end sizes `xa`, `xb`.
 ///
-/// Pieces are halved as in [`maximize_within`], one evaluation each, and
-/// a piece is settled by the smaller of two bounds: its larger end length
-/// plus `curvature·h²/8`, or the parabola of `g = |f|²` through its ends
-/// and the far end of its parent, plus that parabola's error with
-/// `|g'''| = |6·f'·f'' + 2·f·f'''| ≤ 6·speed·curvature + 2·|f|·jerk`.
-/// Near a peak the second shrinks with `h³` and settles it in fewer
-/// halvings.
-pub fn maximize_norm(
-    f: impl Fn(f64) -> Vec3,
-    law: &Moving,
+/// Pieces are halved, one evaluation each, and a piece is settled by the
+/// smaller of two bounds: the linear one above, or the parabola through
+/// its ends and the far end of its parent plus that parabola's error
+/// (`third·h³·EXTRAPOLATION_ERROR`), which shrinks with `h³` and settles a
+/// peak in fewer halvings.
+fn search(
+    measure: impl Fn(f64) -> (f64, f64),
+    ends: [(f64, f64); 2],
+    curvature: f64,
+    third: impl Fn(f64, f64, f64) -> f64,
+    in_g: impl Fn(f64) -> f64,
     floor: f64,
-    ends: [Vec3; 2],
     tolerance: f64,
 ) -> Option<(f64, f64)> {
     let mut level = floor;
     let mut best = None;
-    let g0 = ends[0].norm_squared();
-    let g1 = ends[1].norm_squared();
-    let gm = f(0.5).norm_squared();
-    let [x0, x1, xm] = [g0.sqrt(), g1.sqrt(), gm.sqrt()];
-    for (s, x) in [(0.0, x0), (1.0, x1), (0.5, xm)] {
+    let [(g0, x0), (g1, x1)] = ends;
+    for (s, x) in [(0.0, x0), (1.0, x1)] {
         if x > level {
             level = x;
             best = Some((s, x));
         }
     }
-    let (speed, curvature, jerk) = (law.speed, law.curvature, law.jerk);
+    // The whole block, with no third point for a parabola yet.
+    if x0.max(x1) + curvature / 8.0 <= level + tolerance {
+        return best;
+    }
+    let (gm, xm) = measure(0.5);
+    if xm > level {
+        level = xm;
+        best = Some((0.5, xm));
+    }
     let mut stack = [Piece::default(); STACK];
     stack[0] = Piece {
         s: [1.0, 0.5],
@@ -320,10 +312,8 @@ pub fn maximize_norm(
         if xa.max(xb) + curvature * h * h / 8.0 <= target {
             continue;
         }
-        let near = (xa + xb + speed * h) / 2.0;
-        let g3 = 6.0 * speed * curvature + 2.0 * near * jerk;
-        let third = parabola_max(g) + g3 * EXTRAPOLATION_ERROR * h * h * h;
-        if third <= target * target
+        let error = third(xa, xb, h) * EXTRAPOLATION_ERROR * h * h * h;
+        if parabola_max(g) + error <= in_g(target)
             || h < MIN_PIECE
             || evaluations >= MAX_EVALUATIONS
             || depth + 2 > STACK
@@ -331,9 +321,8 @@ pub fn maximize_norm(
             continue;
         }
         let mid = 0.5 * (sa + sb);
-        let gm = f(mid).norm_squared();
+        let (gm, xm) = measure(mid);
         evaluations += 1;
-        let xm = gm.sqrt();
         if xm > level {
             level = xm;
             best = Some((mid, xm));
@@ -392,12 +381,20 @@ mod tests {
 
     #[test]
     fn maximize_finds_the_peak_of_a_sine_within_the_tolerance() {
-        // sin(3s + 0.2) peaks at s = (π/2 − 0.2)/3 with value 1; |f''| ≤ 9.
+        // sin(3s + 0.2) peaks at s = (π/2 − 0.2)/3 with value 1;
+        // |f''| ≤ 9, |f'''| ≤ 27.
         let f = |s: f64| (3.0 * s + 0.2).sin();
-        let (s, v) = maximize(f, |x| *x, 9.0, 0.0, [f(0.0), f(1.0)]).expect("above 0");
+        let ends = [f(0.0), f(1.0)];
+        let (s, v) = maximize(f, 9.0, 27.0, 0.0, ends).expect("above 0");
         assert!((v - 1.0).abs() <= EXTREMUM_TOLERANCE, "{v}");
         assert!((s - (std::f64::consts::FRAC_PI_2 - 0.2) / 3.0).abs() < 1e-4);
-        assert_eq!(maximize(f, |x| *x, 9.0, 1.0, [f(0.0), f(1.0)]), None);
+        assert_eq!(maximize(f, 9.0, 27.0, 1.0, ends), None);
+        // Below its ends: the larger end.
+        let g = |s: f64| -(s - 2.0).powi(2);
+        assert_eq!(
+            maximize(g, 2.0, 0.0, -10.0, [g(0.0), g(1.0)]),
+            Some((1.0, -1.0))
+        );
     }
 
     #[test]

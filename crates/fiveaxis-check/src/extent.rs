@@ -42,10 +42,14 @@ pub fn axis_max(
                     best = best.max(sign * centre + arc.r0.abs() * p);
                 }
             } else {
+                // A coordinate of r(s)·(cos θ, sin θ) with r and θ linear
+                // in s: the derivative bounds of `Moving::tip_path`.
                 let r = arc.r0.abs().max(arc.r1.abs());
                 let dr = (arc.r1 - arc.r0).abs();
                 let w = arc.sweep.abs();
-                return refine(machine, seg, i, sign, floor, 2.0 * dr * w + r * w * w);
+                let curvature = 2.0 * dr * w + r * w * w;
+                let jerk = 3.0 * dr * w * w + r * w * w * w;
+                return refine(machine, seg, i, sign, floor, [curvature, jerk]);
             }
         }
         Path::Arc(_) => {}
@@ -58,7 +62,7 @@ pub fn axis_max(
                 best = best.max(if sign > 0.0 { hi } else { -lo });
             } else {
                 let m = Moving::tip_path(circle);
-                return refine(machine, seg, i, sign, floor, m.curvature);
+                return refine(machine, seg, i, sign, floor, [m.curvature, m.jerk]);
             }
         }
         Path::Helix { .. } => {}
@@ -71,31 +75,31 @@ pub fn axis_max(
             best = best.max(v);
         }
         Path::Tcpc(tcpc) if linear && i < 3 => {
-            let curvature = law.map_or_else(
-                || law::tcpc_gauge(machine, seg, tcpc).curvature,
-                |l| l.curvature,
-            );
-            return refine(machine, seg, i, sign, floor, curvature);
+            let law = law
+                .copied()
+                .unwrap_or_else(|| law::tcpc_gauge(machine, seg, tcpc));
+            return refine(machine, seg, i, sign, floor, [law.curvature, law.jerk]);
         }
         Path::Tcpc(_) => {}
     }
     (best > floor).then_some(best)
 }
 
-/// Bound and refine on `sign · position` of axis `i`, `|f''| ≤ curvature`.
+/// Bound and refine on `sign · position` of axis `i`, with `|f''|` and
+/// `|f'''|` at most `curvature` and `jerk`.
 fn refine(
     machine: &Machine,
     seg: &Segment,
     i: usize,
     sign: f64,
     floor: f64,
-    curvature: f64,
+    [curvature, jerk]: [f64; 2],
 ) -> Option<f64> {
     let ends = [sign * seg.start[i], sign * seg.end[i]];
     bound::maximize(
         |s| sign * seg.eval(machine, s)[i],
-        |x| *x,
         curvature,
+        jerk,
         floor,
         ends,
     )

@@ -1,6 +1,7 @@
 //! The motion laws of a segment as [`Moving`] points: the linear axes of
 //! a TCPC block, and the tool tip of a machine-axis block, with bounds on
-//! their derivatives in `s` for [`crate::bound::maximize`].
+//! their derivatives in `s` for [`crate::bound::maximize`] and
+//! [`crate::bound::maximize_norm`].
 
 use fiveaxis_control::{Path, Segment, TcpcPath};
 use fiveaxis_machine::{Machine, Side, Vec3};
@@ -130,19 +131,12 @@ mod tests {
     /// Steps of the finite differences over a block.
     const FD_STEPS: f64 = 2000.0;
 
-    /// The tip of `seg` by forward kinematics at `s`.
-    fn tip(machine: &Machine, seg: &Segment, s: f64) -> Vec3 {
-        machine.forward(&seg.eval(machine, s), seg.tool_length).tip
-    }
-
-    /// The largest first, second and third finite differences of the tip
-    /// over the block, per unit `s`.
-    fn measured(machine: &Machine, seg: &Segment) -> [f64; 3] {
+    /// The largest first, second and third finite differences of a
+    /// moving point over the block, per unit `s`.
+    fn measured(point: impl Fn(f64) -> Vec3) -> [f64; 3] {
         let n = FD_STEPS as u32;
         let h = 1.0 / FD_STEPS;
-        let p: Vec<Vec3> = (0..=n)
-            .map(|k| tip(machine, seg, f64::from(k) * h))
-            .collect();
+        let p: Vec<Vec3> = (0..=n).map(|k| point(f64::from(k) * h)).collect();
         let mut worst = [0.0_f64; 3];
         for k in 0..p.len() - 3 {
             let d1 = (p[k + 1] - p[k]).norm() / h;
@@ -154,9 +148,11 @@ mod tests {
     }
 
     /// Random feed moves turning both rotary axes, straight or on a
-    /// circle in the XY plane, on each five-axis built-in machine: the
-    /// tip's speed, curvature and jerk stay within the law's bounds (the
-    /// bounds the chord proofs rest on).
+    /// circle in the XY plane, on each five-axis built-in machine, with
+    /// TCPC (`G43.4`) or without: the speed, curvature and jerk of the
+    /// tip (without TCPC) or of X, Y, Z (with it) stay within the law's
+    /// bounds (the bounds the chord proofs and the axis extremes rest
+    /// on).
     #[test]
     fn tip_laws_bound_the_first_three_derivatives_of_the_tip() {
         let machines = [
@@ -172,7 +168,11 @@ mod tests {
             -120.0..120.0f64,
             any::<bool>(),
         );
-        let strategy = (0..machines.len(), proptest::collection::vec(block, 1..4));
+        let strategy = (
+            0..machines.len(),
+            any::<bool>(),
+            proptest::collection::vec(block, 1..4),
+        );
         let config = Config {
             cases: 32,
             rng_seed: RngSeed::Fixed(0x1A3B_0DE5),
@@ -181,10 +181,11 @@ mod tests {
         };
         let offsets = Offsets::from_toml("[tools]\n1 = { length = 120.0 }\n").expect("offsets");
         let mut runner = TestRunner::new(config);
-        let result = runner.run(&strategy, |(m, blocks)| {
+        let result = runner.run(&strategy, |(m, tcpc, blocks)| {
             let machine = builtin(machines[m]).expect("built in");
             let names: Vec<char> = machine.rotary.iter().map(|r| r.name).collect();
-            let mut text = String::from("G21 G90 G94 G17 G43 H1\n");
+            let length = if tcpc { "G43.4" } else { "G43" };
+            let mut text = format!("G21 G90 G94 G17 {length} H1\n");
             for (x, y, a, b, arc) in blocks {
                 let motion = if arc { "G2 R80." } else { "G1" };
                 text.push_str(&format!(
@@ -204,10 +205,18 @@ mod tests {
                 options,
             );
             while let Ok(Some(seg)) = run.next_segment() {
-                let Some(law) = machine_tip(&machine, &seg) else {
+                let (law, [speed, curvature, jerk]) = if let Some(law) = tcpc_law(&machine, &seg) {
+                    let gauge = |s: f64| {
+                        let j = seg.eval(&machine, s);
+                        Vec3::new(j[0], j[1], j[2])
+                    };
+                    (law, measured(gauge))
+                } else if let Some(law) = machine_tip(&machine, &seg) {
+                    let tip = |s: f64| machine.forward(&seg.eval(&machine, s), seg.tool_length).tip;
+                    (law, measured(tip))
+                } else {
                     continue;
                 };
-                let [speed, curvature, jerk] = measured(&machine, &seg);
                 // Rounding of tips some hundred millimetres from the
                 // origin, divided by the step to the power of the
                 // difference's order.

@@ -17,7 +17,7 @@
 
 use nalgebra::{Rotation3, Unit};
 
-use crate::kinematics::rotation;
+use crate::kinematics::{rotation, sin_cos_degrees, turn};
 
 use crate::{Joints, Machine, Side, Vec3};
 
@@ -270,12 +270,17 @@ impl Machine {
     /// of length `tool_length` on `tip` (table frame) with the rotary axes
     /// (and a quill along the tool) at the positions in `joints`.
     pub fn gauge_for_tip(&self, joints: &Joints, tip: &Vec3, tool_length: f64) -> Vec3 {
-        let table = self.chain(Side::Table, joints);
-        let head = self.chain(Side::Head, joints);
-        let tip_machine = table.transform_point(&(*tip).into()).coords;
+        // The maps of `Machine::chain` applied to the two points directly,
+        // each axis turning its side's point about its line, innermost
+        // first (Rodrigues' formula; no matrices composed).
         let t0 = self.tool_direction.into_inner();
-        let end = (self.quill(joints) - tool_length) * t0;
-        tip_machine - head.transform_point(&end.into()).coords
+        let mut on = [*tip, (self.quill(joints) - tool_length) * t0];
+        for (k, axis) in self.rotary.iter().enumerate().rev() {
+            let (sin, cos) = sin_cos_degrees(joints[self.rotary_index(k)]);
+            let p = &mut on[usize::from(axis.on == Side::Head)];
+            *p = axis.center + turn(&axis.axis, &(*p - axis.center), sin, cos);
+        }
+        on[0] - on[1]
     }
 
     /// Machine position of X, Y, Z that puts the tip on `tip` (table

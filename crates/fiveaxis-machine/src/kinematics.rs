@@ -256,7 +256,7 @@ impl TipChain {
 /// `v` turned about unit `axis` by the angle whose sine and cosine are
 /// given (Rodrigues: v·cos + (k × v)·sin + k·(k·v)·(1 − cos)).
 #[inline]
-fn turn(axis: &Unit<Vec3>, v: &Vec3, sin: f64, cos: f64) -> Vec3 {
+pub(crate) fn turn(axis: &Unit<Vec3>, v: &Vec3, sin: f64, cos: f64) -> Vec3 {
     turn_vec(axis.as_ref(), v, sin, cos)
 }
 
