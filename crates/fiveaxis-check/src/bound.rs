@@ -358,12 +358,21 @@ fn search(
 /// rotary angles come from the inverse kinematics of each direction).
 pub fn sampled_max(f: impl Fn(f64) -> f64, n: u32) -> (f64, f64) {
     let n = n.max(2);
-    let mut best = (0.0, f(0.0));
+    sampled_max_from(|k| f(f64::from(k) / f64::from(n)), &f, n)
+}
+
+/// [`sampled_max`] with the samples given: `sample(k)` is `f(k/n)`
+/// (`n` at least 2), worked out already or more cheaply than `f`.
+pub fn sampled_max_from(
+    sample: impl Fn(u32) -> f64,
+    f: impl Fn(f64) -> f64,
+    n: u32,
+) -> (f64, f64) {
+    let mut best = (0.0, sample(0));
     for k in 1..=n {
-        let s = f64::from(k) / f64::from(n);
-        let v = f(s);
+        let v = sample(k);
         if v > best.1 {
-            best = (s, v);
+            best = (f64::from(k) / f64::from(n), v);
         }
     }
     let h = 1.0 / f64::from(n);

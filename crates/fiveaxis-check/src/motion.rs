@@ -2,7 +2,7 @@
 //! programmed feed needs, and how far each rotary axis turns.
 
 use fiveaxis_control::{Motion, Path, Segment};
-use fiveaxis_machine::{Machine, Vec3};
+use fiveaxis_machine::{Joints, Machine, Vec3};
 
 use crate::{bound, law};
 
@@ -127,6 +127,7 @@ fn axis_rate(
     i: usize,
     budget: f64,
     law: Option<&crate::bound::Moving>,
+    grid: &mut Option<RateGrid>,
 ) -> f64 {
     let travel = (seg.end[i] - seg.start[i]).abs();
     match &seg.path {
@@ -165,22 +166,48 @@ fn axis_rate(
             if speed <= budget {
                 speed
             } else {
-                sampled_rate(machine, seg, i)
+                sampled_rate(machine, seg, i, grid)
             }
         }
         Path::Tcpc(tcpc) if tcpc.posture.is_none() => travel,
-        Path::Tcpc(_) => sampled_rate(machine, seg, i),
+        Path::Tcpc(_) => sampled_rate(machine, seg, i, grid),
     }
 }
 
 /// Samples per TCPC block for its axis speeds, at least.
 const RATE_SAMPLES: u32 = 64;
 
-/// The largest mean speed of axis `i` between neighbouring samples.
-fn sampled_rate(machine: &Machine, seg: &Segment, i: usize) -> f64 {
+/// The machine positions of a block at `s = 0`, at the middles
+/// `(2k − 1)/(2N)` between the [`RATE_SAMPLES`] `N` steps, and at
+/// `s = 1`: the mean speed over the step around sample `k/N` is the
+/// difference of entries `k + 1` and `k`, for every axis at once.
+pub(crate) struct RateGrid([Joints; RATE_SAMPLES as usize + 2]);
+
+impl RateGrid {
+    fn new(machine: &Machine, seg: &Segment) -> Self {
+        let h = 1.0 / f64::from(RATE_SAMPLES);
+        let mut grid = [seg.start; RATE_SAMPLES as usize + 2];
+        for (k, joints) in (0..=RATE_SAMPLES + 1).zip(grid.iter_mut()) {
+            let s = match k {
+                0 => 0.0,
+                k if k > RATE_SAMPLES => 1.0,
+                k => (f64::from(k) - 0.5) * h,
+            };
+            *joints = seg.eval(machine, s);
+        }
+        Self(grid)
+    }
+}
+
+/// The largest mean speed of axis `i` between neighbouring samples, the
+/// samples taken once a block (`grid`, filled on first use) for all its
+/// axes.
+fn sampled_rate(machine: &Machine, seg: &Segment, i: usize, grid: &mut Option<RateGrid>) -> f64 {
     let n = RATE_SAMPLES;
     let h = 1.0 / f64::from(n);
-    let (s, _) = bound::sampled_max(
+    let grid = &grid.get_or_insert_with(|| RateGrid::new(machine, seg)).0;
+    let (s, _) = bound::sampled_max_from(
+        |k| (grid[k as usize + 1][i] - grid[k as usize][i]).abs(),
         |s| {
             let a = seg.eval(machine, (s - 0.5 * h).max(0.0))[i];
             let b = seg.eval(machine, (s + 0.5 * h).min(1.0))[i];
@@ -229,10 +256,11 @@ pub(crate) fn tip_feed_allowed_by(
         return None;
     }
     let mut worst: Option<(f64, usize)> = None;
+    let mut grid = None;
     for i in 0..machine.axis_count() {
         let vmax = machine.dynamics(i).max_velocity;
         let budget = vmax * minutes;
-        let rate = axis_rate(machine, seg, i, budget, law);
+        let rate = axis_rate(machine, seg, i, budget, law, &mut grid);
         if rate > budget * (1.0 + FEED_SLACK) {
             let ratio = budget / rate;
             if worst.is_none_or(|(r, _)| ratio < r) {
