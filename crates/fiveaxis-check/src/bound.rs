@@ -21,7 +21,7 @@
 //! [`maximize_norm`] does the same for the length of a moving vector.
 
 use fiveaxis_control::TipPath;
-use fiveaxis_machine::{Vec3, rotation};
+use fiveaxis_machine::{Vec3, turn_about};
 use nalgebra::Unit;
 
 /// How far the true maximum may lie above the value [`maximize`] returns
@@ -116,7 +116,7 @@ impl Moving {
         let k = axis.as_ref();
         let rho = (rel - k * k.dot(&rel)).norm() + self.speed;
         Self {
-            at0: center + rotation(axis, angle0) * rel,
+            at0: turn_about(axis, center, angle0, &self.at0),
             speed: w * rho + self.speed,
             curvature: w * w * rho + 2.0 * w * self.speed + self.curvature,
             jerk: w * w * w * rho + 3.0 * w * w * self.speed + 3.0 * w * self.curvature + self.jerk,
@@ -363,11 +363,7 @@ pub fn sampled_max(f: impl Fn(f64) -> f64, n: u32) -> (f64, f64) {
 
 /// [`sampled_max`] with the samples given: `sample(k)` is `f(k/n)`
 /// (`n` at least 2), worked out already or more cheaply than `f`.
-pub fn sampled_max_from(
-    sample: impl Fn(u32) -> f64,
-    f: impl Fn(f64) -> f64,
-    n: u32,
-) -> (f64, f64) {
+pub fn sampled_max_from(sample: impl Fn(u32) -> f64, f: impl Fn(f64) -> f64, n: u32) -> (f64, f64) {
     let mut best = (0.0, sample(0));
     for k in 1..=n {
         let v = sample(k);
@@ -387,6 +383,7 @@ pub fn sampled_max_from(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use fiveaxis_machine::rotation;
 
     #[test]
     fn maximize_finds_the_peak_of_a_sine_within_the_tolerance() {

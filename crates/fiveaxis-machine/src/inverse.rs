@@ -17,7 +17,7 @@
 
 use nalgebra::{Rotation3, Unit};
 
-use crate::kinematics::{rotation, sin_cos_degrees, turn};
+use crate::kinematics::{rotation, turn_about};
 
 use crate::{Joints, Machine, Side, Vec3};
 
@@ -276,9 +276,8 @@ impl Machine {
         let t0 = self.tool_direction.into_inner();
         let mut on = [*tip, (self.quill(joints) - tool_length) * t0];
         for (k, axis) in self.rotary.iter().enumerate().rev() {
-            let (sin, cos) = sin_cos_degrees(joints[self.rotary_index(k)]);
             let p = &mut on[usize::from(axis.on == Side::Head)];
-            *p = axis.center + turn(&axis.axis, &(*p - axis.center), sin, cos);
+            *p = turn_about(&axis.axis, &axis.center, joints[self.rotary_index(k)], p);
         }
         on[0] - on[1]
     }

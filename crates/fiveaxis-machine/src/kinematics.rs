@@ -14,6 +14,15 @@ pub struct Pose {
     pub dir: Vec3,
 }
 
+/// `p` turned by `degrees` about the line through `center` along unit
+/// `axis`, right-hand rule: what [`rotation`] about that line gives,
+/// without building the matrix (Rodrigues' formula on the vector).
+#[inline]
+pub fn turn_about(axis: &Unit<Vec3>, center: &Vec3, degrees: f64, p: &Vec3) -> Vec3 {
+    let (sin, cos) = sin_cos_degrees(degrees);
+    center + turn(axis, &(p - center), sin, cos)
+}
+
 /// Rotation by `degrees` about `axis`, right-hand rule.
 pub fn rotation(axis: &Unit<Vec3>, degrees: f64) -> Rotation3<f64> {
     let (sin, cos) = sin_cos_degrees(degrees);
@@ -256,7 +265,7 @@ impl TipChain {
 /// `v` turned about unit `axis` by the angle whose sine and cosine are
 /// given (Rodrigues: v·cos + (k × v)·sin + k·(k·v)·(1 − cos)).
 #[inline]
-pub(crate) fn turn(axis: &Unit<Vec3>, v: &Vec3, sin: f64, cos: f64) -> Vec3 {
+fn turn(axis: &Unit<Vec3>, v: &Vec3, sin: f64, cos: f64) -> Vec3 {
     turn_vec(axis.as_ref(), v, sin, cos)
 }
 

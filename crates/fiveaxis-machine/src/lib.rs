@@ -33,7 +33,7 @@ pub use builtin::{DEFAULT_MACHINE, builtin, builtin_names, builtin_source};
 pub use file::{FileError, MAX_BODIES, MAX_FILE_MAGNITUDE, MAX_SOLIDS, RESERVED_BODY_NAMES};
 pub use file::{MAX_JERK, MIN_ACCELERATION, MIN_JERK, MIN_VELOCITY};
 pub use inverse::{Orientations, SINGULAR_TOLERANCE, principal, turn_angle};
-pub use kinematics::{Pose, TipChain, rotation, sin_cos_degrees};
+pub use kinematics::{Pose, TipChain, rotation, sin_cos_degrees, turn_about};
 pub use linuxcnc::{ImportError, Imported, Reader, import_linuxcnc};
 pub use m_codes::{MAX_M_CODE, MCodes, MFunction, RESERVED_M_CODES};
 pub use offsets::{
