@@ -130,13 +130,16 @@ pub(crate) fn joint(axes: &[Axis], tolerance: f64, p: &Interval, q: &Interval) -
     if len <= 0.0 {
         return Joint::Stop;
     }
-    let mut cap = p.cap.min(q.cap);
+    // The square root once, of the smallest: it keeps order, so this is
+    // the smallest root to the last bit.
+    let mut squared = f64::INFINITY;
     for (i, axis) in axes.iter().enumerate() {
         let du = (q.u[i] - p.u[i]).abs();
         if du > 0.0 {
-            cap = cap.min((BLEND_SHARE * axis.acceleration * len / du).sqrt());
+            squared = squared.min(BLEND_SHARE * axis.acceleration * len / du);
         }
     }
+    let cap = p.cap.min(q.cap).min(squared.sqrt());
     let mut acc = f64::INFINITY;
     let mut jerk = f64::INFINITY;
     for (i, axis) in axes.iter().enumerate() {
