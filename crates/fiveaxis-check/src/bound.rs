@@ -20,6 +20,7 @@
 //! with the cube of the piece and settles a peak in fewer halvings.
 //! [`maximize_norm`] does the same for the length of a moving vector.
 
+use arrayvec::ArrayVec;
 use fiveaxis_control::TipPath;
 use fiveaxis_machine::{Vec3, turn_about};
 use nalgebra::Unit;
@@ -225,7 +226,7 @@ const EXTRAPOLATION_ERROR: f64 = 0.064_150_029_909_958_36;
 /// (`t = 0`), at the other end (`t = 1`), and one piece length beyond it
 /// (`t = 2`, the far end of the piece it was halved from); the sizes `x`
 /// at its ends.
-#[derive(Clone, Copy, Default)]
+#[derive(Clone, Copy)]
 struct Piece {
     s: [f64; 2],
     g: [f64; 3],
@@ -287,26 +288,26 @@ fn search(
         level = xm;
         best = Some((0.5, xm));
     }
-    let mut stack = [Piece::default(); STACK];
-    stack[0] = Piece {
+    // Filled as it grows: a block's search is often over in a few
+    // pieces, and the whole stack is never written up front.
+    let mut stack: ArrayVec<Piece, STACK> = ArrayVec::new();
+    stack.push(Piece {
         s: [1.0, 0.5],
         g: [g1, gm, g0],
         x: [x1, xm],
-    };
-    stack[1] = Piece {
+    });
+    stack.push(Piece {
         s: [0.0, 0.5],
         g: [g0, gm, g1],
         x: [x0, xm],
-    };
-    let mut depth = 2;
+    });
     let mut evaluations = 1;
-    while depth > 0 {
-        depth -= 1;
+    while let Some(piece) = stack.pop() {
         let Piece {
             s: [sa, sb],
             g,
             x: [xa, xb],
-        } = stack[depth];
+        } = piece;
         let h = (sb - sa).abs();
         let target = level + tolerance;
         if xa.max(xb) + curvature * h * h / 8.0 <= target {
@@ -316,7 +317,7 @@ fn search(
         if parabola_max(g) + error <= in_g(target)
             || h < MIN_PIECE
             || evaluations >= MAX_EVALUATIONS
-            || depth + 2 > STACK
+            || stack.len() + 2 > STACK
         {
             continue;
         }
@@ -344,9 +345,8 @@ fn search(
         } else {
             (b_side, a_side)
         };
-        stack[depth] = later;
-        stack[depth + 1] = first;
-        depth += 2;
+        stack.push(later);
+        stack.push(first);
     }
     best
 }

@@ -32,7 +32,7 @@ pub mod stock;
 mod time;
 
 use fiveaxis_control::{Motion, Path, RunError, Runner, Segment, Source};
-use fiveaxis_machine::{MAX_AXES, Machine};
+use fiveaxis_machine::{Joints, MAX_AXES, Machine, Vec3};
 
 pub use extent::axis_max;
 pub use motion::{block_minutes, tip_feed_allowed};
@@ -531,7 +531,13 @@ impl<'m> Checker<'m> {
 
     /// Checks one segment.
     pub fn segment(&mut self, seg: &Segment) {
-        self.check_segment(seg);
+        self.segment_inside(seg, None);
+    }
+
+    /// [`Checker::segment`] with the plan's samples of the segment
+    /// between its ends worked out ahead, when they are.
+    fn segment_inside(&mut self, seg: &Segment, inside: Option<&[(Joints, Vec3)]>) {
+        self.check_segment(seg, inside);
         if let Some(timeline) = &mut self.timeline {
             if !timeline.streamed {
                 timeline.programmed.push(self.minutes * 60.0);
@@ -540,7 +546,7 @@ impl<'m> Checker<'m> {
         }
     }
 
-    fn check_segment(&mut self, seg: &Segment) {
+    fn check_segment(&mut self, seg: &Segment, inside: Option<&[(Joints, Vec3)]>) {
         self.order += 1;
         let law = law::tcpc_law(self.machine, seg);
         self.positions(seg, law.as_ref());
@@ -549,7 +555,7 @@ impl<'m> Checker<'m> {
         }
         let tips = self.end_tips(seg);
         self.time(seg, &tips, law.as_ref());
-        self.plan.segment(self.machine, seg, &tips);
+        self.plan.segment(self.machine, seg, &tips, inside);
         if let Some(collisions) = &mut self.collisions {
             let (counts, findings) = (&mut self.counts, &mut self.findings);
             collisions.segment(self.machine, seg, self.order, &mut |f| {
@@ -582,19 +588,23 @@ impl<'m> Checker<'m> {
 
     /// Checks a batch of segments in order, as [`Checker::segment`] each,
     /// with their chord proofs worked out first on every core
-    /// ([`ChordsAhead`]).
+    /// ([`Ahead`]).
     pub fn segments(&mut self, batch: &[Segment]) {
-        let mut ahead = ChordsAhead::default();
-        ahead.work_out(self.machine, batch);
+        let mut ahead = Ahead::default();
+        let all = Wanted {
+            chords: true,
+            samples: true,
+        };
+        ahead.work_out(self.machine, batch, all);
         self.segments_ahead(batch, &ahead);
     }
 
-    /// [`Checker::segments`] with the batch's chord proofs worked out
-    /// already (by [`ChordsAhead::work_out`], on another thread).
-    pub fn segments_ahead(&mut self, batch: &[Segment], ahead: &ChordsAhead) {
+    /// [`Checker::segments`] with the batch's work ahead done already (by
+    /// [`Ahead::work_out`], on another thread).
+    pub fn segments_ahead(&mut self, batch: &[Segment], ahead: &Ahead) {
         for (i, seg) in batch.iter().enumerate() {
-            self.chord_known = ahead.get(i);
-            self.segment(seg);
+            self.chord_known = ahead.chords.get(i);
+            self.segment_inside(seg, ahead.samples.get(i));
             self.chord_known = None;
         }
     }
@@ -950,6 +960,82 @@ impl<'m> Checker<'m> {
     }
 }
 
+/// What is worked out for a batch of segments ahead of the checks that
+/// take them in order, pure per segment: the chord proofs (on every core,
+/// when the batch has enough) and the time plan's samples between the
+/// ends of curved blocks.
+#[derive(Debug, Default)]
+pub struct Ahead {
+    chords: ChordsAhead,
+    samples: time::SamplesAhead,
+}
+
+impl Ahead {
+    /// Works out, as `wanted` says, the chord proofs of `batch`
+    /// ([`ChordsAhead::work_out`]) and its samples; what is not wanted is
+    /// left to the checks.
+    pub fn work_out(&mut self, machine: &Machine, batch: &[Segment], wanted: Wanted) {
+        if wanted.chords {
+            self.chords.work_out(machine, batch);
+        } else {
+            self.chords.clear();
+        }
+        if wanted.samples {
+            self.samples.work_out(machine, batch);
+        } else {
+            self.samples.clear();
+        }
+    }
+
+    /// What was worth working out for the batch: chord proofs when it
+    /// had enough, samples when it had any.
+    fn found(&self) -> Wanted {
+        Wanted {
+            chords: !self.chords.found.is_empty(),
+            samples: !self.samples.is_empty(),
+        }
+    }
+}
+
+/// Which of [`Ahead`]'s work to do.
+#[derive(Clone, Copy, Debug)]
+pub struct Wanted {
+    /// The chord proofs.
+    pub chords: bool,
+    /// The time plan's samples.
+    pub samples: bool,
+}
+
+/// [`Wanted`] shared by the two stages of [`check_run_with`]: the
+/// runner's thread does the work while batches have it, and stops; the
+/// checks turn it back on when they meet enough of it in order.
+#[derive(Debug)]
+struct WantedAhead {
+    chords: std::sync::atomic::AtomicBool,
+    samples: std::sync::atomic::AtomicBool,
+}
+
+impl WantedAhead {
+    fn get(&self) -> Wanted {
+        use std::sync::atomic::Ordering::Relaxed;
+        Wanted {
+            chords: self.chords.load(Relaxed),
+            samples: self.samples.load(Relaxed),
+        }
+    }
+
+    /// Off what was wanted and not found.
+    fn found(&self, wanted: Wanted, found: Wanted) {
+        use std::sync::atomic::Ordering::Relaxed;
+        if wanted.chords && !found.chords {
+            self.chords.store(false, Relaxed);
+        }
+        if wanted.samples && !found.samples {
+            self.samples.store(false, Relaxed);
+        }
+    }
+}
+
 /// The chord proofs of a batch of segments, worked out ahead of the
 /// checks that take the segments in order: they depend on nothing but
 /// their segment and take most of the time where the rotary axes turn far
@@ -1045,8 +1131,8 @@ const PIPELINE_DEPTH: usize = 4;
 /// them.
 struct Batch {
     segments: Vec<Segment>,
-    /// Their chord proofs.
-    chords: ChordsAhead,
+    /// Its work done ahead.
+    ahead: Ahead,
     /// The stock the program has declared so far.
     stock: Option<fiveaxis_control::Stock>,
     /// Blocks run so far.
@@ -1074,26 +1160,22 @@ fn produce<S: Source>(
     runner: &mut Runner<'_, S>,
     keep_going: bool,
     full: &std::sync::mpsc::SyncSender<Batch>,
-    empty: &std::sync::mpsc::Receiver<(Vec<Segment>, ChordsAhead)>,
-    ahead_wanted: &std::sync::atomic::AtomicBool,
+    empty: &std::sync::mpsc::Receiver<(Vec<Segment>, Ahead)>,
+    wanted: &WantedAhead,
 ) {
     let machine = runner.controller().machine();
     loop {
-        let (mut segments, mut chords) = empty
+        let (mut segments, mut ahead) = empty
             .try_recv()
-            .unwrap_or_else(|_| (Vec::with_capacity(BATCH), ChordsAhead::default()));
+            .unwrap_or_else(|_| (Vec::with_capacity(BATCH), Ahead::default()));
         segments.clear();
         let filled = runner.fill(&mut segments, BATCH);
-        // Looking for proofs costs a law a segment: only while the last
-        // batches had enough of them (a smooth path has none).
-        if ahead_wanted.load(std::sync::atomic::Ordering::Relaxed) {
-            chords.work_out(machine, &segments);
-            if chords.found.is_empty() {
-                ahead_wanted.store(false, std::sync::atomic::Ordering::Relaxed);
-            }
-        } else {
-            chords.clear();
-        }
+        // Looking for proofs costs a law a segment, for samples a look
+        // at each: only while the last batches had them (a smooth path
+        // has neither).
+        let now = wanted.get();
+        ahead.work_out(machine, &segments, now);
+        wanted.found(now, ahead.found());
         let end = match filled {
             Ok(true) => BatchEnd::More,
             Ok(false) => BatchEnd::Ended,
@@ -1114,7 +1196,7 @@ fn produce<S: Source>(
         let last = !matches!(end, BatchEnd::More | BatchEnd::Resumed(_));
         let batch = Batch {
             segments,
-            chords,
+            ahead,
             stock: runner.stock(),
             blocks: runner.blocks(),
             end,
@@ -1268,11 +1350,14 @@ pub fn check_run_with<S: Source + Send>(
     // batch before; batches go round between them (no allocation per
     // batch once both are in use).
     let (full_tx, full_rx) = std::sync::mpsc::sync_channel::<Batch>(PIPELINE_DEPTH);
-    let (empty_tx, empty_rx) = std::sync::mpsc::channel::<(Vec<Segment>, ChordsAhead)>();
-    // Whether the runner's thread works out the chord proofs ahead: from
-    // the start, until a batch has too few; again once the checks meet
-    // enough of them in order.
-    let ahead_wanted = std::sync::atomic::AtomicBool::new(true);
+    let (empty_tx, empty_rx) = std::sync::mpsc::channel::<(Vec<Segment>, Ahead)>();
+    // Whether the runner's thread works out the chord proofs and the
+    // samples ahead: from the start, until a batch has too few; again
+    // once the checks meet enough of them in order.
+    let ahead_wanted = WantedAhead {
+        chords: std::sync::atomic::AtomicBool::new(true),
+        samples: std::sync::atomic::AtomicBool::new(true),
+    };
     let alarm = std::thread::scope(|scope| {
         let producing = &mut *runner;
         let ahead = &ahead_wanted;
@@ -1282,16 +1367,24 @@ pub fn check_run_with<S: Source + Send>(
         while let Ok(batch) = full_rx.recv() {
             declared.offer(batch.stock, &mut checker);
             let before = checker.proofs_in_order;
-            checker.segments_ahead(&batch.segments, &batch.chords);
-            // Proofs worked out here in order are worth working out
-            // ahead on every core from the next batch on.
+            let sampled = checker.plan.samples_in_order();
+            checker.segments_ahead(&batch.segments, &batch.ahead);
+            // Proofs and samples worked out here in order are worth
+            // working out ahead from the next batch on.
             if checker.proofs_in_order - before >= PARALLEL_CHORDS {
-                ahead_wanted.store(true, std::sync::atomic::Ordering::Relaxed);
+                ahead_wanted
+                    .chords
+                    .store(true, std::sync::atomic::Ordering::Relaxed);
+            }
+            if checker.plan.samples_in_order() > sampled {
+                ahead_wanted
+                    .samples
+                    .store(true, std::sync::atomic::Ordering::Relaxed);
             }
             checker.drain_settled(&mut take);
             progress(batch.blocks);
             // The producer may have ended: its batches are then dropped.
-            let _ = empty_tx.send((batch.segments, batch.chords));
+            let _ = empty_tx.send((batch.segments, batch.ahead));
             match batch.end {
                 BatchEnd::More => {}
                 BatchEnd::Resumed(info) => {

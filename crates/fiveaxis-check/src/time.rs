@@ -3,7 +3,7 @@
 //! positions, with the path length the feed is measured along.
 
 use fiveaxis_control::{Motion, Path, Segment, TipPath};
-use fiveaxis_machine::{MAX_AXES, Machine, Vec3};
+use fiveaxis_machine::{Joints, MAX_AXES, Machine, Vec3};
 use fiveaxis_planner::{AxisLimits, Block, Feed, Options, Planner, Point};
 
 /// Largest turn, degrees, of a rotary axis or of a circle between two
@@ -25,6 +25,8 @@ pub struct TimePlan {
     /// refused them): the estimate is then the programmed time.
     planner: Option<Planner>,
     points: Vec<Point>,
+    /// Samples worked out here, not ahead, so far.
+    sampled: usize,
 }
 
 impl TimePlan {
@@ -47,11 +49,19 @@ impl TimePlan {
         Self {
             planner,
             points: Vec::with_capacity(MAX_SAMPLES),
+            sampled: 0,
         }
     }
 
-    /// Adds a segment that moves.
-    pub fn segment(&mut self, machine: &Machine, seg: &Segment, tips: &[Vec3; 2]) {
+    /// Adds a segment that moves; `inside` are its samples between the
+    /// ends when worked out already ([`SamplesAhead`]).
+    pub fn segment(
+        &mut self,
+        machine: &Machine,
+        seg: &Segment,
+        tips: &[Vec3; 2],
+        inside: Option<&[(Joints, Vec3)]>,
+    ) {
         let Some(planner) = self.planner.as_mut() else {
             return;
         };
@@ -60,7 +70,8 @@ impl TimePlan {
             (_, Some(f)) if f > 0.0 && f.is_finite() => Feed::PerMinute(f),
             _ => Feed::Rapid,
         };
-        let n = samples(machine, seg);
+        // Worked out ahead: as many as `samples` gives.
+        let n = inside.map_or_else(|| samples(machine, seg), |s| s.len() + 1);
         let count = machine.axis_count().min(MAX_AXES);
         self.points.clear();
         // Tips first, then the lengths: a block whose tip stands (rotary
@@ -71,9 +82,11 @@ impl TimePlan {
         for k in 1..=n {
             let (joints, tip) = if k == n {
                 (seg.end, tips[1])
+            } else if let Some(inside) = inside {
+                inside[k - 1]
             } else {
-                let joints = seg.eval(machine, k as f64 / n as f64);
-                (joints, machine.forward(&joints, seg.tool_length).tip)
+                self.sampled += 1;
+                sample(machine, seg, k, n)
             };
             let length = (tip - previous).norm();
             tip_length += length;
@@ -97,6 +110,12 @@ impl TimePlan {
             // falls back to the programmed time rather than a wrong one.
             self.planner = None;
         }
+    }
+
+    /// Samples between segment ends worked out by the plan itself (not
+    /// ahead) so far.
+    pub fn samples_in_order(&self) -> usize {
+        self.sampled
     }
 
     /// Marks the end of the segments planned so far; the times of the
@@ -127,20 +146,77 @@ impl TimePlan {
     }
 }
 
+/// Sample `k` of `n` of a segment: its machine position and tool tip at
+/// `s = k/n`.
+fn sample(machine: &Machine, seg: &Segment, k: usize, n: usize) -> (Joints, Vec3) {
+    let joints = seg.eval(machine, k as f64 / n as f64);
+    (joints, machine.forward(&joints, seg.tool_length).tip)
+}
+
+/// The samples between the ends of each segment of a batch, worked out
+/// on the runner's thread ahead of the plan that takes the segments in
+/// order: the TCPC interpolation and the forward kinematics of every
+/// sample of a curved block are most of the plan's time there. The same
+/// samples, to the last bit, as the plan works out itself.
+#[derive(Debug, Default)]
+pub struct SamplesAhead {
+    /// Where each segment's samples start in `points`, and one past the
+    /// last segment's.
+    starts: Vec<usize>,
+    points: Vec<(Joints, Vec3)>,
+}
+
+impl SamplesAhead {
+    /// Works out the samples of the segments of `batch` that move.
+    pub fn work_out(&mut self, machine: &Machine, batch: &[Segment]) {
+        self.starts.clear();
+        self.points.clear();
+        for seg in batch {
+            self.starts.push(self.points.len());
+            if seg.moves() {
+                let n = samples(machine, seg);
+                self.points
+                    .extend((1..n).map(|k| sample(machine, seg, k, n)));
+            }
+        }
+        self.starts.push(self.points.len());
+    }
+
+    /// Nothing worked out (the plan samples the segments itself).
+    pub fn clear(&mut self) {
+        self.starts.clear();
+        self.points.clear();
+    }
+
+    /// Whether no segment of the batch had samples between its ends.
+    pub fn is_empty(&self) -> bool {
+        self.points.is_empty()
+    }
+
+    /// The samples between the ends of segment `i` of the batch, when
+    /// worked out.
+    pub fn get(&self, i: usize) -> Option<&[(Joints, Vec3)]> {
+        let (&from, &to) = (self.starts.get(i)?, self.starts.get(i + 1)?);
+        self.points.get(from..to)
+    }
+}
+
 /// How many samples a segment needs: one for a straight move in axis
 /// space (a joint line), more for circles and for TCPC blocks whose axes
 /// move on curves.
 fn samples(machine: &Machine, seg: &Segment) -> usize {
-    let rotary_span = (machine.linear.len()..machine.axis_count())
-        .map(|i| (seg.end[i] - seg.start[i]).abs())
-        .fold(0.0, f64::max);
+    let rotary_span = || {
+        (machine.linear.len()..machine.axis_count())
+            .map(|i| (seg.end[i] - seg.start[i]).abs())
+            .fold(0.0, f64::max)
+    };
     let turns = |span_degrees: f64| (span_degrees / SAMPLE_ANGLE).ceil() as usize;
     let n = match &seg.path {
         Path::Joint => 1,
         Path::Via(_) => 2,
         Path::Arc(arc) => turns(arc.sweep.abs().to_degrees()),
         Path::Helix { circle, .. } => turns(sweep_degrees(circle)),
-        Path::Tcpc(t) => turns(rotary_span).max(turns(sweep_degrees(&t.tip))),
+        Path::Tcpc(t) => turns(rotary_span()).max(turns(sweep_degrees(&t.tip))),
     };
     n.clamp(1, MAX_SAMPLES)
 }

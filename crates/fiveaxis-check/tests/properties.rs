@@ -81,15 +81,15 @@ fn run(machine: &Machine, program: &str) -> (Vec<Segment>, Report) {
     let report = checker.finish(ending.clone());
     drained.extend(draining.finish(ending.clone()).findings);
     assert_eq!(drained, report.findings, "drained findings\n{program}");
-    // The same segments in one batch: the chord proofs worked out ahead
-    // (on every core when there are enough) give the same report.
+    // The same segments in one batch: the chord proofs and the time
+    // plan's samples worked out ahead (the proofs on every core when there
+    // are enough) give the same report, times to the last bit.
     let mut batched = Checker::new(machine);
     batched.segments(&segments);
-    assert_eq!(
-        batched.finish(ending).findings,
-        report.findings,
-        "batched\n{program}"
-    );
+    let batched = batched.finish(ending);
+    assert_eq!(batched.findings, report.findings, "batched\n{program}");
+    assert_eq!(batched.time, report.time, "batched\n{program}");
+    assert_eq!(batched.axes, report.axes, "batched\n{program}");
     (segments, report)
 }
 
