@@ -377,6 +377,9 @@ pub struct Checker<'m> {
     /// The chord proof of the segment being checked, when worked out
     /// ahead ([`Checker::segments_ahead`]).
     chord_known: Option<Option<f64>>,
+    /// The tip feed the axes allow in the segment being checked, when
+    /// worked out ahead ([`Checker::segments_ahead`]).
+    feed_known: Option<Option<(f64, usize)>>,
     /// Chord proofs worked out in order, not ahead, so far.
     proofs_in_order: usize,
     /// The last segment's end: joints, tool length and tool tip.
@@ -413,6 +416,7 @@ impl<'m> Checker<'m> {
             collisions: None,
             stock: None,
             chord_known: None,
+            feed_known: None,
             proofs_in_order: 0,
             last_end: None,
         }
@@ -604,8 +608,10 @@ impl<'m> Checker<'m> {
     pub fn segments_ahead(&mut self, batch: &[Segment], ahead: &Ahead) {
         for (i, seg) in batch.iter().enumerate() {
             self.chord_known = ahead.chords.get(i);
+            self.feed_known = ahead.feeds.get(i).copied().flatten();
             self.segment_inside(seg, ahead.samples.get(i));
             self.chord_known = None;
+            self.feed_known = None;
         }
     }
 
@@ -723,7 +729,11 @@ impl<'m> Checker<'m> {
         let minutes = motion::block_minutes_at(machine, seg, tips);
         self.minutes += minutes;
         let Some(feed) = seg.feed else { return };
-        if let Some((allowed, axis)) = motion::tip_feed_allowed_by(machine, seg, minutes, law)
+        let allowed = match self.feed_known.take() {
+            Some(known) => known,
+            None => motion::tip_feed_allowed_by(machine, seg, minutes, law),
+        };
+        if let Some((allowed, axis)) = allowed
             && allowed < feed
         {
             self.limited_minutes += minutes * (feed / allowed - 1.0);
@@ -962,12 +972,15 @@ impl<'m> Checker<'m> {
 
 /// What is worked out for a batch of segments ahead of the checks that
 /// take them in order, pure per segment: the chord proofs (on every core,
-/// when the batch has enough) and the time plan's samples between the
-/// ends of curved blocks.
+/// when the batch has enough), and with the samples the time plan takes
+/// between the ends of curved blocks the tip feed the axes allow in TCPC
+/// blocks (sampled too where their law does not clear an axis).
 #[derive(Debug, Default)]
 pub struct Ahead {
     chords: ChordsAhead,
     samples: time::SamplesAhead,
+    /// By segment: the feed the axes allow, where worked out.
+    feeds: Vec<Option<Option<(f64, usize)>>>,
 }
 
 impl Ahead {
@@ -980,8 +993,11 @@ impl Ahead {
         } else {
             self.chords.clear();
         }
+        self.feeds.clear();
         if wanted.samples {
             self.samples.work_out(machine, batch);
+            self.feeds
+                .extend(batch.iter().map(|seg| feed_ahead(machine, seg)));
         } else {
             self.samples.clear();
         }
@@ -995,6 +1011,26 @@ impl Ahead {
             samples: !self.samples.is_empty(),
         }
     }
+}
+
+/// The tip feed the axes allow in a TCPC block that cuts, as
+/// [`Checker`]'s time check works it out (its tips, its minutes).
+fn feed_ahead(machine: &Machine, seg: &Segment) -> Option<Option<(f64, usize)>> {
+    if !matches!(seg.path, Path::Tcpc(_)) || seg.feed.is_none() || !seg.moves() {
+        return None;
+    }
+    let tips = [
+        machine.forward_tip(&seg.start, seg.tool_length),
+        machine.forward_tip(&seg.end, seg.tool_length),
+    ];
+    let minutes = motion::block_minutes_at(machine, seg, &tips);
+    let law = law::tcpc_law(machine, seg);
+    Some(motion::tip_feed_allowed_by(
+        machine,
+        seg,
+        minutes,
+        law.as_ref(),
+    ))
 }
 
 /// Which of [`Ahead`]'s work to do.

@@ -81,8 +81,8 @@ fn run(machine: &Machine, program: &str) -> (Vec<Segment>, Report) {
     let report = checker.finish(ending.clone());
     drained.extend(draining.finish(ending.clone()).findings);
     assert_eq!(drained, report.findings, "drained findings\n{program}");
-    // The same segments in one batch: the chord proofs and the time
-    // plan's samples worked out ahead (the proofs on every core when there
+    // The same segments in one batch: the chord proofs, the time plan's
+    // samples and the feeds the axes allow worked out ahead (the proofs on every core when there
     // are enough) give the same report, times to the last bit.
     let mut batched = Checker::new(machine);
     batched.segments(&segments);
@@ -90,6 +90,11 @@ fn run(machine: &Machine, program: &str) -> (Vec<Segment>, Report) {
     assert_eq!(batched.findings, report.findings, "batched\n{program}");
     assert_eq!(batched.time, report.time, "batched\n{program}");
     assert_eq!(batched.axes, report.axes, "batched\n{program}");
+    assert_eq!(
+        batched.feed_limited_seconds.to_bits(),
+        report.feed_limited_seconds.to_bits(),
+        "batched\n{program}"
+    );
     (segments, report)
 }
 
@@ -512,4 +517,36 @@ fn judge_chord_errors(
         }
     }
     Ok(())
+}
+
+/// TCPC blocks fast enough for their rotary axes to limit the feed: the
+/// limits worked out ahead of a batch (`run` compares the batched report
+/// with the block-by-block one) are found, on every five-axis machine.
+#[test]
+fn feed_limits_of_tcpc_blocks_worked_out_ahead_are_the_checks_own() {
+    for name in FIVE_AXIS {
+        let machine = builtin(name).expect("built in");
+        let names: Vec<char> = machine.rotary.iter().map(|r| r.name).collect();
+        let mut program = String::from("G21 G90 G94\nG43.4 H1 X0 Y0 Z50.\n");
+        for k in 0..40 {
+            let sign = if k % 2 == 0 { -1.0 } else { 1.0 };
+            program.push_str(&format!(
+                "G1 X{:.3} Y{:.3} Z50. {}{:.3} {}{:.3} F20000.\n",
+                10.0 * sign,
+                f64::from(k),
+                names[0],
+                sign * 25.0,
+                names[1],
+                f64::from(k) * 40.0
+            ));
+        }
+        program.push_str("G49\nM30\n");
+        let (_, report) = run(&machine, &program);
+        let limited = report
+            .findings
+            .iter()
+            .filter(|f| f.kind == Kind::FeedLimited)
+            .count();
+        assert!(limited >= 10, "{name}: {limited} feed limits\n{program}");
+    }
 }
