@@ -33,6 +33,7 @@ mod time;
 
 use fiveaxis_control::{Motion, Path, RunError, Runner, Segment, Source};
 use fiveaxis_machine::{Joints, MAX_AXES, Machine, Vec3};
+use std::sync::atomic::{AtomicBool, Ordering::Relaxed};
 
 pub use extent::axis_max;
 pub use motion::{block_minutes, tip_feed_allowed};
@@ -591,13 +592,13 @@ impl<'m> Checker<'m> {
     }
 
     /// Checks a batch of segments in order, as [`Checker::segment`] each,
-    /// with their chord proofs worked out first on every core
-    /// ([`Ahead`]).
+    /// with the work that is pure per segment done first ([`Ahead`]: the
+    /// chord proofs on every core).
     pub fn segments(&mut self, batch: &[Segment]) {
         let mut ahead = Ahead::default();
         let all = Wanted {
             chords: true,
-            samples: true,
+            time: true,
         };
         ahead.work_out(self.machine, batch, all);
         self.segments_ahead(batch, &ahead);
@@ -972,9 +973,10 @@ impl<'m> Checker<'m> {
 
 /// What is worked out for a batch of segments ahead of the checks that
 /// take them in order, pure per segment: the chord proofs (on every core,
-/// when the batch has enough), and with the samples the time plan takes
-/// between the ends of curved blocks the tip feed the axes allow in TCPC
-/// blocks (sampled too where their law does not clear an axis).
+/// when the batch has enough), and the time check's work: the samples the
+/// time plan takes between the ends of curved blocks and the tip feed the
+/// axes allow in TCPC blocks (sampled too where their law does not clear
+/// an axis).
 #[derive(Debug, Default)]
 pub struct Ahead {
     chords: ChordsAhead,
@@ -985,8 +987,8 @@ pub struct Ahead {
 
 impl Ahead {
     /// Works out, as `wanted` says, the chord proofs of `batch`
-    /// ([`ChordsAhead::work_out`]) and its samples; what is not wanted is
-    /// left to the checks.
+    /// ([`ChordsAhead::work_out`]) and the time check's work; what is not
+    /// wanted is left to the checks.
     pub fn work_out(&mut self, machine: &Machine, batch: &[Segment], wanted: Wanted) {
         if wanted.chords {
             self.chords.work_out(machine, batch);
@@ -994,7 +996,7 @@ impl Ahead {
             self.chords.clear();
         }
         self.feeds.clear();
-        if wanted.samples {
+        if wanted.time {
             self.samples.work_out(machine, batch);
             self.feeds
                 .extend(batch.iter().map(|seg| feed_ahead(machine, seg)));
@@ -1004,11 +1006,12 @@ impl Ahead {
     }
 
     /// What was worth working out for the batch: chord proofs when it
-    /// had enough, samples when it had any.
+    /// had enough, the time check's work when it had any samples or TCPC
+    /// feeds.
     fn found(&self) -> Wanted {
         Wanted {
             chords: !self.chords.found.is_empty(),
-            samples: !self.samples.is_empty(),
+            time: !self.samples.is_empty() || self.feeds.iter().any(Option::is_some),
         }
     }
 }
@@ -1038,36 +1041,52 @@ fn feed_ahead(machine: &Machine, seg: &Segment) -> Option<Option<(f64, usize)>> 
 pub struct Wanted {
     /// The chord proofs.
     pub chords: bool,
-    /// The time plan's samples.
-    pub samples: bool,
+    /// The time check's samples and TCPC feeds.
+    pub time: bool,
 }
 
 /// [`Wanted`] shared by the two stages of [`check_run_with`]: the
-/// runner's thread does the work while batches have it, and stops; the
-/// checks turn it back on when they meet enough of it in order.
+/// runner's thread does the work from the start while batches have it,
+/// and stops; the checks turn it back on when they meet enough of it in
+/// order.
 #[derive(Debug)]
 struct WantedAhead {
-    chords: std::sync::atomic::AtomicBool,
-    samples: std::sync::atomic::AtomicBool,
+    chords: AtomicBool,
+    time: AtomicBool,
 }
 
 impl WantedAhead {
-    fn get(&self) -> Wanted {
-        use std::sync::atomic::Ordering::Relaxed;
-        Wanted {
-            chords: self.chords.load(Relaxed),
-            samples: self.samples.load(Relaxed),
+    fn new() -> Self {
+        Self {
+            chords: AtomicBool::new(true),
+            time: AtomicBool::new(true),
         }
     }
 
-    /// Off what was wanted and not found.
+    fn get(&self) -> Wanted {
+        Wanted {
+            chords: self.chords.load(Relaxed),
+            time: self.time.load(Relaxed),
+        }
+    }
+
+    /// Off what was wanted and not found (the runner's thread).
     fn found(&self, wanted: Wanted, found: Wanted) {
-        use std::sync::atomic::Ordering::Relaxed;
         if wanted.chords && !found.chords {
             self.chords.store(false, Relaxed);
         }
-        if wanted.samples && !found.samples {
-            self.samples.store(false, Relaxed);
+        if wanted.time && !found.time {
+            self.time.store(false, Relaxed);
+        }
+    }
+
+    /// On what the checks met in order (the checks' thread).
+    fn met(&self, met: Wanted) {
+        if met.chords {
+            self.chords.store(true, Relaxed);
+        }
+        if met.time {
+            self.time.store(true, Relaxed);
         }
     }
 }
@@ -1387,13 +1406,8 @@ pub fn check_run_with<S: Source + Send>(
     // batch once both are in use).
     let (full_tx, full_rx) = std::sync::mpsc::sync_channel::<Batch>(PIPELINE_DEPTH);
     let (empty_tx, empty_rx) = std::sync::mpsc::channel::<(Vec<Segment>, Ahead)>();
-    // Whether the runner's thread works out the chord proofs and the
-    // samples ahead: from the start, until a batch has too few; again
-    // once the checks meet enough of them in order.
-    let ahead_wanted = WantedAhead {
-        chords: std::sync::atomic::AtomicBool::new(true),
-        samples: std::sync::atomic::AtomicBool::new(true),
-    };
+    // What the runner's thread works out ahead.
+    let ahead_wanted = WantedAhead::new();
     let alarm = std::thread::scope(|scope| {
         let producing = &mut *runner;
         let ahead = &ahead_wanted;
@@ -1407,16 +1421,10 @@ pub fn check_run_with<S: Source + Send>(
             checker.segments_ahead(&batch.segments, &batch.ahead);
             // Proofs and samples worked out here in order are worth
             // working out ahead from the next batch on.
-            if checker.proofs_in_order - before >= PARALLEL_CHORDS {
-                ahead_wanted
-                    .chords
-                    .store(true, std::sync::atomic::Ordering::Relaxed);
-            }
-            if checker.plan.samples_in_order() > sampled {
-                ahead_wanted
-                    .samples
-                    .store(true, std::sync::atomic::Ordering::Relaxed);
-            }
+            ahead_wanted.met(Wanted {
+                chords: checker.proofs_in_order - before >= PARALLEL_CHORDS,
+                time: checker.plan.samples_in_order() > sampled,
+            });
             checker.drain_settled(&mut take);
             progress(batch.blocks);
             // The producer may have ended: its batches are then dropped.
