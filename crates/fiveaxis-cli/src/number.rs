@@ -43,6 +43,19 @@ pub fn write_f64(out: &mut Text, x: f64) {
             return;
         }
     }
+    write_shortest(out, x);
+}
+
+/// Appends `x` to `out` as [`write_f64`] does, without first trying the
+/// thousandths path: for computed values (tips, tool directions), which
+/// are seldom a whole number of thousandths and would only wait on that
+/// path's division.
+pub fn write_computed_f64(out: &mut Text, x: f64) {
+    write_shortest(out, x + 0.0);
+}
+
+/// The shortest digits of `x` (not negative zero) by `zmij`, positional.
+fn write_shortest(out: &mut Text, x: f64) {
     if !x.is_finite() {
         out.put_slice(if x.is_nan() {
             b"NaN"
@@ -351,6 +364,19 @@ mod tests {
         fn equals_rust_display_for_short_decimals(k in -1_000_000_000i64..1_000_000_000) {
             let x = k as f64 / 1000.0;
             prop_assert_eq!(text(x), format!("{}", x + 0.0));
+        }
+
+        /// Computed values take the other road to the same text.
+        #[test]
+        fn computed_values_are_written_alike(k in -1_000_000_000i64..1_000_000_000, noise in 0u64..4, bits in any::<u64>()) {
+            let short = k as f64 / 1000.0;
+            let near = f64::from_bits(short.to_bits().wrapping_add(noise));
+            for x in [short, near, -short, f64::from_bits(bits), 0.0, -0.0, 1.0] {
+                let mut out = Text::default();
+                write_computed_f64(&mut out, x);
+                let computed = String::from_utf8(out.as_bytes().to_vec()).unwrap_or_default();
+                prop_assert_eq!(computed, text(x));
+            }
         }
     }
 }

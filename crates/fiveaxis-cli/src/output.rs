@@ -4,7 +4,7 @@
 use fiveaxis_control::{Alarm, Row, displayed};
 use fiveaxis_machine::Machine;
 
-use crate::number::{write_f64, write_rounded, write_u64};
+use crate::number::{write_computed_f64, write_f64, write_rounded, write_u64};
 use crate::text::Text;
 
 /// Output format.
@@ -50,6 +50,16 @@ impl<'m> RowWriter<'m> {
         }
     }
 
+    /// Appends one computed number (tip, tool direction): the same text
+    /// as [`RowWriter::number`].
+    #[inline]
+    fn computed(&self, out: &mut Text, x: f64) {
+        match self.digits {
+            None => write_computed_f64(out, x),
+            Some(digits) => write_rounded(out, x, digits),
+        }
+    }
+
     /// The header (CSV only).
     pub fn header(&self, out: &mut Text) {
         if self.format == Format::Csv {
@@ -79,9 +89,13 @@ impl<'m> RowWriter<'m> {
                 self.number(out, row.s);
                 out.push(b',');
                 out.put_slice(row.motion.name().as_bytes());
-                for x in values.chain(pose) {
+                for x in values {
                     out.push(b',');
                     self.number(out, x);
+                }
+                for x in pose {
+                    out.push(b',');
+                    self.computed(out, x);
                 }
                 out.push(b',');
                 if let Some(f) = row.feed {
@@ -97,12 +111,17 @@ impl<'m> RowWriter<'m> {
                 out.put_slice(b",\"motion\":\"");
                 out.put_slice(row.motion.name().as_bytes());
                 out.push(b'"');
-                let keys = self.axes.iter().map(String::as_str).chain(POSE_KEYS);
-                for (key, x) in keys.zip(values.chain(pose)) {
+                for (key, x) in self.axes.iter().map(String::as_str).zip(values) {
                     out.put_slice(b",\"");
                     out.put_slice(key.as_bytes());
                     out.put_slice(b"\":");
                     self.number(out, x);
+                }
+                for (key, x) in POSE_KEYS.into_iter().zip(pose) {
+                    out.put_slice(b",\"");
+                    out.put_slice(key.as_bytes());
+                    out.put_slice(b"\":");
+                    self.computed(out, x);
                 }
                 out.put_slice(b",\"feed\":");
                 match row.feed {
