@@ -223,51 +223,67 @@ fn read_block(text: &[u8], syntax: Syntax, block: &mut Block) -> Result<(), Synt
 /// general way. Taken or not, the block is the same (`lexer/equivalence.rs`
 /// checks it against the scanner without fast paths).
 fn read_plain_block(text: &[u8], block: &mut Block) -> bool {
-    let n = text.len();
+    // Columns below u32::MAX need no saturation (longer lines go the
+    // general way).
+    if text.len() >= u32::MAX as usize {
+        return false;
+    }
+    // The byte at `k`, or 0 past the end: 0 is no blank, letter, sign,
+    // digit or point, so every test below stops there.
+    let at = |k: usize| text.get(k).copied().unwrap_or(0);
+    let blank = |b: u8| b == b' ' || b == b'\t';
     let mut i = 0;
-    loop {
-        while i < n && is_blank(text[i]) {
-            i += 1;
-        }
-        if i == n {
-            return true;
-        }
+    while blank(at(i)) {
+        i += 1;
+    }
+    while i < text.len() {
         let start = i;
-        let letter = text[i];
+        let letter = at(i);
         if !letter.is_ascii_uppercase() {
             return false;
         }
         i += 1;
-        let negative = match text.get(i) {
-            Some(&PLUS) => {
-                i += 1;
-                Some(false)
-            }
-            Some(&MINUS) => {
-                i += 1;
-                Some(true)
-            }
+        let sign = at(i);
+        let negative = match sign {
+            PLUS => Some(false),
+            MINUS => Some(true),
             _ => None,
         };
+        i += usize::from(negative.is_some());
         let unsigned = i;
-        while i < n && text[i] == b'0' {
+        while at(i) == b'0' {
             i += 1;
         }
         let significant = i;
-        let (integer, after) = digits_at(text, i, 0);
-        i = after;
+        let mut mantissa = 0_u64;
+        loop {
+            let digit = at(i).wrapping_sub(b'0');
+            if digit > 9 {
+                break;
+            }
+            mantissa = mantissa.wrapping_mul(10).wrapping_add(u64::from(digit));
+            i += 1;
+        }
+        let integer = mantissa;
         let integer_digits = i - significant;
         let any_integer_digit = i > unsigned;
-        let mut mantissa = integer;
+        let decimal_point = at(i) == DECIMAL_POINT;
         let mut fraction_digits = 0;
         let mut first_fraction_digit = 0;
-        let decimal_point = i < n && text[i] == DECIMAL_POINT;
         if decimal_point {
-            let fraction = i + 1;
-            (mantissa, i) = digits_at(text, fraction, integer);
+            i += 1;
+            let fraction = i;
+            loop {
+                let digit = at(i).wrapping_sub(b'0');
+                if digit > 9 {
+                    break;
+                }
+                mantissa = mantissa.wrapping_mul(10).wrapping_add(u64::from(digit));
+                i += 1;
+            }
             fraction_digits = i - fraction;
             if fraction_digits > 0 {
-                first_fraction_digit = text[fraction] - b'0';
+                first_fraction_digit = at(fraction) - b'0';
             }
         }
         // Past MAX_DIGITS the digits may have wrapped: refused before use.
@@ -276,37 +292,30 @@ fn read_plain_block(text: &[u8], block: &mut Block) -> bool {
         {
             return false;
         }
+        let span = Span::new(start as u32 + 1, i as u32 + 1);
         // The number ends at the end, at the next word's letter, or at
         // blanks before either.
-        let mut next = i;
-        while next < n && is_blank(text[next]) {
-            next += 1;
+        while blank(at(i)) {
+            i += 1;
         }
-        if next < n && !text[next].is_ascii_uppercase() {
+        if i < text.len() && !at(i).is_ascii_uppercase() {
             return false;
         }
         let Some(magnitude) = decimal_value(mantissa, fraction_digits) else {
             return false;
         };
-        let span = span(start, i);
         if letter == SEQUENCE_LETTER {
-            let fits = u32::try_from(integer).ok();
-            match fits {
-                Some(sequence)
-                    if negative.is_none() && !decimal_point && block.sequence.is_none() =>
-                {
-                    block.sequence = Some(sequence);
-                }
-                _ => return false,
+            if negative.is_some() || decimal_point || block.sequence.is_some() {
+                return false;
             }
-        } else {
-            let code = if negative.is_some() || fraction_digits > 1 {
-                None
-            } else {
-                u16::try_from(integer)
-                    .ok()
-                    .map(|major| Code::new(major, first_fraction_digit))
+            let Ok(sequence) = u32::try_from(integer) else {
+                return false;
             };
+            block.sequence = Some(sequence);
+        } else {
+            let code =
+                (negative.is_none() && fraction_digits <= 1 && integer <= u64::from(u16::MAX))
+                    .then(|| Code::new(integer as u16, first_fraction_digit));
             block.words.push(Word {
                 letter,
                 value: if negative == Some(true) {
@@ -320,8 +329,8 @@ fn read_plain_block(text: &[u8], block: &mut Block) -> bool {
                 span,
             });
         }
-        i = next;
     }
+    true
 }
 
 /// Steps over `/` and its optional skip number `1` … `9`; `pos` is at `/`.
