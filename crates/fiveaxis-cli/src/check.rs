@@ -12,7 +12,7 @@ use std::sync::atomic::{AtomicU64, Ordering};
 
 use anstyle::{AnsiColor, Style};
 use fiveaxis_check::{Finding, Kind, Report, Severity, check_run_with};
-use fiveaxis_control::{DEFAULT_MAX_BLOCKS, ReaderSource, RunError, RunOptions, Runner};
+use fiveaxis_control::{AheadSource, DEFAULT_MAX_BLOCKS, RunError, RunOptions, Runner};
 use fiveaxis_machine::{DEFAULT_MACHINE, Machine, Offsets};
 use rayon::prelude::*;
 
@@ -243,7 +243,7 @@ fn check_one(
         lift_soft_limits: true,
     };
     let mut runner = crate::with_memory(
-        Runner::new(machine, offsets.clone(), ReaderSource::new(file), options),
+        Runner::new(machine, offsets.clone(), AheadSource::new(file), options),
         args.programs_dir.as_deref(),
         variables.map(|v| ("variables", v)),
         crate::library::ngc_folders(&args.machine, &machine.params.subroutine_path, program),

@@ -21,7 +21,7 @@ use std::sync::mpsc;
 
 use clap::{Parser, Subcommand};
 use fiveaxis_control::{
-    Alarm, DEFAULT_MAX_BLOCKS, Interpolation, MAX_LINE_BYTES, ReaderSource, RunError, RunOptions,
+    AheadSource, Alarm, DEFAULT_MAX_BLOCKS, Interpolation, MAX_LINE_BYTES, RunError, RunOptions,
     Runner, Segment, Source,
 };
 use fiveaxis_machine::{DEFAULT_MACHINE, FileError, Machine, Offsets, builtin, builtin_names};
@@ -616,7 +616,7 @@ fn run(args: &RunArgs) -> Result<u8, InputError> {
     } else {
         args.program.as_str()
     };
-    let source = ReaderSource::new(file);
+    let source = AheadSource::new(file);
     let options = RunOptions {
         block_delete: args.block_delete,
         interpolation: args.step.map(|step| Interpolation {

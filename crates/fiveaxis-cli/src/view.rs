@@ -16,7 +16,7 @@ use std::io::{BufWriter, Read, Write};
 use std::path::{Path, PathBuf};
 
 use fiveaxis_control::{
-    Alarm, Interpolation, Motion, ReaderSource, Row, RunError, RunOptions, Runner, Segment, Stock,
+    AheadSource, Alarm, Interpolation, Motion, Row, RunError, RunOptions, Runner, Segment, Stock,
 };
 use fiveaxis_machine::{Machine, MachineType, SetupError, Side, Vec3};
 use serde_json::{Value, json};
@@ -293,7 +293,7 @@ pub fn view(args: &ViewArgs) -> Result<u8, InputError> {
     let work = crate::work::Work::read(&args.work, 1, &offsets)?;
     let tools = tools_json(&offsets);
     let fixtures = work.fixtures_for_page(FIXTURE_TRIANGLES);
-    let mut runner = Runner::new(&machine, offsets.clone(), ReaderSource::new(file), options);
+    let mut runner = Runner::new(&machine, offsets.clone(), AheadSource::new(file), options);
     let variables = match &args.variables {
         Some(path) => {
             let name = path.display().to_string();

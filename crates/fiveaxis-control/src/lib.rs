@@ -37,8 +37,8 @@ pub use modal::{
     Plane, TcpcType, Units, WorkSelect,
 };
 pub use runner::{
-    DEFAULT_MAX_BLOCKS, Interpolation, MAX_LINE_BYTES, ProgramLibrary, ReaderSource, RunError,
-    RunOptions, Runner, SliceSource, Source,
+    AheadSource, DEFAULT_MAX_BLOCKS, Interpolation, MAX_LINE_BYTES, ProgramLibrary, ReaderSource,
+    RunError, RunOptions, Runner, SliceSource, Source,
 };
 pub use segment::{
     Arc, MAX_STEPS, Motion, POSTURE_KNOTS, Path, Posture, Row, Segment, TcpcPath, TipPath,

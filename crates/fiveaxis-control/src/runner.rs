@@ -16,12 +16,14 @@ use crate::controller::{Controller, Flow};
 use crate::dialect::Dialect;
 use crate::segment::{MAX_STEPS, Segment};
 
+mod ahead;
 mod heidenhain;
 mod library;
 mod macros;
 mod oword;
 mod sinumerik;
 
+pub use ahead::AheadSource;
 pub use library::ProgramLibrary;
 use library::Sources;
 
@@ -37,6 +39,16 @@ pub trait Source: Send {
     fn position(&self) -> u64;
     /// Goes on reading at byte `offset`, a line start seen before.
     fn seek(&mut self, offset: u64) -> io::Result<()>;
+    /// The reading rules of the program's blocks, for a source that reads
+    /// blocks ahead of the runner ([`AheadSource`]); others ignore them.
+    fn read_blocks_as(&mut self, _syntax: Syntax) {}
+    /// The block of the line [`Source::read_line`] gave last, read ahead
+    /// with the rules of [`Source::read_blocks_as`], put into `block` with
+    /// line number `line`: true when there is one. A line that does not
+    /// read as a block without error has none (the runner reads it).
+    fn take_block(&mut self, _line: u32, _block: &mut Block) -> bool {
+        false
+    }
 }
 
 /// A program held in memory.
@@ -64,6 +76,14 @@ impl<S: Source + ?Sized> Source for Box<S> {
 
     fn seek(&mut self, offset: u64) -> io::Result<()> {
         (**self).seek(offset)
+    }
+
+    fn read_blocks_as(&mut self, syntax: Syntax) {
+        (**self).read_blocks_as(syntax);
+    }
+
+    fn take_block(&mut self, line: u32, block: &mut Block) -> bool {
+        (**self).take_block(line, block)
     }
 }
 
@@ -416,9 +436,18 @@ impl<'m, S: Source> Runner<'m, S> {
         let mut controller = Controller::new(machine, offsets);
         controller.set_optional_stop(options.optional_stop);
         controller.lift_soft_limits(options.lift_soft_limits);
+        let dialect = Dialect::of(machine.control);
+        let mut source = Sources::new(source);
+        // The FANUC family's lines read as blocks by `parse_line_as`; the
+        // other languages have readers of their own.
+        let reads_blocks = !dialect.rs274ngc
+            && !matches!(machine.control, Control::Sinumerik | Control::Heidenhain);
+        if reads_blocks {
+            source.read_blocks_as(dialect.syntax);
+        }
         Self {
             controller,
-            source: Sources::new(source),
+            source,
             options,
             max_nesting: Dialect::of(machine.control).max_nesting,
             syntax: Dialect::of(machine.control).syntax,
@@ -698,9 +727,9 @@ impl<'m, S: Source> Runner<'m, S> {
         }
         self.count_block(here.line)?;
         self.next_line += 1;
-        if here.offset == library::file_start(library::file_of(here.offset))
-            && self.text.starts_with(BYTE_ORDER_MARK)
-        {
+        let byte_order_mark = here.offset == library::file_start(library::file_of(here.offset))
+            && self.text.starts_with(BYTE_ORDER_MARK);
+        if byte_order_mark {
             self.text.drain(..BYTE_ORDER_MARK.len());
             self.note("line 1: a UTF-8 byte-order mark, skipped".into());
         }
@@ -736,7 +765,14 @@ impl<'m, S: Source> Runner<'m, S> {
         }
         // Plain lines take the front end's fast path; a line the front end
         // finds custom macro syntax in goes through the macro layer.
-        match parse_line_as(self.syntax, &self.text, here.line, &mut self.block) {
+        // The block may have been read ahead (the line as read, without
+        // a byte-order mark to drop).
+        let read = if !byte_order_mark && self.source.take_block(here.line, &mut self.block) {
+            Ok(())
+        } else {
+            parse_line_as(self.syntax, &self.text, here.line, &mut self.block)
+        };
+        match read {
             Ok(()) => {}
             Err(error) if error.kind == SyntaxErrorKind::Macro => match self.macro_line(here)? {
                 MacroFlow::Done => return Ok(()),

@@ -6,7 +6,7 @@ use std::fs::File;
 use std::io::{Cursor, Read, Seek};
 use std::path::Path;
 
-use fiveaxis_control::ReaderSource;
+use fiveaxis_control::AheadSource;
 use fiveaxis_machine::{Control, FileError, Machine};
 use pyo3::prelude::*;
 
@@ -55,7 +55,7 @@ pub trait ReadSeek: Read + Seek + Send {}
 impl<T: Read + Seek + Send> ReadSeek for T {}
 
 /// A program's source and the name messages give it.
-pub type ProgramSource = ReaderSource<Box<dyn ReadSeek>>;
+pub type ProgramSource = AheadSource<Box<dyn ReadSeek>>;
 
 /// Bytes of a program file read to find the language it is in.
 const HEAD_BYTES: usize = fiveaxis_control::HEAD_BYTES;
@@ -108,7 +108,7 @@ pub fn open_program(
             }
             let language = language(Some(path), &file_head(&mut file));
             Ok((
-                ReaderSource::new(Box::new(file) as Box<dyn ReadSeek>),
+                AheadSource::new(Box::new(file) as Box<dyn ReadSeek>),
                 name,
                 language,
             ))
@@ -116,7 +116,7 @@ pub fn open_program(
         (None, Some(code)) => {
             let language = language(None, &code);
             Ok((
-                ReaderSource::new(Box::new(Cursor::new(code)) as Box<dyn ReadSeek>),
+                AheadSource::new(Box::new(Cursor::new(code)) as Box<dyn ReadSeek>),
                 "<string>".to_owned(),
                 language,
             ))

@@ -4,7 +4,7 @@
 use std::path::PathBuf;
 
 use fiveaxis_check::check_run;
-use fiveaxis_control::{DEFAULT_MAX_BLOCKS, ReaderSource, RunOptions};
+use fiveaxis_control::{AheadSource, DEFAULT_MAX_BLOCKS, RunOptions};
 use fiveaxis_post::{PostOptions, program};
 use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict};
@@ -233,7 +233,7 @@ pub fn post<'py>(
         source_tool_length: tool_length.or(header_length),
     };
     let carried = program::carried_words(text);
-    let source = ReaderSource::new(Box::new(std::io::Cursor::new(bytes)) as Box<dyn ReadSeek>);
+    let source = AheadSource::new(Box::new(std::io::Cursor::new(bytes)) as Box<dyn ReadSeek>);
     let post = with_runner(
         py,
         run_on,

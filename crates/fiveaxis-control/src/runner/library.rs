@@ -9,6 +9,8 @@
 
 use std::io;
 
+use fiveaxis_gcode::{Block, Syntax};
+
 use super::Source;
 
 /// Programs kept outside the running file (`--programs DIR`).
@@ -247,5 +249,15 @@ impl<S: Source> Source for Sources<S> {
         }
         self.current = file;
         self.inner().seek(offset & OFFSET_MASK)
+    }
+
+    fn read_blocks_as(&mut self, syntax: Syntax) {
+        if let Some(main) = self.main.as_mut() {
+            main.read_blocks_as(syntax);
+        }
+    }
+
+    fn take_block(&mut self, line: u32, block: &mut Block) -> bool {
+        self.inner().take_block(line, block)
     }
 }
