@@ -139,22 +139,24 @@ fn write_scaled(out: &mut Text, k: i64, decimals: usize) {
 }
 
 /// Writes `k / 1000` without trailing zeros ([`write_scaled`] with three
-/// decimals, by constant divisors).
+/// decimals, by constant divisors and the table of digit pairs).
 fn write_thousandths(out: &mut Text, k: i64) {
     let magnitude = k.unsigned_abs();
-    let (whole, frac) = (magnitude / 1000, magnitude % 1000);
+    let (whole, frac) = (magnitude / 1000, (magnitude % 1000) as usize);
     if k < 0 {
         out.push(b'-');
     }
-    out.put_digits(whole, decimal_digits(whole));
+    out.put_decimal(whole);
     if frac != 0 {
         out.push(b'.');
-        if frac % 100 == 0 {
-            out.put_digits(frac / 100, 1);
-        } else if frac % 10 == 0 {
-            out.put_digits(frac / 10, 2);
+        let (tenths, rest) = (frac / 100, frac % 100);
+        out.push(b'0' + tenths as u8);
+        if rest % 10 == 0 {
+            if rest != 0 {
+                out.push(b'0' + (rest / 10) as u8);
+            }
         } else {
-            out.put_digits(frac, 3);
+            out.put_pair(rest);
         }
     }
 }
@@ -172,7 +174,7 @@ fn decimal_digits(n: u64) -> usize {
 
 /// Appends the decimal digits of `n`.
 pub fn write_u64(out: &mut Text, n: u64) {
-    out.put_digits(n, decimal_digits(n));
+    out.put_decimal(n);
 }
 
 /// Rewrites `zmij`'s output (`1.5e-7`, `1e+22`, `100.0`) the way Rust's

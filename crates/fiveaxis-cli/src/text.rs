@@ -8,6 +8,13 @@ pub const CHUNK: usize = 1 << 16;
 /// row (16 columns of the longest number, 330 bytes, plus JSON keys).
 pub const ROW_ROOM: usize = 1 << 13;
 
+/// The digits of 00 to 99, two bytes each.
+const PAIRS: &[u8; 200] = b"0001020304050607080910111213141516171819\
+2021222324252627282930313233343536373839\
+4041424344454647484950515253545556575859\
+6061626364656667686970717273747576777879\
+8081828384858687888990919293949596979899";
+
 /// Output text with a cursor.
 #[derive(Debug)]
 pub struct Text {
@@ -66,6 +73,47 @@ impl Text {
         self.len += count;
     }
 
+    /// Appends the decimal digits of `n` (no leading zeros; `0` for 0),
+    /// two at a time from a table.
+    #[inline]
+    pub fn put_decimal(&mut self, n: u64) {
+        if n < 10 {
+            self.push(b'0' + n as u8);
+        } else if n < 100 {
+            self.put_pair(n as usize);
+        } else if n < 1000 {
+            self.push(b'0' + (n / 100) as u8);
+            self.put_pair((n % 100) as usize);
+        } else {
+            let mut digits = [0u8; 20];
+            let mut at = digits.len();
+            let mut rest = n;
+            while rest >= 100 {
+                at -= 2;
+                let pair = (rest % 100) as usize * 2;
+                digits[at..at + 2].copy_from_slice(&PAIRS[pair..pair + 2]);
+                rest /= 100;
+            }
+            if rest >= 10 {
+                at -= 2;
+                let pair = rest as usize * 2;
+                digits[at..at + 2].copy_from_slice(&PAIRS[pair..pair + 2]);
+            } else {
+                at -= 1;
+                digits[at] = b'0' + rest as u8;
+            }
+            self.put_slice(&digits[at..]);
+        }
+    }
+
+    /// Appends the two digits of `pair` (below 100), zero-padded.
+    #[inline]
+    pub fn put_pair(&mut self, pair: usize) {
+        let k = pair * 2;
+        self.bytes[self.len..self.len + 2].copy_from_slice(&PAIRS[k..k + 2]);
+        self.len += 2;
+    }
+
     /// Appends a slice. Pieces of 4 to 32 bytes (numbers, names) go as two
     /// overlapping copies of a fixed size, without a call to `memcpy`.
     #[inline]
@@ -94,6 +142,18 @@ impl Text {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn whole_numbers_are_written_as_rust_writes_them() {
+        let mut numbers: Vec<u64> = (0..2_000).collect();
+        numbers.extend((0..64).map(|k| 1u64 << k));
+        numbers.extend([99_999, 100_000, 999_999_999, u64::MAX - 1, u64::MAX]);
+        for n in numbers {
+            let mut out = Text::default();
+            out.put_decimal(n);
+            assert_eq!(out.as_bytes(), n.to_string().as_bytes());
+        }
+    }
 
     #[test]
     fn slices_of_every_length_are_appended_whole() {
