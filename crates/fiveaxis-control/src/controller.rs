@@ -1524,6 +1524,20 @@ impl<'m> Controller<'m> {
             return Ok(());
         }
         let machine = self.machine;
+        // A move in joint space stays between its ends: most blocks are
+        // settled by comparing those (the alarm, if any, below).
+        if matches!(seg.path, Path::Joint) {
+            let within = |x: f64, (min, max): (f64, f64)| {
+                x <= max + LIMIT_TOLERANCE && x >= min - LIMIT_TOLERANCE
+            };
+            let inside = self.soft_limits[..machine.axis_count()]
+                .iter()
+                .zip(seg.start.iter().zip(&seg.end))
+                .all(|(&limits, (&a, &b))| within(a, limits) && within(b, limits));
+            if inside {
+                return Ok(());
+            }
+        }
         let mut lo = seg.end;
         let mut hi = seg.end;
         for i in 0..machine.axis_count() {

@@ -235,7 +235,9 @@ impl TipPath {
 
     /// Whether every number of the path is finite.
     pub fn is_finite(&self) -> bool {
-        let all = |v: &[f64]| v.iter().all(|x| x.is_finite());
+        // x·0 is 0 for a finite x and NaN otherwise: one sum, no branch
+        // per number (the ends of every segment are looked at).
+        let all = |v: &[f64]| v.iter().fold(0.0, |sum, x| sum + x * 0.0) == 0.0;
         match self {
             TipPath::Line([a, b]) => all(a.as_slice()) && all(b.as_slice()),
             TipPath::Arc {
