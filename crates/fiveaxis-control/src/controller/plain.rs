@@ -35,31 +35,43 @@ const LINEAR: Code = Code::new(1, 0);
 
 /// What of the state a plain block may change (its motion code, F, the
 /// position and what the motion functions keep: cutter compensation C
-/// the position, TCPC its vector and angles), to put back on an alarm as
-/// the general path puts back its copy of the whole state. Tests check,
+/// the position, TCPC its vector and angles, the setup error that follows
+/// the rotary axes), to put back on an alarm as the general path puts
+/// back its copy of the whole state. Outside TCPC a plain block changes
+/// nothing of TCPC's but its start-up flag, so the rest is saved only
+/// while TCPC is in force. Tests check,
 /// with debug assertions on, that the state put back equals the whole.
 struct Undo {
     motion: MotionMode,
     cycle: super::cycles::CycleState,
     feed: f64,
-    tcpc: super::tcpc::TcpcState,
     sequence: Option<u32>,
-    setup: fiveaxis_machine::SetupError,
-    setup_angles: Option<[f64; 2]>,
     joints: fiveaxis_machine::Joints,
+    setup: fiveaxis_machine::SetupError,
+    tcpc_startup: bool,
+    tcpc: Option<TcpcUndo>,
+}
+
+/// What TCPC motion may change.
+struct TcpcUndo {
+    tcpc: super::tcpc::TcpcState,
+    setup_angles: Option<[f64; 2]>,
 }
 
 impl Undo {
-    fn of(state: &super::State) -> Self {
+    fn of(state: &super::State, tcpc_in_force: bool) -> Self {
         Self {
             motion: state.modal.motion,
             cycle: state.cycle,
             feed: state.feed,
-            tcpc: state.tcpc,
             sequence: state.sequence,
-            setup: state.setup,
-            setup_angles: state.setup_angles,
             joints: state.joints,
+            setup: state.setup,
+            tcpc_startup: state.tcpc.startup,
+            tcpc: tcpc_in_force.then(|| TcpcUndo {
+                tcpc: state.tcpc,
+                setup_angles: state.setup_angles,
+            }),
         }
     }
 
@@ -67,11 +79,14 @@ impl Undo {
         state.modal.motion = self.motion;
         state.cycle = self.cycle;
         state.feed = self.feed;
-        state.tcpc = self.tcpc;
         state.sequence = self.sequence;
-        state.setup = self.setup;
-        state.setup_angles = self.setup_angles;
         state.joints = self.joints;
+        state.setup = self.setup;
+        if let Some(saved) = self.tcpc {
+            state.tcpc = saved.tcpc;
+            state.setup_angles = saved.setup_angles;
+        }
+        state.tcpc.startup = self.tcpc_startup;
     }
 }
 
@@ -122,7 +137,7 @@ impl Controller<'_> {
         base: usize,
         out: &mut Vec<Segment>,
     ) -> Result<Flow, Alarm> {
-        let undo = Undo::of(&self.state);
+        let undo = Undo::of(&self.state, self.tcpc_type().is_some());
         #[cfg(debug_assertions)]
         let whole = self.state;
         if let Some(n) = sequence {
