@@ -68,10 +68,15 @@ impl Undo {
             joints: state.joints,
             setup: state.setup,
             tcpc_startup: state.tcpc.startup,
-            tcpc: tcpc_in_force.then(|| TcpcUndo {
-                tcpc: state.tcpc,
-                setup_angles: state.setup_angles,
-            }),
+            // Copied only when needed (TCPC's state is large).
+            tcpc: if tcpc_in_force {
+                Some(TcpcUndo {
+                    tcpc: state.tcpc,
+                    setup_angles: state.setup_angles,
+                })
+            } else {
+                None
+            },
         }
     }
 
