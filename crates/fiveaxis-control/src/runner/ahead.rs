@@ -22,7 +22,7 @@ use std::ops::Range;
 use std::sync::mpsc::{self, Receiver, Sender, SyncSender};
 use std::thread::JoinHandle;
 
-use fiveaxis_gcode::{Block, Span, Syntax, Word, parse_line_as};
+use fiveaxis_gcode::{Block, Syntax, parse_line_as};
 
 use super::{ReaderSource, Source};
 
@@ -31,17 +31,6 @@ const BATCH_LINES: usize = 512;
 /// Batches on their way to the runner at most.
 const BATCHES_AHEAD: usize = 4;
 
-/// A block read ahead: where its parts stand in the batch.
-#[derive(Clone, Debug)]
-struct AheadBlock {
-    words: Range<usize>,
-    sequence: Option<u32>,
-    block_delete: bool,
-    tape_mark: bool,
-    comment: Range<usize>,
-    comment_span: Option<Span>,
-}
-
 /// One line read ahead.
 #[derive(Clone, Debug)]
 struct AheadLine {
@@ -49,8 +38,10 @@ struct AheadLine {
     offset: u64,
     next: u64,
     text: Range<usize>,
-    /// Its block, when the line reads as one without error.
-    block: Option<AheadBlock>,
+    /// Its block (in the batch's `blocks`, same index) reads without
+    /// error and is still there: [`Source::take_block`] hands it over
+    /// whole, once.
+    block: bool,
 }
 
 /// What follows a batch's last line.
@@ -69,17 +60,16 @@ enum End {
 #[derive(Debug, Default)]
 struct Batch {
     text: Vec<u8>,
-    comments: Vec<u8>,
-    words: Vec<Word>,
     lines: Vec<AheadLine>,
+    /// The lines' blocks by index, kept with their buffers from batch to
+    /// batch.
+    blocks: Vec<Block>,
     end: End,
 }
 
 impl Batch {
     fn clear(&mut self) {
         self.text.clear();
-        self.comments.clear();
-        self.words.clear();
         self.lines.clear();
         self.end = End::More;
     }
@@ -104,7 +94,6 @@ fn read_ahead<R: Read + Seek + Send>(
 ) -> ReaderSource<R> {
     let mut syntax = None;
     let mut line = Vec::new();
-    let mut block = Block::default();
     let mut wait = false;
     loop {
         if !obey(commands, &mut syntax, wait) {
@@ -127,31 +116,12 @@ fn read_ahead<R: Read + Seek + Send>(
             }
             let start = batch.text.len();
             batch.text.extend_from_slice(&line);
-            let read = syntax.and_then(|syntax| {
-                parse_line_as(syntax, &line, 0, &mut block).ok()?;
-                // Every part of the block, so that a new one is not
-                // left behind.
-                let Block {
-                    line: _,
-                    block_delete,
-                    tape_mark,
-                    words,
-                    sequence,
-                    comment,
-                    comment_span,
-                } = &block;
-                let first_word = batch.words.len();
-                batch.words.extend_from_slice(words);
-                let first_byte = batch.comments.len();
-                batch.comments.extend_from_slice(comment);
-                Some(AheadBlock {
-                    words: first_word..batch.words.len(),
-                    sequence: *sequence,
-                    block_delete: *block_delete,
-                    tape_mark: *tape_mark,
-                    comment: first_byte..batch.comments.len(),
-                    comment_span: *comment_span,
-                })
+            let k = batch.lines.len();
+            if batch.blocks.len() <= k {
+                batch.blocks.push(Block::default());
+            }
+            let read = syntax.is_some_and(|syntax| {
+                parse_line_as(syntax, &line, 0, &mut batch.blocks[k]).is_ok()
             });
             batch.lines.push(AheadLine {
                 offset,
@@ -396,25 +366,21 @@ impl<R: Read + Seek + Send> Source for AheadSource<R> {
     }
 
     fn take_block(&mut self, line: u32, block: &mut Block) -> bool {
-        let Some(read) = self
-            .last
-            .and_then(|k| self.batch.lines.get(k))
-            .and_then(|l| l.block.as_ref())
+        let Some(k) = self.last else {
+            return false;
+        };
+        let (Some(read), Some(ready)) = (self.batch.lines.get_mut(k), self.batch.blocks.get_mut(k))
         else {
             return false;
         };
-        block.clear();
+        if !read.block {
+            return false;
+        }
+        // Handed over by a swap: the runner's old block stays behind,
+        // to be read into again.
+        read.block = false;
+        std::mem::swap(block, ready);
         block.line = line;
-        block
-            .words
-            .extend_from_slice(&self.batch.words[read.words.clone()]);
-        block.sequence = read.sequence;
-        block.block_delete = read.block_delete;
-        block.tape_mark = read.tape_mark;
-        block
-            .comment
-            .extend_from_slice(&self.batch.comments[read.comment.clone()]);
-        block.comment_span = read.comment_span;
         true
     }
 }
