@@ -457,7 +457,7 @@ impl Controller<'_> {
             let (i0, i1) = (machine.rotary_index(0), machine.rotary_index(1));
             let p0 = Vec3::new(from[0], from[1], from[2]);
             let p1 = Vec3::new(end_p[0], end_p[1], end_p[2]);
-            let tcpc = self.state.tcpc;
+            let tcpc = &self.state.tcpc;
             let t = inclined(&tcpc.vector, &(p1 - p0), tcpc.inclination);
             let v_table = self
                 .state
