@@ -308,7 +308,7 @@ mod tests {
             1e12,
             999999999999.999,
             // Two shortest forms equally near: Rust's is the contract's.
-            558373550007.40625,
+            558_373_550_007.406_3,
             f64::MAX,
             f64::MIN_POSITIVE,
         ] {
