@@ -41,6 +41,11 @@ fn offsets() -> Offsets {
     Offsets::from_toml("[tools]\n1 = { length = 120.0 }\n").expect("offsets")
 }
 
+/// How many findings of `kind` a report holds.
+fn count(report: &Report, kind: Kind) -> usize {
+    report.findings.iter().filter(|f| f.kind == kind).count()
+}
+
 /// Runs a program with the soft limits lifted: its segments and the
 /// check's report. A second checker drains its settled findings after
 /// every segment: what it hands over, then what its `finish` gives, must
@@ -118,11 +123,7 @@ fn a_batch_with_its_chord_proofs_on_every_core_checks_as_block_by_block() {
     }
     program.push_str("M30\n");
     let (_, report) = run(&machine, &program);
-    let chords = report
-        .findings
-        .iter()
-        .filter(|f| f.kind == Kind::ChordError)
-        .count();
+    let chords = count(&report, Kind::ChordError);
     assert!(chords >= 100, "{chords} chord errors");
 }
 
@@ -542,11 +543,7 @@ fn feed_limits_of_tcpc_blocks_worked_out_ahead_are_the_checks_own() {
         }
         program.push_str("G49\nM30\n");
         let (_, report) = run(&machine, &program);
-        let limited = report
-            .findings
-            .iter()
-            .filter(|f| f.kind == Kind::FeedLimited)
-            .count();
+        let limited = count(&report, Kind::FeedLimited);
         assert!(limited >= 10, "{name}: {limited} feed limits\n{program}");
     }
 }

@@ -155,7 +155,7 @@ fn write_scaled(out: &mut Text, k: i64, decimals: usize) {
     if k < 0 {
         out.push(b'-');
     }
-    out.put_digits(whole, decimal_digits(whole));
+    out.put_decimal(whole);
     if frac != 0 {
         out.push(b'.');
         out.put_digits(frac, decimals);
@@ -183,17 +183,6 @@ fn write_thousandths(out: &mut Text, k: i64) {
             out.put_pair(rest);
         }
     }
-}
-
-/// How many decimal digits `n` has (1 for 0).
-fn decimal_digits(n: u64) -> usize {
-    let mut digits = 1;
-    let mut bound = 10;
-    while n >= bound && digits < 20 {
-        digits += 1;
-        bound = bound.saturating_mul(10);
-    }
-    digits
 }
 
 /// Appends the decimal digits of `n`.

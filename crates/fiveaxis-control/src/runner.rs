@@ -449,8 +449,8 @@ impl<'m, S: Source> Runner<'m, S> {
             controller,
             source,
             options,
-            max_nesting: Dialect::of(machine.control).max_nesting,
-            syntax: Dialect::of(machine.control).syntax,
+            max_nesting: dialect.max_nesting,
+            syntax: dialect.syntax,
             text: Vec::new(),
             scan_text: Vec::new(),
             scan_block: Block::default(),
@@ -468,17 +468,17 @@ impl<'m, S: Source> Runner<'m, S> {
             flushed: false,
             recent: std::array::from_fn(|_| (0, Vec::new())),
             recent_next: 0,
-            macros: if Dialect::of(machine.control).rs274ngc {
+            macros: if dialect.rs274ngc {
                 MacroState::linuxcnc(oword::NGC_MAX_CALLS)
             } else {
                 MacroState::new(
-                    Dialect::of(machine.control).max_macro_nesting,
+                    dialect.max_macro_nesting,
                     machine.params.additional_common_variables,
-                    Dialect::of(machine.control).structured_if,
+                    dialect.structured_if,
                 )
             },
-            rs274ngc: Dialect::of(machine.control).rs274ngc,
-            haas: Dialect::of(machine.control).haas_codes,
+            rs274ngc: dialect.rs274ngc,
+            haas: dialect.haas_codes,
             ngc: oword::NgcState::default(),
             started: false,
             notes: Vec::new(),

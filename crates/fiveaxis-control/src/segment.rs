@@ -235,9 +235,7 @@ impl TipPath {
 
     /// Whether every number of the path is finite.
     pub fn is_finite(&self) -> bool {
-        // x·0 is 0 for a finite x and NaN otherwise: one sum, no branch
-        // per number (the ends of every segment are looked at).
-        let all = |v: &[f64]| v.iter().fold(0.0, |sum, x| sum + x * 0.0) == 0.0;
+        let all = all_finite;
         match self {
             TipPath::Line([a, b]) => all(a.as_slice()) && all(b.as_slice()),
             TipPath::Arc {
@@ -466,7 +464,7 @@ impl Segment {
     /// Whether every number of the segment is finite (checked before a
     /// segment is released: no row may hold a non-finite number).
     pub fn is_finite(&self) -> bool {
-        let all = |v: &[f64]| v.iter().all(|x| x.is_finite());
+        let all = all_finite;
         let vec = |v: &Vec3| all(v.as_slice());
         let path = match &self.path {
             Path::Joint => true,
@@ -653,6 +651,13 @@ pub fn unit(i: usize) -> Vec3 {
     let mut v = Vec3::zeros();
     v[i] = 1.0;
     v
+}
+
+/// Whether every number of `v` is finite: x·0 is 0 for a finite x and
+/// NaN otherwise, so one sum tells, without a branch per number (every
+/// segment's numbers are looked at before it leaves the runner).
+fn all_finite(v: &[f64]) -> bool {
+    v.iter().fold(0.0, |sum, x| sum + x * 0.0) == 0.0
 }
 
 /// A machine position as the control displays it: rollover axes reduced

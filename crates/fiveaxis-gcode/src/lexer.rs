@@ -232,15 +232,6 @@ fn read_plain_block(text: &[u8], block: &mut Block) -> bool {
     // digit or point, so every test below stops there.
     let at = |k: usize| text.get(k).copied().unwrap_or(0);
     let blank = |b: u8| b == b' ' || b == b'\t';
-    // The digits from `k` on added to `value`, and where they end.
-    let digits = |mut k: usize, mut value: u64| loop {
-        let digit = at(k).wrapping_sub(b'0');
-        if digit > 9 {
-            return (value, k);
-        }
-        value = value.wrapping_mul(10).wrapping_add(u64::from(digit));
-        k += 1;
-    };
     let mut i = 0;
     while blank(at(i)) {
         i += 1;
@@ -264,7 +255,7 @@ fn read_plain_block(text: &[u8], block: &mut Block) -> bool {
             i += 1;
         }
         let significant = i;
-        let (integer, after) = digits(i, 0);
+        let (integer, after) = digits_at(text, i, 0);
         i = after;
         let mut mantissa = integer;
         let integer_digits = i - significant;
@@ -275,7 +266,7 @@ fn read_plain_block(text: &[u8], block: &mut Block) -> bool {
         if decimal_point {
             i += 1;
             let fraction = i;
-            (mantissa, i) = digits(fraction, integer);
+            (mantissa, i) = digits_at(text, fraction, integer);
             fraction_digits = i - fraction;
             if fraction_digits > 0 {
                 first_fraction_digit = at(fraction) - b'0';
