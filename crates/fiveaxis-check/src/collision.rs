@@ -194,7 +194,7 @@ impl Collisions {
         Finding {
             kind,
             line: run.line,
-            message,
+            message: message.into(),
             axis: None,
             value: Some(value),
             bodies: Some(Box::new([a.clone(), b.clone()])),

@@ -26,6 +26,7 @@ pub mod bound;
 pub mod collision;
 mod extent;
 mod law;
+pub mod message;
 mod motion;
 pub mod singular;
 pub mod stock;
@@ -36,6 +37,7 @@ use fiveaxis_machine::{Joints, MAX_AXES, Machine, Vec3};
 use std::sync::atomic::{AtomicBool, Ordering::Relaxed};
 
 pub use extent::axis_max;
+pub use message::{Message, Word};
 pub use motion::{block_minutes, tip_feed_allowed};
 
 /// How serious a finding is.
@@ -171,7 +173,7 @@ pub struct Finding {
     /// 1-based program line of the block (the first of a run of blocks).
     pub line: u32,
     /// In words.
-    pub message: String,
+    pub message: Message,
     /// The axis it is about, when there is one.
     pub axis: Option<char>,
     /// The measure of the finding (see the contract), when there is one.
@@ -506,7 +508,7 @@ impl<'m> Checker<'m> {
         line: u32,
         axis: Option<char>,
         value: Option<f64>,
-        message: String,
+        message: Message,
     ) {
         self.add(Finding {
             kind,
@@ -531,7 +533,7 @@ impl<'m> Checker<'m> {
     pub fn alarm(&mut self, alarm: &AlarmInfo) {
         self.order += 1;
         let message = format!("{} {}", alarm.code, alarm.message);
-        self.push(Kind::Alarm, alarm.line, None, None, message);
+        self.push(Kind::Alarm, alarm.line, None, None, message.into());
     }
 
     /// Checks one segment.
@@ -682,15 +684,24 @@ impl<'m> Checker<'m> {
         let name = self.machine.axis_names().nth(i).unwrap_or('?');
         let (sign, limit) = if side == 1 { ('+', hi) } else { ('-', lo) };
         let unit = if i < self.machine.linear.len() {
-            "mm"
+            " mm"
         } else {
-            "deg"
+            " deg"
         };
-        let message = format!(
-            "{name}{sign} over-travel: {name} reaches {} beyond the soft limit {limit} ({} {unit} too far)",
-            round6(run.farthest),
-            round6((run.farthest - limit).abs()),
-        );
+        let message = Message::of(&[
+            Word::Letter(name),
+            Word::Letter(sign),
+            Word::Text(" over-travel: "),
+            Word::Letter(name),
+            Word::Text(" reaches "),
+            Word::Number(round6(run.farthest)),
+            Word::Text(" beyond the soft limit "),
+            Word::Number(limit),
+            Word::Text(" ("),
+            Word::Number(round6((run.farthest - limit).abs())),
+            Word::Text(unit),
+            Word::Text(" too far)"),
+        ]);
         self.add(Finding {
             kind: Kind::Overtravel,
             line: run.line,
@@ -747,26 +758,39 @@ impl<'m> Checker<'m> {
                     .max_velocity
             };
             let unit = if axis < machine.linear.len() {
-                "mm/min"
+                " mm/min: the tip moves at "
             } else {
-                "deg/min"
+                " deg/min: the tip moves at "
             };
-            let needs = format!(
-                "{name} faster than its {} {unit}: the tip moves at {} mm/min at most",
-                round3(vmax),
-                round3(allowed)
-            );
+            let needs = [
+                Word::Letter(name),
+                Word::Text(" faster than its "),
+                Word::Number(round3(vmax)),
+                Word::Text(unit),
+                Word::Number(round3(allowed)),
+                Word::Text(" mm/min at most"),
+            ];
             // In inverse time F is 1/minutes, not the tip feed the axes
             // must keep: both are named.
-            let message = if seg.inverse_time && minutes > 0.0 {
-                format!(
-                    "the inverse-time F{} works out to a tip feed of {} mm/min, which needs {needs}",
-                    round6(1.0 / minutes),
-                    round3(feed)
-                )
+            let mut words: arrayvec::ArrayVec<Word<'static>, { message::MAX_WORDS }> =
+                arrayvec::ArrayVec::new();
+            if seg.inverse_time && minutes > 0.0 {
+                words.extend([
+                    Word::Text("the inverse-time F"),
+                    Word::Number(round6(1.0 / minutes)),
+                    Word::Text(" works out to a tip feed of "),
+                    Word::Number(round3(feed)),
+                    Word::Text(" mm/min, which needs "),
+                ]);
             } else {
-                format!("F{} needs {needs}", round3(feed))
-            };
+                words.extend([
+                    Word::Text("F"),
+                    Word::Number(round3(feed)),
+                    Word::Text(" needs "),
+                ]);
+            }
+            words.extend(needs);
+            let message = Message::of(&words);
             self.push(
                 Kind::FeedLimited,
                 seg.line,
@@ -801,10 +825,13 @@ impl<'m> Checker<'m> {
         };
         let cone = machine.params.singular_cone;
         if angle <= cone {
-            let message = format!(
-                "the tool passes {}° from the singular direction (within {cone}°): the rotating axis may swing fast",
-                round6(angle)
-            );
+            let message = Message::of(&[
+                Word::Text("the tool passes "),
+                Word::Number(round6(angle)),
+                Word::Text("° from the singular direction (within "),
+                Word::Number(cone),
+                Word::Text("°): the rotating axis may swing fast"),
+            ]);
             self.push(Kind::SingularPassage, seg.line, None, Some(angle), message);
         }
     }
@@ -815,11 +842,14 @@ impl<'m> Checker<'m> {
         for (k, axis) in machine.rotary.iter().enumerate() {
             let turn = motion::rotary_travel(machine, seg, k);
             if turn > limit {
-                let message = format!(
-                    "{} turns {}° in one block (more than {limit}°)",
-                    axis.name,
-                    round6(turn)
-                );
+                let message = Message::of(&[
+                    Word::Letter(axis.name),
+                    Word::Text(" turns "),
+                    Word::Number(round6(turn)),
+                    Word::Text("° in one block (more than "),
+                    Word::Number(limit),
+                    Word::Text("°)"),
+                ]);
                 self.push(
                     Kind::RotaryFlip,
                     seg.line,
@@ -841,10 +871,13 @@ impl<'m> Checker<'m> {
             }
         };
         if let Some(deviation) = found {
-            let message = format!(
-                "the tip leaves the straight line between the block ends by {} mm (tolerance {tolerance} mm): the rotary axes move outside TCPC",
-                round6(deviation)
-            );
+            let message = Message::of(&[
+                Word::Text("the tip leaves the straight line between the block ends by "),
+                Word::Number(round6(deviation)),
+                Word::Text(" mm (tolerance "),
+                Word::Number(tolerance),
+                Word::Text(" mm): the rotary axes move outside TCPC"),
+            ]);
             self.push(Kind::ChordError, seg.line, None, Some(deviation), message);
         }
     }
@@ -1501,7 +1534,7 @@ fn words_without_point(
     Some(Finding {
         kind: Kind::NoDecimalPoint,
         line: words.first_line,
-        message,
+        message: message.into(),
         axis: None,
         value: Some(words.count as f64),
         bodies: None,

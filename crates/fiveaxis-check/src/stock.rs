@@ -441,7 +441,7 @@ impl StockCheck {
         Finding {
             kind,
             line: run.line,
-            message,
+            message: message.into(),
             axis: None,
             value: Some(run.depth),
             bodies,
@@ -480,7 +480,7 @@ impl StockCheck {
             add(Finding {
                 kind: Kind::Excess,
                 line: line.max(1),
-                message,
+                message: message.into(),
                 axis: None,
                 value: Some(most),
                 bodies: None,

@@ -165,7 +165,7 @@ fn an_inverse_time_feed_limit_names_the_f_word_and_the_tip_feed() {
     let (line, value, axis) = only(&report, Kind::FeedLimited);
     assert_eq!((line, axis), (3, Some('C')));
     assert!((value - 8000.0 * 2f64.sqrt()).abs() < 1e-6, "{value}");
-    let message = &report.findings[0].message;
+    let message = report.findings[0].message.to_string();
     assert_eq!(
         message,
         "the inverse-time F200 works out to a tip feed of 28284.271 mm/min, which needs C faster than its 7200 deg/min: the tip moves at 11313.708 mm/min at most"
@@ -179,6 +179,7 @@ fn an_inverse_time_feed_limit_names_the_f_word_and_the_tip_feed() {
     assert!(
         report.findings[0]
             .message
+            .to_string()
             .starts_with("F20000 needs C faster"),
         "{}",
         report.findings[0].message

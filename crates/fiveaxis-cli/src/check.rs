@@ -11,7 +11,7 @@ use std::path::PathBuf;
 use std::sync::atomic::{AtomicU64, Ordering};
 
 use anstyle::{AnsiColor, Style};
-use fiveaxis_check::{Finding, Kind, Report, Severity, check_run_with};
+use fiveaxis_check::{Finding, Kind, Message, Report, Severity, Word, check_run_with};
 use fiveaxis_control::{AheadSource, DEFAULT_MAX_BLOCKS, RunError, RunOptions, Runner};
 use fiveaxis_machine::{DEFAULT_MACHINE, Machine, Offsets};
 use rayon::prelude::*;
@@ -356,30 +356,112 @@ fn number(w: &mut Vec<u8>, x: f64) {
     }
 }
 
-/// Writes `text` as a JSON string (quoted and escaped). Most texts need
-/// no escape (no quote, backslash or control character): one pass that
-/// the compiler runs many bytes at a time finds it, and they are copied
-/// as they are (JSON takes UTF-8 unescaped).
+/// Writes `text` as a JSON string (quoted and escaped).
 fn string(w: &mut Vec<u8>, text: &str) {
-    let plain = !text.bytes().fold(false, |seen, b| {
-        seen | (b < 0x20) | (b == b'"') | (b == b'\\')
-    });
-    if plain {
-        w.reserve(text.len() + 2);
-        w.push(b'"');
+    w.reserve(text.len() + 2);
+    w.push(b'"');
+    escaped(w, text);
+    w.push(b'"');
+}
+
+/// Writes the inside of a JSON string: `text` with quotes, backslashes and
+/// control characters escaped as `serde_json` escapes them. Most texts
+/// need no escape: [`needs_escape`] finds it eight bytes at a time, and
+/// they are copied as they are (JSON takes UTF-8 unescaped).
+fn escaped(w: &mut Vec<u8>, text: &str) {
+    if !needs_escape(text.as_bytes()) {
         w.extend_from_slice(text.as_bytes());
-        w.push(b'"');
-    } else {
-        let _ = serde_json::to_writer(&mut *w, text);
+        return;
+    }
+    const HEX: &[u8; 16] = b"0123456789abcdef";
+    for &b in text.as_bytes() {
+        match b {
+            b'"' => w.extend_from_slice(b"\\\""),
+            b'\\' => w.extend_from_slice(b"\\\\"),
+            b'\n' => w.extend_from_slice(b"\\n"),
+            b'\r' => w.extend_from_slice(b"\\r"),
+            b'\t' => w.extend_from_slice(b"\\t"),
+            0x08 => w.extend_from_slice(b"\\b"),
+            0x0c => w.extend_from_slice(b"\\f"),
+            0..0x20 => w.extend_from_slice(&[
+                b'\\',
+                b'u',
+                b'0',
+                b'0',
+                HEX[usize::from(b >> 4)],
+                HEX[usize::from(b & 15)],
+            ]),
+            _ => w.push(b),
+        }
     }
 }
 
+/// Whether `bytes` hold a quote, a backslash or a control character,
+/// tested a word of eight bytes at a time: a word has a byte below `n`
+/// (`n` at most 128) exactly when `(w − n·0x01…01) & !w & 0x80…80` is not
+/// zero, and a byte equal to `c` when `w ^ c·0x01…01` has a zero byte.
+fn needs_escape(bytes: &[u8]) -> bool {
+    const ONES: u64 = 0x0101_0101_0101_0101;
+    const HIGHS: u64 = 0x8080_8080_8080_8080;
+    let below = |w: u64, n: u8| w.wrapping_sub(ONES * u64::from(n)) & !w & HIGHS != 0;
+    let mut words = bytes.chunks_exact(8);
+    for word in &mut words {
+        let mut eight = [0; 8];
+        eight.copy_from_slice(word);
+        let w = u64::from_le_bytes(eight);
+        if below(w, 0x20)
+            || below(w ^ (ONES * u64::from(b'"')), 1)
+            || below(w ^ (ONES * u64::from(b'\\')), 1)
+        {
+            return true;
+        }
+    }
+    words
+        .remainder()
+        .iter()
+        .any(|&b| b < 0x20 || b == b'"' || b == b'\\')
+}
+
+/// A name of the contract (a kind, a severity: letters and underscores)
+/// as a JSON string.
+fn contract_name(w: &mut Vec<u8>, name: &str) {
+    w.push(b'"');
+    w.extend_from_slice(name.as_bytes());
+    w.push(b'"');
+}
+
+/// A finding's message as a JSON string: its numbers written by the
+/// rows' number writer (the text Rust's `{}` gives, as the message's own
+/// `Display`), through `scratch`; its words escaped.
+fn message_json(w: &mut Vec<u8>, scratch: &mut crate::text::Text, message: &Message) {
+    w.push(b'"');
+    for word in message.words() {
+        match word {
+            Word::Text(text) => escaped(w, text),
+            Word::Letter(c @ ('A'..='Z' | 'a'..='z' | '0'..='9' | '+' | '-')) => {
+                w.push(c as u8);
+            }
+            Word::Letter(c) => escaped(w, c.encode_utf8(&mut [0; 4])),
+            Word::Number(x) => {
+                scratch.clear();
+                crate::number::write_f64(scratch, x);
+                w.extend_from_slice(scratch.as_bytes());
+            }
+        }
+    }
+    w.push(b'"');
+}
+
 /// One finding as the contract's object.
-fn finding_json(w: &mut Vec<u8>, f: &Finding) {
+fn finding_json(w: &mut Vec<u8>, scratch: &mut crate::text::Text, f: &Finding) {
     w.push(b'{');
     if let Some(axis) = f.axis {
         w.extend_from_slice(b"\"axis\":");
-        string(w, axis.encode_utf8(&mut [0; 4]));
+        if axis.is_ascii_alphabetic() {
+            w.extend_from_slice(&[b'"', axis as u8, b'"']);
+        } else {
+            string(w, axis.encode_utf8(&mut [0; 4]));
+        }
         w.push(b',');
     }
     if let Some(bodies) = &f.bodies {
@@ -390,13 +472,13 @@ fn finding_json(w: &mut Vec<u8>, f: &Finding) {
         w.extend_from_slice(b"],");
     }
     w.extend_from_slice(b"\"kind\":");
-    string(w, f.kind.name());
+    contract_name(w, f.kind.name());
     w.extend_from_slice(b",\"line\":");
     w.extend_from_slice(itoa::Buffer::new().format(f.line).as_bytes());
     w.extend_from_slice(b",\"message\":");
-    string(w, &f.message);
+    message_json(w, scratch, &f.message);
     w.extend_from_slice(b",\"severity\":");
-    string(w, f.severity().name());
+    contract_name(w, f.severity().name());
     if let Some(v) = f.value {
         w.extend_from_slice(b",\"value\":");
         number(w, v);
@@ -414,6 +496,8 @@ pub struct JsonFindings {
     memory: Vec<u8>,
     file: Option<io::BufWriter<File>>,
     record: Vec<u8>,
+    /// Where a message's numbers are written before they are copied.
+    scratch: crate::text::Text,
     whole_program: Option<Finding>,
 }
 
@@ -425,7 +509,7 @@ impl JsonFindings {
     /// The temporary file cannot be made or written.
     pub fn push(&mut self, f: &Finding) -> io::Result<()> {
         self.record.clear();
-        finding_json(&mut self.record, f);
+        finding_json(&mut self.record, &mut self.scratch, f);
         let len = u32::try_from(self.record.len()).unwrap_or(u32::MAX);
         let mut head = [0; 8];
         head[..4].copy_from_slice(&f.line.to_le_bytes());
@@ -454,7 +538,7 @@ impl JsonFindings {
     fn copy_to(&mut self, w: &mut dyn Write) -> io::Result<()> {
         let mut whole = self.whole_program.as_ref().map(|f| {
             let mut json = Vec::new();
-            finding_json(&mut json, f);
+            finding_json(&mut json, &mut self.scratch, f);
             (f.line, json)
         });
         let mut reader: Box<dyn Read + '_> = match self.file.take() {
@@ -786,7 +870,7 @@ fn text_report(t: &mut String, program: &str, report: &Report, findings: &TextFi
                 t,
                 "    line {:<6} {}",
                 f.line,
-                diagnostic::escape(&f.message)
+                diagnostic::escape(&f.message.to_string())
             );
             if let Some(text) = findings.lines.get(&f.line) {
                 let _ = writeln!(
@@ -888,7 +972,9 @@ fn summary(t: &mut String, programs: &[String], outcomes: &[Outcome]) {
 
 #[cfg(test)]
 mod tests {
-    use super::string;
+    use super::{message_json, needs_escape, string};
+    use fiveaxis_check::{Message, Word};
+    use proptest::prelude::*;
 
     /// The plain copy and the escaping writer agree with serde_json on
     /// texts with and without characters JSON escapes.
@@ -908,6 +994,61 @@ mod tests {
             string(&mut ours, text);
             let theirs = serde_json::to_vec(text).expect("serialises");
             assert_eq!(ours, theirs, "{text:?}");
+        }
+        let controls: String = (0u8..0x20).map(char::from).collect();
+        let mut ours = Vec::new();
+        string(&mut ours, &controls);
+        assert_eq!(ours, serde_json::to_vec(&controls).expect("serialises"));
+    }
+
+    /// Each byte JSON escapes is found at every place of a text, in the
+    /// words of eight bytes and in the rest; no other ASCII byte is.
+    #[test]
+    fn escapes_are_found_wherever_they_are() {
+        let plain: Vec<u8> = (0x20u8..0x7f)
+            .filter(|&b| b != b'"' && b != b'\\')
+            .collect();
+        assert!(!needs_escape(&plain));
+        for len in 1..20 {
+            for at in 0..len {
+                for special in (0u8..0x20).chain([b'"', b'\\']) {
+                    let mut text = plain[..len].to_vec();
+                    text[at] = special;
+                    assert!(needs_escape(&text), "{len} {at} {special}");
+                }
+            }
+        }
+    }
+
+    proptest! {
+        /// Any text is written as serde_json writes it.
+        #[test]
+        fn any_text_is_a_serde_json_string(text in any::<String>()) {
+            let mut ours = Vec::new();
+            string(&mut ours, &text);
+            prop_assert_eq!(ours, serde_json::to_vec(&text).expect("serialises"));
+        }
+
+        /// A message kept as words is written as the JSON string of its
+        /// text: numbers as Rust's `{}` writes them, at every magnitude.
+        #[test]
+        fn messages_are_the_json_strings_of_their_text(
+            x in any::<f64>(),
+            y in prop_oneof![-1e6..1e6f64, (-1e6..1e6f64).prop_map(|v| (v * 1e3).round() / 1e3)],
+            name in proptest::char::range('A', 'Z'),
+        ) {
+            let message = Message::of(&[
+                Word::Letter(name),
+                Word::Text(" \"turns\" "),
+                Word::Number(x),
+                Word::Text("° in\tone block ("),
+                Word::Number(y),
+                Word::Text(")"),
+            ]);
+            let mut ours = Vec::new();
+            message_json(&mut ours, &mut crate::text::Text::default(), &message);
+            let theirs = serde_json::to_vec(&message.to_string()).expect("serialises");
+            prop_assert_eq!(ours, theirs);
         }
     }
 }

@@ -159,7 +159,7 @@ impl FindingColumns {
         let point = f.point.unwrap_or([f64::NAN; 3]);
         self.points.extend(point.map(|v| v as f32));
         if self.messages.len() < FINDING_MESSAGES {
-            self.messages.push(f.message);
+            self.messages.push(f.message.to_string());
         }
     }
 }

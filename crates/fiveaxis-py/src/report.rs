@@ -103,7 +103,7 @@ pub fn check<'py>(
                 f.line,
                 f.axis.map(String::from),
                 f.value,
-                f.message.as_str(),
+                f.message.to_string(),
             )
         })
         .collect();
