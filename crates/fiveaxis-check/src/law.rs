@@ -120,6 +120,78 @@ pub fn machine_tip(machine: &Machine, seg: &Segment) -> Option<Moving> {
     Some(tip)
 }
 
+/// A bound on the second derivative of the tool tip of a joint move
+/// (`Path::Joint`), as [`machine_tip`]'s law gives but worked out without
+/// turning its start point (no sine or cosine): where the law measures a
+/// turned point's distance from the next rotation line, this takes its
+/// distance from that line's centre, bounded by the triangle inequality
+/// (`|R(q − c₁) + c₁ − c₂| ≤ |q − c₁| + |c₁ − c₂|`). Never below the law's
+/// bound; it settles the chord of a block whose rotary axes turn little
+/// before the law is built. `None` for other paths.
+pub fn joint_tip_curvature(machine: &Machine, seg: &Segment) -> Option<f64> {
+    if !matches!(seg.path, Path::Joint) {
+        return None;
+    }
+    /// A moving point known by a bound on its distance from a place
+    /// (`from`, or exactly there when `exact`), and its derivative bounds.
+    #[derive(Clone, Copy)]
+    struct Loose {
+        at: Vec3,
+        slack: f64,
+        speed: f64,
+        curvature: f64,
+    }
+    let turned = |p: Loose, axis: &nalgebra::Unit<Vec3>, center: &Vec3, delta: f64| {
+        let w = delta.to_radians().abs();
+        let rel = p.at - center;
+        let k = axis.as_ref();
+        let rho = (rel - k * k.dot(&rel)).norm() + p.slack + p.speed;
+        Loose {
+            // The turned point is within |q − c| of the centre.
+            at: *center,
+            slack: rel.norm() + p.slack,
+            speed: w * rho + p.speed,
+            curvature: w * w * rho + 2.0 * w * p.speed + p.curvature,
+        }
+    };
+    let t0 = machine.tool_direction.into_inner();
+    let mut end = match machine.quill_index() {
+        Some(i) => Loose {
+            at: (seg.start[i] - seg.tool_length) * t0,
+            slack: 0.0,
+            speed: (seg.end[i] - seg.start[i]).abs(),
+            curvature: 0.0,
+        },
+        None => Loose {
+            at: -seg.tool_length * t0,
+            slack: 0.0,
+            speed: 0.0,
+            curvature: 0.0,
+        },
+    };
+    for (k, axis) in machine.rotary.iter().enumerate().rev() {
+        if axis.on == Side::Head {
+            let (_, d) = turn(machine, seg, k);
+            end = turned(end, &axis.axis, &axis.center, d);
+        }
+    }
+    let a = Vec3::new(seg.start[0], seg.start[1], seg.start[2]);
+    let b = Vec3::new(seg.end[0], seg.end[1], seg.end[2]);
+    let mut tip = Loose {
+        at: a + end.at,
+        slack: end.slack,
+        speed: (b - a).norm() + end.speed,
+        curvature: end.curvature,
+    };
+    for (k, axis) in machine.rotary.iter().enumerate() {
+        if axis.on == Side::Table {
+            let (_, d) = turn(machine, seg, k);
+            tip = turned(tip, &axis.axis, &axis.center, d);
+        }
+    }
+    Some(tip.curvature)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -212,6 +284,13 @@ mod tests {
                     };
                     (law, measured(gauge))
                 } else if let Some(law) = machine_tip(&machine, &seg) {
+                    if let Some(loose) = joint_tip_curvature(&machine, &seg) {
+                        prop_assert!(
+                            loose >= law.curvature * (1.0 - 1e-12),
+                            "loose {loose} < {}",
+                            law.curvature
+                        );
+                    }
                     let tip = |s: f64| machine.forward(&seg.eval(&machine, s), seg.tool_length).tip;
                     (law, measured(tip))
                 } else {

@@ -621,7 +621,30 @@ impl<'m> Checker<'m> {
     /// Axis ranges and over-travel runs.
     fn positions(&mut self, seg: &Segment, law: Option<&bound::Moving>) {
         let machine = self.machine;
-        for i in 0..machine.axis_count() {
+        let axes = machine.axis_count();
+        // A joint move lies between its ends: with both inside the limits
+        // and no excursion open, the ranges take in the ends and nothing
+        // else changes (what the search below finds for such a block).
+        if matches!(seg.path, Path::Joint) {
+            let inside = |i: usize| {
+                self.runs[i].iter().all(Option::is_none)
+                    && self.limits[i].is_none_or(|(lo, hi)| {
+                        let (a, b) = (seg.start[i], seg.end[i]);
+                        a.min(b) >= lo - LIMIT_TOLERANCE && a.max(b) <= hi + LIMIT_TOLERANCE
+                    })
+            };
+            if (0..axes).all(inside) {
+                for (range, (a, b)) in self.range[..axes]
+                    .iter_mut()
+                    .zip(seg.start.iter().zip(&seg.end))
+                {
+                    range.0 = range.0.min(a.min(*b));
+                    range.1 = range.1.max(a.max(*b));
+                }
+                return;
+            }
+        }
+        for i in 0..axes {
             let limits = self.limits[i];
             for (side, sign) in [(0, -1.0), (1, 1.0)] {
                 // Signed: the highest of `sign · position`.
@@ -1205,6 +1228,8 @@ fn needs_chord_proof(machine: &Machine, seg: &Segment, tolerance: f64) -> bool {
     seg.moves()
         && !matches!(seg.path, Path::Tcpc(_))
         && turns_cutting(machine, seg)
+        && !law::joint_tip_curvature(machine, seg)
+            .is_some_and(|c| c / 8.0 <= tolerance + CHORD_PRECISION)
         && law::machine_tip(machine, seg)
             .is_some_and(|law| law.curvature / 8.0 > tolerance + CHORD_PRECISION)
 }
@@ -1575,10 +1600,15 @@ fn chord_deviation_counted(
     tips: &[fiveaxis_machine::Vec3; 2],
     proofs: &mut usize,
 ) -> Option<f64> {
-    let law = law::machine_tip(machine, seg)?;
     // The deviation is 0 at both ends: a curvature bound that keeps the
-    // whole block within the floor settles it without a sample.
-    if law.curvature / 8.0 <= floor + CHORD_PRECISION {
+    // whole block within the floor settles it without a sample (the
+    // looser one first, without trigonometry).
+    let settled = |curvature: f64| curvature / 8.0 <= floor + CHORD_PRECISION;
+    if law::joint_tip_curvature(machine, seg).is_some_and(settled) {
+        return None;
+    }
+    let law = law::machine_tip(machine, seg)?;
+    if settled(law.curvature) {
         return None;
     }
     *proofs += 1;

@@ -357,6 +357,140 @@ fn overtravel_runs_are_real_and_none_is_missed() {
     );
 }
 
+static JOINT_OVERTRAVEL_SEEN: AtomicUsize = AtomicUsize::new(0);
+
+/// Machine-axis moves near one place, each block sending at most one axis
+/// far off: on one machine, with what limits a test sets.
+fn near_and_far_program() -> impl Strategy<Value = (usize, String)> {
+    let near = -10.0..10.0f64;
+    let block = (
+        [near.clone(), near.clone(), near.clone(), near.clone(), near],
+        proptest::option::weighted(0.3, (0..5usize, 15.0..40.0f64, any::<bool>())),
+    );
+    (0..FIVE_AXIS.len(), proptest::collection::vec(block, 2..8)).prop_map(|(m, blocks)| {
+        let machine = builtin(FIVE_AXIS[m]).expect("built in");
+        let names: Vec<char> = ['X', 'Y', 'Z']
+            .into_iter()
+            .chain(machine.rotary.iter().map(|r| r.name))
+            .collect();
+        let mut text = String::from("G21 G90 G94 G43 H1\n");
+        for (mut at, far) in blocks {
+            if let Some((k, off, below)) = far {
+                at[k] = if below { -off } else { off };
+            }
+            text.push_str("G1");
+            for (name, v) in names.iter().zip(at) {
+                text.push_str(&format!(" {name}{v:.3}"));
+            }
+            text.push_str(" F1000.\n");
+        }
+        text.push_str("M30\n");
+        (m, text)
+    })
+}
+
+/// Machine-axis moves (every axis linear in the block) under limits on
+/// every axis, both sides, that most blocks keep: each excursion is
+/// reported once, from the block that leaves the limit to the one that
+/// ends back inside, with the farthest position sampled, and the ranges
+/// are the positions'.
+#[test]
+fn overtravel_runs_of_joint_moves_on_every_axis_and_side() {
+    check(96, near_and_far_program(), |(m, program)| {
+        let mut machine = builtin(FIVE_AXIS[m]).expect("built in");
+        for axis in &mut machine.rotary {
+            axis.rollover = false;
+        }
+        // Limits 12 either side of where the program's last block ends
+        // (near the middle of where most of them are).
+        let (free, _) = run(&machine, &program);
+        let middle = free.last().expect("moves").end;
+        let bounds: Vec<(f64, f64)> = (0..machine.axis_count())
+            .map(|i| (middle[i] - 12.0, middle[i] + 12.0))
+            .collect();
+        for (axis, &(lo, hi)) in machine.linear.iter_mut().zip(&bounds) {
+            (axis.min, axis.max) = (lo, hi);
+        }
+        for (axis, &limits) in machine
+            .rotary
+            .iter_mut()
+            .zip(&bounds[machine.linear.len()..])
+        {
+            axis.limits = Some(limits);
+        }
+        let (segments, report) = run(&machine, &program);
+        let names: Vec<char> = machine.axis_names().collect();
+        for (i, &name) in names.iter().enumerate() {
+            let (lo, hi) = bounds[i];
+            let range = report.axes.iter().find(|a| a.name == name).expect("range");
+            let mut seen = (f64::INFINITY, f64::NEG_INFINITY);
+            for seg in &segments {
+                seen.0 = seen.0.min(-densest_max(|s| -seg.eval(&machine, s)[i]));
+                seen.1 = seen.1.max(densest_max(|s| seg.eval(&machine, s)[i]));
+            }
+            prop_assert!(
+                (range.min - seen.0).abs() <= 1e-9 && (range.max - seen.1).abs() <= 1e-9,
+                "{name} range {range:?} vs {seen:?}\n{program}"
+            );
+            for sign in [1.0, -1.0] {
+                let limit = if sign > 0.0 { hi } else { -lo };
+                let mut runs: Vec<(u32, f64)> = Vec::new();
+                let mut open = false;
+                for seg in &segments {
+                    let top = densest_max(|s| sign * seg.eval(&machine, s)[i]);
+                    if top > limit + 1e-9 {
+                        prop_assume!(top > limit + 1e-6);
+                        if open {
+                            let last = runs.last_mut().expect("open");
+                            last.1 = last.1.max(top);
+                        } else {
+                            runs.push((seg.line, top));
+                        }
+                        let end = sign * seg.end[i];
+                        prop_assume!((end - limit).abs() > 1e-6);
+                        open = end > limit;
+                    } else {
+                        open = false;
+                    }
+                }
+                let reported: Vec<(u32, f64)> = report
+                    .findings
+                    .iter()
+                    .filter(|f| {
+                        f.kind == Kind::Overtravel
+                            && f.axis == Some(name)
+                            && f.value.is_some_and(|v| sign * v > limit)
+                    })
+                    .map(|f| (f.line, sign * f.value.unwrap_or(0.0)))
+                    .collect();
+                prop_assert_eq!(
+                    reported.len(),
+                    runs.len(),
+                    "{}{} runs {:?} vs {:?}\n{}",
+                    name,
+                    sign,
+                    reported,
+                    runs,
+                    program
+                );
+                JOINT_OVERTRAVEL_SEEN.fetch_add(reported.len(), Ordering::Relaxed);
+                for ((line, value), (l, top)) in reported.iter().zip(&runs) {
+                    prop_assert_eq!(line, l);
+                    prop_assert!(
+                        (value - top).abs() <= 1e-6,
+                        "{name} line {line}: reported {value}, sampled {top}\n{program}"
+                    );
+                }
+            }
+        }
+        Ok(())
+    });
+    assert!(
+        JOINT_OVERTRAVEL_SEEN.load(Ordering::Relaxed) >= 20,
+        "too few over-travels to judge"
+    );
+}
+
 /// Random machine-axis feed moves turning the rotary axes.
 fn machine_axis_program() -> impl Strategy<Value = (usize, String)> {
     let block = (
