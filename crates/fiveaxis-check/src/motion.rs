@@ -256,6 +256,23 @@ pub(crate) fn tip_feed_allowed_by(
         return None;
     }
     let mut worst: Option<(f64, usize)> = None;
+    // Every axis at its travel over the block (the rate `axis_rate` gives
+    // these paths): the axis budgets compared without the per-path rules.
+    if matches!(seg.path, Path::Joint | Path::Via(_)) {
+        let axes = machine.linear.iter().map(|a| a.dynamics.max_velocity);
+        let rotary = machine.rotary.iter().map(|a| a.dynamics.max_velocity);
+        for (i, vmax) in axes.chain(rotary).enumerate() {
+            let budget = vmax * minutes;
+            let rate = (seg.end[i] - seg.start[i]).abs();
+            if rate > budget * (1.0 + FEED_SLACK) {
+                let ratio = budget / rate;
+                if worst.is_none_or(|(r, _)| ratio < r) {
+                    worst = Some((ratio, i));
+                }
+            }
+        }
+        return worst.map(|(ratio, i)| (feed * ratio, i));
+    }
     let mut grid = None;
     for i in 0..machine.axis_count() {
         let vmax = machine.dynamics(i).max_velocity;

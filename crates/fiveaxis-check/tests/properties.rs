@@ -491,6 +491,80 @@ fn overtravel_runs_of_joint_moves_on_every_axis_and_side() {
     );
 }
 
+/// Straight moves of X, Y, Z alone at feeds up to past every axis' speed,
+/// on machines whose linear axes have different speeds: where an axis
+/// cannot keep the feed, the tip feed it allows is, in closed form, the
+/// smallest `v_i · L / |Δ_i|` (`L` the move's length, `Δ_i` the axis'
+/// travel), the finding names that axis, and no move within every axis'
+/// speed has one.
+#[test]
+fn feed_limits_of_straight_moves_are_the_closed_form() {
+    let block = (
+        -200.0..200.0f64,
+        -200.0..200.0f64,
+        -100.0..100.0f64,
+        1000.0..40000.0f64,
+    );
+    let strategy = (
+        0..FIVE_AXIS.len(),
+        [3000.0..20000.0f64, 3000.0..20000.0f64, 3000.0..20000.0f64],
+        proptest::collection::vec(block, 1..6),
+    );
+    let limited = AtomicUsize::new(0);
+    check(64, strategy, |(m, speeds, blocks)| {
+        let mut machine = builtin(FIVE_AXIS[m]).expect("built in");
+        for (axis, v) in machine.linear.iter_mut().zip(speeds) {
+            axis.dynamics.max_velocity = v;
+        }
+        let mut program = String::from("G21 G90 G94 G49\nG0 X0 Y0 Z0\n");
+        for (x, y, z, f) in &blocks {
+            program.push_str(&format!("G1 X{x:.3} Y{y:.3} Z{z:.3} F{f:.0}\n"));
+        }
+        program.push_str("M30\n");
+        let (segments, report) = run(&machine, &program);
+        for seg in segments.iter().filter(|s| s.motion == Motion::Linear) {
+            let feed = seg.feed.expect("a feed");
+            let travel: Vec<f64> = (0..3).map(|i| (seg.end[i] - seg.start[i]).abs()).collect();
+            let length = travel.iter().map(|t| t * t).sum::<f64>().sqrt();
+            prop_assume!(length > 1e-3);
+            let (allowed, axis) = (0..3)
+                .filter(|&i| travel[i] > 0.0)
+                .map(|i| (speeds[i] * length / travel[i], i))
+                .fold((f64::INFINITY, 0), |a, b| if b.0 < a.0 { b } else { a });
+            prop_assume!((allowed - feed).abs() > 1e-6 * feed);
+            let found: Vec<_> = report
+                .findings
+                .iter()
+                .filter(|f| f.kind == Kind::FeedLimited && f.line == seg.line)
+                .collect();
+            if allowed < feed {
+                prop_assert_eq!(found.len(), 1, "line {}\n{}", seg.line, program);
+                let value = found[0].value.expect("a value");
+                prop_assert!(
+                    (value - allowed).abs() <= 1e-9 * allowed,
+                    "line {}: {value} vs {allowed}\n{program}",
+                    seg.line
+                );
+                prop_assert_eq!(found[0].axis, Some(machine.linear[axis].name));
+                limited.fetch_add(1, Ordering::Relaxed);
+            } else {
+                prop_assert!(
+                    found.is_empty(),
+                    "line {}: {:?}\n{}",
+                    seg.line,
+                    found,
+                    program
+                );
+            }
+        }
+        Ok(())
+    });
+    assert!(
+        limited.load(Ordering::Relaxed) >= 20,
+        "too few limited feeds to judge"
+    );
+}
+
 /// Random machine-axis feed moves turning the rotary axes.
 fn machine_axis_program() -> impl Strategy<Value = (usize, String)> {
     let block = (
