@@ -12,8 +12,8 @@
 use arrayvec::ArrayVec;
 use std::fmt;
 
-/// Most words one message holds.
-pub const MAX_WORDS: usize = 14;
+/// Most words one message holds (an over-travel's message has 12).
+pub const MAX_WORDS: usize = 12;
 
 /// One word of a message.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -31,6 +31,9 @@ pub enum Word<'a> {
 #[derive(Clone, Debug, PartialEq)]
 pub struct Message(Repr);
 
+// The words stay inline: they are the message of every finding a block
+// raises, and boxing them would cost the allocation kept words avoid.
+#[allow(clippy::large_enum_variant)]
 #[derive(Clone, Debug, PartialEq)]
 enum Repr {
     /// Text made where the finding was found (rare findings).

@@ -286,6 +286,71 @@ static SINGULAR_SEEN: AtomicUsize = AtomicUsize::new(0);
 static OVERTRAVEL_SEEN: AtomicUsize = AtomicUsize::new(0);
 static CHORD_SEEN: AtomicUsize = AtomicUsize::new(0);
 
+/// Judges the over-travel findings of axis `i` on one side (`sign`
+/// +1 above, −1 below; `limit` the limit times `sign`) by samples: an
+/// excursion runs from the segment that leaves the limit to the one that
+/// ends back inside it, and its value is the farthest sampled position.
+/// The number of excursions judged.
+fn judge_excursions(
+    machine: &Machine,
+    segments: &[Segment],
+    report: &Report,
+    program: &str,
+    i: usize,
+    sign: f64,
+    limit: f64,
+) -> Result<usize, TestCaseError> {
+    let name = machine.axis_names().nth(i).expect("an axis");
+    let mut runs: Vec<(u32, f64)> = Vec::new();
+    let mut open = false;
+    for seg in segments {
+        let top = densest_max(|s| sign * seg.eval(machine, s)[i]);
+        if top > limit + 1e-9 {
+            prop_assume!(top > limit + 1e-6);
+            if open {
+                let last = runs.last_mut().expect("open");
+                last.1 = last.1.max(top);
+            } else {
+                runs.push((seg.line, top));
+            }
+            let end = sign * seg.end[i];
+            prop_assume!((end - limit).abs() > 1e-6);
+            open = end > limit;
+        } else {
+            prop_assume!(top < limit - 1e-6 || top == limit);
+            open = false;
+        }
+    }
+    let reported: Vec<(u32, f64)> = report
+        .findings
+        .iter()
+        .filter(|f| {
+            f.kind == Kind::Overtravel
+                && f.axis == Some(name)
+                && f.value.is_some_and(|v| sign * v > limit)
+        })
+        .map(|f| (f.line, sign * f.value.unwrap_or(0.0)))
+        .collect();
+    prop_assert_eq!(
+        reported.len(),
+        runs.len(),
+        "{}{} runs {:?} vs {:?}\n{}",
+        name,
+        sign,
+        reported,
+        runs,
+        program
+    );
+    for ((line, value), (l, top)) in reported.iter().zip(&runs) {
+        prop_assert_eq!(line, l);
+        prop_assert!(
+            (value - top).abs() <= 1e-6,
+            "{name} line {line}: reported {value}, sampled {top}\n{program}"
+        );
+    }
+    Ok(runs.len())
+}
+
 #[test]
 fn overtravel_runs_are_real_and_none_is_missed() {
     check(48, tcpc_program(), |(m, _, posture, program)| {
@@ -298,56 +363,8 @@ fn overtravel_runs_are_real_and_none_is_missed() {
         }
         let (segments, report) = run(&machine, &program);
         for i in 0..3 {
-            let name = machine.linear[i].name;
-            // The excursions beyond +60, from samples: from the segment
-            // that leaves the limit to the one that ends back inside it.
-            let mut runs: Vec<(u32, f64)> = Vec::new();
-            let mut open = false;
-            for seg in &segments {
-                let top = densest_max(|s| seg.eval(&machine, s)[i]);
-                if top > 60.0 + 1e-9 {
-                    prop_assume!(top > 60.0 + 1e-6);
-                    if open {
-                        let last = runs.last_mut().expect("open");
-                        last.1 = last.1.max(top);
-                    } else {
-                        runs.push((seg.line, top));
-                    }
-                    let end = seg.end[i];
-                    prop_assume!((end - 60.0).abs() > 1e-6);
-                    open = end > 60.0;
-                } else {
-                    prop_assume!(top < 60.0 - 1e-6 || top == 60.0);
-                    open = false;
-                }
-            }
-            let reported: Vec<(u32, f64)> = report
-                .findings
-                .iter()
-                .filter(|f| {
-                    f.kind == Kind::Overtravel
-                        && f.axis == Some(name)
-                        && f.value.is_some_and(|v| v > 0.0)
-                })
-                .map(|f| (f.line, f.value.unwrap_or(0.0)))
-                .collect();
-            prop_assert_eq!(
-                reported.len(),
-                runs.len(),
-                "{} runs {:?} vs {:?}\n{}",
-                name,
-                reported,
-                runs,
-                program
-            );
-            OVERTRAVEL_SEEN.fetch_add(reported.len(), Ordering::Relaxed);
-            for ((line, value), (l, top)) in reported.iter().zip(&runs) {
-                prop_assert_eq!(line, l);
-                prop_assert!(
-                    (value - top).abs() <= 1e-6,
-                    "{name} line {line}: reported {value}, sampled {top}\n{program}"
-                );
-            }
+            let seen = judge_excursions(&machine, &segments, &report, &program, i, 1.0, 60.0)?;
+            OVERTRAVEL_SEEN.fetch_add(seen, Ordering::Relaxed);
         }
         Ok(())
     });
@@ -434,53 +451,9 @@ fn overtravel_runs_of_joint_moves_on_every_axis_and_side() {
             );
             for sign in [1.0, -1.0] {
                 let limit = if sign > 0.0 { hi } else { -lo };
-                let mut runs: Vec<(u32, f64)> = Vec::new();
-                let mut open = false;
-                for seg in &segments {
-                    let top = densest_max(|s| sign * seg.eval(&machine, s)[i]);
-                    if top > limit + 1e-9 {
-                        prop_assume!(top > limit + 1e-6);
-                        if open {
-                            let last = runs.last_mut().expect("open");
-                            last.1 = last.1.max(top);
-                        } else {
-                            runs.push((seg.line, top));
-                        }
-                        let end = sign * seg.end[i];
-                        prop_assume!((end - limit).abs() > 1e-6);
-                        open = end > limit;
-                    } else {
-                        open = false;
-                    }
-                }
-                let reported: Vec<(u32, f64)> = report
-                    .findings
-                    .iter()
-                    .filter(|f| {
-                        f.kind == Kind::Overtravel
-                            && f.axis == Some(name)
-                            && f.value.is_some_and(|v| sign * v > limit)
-                    })
-                    .map(|f| (f.line, sign * f.value.unwrap_or(0.0)))
-                    .collect();
-                prop_assert_eq!(
-                    reported.len(),
-                    runs.len(),
-                    "{}{} runs {:?} vs {:?}\n{}",
-                    name,
-                    sign,
-                    reported,
-                    runs,
-                    program
-                );
-                JOINT_OVERTRAVEL_SEEN.fetch_add(reported.len(), Ordering::Relaxed);
-                for ((line, value), (l, top)) in reported.iter().zip(&runs) {
-                    prop_assert_eq!(line, l);
-                    prop_assert!(
-                        (value - top).abs() <= 1e-6,
-                        "{name} line {line}: reported {value}, sampled {top}\n{program}"
-                    );
-                }
+                let seen =
+                    judge_excursions(&machine, &segments, &report, &program, i, sign, limit)?;
+                JOINT_OVERTRAVEL_SEEN.fetch_add(seen, Ordering::Relaxed);
             }
         }
         Ok(())

@@ -295,7 +295,7 @@ fn check_one(
     }
     let kept = match source {
         None => {
-            json.whole_program = whole_program;
+            json.whole_program = whole_program.map(Box::new);
             Kept::Json(json)
         }
         Some(file) => {
@@ -498,7 +498,7 @@ pub struct JsonFindings {
     record: Vec<u8>,
     /// Where a message's numbers are written before they are copied.
     scratch: crate::text::Text,
-    whole_program: Option<Finding>,
+    whole_program: Option<Box<Finding>>,
 }
 
 impl JsonFindings {
