@@ -380,13 +380,14 @@ pub struct Checker<'m> {
     /// The chord proof of the segment being checked, when worked out
     /// ahead ([`Checker::segments_ahead`]).
     chord_known: Option<Option<f64>>,
-    /// The tip feed the axes allow in the segment being checked, when
-    /// worked out ahead ([`Checker::segments_ahead`]).
-    feed_known: Option<Option<(f64, usize)>>,
+    /// The tip feed the axes allow in the segment being checked, its end
+    /// tips and its law, when worked out ahead
+    /// ([`Checker::segments_ahead`]).
+    tcpc_known: Option<TcpcAhead>,
     /// Chord proofs worked out in order, not ahead, so far.
     proofs_in_order: usize,
-    /// The last segment's end: joints, tool length and tool tip.
-    last_end: Option<(fiveaxis_machine::Joints, f64, fiveaxis_machine::Vec3)>,
+    /// The tool tips at the segments' ends, in order.
+    end_tips: TipsInOrder,
 }
 
 impl<'m> Checker<'m> {
@@ -419,9 +420,9 @@ impl<'m> Checker<'m> {
             collisions: None,
             stock: None,
             chord_known: None,
-            feed_known: None,
+            tcpc_known: None,
             proofs_in_order: 0,
-            last_end: None,
+            end_tips: TipsInOrder::default(),
         }
     }
 
@@ -555,13 +556,20 @@ impl<'m> Checker<'m> {
 
     fn check_segment(&mut self, seg: &Segment, inside: Option<&[(Joints, Vec3)]>) {
         self.order += 1;
-        let law = law::tcpc_law(self.machine, seg);
+        let known = self.tcpc_known.take();
+        let law = match &known {
+            Some(known) => known.law,
+            None => law::tcpc_law(self.machine, seg),
+        };
         self.positions(seg, law.as_ref());
         if !seg.moves() {
             return;
         }
-        let tips = self.end_tips(seg);
-        self.time(seg, &tips, law.as_ref());
+        let tips = match &known {
+            Some(known) => self.end_tips.follow(seg, known.tips),
+            None => self.end_tips.tips(self.machine, seg),
+        };
+        self.time(seg, &tips, law.as_ref(), known.map(|k| k.allowed));
         self.plan.segment(self.machine, seg, &tips, inside);
         if let Some(collisions) = &mut self.collisions {
             let (counts, findings) = (&mut self.counts, &mut self.findings);
@@ -611,10 +619,10 @@ impl<'m> Checker<'m> {
     pub fn segments_ahead(&mut self, batch: &[Segment], ahead: &Ahead) {
         for (i, seg) in batch.iter().enumerate() {
             self.chord_known = ahead.chords.get(i);
-            self.feed_known = ahead.feeds.get(i).copied().flatten();
+            self.tcpc_known = ahead.tcpc.get(i).copied().flatten();
             self.segment_inside(seg, ahead.samples.get(i));
             self.chord_known = None;
-            self.feed_known = None;
+            self.tcpc_known = None;
         }
     }
 
@@ -737,34 +745,20 @@ impl<'m> Checker<'m> {
         });
     }
 
-    /// The tool tip at the segment's ends: the start is the previous
-    /// segment's end when the run goes on from there with the same tool
-    /// length (one forward kinematics a segment).
-    fn end_tips(&mut self, seg: &Segment) -> [fiveaxis_machine::Vec3; 2] {
-        let machine = self.machine;
-        let start = match &self.last_end {
-            Some((joints, length, tip)) if *joints == seg.start && *length == seg.tool_length => {
-                *tip
-            }
-            _ => machine.forward_tip(&seg.start, seg.tool_length),
-        };
-        let end = machine.forward_tip(&seg.end, seg.tool_length);
-        self.last_end = Some((seg.end, seg.tool_length, end));
-        [start, end]
-    }
-
-    /// Programmed time and feed limits.
+    /// Programmed time and feed limits; `known` is the tip feed the axes
+    /// allow when worked out ahead.
     fn time(
         &mut self,
         seg: &Segment,
         tips: &[fiveaxis_machine::Vec3; 2],
         law: Option<&bound::Moving>,
+        known: Option<Option<(f64, usize)>>,
     ) {
         let machine = self.machine;
         let minutes = motion::block_minutes_at(machine, seg, tips);
         self.minutes += minutes;
         let Some(feed) = seg.feed else { return };
-        let allowed = match self.feed_known.take() {
+        let allowed = match known {
             Some(known) => known,
             None => motion::tip_feed_allowed_by(machine, seg, minutes, law),
         };
@@ -1037,8 +1031,9 @@ impl<'m> Checker<'m> {
 pub struct Ahead {
     chords: ChordsAhead,
     samples: time::SamplesAhead,
-    /// By segment: the feed the axes allow, where worked out.
-    feeds: Vec<Option<Option<(f64, usize)>>>,
+    /// By segment: a TCPC block's feed the axes allow, end tips and law,
+    /// where worked out.
+    tcpc: Vec<Option<TcpcAhead>>,
 }
 
 impl Ahead {
@@ -1051,11 +1046,12 @@ impl Ahead {
         } else {
             self.chords.clear();
         }
-        self.feeds.clear();
+        self.tcpc.clear();
         if wanted.time {
             self.samples.work_out(machine, batch);
-            self.feeds
-                .extend(batch.iter().map(|seg| feed_ahead(machine, seg)));
+            let mut tips = TipsInOrder::default();
+            self.tcpc
+                .extend(batch.iter().map(|seg| tcpc_ahead(machine, seg, &mut tips)));
         } else {
             self.samples.clear();
         }
@@ -1067,29 +1063,67 @@ impl Ahead {
     fn found(&self) -> Wanted {
         Wanted {
             chords: !self.chords.found.is_empty(),
-            time: !self.samples.is_empty() || self.feeds.iter().any(Option::is_some),
+            time: !self.samples.is_empty() || self.tcpc.iter().any(Option::is_some),
         }
     }
 }
 
+/// What the checks need of a TCPC block that cuts, worked out ahead.
+#[derive(Clone, Copy, Debug)]
+struct TcpcAhead {
+    /// The tip feed the axes allow, and the axis that sets it.
+    allowed: Option<(f64, usize)>,
+    /// The tool tip at the block's ends.
+    tips: [Vec3; 2],
+    /// The block's law ([`law::tcpc_law`]).
+    law: Option<bound::Moving>,
+}
+
 /// The tip feed the axes allow in a TCPC block that cuts, as
-/// [`Checker`]'s time check works it out (its tips, its minutes).
-fn feed_ahead(machine: &Machine, seg: &Segment) -> Option<Option<(f64, usize)>> {
+/// [`Checker`]'s time check works it out (its tips, its minutes), with the
+/// tips and the law it rests on, for the checks to take as they are.
+fn tcpc_ahead(machine: &Machine, seg: &Segment, tips: &mut TipsInOrder) -> Option<TcpcAhead> {
     if !matches!(seg.path, Path::Tcpc(_)) || seg.feed.is_none() || !seg.moves() {
         return None;
     }
-    let tips = [
-        machine.forward_tip(&seg.start, seg.tool_length),
-        machine.forward_tip(&seg.end, seg.tool_length),
-    ];
+    let tips = tips.tips(machine, seg);
     let minutes = motion::block_minutes_at(machine, seg, &tips);
     let law = law::tcpc_law(machine, seg);
-    Some(motion::tip_feed_allowed_by(
-        machine,
-        seg,
-        minutes,
-        law.as_ref(),
-    ))
+    Some(TcpcAhead {
+        allowed: motion::tip_feed_allowed_by(machine, seg, minutes, law.as_ref()),
+        tips,
+        law,
+    })
+}
+
+/// The tool tips at the ends of segments taken in order: a segment that
+/// starts where the last one ended, with the same tool length, takes that
+/// end's tip as its start's (one forward kinematics a segment).
+#[derive(Clone, Copy, Debug, Default)]
+struct TipsInOrder {
+    /// The last segment's end: joints, tool length and tool tip.
+    last: Option<(Joints, f64, Vec3)>,
+}
+
+impl TipsInOrder {
+    /// The tips at `seg`'s ends.
+    fn tips(&mut self, machine: &Machine, seg: &Segment) -> [Vec3; 2] {
+        let start = match &self.last {
+            Some((joints, length, tip)) if *joints == seg.start && *length == seg.tool_length => {
+                *tip
+            }
+            _ => machine.forward_tip(&seg.start, seg.tool_length),
+        };
+        let end = machine.forward_tip(&seg.end, seg.tool_length);
+        self.follow(seg, [start, end])
+    }
+
+    /// Takes `seg`'s tips as worked out elsewhere (the same forward
+    /// kinematics), and gives them back.
+    fn follow(&mut self, seg: &Segment, tips: [Vec3; 2]) -> [Vec3; 2] {
+        self.last = Some((seg.end, seg.tool_length, tips[1]));
+        tips
+    }
 }
 
 /// Which of [`Ahead`]'s work to do.
