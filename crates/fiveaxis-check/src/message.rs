@@ -43,9 +43,11 @@ enum Repr {
 }
 
 impl Message {
-    /// A message of these words (at most [`MAX_WORDS`]; any beyond are
-    /// left out, which the tests of each message rule out).
+    /// A message of these words (at most [`MAX_WORDS`]; a longer list is
+    /// a fault of the caller, which debug builds and the tests stop at,
+    /// and a release build cuts short).
     pub fn of(words: &[Word<'static>]) -> Self {
+        debug_assert!(words.len() <= MAX_WORDS, "{} words", words.len());
         Self(Repr::Words(words.iter().copied().take(MAX_WORDS).collect()))
     }
 

@@ -255,29 +255,36 @@ pub(crate) fn tip_feed_allowed_by(
     if minutes <= 0.0 {
         return None;
     }
-    let mut worst: Option<(f64, usize)> = None;
-    // Every axis at its travel over the block (the rate `axis_rate` gives
-    // these paths): the axis budgets compared without the per-path rules.
-    if matches!(seg.path, Path::Joint | Path::Via(_)) {
-        let axes = machine.linear.iter().map(|a| a.dynamics.max_velocity);
-        let rotary = machine.rotary.iter().map(|a| a.dynamics.max_velocity);
-        for (i, vmax) in axes.chain(rotary).enumerate() {
+    let speeds = (machine.linear.iter().map(|a| a.dynamics.max_velocity))
+        .chain(machine.rotary.iter().map(|a| a.dynamics.max_velocity));
+    // Joint moves, most blocks, move every axis by its travel
+    // (`axis_rate`'s first case), read here without the call.
+    let worst = if matches!(seg.path, Path::Joint | Path::Via(_)) {
+        slowest(
+            speeds
+                .enumerate()
+                .map(|(i, vmax)| (i, vmax * minutes, (seg.end[i] - seg.start[i]).abs())),
+        )
+    } else {
+        let mut grid = None;
+        slowest(speeds.enumerate().map(|(i, vmax)| {
             let budget = vmax * minutes;
-            let rate = (seg.end[i] - seg.start[i]).abs();
-            if rate > budget * (1.0 + FEED_SLACK) {
-                let ratio = budget / rate;
-                if worst.is_none_or(|(r, _)| ratio < r) {
-                    worst = Some((ratio, i));
-                }
-            }
-        }
-        return worst.map(|(ratio, i)| (feed * ratio, i));
-    }
-    let mut grid = None;
-    for i in 0..machine.axis_count() {
-        let vmax = machine.dynamics(i).max_velocity;
-        let budget = vmax * minutes;
-        let rate = axis_rate(machine, seg, i, budget, law, &mut grid);
+            (
+                i,
+                budget,
+                axis_rate(machine, seg, i, budget, law, &mut grid),
+            )
+        }))
+    };
+    worst.map(|(ratio, i)| (feed * ratio, i))
+}
+
+/// The smallest ratio of allowed to needed speed among axes given as
+/// `(axis, budget, rate)` (travel allowed and needed over the block), and
+/// its axis: `None` when every axis keeps within its budget.
+fn slowest(rates: impl Iterator<Item = (usize, f64, f64)>) -> Option<(f64, usize)> {
+    let mut worst: Option<(f64, usize)> = None;
+    for (i, budget, rate) in rates {
         if rate > budget * (1.0 + FEED_SLACK) {
             let ratio = budget / rate;
             if worst.is_none_or(|(r, _)| ratio < r) {
@@ -285,7 +292,7 @@ pub(crate) fn tip_feed_allowed_by(
             }
         }
     }
-    worst.map(|(ratio, i)| (feed * ratio, i))
+    worst
 }
 
 /// Relative margin before a needed axis speed counts as above the axis'

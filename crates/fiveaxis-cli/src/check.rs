@@ -365,34 +365,19 @@ fn string(w: &mut Vec<u8>, text: &str) {
 }
 
 /// Writes the inside of a JSON string: `text` with quotes, backslashes and
-/// control characters escaped as `serde_json` escapes them. Most texts
-/// need no escape: [`needs_escape`] finds it eight bytes at a time, and
-/// they are copied as they are (JSON takes UTF-8 unescaped).
+/// control characters escaped. Most texts need no escape:
+/// [`needs_escape`] finds it eight bytes at a time, and they are copied as
+/// they are (JSON takes UTF-8 unescaped); the others go through
+/// `serde_json`, whose quotes are taken off.
 fn escaped(w: &mut Vec<u8>, text: &str) {
     if !needs_escape(text.as_bytes()) {
         w.extend_from_slice(text.as_bytes());
         return;
     }
-    const HEX: &[u8; 16] = b"0123456789abcdef";
-    for &b in text.as_bytes() {
-        match b {
-            b'"' => w.extend_from_slice(b"\\\""),
-            b'\\' => w.extend_from_slice(b"\\\\"),
-            b'\n' => w.extend_from_slice(b"\\n"),
-            b'\r' => w.extend_from_slice(b"\\r"),
-            b'\t' => w.extend_from_slice(b"\\t"),
-            0x08 => w.extend_from_slice(b"\\b"),
-            0x0c => w.extend_from_slice(b"\\f"),
-            0..0x20 => w.extend_from_slice(&[
-                b'\\',
-                b'u',
-                b'0',
-                b'0',
-                HEX[usize::from(b >> 4)],
-                HEX[usize::from(b & 15)],
-            ]),
-            _ => w.push(b),
-        }
+    let start = w.len();
+    if serde_json::to_writer(&mut *w, text).is_ok() {
+        w.remove(start);
+        w.pop();
     }
 }
 
